@@ -1,0 +1,6 @@
+//! The `pneuma` command's library: WAV input with clear errors, safe output files, and the
+//! subcommands. The binary in `main.rs` only parses arguments and reports errors.
+
+pub mod analyze;
+pub mod output;
+pub mod wav;

@@ -1,0 +1,243 @@
+//! Settings of the analysis front end and the errors of this area.
+
+use thiserror::Error;
+
+use super::speaker_norm::SpeakerNormConfig;
+
+/// Lowest supported host sample rate in Hz.
+pub const MIN_SAMPLE_RATE_HZ: f64 = 8_000.0;
+/// Highest supported host sample rate in Hz.
+pub const MAX_SAMPLE_RATE_HZ: f64 = 192_000.0;
+
+/// Errors of the analysis area; each message says what to change.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum AnalysisError {
+    /// The host sample rate is outside 8–192 kHz or not finite.
+    #[error("sample rate {0} Hz is not supported: use a rate between 8000 and 192000 Hz")]
+    SampleRate(f64),
+    /// The frame rate is outside 10–1000 Hz.
+    #[error(
+        "frame rate {0} Hz is not supported: use a frame rate between 10 and 1000 Hz (default 120)"
+    )]
+    FrameRate(f64),
+    /// The f0 range is empty or outside 30–1000 Hz.
+    #[error("f0 range {min_hz}–{max_hz} Hz is not usable: choose 30 ≤ min < max ≤ 1000 Hz with max ≥ 1.5 × min (default 50–600)")]
+    F0Range {
+        /// Lower bound given.
+        min_hz: f32,
+        /// Upper bound given.
+        max_hz: f32,
+    },
+    /// The analysis window cannot hold two periods of the lowest f0.
+    #[error("analysis window {window_s} s is too short for f0_min {f0_min_hz} Hz: it must be at least 2 periods ({needed_s} s) and at most 0.1 s")]
+    Window {
+        /// Window given, seconds.
+        window_s: f32,
+        /// Lowest f0 given, Hz.
+        f0_min_hz: f32,
+        /// Shortest window that works, seconds.
+        needed_s: f32,
+    },
+    /// A threshold or ratio is outside 0..1.
+    #[error("{name} = {value} is out of range: it must lie in {range}")]
+    OutOfRange {
+        /// Name of the setting.
+        name: &'static str,
+        /// Value given.
+        value: f32,
+        /// Allowed range, in words.
+        range: &'static str,
+    },
+    /// `process` was called before `prepare`.
+    #[error("the analyzer is not prepared: call prepare(sample_rate, max_block) first")]
+    NotPrepared,
+}
+
+/// Settings of the analysis front end. Defaults are the product's defaults.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AnalysisConfig {
+    /// Frame rate of the frame clock in Hz, 10..1000 (default 120).
+    pub frame_rate_hz: f64,
+    /// Lowest f0 searched, Hz (default 50).
+    pub f0_min_hz: f32,
+    /// Highest f0 searched, Hz (default 600).
+    pub f0_max_hz: f32,
+    /// Pitch analysis window in seconds, at least two periods of `f0_min_hz` (default 0.04).
+    pub window_s: f32,
+    /// RMS window in seconds, centred on the frame time (default 0.03).
+    pub rms_window_s: f32,
+    /// Key-maximum rule: the first NSDF key maximum at least this fraction of the highest one is
+    /// the period, 0.5..1 (default 0.88).
+    pub key_max_ratio: f32,
+    /// Clarity (NSDF peak height) a frame needs to become voiced, 0..1 (default 0.72).
+    pub voicing_on: f32,
+    /// Clarity under which a voiced track becomes unvoiced, 0..`voicing_on` (default 0.6).
+    pub voicing_off: f32,
+    /// Frames below this RMS level (dBFS) are never voiced (default −60).
+    pub silence_db: f32,
+    /// Frames more than this many dB below the speaker's running speech level are never voiced
+    /// (default 30), so hum and noise in pauses do not count as voice.
+    pub speech_gate_db: f32,
+    /// Speaker normalisation settings.
+    pub speaker: SpeakerNormConfig,
+}
+
+impl Default for AnalysisConfig {
+    fn default() -> Self {
+        Self {
+            frame_rate_hz: 120.0,
+            f0_min_hz: 50.0,
+            f0_max_hz: 600.0,
+            window_s: 0.04,
+            rms_window_s: 0.03,
+            key_max_ratio: 0.88,
+            voicing_on: 0.72,
+            voicing_off: 0.6,
+            silence_db: -60.0,
+            speech_gate_db: 30.0,
+            speaker: SpeakerNormConfig::default(),
+        }
+    }
+}
+
+impl AnalysisConfig {
+    /// Sets one setting from its name and a text value (for command-line overrides such as
+    /// `voicing_on=0.8`).
+    pub fn set(&mut self, name: &str, value: &str) -> Result<(), String> {
+        let v: f64 = value
+            .parse()
+            .map_err(|_| format!("{name}: {value:?} is not a number"))?;
+        match name {
+            "frame_rate_hz" => self.frame_rate_hz = v,
+            "f0_min_hz" => self.f0_min_hz = v as f32,
+            "f0_max_hz" => self.f0_max_hz = v as f32,
+            "window_s" => self.window_s = v as f32,
+            "rms_window_s" => self.rms_window_s = v as f32,
+            "key_max_ratio" => self.key_max_ratio = v as f32,
+            "voicing_on" => self.voicing_on = v as f32,
+            "voicing_off" => self.voicing_off = v as f32,
+            "silence_db" => self.silence_db = v as f32,
+            "speech_gate_db" => self.speech_gate_db = v as f32,
+            _ => return Err(format!("unknown analysis setting {name:?}")),
+        }
+        Ok(())
+    }
+
+    /// Checks every setting and says what to change.
+    pub fn validate(&self) -> Result<(), AnalysisError> {
+        if !(self.frame_rate_hz.is_finite() && (10.0..=1000.0).contains(&self.frame_rate_hz)) {
+            return Err(AnalysisError::FrameRate(self.frame_rate_hz));
+        }
+        let (lo, hi) = (self.f0_min_hz, self.f0_max_hz);
+        if !(lo.is_finite() && hi.is_finite() && lo >= 30.0 && hi <= 1000.0 && hi >= 1.5 * lo) {
+            return Err(AnalysisError::F0Range {
+                min_hz: lo,
+                max_hz: hi,
+            });
+        }
+        let needed_s = 2.0 / lo;
+        if !(self.window_s.is_finite() && self.window_s >= needed_s * 0.999 && self.window_s <= 0.1)
+        {
+            return Err(AnalysisError::Window {
+                window_s: self.window_s,
+                f0_min_hz: lo,
+                needed_s,
+            });
+        }
+        check_range(
+            "rms_window_s",
+            self.rms_window_s,
+            0.005,
+            0.1,
+            "0.005..0.1 s",
+        )?;
+        check_range("key_max_ratio", self.key_max_ratio, 0.5, 1.0, "0.5..1")?;
+        check_range("voicing_on", self.voicing_on, 0.0, 1.0, "0..1")?;
+        check_range(
+            "voicing_off",
+            self.voicing_off,
+            0.0,
+            self.voicing_on,
+            "0..voicing_on",
+        )?;
+        check_range("silence_db", self.silence_db, -120.0, 0.0, "-120..0 dBFS")?;
+        check_range(
+            "speech_gate_db",
+            self.speech_gate_db,
+            6.0,
+            120.0,
+            "6..120 dB",
+        )?;
+        self.speaker.validate()
+    }
+}
+
+pub(crate) fn check_range(
+    name: &'static str,
+    value: f32,
+    lo: f32,
+    hi: f32,
+    range: &'static str,
+) -> Result<(), AnalysisError> {
+    if value.is_finite() && value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err(AnalysisError::OutOfRange { name, value, range })
+    }
+}
+
+/// Validates a host sample rate.
+pub(crate) fn check_sample_rate(sample_rate_hz: f64) -> Result<(), AnalysisError> {
+    if sample_rate_hz.is_finite()
+        && (MIN_SAMPLE_RATE_HZ..=MAX_SAMPLE_RATE_HZ).contains(&sample_rate_hz)
+    {
+        Ok(())
+    } else {
+        Err(AnalysisError::SampleRate(sample_rate_hz))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid() {
+        assert_eq!(AnalysisConfig::default().validate(), Ok(()));
+    }
+
+    #[test]
+    fn bad_settings_are_named() {
+        let mut c = AnalysisConfig {
+            frame_rate_hz: 0.0,
+            ..Default::default()
+        };
+        assert!(matches!(c.validate(), Err(AnalysisError::FrameRate(_))));
+        c = AnalysisConfig {
+            f0_min_hz: 300.0,
+            f0_max_hz: 200.0,
+            ..Default::default()
+        };
+        assert!(matches!(c.validate(), Err(AnalysisError::F0Range { .. })));
+        c = AnalysisConfig {
+            window_s: 0.02,
+            ..Default::default()
+        };
+        let err = c.validate().unwrap_err();
+        assert!(err.to_string().contains("at least 2 periods"), "{err}");
+        c = AnalysisConfig {
+            voicing_off: 0.9,
+            ..Default::default()
+        };
+        assert!(matches!(
+            c.validate(),
+            Err(AnalysisError::OutOfRange {
+                name: "voicing_off",
+                ..
+            })
+        ));
+        assert!(check_sample_rate(7999.0).is_err());
+        assert!(check_sample_rate(f64::NAN).is_err());
+        assert!(check_sample_rate(192_000.0).is_ok());
+    }
+}

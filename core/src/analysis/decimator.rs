@@ -1,0 +1,198 @@
+//! Integer decimation with a Kaiser-windowed sinc low-pass, so the pitch analysis runs at a rate
+//! between 8 and 16 kHz whatever the host rate. The filter is linear-phase; its group delay is
+//! reported so frame times can be compensated exactly.
+
+/// Taps per output sample (filter length is `TAPS_PER_PHASE * factor + 1`).
+const TAPS_PER_PHASE: usize = 16;
+/// Cut-off (−6 dB) as a fraction of the output rate.
+const CUTOFF_OF_OUTPUT_RATE: f64 = 0.4;
+/// Kaiser β for about 60 dB stop-band attenuation.
+const KAISER_BETA: f64 = 5.65;
+/// Internal analysis rates lie in [`TARGET_MIN_RATE_HZ`], 2 × that).
+pub(crate) const TARGET_MIN_RATE_HZ: f64 = 8_000.0;
+
+/// The decimation factor for a host rate: the largest integer keeping the rate ≥ 8 kHz.
+pub(crate) fn factor_for(sample_rate_hz: f64) -> usize {
+    ((sample_rate_hz / TARGET_MIN_RATE_HZ).floor() as usize).max(1)
+}
+
+/// Streaming decimator by an integer factor.
+#[derive(Debug, Clone)]
+pub(crate) struct Decimator {
+    factor: usize,
+    taps: Vec<f32>,
+    /// Doubled history so the newest `taps.len()` samples are always one contiguous slice.
+    history: Vec<f32>,
+    write: usize,
+    phase: usize,
+}
+
+impl Decimator {
+    /// A decimator by `factor` (1 = pass-through). Allocates.
+    pub(crate) fn new(factor: usize) -> Self {
+        let factor = factor.max(1);
+        let taps = if factor == 1 {
+            vec![1.0]
+        } else {
+            design_lowpass(
+                TAPS_PER_PHASE * factor + 1,
+                CUTOFF_OF_OUTPUT_RATE / factor as f64,
+            )
+        };
+        let len = taps.len();
+        Self {
+            factor,
+            taps,
+            history: vec![0.0; 2 * len],
+            write: 0,
+            phase: 0,
+        }
+    }
+
+    /// Clears the history.
+    pub(crate) fn reset(&mut self) {
+        self.history.fill(0.0);
+        self.write = 0;
+        self.phase = 0;
+    }
+
+    /// Group delay in input samples.
+    pub(crate) fn delay_samples(&self) -> f64 {
+        (self.taps.len() - 1) as f64 / 2.0
+    }
+
+    /// Feeds one input sample; returns an output sample every `factor` inputs (the first on the
+    /// `factor`-th input, so output `j` ends at input `(j + 1) * factor - 1`).
+    #[inline]
+    pub(crate) fn push(&mut self, x: f32) -> Option<f32> {
+        if self.factor == 1 {
+            return Some(x);
+        }
+        let len = self.taps.len();
+        self.history[self.write] = x;
+        self.history[self.write + len] = x;
+        self.write += 1;
+        if self.write == len {
+            self.write = 0;
+        }
+        self.phase += 1;
+        if self.phase < self.factor {
+            return None;
+        }
+        self.phase = 0;
+        // history[write..write+len] holds the last `len` samples, oldest first; the taps are
+        // symmetric so their order does not matter.
+        let recent = &self.history[self.write..self.write + len];
+        Some(dot(recent, &self.taps))
+    }
+}
+
+/// Dot product in eight lanes so it vectorises; the summation order is fixed, so the result is
+/// the same on every call with the same data.
+#[inline]
+fn dot(a: &[f32], b: &[f32]) -> f32 {
+    let mut acc = [0.0f32; 8];
+    let chunks = a.len() / 8;
+    for c in 0..chunks {
+        let (x, y) = (&a[c * 8..c * 8 + 8], &b[c * 8..c * 8 + 8]);
+        for l in 0..8 {
+            acc[l] += x[l] * y[l];
+        }
+    }
+    let mut tail = 0.0;
+    for i in chunks * 8..a.len() {
+        tail += a[i] * b[i];
+    }
+    ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7])) + tail
+}
+
+/// Kaiser-windowed sinc low-pass of odd length `len`, cut-off `cutoff` in cycles per sample,
+/// normalised to unit DC gain.
+fn design_lowpass(len: usize, cutoff: f64) -> Vec<f32> {
+    let mid = (len - 1) as f64 / 2.0;
+    let i0_beta = bessel_i0(KAISER_BETA);
+    let mut taps: Vec<f64> = (0..len)
+        .map(|n| {
+            let t = n as f64 - mid;
+            let sinc = if t == 0.0 {
+                2.0 * cutoff
+            } else {
+                (2.0 * std::f64::consts::PI * cutoff * t).sin() / (std::f64::consts::PI * t)
+            };
+            let r = t / mid;
+            let w = bessel_i0(KAISER_BETA * (1.0 - r * r).max(0.0).sqrt()) / i0_beta;
+            sinc * w
+        })
+        .collect();
+    let sum: f64 = taps.iter().sum();
+    taps.iter_mut().for_each(|t| *t /= sum);
+    taps.into_iter().map(|t| t as f32).collect()
+}
+
+/// Modified Bessel function of the first kind, order 0 (power series).
+fn bessel_i0(x: f64) -> f64 {
+    let mut sum = 1.0;
+    let mut term = 1.0;
+    let q = x * x / 4.0;
+    for k in 1..50 {
+        term *= q / (k * k) as f64;
+        sum += term;
+        if term < 1e-16 * sum {
+            break;
+        }
+    }
+    sum
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn gain_at(factor: usize, freq_hz: f64, sr: f64) -> f64 {
+        let mut d = Decimator::new(factor);
+        let n = (sr * 0.5) as usize;
+        let mut out = Vec::new();
+        for i in 0..n {
+            let x = (2.0 * std::f64::consts::PI * freq_hz * i as f64 / sr).sin() as f32;
+            if let Some(y) = d.push(x) {
+                out.push(y as f64);
+            }
+        }
+        let tail = &out[out.len() / 2..];
+        (tail.iter().map(|y| y * y).sum::<f64>() / tail.len() as f64 * 2.0).sqrt()
+    }
+
+    #[test]
+    fn factors_keep_the_internal_rate_between_8_and_16_khz() {
+        for sr in [
+            8_000.0, 11_025.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 96_000.0, 192_000.0,
+        ] {
+            let f = factor_for(sr);
+            let internal = sr / f as f64;
+            assert!(
+                (8_000.0..16_000.0).contains(&internal),
+                "{sr} -> {internal}"
+            );
+        }
+    }
+
+    #[test]
+    fn passes_speech_band_and_rejects_aliases() {
+        let sr = 48_000.0;
+        // Output rate 8 kHz: 300 Hz passes, 1.5 kHz passes, 6 kHz (would alias to 2 kHz) is cut.
+        assert!((gain_at(6, 300.0, sr) - 1.0).abs() < 0.01);
+        assert!((gain_at(6, 1_500.0, sr) - 1.0).abs() < 0.02);
+        assert!(gain_at(6, 6_000.0, sr) < 0.003);
+        assert!(gain_at(6, 4_400.0, sr) < 0.05);
+    }
+
+    #[test]
+    fn reset_restores_the_initial_state() {
+        let mut d = Decimator::new(3);
+        let first: Vec<_> = (0..30).filter_map(|i| d.push(i as f32)).collect();
+        d.reset();
+        let again: Vec<_> = (0..30).filter_map(|i| d.push(i as f32)).collect();
+        assert_eq!(first, again);
+        assert_eq!(d.delay_samples(), 24.0);
+    }
+}

@@ -1,0 +1,51 @@
+//! The analysis front end: Framer → PitchTracker + Energy → [`FeatureFrame`] → SpeakerNorm.
+//!
+//! [`Analyzer`] takes mono blocks of any size at any sample rate from 8 kHz to 192 kHz and emits
+//! one [`FeatureFrame`] per tick of a fixed frame clock (default 120 Hz). Internally the signal is
+//! decimated by an integer factor to a rate between 8 and 16 kHz, so the pitch analysis costs the
+//! same per second of audio whatever the host rate; the level is measured on the full-rate signal.
+
+mod analyzer;
+mod clock;
+mod config;
+mod decimator;
+mod pitch;
+mod speaker_norm;
+mod tracking;
+
+pub use analyzer::Analyzer;
+pub use clock::FrameClock;
+pub use config::{AnalysisConfig, AnalysisError, MAX_SAMPLE_RATE_HZ, MIN_SAMPLE_RATE_HZ};
+pub use pitch::{NsdfPitch, PitchEstimate};
+pub use speaker_norm::{SpeakerNorm, SpeakerNormConfig};
+
+/// The analysis of one frame of the frame clock.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FeatureFrame {
+    /// Frame number from the start of the stream (0, 1, 2, ...).
+    pub index: u64,
+    /// Time of the frame's centre in seconds from the start of the stream (`index / frame_rate_hz`).
+    pub time_s: f64,
+    /// Fundamental frequency in Hz; 0 when the frame is unvoiced.
+    pub f0_hz: f32,
+    /// Voiced decision.
+    pub voiced: bool,
+    /// Voicing confidence, 0..1: the height of the normalised square-difference peak at the chosen
+    /// period (1 = perfectly periodic), faded to 0 for frames near digital silence.
+    pub voicing: f32,
+    /// RMS level of the frame (AC part, window centred on `time_s`) in dBFS; floor −120 dBFS.
+    pub rms_db: f32,
+    /// f0 in semitones around the speaker's running median f0; 0 when unvoiced.
+    pub f0_st: f32,
+    /// Level in dB around the speaker's running speech level (`rms_db` − speech level).
+    pub level_db: f32,
+}
+
+/// Converts an RMS amplitude to dBFS with a floor of −120 dBFS.
+pub fn amplitude_to_db(rms: f64) -> f32 {
+    if rms <= 1e-6 {
+        -120.0
+    } else {
+        (20.0 * rms.log10()) as f32
+    }
+}

@@ -1,0 +1,569 @@
+//! `cargo xtask eval-pitch --data DIR [--check] [--no-praat] [--csv OUT]`: pitch-tracking
+//! accuracy on the PTDB-TUG excerpts (`<clip>.wav` + `<clip>.f0.csv`, 10 ms reference).
+//!
+//! Every tracker runs on a 5 ms grid (Pneuma at a 200 Hz frame rate); one global time offset
+//! (−20…+20 ms in 5 ms steps, the reference is known to sit early) is searched once for the
+//! whole data set, minimising the summed FFE of all trackers, and applied to every tracker.
+//! Metrics (over reference frames): VDE = voicing decisions that differ / all frames;
+//! GPE = frames voiced in both with more than 20 % f0 error / frames voiced in both;
+//! FFE = (voicing errors + gross errors) / all frames; fine error = median |cents| over frames
+//! voiced in both without a gross error.
+//!
+//! Trackers: Pneuma; the `pitch-detection` crate 0.3.0, McLeod and YIN (2048-sample window at
+//! 48 kHz, power gate −60 dBFS, clarity 0.6 for McLeod and 0.85 (threshold 0.15) for YIN, f0
+//! outside 50–600 Hz counted unvoiced: a baseline only, never on the audio path); Praat
+//! (`To Pitch (ac)`, 50–600 Hz, standard settings, 5 ms step) when the `praat` program exists.
+//! `--check` fails (exit 1) unless Pneuma meets the targets of the issue.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+
+use pitch_detection::detector::mcleod::McLeodDetector;
+use pitch_detection::detector::yin::YINDetector;
+use pitch_detection::detector::PitchDetector;
+use pneuma_core::{AnalysisConfig, Analyzer};
+
+const HOP_S: f64 = 0.005;
+const OFFSETS_MS: [i32; 9] = [-20, -15, -10, -5, 0, 5, 10, 15, 20];
+
+/// One tracker's output on the 5 ms grid: f0 in Hz, 0 = unvoiced.
+type Track = Vec<f32>;
+
+struct Clip {
+    noise: String,
+    snr_db: u32,
+    reference: Vec<(f64, f32)>,
+    tracks: Vec<Track>,
+}
+
+#[derive(Default, Clone)]
+struct Counts {
+    frames: u64,
+    voicing_errors: u64,
+    /// Voicing errors where the reference is unvoiced.
+    false_voiced: u64,
+    both_voiced: u64,
+    gross: u64,
+    cents: Vec<f32>,
+}
+
+impl Counts {
+    fn vde(&self) -> f64 {
+        self.voicing_errors as f64 / self.frames.max(1) as f64
+    }
+    fn gpe(&self) -> f64 {
+        self.gross as f64 / self.both_voiced.max(1) as f64
+    }
+    fn ffe(&self) -> f64 {
+        (self.voicing_errors + self.gross) as f64 / self.frames.max(1) as f64
+    }
+    fn fine_cents(&self) -> f64 {
+        let mut c = self.cents.clone();
+        if c.is_empty() {
+            return f64::NAN;
+        }
+        c.sort_by(f32::total_cmp);
+        c[c.len() / 2] as f64
+    }
+    fn add(&mut self, o: &Counts) {
+        self.frames += o.frames;
+        self.voicing_errors += o.voicing_errors;
+        self.false_voiced += o.false_voiced;
+        self.both_voiced += o.both_voiced;
+        self.gross += o.gross;
+        self.cents.extend_from_slice(&o.cents);
+    }
+}
+
+fn score(reference: &[(f64, f32)], track: &Track, offset_ms: i32) -> Counts {
+    let mut c = Counts::default();
+    for &(t, f_ref) in reference {
+        let k = ((t + offset_ms as f64 / 1000.0) / HOP_S).round() as i64;
+        let f = if k >= 0 && (k as usize) < track.len() {
+            track[k as usize]
+        } else {
+            0.0
+        };
+        c.frames += 1;
+        let (rv, tv) = (f_ref > 0.0, f > 0.0);
+        if rv != tv {
+            c.voicing_errors += 1;
+            c.false_voiced += u64::from(tv);
+        } else if rv {
+            c.both_voiced += 1;
+            let cents = 1200.0 * (f / f_ref).log2();
+            if (f / f_ref - 1.0).abs() > 0.2 {
+                c.gross += 1;
+            } else {
+                c.cents.push(cents.abs());
+            }
+        }
+    }
+    c
+}
+
+fn pneuma_track(audio: &[f32], rate: u32, overrides: &[(String, String)]) -> Result<Track, String> {
+    let mut config = AnalysisConfig {
+        frame_rate_hz: 1.0 / HOP_S,
+        ..Default::default()
+    };
+    for (k, v) in overrides {
+        config.set(k, v)?;
+    }
+    let mut a = Analyzer::new(config).map_err(|e| e.to_string())?;
+    a.prepare(rate as f64, 4096).map_err(|e| e.to_string())?;
+    let mut track = Vec::new();
+    for block in audio.chunks(4096) {
+        a.process(block, |f| track.push(if f.voiced { f.f0_hz } else { 0.0 }))
+            .map_err(|e| e.to_string())?;
+    }
+    a.finish(|f| track.push(if f.voiced { f.f0_hz } else { 0.0 }))
+        .map_err(|e| e.to_string())?;
+    Ok(track)
+}
+
+fn crate_track(audio: &[f32], rate: u32, frames: usize, yin: bool) -> Track {
+    const SIZE: usize = 2048;
+    let mut mcleod = McLeodDetector::<f32>::new(SIZE, SIZE / 2);
+    let mut yin_det = YINDetector::<f32>::new(SIZE, SIZE / 2);
+    let power = SIZE as f32 * 1e-6;
+    let mut window = vec![0.0f32; SIZE];
+    (0..frames)
+        .map(|k| {
+            let centre = (k as f64 * HOP_S * rate as f64).round() as i64;
+            for (i, w) in window.iter_mut().enumerate() {
+                let j = centre - SIZE as i64 / 2 + i as i64;
+                *w = if j >= 0 && (j as usize) < audio.len() {
+                    audio[j as usize]
+                } else {
+                    0.0
+                };
+            }
+            let p = if yin {
+                yin_det.get_pitch(&window, rate as usize, power, 0.85)
+            } else {
+                mcleod.get_pitch(&window, rate as usize, power, 0.6)
+            };
+            match p {
+                Some(p) if (50.0..=600.0).contains(&p.frequency) => p.frequency,
+                _ => 0.0,
+            }
+        })
+        .collect()
+}
+
+const PRAAT_SCRIPT: &str = r#"form args
+  sentence in
+  sentence out
+endform
+s = Read from file: in$
+p = To Pitch (ac): 0.005, 50, 15, "no", 0.03, 0.45, 0.01, 0.35, 0.14, 600
+n = Get number of frames
+out_text$ = ""
+for i to n
+  t = Get time from frame number: i
+  f = Get value in frame: i, "Hertz"
+  if f = undefined
+    f = 0
+  endif
+  out_text$ = out_text$ + fixed$(t, 5) + "," + fixed$(f, 3) + newline$
+endfor
+writeFile: out$, out_text$
+"#;
+
+fn praat_available() -> bool {
+    Command::new("praat")
+        .arg("--version")
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false)
+}
+
+fn praat_track(wav: &Path, frames: usize, scratch: &Path) -> Result<Track, String> {
+    let script = scratch.join("pitch.praat");
+    if !script.exists() {
+        std::fs::write(&script, PRAAT_SCRIPT).map_err(|e| e.to_string())?;
+    }
+    let out = scratch.join("praat_out.csv");
+    // Praat resolves relative paths against the script's folder.
+    let wav = std::fs::canonicalize(wav).map_err(|e| format!("{}: {e}", wav.display()))?;
+    let status = Command::new("praat")
+        .arg("--run")
+        .arg(&script)
+        .arg(&wav)
+        .arg(&out)
+        .output()
+        .map_err(|e| format!("cannot run praat: {e}"))?;
+    if !status.status.success() {
+        return Err(format!(
+            "praat failed on {}: {}",
+            wav.display(),
+            String::from_utf8_lossy(&status.stderr)
+        ));
+    }
+    let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
+    let rows: Vec<(f64, f32)> = text
+        .lines()
+        .filter_map(|l| {
+            let (t, f) = l.split_once(',')?;
+            Some((t.trim().parse().ok()?, f.trim().parse().ok()?))
+        })
+        .collect();
+    // Nearest Praat frame (within half a hop) for each grid time.
+    let mut track = vec![0.0; frames];
+    if let Some(&(t0, _)) = rows.first() {
+        for (k, v) in track.iter_mut().enumerate() {
+            let t = k as f64 * HOP_S;
+            let i = ((t - t0) / HOP_S).round();
+            if i >= 0.0
+                && (i as usize) < rows.len()
+                && (rows[i as usize].0 - t).abs() <= HOP_S / 2.0 + 1e-9
+            {
+                *v = rows[i as usize].1;
+            }
+        }
+    }
+    Ok(track)
+}
+
+fn read_reference(path: &Path) -> Result<Vec<(f64, f32)>, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    text.lines()
+        .skip(1)
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let (t, f) = l
+                .split_once(',')
+                .ok_or_else(|| format!("{}: bad row {l:?}", path.display()))?;
+            Ok((
+                t.trim()
+                    .parse()
+                    .map_err(|_| format!("{}: bad time {t:?}", path.display()))?,
+                f.trim()
+                    .parse()
+                    .map_err(|_| format!("{}: bad f0 {f:?}", path.display()))?,
+            ))
+        })
+        .collect()
+}
+
+fn split_name(stem: &str) -> Option<(String, u32)> {
+    let digits = stem.trim_end_matches(|c: char| !c.is_ascii_digit());
+    let snr_start = digits.rfind(|c: char| !c.is_ascii_digit())? + 1;
+    let snr: u32 = stem[snr_start..].parse().ok()?;
+    let head = &stem[..snr_start];
+    for noise in ["white", "cafeteria", "car", "traffic"] {
+        if head.ends_with(noise) {
+            return Some((noise.to_string(), snr));
+        }
+    }
+    None
+}
+
+struct Args {
+    data: PathBuf,
+    /// Analysis setting overrides for Pneuma (`--set name=value`).
+    set: Vec<(String, String)>,
+    check: bool,
+    praat: bool,
+}
+
+fn parse_args(args: &[String]) -> Result<Args, String> {
+    let mut data = None;
+    let mut check = false;
+    let mut praat = true;
+    let mut set = Vec::new();
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--data" => data = it.next().map(PathBuf::from),
+            "--check" => check = true,
+            "--no-praat" => praat = false,
+            "--set" => {
+                let kv = it.next().ok_or("--set needs name=value")?;
+                let (k, v) = kv.split_once('=').ok_or("--set needs name=value")?;
+                set.push((k.to_string(), v.to_string()));
+            }
+            other => return Err(format!("unknown argument {other:?}")),
+        }
+    }
+    let data =
+        data.ok_or("missing --data DIR (the PTDB-TUG excerpts, e.g. ../shared/data/ptdb)")?;
+    Ok(Args {
+        data,
+        set,
+        check,
+        praat,
+    })
+}
+
+pub fn main(args: &[String]) -> i32 {
+    match run(args) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("eval-pitch: {e}");
+            eprintln!("usage: cargo xtask eval-pitch --data ../shared/data/ptdb [--check] [--no-praat] [--set name=value]...");
+            2
+        }
+    }
+}
+
+fn run(args: &[String]) -> Result<i32, String> {
+    let args = parse_args(args)?;
+    if !args.data.is_dir() {
+        return Err(format!(
+            "data folder {} not found: pass the folder holding <clip>.wav and <clip>.f0.csv (../shared/data/ptdb in a checkout beside shared/)",
+            args.data.display()
+        ));
+    }
+    let mut names: Vec<String> = std::fs::read_dir(&args.data)
+        .map_err(|e| e.to_string())?
+        .filter_map(|e| e.ok())
+        .filter_map(|e| e.file_name().to_str().map(str::to_string))
+        .filter_map(|n| n.strip_suffix(".wav").map(str::to_string))
+        .filter(|n| args.data.join(format!("{n}.f0.csv")).exists())
+        .collect();
+    names.sort();
+    if names.is_empty() {
+        return Err(format!(
+            "no <clip>.wav with <clip>.f0.csv in {}",
+            args.data.display()
+        ));
+    }
+    let use_praat = args.praat && praat_available();
+    if args.praat && !use_praat {
+        eprintln!("note: praat not found (Debian package `praat`); comparing without it");
+    }
+    let mut tracker_names = vec!["pneuma", "pd-mcleod", "pd-yin"];
+    if use_praat {
+        tracker_names.push("praat");
+    }
+    let scratch = std::env::temp_dir().join(format!("pneuma-eval-pitch-{}", std::process::id()));
+    std::fs::create_dir_all(&scratch).map_err(|e| e.to_string())?;
+    let mut clips = Vec::new();
+    let mut seconds = vec![0.0f64; tracker_names.len()];
+    let mut audio_s = 0.0;
+    let mut skipped = Vec::new();
+    for name in &names {
+        let (noise, snr_db) = split_name(name)
+            .ok_or_else(|| format!("cannot read noise/SNR from clip name {name}"))?;
+        let wav = args.data.join(format!("{name}.wav"));
+        let (audio, rate) = match pneuma_cli::wav::read_mono(&wav) {
+            Ok(v) => v,
+            Err(e) => {
+                skipped.push(format!("{name}: {e}"));
+                continue;
+            }
+        };
+        let reference = read_reference(&args.data.join(format!("{name}.f0.csv")))?;
+        audio_s += audio.len() as f64 / rate as f64;
+        let t = Instant::now();
+        let ours = pneuma_track(&audio, rate, &args.set)?;
+        seconds[0] += t.elapsed().as_secs_f64();
+        let frames = ours.len();
+        let t = Instant::now();
+        let mcleod = crate_track(&audio, rate, frames, false);
+        seconds[1] += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let yin = crate_track(&audio, rate, frames, true);
+        seconds[2] += t.elapsed().as_secs_f64();
+        let mut tracks = vec![ours, mcleod, yin];
+        if use_praat {
+            let t = Instant::now();
+            tracks.push(praat_track(&wav, frames, &scratch)?);
+            seconds[3] += t.elapsed().as_secs_f64();
+        }
+        clips.push(Clip {
+            noise,
+            snr_db,
+            reference,
+            tracks,
+        });
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    if !skipped.is_empty() {
+        println!(
+            "skipped {} unreadable clip(s) (evaluated on the rest):",
+            skipped.len()
+        );
+        for s in &skipped {
+            println!("  - {s}");
+        }
+        println!();
+    }
+    if clips.is_empty() {
+        return Err("no readable clip: every WAV failed to load (see above)".into());
+    }
+
+    // One global offset for the data set.
+    let mut best = (f64::INFINITY, 0);
+    println!("offset search (summed FFE of all trackers, and each tracker's own):");
+    for &o in &OFFSETS_MS {
+        let per: Vec<f64> = (0..tracker_names.len())
+            .map(|i| {
+                let mut c = Counts::default();
+                for clip in &clips {
+                    c.add(&score(&clip.reference, &clip.tracks[i], o));
+                }
+                c.ffe()
+            })
+            .collect();
+        let sum: f64 = per.iter().sum();
+        println!(
+            "  {o:+3} ms: sum {:.4}  {}",
+            sum,
+            per.iter()
+                .zip(&tracker_names)
+                .map(|(f, n)| format!("{n} {:.2}%", f * 100.0))
+                .collect::<Vec<_>>()
+                .join("  ")
+        );
+        if sum < best.0 {
+            best = (sum, o);
+        }
+    }
+    let offset = best.1;
+    println!("global offset used: {offset:+} ms (tracker time = reference time {offset:+} ms)\n");
+
+    // Per condition.
+    let mut table: BTreeMap<(String, u32), Vec<Counts>> = BTreeMap::new();
+    for clip in &clips {
+        let row = table
+            .entry((clip.noise.clone(), clip.snr_db))
+            .or_insert_with(|| vec![Counts::default(); tracker_names.len()]);
+        for (i, tr) in clip.tracks.iter().enumerate() {
+            row[i].add(&score(&clip.reference, tr, offset));
+        }
+    }
+    let header = tracker_names
+        .iter()
+        .map(|n| format!("{n:>31}"))
+        .collect::<String>();
+    println!("{:<16}{header}", "condition");
+    println!(
+        "{:<16}{}",
+        "",
+        "    FFE%   VDE%   GPE%  cents"
+            .repeat(tracker_names.len())
+            .chars()
+            .collect::<String>()
+    );
+    let print_row = |label: &str, row: &[Counts]| {
+        let cells: String = row
+            .iter()
+            .map(|c| {
+                format!(
+                    " {:>7.2}{:>7.2}{:>7.2}{:>7.1}  ",
+                    c.ffe() * 100.0,
+                    c.vde() * 100.0,
+                    c.gpe() * 100.0,
+                    c.fine_cents()
+                )
+            })
+            .collect();
+        println!("{label:<16}{cells}");
+    };
+    let mut by_snr: BTreeMap<u32, Vec<Counts>> = BTreeMap::new();
+    let mut by_noise: BTreeMap<String, Vec<Counts>> = BTreeMap::new();
+    let mut overall = vec![Counts::default(); tracker_names.len()];
+    for ((noise, snr), row) in &table {
+        print_row(&format!("{noise} {snr} dB"), row);
+        for (i, c) in row.iter().enumerate() {
+            by_snr
+                .entry(*snr)
+                .or_insert_with(|| vec![Counts::default(); row.len()])[i]
+                .add(c);
+            by_noise
+                .entry(noise.clone())
+                .or_insert_with(|| vec![Counts::default(); row.len()])[i]
+                .add(c);
+            overall[i].add(c);
+        }
+    }
+    println!();
+    for (snr, row) in by_snr.iter().rev() {
+        print_row(&format!("all {snr} dB"), row);
+    }
+    for (noise, row) in &by_noise {
+        print_row(&format!("{noise} all SNR"), row);
+    }
+    print_row("overall", &overall);
+    println!(
+        "\nvoicing errors split (false voiced / missed voiced, % of all frames): {}",
+        tracker_names
+            .iter()
+            .zip(&overall)
+            .map(|(n, c)| format!(
+                "{n} {:.2}/{:.2}",
+                c.false_voiced as f64 * 100.0 / c.frames as f64,
+                (c.voicing_errors - c.false_voiced) as f64 * 100.0 / c.frames as f64
+            ))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    println!(
+        "\n{} clips, {:.1} s of audio; tracker time: {}",
+        clips.len(),
+        audio_s,
+        tracker_names
+            .iter()
+            .zip(&seconds)
+            .map(|(n, s)| format!("{n} {:.2} s ({:.0}x real time)", s, audio_s / s.max(1e-9)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+
+    if !args.check {
+        return Ok(0);
+    }
+    let mut failures = Vec::new();
+    let at40 = &by_snr[&40];
+    if use_praat {
+        if at40[0].ffe() > at40[3].ffe() {
+            failures.push(format!(
+                "FFE at 40 dB: pneuma {:.2}% > praat {:.2}%",
+                at40[0].ffe() * 100.0,
+                at40[3].ffe() * 100.0
+            ));
+        }
+    } else {
+        failures.push(
+            "praat is not installed: the 40 dB target compares with Praat (apt-get install praat)"
+                .into(),
+        );
+    }
+    for noise in ["white", "car"] {
+        if let Some(row) = table.get(&(noise.to_string(), 10)) {
+            if row[0].ffe() > 0.08 {
+                failures.push(format!(
+                    "FFE at 10 dB {noise}: {:.2}% > 8%",
+                    row[0].ffe() * 100.0
+                ));
+            }
+        }
+    }
+    for ((noise, snr), row) in &table {
+        for i in [1, 2] {
+            if row[0].ffe() >= row[i].ffe() {
+                failures.push(format!(
+                    "{noise} {snr} dB: pneuma FFE {:.2}% not below {} {:.2}%",
+                    row[0].ffe() * 100.0,
+                    tracker_names[i],
+                    row[i].ffe() * 100.0
+                ));
+            }
+        }
+    }
+    if failures.is_empty() {
+        println!("\ncheck: all pitch targets met");
+        Ok(0)
+    } else {
+        println!("\ncheck: {} target(s) missed:", failures.len());
+        for f in &failures {
+            println!("  - {f}");
+        }
+        Ok(1)
+    }
+}
