@@ -9,6 +9,8 @@
 use super::clock::FrameClock;
 use super::config::{check_sample_rate, AnalysisConfig, AnalysisError};
 use super::decimator::{factor_for, Decimator};
+use super::highpass::HighPass;
+use super::noise_floor::NoiseFloor;
 use super::pitch::NsdfPitch;
 use super::speaker_norm::SpeakerNorm;
 use super::tracking::Tracker;
@@ -16,6 +18,8 @@ use super::{amplitude_to_db, FeatureFrame};
 
 /// Input samples beyond this magnitude are clamped for analysis (+60 dBFS).
 const INPUT_LIMIT: f32 = 1000.0;
+/// The noise gate never rises closer than this to the running speech level, dB.
+const NOISE_GATE_HEADROOM_DB: f32 = 6.0;
 
 /// The streaming analysis front end. See the module docs.
 #[derive(Debug)]
@@ -32,6 +36,9 @@ struct State {
     factor: usize,
     internal_rate_hz: f64,
     decimator: Decimator,
+    highpass: HighPass,
+    noise_floor: NoiseFloor,
+    noise_margin_db: f32,
     pitch: NsdfPitch,
     tracker: Tracker,
     speaker: SpeakerNorm,
@@ -48,6 +55,7 @@ struct State {
     window: Vec<f32>,
     rms_bins: usize,
     speech_gate_db: f32,
+    level_weight: f32,
     samples_in: u64,
     next_frame: u64,
     /// Geometry of the next frame, cached: first window sample, first rms bin, ready index.
@@ -88,6 +96,9 @@ impl Analyzer {
             factor,
             internal_rate_hz,
             decimator: Decimator::new(factor),
+            highpass: HighPass::new(c.highpass_hz as f64, internal_rate_hz),
+            noise_floor: NoiseFloor::new(c.noise_window_s as f64, c.frame_rate_hz),
+            noise_margin_db: c.noise_margin_db,
             pitch: NsdfPitch::new(
                 internal_rate_hz,
                 window_len,
@@ -107,6 +118,7 @@ impl Analyzer {
             window: vec![0.0; window_len],
             rms_bins,
             speech_gate_db: c.speech_gate_db,
+            level_weight: c.level_weight,
             samples_in: 0,
             next_frame: 0,
             next_start: 0,
@@ -189,6 +201,8 @@ impl Analyzer {
 impl State {
     fn reset(&mut self) {
         self.decimator.reset();
+        self.highpass.reset();
+        self.noise_floor.reset();
         self.tracker.reset();
         self.speaker.reset();
         self.ring.fill(0.0);
@@ -230,7 +244,7 @@ impl State {
             return;
         };
         let slot = self.produced as usize & self.mask;
-        self.ring[slot] = y;
+        self.ring[slot] = self.highpass.process(y);
         self.bin_sum[slot] = self.acc_sum;
         self.bin_sq[slot] = self.acc_sq;
         self.acc_sum = 0.0;
@@ -264,10 +278,23 @@ impl State {
         let n = (self.rms_bins * self.factor) as f64;
         let mean = sum / n;
         let rms_db = amplitude_to_db((sq / n - mean * mean).max(0.0).sqrt());
-        let gate_db = self.speaker.speech_level_db() - self.speech_gate_db;
-        let t = self
-            .tracker
-            .update(chosen, self.pitch.candidates(), rms_db, gate_db);
+        // The noise gate sits `noise_margin_db` above the floor, but never closer than
+        // NOISE_GATE_HEADROOM_DB under the speech level: a stream without pauses (a sustained
+        // vowel, a tone) has its "floor" at the voice itself.
+        let floor_db = self.noise_floor.update(rms_db);
+        let speech_db = self.speaker.speech_level_db();
+        let noise_gate_db =
+            (floor_db + self.noise_margin_db).min(speech_db - NOISE_GATE_HEADROOM_DB);
+        let gate_db = (speech_db - self.speech_gate_db).max(noise_gate_db);
+        let level_rel_db = (rms_db - self.speaker.speech_level_db()).clamp(-20.0, 10.0);
+        let level_bonus = self.level_weight * level_rel_db / 10.0;
+        let t = self.tracker.update(
+            chosen,
+            self.pitch.candidates(),
+            rms_db,
+            gate_db,
+            level_bonus,
+        );
         self.speaker.update(t.voiced, t.f0_hz, rms_db);
         FeatureFrame {
             index: self.next_frame,

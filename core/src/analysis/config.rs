@@ -64,7 +64,7 @@ pub struct AnalysisConfig {
     pub f0_max_hz: f32,
     /// Pitch analysis window in seconds, at least two periods of `f0_min_hz` (default 0.04).
     pub window_s: f32,
-    /// RMS window in seconds, centred on the frame time (default 0.03).
+    /// RMS window in seconds, centred on the frame time (default 0.02).
     pub rms_window_s: f32,
     /// Key-maximum rule: the first NSDF key maximum at least this fraction of the highest one is
     /// the period, 0.5..1 (default 0.88).
@@ -73,11 +73,24 @@ pub struct AnalysisConfig {
     pub voicing_on: f32,
     /// Clarity under which a voiced track becomes unvoiced, 0..`voicing_on` (default 0.6).
     pub voicing_off: f32,
+    /// Loudness helps the voiced decision: the clarity compared with the thresholds is raised by
+    /// this much per 10 dB the frame lies above the speaker's speech level (and lowered below
+    /// it), within −20..+10 dB (default 0.1). Vowels are loud and fricatives quiet, so loud
+    /// frames with slightly irregular periods (creak, fast glides) stay voiced.
+    pub level_weight: f32,
     /// Frames below this RMS level (dBFS) are never voiced (default −60).
     pub silence_db: f32,
     /// Frames more than this many dB below the speaker's running speech level are never voiced
     /// (default 30), so hum and noise in pauses do not count as voice.
     pub speech_gate_db: f32,
+    /// Frames less than this many dB above the running noise floor are never voiced
+    /// (default 6); the floor is the lowest frame level over the last `noise_window_s`.
+    pub noise_margin_db: f32,
+    /// Window of the noise-floor tracker, seconds (default 3).
+    pub noise_window_s: f32,
+    /// High-pass corner applied before the pitch analysis, Hz; 0 = off (default 120). It takes
+    /// rumble (traffic, car, handling noise) out of the periodicity measure.
+    pub highpass_hz: f32,
     /// Speaker normalisation settings.
     pub speaker: SpeakerNormConfig,
 }
@@ -89,12 +102,16 @@ impl Default for AnalysisConfig {
             f0_min_hz: 50.0,
             f0_max_hz: 600.0,
             window_s: 0.04,
-            rms_window_s: 0.03,
+            rms_window_s: 0.02,
             key_max_ratio: 0.88,
             voicing_on: 0.72,
             voicing_off: 0.6,
+            level_weight: 0.1,
             silence_db: -60.0,
             speech_gate_db: 30.0,
+            noise_margin_db: 6.0,
+            noise_window_s: 3.0,
+            highpass_hz: 120.0,
             speaker: SpeakerNormConfig::default(),
         }
     }
@@ -117,7 +134,11 @@ impl AnalysisConfig {
             "voicing_on" => self.voicing_on = v as f32,
             "voicing_off" => self.voicing_off = v as f32,
             "silence_db" => self.silence_db = v as f32,
+            "level_weight" => self.level_weight = v as f32,
             "speech_gate_db" => self.speech_gate_db = v as f32,
+            "noise_margin_db" => self.noise_margin_db = v as f32,
+            "noise_window_s" => self.noise_window_s = v as f32,
+            "highpass_hz" => self.highpass_hz = v as f32,
             _ => return Err(format!("unknown analysis setting {name:?}")),
         }
         Ok(())
@@ -160,6 +181,7 @@ impl AnalysisConfig {
             self.voicing_on,
             "0..voicing_on",
         )?;
+        check_range("level_weight", self.level_weight, 0.0, 0.5, "0..0.5")?;
         check_range("silence_db", self.silence_db, -120.0, 0.0, "-120..0 dBFS")?;
         check_range(
             "speech_gate_db",

@@ -9,6 +9,8 @@ mod analyzer;
 mod clock;
 mod config;
 mod decimator;
+mod highpass;
+mod noise_floor;
 mod pitch;
 mod speaker_norm;
 mod tracking;

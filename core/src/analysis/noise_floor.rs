@@ -1,0 +1,82 @@
+//! A causal noise-floor tracker (minimum statistics): the lowest frame level over the last few
+//! seconds, kept as the minima of short blocks in a ring, so it follows a changing background
+//! within `window_s` and never needs to see the future.
+
+/// Length of one block of the minimum ring, seconds.
+const BLOCK_S: f64 = 0.1;
+
+/// Running minimum of frame levels over a sliding window.
+#[derive(Debug, Clone)]
+pub(crate) struct NoiseFloor {
+    block_frames: usize,
+    ring: Vec<f32>,
+    filled: usize,
+    next: usize,
+    block_min: f32,
+    in_block: usize,
+}
+
+impl NoiseFloor {
+    /// A tracker over `window_s` seconds of frames at `frame_rate_hz`. Allocates.
+    pub(crate) fn new(window_s: f64, frame_rate_hz: f64) -> Self {
+        let block_frames = ((BLOCK_S * frame_rate_hz).round() as usize).max(1);
+        let blocks = ((window_s / BLOCK_S).round() as usize).max(1);
+        Self {
+            block_frames,
+            ring: vec![f32::INFINITY; blocks],
+            filled: 0,
+            next: 0,
+            block_min: f32::INFINITY,
+            in_block: 0,
+        }
+    }
+
+    pub(crate) fn reset(&mut self) {
+        self.ring.fill(f32::INFINITY);
+        self.filled = 0;
+        self.next = 0;
+        self.block_min = f32::INFINITY;
+        self.in_block = 0;
+    }
+
+    /// Adds one frame level (dB) and returns the current floor (dB).
+    pub(crate) fn update(&mut self, level_db: f32) -> f32 {
+        self.block_min = self.block_min.min(level_db);
+        self.in_block += 1;
+        let mut floor = self.block_min;
+        for &m in &self.ring[..self.filled] {
+            floor = floor.min(m);
+        }
+        if self.in_block == self.block_frames {
+            self.ring[self.next] = self.block_min;
+            self.next = (self.next + 1) % self.ring.len();
+            self.filled = (self.filled + 1).min(self.ring.len());
+            self.block_min = f32::INFINITY;
+            self.in_block = 0;
+        }
+        floor
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn follows_the_minimum_and_forgets_it_after_the_window() {
+        let mut n = NoiseFloor::new(1.0, 100.0);
+        for i in 0..100 {
+            let level = if i % 10 == 0 { -50.0 } else { -20.0 };
+            n.update(level);
+        }
+        assert_eq!(n.update(-20.0), -50.0);
+        // The background rises to -30 dB: after the window the floor follows it.
+        let mut last = 0.0;
+        for _ in 0..150 {
+            last = n.update(-30.0);
+        }
+        assert_eq!(last, -30.0);
+        n.reset();
+        assert_eq!(n.update(-10.0), -10.0);
+    }
+}

@@ -1,0 +1,394 @@
+//! The analysis front end on generated signals with known f0: tones and glides at every sample
+//! rate, glottal vowels with jitter, shimmer and noise, octave traps, silence, DC, clipping,
+//! NaN bursts, block partitions and latency.
+
+use pneuma_core::synth::{self, GlottalVowel, Vowel};
+use pneuma_core::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
+
+const RATES: [f64; 7] = [
+    8_000.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 96_000.0, 192_000.0,
+];
+
+fn analyse_blocks(
+    x: &[f32],
+    rate: f64,
+    blocks: &mut dyn FnMut(usize) -> usize,
+) -> Vec<FeatureFrame> {
+    let mut a = Analyzer::new(AnalysisConfig::default()).expect("default config");
+    a.prepare(rate, 4096).expect("supported rate");
+    let mut frames = Vec::new();
+    let mut pos = 0;
+    let mut call = 0;
+    while pos < x.len() {
+        let n = blocks(call).clamp(1, x.len() - pos);
+        a.process(&x[pos..pos + n], |f| frames.push(*f))
+            .expect("prepared");
+        pos += n;
+        call += 1;
+    }
+    a.finish(|f| frames.push(*f)).expect("prepared");
+    frames
+}
+
+fn analyse(x: &[f32], rate: f64) -> Vec<FeatureFrame> {
+    analyse_blocks(x, rate, &mut |_| 512)
+}
+
+fn cents(a: f32, b: f64) -> f64 {
+    1200.0 * (a as f64 / b).log2()
+}
+
+/// Frames whose centre lies in `from_s..to_s`.
+fn between(frames: &[FeatureFrame], from_s: f64, to_s: f64) -> Vec<FeatureFrame> {
+    frames
+        .iter()
+        .filter(|f| f.time_s >= from_s && f.time_s < to_s)
+        .copied()
+        .collect()
+}
+
+const RICH: [f64; 6] = [1.0, 0.7, 0.5, 0.35, 0.25, 0.15];
+
+#[test]
+fn steady_tones_at_every_rate() {
+    for rate in RATES {
+        for f0 in [55.0, 82.0, 110.0, 220.0, 330.0, 440.0, 550.0] {
+            let x = synth::harmonic_tone(rate, 0.5, 0.5, &RICH, |_| f0);
+            let frames = analyse(&x, rate);
+            let mid = between(&frames, 0.06, 0.44);
+            assert!(!mid.is_empty());
+            for f in &mid {
+                assert!(f.voiced, "rate {rate} f0 {f0}: unvoiced at {}", f.time_s);
+                let c = cents(f.f0_hz, f0);
+                assert!(
+                    c.abs() < 20.0,
+                    "rate {rate} f0 {f0}: {} Hz ({c:.1} cents)",
+                    f.f0_hz
+                );
+                assert!(f.voicing > 0.9);
+            }
+            // The level: frame powers average to the signal's own power (a 20 ms window does
+            // not hold whole periods of a low tone, so single frames ripple around it).
+            let want_db = 20.0 * synth::rms(&x[x.len() / 4..x.len() * 3 / 4]).log10();
+            let mean_power = mid
+                .iter()
+                .map(|f| 10f64.powf(f.rms_db as f64 / 10.0))
+                .sum::<f64>()
+                / mid.len() as f64;
+            let got_db = 10.0 * mean_power.log10();
+            assert!(
+                (got_db - want_db).abs() < 0.3,
+                "rate {rate} f0 {f0}: {got_db} vs {want_db}"
+            );
+        }
+    }
+}
+
+#[test]
+fn glides_are_followed() {
+    for rate in [16_000.0, 44_100.0, 48_000.0] {
+        // Exponential glide 55 → 550 Hz in 2 s, and back down.
+        let up = |t: f64| 55.0 * 10f64.powf(t / 2.0);
+        let x = synth::harmonic_tone(rate, 2.0, 0.5, &RICH, up);
+        let frames = analyse(&x, rate);
+        let mid = between(&frames, 0.05, 1.95);
+        let bad = mid
+            .iter()
+            .filter(|f| !f.voiced || cents(f.f0_hz, up(f.time_s)).abs() > 50.0)
+            .count();
+        assert!(
+            bad * 100 <= mid.len(),
+            "rate {rate}: {bad} of {} frames off the glide",
+            mid.len()
+        );
+        let down = |t: f64| 500.0 * 10f64.powf(-t / 2.0);
+        let x = synth::harmonic_tone(rate, 2.0, 0.5, &RICH, down);
+        let frames = analyse(&x, rate);
+        let mid = between(&frames, 0.05, 1.95);
+        let bad = mid
+            .iter()
+            .filter(|f| !f.voiced || cents(f.f0_hz, down(f.time_s)).abs() > 50.0)
+            .count();
+        assert!(
+            bad * 100 <= mid.len(),
+            "rate {rate}: {bad} of {} frames off the falling glide",
+            mid.len()
+        );
+    }
+}
+
+#[test]
+fn glottal_vowels_with_jitter_shimmer_and_noise() {
+    for (i, (vowel, f0)) in [
+        (Vowel::A, 110.0),
+        (Vowel::I, 220.0),
+        (Vowel::U, 180.0),
+        (Vowel::A, 300.0),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        for rate in [16_000.0, 48_000.0] {
+            let cfg = GlottalVowel {
+                sample_rate_hz: rate,
+                length_s: 1.0,
+                vowel,
+                jitter: 0.01,
+                shimmer: 0.05,
+                peak: 0.6,
+                seed: 10 + i as u64,
+            };
+            let contour =
+                move |t: f64| f0 * (1.0 + 0.05 * (2.0 * std::f64::consts::PI * 3.0 * t).sin());
+            let mut x = synth::glottal_vowel(&cfg, contour);
+            synth::add_white_noise(&mut x, 20.0, 99);
+            let frames = analyse(&x, rate);
+            let mid = between(&frames, 0.06, 0.94);
+            let unvoiced = mid.iter().filter(|f| !f.voiced).count();
+            let gross = mid
+                .iter()
+                .filter(|f| f.voiced && cents(f.f0_hz, contour(f.time_s)).abs() > 300.0)
+                .count();
+            assert!(
+                unvoiced * 50 <= mid.len(),
+                "{vowel:?} {f0} Hz at {rate}: {unvoiced} unvoiced of {}",
+                mid.len()
+            );
+            assert!(
+                gross * 50 <= mid.len(),
+                "{vowel:?} {f0} Hz at {rate}: {gross} gross errors of {}",
+                mid.len()
+            );
+        }
+    }
+}
+
+#[test]
+fn octave_traps_give_the_fundamental() {
+    // Weak fundamental, strong second harmonic: the period is still 1/f0.
+    for rate in [16_000.0, 48_000.0] {
+        for f0 in [90.0, 130.0, 200.0, 260.0] {
+            let x = synth::harmonic_tone(rate, 0.6, 0.5, &[0.1, 1.0, 0.3, 0.2, 0.1], |_| f0);
+            let frames = analyse(&x, rate);
+            for f in between(&frames, 0.06, 0.54) {
+                assert!(f.voiced, "{f0} Hz: unvoiced");
+                assert!(
+                    cents(f.f0_hz, f0).abs() < 30.0,
+                    "{f0} Hz trap gave {} Hz",
+                    f.f0_hz
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn silence_is_unvoiced_at_the_floor() {
+    for rate in RATES {
+        let frames = analyse(&vec![0.0; (rate * 0.5) as usize], rate);
+        assert_eq!(frames.len(), 60);
+        for f in frames {
+            assert!(!f.voiced && f.f0_hz == 0.0 && f.voicing == 0.0);
+            assert_eq!(f.rms_db, -120.0);
+        }
+    }
+}
+
+#[test]
+fn dc_offset_changes_neither_pitch_nor_level() {
+    let rate = 44_100.0;
+    let x = synth::harmonic_tone(rate, 0.5, 0.3, &RICH, |_| 150.0);
+    let shifted: Vec<f32> = x.iter().map(|v| v + 0.4).collect();
+    let a = analyse(&x, rate);
+    let b = analyse(&shifted, rate);
+    for (fa, fb) in between(&a, 0.06, 0.44)
+        .iter()
+        .zip(between(&b, 0.06, 0.44).iter())
+    {
+        assert!(fb.voiced);
+        assert!(cents(fb.f0_hz, fa.f0_hz as f64).abs() < 2.0);
+        assert!(
+            (fa.rms_db - fb.rms_db).abs() < 0.05,
+            "{} vs {}",
+            fa.rms_db,
+            fb.rms_db
+        );
+    }
+}
+
+#[test]
+fn clipped_speech_keeps_its_pitch() {
+    let rate = 48_000.0;
+    let x: Vec<f32> = synth::harmonic_tone(rate, 0.5, 4.0, &RICH, |_| 180.0)
+        .into_iter()
+        .map(|v| v.clamp(-1.0, 1.0))
+        .collect();
+    for f in between(&analyse(&x, rate), 0.06, 0.44) {
+        assert!(
+            f.voiced && cents(f.f0_hz, 180.0).abs() < 20.0,
+            "{}",
+            f.f0_hz
+        );
+    }
+}
+
+#[test]
+fn nan_and_inf_bursts_count_as_silence() {
+    let rate = 48_000.0;
+    let mut x = synth::harmonic_tone(rate, 1.0, 0.5, &RICH, |_| 200.0);
+    for (i, v) in x.iter_mut().enumerate().skip(20_000).take(9_600) {
+        *v = match i % 3 {
+            0 => f32::NAN,
+            1 => f32::INFINITY,
+            _ => f32::NEG_INFINITY,
+        };
+    }
+    x[40_000] = 1e30;
+    let frames = analyse(&x, rate);
+    assert_eq!(frames.len(), 120);
+    for f in &frames {
+        assert!(f.f0_hz.is_finite() && f.voicing.is_finite() && f.rms_db.is_finite());
+        assert!(f.f0_st.is_finite() && f.level_db.is_finite());
+    }
+    // The burst (0.417–0.617 s) is silence in the middle: unvoiced at the floor.
+    for f in between(&frames, 0.45, 0.58) {
+        assert!(!f.voiced);
+        assert_eq!(f.rms_db, -120.0);
+    }
+    // And the tone is found again after it.
+    assert!(between(&frames, 0.7, 0.8)
+        .iter()
+        .all(|f| f.voiced && cents(f.f0_hz, 200.0).abs() < 20.0));
+}
+
+#[test]
+fn any_block_partition_gives_bit_identical_frames() {
+    let rate = 44_100.0;
+    let cfg = GlottalVowel {
+        sample_rate_hz: rate,
+        length_s: 1.0,
+        vowel: Vowel::A,
+        jitter: 0.01,
+        shimmer: 0.05,
+        peak: 0.6,
+        seed: 5,
+    };
+    let mut x = synth::glottal_vowel(&cfg, |t| 120.0 + 60.0 * t);
+    x.extend(std::iter::repeat_n(0.0, 10_000));
+    x.extend(synth::white_noise(10_000, 0.05, 3));
+    let reference = analyse_blocks(&x, rate, &mut |_| 4096);
+    let bits = |v: &[FeatureFrame]| -> Vec<(u64, u64, u32, bool, u32, u32, u32, u32)> {
+        v.iter()
+            .map(|f| {
+                (
+                    f.index,
+                    f.time_s.to_bits(),
+                    f.f0_hz.to_bits(),
+                    f.voiced,
+                    f.voicing.to_bits(),
+                    f.rms_db.to_bits(),
+                    f.f0_st.to_bits(),
+                    f.level_db.to_bits(),
+                )
+            })
+            .collect()
+    };
+    let want = bits(&reference);
+    assert!(reference.iter().any(|f| f.voiced));
+    for size in [1usize, 37, 512] {
+        assert_eq!(
+            bits(&analyse_blocks(&x, rate, &mut |_| size)),
+            want,
+            "block size {size}"
+        );
+    }
+    let mut s = pneuma_core::rng::SeededRng::new(42);
+    let random = analyse_blocks(&x, rate, &mut |_| 1 + (s.next_u64() % 3000) as usize);
+    assert_eq!(bits(&random), want, "random block sizes");
+}
+
+#[test]
+fn frames_are_timestamped_on_the_clock_and_complete() {
+    for rate in [44_100.0, 48_000.0] {
+        let x = synth::harmonic_tone(rate, 1.0, 0.5, &RICH, |_| 200.0);
+        let frames = analyse(&x, rate);
+        assert_eq!(frames.len(), 120);
+        for (k, f) in frames.iter().enumerate() {
+            assert_eq!(f.index, k as u64);
+            assert_eq!(f.time_s, k as f64 / 120.0);
+        }
+    }
+}
+
+#[test]
+fn a_pitch_change_is_reported_within_the_stated_latency() {
+    let rate = 48_000.0;
+    let step_s = 0.5;
+    let x = synth::harmonic_tone(rate, 1.0, 0.5, &RICH, |t| {
+        if t < step_s {
+            150.0
+        } else {
+            250.0
+        }
+    });
+    let mut a = Analyzer::new(AnalysisConfig::default()).expect("config");
+    a.prepare(rate, 1).expect("rate");
+    let latency_s = a.latency_s().expect("prepared");
+    let mut reported_at = None;
+    for (i, s) in x.iter().enumerate() {
+        let mut hit = false;
+        a.process(std::slice::from_ref(s), |f| {
+            hit |= f.time_s >= step_s && f.voiced && cents(f.f0_hz, 250.0).abs() < 50.0;
+        })
+        .expect("prepared");
+        if hit {
+            reported_at = Some((i + 1) as f64 / rate);
+            break;
+        }
+    }
+    let delay_s = reported_at.expect("the new pitch is reported") - step_s;
+    // Half the 40 ms window, the decimation filter, and at most two frames of the outlier
+    // filter and frame spacing.
+    assert!(
+        delay_s > 0.0 && delay_s <= latency_s + 2.0 / 120.0,
+        "{delay_s} s vs {latency_s} s"
+    );
+    assert!(latency_s > 0.02 && latency_s < 0.03, "{latency_s}");
+}
+
+#[test]
+fn speaker_normalisation_centres_on_the_voice() {
+    let rate = 16_000.0;
+    let x = synth::harmonic_tone(rate, 6.0, 0.2, &RICH, |t| {
+        220.0 * (1.0 + 0.03 * (7.0 * t).sin())
+    });
+    let frames = analyse(&x, rate);
+    let late = between(&frames, 5.0, 5.9);
+    let mean_st = late.iter().map(|f| f.f0_st as f64).sum::<f64>() / late.len() as f64;
+    let mean_level = late.iter().map(|f| f.level_db as f64).sum::<f64>() / late.len() as f64;
+    assert!(mean_st.abs() < 0.5, "{mean_st}");
+    assert!(mean_level.abs() < 1.5, "{mean_level}");
+    // Early on the prior (150 Hz) still weighs: 220 Hz lies well above it.
+    assert!(between(&frames, 0.06, 0.1)[0].f0_st > 3.0);
+}
+
+#[test]
+fn unsupported_rates_and_unprepared_use_are_errors() {
+    let mut a = Analyzer::new(AnalysisConfig::default()).expect("config");
+    assert_eq!(a.process(&[0.0], |_| ()), Err(AnalysisError::NotPrepared));
+    assert!(matches!(
+        a.prepare(4_000.0, 64),
+        Err(AnalysisError::SampleRate(_))
+    ));
+    assert!(matches!(
+        a.prepare(384_000.0, 64),
+        Err(AnalysisError::SampleRate(_))
+    ));
+    assert!(a.prepare(8_000.0, 64).is_ok());
+    let err = Analyzer::new(AnalysisConfig {
+        f0_min_hz: 20.0,
+        ..Default::default()
+    })
+    .expect_err("20 Hz is out of range");
+    assert!(err.to_string().contains("30 ≤ min"), "{err}");
+}
