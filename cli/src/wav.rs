@@ -187,7 +187,7 @@ impl WavSource {
                 reason: e.to_string(),
             });
         }
-        if out.len() % self.info.channels as usize != 0 {
+        if !out.len().is_multiple_of(self.info.channels as usize) {
             return Err(WavError::Truncated {
                 path: self.path.clone(),
                 frames_read: self.frames_read + (out.len() / self.info.channels as usize) as u64,

@@ -47,6 +47,9 @@ fn between(frames: &[FeatureFrame], from_s: f64, to_s: f64) -> Vec<FeatureFrame>
         .collect()
 }
 
+/// Every field of a frame as raw bits, for bit-exact comparison.
+type FrameBits = (u64, u64, u32, bool, u32, u32, u32, u32);
+
 const RICH: [f64; 6] = [1.0, 0.7, 0.5, 0.35, 0.25, 0.15];
 
 #[test]
@@ -277,7 +280,7 @@ fn any_block_partition_gives_bit_identical_frames() {
     x.extend(std::iter::repeat_n(0.0, 10_000));
     x.extend(synth::white_noise(10_000, 0.05, 3));
     let reference = analyse_blocks(&x, rate, &mut |_| 4096);
-    let bits = |v: &[FeatureFrame]| -> Vec<(u64, u64, u32, bool, u32, u32, u32, u32)> {
+    let bits = |v: &[FeatureFrame]| -> Vec<FrameBits> {
         v.iter()
             .map(|f| {
                 (

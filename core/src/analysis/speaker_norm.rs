@@ -116,7 +116,7 @@ impl SpeakerNorm {
 
     /// Adds one frame; only voiced frames with a finite f0 teach the statistics.
     pub fn update(&mut self, voiced: bool, f0_hz: f32, rms_db: f32) {
-        if !voiced || !(f0_hz > 0.0 && f0_hz.is_finite() && rms_db.is_finite()) {
+        if !(voiced && f0_hz > 0.0 && f0_hz.is_finite() && rms_db.is_finite()) {
             return;
         }
         self.increment /= self.decay;
