@@ -23,7 +23,7 @@ pub enum AnalyzeError {
     #[error("invalid analysis settings: {0}")]
     Settings(#[from] AnalysisError),
     /// The output file.
-    #[error("cannot write {path}: {source}; check that the folder exists and is writable")]
+    #[error("cannot write {path}: {source} (check that the folder exists and is writable)")]
     Output {
         /// Where we tried to write.
         path: PathBuf,
@@ -74,6 +74,12 @@ pub fn run(
         path: output.to_owned(),
         source,
     };
+    if output.as_os_str() != "-" && same_file(input, output) {
+        return Err(AnalyzeError::Output {
+            path: output.to_owned(),
+            source: std::io::Error::other("it is the input file; choose another output path"),
+        });
+    }
     // Read and analyse first, so a broken input never touches the output.
     let mut text = String::with_capacity(1 << 16);
     text.push_str(features_csv::HEADER);
@@ -92,4 +98,11 @@ pub fn run(
         frames,
         voiced_frames,
     })
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => false,
+    }
 }

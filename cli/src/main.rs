@@ -53,6 +53,8 @@ fn main() -> ExitCode {
                 frame_rate_hz: frame_rate,
                 f0_min_hz: f0_min,
                 f0_max_hz: f0_max,
+                // Two periods of the lowest f0, at least the default 40 ms.
+                window_s: AnalysisConfig::default().window_s.max(2.0 / f0_min),
                 ..Default::default()
             };
             match pneuma_cli::analyze::run(&input, &output, config) {

@@ -18,8 +18,8 @@ use super::{amplitude_to_db, FeatureFrame};
 
 /// Input samples beyond this magnitude are clamped for analysis (+60 dBFS).
 const INPUT_LIMIT: f32 = 1000.0;
-/// The noise gate never rises closer than this to the running speech level, dB.
-const NOISE_GATE_HEADROOM_DB: f32 = 6.0;
+/// Frames at least this periodic are voice, not background: they do not teach the noise floor.
+const FLOOR_MAX_PERIODICITY: f32 = 0.9;
 
 /// The streaming analysis front end. See the module docs.
 #[derive(Debug)]
@@ -39,6 +39,7 @@ struct State {
     highpass: HighPass,
     noise_floor: NoiseFloor,
     noise_margin_db: f32,
+    noise_headroom_db: f32,
     pitch: NsdfPitch,
     tracker: Tracker,
     speaker: SpeakerNorm,
@@ -99,6 +100,7 @@ impl Analyzer {
             highpass: HighPass::new(c.highpass_hz as f64, internal_rate_hz),
             noise_floor: NoiseFloor::new(c.noise_window_s as f64, c.frame_rate_hz),
             noise_margin_db: c.noise_margin_db,
+            noise_headroom_db: c.noise_headroom_db,
             pitch: NsdfPitch::new(
                 internal_rate_hz,
                 window_len,
@@ -223,7 +225,7 @@ impl State {
         // Decimated sample j stands for input time (j + 1)·D − 1 − delay.
         let j_centre = (centre + self.decimator.delay_samples() + 1.0) / d - 1.0;
         let w = self.window.len() as f64;
-        self.next_start = (j_centre - w / 2.0 + 0.5).floor() as i64;
+        self.next_start = (j_centre - (w - 1.0) / 2.0 + 0.5).floor() as i64;
         // Bin b covers raw input samples b·D .. (b+1)·D.
         let half_rms = self.rms_bins as f64 * d / 2.0;
         self.next_bin = ((centre - half_rms) / d + 0.5).floor() as i64;
@@ -279,12 +281,23 @@ impl State {
         let mean = sum / n;
         let rms_db = amplitude_to_db((sq / n - mean * mean).max(0.0).sqrt());
         // The noise gate sits `noise_margin_db` above the floor, but never closer than
-        // NOISE_GATE_HEADROOM_DB under the speech level: a stream without pauses (a sustained
+        // `noise_headroom_db` under the speech level: a stream without pauses (a sustained
         // vowel, a tone) has its "floor" at the voice itself.
-        let floor_db = self.noise_floor.update(rms_db);
+        let periodicity = self
+            .pitch
+            .candidates()
+            .iter()
+            .map(|c| c.clarity)
+            .fold(chosen.clarity, f32::max);
+        let floor_db = self
+            .noise_floor
+            .update((periodicity < FLOOR_MAX_PERIODICITY).then_some(rms_db));
         let speech_db = self.speaker.speech_level_db();
-        let noise_gate_db =
-            (floor_db + self.noise_margin_db).min(speech_db - NOISE_GATE_HEADROOM_DB);
+        let noise_gate_db = if floor_db.is_finite() {
+            (floor_db + self.noise_margin_db).min(speech_db - self.noise_headroom_db)
+        } else {
+            f32::NEG_INFINITY
+        };
         let gate_db = (speech_db - self.speech_gate_db).max(noise_gate_db);
         let level_rel_db = (rms_db - self.speaker.speech_level_db()).clamp(-20.0, 10.0);
         let level_bonus = self.level_weight * level_rel_db / 10.0;

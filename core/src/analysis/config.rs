@@ -29,7 +29,7 @@ pub enum AnalysisError {
         max_hz: f32,
     },
     /// The analysis window cannot hold two periods of the lowest f0.
-    #[error("analysis window {window_s} s is too short for f0_min {f0_min_hz} Hz: it must be at least 2 periods ({needed_s} s) and at most 0.1 s")]
+    #[error("analysis window {window_s} s does not fit f0_min {f0_min_hz} Hz: it must be at least 2 periods ({needed_s} s) and at most 0.1 s")]
     Window {
         /// Window given, seconds.
         window_s: f32,
@@ -86,6 +86,10 @@ pub struct AnalysisConfig {
     /// Frames less than this many dB above the running noise floor are never voiced
     /// (default 6); the floor is the lowest frame level over the last `noise_window_s`.
     pub noise_margin_db: f32,
+    /// The noise gate never rises closer than this under the running speech level, dB
+    /// (default 2): a stream without pauses (a sustained vowel, a tone) has its "floor" at the
+    /// voice itself.
+    pub noise_headroom_db: f32,
     /// Window of the noise-floor tracker, seconds (default 3).
     pub noise_window_s: f32,
     /// High-pass corner applied before the pitch analysis, Hz; 0 = off (default 120). It takes
@@ -110,6 +114,7 @@ impl Default for AnalysisConfig {
             silence_db: -60.0,
             speech_gate_db: 30.0,
             noise_margin_db: 6.0,
+            noise_headroom_db: 2.0,
             noise_window_s: 3.0,
             highpass_hz: 120.0,
             speaker: SpeakerNormConfig::default(),
@@ -138,6 +143,7 @@ impl AnalysisConfig {
             "speech_gate_db" => self.speech_gate_db = v as f32,
             "noise_margin_db" => self.noise_margin_db = v as f32,
             "noise_window_s" => self.noise_window_s = v as f32,
+            "noise_headroom_db" => self.noise_headroom_db = v as f32,
             "highpass_hz" => self.highpass_hz = v as f32,
             _ => return Err(format!("unknown analysis setting {name:?}")),
         }
@@ -180,6 +186,28 @@ impl AnalysisConfig {
             0.0,
             self.voicing_on,
             "0..voicing_on",
+        )?;
+        check_range(
+            "noise_margin_db",
+            self.noise_margin_db,
+            0.0,
+            40.0,
+            "0..40 dB",
+        )?;
+        check_range(
+            "noise_window_s",
+            self.noise_window_s,
+            0.5,
+            30.0,
+            "0.5..30 s",
+        )?;
+        check_range("highpass_hz", self.highpass_hz, 0.0, 400.0, "0..400 Hz")?;
+        check_range(
+            "noise_headroom_db",
+            self.noise_headroom_db,
+            0.0,
+            40.0,
+            "0..40 dB",
         )?;
         check_range("level_weight", self.level_weight, 0.0, 0.5, "0..0.5")?;
         check_range("silence_db", self.silence_db, -120.0, 0.0, "-120..0 dBFS")?;
@@ -258,6 +286,22 @@ mod tests {
                 ..
             })
         ));
+        c = AnalysisConfig {
+            highpass_hz: 6000.0,
+            ..Default::default()
+        };
+        assert!(matches!(
+            c.validate(),
+            Err(AnalysisError::OutOfRange {
+                name: "highpass_hz",
+                ..
+            })
+        ));
+        c = AnalysisConfig {
+            noise_window_s: 1e9,
+            ..Default::default()
+        };
+        assert!(c.validate().is_err());
         assert!(check_sample_rate(7999.0).is_err());
         assert!(check_sample_rate(f64::NAN).is_err());
         assert!(check_sample_rate(192_000.0).is_ok());

@@ -39,9 +39,13 @@ impl NoiseFloor {
         self.in_block = 0;
     }
 
-    /// Adds one frame level (dB) and returns the current floor (dB).
-    pub(crate) fn update(&mut self, level_db: f32) -> f32 {
-        self.block_min = self.block_min.min(level_db);
+    /// Adds one frame: its level in dB, or `None` for a frame that must not teach the floor
+    /// (clearly periodic, i.e. voice); returns the current floor in dB (+∞ while the window
+    /// holds no usable frame).
+    pub(crate) fn update(&mut self, level_db: Option<f32>) -> f32 {
+        if let Some(level_db) = level_db {
+            self.block_min = self.block_min.min(level_db);
+        }
         self.in_block += 1;
         let mut floor = self.block_min;
         for &m in &self.ring[..self.filled] {
@@ -67,16 +71,21 @@ mod tests {
         let mut n = NoiseFloor::new(1.0, 100.0);
         for i in 0..100 {
             let level = if i % 10 == 0 { -50.0 } else { -20.0 };
-            n.update(level);
+            n.update(Some(level));
         }
-        assert_eq!(n.update(-20.0), -50.0);
+        assert_eq!(n.update(Some(-20.0)), -50.0);
         // The background rises to -30 dB: after the window the floor follows it.
         let mut last = 0.0;
         for _ in 0..150 {
-            last = n.update(-30.0);
+            last = n.update(Some(-30.0));
         }
         assert_eq!(last, -30.0);
+        // Frames kept out of the floor let old minima expire and are not counted.
+        for _ in 0..150 {
+            last = n.update(None);
+        }
+        assert_eq!(last, f32::INFINITY);
         n.reset();
-        assert_eq!(n.update(-10.0), -10.0);
+        assert_eq!(n.update(Some(-10.0)), -10.0);
     }
 }

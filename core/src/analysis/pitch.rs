@@ -129,13 +129,16 @@ impl NsdfPitch {
         &self.nsdf
     }
 
-    /// Analyses one window (`window.len()` must equal [`Self::window_len`]; shorter windows are
-    /// zero-padded, longer ones truncated). The mean is removed first, so DC offsets do not
+    /// Analyses one window of exactly [`Self::window_len`] samples (any other length gives a
+    /// zero estimate). The mean is removed first, so DC offsets do not
     /// matter. Returns the period chosen by the key-maximum rule, or a zero estimate when the
     /// window has no periodic structure in range.
     pub fn analyse(&mut self, window: &[f32]) -> PitchEstimate {
         self.n_candidates = 0;
-        let w = self.window_len.min(window.len());
+        if window.len() != self.window_len {
+            return PitchEstimate::default();
+        }
+        let w = self.window_len;
         let mean = window[..w].iter().map(|&x| x as f64).sum::<f64>() / w.max(1) as f64;
         let mean = mean as f32;
         let mut energy = 0.0f64;
@@ -215,7 +218,7 @@ impl NsdfPitch {
                 }
                 tau += 1;
             }
-            if peak_tau == 0 || peak_tau < self.lag_min || self.n_candidates == MAX_CANDIDATES {
+            if peak_tau == 0 || peak_tau < self.lag_min {
                 continue;
             }
             // A lobe cut off by the end of the search range is only a candidate if its highest
@@ -233,12 +236,33 @@ impl NsdfPitch {
             };
             let lag = peak_tau as f64 + delta as f64;
             let clarity = height.clamp(0.0, 1.0);
-            self.candidates[self.n_candidates] = PitchEstimate {
+            let candidate = PitchEstimate {
                 f0_hz: (self.rate_hz / lag) as f32,
                 clarity,
             };
-            self.n_candidates += 1;
             best = best.max(clarity);
+            if self.n_candidates == MAX_CANDIDATES {
+                // Full (very low f0 with a bright spectrum has many lobes): drop the weakest
+                // kept lobe if this one is stronger, keeping the lag order.
+                let (weakest, w) =
+                    self.candidates
+                        .iter()
+                        .enumerate()
+                        .fold((0, f32::MAX), |m, (i, c)| {
+                            if c.clarity < m.1 {
+                                (i, c.clarity)
+                            } else {
+                                m
+                            }
+                        });
+                if clarity <= w {
+                    continue;
+                }
+                self.candidates.copy_within(weakest + 1.., weakest);
+                self.n_candidates -= 1;
+            }
+            self.candidates[self.n_candidates] = candidate;
+            self.n_candidates += 1;
         }
         let threshold = self.key_max_ratio * best;
         self.candidates[..self.n_candidates]
@@ -265,6 +289,31 @@ mod tests {
                     * 0.3
             })
             .collect()
+    }
+
+    #[test]
+    fn many_lobes_do_not_hide_the_period() {
+        // 52 Hz with all energy near 1 kHz: about 19 lobes before the true period.
+        let rate = 8_000.0;
+        let mut p = NsdfPitch::new(rate, 320, 50.0, 600.0, 0.88);
+        let mut h = vec![0.0; 22];
+        h[17] = 0.6;
+        h[18] = 1.0;
+        h[19] = 0.8;
+        h[20] = 0.5;
+        let x = tone(52.0, rate, 320, &h);
+        let e = p.analyse(&x);
+        // The true period stays among the candidates, as the strongest lobe, and the choice
+        // lands near it rather than at a short lag (a narrow-band signal has near-equal lobes
+        // around the period, so the key-maximum rule may take one a lobe or two early).
+        let best = p
+            .candidates()
+            .iter()
+            .copied()
+            .fold(PitchEstimate::default(), |m, c| if c.clarity > m.clarity { c } else { m });
+        assert!((best.f0_hz - 52.0).abs() < 1.0, "{:?}", p.candidates());
+        assert!(e.f0_hz < 65.0, "{}", e.f0_hz);
+        assert_eq!(p.analyse(&x[..100]), PitchEstimate::default());
     }
 
     #[test]
