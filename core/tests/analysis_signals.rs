@@ -89,34 +89,25 @@ fn steady_tones_at_every_rate() {
 
 #[test]
 fn glides_are_followed() {
+    // Exponential glides 55 → 550 Hz and 500 → 50 Hz in 2 s.
+    let up = |t: f64| 55.0 * 10f64.powf(t / 2.0);
+    let down = |t: f64| 500.0 * 10f64.powf(-t / 2.0);
+    let glides: [(&str, &dyn Fn(f64) -> f64); 2] = [("rising", &up), ("falling", &down)];
     for rate in [16_000.0, 44_100.0, 48_000.0] {
-        // Exponential glide 55 → 550 Hz in 2 s, and back down.
-        let up = |t: f64| 55.0 * 10f64.powf(t / 2.0);
-        let x = synth::harmonic_tone(rate, 2.0, 0.5, &RICH, up);
-        let frames = analyse(&x, rate);
-        let mid = between(&frames, 0.05, 1.95);
-        let bad = mid
-            .iter()
-            .filter(|f| !f.voiced || cents(f.f0_hz, up(f.time_s)).abs() > 50.0)
-            .count();
-        assert!(
-            bad * 100 <= mid.len(),
-            "rate {rate}: {bad} of {} frames off the glide",
-            mid.len()
-        );
-        let down = |t: f64| 500.0 * 10f64.powf(-t / 2.0);
-        let x = synth::harmonic_tone(rate, 2.0, 0.5, &RICH, down);
-        let frames = analyse(&x, rate);
-        let mid = between(&frames, 0.05, 1.95);
-        let bad = mid
-            .iter()
-            .filter(|f| !f.voiced || cents(f.f0_hz, down(f.time_s)).abs() > 50.0)
-            .count();
-        assert!(
-            bad * 100 <= mid.len(),
-            "rate {rate}: {bad} of {} frames off the falling glide",
-            mid.len()
-        );
+        for (name, contour) in glides {
+            let x = synth::harmonic_tone(rate, 2.0, 0.5, &RICH, contour);
+            let frames = analyse(&x, rate);
+            let mid = between(&frames, 0.05, 1.95);
+            let bad = mid
+                .iter()
+                .filter(|f| !f.voiced || cents(f.f0_hz, contour(f.time_s)).abs() > 50.0)
+                .count();
+            assert!(
+                bad * 100 <= mid.len(),
+                "rate {rate}: {bad} of {} frames off the {name} glide",
+                mid.len()
+            );
+        }
     }
 }
 

@@ -310,7 +310,13 @@ mod tests {
             .candidates()
             .iter()
             .copied()
-            .fold(PitchEstimate::default(), |m, c| if c.clarity > m.clarity { c } else { m });
+            .fold(PitchEstimate::default(), |m, c| {
+                if c.clarity > m.clarity {
+                    c
+                } else {
+                    m
+                }
+            });
         assert!((best.f0_hz - 52.0).abs() < 1.0, "{:?}", p.candidates());
         assert!(e.f0_hz < 65.0, "{}", e.f0_hz);
         assert_eq!(p.analyse(&x[..100]), PitchEstimate::default());
