@@ -283,12 +283,7 @@ impl State {
         // The noise gate sits `noise_margin_db` above the floor, but never closer than
         // `noise_headroom_db` under the speech level: a stream without pauses (a sustained
         // vowel, a tone) has its "floor" at the voice itself.
-        let periodicity = self
-            .pitch
-            .candidates()
-            .iter()
-            .map(|c| c.clarity)
-            .fold(chosen.clarity, f32::max);
+        let periodicity = self.pitch.periodicity();
         let floor_db = self
             .noise_floor
             .update((periodicity < FLOOR_MAX_PERIODICITY).then_some(rms_db));
@@ -304,6 +299,7 @@ impl State {
         let t = self.tracker.update(
             chosen,
             self.pitch.candidates(),
+            periodicity,
             rms_db,
             gate_db,
             level_bonus,

@@ -46,6 +46,7 @@ pub struct NsdfPitch {
     nsdf: Vec<f32>,
     candidates: [PitchEstimate; MAX_CANDIDATES],
     n_candidates: usize,
+    periodicity: f32,
 }
 
 impl std::fmt::Debug for NsdfPitch {
@@ -111,6 +112,7 @@ impl NsdfPitch {
             c2r,
             candidates: [PitchEstimate::default(); MAX_CANDIDATES],
             n_candidates: 0,
+            periodicity: 0.0,
         }
     }
 
@@ -124,6 +126,12 @@ impl NsdfPitch {
         &self.candidates[..self.n_candidates]
     }
 
+    /// Periodicity of the last analysed window, 0..1: the height of its highest key maximum,
+    /// which the key-maximum rule may pass over for a slightly lower peak at the true period.
+    pub fn periodicity(&self) -> f32 {
+        self.periodicity
+    }
+
     /// The NSDF of the last analysed window, lags 0..=lag_max+1.
     pub fn nsdf(&self) -> &[f32] {
         &self.nsdf
@@ -135,6 +143,7 @@ impl NsdfPitch {
     /// window has no periodic structure in range.
     pub fn analyse(&mut self, window: &[f32]) -> PitchEstimate {
         self.n_candidates = 0;
+        self.periodicity = 0.0;
         if window.len() != self.window_len {
             return PitchEstimate::default();
         }
@@ -170,12 +179,9 @@ impl NsdfPitch {
         {
             return PitchEstimate::default();
         }
-        // The forward pass overwrote `time`; recompute m(τ) from the window itself.
-        let mut m = 0.0f64;
-        for &x in &window[..w] {
-            let d = (x - mean) as f64;
-            m += 2.0 * d * d;
-        }
+        // m(0) = 2·Σx²; later lags drop one sample from each end (the forward pass overwrote
+        // `time`, so the ends are read from the window itself).
+        let mut m = 2.0 * energy;
         let scale = 1.0 / self.time.len() as f64;
         for tau in 0..self.nsdf.len() {
             if tau > 0 {
@@ -264,6 +270,7 @@ impl NsdfPitch {
             self.candidates[self.n_candidates] = candidate;
             self.n_candidates += 1;
         }
+        self.periodicity = best;
         let threshold = self.key_max_ratio * best;
         self.candidates[..self.n_candidates]
             .iter()

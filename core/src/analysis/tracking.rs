@@ -54,6 +54,7 @@ impl Tracker {
         &mut self,
         chosen: PitchEstimate,
         candidates: &[PitchEstimate],
+        periodicity: f32,
         rms_db: f32,
         gate_db: f32,
         level_bonus: f32,
@@ -76,12 +77,6 @@ impl Tracker {
         }
         let gate_db = gate_db.max(self.silence_db);
         let gate = ((rms_db - (gate_db - SILENCE_FADE_DB)) / SILENCE_FADE_DB).clamp(0.0, 1.0);
-        // Periodicity is the best key maximum, not necessarily the chosen one: the key-maximum
-        // rule may pick a slightly lower peak at the true period.
-        let periodicity = candidates
-            .iter()
-            .map(|c| c.clarity)
-            .fold(est.clarity, f32::max);
         let voicing = (periodicity * gate).clamp(0.0, 1.0);
         let threshold = if self.voiced {
             self.voicing_off
@@ -123,6 +118,29 @@ mod tests {
         PitchEstimate { f0_hz, clarity }
     }
 
+    /// `update` with the periodicity the pitch estimator would report: the best clarity.
+    fn upd(
+        t: &mut Tracker,
+        chosen: PitchEstimate,
+        candidates: &[PitchEstimate],
+        rms_db: f32,
+        gate_db: f32,
+        level_bonus: f32,
+    ) -> TrackedPitch {
+        let periodicity = candidates
+            .iter()
+            .map(|c| c.clarity)
+            .fold(chosen.clarity, f32::max);
+        t.update(
+            chosen,
+            candidates,
+            periodicity,
+            rms_db,
+            gate_db,
+            level_bonus,
+        )
+    }
+
     #[test]
     fn median_of_three() {
         assert_eq!(median3(1.0, 2.0, 3.0), 2.0);
@@ -133,11 +151,11 @@ mod tests {
     #[test]
     fn hysteresis_and_silence_gate() {
         let mut t = Tracker::new(0.7, 0.5, -60.0);
-        assert!(!t.update(est(200.0, 0.6), &[], -20.0, -120.0, 0.0).voiced);
-        assert!(t.update(est(200.0, 0.8), &[], -20.0, -120.0, 0.0).voiced);
-        assert!(t.update(est(200.0, 0.6), &[], -20.0, -120.0, 0.0).voiced);
-        assert!(!t.update(est(200.0, 0.4), &[], -20.0, -120.0, 0.0).voiced);
-        let quiet = t.update(est(200.0, 0.99), &[], -65.0, -120.0, 0.0);
+        assert!(!upd(&mut t, est(200.0, 0.6), &[], -20.0, -120.0, 0.0).voiced);
+        assert!(upd(&mut t, est(200.0, 0.8), &[], -20.0, -120.0, 0.0).voiced);
+        assert!(upd(&mut t, est(200.0, 0.6), &[], -20.0, -120.0, 0.0).voiced);
+        assert!(!upd(&mut t, est(200.0, 0.4), &[], -20.0, -120.0, 0.0).voiced);
+        let quiet = upd(&mut t, est(200.0, 0.99), &[], -65.0, -120.0, 0.0);
         assert!(!quiet.voiced);
         assert!((quiet.voicing - 0.99 * 0.5).abs() < 1e-6);
     }
@@ -145,30 +163,43 @@ mod tests {
     #[test]
     fn continuity_prefers_the_candidate_near_the_track() {
         let mut t = Tracker::new(0.7, 0.5, -60.0);
-        t.update(est(150.0, 0.9), &[est(150.0, 0.9)], -20.0, -120.0, 0.0);
+        upd(
+            &mut t,
+            est(150.0, 0.9),
+            &[est(150.0, 0.9)],
+            -20.0,
+            -120.0,
+            0.0,
+        );
         // The key-maximum rule jumped an octave up, but a nearly as clear candidate continues.
         let cands = [est(301.0, 0.9), est(151.0, 0.88)];
-        let r = t.update(cands[0], &cands, -20.0, -120.0, 0.0);
+        let r = upd(&mut t, cands[0], &cands, -20.0, -120.0, 0.0);
         assert_eq!(r.f0_hz, 151.0);
         // A clearly better new candidate is kept: a real jump, which the outlier filter lets
         // through one frame later.
         let cands = [est(200.0, 0.95), est(151.0, 0.5)];
-        assert_eq!(t.update(cands[0], &cands, -20.0, -120.0, 0.0).f0_hz, 151.0);
-        assert_eq!(t.update(cands[0], &cands, -20.0, -120.0, 0.0).f0_hz, 200.0);
+        assert_eq!(
+            upd(&mut t, cands[0], &cands, -20.0, -120.0, 0.0).f0_hz,
+            151.0
+        );
+        assert_eq!(
+            upd(&mut t, cands[0], &cands, -20.0, -120.0, 0.0).f0_hz,
+            200.0
+        );
     }
 
     #[test]
     fn single_outliers_are_replaced_by_the_median() {
         let mut t = Tracker::new(0.7, 0.5, -60.0);
-        t.update(est(150.0, 0.9), &[], -20.0, -120.0, 0.0);
-        t.update(est(152.0, 0.9), &[], -20.0, -120.0, 0.0);
+        upd(&mut t, est(150.0, 0.9), &[], -20.0, -120.0, 0.0);
+        upd(&mut t, est(152.0, 0.9), &[], -20.0, -120.0, 0.0);
         assert_eq!(
-            t.update(est(300.0, 0.9), &[], -20.0, -120.0, 0.0).f0_hz,
+            upd(&mut t, est(300.0, 0.9), &[], -20.0, -120.0, 0.0).f0_hz,
             152.0
         );
         // A lasting jump comes through one frame later.
         assert_eq!(
-            t.update(est(300.0, 0.9), &[], -20.0, -120.0, 0.0).f0_hz,
+            upd(&mut t, est(300.0, 0.9), &[], -20.0, -120.0, 0.0).f0_hz,
             300.0
         );
     }
