@@ -2,6 +2,7 @@
 //! writes one CSV row per frame (contract in DESIGN.md). Multichannel input is mixed to mono.
 
 use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 
 use pneuma_core::encode::features_csv;
 use pneuma_core::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
@@ -104,5 +105,58 @@ fn same_file(a: &Path, b: &Path) -> bool {
     match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
         (Ok(x), Ok(y)) => x == y,
         _ => false,
+    }
+}
+
+/// Command-line arguments of `pneuma analyze`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Input WAV (8/16/24/32-bit integer or 32-bit float PCM, any channels, 8–192 kHz).
+    pub input: PathBuf,
+    /// Output CSV path, or `-` for standard output.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Frames per second.
+    #[arg(long, default_value_t = 120.0)]
+    pub frame_rate: f64,
+    /// Lowest f0 searched, Hz.
+    #[arg(long, default_value_t = 50.0)]
+    pub f0_min: f32,
+    /// Highest f0 searched, Hz.
+    #[arg(long, default_value_t = 600.0)]
+    pub f0_max: f32,
+}
+
+/// Runs `pneuma analyze` from parsed arguments, printing a summary or the error.
+pub fn main(args: Args) -> ExitCode {
+    let config = AnalysisConfig {
+        frame_rate_hz: args.frame_rate,
+        f0_min_hz: args.f0_min,
+        f0_max_hz: args.f0_max,
+        // Two periods of the lowest f0, at least the default 40 ms.
+        window_s: AnalysisConfig::default().window_s.max(2.0 / args.f0_min),
+        ..Default::default()
+    };
+    match run(&args.input, &args.output, config) {
+        Ok(s) => {
+            if args.output.as_os_str() != "-" {
+                eprintln!(
+                    "analysed {} ({} Hz, {} ch, {}-bit{}): {} frames, {} voiced -> {}",
+                    args.input.display(),
+                    s.info.sample_rate_hz,
+                    s.info.channels,
+                    s.info.bits,
+                    if s.info.float { " float" } else { "" },
+                    s.frames,
+                    s.voiced_frames,
+                    args.output.display()
+                );
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
     }
 }

@@ -2,5 +2,9 @@
 //! subcommands. The binary in `main.rs` only parses arguments and reports errors.
 
 pub mod analyze;
+pub mod eval;
 pub mod output;
+pub mod render;
+pub mod speak;
+pub mod train;
 pub mod wav;

@@ -10,8 +10,14 @@
 //! never allocates, locks, blocks, logs or does I/O.
 
 pub mod analysis;
+pub mod breathing;
+pub mod control;
 pub mod encode;
+pub mod engine;
+pub mod head;
+pub mod phrase;
 pub mod rng;
 pub mod synth;
 
 pub use analysis::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
+pub use control::{BreathEvent, BreathKind, BreathingState, ControlFrame, HeadAngles, Phase};

@@ -1,0 +1,121 @@
+//! The types every part of the engine shares: one [`ControlFrame`] per frame of the frame clock,
+//! the breathing phase and state, the head angles, and inserted-breath events.
+//!
+//! These are the data of the DESIGN.md contracts (controls CSV, breaths CSV, MIDI CC, OSC, BVH);
+//! the encoders in [`crate::encode`] and the doors read them, the models write them.
+
+/// The breathing phase of the speech-breathing cycle (Bernardet et al.).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+pub enum Phase {
+    /// Neither inhaling for speech nor speaking.
+    #[default]
+    Rest,
+    /// Breathing in before an utterance.
+    Inspiration,
+    /// Breathing out while speaking.
+    Expiration,
+}
+
+impl Phase {
+    /// The contract's name: `rest`, `inspiration` or `expiration`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Phase::Rest => "rest",
+            Phase::Inspiration => "inspiration",
+            Phase::Expiration => "expiration",
+        }
+    }
+}
+
+/// The body's breathing state at one frame. Every 0..1 field is a fraction of its maximum.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BreathingState {
+    /// The current phase.
+    pub phase: Phase,
+    /// Lung volume, 0..1 of the lung capacity.
+    pub lung: f32,
+    /// Thorax expansion, 0..1.
+    pub thorax: f32,
+    /// Abdomen expansion, 0..1.
+    pub abdomen: f32,
+    /// Neck pitch from breathing, degrees (positive = chin up).
+    pub neck_pitch_deg: f32,
+    /// Nostril flare, 0..1.
+    pub nostril_flare: f32,
+    /// Mouth opening from breathing, 0..1.
+    pub mouth_open: f32,
+}
+
+/// Head orientation in degrees, right-handed, per DESIGN.md: pitch positive = chin up, yaw
+/// positive = looking to the character's left, roll positive = head tilted to its left.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct HeadAngles {
+    /// Pitch (nod), degrees, positive = chin up.
+    pub pitch_deg: f32,
+    /// Yaw (turn), degrees, positive = looking to the character's left.
+    pub yaw_deg: f32,
+    /// Roll (tilt), degrees, positive = head tilted to the character's left.
+    pub roll_deg: f32,
+}
+
+/// Everything Pneuma computed for one frame of the frame clock.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ControlFrame {
+    /// Frame number from the start of the stream.
+    pub index: u64,
+    /// Time of the frame's centre in seconds from the start of the stream (input time: the
+    /// lookahead delay of a plugin is not included).
+    pub time_s: f64,
+    /// Fundamental frequency in Hz; 0 when unvoiced.
+    pub f0_hz: f32,
+    /// Voiced decision.
+    pub voiced: bool,
+    /// RMS level in dBFS (floor −120).
+    pub rms_db: f32,
+    /// Level in dB around the speaker's running speech level.
+    pub level_db: f32,
+    /// The phrase tracker's decision: inside a phrase (speech) or in a pause.
+    pub speaking: bool,
+    /// Breathing state.
+    pub breathing: BreathingState,
+    /// Head orientation.
+    pub head: HeadAngles,
+}
+
+/// Which breath sound was inserted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BreathKind {
+    /// Procedural inhalation through the mouth.
+    Mouth,
+    /// Procedural inhalation through the nose.
+    Nose,
+    /// A mix of mouth and nose (MouthVsNose between the extremes).
+    Mixed,
+    /// A user breath sample.
+    Sample,
+}
+
+impl BreathKind {
+    /// The name written to `breaths.csv`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            BreathKind::Mouth => "mouth",
+            BreathKind::Nose => "nose",
+            BreathKind::Mixed => "mixed",
+            BreathKind::Sample => "sample",
+        }
+    }
+}
+
+/// One inserted breath (a row of `breaths.csv`: `start_s,end_s,kind,peak_db`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BreathEvent {
+    /// Start of the breath sound, seconds from the start of the stream.
+    pub start_s: f64,
+    /// End of the breath sound, seconds.
+    pub end_s: f64,
+    /// The sound used.
+    pub kind: BreathKind,
+    /// Peak sample level of the inserted sound, dBFS.
+    pub peak_db: f32,
+}

@@ -1,0 +1,2 @@
+//! Phrase tracking: speech / pause decisions, phrase onsets and offsets, pause lengths.
+//! (Being built: issue 4.)
