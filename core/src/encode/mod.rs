@@ -1,3 +1,8 @@
 //! Pure encoders: they turn frames into bytes or text and do no I/O themselves.
 
+pub mod breaths_csv;
+pub mod bvh;
+pub mod controls_csv;
 pub mod features_csv;
+pub mod midi_cc;
+pub mod osc;

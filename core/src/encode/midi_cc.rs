@@ -1,0 +1,1 @@
+//! (Being built.) Encoder: midi_cc.
