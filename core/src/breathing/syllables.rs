@@ -240,25 +240,13 @@ fn count_letters(w: &str) -> u32 {
     if ends("ism") {
         count += 1;
     }
-    // "re-" / "co-" / "pre-" / "de-" + vowel: react, reuse, cooperate, preexist, deactivate.
-    for pre in ["re", "pre", "de", "co"] {
-        let k = pre.len();
-        if s.starts_with(pre) && n > k + 2 && matches!(b[k], b'a' | b'i' | b'o' | b'u' | b'e') {
-            let next2 = b[k + 1];
-            let is_digraph = (pre == "co" && matches!(b[k], b'u' | b'a' | b'i' | b'o'))
-                || (pre != "co"
-                    && b[k] == b'a'
-                    && matches!(next2, b'd' | b'l' | b'c' | b'r' | b's' | b'p' | b'm'))
-                || (pre != "co" && b[k] == b'e');
-            let coop = pre == "co"
-                && (s.starts_with("coop") || s.starts_with("coord") || s.starts_with("coax"));
-            if (!is_digraph && pre != "co")
-                || coop
-                || (pre != "co" && b[k] == b'a' && s.starts_with("react"))
-            {
-                count += 1;
-            }
-        }
+    // Prefixes whose vowel stands apart from the next one: react, realistic, reuse, cooperate.
+    const SPLIT_PREFIXES: &[&str] = &[
+        "react", "reali", "reapp", "reass", "reent", "reeva", "reuni", "reus", "reor", "coop",
+        "coord", "coex", "preex", "deact", "geo",
+    ];
+    if SPLIT_PREFIXES.iter().any(|p| s.starts_with(p)) {
+        count += 1;
     }
     count.max(1) as u32
 }
