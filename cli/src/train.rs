@@ -193,7 +193,7 @@ pub struct Args {
     pub frame_rate: f64,
     /// SD of the Gaussian smoothing of the training motion in seconds (tracking-jitter
     /// removal; 0 = none).
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = 0.025)]
     pub motion_smoothing: f64,
 }
 

@@ -2,11 +2,13 @@
 //! evaluations (`cargo xtask eval-pitch --data ../shared/data/ptdb`).
 
 mod eval_pitch;
+mod train_default;
 
 fn main() -> nice_plug_xtask::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
         Some("eval-pitch") => std::process::exit(eval_pitch::main(&args[1..])),
+        Some("train-default") => std::process::exit(train_default::main(&args[1..])),
         _ => nice_plug_xtask::main(),
     }
 }

@@ -14,7 +14,7 @@
 //!   "unvoiced": { "behaviour": "hold" | "return" | "loudness_model", "return_time_s": t,
 //!                 "roll": GMM, ... },
 //!   "synthesis": { "pose_weight": 0.2, "velocity_weight": 0.25, "acceleration_weight": 0.0625,
-//!                  "bound_deg": 90 },
+//!                  "bound_deg": 90, "output_gain": [roll, pitch, yaw] },
 //!   "provenance": { ... } }
 //! GMM = { "weights": [..], "means": [[..], ..], "covariances": [[[..]..], ..] }
 //! ```
@@ -499,6 +499,9 @@ impl HeadModel {
             180.0,
             "1..180 degrees",
         )?;
+        for g in s.output_gain {
+            check("synthesis.output_gain", g, 1.0, 10.0, "1..10")?;
+        }
         Ok(Self {
             voiced,
             unvoiced,

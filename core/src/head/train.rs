@@ -53,7 +53,7 @@ pub struct TrainConfig {
     /// Time constant of the damped return toward neutral stored in the model, seconds
     /// (default 0.8).
     pub return_time_s: f64,
-    /// SD of the Gaussian smoothing of the training motion, seconds (default 0.05): removes
+    /// SD of the Gaussian smoothing of the training motion, seconds (default 0.025): removes
     /// the tracking jitter of video-based head tracking from velocity and acceleration.
     pub motion_smoothing_s: f64,
     /// Description of the data for the provenance.
@@ -69,7 +69,7 @@ impl Default for TrainConfig {
             max_iterations: 200,
             seed: 2015,
             return_time_s: 0.8,
-            motion_smoothing_s: 0.05,
+            motion_smoothing_s: 0.025,
             data_description: String::new(),
         }
     }
