@@ -144,7 +144,7 @@ impl EmConfig {
         {
             return Err(EmError::NotFinite(i));
         }
-        let (mean, var) = moments(samples, d);
+        let (_, var) = moments(samples, d);
         if let Some(i) = (0..d).find(|&i| var[i] <= 0.0) {
             return Err(EmError::Constant(i));
         }
@@ -155,7 +155,7 @@ impl EmConfig {
         let mut best: Option<EmFit> = None;
         let mut rng = SeededRng::new(self.seed);
         for _ in 0..self.restarts {
-            let init = kmeans_init(samples, d, k, &mean, &var, &reg, &mut rng);
+            let init = kmeans_init(samples, d, k, &var, &reg, &mut rng);
             let fit = self.run(samples, init, &reg)?;
             if best
                 .as_ref()
@@ -303,7 +303,6 @@ fn kmeans_init(
     samples: &[[f64; MAX_DIM]],
     d: usize,
     k: usize,
-    mean: &[f64; MAX_DIM],
     var: &[f64; MAX_DIM],
     reg: &[f64; MAX_DIM],
     rng: &mut SeededRng,
@@ -397,7 +396,6 @@ fn kmeans_init(
         for a in 0..d {
             cov[a][a] += reg[a];
         }
-        let _ = mean;
         comps.push(Gaussian {
             weight: (members.len().max(1)) as f64,
             mean: *c,

@@ -5,6 +5,20 @@
 //! Per frame the engine calls [`HeadSynth::process`] with a [`crate::FeatureFrame`]; it returns
 //! [`crate::HeadAngles`] (DESIGN.md conventions) and [`angles_to_quat`] gives the quaternion.
 //! The shipped model is [`HeadModel::default_model`], trained by `cargo xtask train-default`.
+//!
+//! Where this differs from the paper, and why:
+//! - Features are speaker-normalised (f0 in semitones around the running median, level in dB
+//!   around the running speech level) instead of one actress's raw Hz and RMS, so one model
+//!   serves any voice; velocity and acceleration are per second (per second²), so the model
+//!   works at any frame rate.
+//! - The training motion (video-based face tracking) is smoothed by a 25 ms Gaussian before
+//!   velocity and acceleration are taken: unsmoothed, tracking jitter makes the acceleration
+//!   density's mode large and the argmax then circles tightly around the pose mode.
+//! - The argmax follows the densities' modes, so it generates far less motion than the data
+//!   (SD about 0.5–1° against 2.6–3.6° real on styletalk). A per-axis output gain, calibrated
+//!   on the training clips so the generated SD matches the real one, restores the amplitude.
+//! - Unvoiced frames do not freeze the head by default: hold, a damped return toward neutral and
+//!   a loudness-only model are compared leave-one-clip-out and the best is stored in the model.
 
 // Small fixed-size matrix math reads best with explicit indices.
 #![allow(clippy::needless_range_loop)]
