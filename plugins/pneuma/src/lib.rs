@@ -1,18 +1,20 @@
 //! Pneuma as a CLAP and VST3 plugin, built on nice-plug.
 //!
-//! This is the plugin shell: it declares the plugin (name, ids, audio layouts, MIDI, parameters)
-//! and passes audio through unchanged. The engine from `pneuma-core` (analysis, breath insertion,
-//! head pose, MIDI CC and OSC output) is wired in later; until then:
-//!
-//! - audio: stereo (default) or mono, output equals input sample for sample, except that
-//!   non-finite samples (NaN, ±inf) and subnormals are replaced by silence (`0.0`), so neither ever
-//!   reaches the output (DESIGN.md, "Real-time rules");
-//! - MIDI input: none. Declaring it on VST3 adds about 2 000 hidden parameters and hosts take tens
-//!   of seconds to load the plugin, and no feature needs it;
-//! - MIDI output: declared as [`MidiConfig::MidiCCs`] so the control signals can later leave as CC
-//!   lanes (DESIGN.md, "Contracts", MIDI CC); nothing is sent yet;
-//! - latency: zero samples;
-//! - no editor.
+//! - Audio: stereo (default) or mono, in place; breaths are mixed into the output as the CLI's
+//!   render does (once the Engine is wired in; until then [`engine_adapter`] runs the analysis
+//!   only and passes the audio). Non-finite input never reaches the output.
+//! - Latency: the engine's (`mode` = lookahead: the lookahead delay; live: none), reported at
+//!   activation. Changing `mode`, `lookahead_s` or `frame_rate_hz` asks the host for a restart.
+//! - Reset (engine, MIDI CC memory, OSC time anchor) on re-activation, on the host's reset and on
+//!   a transport jump (a position that is not where the previous block ended, while playing).
+//! - MIDI output: CC per the DESIGN.md map ([`pneuma_core::encode::midi_cc`]), sent only on change,
+//!   at most once per frame, at the sample offset inside the block where the frame became
+//!   available. No MIDI input (on VST3 it adds ~2 000 hidden parameters).
+//! - OSC output: [`osc_sender`]: a preallocated `rtrb` queue to a worker thread that sends UDP
+//!   bundles (pneuma or VMC); the target can change while playing; network trouble never reaches
+//!   the audio thread.
+//! - Parameters and persisted settings: [`params`]. CLAP remote-control pages: "Breathing",
+//!   "Breaths & head", "Output".
 //!
 //! Real-time: `process()` never allocates, locks, blocks, logs or does I/O. The crate enables
 //! nice-plug's `assert_process_allocs` (debug builds abort on an allocation in `process()`) and
@@ -21,59 +23,118 @@
 // No `#![allow(unsafe_code)]` needed: the unsafe entry points come from nice-plug's export macros
 // (`nice_export_clap!`, `nice_export_vst3!`), and the lint is not reported inside external macros.
 
+pub mod engine_adapter;
+pub mod osc_sender;
+pub mod params;
+
 use std::num::NonZeroU32;
 use std::sync::Arc;
 
 use nice_plug::prelude::*;
+use pneuma_core::encode::midi_cc::CcEncoder;
+use pneuma_core::encode::osc::OscFormat;
+
+use engine_adapter::EngineAdapter;
+use osc_sender::{OscFeed, OscSettings, OscStats, OscWorker};
+pub use params::{PneumaParams, PARAM_IDS};
 
 /// Stable identifier of the breath level parameter, saved in host projects and presets.
 pub const BREATH_LEVEL_PARAM_ID: &str = "breath_level_db";
-/// Lowest breath level, in dB relative to the speech level.
-pub const BREATH_LEVEL_MIN_DB: f32 = -40.0;
-/// Highest breath level, in dB relative to the speech level.
-pub const BREATH_LEVEL_MAX_DB: f32 = -6.0;
-/// Default breath level, in dB relative to the speech level.
-pub const BREATH_LEVEL_DEFAULT_DB: f32 = -22.0;
 
-/// The Pneuma plugin instance: owns its parameters; the engine joins later.
-pub struct Pneuma {
-    /// Parameters shared with the host wrapper (and later the editor).
-    params: Arc<PneumaParams>,
+/// Settings that need a new `prepare` (and maybe a new latency) when they change.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Structural {
+    mode: params::ModeChoice,
+    lookahead_s: f32,
+    frame_rate_hz: i32,
 }
 
-/// The plugin's parameters. Parameter ids are part of saved host state: never change them.
-#[derive(Params)]
-pub struct PneumaParams {
-    /// Loudness of the inserted breaths, in dB relative to the speech level around them, range
-    /// -40..-6 dB, default -22 dB.
-    ///
-    /// Not used yet: the plugin is a pass-through shell until the breath voice is wired in.
-    #[id = "breath_level_db"]
-    pub breath_level_db: FloatParam,
-}
-
-impl Default for PneumaParams {
-    fn default() -> Self {
+impl Structural {
+    fn of(p: &PneumaParams) -> Self {
         Self {
-            breath_level_db: FloatParam::new(
-                "Breath level",
-                BREATH_LEVEL_DEFAULT_DB,
-                FloatRange::Linear {
-                    min: BREATH_LEVEL_MIN_DB,
-                    max: BREATH_LEVEL_MAX_DB,
-                },
-            )
-            .with_unit(" dB")
-            .with_step_size(0.1),
+            mode: p.mode.value(),
+            lookahead_s: p.lookahead_s.value(),
+            frame_rate_hz: p.frame_rate_hz.value(),
         }
     }
 }
 
+/// Detects transport jumps: a playing block that does not start where the last one ended.
+#[derive(Debug, Default)]
+struct JumpDetector {
+    expected_pos: Option<i64>,
+}
+
+impl JumpDetector {
+    /// True if this block jumps; remembers where it ends.
+    fn check(&mut self, playing: bool, pos_samples: Option<i64>, block: usize) -> bool {
+        let (true, Some(pos)) = (playing, pos_samples) else {
+            // Stopped or unknown: keep the last end, so a restart elsewhere is a jump.
+            return false;
+        };
+        let jumped = self.expected_pos.is_some_and(|e| e != pos);
+        self.expected_pos = Some(pos + block as i64);
+        jumped
+    }
+}
+
+impl OscSettings for PneumaParams {
+    fn target(&self) -> (String, u16) {
+        (
+            self.osc_host(),
+            self.osc_port.value().clamp(1, 65535) as u16,
+        )
+    }
+
+    fn format(&self) -> OscFormat {
+        self.osc_format.value().into()
+    }
+}
+
+/// The Pneuma plugin instance.
+pub struct Pneuma {
+    params: Arc<PneumaParams>,
+    engine: Option<EngineAdapter>,
+    cc: CcEncoder,
+    midi_was_enabled: bool,
+    osc_feed: Option<OscFeed>,
+    osc_worker: Option<OscWorker>,
+    osc_stats: Option<Arc<OscStats>>,
+    prepared: Option<Structural>,
+    restart_requested: bool,
+    jumps: JumpDetector,
+}
+
 impl Default for Pneuma {
     fn default() -> Self {
+        let params = Arc::new(PneumaParams::default());
+        let cc = CcEncoder::new(params.cc_map()).expect("the default CC map is valid");
         Self {
-            params: Arc::new(PneumaParams::default()),
+            params,
+            engine: None,
+            cc,
+            midi_was_enabled: true,
+            osc_feed: None,
+            osc_worker: None,
+            osc_stats: None,
+            prepared: None,
+            restart_requested: false,
+            jumps: JumpDetector::default(),
         }
+    }
+}
+
+impl Pneuma {
+    /// OSC counters (sent, failed, dropped), once activated.
+    pub fn osc_stats(&self) -> Option<&Arc<OscStats>> {
+        self.osc_stats.as_ref()
+    }
+
+    fn reset_streams(&mut self) {
+        if let Some(e) = &mut self.engine {
+            e.reset();
+        }
+        self.cc.reset();
     }
 }
 
@@ -126,24 +187,111 @@ impl Plugin for Pneuma {
 
     fn activate(
         &mut self,
-        _audio_io_layout: &AudioIOLayout,
-        _buffer_config: &BufferConfig,
+        audio_io_layout: &AudioIOLayout,
+        buffer_config: &BufferConfig,
         context: &mut impl ActivateContext<Self>,
     ) -> bool {
-        context.set_latency_samples(0);
+        let structural = Structural::of(&self.params);
+        let channels = audio_io_layout
+            .main_output_channels
+            .map_or(1, NonZeroU32::get) as usize;
+        let mut engine = match EngineAdapter::new(f64::from(structural.frame_rate_hz)) {
+            Ok(e) => e,
+            Err(e) => {
+                nice_error!("Pneuma: engine settings rejected: {e}");
+                return false;
+            }
+        };
+        if let Err(e) = engine.prepare(
+            f64::from(buffer_config.sample_rate),
+            buffer_config.max_buffer_size as usize,
+            channels,
+        ) {
+            nice_error!("Pneuma: cannot prepare: {e}");
+            return false;
+        }
+        context.set_latency_samples(engine.latency_samples());
+        self.engine = Some(engine);
+        self.prepared = Some(structural);
+        self.restart_requested = false;
+        self.jumps = JumpDetector::default();
+        // A map the parameters describe may be invalid (a controller over 31 in 14-bit mode):
+        // keep the previous one then.
+        let _ = self.cc.set_map(self.params.cc_map());
+        self.cc.reset();
+        if self.osc_worker.is_none() {
+            match osc_sender::start(self.params.clone()) {
+                Ok((feed, worker, stats)) => {
+                    self.osc_feed = Some(feed);
+                    self.osc_worker = Some(worker);
+                    self.osc_stats = Some(stats);
+                }
+                // OSC is optional: the plugin still works without its thread.
+                Err(e) => nice_error!("Pneuma: cannot start the OSC thread: {e}"),
+            }
+        }
         true
+    }
+
+    fn reset(&mut self) {
+        self.reset_streams();
     }
 
     fn process(
         &mut self,
         buffer: &mut Buffer,
         _aux: &mut AuxiliaryBuffers,
-        _context: &mut impl ProcessContext<Self>,
+        context: &mut impl ProcessContext<Self>,
     ) -> ProcessStatus {
-        // The wrapper has already copied input to output; only non-finite/subnormal samples change.
-        for channel in buffer.as_slice().iter_mut() {
-            sanitize_in_place(channel);
+        let transport = context.transport();
+        if self
+            .jumps
+            .check(transport.playing, transport.pos_samples(), buffer.samples())
+        {
+            self.reset_streams();
         }
+        if !self.restart_requested && self.prepared != Some(Structural::of(&self.params)) {
+            self.restart_requested = true;
+            context.request_restart();
+        }
+        let map = self.params.cc_map();
+        if map != *self.cc.map() {
+            // An invalid map keeps the previous one (see `activate`).
+            let _ = self.cc.set_map(map);
+        }
+        let midi_on = self.params.midi_enabled.value();
+        if midi_on && !self.midi_was_enabled {
+            self.cc.reset();
+        }
+        self.midi_was_enabled = midi_on;
+        let osc_on = self.params.osc_enabled.value();
+
+        let Some(engine) = self.engine.as_mut() else {
+            for channel in buffer.as_slice().iter_mut() {
+                sanitize_in_place(channel);
+            }
+            return ProcessStatus::Normal;
+        };
+        let cc = &mut self.cc;
+        let feed = &mut self.osc_feed;
+        engine.process(buffer.as_slice(), &mut |frame, offset| {
+            if midi_on {
+                cc.encode(frame, |m| {
+                    // A full host event buffer loses the message; never block for it.
+                    let _ = context.try_send_event(NoteEvent::MidiCC {
+                        timing: offset as u32,
+                        channel: m.channel,
+                        cc: m.controller,
+                        value: f32::from(m.value) / 127.0,
+                    });
+                });
+            }
+            if osc_on {
+                if let Some(feed) = feed.as_mut() {
+                    feed.push(frame);
+                }
+            }
+        });
         ProcessStatus::Normal
     }
 }
@@ -161,6 +309,42 @@ impl ClapPlugin for Pneuma {
         ClapFeature::Utility,
         ClapFeature::Analyzer,
     ];
+
+    fn remote_controls(&self, context: &mut impl RemoteControlsContext) {
+        let p = &self.params;
+        context.add_section("Pneuma", |section| {
+            section.add_page("Breathing", |page| {
+                page.add_param(&p.preset);
+                page.add_param(&p.thorax_vs_abdomen);
+                page.add_param(&p.capacity_lung);
+                page.add_param(&p.mouth_vs_nose);
+                page.add_param(&p.breath_sound);
+                page.add_param(&p.opening);
+                page.add_param(&p.speaking_loudness);
+                page.add_param(&p.inspiration_length_s);
+            });
+            section.add_page("Breaths & head", |page| {
+                page.add_param(&p.breath_level_db);
+                page.add_param(&p.insert_breaths);
+                page.add_param(&p.min_pause_s);
+                page.add_param(&p.neck_amplitude_deg);
+                page.add_param(&p.head_amount);
+                page.add_param(&p.head_max_pitch_deg);
+                page.add_param(&p.head_max_yaw_deg);
+                page.add_param(&p.head_max_roll_deg);
+            });
+            section.add_page("Output", |page| {
+                page.add_param(&p.midi_enabled);
+                page.add_param(&p.midi_channel);
+                page.add_param(&p.cc_14bit);
+                page.add_param(&p.cc_head_range_deg);
+                page.add_param(&p.osc_enabled);
+                page.add_param(&p.osc_format);
+                page.add_param(&p.osc_port);
+                page.add_param(&p.mode);
+            });
+        });
+    }
 }
 
 impl Vst3Plugin for Pneuma {
@@ -181,11 +365,7 @@ mod tests {
         let params = PneumaParams::default();
         let map = params.param_map();
         let ids: Vec<&str> = map.iter().map(|(id, _, _)| id.as_str()).collect();
-        assert_eq!(
-            ids,
-            vec![BREATH_LEVEL_PARAM_ID],
-            "exactly one parameter, by its stable id"
-        );
+        assert!(ids.contains(&BREATH_LEVEL_PARAM_ID));
 
         let p = &params.breath_level_db;
         assert_eq!(p.default_plain_value(), -22.0);
@@ -193,6 +373,19 @@ mod tests {
         assert_eq!(p.preview_plain(0.0), -40.0);
         assert_eq!(p.preview_plain(1.0), -6.0);
         assert_eq!(p.name(), "Breath level");
+    }
+
+    #[test]
+    fn transport_jumps_are_detected_only_while_playing() {
+        let mut d = JumpDetector::default();
+        assert!(!d.check(true, Some(0), 64), "first block");
+        assert!(!d.check(true, Some(64), 64), "contiguous");
+        assert!(d.check(true, Some(1000), 64), "jump forward");
+        assert!(!d.check(true, Some(1064), 32));
+        assert!(!d.check(false, Some(5000), 32), "stopped: no reset");
+        assert!(d.check(true, Some(5000), 32), "restart elsewhere is a jump");
+        assert!(!d.check(true, None, 32), "no position: no jump");
+        assert!(!d.check(true, Some(5032), 32));
     }
 
     #[test]
