@@ -23,6 +23,8 @@
 // No `#![allow(unsafe_code)]` needed: the unsafe entry points come from nice-plug's export macros
 // (`nice_export_clap!`, `nice_export_vst3!`), and the lint is not reported inside external macros.
 
+#[cfg(test)]
+mod alloc_test;
 pub mod engine_adapter;
 pub mod osc_sender;
 pub mod params;
@@ -31,7 +33,7 @@ use std::num::NonZeroU32;
 use std::sync::Arc;
 
 use nice_plug::prelude::*;
-use pneuma_core::encode::midi_cc::CcEncoder;
+use pneuma_core::encode::midi_cc::{CcEncoder, CcMessage};
 use pneuma_core::encode::osc::OscFormat;
 
 use engine_adapter::EngineAdapter;
@@ -136,6 +138,34 @@ impl Pneuma {
         }
         self.cc.reset();
     }
+}
+
+/// Where a block's control frames go: the CC encoder (when MIDI is on) and the OSC feed (when OSC
+/// is on).
+pub struct Outputs<'a> {
+    /// The CC encoder, or `None` when MIDI output is off.
+    pub cc: Option<&'a mut CcEncoder>,
+    /// The OSC feed, or `None` when OSC output is off.
+    pub osc: Option<&'a mut OscFeed>,
+}
+
+/// The audio-thread work of one block: runs the engine in place and hands every control frame to
+/// the outputs; `send_cc(offset, message)` receives each CC message with its sample offset in the
+/// block. Never allocates, locks or blocks.
+pub fn run_block(
+    engine: &mut EngineAdapter,
+    audio: &mut [&mut [f32]],
+    mut outputs: Outputs<'_>,
+    send_cc: &mut dyn FnMut(u32, CcMessage),
+) {
+    engine.process(audio, &mut |frame, offset| {
+        if let Some(cc) = outputs.cc.as_deref_mut() {
+            cc.encode(frame, |m| send_cc(offset as u32, m));
+        }
+        if let Some(feed) = outputs.osc.as_deref_mut() {
+            feed.push(frame);
+        }
+    });
 }
 
 /// Replaces every sample that is not a normal finite number (NaN, ±inf, subnormal) by `0.0` and
@@ -272,25 +302,18 @@ impl Plugin for Pneuma {
             }
             return ProcessStatus::Normal;
         };
-        let cc = &mut self.cc;
-        let feed = &mut self.osc_feed;
-        engine.process(buffer.as_slice(), &mut |frame, offset| {
-            if midi_on {
-                cc.encode(frame, |m| {
-                    // A full host event buffer loses the message; never block for it.
-                    let _ = context.try_send_event(NoteEvent::MidiCC {
-                        timing: offset as u32,
-                        channel: m.channel,
-                        cc: m.controller,
-                        value: f32::from(m.value) / 127.0,
-                    });
-                });
-            }
-            if osc_on {
-                if let Some(feed) = feed.as_mut() {
-                    feed.push(frame);
-                }
-            }
+        let outputs = Outputs {
+            cc: midi_on.then_some(&mut self.cc),
+            osc: if osc_on { self.osc_feed.as_mut() } else { None },
+        };
+        run_block(engine, buffer.as_slice(), outputs, &mut |offset, m| {
+            // A full host event buffer loses the message; never block for it.
+            let _ = context.try_send_event(NoteEvent::MidiCC {
+                timing: offset,
+                channel: m.channel,
+                cc: m.controller,
+                value: f32::from(m.value) / 127.0,
+            });
         });
         ProcessStatus::Normal
     }

@@ -119,11 +119,26 @@ struct Target {
     resolved_at: Instant,
 }
 
+/// The target's first address, IPv4 preferred.
 fn resolve(key: &(String, u16)) -> Option<SocketAddr> {
-    (key.0.as_str(), key.1)
-        .to_socket_addrs()
-        .ok()?
-        .find(SocketAddr::is_ipv4)
+    let addrs: Vec<SocketAddr> = (key.0.as_str(), key.1).to_socket_addrs().ok()?.collect();
+    addrs
+        .iter()
+        .find(|a| a.is_ipv4())
+        .or(addrs.first())
+        .copied()
+}
+
+/// A non-blocking UDP socket of the address family of `addr`.
+fn socket_for(addr: &SocketAddr) -> Option<UdpSocket> {
+    let socket = if addr.is_ipv4() {
+        UdpSocket::bind(("0.0.0.0", 0))
+    } else {
+        UdpSocket::bind(("::", 0))
+    }
+    .ok()?;
+    socket.set_nonblocking(true).ok()?;
+    Some(socket)
 }
 
 fn now_unix_s() -> f64 {
@@ -138,10 +153,7 @@ fn run<S: OscSettings>(
     stats: Arc<OscStats>,
     stop: Arc<AtomicBool>,
 ) {
-    let socket = UdpSocket::bind(("0.0.0.0", 0)).ok();
-    if let Some(s) = &socket {
-        let _ = s.set_nonblocking(true);
-    }
+    let mut socket: Option<UdpSocket> = None;
     let mut target: Option<Target> = None;
     let mut buf = [0u8; MAX_FRAME_PACKET_BYTES];
     // (anchor unix seconds, last frame index)
@@ -171,6 +183,15 @@ fn run<S: OscSettings>(
         };
         if stale {
             let addr = resolve(&key);
+            if let Some(a) = &addr {
+                let family_ok = socket
+                    .as_ref()
+                    .and_then(|s| s.local_addr().ok())
+                    .is_some_and(|l| l.is_ipv4() == a.is_ipv4());
+                if !family_ok {
+                    socket = socket_for(a);
+                }
+            }
             target = Some(Target {
                 key,
                 addr,
@@ -251,13 +272,25 @@ mod tests {
         let tag = msgs[0].time_tag.unwrap().to_unix_seconds();
         assert!((tag - now_unix_s()).abs() < 2.0, "time tag near now: {tag}");
 
-        *settings.target.lock().unwrap() = ("localhost".into(), b.local_addr().unwrap().port());
+        *settings.target.lock().unwrap() = ("127.0.0.1".into(), b.local_addr().unwrap().port());
         *settings.format.lock().unwrap() = OscFormat::Vmc;
-        feed.push(&frame(2));
-        let msgs = receive(&b);
-        assert_eq!(msgs[0].address, "/VMC/Ext/Bone/Pos");
+        // The change applies from the worker's next wake-up (a frame already being sent may still
+        // go to the old target): push until the new target hears.
+        b.set_read_timeout(Some(Duration::from_millis(50))).unwrap();
+        let mut buf = [0u8; 2048];
+        let mut got = None;
+        for i in 2..100 {
+            feed.push(&frame(i));
+            if let Ok(n) = b.recv(&mut buf) {
+                got = Some(decode_packet(&buf[..n]).unwrap());
+                break;
+            }
+        }
+        let msgs = got.expect("the new target receives within 100 frames");
+        assert_eq!(msgs[0].address, "/VMC/Ext/Bone/Pos", "the new format");
         drop(worker);
-        assert_eq!(stats.sent.load(Ordering::Relaxed), 2);
+        assert!(stats.sent.load(Ordering::Relaxed) >= 2);
+        assert_eq!(stats.failed.load(Ordering::Relaxed), 0);
     }
 
     #[test]

@@ -312,7 +312,7 @@ impl Default for PneumaParams {
                 .with_unit(" Hz"),
             midi_enabled: BoolParam::new("MIDI CC out", true),
             midi_channel: IntParam::new("MIDI channel", 1, IntRange::Linear { min: 1, max: 16 }),
-            cc_14bit: BoolParam::new("14-bit CC", false),
+            cc_14bit: BoolParam::new("CC 14-bit", false),
             cc_head_range_deg: linear("CC head range", 30.0, 1.0, 90.0, "°", 0.5),
             cc_lung: cc_param(CcSignal::Lung),
             cc_head_pitch: cc_param(CcSignal::HeadPitch),

@@ -1,0 +1,334 @@
+//! The built `Pneuma.clap` through a real CLAP host (clack-host): parameters and their stable
+//! ids, any sample rate and block size, MIDI CC output, state, latency, NaN and silence.
+//!
+//! The bundle is built by the test itself (`cargo xtask bundle pneuma-plugin --release`, a no-op
+//! when up to date); see `pneuma_tests::bundle`.
+
+use pneuma_tests::bundle::ensure_clap;
+use pneuma_tests::host::{param_hash, CcEvent, Plugin};
+use pneuma_tests::wav::example_voice;
+
+const CLAP_ID: &str = "org.pneuma.pneuma";
+
+/// The promised parameter ids (saved in host projects: they never change).
+const PARAM_IDS: &[&str] = &[
+    "preset",
+    "thorax_vs_abdomen",
+    "capacity_lung",
+    "mouth_vs_nose",
+    "breath_sound",
+    "opening",
+    "speaking_loudness",
+    "inspiration_length_s",
+    "neck_amplitude_deg",
+    "breath_level_db",
+    "insert_breaths",
+    "min_pause_s",
+    "mode",
+    "lookahead_s",
+    "head_amount",
+    "head_max_pitch_deg",
+    "head_max_yaw_deg",
+    "head_max_roll_deg",
+    "frame_rate_hz",
+    "midi_enabled",
+    "midi_channel",
+    "cc_14bit",
+    "cc_head_range_deg",
+    "cc_lung",
+    "cc_head_pitch",
+    "cc_head_yaw",
+    "cc_head_roll",
+    "cc_thorax",
+    "cc_abdomen",
+    "cc_nostril_flare",
+    "cc_mouth_open",
+    "cc_neck_pitch",
+    "cc_speaking",
+    "cc_loudness",
+    "osc_enabled",
+    "osc_port",
+    "osc_format",
+];
+
+fn load() -> Plugin {
+    Plugin::load(&ensure_clap(), CLAP_ID).expect("the bundle loads")
+}
+
+/// Deterministic block sizes: `pattern` 0 = random 1..=512, else a fixed size.
+fn block_sizes(total: usize, pattern: usize, seed: u64) -> Vec<usize> {
+    let mut state = seed;
+    let mut out = Vec::new();
+    let mut left = total;
+    while left > 0 {
+        let n = if pattern == 0 {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            1 + ((state >> 33) % 512) as usize
+        } else {
+            pattern
+        };
+        let n = n.min(left);
+        out.push(n);
+        left -= n;
+    }
+    out
+}
+
+/// Runs `signal` (mono) through `plugin` in the given blocks; returns output and CC events.
+fn run(plugin: &mut Plugin, signal: &[f32], blocks: &[usize]) -> (Vec<f32>, Vec<CcEvent>) {
+    let mut out = Vec::with_capacity(signal.len());
+    let mut events = Vec::new();
+    let mut pos = 0;
+    for &n in blocks {
+        let mut block = vec![signal[pos..pos + n].to_vec()];
+        for e in plugin.process(&mut block) {
+            assert!(
+                (e.offset as usize) < n,
+                "offset {} in a block of {n}",
+                e.offset
+            );
+            events.push(e);
+        }
+        out.extend_from_slice(&block[0]);
+        pos += n;
+    }
+    (out, events)
+}
+
+#[test]
+fn parameters_carry_the_promised_ids() {
+    let mut plugin = load();
+    let params = plugin.params();
+    let host_ids: Vec<u32> = params.iter().map(|p| p.id).collect();
+    let want: Vec<u32> = PARAM_IDS.iter().map(|id| param_hash(id)).collect();
+    assert_eq!(host_ids, want, "parameter ids as the host sees them");
+    let names: Vec<&str> = params.iter().map(|p| p.name.as_str()).collect();
+    assert!(names.contains(&"Breath level"), "{names:?}");
+    assert!(names.contains(&"OSC port"), "{names:?}");
+    // A value set through the host reads back.
+    plugin.set_param("osc_port", "9001").unwrap();
+    let v = plugin.param_value("osc_port").unwrap();
+    let info = params
+        .iter()
+        .find(|p| p.id == param_hash("osc_port"))
+        .unwrap();
+    assert!(v != info.default, "osc_port changed from its default");
+}
+
+#[test]
+fn the_example_voice_gives_the_same_output_in_any_block_partition_at_44k_and_48k() {
+    let (voice, _) = example_voice();
+    for rate in [44_100.0, 48_000.0] {
+        let mut reference: Option<(Vec<f32>, Vec<CcEvent>)> = None;
+        for (pattern, seed) in [(512, 0), (37, 0), (1, 0), (0, 7), (0, 99)] {
+            let mut plugin = load();
+            plugin.activate(rate, 512, 1).unwrap();
+            let blocks = block_sizes(voice.len(), pattern, seed);
+            let (out, events) = run(&mut plugin, &voice, &blocks);
+            assert!(out.iter().all(|s| s.is_finite()));
+            check_cc_stream(&events, rate);
+            match &reference {
+                None => reference = Some((out, events)),
+                Some((ref_out, ref_events)) => {
+                    assert!(
+                        out.iter()
+                            .zip(ref_out)
+                            .all(|(a, b)| a.to_bits() == b.to_bits()),
+                        "audio differs with blocks of {pattern} (seed {seed}) at {rate} Hz"
+                    );
+                    assert_eq!(
+                        &events, ref_events,
+                        "CC events differ with blocks of {pattern} (seed {seed}) at {rate} Hz"
+                    );
+                }
+            }
+        }
+        let (_, events) = reference.unwrap();
+        // The speaking gate (CC 24) opens and closes with the phrases of the example voice
+        // (at least eight phrases), and loudness (CC 25) follows the speech.
+        let gate: Vec<&CcEvent> = events.iter().filter(|e| e.controller == 24).collect();
+        let opens = gate.iter().filter(|e| e.value == 127).count();
+        assert!(opens >= 8, "speaking gate opened {opens} times");
+        let loud = events.iter().filter(|e| e.controller == 25).count();
+        assert!(loud > 200, "loudness CC changed only {loud} times");
+    }
+}
+
+/// MIDI CC stream rules: channel 0 by default, sorted by time, each controller at most once per
+/// frame (frames are 1/120 s apart), values 0..127, only the DESIGN.md controllers.
+fn check_cc_stream(events: &[CcEvent], rate: f64) {
+    assert!(!events.is_empty(), "no CC output at {rate} Hz");
+    let frame = rate / 120.0;
+    assert!(events.windows(2).all(|w| w[0].sample <= w[1].sample));
+    for e in events {
+        assert_eq!(e.channel, 0);
+        assert!(e.value <= 127);
+        assert!(
+            e.controller == 2 || (16..=25).contains(&e.controller),
+            "unexpected controller {}",
+            e.controller
+        );
+    }
+    for cc in [2u8, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25] {
+        let times: Vec<u64> = events
+            .iter()
+            .filter(|e| e.controller == cc)
+            .map(|e| e.sample)
+            .collect();
+        for w in times.windows(2) {
+            assert!(
+                (w[1] - w[0]) as f64 >= frame.floor(),
+                "CC {cc} sent twice within one frame: samples {} and {}",
+                w[0],
+                w[1]
+            );
+        }
+        // Sent only on change: consecutive values differ.
+        let values: Vec<u8> = events
+            .iter()
+            .filter(|e| e.controller == cc)
+            .map(|e| e.value)
+            .collect();
+        assert!(
+            values.windows(2).all(|w| w[0] != w[1]),
+            "CC {cc} repeated a value"
+        );
+    }
+}
+
+#[test]
+fn channel_and_fourteen_bit_settings_reach_the_midi_output() {
+    let (voice, _) = example_voice();
+    let voice = &voice[..48_000 * 4];
+    let mut plugin = load();
+    plugin.set_param("midi_channel", "5").unwrap();
+    plugin.set_param("cc_14bit", "On").unwrap();
+    plugin.activate(48_000.0, 256, 1).unwrap();
+    let (_, events) = run(&mut plugin, voice, &block_sizes(voice.len(), 256, 0));
+    assert!(!events.is_empty());
+    assert!(
+        events.iter().all(|e| e.channel == 4),
+        "channel 5 is 4 on the wire"
+    );
+    // Every MSB on 2, 16..25 is followed at once by its LSB on controller + 32.
+    let mut i = 0;
+    while i < events.len() {
+        let msb = events[i];
+        assert!(msb.controller < 32, "MSB first: {msb:?}");
+        let lsb = events[i + 1];
+        assert_eq!(lsb.controller, msb.controller + 32);
+        assert_eq!(lsb.sample, msb.sample);
+        i += 2;
+    }
+    // MIDI off: nothing.
+    plugin.set_param("midi_enabled", "Off").unwrap();
+    let (_, events) = run(&mut plugin, voice, &block_sizes(voice.len(), 256, 0));
+    assert!(
+        events.len() <= 22,
+        "at most one block's worth before the change applies"
+    );
+}
+
+#[test]
+fn state_restores_into_a_fresh_instance_with_the_same_output() {
+    let (voice, _) = example_voice();
+    let voice = &voice[..48_000 * 6];
+    let mut a = load();
+    a.set_param("midi_channel", "3").unwrap();
+    a.set_param("cc_loudness", "40").unwrap();
+    a.set_param("osc_port", "9100").unwrap();
+    a.set_param("osc_format", "VMC").unwrap();
+    a.set_param("head_amount", "2.5").unwrap();
+    a.set_param("preset", "Calm").unwrap();
+    let state = a.save_state();
+    // The persisted OSC host travels in the state; give it a different host.
+    let text = String::from_utf8(state.clone()).expect("nice-plug state is JSON");
+    assert!(
+        text.contains("127.0.0.1"),
+        "OSC host is in the state: {text}"
+    );
+    let state = text.replace("127.0.0.1", "10.1.2.3").into_bytes();
+    a.load_state(&state).unwrap();
+
+    let mut b = load();
+    b.load_state(&state).unwrap();
+    for id in PARAM_IDS {
+        assert_eq!(a.param_value(id), b.param_value(id), "{id} restored");
+    }
+    let resaved = String::from_utf8(b.save_state()).unwrap();
+    assert!(
+        resaved.contains("10.1.2.3"),
+        "persisted OSC host restored: {resaved}"
+    );
+
+    a.activate(48_000.0, 512, 1).unwrap();
+    b.activate(48_000.0, 512, 1).unwrap();
+    let blocks = block_sizes(voice.len(), 0, 3);
+    let (out_a, ev_a) = run(&mut a, voice, &blocks);
+    let (out_b, ev_b) = run(&mut b, voice, &blocks);
+    assert!(out_a
+        .iter()
+        .zip(&out_b)
+        .all(|(x, y)| x.to_bits() == y.to_bits()));
+    assert_eq!(ev_a, ev_b);
+    assert!(ev_a.iter().all(|e| e.channel == 2));
+    assert!(
+        ev_a.iter().any(|e| e.controller == 40),
+        "remapped loudness CC"
+    );
+    assert!(!ev_a.iter().any(|e| e.controller == 25));
+}
+
+#[test]
+fn nan_infinity_and_silence_never_break_the_output() {
+    for channels in [1, 2] {
+        let mut plugin = load();
+        plugin.activate(44_100.0, 333, channels).unwrap();
+        let blocks: Vec<Vec<f32>> = vec![
+            vec![0.0; 333],
+            vec![f32::NAN; 100],
+            vec![f32::INFINITY; 7],
+            (0..333)
+                .map(|i| if i % 2 == 0 { f32::NEG_INFINITY } else { 0.5 })
+                .collect(),
+            vec![1e-41; 64], // subnormal
+            vec![0.0; 1],
+        ];
+        for _ in 0..50 {
+            for b in &blocks {
+                let mut audio = vec![b.clone(); channels];
+                plugin.process(&mut audio);
+                for c in &audio {
+                    assert!(
+                        c.iter()
+                            .all(|s| s.is_finite() && (*s == 0.0 || s.is_normal())),
+                        "non-finite or subnormal output"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn latency_is_reported_and_structural_changes_ask_for_a_restart() {
+    let mut plugin = load();
+    plugin.activate(48_000.0, 128, 2).unwrap();
+    let lookahead = plugin.latency();
+    plugin.set_param("mode", "Live").unwrap();
+    plugin.process(&mut vec![vec![0.0; 128]; 2]);
+    assert!(
+        plugin.restart_requested(),
+        "a mode change asks for a restart"
+    );
+    plugin.activate(48_000.0, 128, 2).unwrap();
+    assert_eq!(plugin.latency(), 0, "live mode adds no latency");
+    assert!(!plugin.restart_requested());
+    assert!(
+        lookahead < 48_000 * 3,
+        "lookahead latency {lookahead} samples"
+    );
+    eprintln!("reported latency at 48 kHz: lookahead {lookahead} samples, live 0");
+}
