@@ -5,10 +5,10 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use pneuma_tests::bundle::ensure_clap;
 use pneuma_tests::host::Plugin;
-use pneuma_tests::wav::example_voice;
+use pneuma_tests::wav::example_voice_at;
 
 fn plugin_cpu(c: &mut Criterion) {
-    let (voice, _) = example_voice();
+    let voice = example_voice_at(48_000);
     let second = &voice[48_000 * 2..48_000 * 3];
     let mut group = c.benchmark_group("plugin_48k_64");
     group.throughput(Throughput::Elements(48_000));

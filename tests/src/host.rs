@@ -10,6 +10,7 @@ use std::ffi::CString;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use clack_extensions::audio_ports_config::PluginAudioPortsConfig;
 use clack_extensions::latency::PluginLatency;
 use clack_extensions::params::{ParamInfoBuffer, PluginParams};
 use clack_extensions::state::PluginState;
@@ -188,7 +189,9 @@ impl Plugin {
         Ok(())
     }
 
-    /// Activates for `channels` channels at `sample_rate` Hz with blocks of at most `max_block`.
+    /// Activates for `channels` channels (1 or 2) at `sample_rate` Hz with blocks of at most
+    /// `max_block`. The plugin's audio-ports configuration is selected first: Pneuma's
+    /// configuration ids follow its layouts, 0 = stereo, 1 = mono.
     pub fn activate(
         &mut self,
         sample_rate: f64,
@@ -196,6 +199,20 @@ impl Plugin {
         channels: usize,
     ) -> Result<(), String> {
         self.deactivate();
+        let config_id = match channels {
+            2 => 0,
+            1 => 1,
+            n => return Err(format!("{n} channels: Pneuma is mono or stereo")),
+        };
+        let ports = self
+            .instance
+            .plugin_shared_handle()
+            .get_extension::<PluginAudioPortsConfig>()
+            .ok_or("the plugin has no audio-ports-config extension")?;
+        let handle = self.instance.plugin_handle();
+        ports
+            .select(&handle, ClapId::new(config_id))
+            .map_err(|e| format!("selecting the {channels}-channel layout failed: {e:?}"))?;
         let config = PluginAudioConfiguration {
             sample_rate,
             min_frames_count: 1,
@@ -240,6 +257,21 @@ impl Plugin {
             .expect("the plugin has the latency extension");
         let handle = self.instance.plugin_handle();
         ext.get(&handle)
+    }
+
+    /// Replaces `from` by `to` inside a saved state (nice-plug's CLAP state is a little-endian u64
+    /// length followed by JSON), fixing the length.
+    pub fn edit_state(state: &[u8], from: &str, to: &str) -> Vec<u8> {
+        let json = std::str::from_utf8(&state[8..]).expect("the state after the length is JSON");
+        let edited = json.replace(from, to);
+        let mut out = (edited.len() as u64).to_le_bytes().to_vec();
+        out.extend_from_slice(edited.as_bytes());
+        out
+    }
+
+    /// The JSON part of a saved state.
+    pub fn state_json(state: &[u8]) -> &str {
+        std::str::from_utf8(&state[8..]).expect("the state after the length is JSON")
     }
 
     /// Saves the state.

@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use pneuma_core::encode::osc::{decode_packet, OscMessage, OscValue};
 use pneuma_tests::bundle::ensure_clap;
 use pneuma_tests::host::Plugin;
-use pneuma_tests::wav::example_voice;
+use pneuma_tests::wav::example_voice_at;
 
 fn socket() -> UdpSocket {
     let s = UdpSocket::bind("127.0.0.1:0").expect("bind a UDP port on loopback");
@@ -26,6 +26,24 @@ fn drain(sock: &UdpSocket) -> Vec<Vec<OscMessage>> {
         out.push(decode_packet(&buf[..n]).expect("valid OSC"));
     }
     out
+}
+
+/// Receives on a thread while the audio runs (the socket's buffer would overflow otherwise):
+/// waits up to 10 s for the first packet, then drains until quiet.
+fn listen(sock: UdpSocket) -> std::thread::JoinHandle<(UdpSocket, Vec<Vec<OscMessage>>)> {
+    std::thread::spawn(move || {
+        let mut buf = [0u8; 4096];
+        sock.set_read_timeout(Some(Duration::from_secs(10)))
+            .unwrap();
+        let mut out = Vec::new();
+        if let Ok(n) = sock.recv(&mut buf) {
+            out.push(decode_packet(&buf[..n]).expect("valid OSC"));
+        }
+        sock.set_read_timeout(Some(Duration::from_millis(300)))
+            .unwrap();
+        out.extend(drain(&sock));
+        (sock, out)
+    })
 }
 
 /// Processes `signal` in 480-sample blocks (10 ms at 48 kHz), roughly paced at 10× real time
@@ -50,7 +68,7 @@ fn float(v: &OscValue) -> f32 {
 
 #[test]
 fn pneuma_then_vmc_bundles_arrive_with_the_documented_addresses_types_and_values() {
-    let (voice, _) = example_voice();
+    let voice = example_voice_at(48_000);
     let first = socket();
     let second = socket();
     let mut plugin = Plugin::load(&ensure_clap(), "org.pneuma.pneuma").unwrap();
@@ -60,8 +78,9 @@ fn pneuma_then_vmc_bundles_arrive_with_the_documented_addresses_types_and_values
         .unwrap();
     plugin.set_param("osc_format", "pneuma").unwrap();
     plugin.activate(48_000.0, 480, 1).unwrap();
+    let listener = listen(first);
     play(&mut plugin, &voice[..48_000 * 8]);
-    let bundles = drain(&first);
+    let (first, bundles) = listener.join().unwrap();
     assert!(
         bundles.len() > 300,
         "{} of ~960 frames arrived in 8 s of audio",
@@ -137,8 +156,9 @@ fn pneuma_then_vmc_bundles_arrive_with_the_documented_addresses_types_and_values
         .set_param("osc_port", &second.local_addr().unwrap().port().to_string())
         .unwrap();
     plugin.set_param("osc_format", "VMC").unwrap();
+    let listener = listen(second);
     play(&mut plugin, &voice[48_000 * 8..48_000 * 12]);
-    let vmc = drain(&second);
+    let (_, vmc) = listener.join().unwrap();
     assert!(vmc.len() > 150, "{} VMC bundles", vmc.len());
     let stray = drain(&first);
     assert!(
@@ -178,19 +198,19 @@ fn pneuma_then_vmc_bundles_arrive_with_the_documented_addresses_types_and_values
 
 #[test]
 fn an_unresolvable_target_does_not_disturb_the_audio() {
-    let (voice, _) = example_voice();
+    let voice = example_voice_at(48_000);
     let voice = &voice[..48_000 * 3];
     let mut with_osc = Plugin::load(&ensure_clap(), "org.pneuma.pneuma").unwrap();
     // Port 9 (discard) on a host name that never resolves is set through the state.
     with_osc.set_param("osc_enabled", "On").unwrap();
     with_osc.set_param("osc_port", "9").unwrap();
-    let state = String::from_utf8(with_osc.save_state()).unwrap();
+    let state = with_osc.save_state();
     with_osc
-        .load_state(
-            state
-                .replace("127.0.0.1", "no-such-host.invalid")
-                .as_bytes(),
-        )
+        .load_state(&Plugin::edit_state(
+            &state,
+            "127.0.0.1",
+            "no-such-host.invalid",
+        ))
         .unwrap();
     let mut without = Plugin::load(&ensure_clap(), "org.pneuma.pneuma").unwrap();
     with_osc.activate(48_000.0, 64, 1).unwrap();

@@ -6,7 +6,7 @@
 
 use pneuma_tests::bundle::ensure_clap;
 use pneuma_tests::host::{param_hash, CcEvent, Plugin};
-use pneuma_tests::wav::example_voice;
+use pneuma_tests::wav::example_voice_at;
 
 const CLAP_ID: &str = "org.pneuma.pneuma";
 
@@ -119,8 +119,8 @@ fn parameters_carry_the_promised_ids() {
 
 #[test]
 fn the_example_voice_gives_the_same_output_in_any_block_partition_at_44k_and_48k() {
-    let (voice, _) = example_voice();
     for rate in [44_100.0, 48_000.0] {
+        let voice = example_voice_at(rate as u32);
         let mut reference: Option<(Vec<f32>, Vec<CcEvent>)> = None;
         for (pattern, seed) in [(512, 0), (37, 0), (1, 0), (0, 7), (0, 99)] {
             let mut plugin = load();
@@ -138,9 +138,21 @@ fn the_example_voice_gives_the_same_output_in_any_block_partition_at_44k_and_48k
                             .all(|(a, b)| a.to_bits() == b.to_bits()),
                         "audio differs with blocks of {pattern} (seed {seed}) at {rate} Hz"
                     );
-                    assert_eq!(
-                        &events, ref_events,
-                        "CC events differ with blocks of {pattern} (seed {seed}) at {rate} Hz"
+                    // The same absolute sample, controller and value (offsets depend on the
+                    // block boundaries).
+                    let key = |e: &CcEvent| (e.sample, e.channel, e.controller, e.value);
+                    let first_diff = events
+                        .iter()
+                        .zip(ref_events)
+                        .position(|(a, b)| key(a) != key(b));
+                    assert!(
+                        first_diff.is_none() && events.len() == ref_events.len(),
+                        "CC events differ with blocks of {pattern} (seed {seed}) at {rate} Hz: \
+                         {} vs {} events, first difference at {first_diff:?}: {:?} vs {:?}",
+                        events.len(),
+                        ref_events.len(),
+                        first_diff.map(|i| events[i]),
+                        first_diff.map(|i| ref_events[i]),
                     );
                 }
             }
@@ -179,7 +191,10 @@ fn check_cc_stream(events: &[CcEvent], rate: f64) {
             .collect();
         for w in times.windows(2) {
             assert!(
-                (w[1] - w[0]) as f64 >= frame.floor(),
+                // Frames become available on the analysis' decimated clock, so their spacing
+                // jitters by a few samples around the frame period; two sends for one frame would
+                // be far closer.
+                (w[1] - w[0]) as f64 >= frame / 2.0,
                 "CC {cc} sent twice within one frame: samples {} and {}",
                 w[0],
                 w[1]
@@ -200,7 +215,7 @@ fn check_cc_stream(events: &[CcEvent], rate: f64) {
 
 #[test]
 fn channel_and_fourteen_bit_settings_reach_the_midi_output() {
-    let (voice, _) = example_voice();
+    let voice = example_voice_at(48_000);
     let voice = &voice[..48_000 * 4];
     let mut plugin = load();
     plugin.set_param("midi_channel", "5").unwrap();
@@ -233,7 +248,7 @@ fn channel_and_fourteen_bit_settings_reach_the_midi_output() {
 
 #[test]
 fn state_restores_into_a_fresh_instance_with_the_same_output() {
-    let (voice, _) = example_voice();
+    let voice = example_voice_at(48_000);
     let voice = &voice[..48_000 * 6];
     let mut a = load();
     a.set_param("midi_channel", "3").unwrap();
@@ -244,12 +259,12 @@ fn state_restores_into_a_fresh_instance_with_the_same_output() {
     a.set_param("preset", "Calm").unwrap();
     let state = a.save_state();
     // The persisted OSC host travels in the state; give it a different host.
-    let text = String::from_utf8(state.clone()).expect("nice-plug state is JSON");
+    let text = Plugin::state_json(&state);
     assert!(
         text.contains("127.0.0.1"),
         "OSC host is in the state: {text}"
     );
-    let state = text.replace("127.0.0.1", "10.1.2.3").into_bytes();
+    let state = Plugin::edit_state(&state, "127.0.0.1", "10.1.2.3");
     a.load_state(&state).unwrap();
 
     let mut b = load();
@@ -257,7 +272,8 @@ fn state_restores_into_a_fresh_instance_with_the_same_output() {
     for id in PARAM_IDS {
         assert_eq!(a.param_value(id), b.param_value(id), "{id} restored");
     }
-    let resaved = String::from_utf8(b.save_state()).unwrap();
+    let resaved = b.save_state();
+    let resaved = Plugin::state_json(&resaved);
     assert!(
         resaved.contains("10.1.2.3"),
         "persisted OSC host restored: {resaved}"

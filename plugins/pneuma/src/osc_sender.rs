@@ -12,8 +12,11 @@
 //!   wake-up, so they can change while playing. Name resolution happens on the worker; a target
 //!   that does not resolve or an unreachable one only counts send failures and is retried every
 //!   [`RETRY_INTERVAL`]. Nothing the network does reaches the audio thread.
-//! - Time tags: the first frame after a start or reset anchors the frame clock to the wall clock;
-//!   a frame's tag is `anchor + time_s` (re-anchored when it drifts more than 0.5 s from now).
+//! - Time tags: the first frame after a start or reset (the frame index goes back) anchors the
+//!   frame clock to the wall clock; a frame's tag is `anchor + time_s`. When the tags fall more
+//!   than 0.5 s behind the wall clock (playback paused, a stall) they are re-anchored forward to
+//!   now, so tags always increase; faster-than-real-time processing (offline bounce) gives tags
+//!   ahead of the wall clock, as the audio time says.
 
 use std::net::{SocketAddr, ToSocketAddrs, UdpSocket};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -202,7 +205,7 @@ fn run<S: OscSettings>(
         while let Ok(frame) = consumer.pop() {
             let now = now_unix_s();
             let base = match anchor {
-                Some((a, last)) if frame.index > last && (a + frame.time_s - now).abs() < 0.5 => a,
+                Some((a, last)) if frame.index > last && a + frame.time_s > now - 0.5 => a,
                 _ => now - frame.time_s,
             };
             anchor = Some((base, frame.index));
