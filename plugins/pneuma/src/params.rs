@@ -310,7 +310,7 @@ impl Default for PneumaParams {
             head_max_roll_deg: linear("Head roll limit", 12.0, 0.5, 90.0, "°", 0.5),
             frame_rate_hz: IntParam::new("Frame rate", 120, IntRange::Linear { min: 30, max: 240 })
                 .with_unit(" Hz"),
-            midi_enabled: BoolParam::new("MIDI CC out", true),
+            midi_enabled: BoolParam::new("CC output", true),
             midi_channel: IntParam::new("MIDI channel", 1, IntRange::Linear { min: 1, max: 16 }),
             cc_14bit: BoolParam::new("CC 14-bit", false),
             cc_head_range_deg: linear("CC head range", 30.0, 1.0, 90.0, "°", 0.5),
