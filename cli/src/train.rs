@@ -1,17 +1,276 @@
-//! `pneuma train`: head-pose model training. (Being built: issue 5.)
+//! `pneuma train --data DIR -o model.json`: trains a head-pose model from `<clip>.wav` files
+//! paired with `<clip>.head.csv` (`time_s,pitch_deg,yaw_deg,roll_deg`, the styletalk format),
+//! reports the leave-one-clip-out held-out log-likelihood per GMM and the comparison of the
+//! unvoiced behaviours, and writes the model file.
+//!
+//! The data loading here ([`load_clips`]) is shared with `pneuma eval head` and
+//! `cargo xtask train-default`.
 
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+use pneuma_core::head::train::{mismatch_score, train, CrossValidation, TrainConfig};
+use pneuma_core::head::{MotionTrack, TrainingClip};
+use pneuma_core::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
+use thiserror::Error;
+
+use crate::wav::{read_mono, WavError};
+
+/// Errors of loading head-motion data and training.
+#[derive(Debug, Error)]
+pub enum TrainCliError {
+    /// The data folder is missing or unreadable.
+    #[error("cannot read the data folder {path}: {source} (give a folder of <clip>.wav + <clip>.head.csv, e.g. ../shared/data/styletalk)")]
+    Folder {
+        /// The folder.
+        path: PathBuf,
+        /// The reason.
+        source: std::io::Error,
+    },
+    /// No clip pairs found.
+    #[error("no <clip>.wav + <clip>.head.csv pairs in {0}: check the folder")]
+    NoClips(PathBuf),
+    /// A head CSV is malformed.
+    #[error("{path} line {line}: {reason} (expected header time_s,pitch_deg,yaw_deg,roll_deg and numeric rows)")]
+    Csv {
+        /// The file.
+        path: PathBuf,
+        /// Line number (1-based).
+        line: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// WAV reading failed.
+    #[error(transparent)]
+    Wav(#[from] WavError),
+    /// Analysis settings failed.
+    #[error(transparent)]
+    Analysis(#[from] AnalysisError),
+    /// Training failed.
+    #[error(transparent)]
+    Train(#[from] pneuma_core::head::TrainError),
+    /// Writing the model failed.
+    #[error("cannot write {path}: {source}")]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// The reason.
+        source: std::io::Error,
+    },
+}
+
+/// Reads a head-motion CSV (`time_s,pitch_deg,yaw_deg,roll_deg`) into (roll, pitch, yaw).
+pub fn read_head_csv(path: &Path) -> Result<MotionTrack, TrainCliError> {
+    let text = std::fs::read_to_string(path).map_err(|e| TrainCliError::Csv {
+        path: path.into(),
+        line: 0,
+        reason: e.to_string(),
+    })?;
+    let csv_err = |line: usize, reason: String| TrainCliError::Csv {
+        path: path.into(),
+        line,
+        reason,
+    };
+    let mut lines = text.lines();
+    let header = lines.next().unwrap_or("").trim();
+    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
+    let find = |name: &str| {
+        cols.iter()
+            .position(|c| *c == name)
+            .ok_or_else(|| csv_err(1, format!("column `{name}` is missing")))
+    };
+    let (it, ip, iy, ir) = (
+        find("time_s")?,
+        find("pitch_deg")?,
+        find("yaw_deg")?,
+        find("roll_deg")?,
+    );
+    let mut m = MotionTrack::default();
+    for (n, line) in lines.enumerate() {
+        let line_no = n + 2;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        let get = |i: usize| -> Result<f64, TrainCliError> {
+            let s = f
+                .get(i)
+                .ok_or_else(|| csv_err(line_no, format!("has {} fields", f.len())))?;
+            let v: f64 = s
+                .parse()
+                .map_err(|_| csv_err(line_no, format!("`{s}` is not a number")))?;
+            if v.is_finite() {
+                Ok(v)
+            } else {
+                Err(csv_err(line_no, format!("`{s}` is not finite")))
+            }
+        };
+        let t = get(it)?;
+        if let Some(&last) = m.time_s.last() {
+            if t <= last {
+                return Err(csv_err(line_no, format!("time {t} does not increase")));
+            }
+        }
+        m.time_s.push(t);
+        m.pose_deg.push([get(ir)?, get(ip)?, get(iy)?]);
+    }
+    if m.time_s.len() < 4 {
+        return Err(csv_err(0, "fewer than 4 rows of motion".into()));
+    }
+    Ok(m)
+}
+
+/// Analyses a whole WAV file into feature frames with `config`.
+pub fn analyze_wav(
+    path: &Path,
+    config: &AnalysisConfig,
+) -> Result<Vec<FeatureFrame>, TrainCliError> {
+    let (samples, rate) = read_mono(path)?;
+    let mut a = Analyzer::new(config.clone())?;
+    a.prepare(rate as f64, 4096)?;
+    let mut frames = Vec::new();
+    for block in samples.chunks(4096) {
+        a.process(block, |f| frames.push(*f))?;
+    }
+    a.finish(|f| frames.push(*f))?;
+    Ok(frames)
+}
+
+/// Finds the `<clip>.wav` + `<clip>.head.csv` pairs in `dir` (sorted by name), analyses the
+/// audio at `config.frame_rate_hz` and pairs it with the resampled motion.
+pub fn load_clips(dir: &Path, config: &AnalysisConfig) -> Result<Vec<TrainingClip>, TrainCliError> {
+    let folder = |source| TrainCliError::Folder {
+        path: dir.into(),
+        source,
+    };
+    let mut stems: Vec<String> = std::fs::read_dir(dir)
+        .map_err(folder)?
+        .filter_map(|e| e.ok())
+        .filter_map(|e| {
+            let name = e.file_name().to_string_lossy().into_owned();
+            name.strip_suffix(".head.csv").map(str::to_string)
+        })
+        .filter(|stem| dir.join(format!("{stem}.wav")).is_file())
+        .collect();
+    stems.sort();
+    if stems.is_empty() {
+        return Err(TrainCliError::NoClips(dir.into()));
+    }
+    let mut clips = Vec::with_capacity(stems.len());
+    for stem in stems {
+        let motion = read_head_csv(&dir.join(format!("{stem}.head.csv")))?;
+        let frames = analyze_wav(&dir.join(format!("{stem}.wav")), config)?;
+        clips.push(TrainingClip::from_motion(
+            &stem,
+            config.frame_rate_hz,
+            &frames,
+            &motion,
+        ));
+    }
+    Ok(clips)
+}
 
 /// Command-line arguments of `pneuma train`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Remaining arguments (the full interface is being built).
-    #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
-    pub rest: Vec<String>,
+    /// Folder of `<clip>.wav` + `<clip>.head.csv` pairs.
+    #[arg(long)]
+    pub data: PathBuf,
+    /// Output model file (JSON).
+    #[arg(short = 'o', long)]
+    pub output: PathBuf,
+    /// Components per voiced GMM (the paper: 11).
+    #[arg(long, default_value_t = 11)]
+    pub components: usize,
+    /// EM restarts per GMM.
+    #[arg(long, default_value_t = 3)]
+    pub restarts: usize,
+    /// EM seed.
+    #[arg(long, default_value_t = 2015)]
+    pub seed: u64,
+    /// Feature frame rate in Hz.
+    #[arg(long, default_value_t = 120.0)]
+    pub frame_rate: f64,
+}
+
+/// Prints the held-out log-likelihoods and the unvoiced-behaviour comparison.
+pub fn print_report(cv: &CrossValidation) {
+    println!("held-out log-likelihood per voiced GMM (nats/frame, leave-one-clip-out)");
+    println!("clip,roll,pitch,yaw,velocity,acceleration");
+    for (name, ll) in &cv.held_out {
+        println!(
+            "{name},{:.3},{:.3},{:.3},{:.3},{:.3}",
+            ll[0], ll[1], ll[2], ll[3], ll[4]
+        );
+    }
+    let m = cv.mean_held_out();
+    println!(
+        "mean,{:.3},{:.3},{:.3},{:.3},{:.3}",
+        m[0], m[1], m[2], m[3], m[4]
+    );
+    println!("unvoiced behaviour comparison (mismatch score vs real motion, lower is better)");
+    for (b, evals) in &cv.evals {
+        let n = evals.len().max(1) as f64;
+        let frozen = evals.iter().map(|e| e.generated.frozen_share).sum::<f64>() / n;
+        let speed = evals
+            .iter()
+            .map(|e| e.generated.mean_speed_deg_s)
+            .sum::<f64>()
+            / n;
+        println!(
+            "{:<15} score {:.3}  frozen {:.1} %  mean speed {:.1} deg/s",
+            b.as_str(),
+            mismatch_score(evals),
+            100.0 * frozen,
+            speed
+        );
+    }
+    println!("kept: {}", cv.best_behaviour().as_str());
+}
+
+/// Trains with `args` settings; returns the model JSON and the cross-validation.
+pub fn run(
+    args: &Args,
+    data_description: &str,
+) -> Result<(String, CrossValidation), TrainCliError> {
+    let config = AnalysisConfig {
+        frame_rate_hz: args.frame_rate,
+        ..AnalysisConfig::default()
+    };
+    let clips = load_clips(&args.data, &config)?;
+    let cfg = TrainConfig {
+        components: args.components,
+        restarts: args.restarts,
+        seed: args.seed,
+        data_description: data_description.to_string(),
+        ..TrainConfig::default()
+    };
+    let (model, cv) = train(&clips, &cfg, |name| eprintln!("leave out {name} ..."))?;
+    Ok((model.to_json(), cv))
 }
 
 /// Runs `pneuma train`.
-pub fn main(_args: Args) -> ExitCode {
-    eprintln!("error: `pneuma train` is not built yet (issue 5)");
-    ExitCode::FAILURE
+pub fn main(args: Args) -> ExitCode {
+    let desc = format!("clips of {}", args.data.display());
+    match run(&args, &desc) {
+        Ok((json, cv)) => {
+            print_report(&cv);
+            if let Err(source) = std::fs::write(&args.output, json) {
+                eprintln!(
+                    "error: {}",
+                    TrainCliError::Write {
+                        path: args.output.clone(),
+                        source
+                    }
+                );
+                return ExitCode::FAILURE;
+            }
+            println!("wrote {}", args.output.display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
 }

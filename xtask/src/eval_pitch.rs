@@ -230,7 +230,7 @@ fn praat_track(wav: &Path, frames: usize, scratch: &Path) -> Result<Track, Strin
     Ok(track)
 }
 
-fn read_reference(path: &Path) -> Result<Vec<(f64, f32)>, String> {
+pub(crate) fn read_reference(path: &Path) -> Result<Vec<(f64, f32)>, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     text.lines()
         .skip(1)
@@ -251,7 +251,7 @@ fn read_reference(path: &Path) -> Result<Vec<(f64, f32)>, String> {
         .collect()
 }
 
-fn split_name(stem: &str) -> Option<(String, u32)> {
+pub(crate) fn split_name(stem: &str) -> Option<(String, u32)> {
     let digits = stem.trim_end_matches(|c: char| !c.is_ascii_digit());
     let snr_start = digits.rfind(|c: char| !c.is_ascii_digit())? + 1;
     let snr: u32 = stem[snr_start..].parse().ok()?;

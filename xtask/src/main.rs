@@ -1,11 +1,13 @@
 //! Project chores: `cargo xtask bundle <package> --release` (nice-plug's bundler) and the
 //! evaluations (`cargo xtask eval-pitch --data ../shared/data/ptdb`).
 
+mod eval_pauses;
 mod eval_pitch;
 
 fn main() -> nice_plug_xtask::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
+        Some("eval-pauses") => std::process::exit(eval_pauses::main(&args[1..])),
         Some("eval-pitch") => std::process::exit(eval_pitch::main(&args[1..])),
         _ => nice_plug_xtask::main(),
     }

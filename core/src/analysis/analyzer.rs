@@ -270,6 +270,8 @@ impl State {
             };
         }
         let chosen = self.pitch.analyse(&self.window);
+        let band_sq: f64 = self.window.iter().map(|&w| (w as f64) * (w as f64)).sum();
+        let band_db = amplitude_to_db((band_sq / self.window.len() as f64).sqrt());
         let (mut sum, mut sq) = (0.0f64, 0.0f64);
         for b in self.next_bin..self.next_bin + self.rms_bins as i64 {
             if b >= 0 {
@@ -318,6 +320,7 @@ impl State {
                 0.0
             },
             level_db: rms_db - self.speaker.speech_level_db(),
+            band_db,
         }
     }
 }

@@ -41,6 +41,10 @@ pub struct FeatureFrame {
     pub f0_st: f32,
     /// Level in dB around the speaker's running speech level (`rms_db` − speech level).
     pub level_db: f32,
+    /// RMS level of the voice band in dBFS: the pitch window (about 40 ms, centred on `time_s`)
+    /// after the 120 Hz high-pass and the decimation (so up to 4–8 kHz). Rumble (traffic, car,
+    /// handling noise) hardly reaches it; the phrase tracker decides speech / pause on it.
+    pub band_db: f32,
 }
 
 /// Converts an RMS amplitude to dBFS with a floor of −120 dBFS.

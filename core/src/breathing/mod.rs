@@ -1,2 +1,52 @@
-//! The speech-breathing model of Bernardet et al.: parameters (Table 1, Equation 1), presets,
-//! the breath cycle, breath sounds and the text chunker. (Being built: issue 3.)
+//! The speech-breathing model of Bernardet et al. ("A Dynamic Speech Breathing System for
+//! Virtual Characters", and its IEEE VR version): parameters (Table 1, Equation 1), presets, the
+//! event-driven breath cycle (lung sawtooth, thorax, abdomen, neck, nostrils, mouth), procedural
+//! and sampled inhalation sounds, and the text chunker with its English syllable counter.
+//!
+//! The same [`BreathCycle`] serves the text-driven path (`pneuma speak`: utterance lengths are
+//! measured from the TTS audio) and the audio-driven path (the engine: utterance lengths known
+//! offline, estimated live).
+
+mod chunker;
+mod cycle;
+mod params;
+mod presets;
+mod sample;
+mod syllables;
+mod voice;
+
+pub use chunker::{chunk_text, Chunk, ChunkBreak, Chunker};
+pub use cycle::{BreathCycle, MIN_LUNG_VOLUME};
+pub use params::{
+    BreathingParams, LowLevelParams, BASE_SYLLABLE_RATE_HZ, BREATH_RMS_RE_SPEECH_AT_FULL,
+    MIN_INSPIRATION_S,
+};
+pub use presets::Preset;
+pub use sample::{BreathSample, SampleSlot};
+pub use syllables::{count_syllables, count_syllables_text};
+pub use voice::BreathVoice;
+
+use thiserror::Error;
+
+/// Errors of the breathing model.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum BreathingError {
+    /// A parameter is outside its documented range.
+    #[error("breathing parameter `{name}` is {value}; set it between {min} and {max}")]
+    OutOfRange {
+        /// The parameter.
+        name: &'static str,
+        /// The value given.
+        value: f32,
+        /// Smallest allowed value.
+        min: f32,
+        /// Largest allowed value.
+        max: f32,
+    },
+    /// No preset has this name.
+    #[error("unknown breathing preset `{0}`; use one of neutral, calm, anxious, tired, excited")]
+    UnknownPreset(String),
+    /// A breath sample is unusable.
+    #[error("breath sample rejected: {0}")]
+    BadSample(String),
+}

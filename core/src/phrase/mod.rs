@@ -1,2 +1,481 @@
-//! Phrase tracking: speech / pause decisions, phrase onsets and offsets, pause lengths.
-//! (Being built: issue 4.)
+//! Phrase tracking on the feature frames: speech / pause, phrase onsets and offsets, pause
+//! lengths, and whether a pause already holds a breath.
+//!
+//! ## The decision, per frame
+//! - Levels are the voice-band level of the frame ([`FeatureFrame::band_db`], above 120 Hz), so
+//!   low rumble does not look like speech.
+//! - An adaptive noise floor follows the frame level by minimum statistics (the minimum of the
+//!   last few half-second blocks), so it tracks stationary noise and rises within seconds when
+//!   the noise gets louder.
+//! - A frame is **active** when it is voiced, or when its level is both `activity_margin_db` over
+//!   the noise floor and no more than `unvoiced_drop_db` under the running speech level (so
+//!   fricatives count as speech, breaths and room noise do not).
+//! - A phrase **starts** once a run of active frames holds `onset_voiced_s` of voiced frames. Its
+//!   onset is then moved back over the contiguous frames just before it that stand
+//!   `edge_margin_db` over the floor (an initial /s/ or /f/), at most `edge_extend_s`.
+//! - A phrase **ends** after `hangover_s` without an active frame; its offset is the end of the
+//!   last active frame, moved forward the same way over a decaying tail.
+//! - Inside a pause, a **breath** is a run of at least `breath_min_s` of unvoiced frames that stand
+//!   `edge_margin_db` over the floor but are not active: a noise burst well under the speech level.
+//!
+//! Events are reported when they are certain, with the times they refer to (which lie in the
+//! past): a consumer with lookahead (the engine's delay line) places breaths exactly, a live
+//! consumer acts on them at once. Everything is causal and allocation-free after `new`.
+
+mod config;
+
+pub use config::{PhraseConfig, PhraseError};
+
+use crate::analysis::FeatureFrame;
+
+/// A pause between two phrases, reported with the onset that ends it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pause {
+    /// Start of the pause (offset of the previous phrase), seconds.
+    pub start_s: f64,
+    /// End of the pause (onset of the new phrase), seconds.
+    pub end_s: f64,
+    /// True when a breath-like noise burst was heard inside the pause.
+    pub has_breath: bool,
+}
+
+impl Pause {
+    /// Length of the pause in seconds.
+    pub fn length_s(&self) -> f64 {
+        self.end_s - self.start_s
+    }
+}
+
+/// What the tracker learned at one frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PhraseEvent {
+    /// A phrase started at `onset_s`. `pause` is the pause it ends (None for the first phrase of
+    /// the stream, whose preceding silence has no start).
+    Start {
+        /// Onset time, seconds (in the past of the frame that reports it).
+        onset_s: f64,
+        /// The pause that ended here.
+        pause: Option<Pause>,
+    },
+    /// The phrase that started at `onset_s` ended at `offset_s` (confirmed after the hangover).
+    End {
+        /// Onset of the phrase, seconds.
+        onset_s: f64,
+        /// Offset of the phrase, seconds.
+        offset_s: f64,
+    },
+}
+
+/// Per-frame facts kept in the history ring.
+#[derive(Debug, Clone, Copy, Default)]
+struct FrameFacts {
+    active: bool,
+    over_floor: bool,
+    voiced: bool,
+}
+
+/// Number of half-second blocks the noise floor looks back over.
+const FLOOR_BLOCKS: usize = 6;
+
+/// The phrase tracker. Feed it every feature frame in order with [`PhraseTracker::update`].
+#[derive(Debug, Clone)]
+pub struct PhraseTracker {
+    config: PhraseConfig,
+    frame_rate_hz: f64,
+    // Frame counts derived from the config.
+    onset_voiced_frames: u32,
+    hangover_frames: u64,
+    edge_frames: u64,
+    offset_frames: u64,
+    breath_min_frames: u32,
+    run_gap_frames: u64,
+    block_frames: u64,
+    // Noise floor (minimum statistics).
+    block_min_db: [f32; FLOOR_BLOCKS],
+    block_fill: usize,
+    current_block_min_db: f32,
+    frames_in_block: u64,
+    floor_db: f32,
+    // History ring of the last `history.len()` frames.
+    history: Vec<FrameFacts>,
+    frames_seen: u64,
+    // Phrase state.
+    in_phrase: bool,
+    onset_index: u64,
+    last_active_index: u64,
+    last_offset_index: Option<u64>,
+    candidate_start: Option<u64>,
+    candidate_last_active: u64,
+    candidate_voiced: u32,
+    // Breath detection inside the current pause.
+    breath_run: u32,
+    breath_run_start: u64,
+    breath_seen: bool,
+}
+
+impl PhraseTracker {
+    /// Creates a tracker for frames at `frame_rate_hz`.
+    pub fn new(config: PhraseConfig, frame_rate_hz: f64) -> Result<Self, PhraseError> {
+        config.validate()?;
+        if !(frame_rate_hz.is_finite() && (10.0..=1000.0).contains(&frame_rate_hz)) {
+            return Err(PhraseError::FrameRate(frame_rate_hz));
+        }
+        let frames = |s: f32| ((s as f64) * frame_rate_hz).round().max(1.0) as u64;
+        let edge_frames = frames(config.edge_extend_s);
+        let frames = |s: f32| ((s as f64) * frame_rate_hz).round() as u64;
+        let hangover_frames = frames(config.hangover_s);
+        let history_len = (edge_frames.max(hangover_frames) + frames(1.0)) as usize;
+        let frames = |s: f32| ((s as f64) * frame_rate_hz).round().max(1.0) as u64;
+        let mut t = Self {
+            onset_voiced_frames: frames(config.onset_voiced_s) as u32,
+            hangover_frames,
+            edge_frames,
+            offset_frames: frames(config.offset_extend_s),
+            breath_min_frames: frames(config.breath_min_s) as u32,
+            run_gap_frames: frames(config.run_gap_s),
+            block_frames: frames(0.5),
+            config,
+            frame_rate_hz,
+            block_min_db: [0.0; FLOOR_BLOCKS],
+            block_fill: 0,
+            current_block_min_db: f32::INFINITY,
+            frames_in_block: 0,
+            floor_db: f32::NEG_INFINITY,
+            history: vec![FrameFacts::default(); history_len],
+            frames_seen: 0,
+            in_phrase: false,
+            onset_index: 0,
+            last_active_index: 0,
+            last_offset_index: None,
+            candidate_start: None,
+            candidate_last_active: 0,
+            candidate_voiced: 0,
+            breath_run: 0,
+            breath_run_start: 0,
+            breath_seen: false,
+        };
+        t.reset();
+        Ok(t)
+    }
+
+    /// Clears all state (start of a new stream).
+    pub fn reset(&mut self) {
+        self.block_min_db = [0.0; FLOOR_BLOCKS];
+        self.block_fill = 0;
+        self.current_block_min_db = f32::INFINITY;
+        self.frames_in_block = 0;
+        self.floor_db = f32::NEG_INFINITY;
+        self.history
+            .iter_mut()
+            .for_each(|f| *f = FrameFacts::default());
+        self.frames_seen = 0;
+        self.in_phrase = false;
+        self.onset_index = 0;
+        self.last_active_index = 0;
+        self.last_offset_index = None;
+        self.candidate_start = None;
+        self.candidate_last_active = 0;
+        self.candidate_voiced = 0;
+        self.breath_run = 0;
+        self.breath_seen = false;
+    }
+
+    /// The settings.
+    pub fn config(&self) -> &PhraseConfig {
+        &self.config
+    }
+
+    /// The current noise-floor estimate in dBFS (−∞ before the first frame).
+    pub fn noise_floor_db(&self) -> f32 {
+        self.floor_db
+    }
+
+    /// True while inside a phrase (between a confirmed onset and a confirmed offset).
+    pub fn in_phrase(&self) -> bool {
+        self.in_phrase
+    }
+
+    /// How far in the past (seconds) an event may refer at most when it is reported: the
+    /// hangover for offsets, the onset confirmation plus the edge extension for onsets.
+    pub fn max_report_delay_s(&self) -> f64 {
+        let onset = self.edge_frames + self.run_gap_frames * 4 + self.onset_voiced_frames as u64;
+        onset.max(self.hangover_frames) as f64 / self.frame_rate_hz
+    }
+
+    fn time_s(&self, index: u64) -> f64 {
+        index as f64 / self.frame_rate_hz
+    }
+
+    fn facts(&self, index: u64) -> FrameFacts {
+        self.history[(index % self.history.len() as u64) as usize]
+    }
+
+    fn update_floor(&mut self, rms_db: f32) {
+        self.current_block_min_db = self.current_block_min_db.min(rms_db);
+        self.frames_in_block += 1;
+        let mut floor = self.current_block_min_db;
+        for &m in &self.block_min_db[..self.block_fill] {
+            floor = floor.min(m);
+        }
+        if self.frames_in_block >= self.block_frames {
+            self.block_min_db.copy_within(0..FLOOR_BLOCKS - 1, 1);
+            self.block_min_db[0] = self.current_block_min_db;
+            self.block_fill = (self.block_fill + 1).min(FLOOR_BLOCKS);
+            self.current_block_min_db = f32::INFINITY;
+            self.frames_in_block = 0;
+        }
+        self.floor_db = floor;
+    }
+
+    /// Feeds one frame (in order). Calls `on_event` for what became certain at this frame: at
+    /// most an end and a start.
+    pub fn update(&mut self, frame: &FeatureFrame, mut on_event: impl FnMut(PhraseEvent)) {
+        let c = self.config;
+        // Decisions use the voice-band level (rumble stays out); the speech level comes from
+        // the full-band level and its speaker-relative value.
+        let rms_db = if frame.band_db.is_finite() {
+            frame.band_db
+        } else {
+            -120.0
+        };
+        self.update_floor(rms_db);
+        let speech_level_db = if frame.level_db.is_finite() && frame.rms_db.is_finite() {
+            frame.rms_db - frame.level_db
+        } else {
+            rms_db
+        };
+        let over_floor = rms_db >= self.floor_db + c.edge_margin_db && rms_db > c.silence_db;
+        let loud = rms_db >= self.floor_db + c.activity_margin_db
+            && rms_db >= speech_level_db - c.unvoiced_drop_db
+            && rms_db > c.silence_db;
+        let voiced = frame.voiced && rms_db > c.silence_db;
+        let active = voiced || loud;
+        let i = self.frames_seen;
+        let len = self.history.len() as u64;
+        self.history[(i % len) as usize] = FrameFacts {
+            active,
+            over_floor,
+            voiced,
+        };
+        self.frames_seen += 1;
+
+        if self.in_phrase {
+            if active {
+                self.last_active_index = i;
+            } else if i - self.last_active_index >= self.hangover_frames {
+                // The phrase ended: extend the offset forward over a decaying tail.
+                let mut offset = self.last_active_index + 1;
+                while offset < i
+                    && offset - self.last_active_index <= self.offset_frames
+                    && self.facts(offset).over_floor
+                {
+                    offset += 1;
+                }
+                self.in_phrase = false;
+                self.last_offset_index = Some(offset);
+                self.candidate_start = None;
+                self.candidate_voiced = 0;
+                // Breath detection restarts from the offset (frames since are in the ring).
+                self.breath_run = 0;
+                self.breath_seen = false;
+                for k in offset..=i {
+                    self.track_breath(k);
+                }
+                on_event(PhraseEvent::End {
+                    onset_s: self.time_s(self.onset_index),
+                    offset_s: self.time_s(offset),
+                });
+            }
+            return;
+        }
+
+        // In a pause: look for a candidate phrase.
+        if active {
+            if self.candidate_start.is_none() {
+                self.candidate_start = Some(i);
+                self.candidate_voiced = 0;
+            }
+            self.candidate_last_active = i;
+            if voiced {
+                self.candidate_voiced += 1;
+            }
+        } else if let Some(_start) = self.candidate_start {
+            if i - self.candidate_last_active > self.run_gap_frames {
+                // The run died out without enough voicing: it was noise. Its frames may be a
+                // breath; replay them for breath detection.
+                self.candidate_start = None;
+                self.candidate_voiced = 0;
+            }
+        }
+        if self.candidate_start.is_none() {
+            self.track_breath(i);
+        }
+        if let Some(start) = self.candidate_start {
+            if self.candidate_voiced >= self.onset_voiced_frames {
+                // A phrase starts: move the onset back over a quiet consonant.
+                let limit = self
+                    .last_offset_index
+                    .unwrap_or(0)
+                    .max(start.saturating_sub(self.edge_frames))
+                    .max(i.saturating_sub(len - 1));
+                let mut onset = start;
+                while onset > limit && self.facts(onset - 1).over_floor {
+                    onset -= 1;
+                }
+                // A breath run still going counts only with the part before the onset.
+                let has_breath = self.breath_seen
+                    || (self.breath_run > 0
+                        && onset.saturating_sub(self.breath_run_start)
+                            >= self.breath_min_frames as u64);
+                let pause = self.last_offset_index.map(|off| Pause {
+                    start_s: self.time_s(off),
+                    end_s: self.time_s(onset),
+                    has_breath,
+                });
+                self.in_phrase = true;
+                self.onset_index = onset;
+                self.last_active_index = i;
+                self.candidate_start = None;
+                on_event(PhraseEvent::Start {
+                    onset_s: self.time_s(onset),
+                    pause,
+                });
+            }
+        }
+    }
+
+    fn track_breath(&mut self, index: u64) {
+        let f = self.facts(index);
+        if f.over_floor && !f.voiced && !f.active {
+            if self.breath_run == 0 {
+                self.breath_run_start = index;
+            }
+            self.breath_run += 1;
+        } else {
+            if self.breath_run >= self.breath_min_frames {
+                self.breath_seen = true;
+            }
+            self.breath_run = 0;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(index: u64, rms_db: f32, voiced: bool) -> FeatureFrame {
+        FeatureFrame {
+            index,
+            time_s: index as f64 / 100.0,
+            f0_hz: if voiced { 150.0 } else { 0.0 },
+            voiced,
+            voicing: if voiced { 0.9 } else { 0.2 },
+            rms_db,
+            f0_st: 0.0,
+            level_db: rms_db - -20.0,
+            band_db: rms_db,
+        }
+    }
+
+    /// Runs a scripted level/voicing sequence at 100 frames/s and collects the events.
+    fn run(script: &[(usize, f32, bool)]) -> Vec<PhraseEvent> {
+        let mut t = PhraseTracker::new(PhraseConfig::default(), 100.0).unwrap();
+        let mut events = Vec::new();
+        let mut i = 0u64;
+        for &(n, db, v) in script {
+            for _ in 0..n {
+                t.update(&frame(i, db, v), |e| events.push(e));
+                i += 1;
+            }
+        }
+        events
+    }
+
+    #[test]
+    fn two_phrases_give_start_end_start_with_the_pause() {
+        let ev = run(&[
+            (100, -70.0, false),
+            (150, -20.0, true),
+            (60, -70.0, false),
+            (150, -20.0, true),
+            (100, -70.0, false),
+        ]);
+        assert_eq!(ev.len(), 4, "{ev:?}");
+        match ev[0] {
+            PhraseEvent::Start { onset_s, pause } => {
+                assert!((onset_s - 1.0).abs() < 0.011, "{onset_s}");
+                assert!(pause.is_none());
+            }
+            _ => panic!("{ev:?}"),
+        }
+        match ev[2] {
+            PhraseEvent::Start { onset_s, pause } => {
+                let p = pause.unwrap();
+                assert!((onset_s - 3.1).abs() < 0.011, "{onset_s}");
+                assert!((p.start_s - 2.5).abs() < 0.011, "{p:?}");
+                assert!((p.length_s() - 0.6).abs() < 0.021, "{p:?}");
+                assert!(!p.has_breath);
+            }
+            _ => panic!("{ev:?}"),
+        }
+    }
+
+    #[test]
+    fn a_short_dip_inside_a_phrase_is_not_a_pause() {
+        let ev = run(&[
+            (100, -70.0, false),
+            (100, -20.0, true),
+            (8, -70.0, false),
+            (100, -20.0, true),
+            (100, -70.0, false),
+        ]);
+        assert_eq!(ev.len(), 2, "{ev:?}");
+    }
+
+    #[test]
+    fn unvoiced_noise_bursts_do_not_start_phrases_but_count_as_breath() {
+        let ev = run(&[
+            (100, -70.0, false),
+            (100, -20.0, true),
+            (40, -70.0, false),
+            (35, -48.0, false), // breath-like: 22 dB under speech, 22 dB over the floor
+            (30, -70.0, false),
+            (100, -20.0, true),
+            (50, -70.0, false),
+        ]);
+        let starts: Vec<_> = ev
+            .iter()
+            .filter_map(|e| match e {
+                PhraseEvent::Start { pause, .. } => Some(*pause),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(starts.len(), 2, "{ev:?}");
+        assert!(starts[1].unwrap().has_breath, "{ev:?}");
+    }
+
+    #[test]
+    fn a_quiet_initial_consonant_moves_the_onset_back() {
+        let ev = run(&[
+            (100, -70.0, false),
+            (10, -45.0, false), // an /f/ 25 dB under speech
+            (100, -20.0, true),
+            (50, -70.0, false),
+        ]);
+        match ev[0] {
+            PhraseEvent::Start { onset_s, .. } => assert!((onset_s - 1.0).abs() < 0.011),
+            _ => panic!("{ev:?}"),
+        }
+    }
+
+    #[test]
+    fn nan_levels_are_silence() {
+        let ev = run(&[
+            (100, f32::NAN, false),
+            (100, -20.0, true),
+            (50, f32::NAN, false),
+        ]);
+        assert_eq!(ev.len(), 2, "{ev:?}");
+    }
+}

@@ -1,0 +1,439 @@
+//! Breath sounds: procedural mouth and nose inhalations and user samples, played with the
+//! paper's trapezoid envelope.
+//!
+//! # The procedural sound
+//! Turbulence is modelled as seeded white noise with a slow random amplitude flutter (±20 %,
+//! below ~6 Hz), shaped by a parallel bank of resonators (RBJ band-pass biquads):
+//! - **mouth** (open vocal tract, as in an [h]/[ɑ] inhalation): resonances near 750, 1350, 2500,
+//!   3600 and 4800 Hz plus a broad aspiration band around 3 kHz: bright;
+//! - **nose** (nasal cavity): a strong nasal resonance near 290 Hz, weaker ones near 1050 and
+//!   2300 Hz and a faint broad band: dark.
+//!
+//! Both pass a 4th-order high-pass at 180 Hz and a 4th-order low-pass at min(8 kHz, 0.45 ×
+//! rate), so most energy lies between 200 Hz and 8 kHz, there is no DC, and the sound is the same
+//! at every rate from 8 to 192 kHz (resonances above 0.45 × rate are left out). Every breath
+//! shifts all resonances by a random factor within ±5 % (seeded), so consecutive breaths differ.
+//! Each chain is normalised to unit noise power at `prepare` (from its impulse response), so
+//! `gain` is the plateau RMS within about ±0.5 dB. A mix of mouth and nose uses independent noise
+//! for each and weights `mouth_vs_nose` and `1 − mouth_vs_nose`, renormalised to unit power.
+//!
+//! # The envelope
+//! The paper's trapezoid, with raised-cosine corners so it has no kinks: attack 30 % and release
+//! 35 % of the length (at least 10 ms each, the plateau shrinks first), zero at both ends. A
+//! [`BreathVoice::fade_out`] replaces the rest with a raised-cosine fade from the current level.
+//!
+//! Rendering is allocation-free after [`BreathVoice::prepare`]; an idle voice costs one branch.
+
+use super::sample::fitted_at;
+use super::{BreathSample, SampleSlot};
+use crate::control::BreathKind;
+use crate::rng::SeededRng;
+use std::f64::consts::PI;
+
+const MOUTH_BANK: [(f64, f64, f64); 6] = [
+    (750.0, 4.0, 0.35),
+    (1350.0, 5.0, 0.55),
+    (2500.0, 6.0, 0.6),
+    (3600.0, 6.0, 0.45),
+    (4800.0, 4.0, 0.35),
+    (3000.0, 0.6, 0.35),
+];
+const NOSE_BANK: [(f64, f64, f64); 4] = [
+    (290.0, 2.5, 1.0),
+    (1050.0, 4.0, 0.45),
+    (2300.0, 5.0, 0.3),
+    (1500.0, 0.7, 0.12),
+];
+const HIGHPASS_HZ: f64 = 180.0;
+const LOWPASS_HZ: f64 = 8000.0;
+const CROSSFADE_S: f64 = 0.05;
+const MIN_RAMP_S: f64 = 0.01;
+const FLUTTER_HZ: f64 = 6.0;
+const FLUTTER_DEPTH: f64 = 0.2;
+
+#[derive(Debug, Clone, Copy, Default)]
+struct Biquad {
+    b0: f64,
+    b1: f64,
+    b2: f64,
+    a1: f64,
+    a2: f64,
+    z1: f64,
+    z2: f64,
+}
+
+impl Biquad {
+    fn set(&mut self, b: [f64; 3], a: [f64; 3]) {
+        self.b0 = b[0] / a[0];
+        self.b1 = b[1] / a[0];
+        self.b2 = b[2] / a[0];
+        self.a1 = a[1] / a[0];
+        self.a2 = a[2] / a[0];
+    }
+    /// RBJ band-pass with 0 dB peak gain.
+    fn bandpass(&mut self, f_hz: f64, q: f64, fs: f64) {
+        let w = 2.0 * PI * f_hz / fs;
+        let alpha = w.sin() / (2.0 * q);
+        self.set(
+            [alpha, 0.0, -alpha],
+            [1.0 + alpha, -2.0 * w.cos(), 1.0 - alpha],
+        );
+    }
+    fn highpass(&mut self, f_hz: f64, q: f64, fs: f64) {
+        let w = 2.0 * PI * f_hz / fs;
+        let (c, alpha) = (w.cos(), w.sin() / (2.0 * q));
+        self.set(
+            [(1.0 + c) / 2.0, -(1.0 + c), (1.0 + c) / 2.0],
+            [1.0 + alpha, -2.0 * c, 1.0 - alpha],
+        );
+    }
+    fn lowpass(&mut self, f_hz: f64, q: f64, fs: f64) {
+        let w = 2.0 * PI * f_hz / fs;
+        let (c, alpha) = (w.cos(), w.sin() / (2.0 * q));
+        self.set(
+            [(1.0 - c) / 2.0, 1.0 - c, (1.0 - c) / 2.0],
+            [1.0 + alpha, -2.0 * c, 1.0 - alpha],
+        );
+    }
+    #[inline]
+    fn tick(&mut self, x: f64) -> f64 {
+        let y = self.b0 * x + self.z1;
+        self.z1 = self.b1 * x - self.a1 * y + self.z2;
+        self.z2 = self.b2 * x - self.a2 * y;
+        y
+    }
+    fn clear(&mut self) {
+        self.z1 = 0.0;
+        self.z2 = 0.0;
+    }
+}
+
+/// Butterworth Q values of a 4th-order section pair.
+const BUTTER4_Q: [f64; 2] = [0.541_196_1, 1.306_563];
+
+/// A resonator bank followed by the shared band limits.
+#[derive(Debug, Clone)]
+struct Chain<const N: usize> {
+    bank: [Biquad; N],
+    gains: [f64; N],
+    post: [Biquad; 4],
+    /// 1 / sqrt(noise power gain) at the nominal resonances.
+    norm: f64,
+}
+
+impl<const N: usize> Chain<N> {
+    fn new() -> Self {
+        Self {
+            bank: [Biquad::default(); N],
+            gains: [0.0; N],
+            post: [Biquad::default(); 4],
+            norm: 1.0,
+        }
+    }
+
+    fn design(&mut self, table: &[(f64, f64, f64); N], scale: f64, fs: f64) {
+        for (i, &(f, q, g)) in table.iter().enumerate() {
+            let f = f * scale;
+            if f < 0.45 * fs {
+                self.bank[i].bandpass(f, q, fs);
+                self.gains[i] = g;
+            } else {
+                self.gains[i] = 0.0;
+            }
+        }
+        let lp = LOWPASS_HZ.min(0.45 * fs);
+        self.post[0].highpass(HIGHPASS_HZ, BUTTER4_Q[0], fs);
+        self.post[1].highpass(HIGHPASS_HZ, BUTTER4_Q[1], fs);
+        self.post[2].lowpass(lp, BUTTER4_Q[0], fs);
+        self.post[3].lowpass(lp, BUTTER4_Q[1], fs);
+    }
+
+    fn clear(&mut self) {
+        self.bank.iter_mut().for_each(Biquad::clear);
+        self.post.iter_mut().for_each(Biquad::clear);
+    }
+
+    #[inline]
+    fn tick(&mut self, x: f64) -> f64 {
+        let mut y = 0.0;
+        for (b, g) in self.bank.iter_mut().zip(self.gains.iter()) {
+            if *g != 0.0 {
+                y += g * b.tick(x);
+            }
+        }
+        for p in self.post.iter_mut() {
+            y = p.tick(y);
+        }
+        y
+    }
+
+    /// Measures the noise power gain from the impulse response (allocation-free).
+    fn normalise(&mut self, fs: f64) {
+        self.clear();
+        let n = (0.5 * fs) as usize;
+        let mut energy = 0.0;
+        for i in 0..n {
+            let y = self.tick(if i == 0 { 1.0 } else { 0.0 });
+            energy += y * y;
+        }
+        self.clear();
+        self.norm = if energy > 0.0 {
+            1.0 / energy.sqrt()
+        } else {
+            0.0
+        };
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Envelope {
+    pos: usize,
+    length: usize,
+    attack: usize,
+    release: usize,
+    /// A fade-out: (start position, length, level at the start).
+    fade: Option<(usize, usize, f64)>,
+}
+
+impl Envelope {
+    fn at(&self, i: usize) -> f64 {
+        let ramp = |u: f64| 0.5 - 0.5 * (PI * u.clamp(0.0, 1.0)).cos();
+        let base = if i < self.attack {
+            ramp((i as f64 + 0.5) / self.attack as f64)
+        } else if i + self.release >= self.length {
+            ramp((self.length - i) as f64 / self.release as f64 - 0.5 / self.release as f64)
+        } else {
+            1.0
+        };
+        match self.fade {
+            Some((start, len, level)) if i >= start => {
+                let u = (i - start) as f64 / len.max(1) as f64;
+                (level * (1.0 - ramp(u))).min(base)
+            }
+            _ => base,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Default)]
+struct SlotData {
+    original: Option<BreathSample>,
+    /// The sample at the stream rate (unit RMS), empty until prepared.
+    fitted: Vec<f32>,
+}
+
+/// The breath-sound voice (see the module docs).
+#[derive(Debug, Clone)]
+pub struct BreathVoice {
+    seed: u64,
+    rng: SeededRng,
+    rng_nose: SeededRng,
+    sample_rate_hz: f64,
+    mouth: Chain<6>,
+    nose: Chain<4>,
+    slots: [SlotData; 2],
+    env: Option<Envelope>,
+    weight_mouth: f64,
+    weight_nose: f64,
+    gain: f64,
+    flutter_state: f64,
+    flutter_coef: f64,
+    flutter_norm: f64,
+    xfade: usize,
+    kind: BreathKind,
+}
+
+impl BreathVoice {
+    /// A voice whose noise is seeded by `seed`. Call [`BreathVoice::prepare`] before rendering.
+    pub fn new(seed: u64) -> Self {
+        Self {
+            seed,
+            rng: SeededRng::new(seed),
+            rng_nose: SeededRng::new(seed ^ 0x6E6F_7365_6E6F_7365),
+            sample_rate_hz: 0.0,
+            mouth: Chain::new(),
+            nose: Chain::new(),
+            slots: [SlotData::default(), SlotData::default()],
+            env: None,
+            weight_mouth: 0.0,
+            weight_nose: 0.0,
+            gain: 0.0,
+            flutter_state: 0.0,
+            flutter_coef: 0.0,
+            flutter_norm: 1.0,
+            xfade: 0,
+            kind: BreathKind::Mixed,
+        }
+    }
+
+    /// Designs the filters for `sample_rate_hz` (8–192 kHz) and fits user samples to it. Any block
+    /// size works with [`BreathVoice::render_add`]; `max_block` is accepted for the common
+    /// life-cycle and not needed.
+    pub fn prepare(&mut self, sample_rate_hz: f64, _max_block: usize) {
+        let fs = sample_rate_hz.clamp(8_000.0, 192_000.0);
+        self.sample_rate_hz = fs;
+        self.mouth.design(&MOUTH_BANK, 1.0, fs);
+        self.mouth.normalise(fs);
+        self.nose.design(&NOSE_BANK, 1.0, fs);
+        self.nose.normalise(fs);
+        self.flutter_coef = (-2.0 * PI * FLUTTER_HZ / fs).exp();
+        let a = self.flutter_coef;
+        self.flutter_norm = ((1.0 + a) / (1.0 - a)).sqrt();
+        self.xfade = (CROSSFADE_S * fs) as usize;
+        for slot in self.slots.iter_mut() {
+            slot.fitted = slot
+                .original
+                .as_ref()
+                .map(|s| s.resampled(fs))
+                .unwrap_or_default();
+        }
+        self.reset();
+    }
+
+    /// Silences the voice and restarts its noise from the seed.
+    pub fn reset(&mut self) {
+        self.rng = SeededRng::new(self.seed);
+        self.rng_nose = SeededRng::new(self.seed ^ 0x6E6F_7365_6E6F_7365);
+        self.env = None;
+        self.flutter_state = 0.0;
+        self.mouth.clear();
+        self.nose.clear();
+    }
+
+    /// Uses `sample` instead of the procedural sound of `kind` (`None` goes back to procedural).
+    /// Allocates (resamples to the stream rate): call it off the audio thread.
+    pub fn set_sample(&mut self, kind: SampleSlot, sample: Option<BreathSample>) {
+        let slot = &mut self.slots[kind as usize];
+        slot.fitted = match (&sample, self.sample_rate_hz > 0.0) {
+            (Some(s), true) => s.resampled(self.sample_rate_hz),
+            _ => Vec::new(),
+        };
+        slot.original = sample;
+    }
+
+    /// Starts a breath now: `mouth_vs_nose` 0 (nose) .. 1 (mouth), `length_samples` long,
+    /// `gain` = linear RMS of the envelope plateau. A breath already playing is replaced (its
+    /// filters keep their state, so there is no click beyond the new envelope's onset).
+    pub fn start(&mut self, mouth_vs_nose: f32, length_samples: usize, gain: f32) {
+        if self.sample_rate_hz <= 0.0 || length_samples == 0 {
+            self.env = None;
+            return;
+        }
+        let m = if mouth_vs_nose.is_finite() {
+            mouth_vs_nose.clamp(0.0, 1.0) as f64
+        } else {
+            0.5
+        };
+        let (wm, wn) = (m, 1.0 - m);
+        let norm = (wm * wm + wn * wn).sqrt();
+        self.weight_mouth = wm / norm;
+        self.weight_nose = wn / norm;
+        self.gain = if gain.is_finite() {
+            gain.max(0.0) as f64
+        } else {
+            0.0
+        };
+        let fs = self.sample_rate_hz;
+        let scale = 0.95 + 0.1 * self.rng.uniform();
+        self.mouth.design(&MOUTH_BANK, scale, fs);
+        self.nose.design(&NOSE_BANK, scale, fs);
+        let min_ramp = ((MIN_RAMP_S * fs) as usize).max(1);
+        let mut attack = ((0.30 * length_samples as f64) as usize).max(min_ramp);
+        let mut release = ((0.35 * length_samples as f64) as usize).max(min_ramp);
+        if attack + release > length_samples {
+            attack = length_samples / 2;
+            release = length_samples - attack;
+        }
+        self.env = Some(Envelope {
+            pos: 0,
+            length: length_samples,
+            attack: attack.max(1),
+            release: release.max(1),
+            fade: None,
+        });
+        let dominant = if m >= 0.5 {
+            SampleSlot::Mouth
+        } else {
+            SampleSlot::Nose
+        };
+        self.kind = if !self.slots[dominant as usize].fitted.is_empty() {
+            BreathKind::Sample
+        } else if m >= 0.75 {
+            BreathKind::Mouth
+        } else if m <= 0.25 {
+            BreathKind::Nose
+        } else {
+            BreathKind::Mixed
+        };
+    }
+
+    /// Fades the current breath out over `length_samples` (raised cosine from its current
+    /// level); it ends no later than its own end. No effect when idle.
+    pub fn fade_out(&mut self, length_samples: usize) {
+        if let Some(env) = self.env.as_mut() {
+            let level = env.at(env.pos);
+            let len = length_samples.max(1);
+            env.fade = Some((env.pos, len, level));
+            if env.pos + len < env.length {
+                // The fade alone shapes the end; the trapezoid's release no longer applies.
+                env.length = env.pos + len;
+                env.release = 1;
+            }
+        }
+    }
+
+    /// Whether a breath is playing.
+    pub fn is_active(&self) -> bool {
+        self.env.is_some()
+    }
+
+    /// The kind of the current (or last) breath.
+    pub fn kind(&self) -> BreathKind {
+        self.kind
+    }
+
+    /// Adds the breath into `out` (mono, stream rate). Allocation-free; returns at once when
+    /// idle.
+    pub fn render_add(&mut self, out: &mut [f32]) {
+        let Some(mut env) = self.env else {
+            return;
+        };
+        let [mouth_slot, nose_slot] = &self.slots;
+        let (wm, wn) = (self.weight_mouth, self.weight_nose);
+        for o in out.iter_mut() {
+            if env.pos >= env.length {
+                self.env = None;
+                return;
+            }
+            let e = env.at(env.pos);
+            // Flutter: one-pole low-passed noise, unit variance.
+            let x = (self.rng.uniform() * 2.0 - 1.0) * 3f64.sqrt();
+            self.flutter_state =
+                self.flutter_coef * self.flutter_state + (1.0 - self.flutter_coef) * x;
+            let flutter =
+                1.0 + FLUTTER_DEPTH * (self.flutter_state * self.flutter_norm).clamp(-3.0, 3.0);
+            let mut v = 0.0;
+            if wm > 0.0 {
+                v += wm
+                    * if mouth_slot.fitted.is_empty() {
+                        let n = (self.rng.uniform() * 2.0 - 1.0) * 3f64.sqrt();
+                        self.mouth.tick(n) * self.mouth.norm * flutter
+                    } else {
+                        fitted_at(&mouth_slot.fitted, env.pos, env.length, self.xfade) as f64
+                    };
+            }
+            if wn > 0.0 {
+                v += wn
+                    * if nose_slot.fitted.is_empty() {
+                        let n = (self.rng_nose.uniform() * 2.0 - 1.0) * 3f64.sqrt();
+                        self.nose.tick(n) * self.nose.norm * flutter
+                    } else {
+                        fitted_at(&nose_slot.fitted, env.pos, env.length, self.xfade) as f64
+                    };
+            }
+            *o += (v * e * self.gain) as f32;
+            env.pos += 1;
+        }
+        self.env = Some(env);
+    }
+}

@@ -1,0 +1,167 @@
+//! Training features: head motion resampled to the feature frame clock, poses taken around the
+//! speaker's mean pose, velocity |Δθ| in °/s and acceleration |Δ²θ| in °/s², paired with the
+//! speaker-normalised f0 (semitones) and level (dB) of each frame.
+
+use super::gmm::MAX_DIM;
+use super::model_file::Normalisation;
+use crate::analysis::FeatureFrame;
+
+/// One clip of training or evaluation data: feature frames and the real head pose on the same
+/// frame clock.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrainingClip {
+    /// Clip name (file stem).
+    pub name: String,
+    /// Frame rate of `frames` and `pose_deg`, Hz.
+    pub frame_rate_hz: f64,
+    /// Analysis frames of the clip's audio.
+    pub frames: Vec<FeatureFrame>,
+    /// Real head pose per frame as (roll, pitch, yaw) degrees around the clip's mean pose;
+    /// as long as `frames` (frames past the end of the motion are dropped from `frames`).
+    pub pose_deg: Vec<[f64; 3]>,
+}
+
+/// Head motion as recorded: times and angles (degrees) at any rate.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MotionTrack {
+    /// Sample times, seconds, increasing.
+    pub time_s: Vec<f64>,
+    /// (roll, pitch, yaw) in degrees per sample.
+    pub pose_deg: Vec<[f64; 3]>,
+}
+
+impl MotionTrack {
+    /// The pose at time `t_s` by Catmull–Rom interpolation (smooth velocity and finite
+    /// acceleration, unlike linear interpolation); `None` outside the recorded span.
+    pub fn at(&self, t_s: f64) -> Option<[f64; 3]> {
+        let n = self.time_s.len();
+        if n < 2 || !(t_s >= self.time_s[0] && t_s <= self.time_s[n - 1]) {
+            return None;
+        }
+        let i = match self.time_s.partition_point(|&x| x <= t_s) {
+            0 => 0,
+            p => (p - 1).min(n - 2),
+        };
+        let (t1, t2) = (self.time_s[i], self.time_s[i + 1]);
+        let u = if t2 > t1 { (t_s - t1) / (t2 - t1) } else { 0.0 };
+        let p0 = self.pose_deg[i.saturating_sub(1)];
+        let p1 = self.pose_deg[i];
+        let p2 = self.pose_deg[i + 1];
+        let p3 = self.pose_deg[(i + 2).min(n - 1)];
+        let mut out = [0.0; 3];
+        for k in 0..3 {
+            let (a, b, c, d) = (p0[k], p1[k], p2[k], p3[k]);
+            out[k] = 0.5
+                * (2.0 * b
+                    + (-a + c) * u
+                    + (2.0 * a - 5.0 * b + 4.0 * c - d) * u * u
+                    + (-a + 3.0 * b - 3.0 * c + d) * u * u * u);
+        }
+        Some(out)
+    }
+}
+
+impl TrainingClip {
+    /// Pairs analysis frames with a motion track: keeps the frames inside the motion's span,
+    /// resamples the pose to them and removes the clip's mean pose.
+    pub fn from_motion(
+        name: &str,
+        frame_rate_hz: f64,
+        frames: &[FeatureFrame],
+        motion: &MotionTrack,
+    ) -> TrainingClip {
+        let mut kept = Vec::with_capacity(frames.len());
+        let mut pose = Vec::with_capacity(frames.len());
+        for f in frames {
+            if let Some(p) = motion.at(f.time_s) {
+                kept.push(*f);
+                pose.push(p);
+            }
+        }
+        let n = pose.len().max(1) as f64;
+        let mut mean = [0.0; 3];
+        for p in &pose {
+            for k in 0..3 {
+                mean[k] += p[k] / n;
+            }
+        }
+        for p in &mut pose {
+            for k in 0..3 {
+                p[k] -= mean[k];
+            }
+        }
+        TrainingClip {
+            name: name.to_string(),
+            frame_rate_hz,
+            frames: kept,
+            pose_deg: pose,
+        }
+    }
+}
+
+/// Training rows of one clip: for each motion feature (roll, pitch, yaw, velocity,
+/// acceleration) the voiced rows (feature, f0_st, level_db) and unvoiced rows
+/// (feature, level_db). The first two frames (no acceleration yet) are skipped.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FeatureRows {
+    /// Voiced rows per motion feature.
+    pub voiced: [Vec<[f64; MAX_DIM]>; 5],
+    /// Unvoiced rows per motion feature.
+    pub unvoiced: [Vec<[f64; MAX_DIM]>; 5],
+}
+
+impl FeatureRows {
+    /// Appends the rows of `clip`, clamping f0 and level to the normalisation's ranges.
+    pub fn add_clip(&mut self, clip: &TrainingClip, norm: &Normalisation) {
+        let r = clip.frame_rate_hz;
+        for t in 2..clip.pose_deg.len().min(clip.frames.len()) {
+            let f = &clip.frames[t];
+            let (p, p1, p2) = (clip.pose_deg[t], clip.pose_deg[t - 1], clip.pose_deg[t - 2]);
+            let mut v2 = 0.0;
+            let mut a2 = 0.0;
+            for k in 0..3 {
+                v2 += (p[k] - p1[k]).powi(2);
+                a2 += (p[k] - 2.0 * p1[k] + p2[k]).powi(2);
+            }
+            let feats = [p[0], p[1], p[2], r * v2.sqrt(), r * r * a2.sqrt()];
+            let level = if f.level_db.is_finite() {
+                (f.level_db as f64).clamp(norm.level_db_range[0], norm.level_db_range[1])
+            } else {
+                norm.level_db_range[0]
+            };
+            if f.voiced && f.f0_st.is_finite() {
+                let f0 = (f.f0_st as f64).clamp(norm.f0_st_range[0], norm.f0_st_range[1]);
+                for (rows, x) in self.voiced.iter_mut().zip(feats) {
+                    rows.push([x, f0, level]);
+                }
+            } else {
+                for (rows, x) in self.unvoiced.iter_mut().zip(feats) {
+                    rows.push([x, level, 0.0]);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn catmull_rom_passes_through_samples_and_is_exact_on_lines() {
+        let m = MotionTrack {
+            time_s: (0..10).map(|i| i as f64 * 0.1).collect(),
+            pose_deg: (0..10)
+                .map(|i| [i as f64, 2.0 * i as f64, -(i as f64)])
+                .collect(),
+        };
+        let p = m.at(0.3).unwrap();
+        assert!((p[0] - 3.0).abs() < 1e-12);
+        let q = m.at(0.45).unwrap();
+        assert!(
+            (q[1] - 9.0).abs() < 1e-9 && (q[2] + 4.5).abs() < 1e-9,
+            "{q:?}"
+        );
+        assert!(m.at(1.0).is_none() && m.at(-0.01).is_none());
+    }
+}

@@ -1,0 +1,406 @@
+//! Per-frame head-pose synthesis: the argmax of the weighted product of the five conditional
+//! densities given the two previous poses (van Welbergen et al. after Le et al.), found by BFGS
+//! from the previous pose with analytic gradients inside box bounds; unvoiced frames follow the
+//! configured [`UnvoicedBehaviour`]. Allocation-free and deterministic after `new`.
+//!
+//! Per frame, with θ = (roll, pitch, yaw) in degrees around the neutral pose, frame rate r:
+//! `J(θ) = −w_p·Σ_axes log p(θ_axis | f0, E) − w_v·log p(v | f0, E) − w_a·log p(a | f0, E)`,
+//! `v = r·|θ − θ₋₁|` (°/s), `a = r²·|θ − 2θ₋₁ + θ₋₂|` (°/s²). Each p(·|f0,E) is the 1-D
+//! conditional of the model's joint GMM, computed once per frame.
+
+use glam::{DVec3, Quat};
+
+use super::bfgs::{minimize, BfgsConfig};
+use super::gmm::{Conditioner, Mixture1};
+use super::model_file::{HeadModel, HeadModelError, UnvoicedBehaviour};
+use crate::analysis::FeatureFrame;
+use crate::control::HeadAngles;
+use crate::rng::SeededRng;
+
+/// Smoothing of |Δθ| near 0 (degrees), so the norms are differentiable.
+const NORM_EPS_DEG: f64 = 1e-3;
+/// Time constant of the liveliness variation, seconds.
+const LIVELINESS_TIME_S: f64 = 1.5;
+/// Standard deviation of the liveliness variation at liveliness 1, degrees.
+const LIVELINESS_SD_DEG: f64 = 2.0;
+
+/// Settings of the head-pose synthesis. Defaults follow the paper's motion-capture criteria.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeadConfig {
+    /// Amplitude scale of the generated motion, 0..4 (default 1; 0 keeps the head still).
+    pub amount: f32,
+    /// Largest |pitch|, degrees, 0.5..90 (default 8).
+    pub max_pitch_deg: f32,
+    /// Largest |yaw|, degrees, 0.5..90 (default 15).
+    pub max_yaw_deg: f32,
+    /// Largest |roll|, degrees, 0.5..90 (default 12).
+    pub max_roll_deg: f32,
+    /// Largest angular speed |Δθ|·rate, degrees per second, 1..2000 (default 240).
+    pub max_speed_deg_s: f32,
+    /// Seeded slow random variation added to the pose, 0..1 (default 0 = off); 1 adds a
+    /// wandering offset of about 2° SD per axis with a 1.5 s time constant.
+    pub liveliness: f32,
+    /// Seed of the liveliness variation.
+    pub seed: u64,
+    /// Behaviour on unvoiced frames; `None` uses the model's choice (the one that matched real
+    /// motion best in training).
+    pub unvoiced: Option<UnvoicedBehaviour>,
+}
+
+impl Default for HeadConfig {
+    fn default() -> Self {
+        Self {
+            amount: 1.0,
+            max_pitch_deg: 8.0,
+            max_yaw_deg: 15.0,
+            max_roll_deg: 12.0,
+            max_speed_deg_s: 240.0,
+            liveliness: 0.0,
+            seed: 0x5EED_4EAD,
+            unvoiced: None,
+        }
+    }
+}
+
+fn range(
+    name: &'static str,
+    v: f32,
+    lo: f32,
+    hi: f32,
+    words: &'static str,
+) -> Result<(), HeadModelError> {
+    if v.is_finite() && v >= lo && v <= hi {
+        Ok(())
+    } else {
+        Err(HeadModelError::OutOfRange {
+            name,
+            value: v as f64,
+            range: words,
+        })
+    }
+}
+
+impl HeadConfig {
+    /// Checks every setting.
+    pub fn validate(&self) -> Result<(), HeadModelError> {
+        range("head.amount", self.amount, 0.0, 4.0, "0..4")?;
+        range(
+            "head.max_pitch_deg",
+            self.max_pitch_deg,
+            0.5,
+            90.0,
+            "0.5..90 degrees",
+        )?;
+        range(
+            "head.max_yaw_deg",
+            self.max_yaw_deg,
+            0.5,
+            90.0,
+            "0.5..90 degrees",
+        )?;
+        range(
+            "head.max_roll_deg",
+            self.max_roll_deg,
+            0.5,
+            90.0,
+            "0.5..90 degrees",
+        )?;
+        range(
+            "head.max_speed_deg_s",
+            self.max_speed_deg_s,
+            1.0,
+            2000.0,
+            "1..2000 degrees per second",
+        )?;
+        range("head.liveliness", self.liveliness, 0.0, 1.0, "0..1")?;
+        Ok(())
+    }
+
+    /// The same settings with every out-of-range value clamped (non-finite ones set to the
+    /// default), for doors that must accept anything.
+    pub fn sanitized(&self) -> HeadConfig {
+        let d = HeadConfig::default();
+        let c =
+            |v: f32, lo: f32, hi: f32, def: f32| if v.is_finite() { v.clamp(lo, hi) } else { def };
+        HeadConfig {
+            amount: c(self.amount, 0.0, 4.0, d.amount),
+            max_pitch_deg: c(self.max_pitch_deg, 0.5, 90.0, d.max_pitch_deg),
+            max_yaw_deg: c(self.max_yaw_deg, 0.5, 90.0, d.max_yaw_deg),
+            max_roll_deg: c(self.max_roll_deg, 0.5, 90.0, d.max_roll_deg),
+            max_speed_deg_s: c(self.max_speed_deg_s, 1.0, 2000.0, d.max_speed_deg_s),
+            liveliness: c(self.liveliness, 0.0, 1.0, d.liveliness),
+            seed: self.seed,
+            unvoiced: self.unvoiced,
+        }
+    }
+}
+
+/// The online head-pose generator: one per stream.
+#[derive(Debug, Clone)]
+pub struct HeadSynth {
+    model: HeadModel,
+    config: HeadConfig,
+    voiced: [Conditioner; 5],
+    unvoiced: [Conditioner; 5],
+    mix: [Mixture1; 5],
+    bfgs: BfgsConfig,
+    /// Internal pose (roll, pitch, yaw) of the last two frames, degrees around neutral.
+    prev1: DVec3,
+    prev2: DVec3,
+    rng: SeededRng,
+    live: DVec3,
+}
+
+/// Model-space pose → output angles.
+fn to_angles(p: DVec3) -> HeadAngles {
+    HeadAngles {
+        roll_deg: p.x as f32,
+        pitch_deg: p.y as f32,
+        yaw_deg: p.z as f32,
+    }
+}
+
+impl HeadSynth {
+    /// A generator for `model` with `config` (validated).
+    pub fn new(model: HeadModel, config: HeadConfig) -> Result<HeadSynth, HeadModelError> {
+        config.validate()?;
+        let voiced = [0, 1, 2, 3, 4].map(|k| model.voiced()[k].conditioner());
+        let unvoiced = [0, 1, 2, 3, 4].map(|k| model.unvoiced()[k].conditioner());
+        let rng = SeededRng::new(config.seed);
+        Ok(Self {
+            model,
+            config,
+            voiced,
+            unvoiced,
+            mix: [Mixture1::default(); 5],
+            bfgs: BfgsConfig::default(),
+            prev1: DVec3::ZERO,
+            prev2: DVec3::ZERO,
+            rng,
+            live: DVec3::ZERO,
+        })
+    }
+
+    /// Back to the neutral pose and the start of the liveliness sequence.
+    pub fn reset(&mut self) {
+        self.prev1 = DVec3::ZERO;
+        self.prev2 = DVec3::ZERO;
+        self.rng = SeededRng::new(self.config.seed);
+        self.live = DVec3::ZERO;
+    }
+
+    /// Changes the settings between frames (out-of-range values are clamped, see
+    /// [`HeadConfig::sanitized`]); the pose continues smoothly. A new seed restarts the
+    /// liveliness sequence.
+    pub fn set_config(&mut self, config: HeadConfig) {
+        let config = config.sanitized();
+        if config.seed != self.config.seed {
+            self.rng = SeededRng::new(config.seed);
+        }
+        self.config = config;
+    }
+
+    /// The current settings.
+    pub fn config(&self) -> &HeadConfig {
+        &self.config
+    }
+
+    /// The model in use.
+    pub fn model(&self) -> &HeadModel {
+        &self.model
+    }
+
+    /// The head pose for one feature frame at `frame_rate_hz` frames per second. Never
+    /// allocates; non-finite features count as an unvoiced frame at the lowest level, and a
+    /// non-finite or non-positive frame rate counts as 120 Hz.
+    pub fn process(&mut self, frame: &FeatureFrame, frame_rate_hz: f64) -> HeadAngles {
+        let rate = if frame_rate_hz.is_finite() && frame_rate_hz > 0.0 {
+            frame_rate_hz.clamp(1.0, 10_000.0)
+        } else {
+            120.0
+        };
+        let norm = &self.model.normalisation;
+        let level = if frame.level_db.is_finite() {
+            (frame.level_db as f64).clamp(norm.level_db_range[0], norm.level_db_range[1])
+        } else {
+            norm.level_db_range[0]
+        };
+        let voiced = frame.voiced && frame.f0_st.is_finite() && frame.level_db.is_finite();
+        let f0 = if voiced {
+            (frame.f0_st as f64).clamp(norm.f0_st_range[0], norm.f0_st_range[1])
+        } else {
+            0.0
+        };
+        let cfg = &self.config;
+        let amount = cfg.amount as f64;
+        let limits = DVec3::new(
+            cfg.max_roll_deg as f64,
+            cfg.max_pitch_deg as f64,
+            cfg.max_yaw_deg as f64,
+        );
+        let bound = if amount > 1e-6 {
+            (limits / amount).min(DVec3::splat(self.model.synthesis.bound_deg))
+        } else {
+            DVec3::splat(self.model.synthesis.bound_deg).min(limits)
+        };
+
+        let behaviour = if voiced {
+            None
+        } else {
+            Some(cfg.unvoiced.unwrap_or(self.model.unvoiced_behaviour))
+        };
+        let mut next = match behaviour {
+            Some(UnvoicedBehaviour::Hold) => self.prev1,
+            Some(UnvoicedBehaviour::Return) => {
+                self.prev1 * (-1.0 / (rate * self.model.return_time_s)).exp()
+            }
+            None | Some(UnvoicedBehaviour::LoudnessModel) => {
+                let conds = if voiced { &self.voiced } else { &self.unvoiced };
+                let given = [f0, level];
+                let given: &[f64] = if voiced { &given } else { &given[1..] };
+                for (c, m) in conds.iter().zip(self.mix.iter_mut()) {
+                    c.condition(given, m);
+                }
+                self.argmax(rate, bound)
+            }
+        };
+        if !next.is_finite() {
+            next = self.prev1;
+        }
+        next = next.clamp(-bound, bound);
+        // Speed limit on the output (scaled) motion.
+        let max_step = if amount > 1e-6 {
+            cfg.max_speed_deg_s as f64 / rate / amount
+        } else {
+            f64::INFINITY
+        };
+        let step = next - self.prev1;
+        let len = step.length();
+        if len > max_step {
+            next = self.prev1 + step * (max_step / len);
+        }
+        self.prev2 = self.prev1;
+        self.prev1 = next;
+
+        let mut out = next * amount;
+        if cfg.liveliness > 0.0 {
+            let a = (-1.0 / (rate * LIVELINESS_TIME_S)).exp();
+            let sd = LIVELINESS_SD_DEG * cfg.liveliness as f64 * amount;
+            let k = sd * (1.0 - a * a).sqrt();
+            let noise = DVec3::new(self.rng.normal(), self.rng.normal(), self.rng.normal());
+            self.live = self.live * a + noise * k;
+            out += self.live;
+        }
+        let out = out.clamp(-limits, limits);
+        to_angles(if out.is_finite() { out } else { DVec3::ZERO })
+    }
+
+    /// The argmax of the frame's objective by BFGS from the previous pose.
+    fn argmax(&self, rate: f64, bound: DVec3) -> DVec3 {
+        let w = &self.model.synthesis;
+        let (wp, wv, wa) = (w.pose_weight, w.velocity_weight, w.acceleration_weight);
+        let p1 = self.prev1;
+        let p2 = self.prev2;
+        let mix = &self.mix;
+        let eps2 = NORM_EPS_DEG * NORM_EPS_DEG;
+        let objective = |x: DVec3| {
+            let mut j = 0.0;
+            let mut g = DVec3::ZERO;
+            for i in 0..3 {
+                let (lp, d) = mix[i].log_pdf_grad(x[i]);
+                j -= wp * lp;
+                g[i] -= wp * d;
+            }
+            let dv = x - p1;
+            let rv = (dv.length_squared() + eps2).sqrt();
+            let (lv, dlv) = mix[3].log_pdf_grad(rate * rv);
+            j -= wv * lv;
+            g -= dv * (wv * dlv * rate / rv);
+            let da = x - 2.0 * p1 + p2;
+            let ra = (da.length_squared() + eps2).sqrt();
+            let (la, dla) = mix[4].log_pdf_grad(rate * rate * ra);
+            j -= wa * la;
+            g -= da * (wa * dla * rate * rate / ra);
+            (j, g)
+        };
+        minimize(objective, p1, -bound, bound, &self.bfgs).x
+    }
+}
+
+/// The head rotation as a quaternion in a right-handed character frame with x = the
+/// character's left, y = up, z = forward (the direction the character faces; glTF/VRM
+/// convention): `q = Rz(−roll) · Ry(yaw) · Rx(−pitch)` (roll applied last, as the source data's
+/// Rz·Ry·Rx). So pitch > 0 turns the forward axis up (chin up), yaw > 0 turns it to the
+/// character's left, roll > 0 tilts the up axis to the character's left.
+pub fn angles_to_quat(angles: &HeadAngles) -> Quat {
+    let r = (-angles.roll_deg).to_radians();
+    let y = angles.yaw_deg.to_radians();
+    let p = (-angles.pitch_deg).to_radians();
+    Quat::from_rotation_z(r) * Quat::from_rotation_y(y) * Quat::from_rotation_x(p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn voiced(i: u64, f0_st: f32, level_db: f32) -> FeatureFrame {
+        FeatureFrame {
+            index: i,
+            time_s: i as f64 / 120.0,
+            f0_hz: 150.0,
+            voiced: true,
+            voicing: 0.9,
+            rms_db: -20.0,
+            f0_st,
+            level_db,
+        }
+    }
+
+    #[test]
+    fn default_model_moves_stays_finite_and_within_limits() {
+        let mut s =
+            HeadSynth::new(HeadModel::default_model().clone(), HeadConfig::default()).unwrap();
+        let mut last = HeadAngles::default();
+        let mut moved = 0;
+        for i in 0..600 {
+            let f0 = 4.0 * (i as f32 * 0.05).sin();
+            let a = s.process(&voiced(i, f0, 0.0), 120.0);
+            assert!(
+                a.pitch_deg.abs() <= 8.0 && a.yaw_deg.abs() <= 15.0 && a.roll_deg.abs() <= 12.0
+            );
+            if a != last {
+                moved += 1;
+            }
+            last = a;
+        }
+        assert!(moved > 500, "moved on {moved} of 600 frames");
+        let nan = FeatureFrame {
+            f0_st: f32::NAN,
+            level_db: f32::INFINITY,
+            ..voiced(600, 0.0, 0.0)
+        };
+        let a = s.process(&nan, f64::NAN);
+        assert!(a.pitch_deg.is_finite() && a.yaw_deg.is_finite() && a.roll_deg.is_finite());
+    }
+
+    #[test]
+    fn quaternion_axes_follow_the_conventions() {
+        let fwd = glam::Vec3::Z;
+        let up = glam::Vec3::Y;
+        let chin_up = angles_to_quat(&HeadAngles {
+            pitch_deg: 10.0,
+            ..Default::default()
+        });
+        assert!((chin_up * fwd).y > 0.1);
+        let left = angles_to_quat(&HeadAngles {
+            yaw_deg: 10.0,
+            ..Default::default()
+        });
+        assert!((left * fwd).x > 0.1, "x is the character's left");
+        let tilt = angles_to_quat(&HeadAngles {
+            roll_deg: 10.0,
+            ..Default::default()
+        });
+        assert!((tilt * up).x > 0.1);
+    }
+}

@@ -1,0 +1,140 @@
+//! Settings of the phrase tracker, with their units, ranges and defaults.
+
+use thiserror::Error;
+
+/// Errors of the phrase tracker's settings.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum PhraseError {
+    /// A setting is out of its range.
+    #[error("phrase setting `{name}` = {value} is out of range: use {range}")]
+    OutOfRange {
+        /// The setting.
+        name: &'static str,
+        /// The value given.
+        value: f32,
+        /// The allowed range, in words.
+        range: &'static str,
+    },
+    /// The frame rate is out of range.
+    #[error("phrase tracker frame rate {0} Hz is out of range: use 10–1000 Hz")]
+    FrameRate(f64),
+}
+
+/// Settings of the [`super::PhraseTracker`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhraseConfig {
+    /// Silence of the phrase after which it ends, seconds (0.05–1, default 0.15). Pauses shorter
+    /// than this never split a phrase.
+    pub hangover_s: f32,
+    /// Voiced time a run of active frames needs before it counts as a phrase, seconds (0.01–0.2,
+    /// default 0.03). Unvoiced noise bursts never start a phrase.
+    pub onset_voiced_s: f32,
+    /// Longest inactive gap inside a candidate onset run, seconds (0.01–0.2, default 0.06).
+    pub run_gap_s: f32,
+    /// Margin over the noise floor an unvoiced frame needs to be speech, dB (3–30, default 8).
+    pub activity_margin_db: f32,
+    /// How far under the running speech level an unvoiced frame may be and still be speech, dB
+    /// (6–40, default 12). Breaths sit 20–30 dB under speech and stay out; quieter consonants
+    /// are bridged by the hangover and the edge extension.
+    pub unvoiced_drop_db: f32,
+    /// Margin over the noise floor of phrase edges (quiet consonants, decays) and of breath
+    /// bursts, dB (2–20, default 6).
+    pub edge_margin_db: f32,
+    /// How far a phrase onset may be moved back over such frames, seconds (0–0.4, default 0.15).
+    pub edge_extend_s: f32,
+    /// How far a phrase offset may be moved forward over such frames, seconds (0–0.4, default
+    /// 0.08).
+    pub offset_extend_s: f32,
+    /// Shortest breath-like burst inside a pause that counts as a breath already there, seconds
+    /// (0.05–1, default 0.12).
+    pub breath_min_s: f32,
+    /// Frames under this level are silence whatever the floor, dBFS (−140 to −30, default −75).
+    pub silence_db: f32,
+}
+
+impl Default for PhraseConfig {
+    fn default() -> Self {
+        Self {
+            hangover_s: 0.15,
+            onset_voiced_s: 0.03,
+            run_gap_s: 0.06,
+            activity_margin_db: 8.0,
+            unvoiced_drop_db: 12.0,
+            edge_margin_db: 6.0,
+            edge_extend_s: 0.15,
+            offset_extend_s: 0.08,
+            breath_min_s: 0.12,
+            silence_db: -75.0,
+        }
+    }
+}
+
+impl PhraseConfig {
+    /// Sets one setting by its field name from text (for evaluation tools and the command line).
+    pub fn set(&mut self, name: &str, value: &str) -> Result<(), String> {
+        let v: f32 = value
+            .parse()
+            .map_err(|_| format!("`{value}` is not a number (setting `{name}`)"))?;
+        let field = match name {
+            "hangover_s" => &mut self.hangover_s,
+            "onset_voiced_s" => &mut self.onset_voiced_s,
+            "run_gap_s" => &mut self.run_gap_s,
+            "activity_margin_db" => &mut self.activity_margin_db,
+            "unvoiced_drop_db" => &mut self.unvoiced_drop_db,
+            "edge_margin_db" => &mut self.edge_margin_db,
+            "edge_extend_s" => &mut self.edge_extend_s,
+            "offset_extend_s" => &mut self.offset_extend_s,
+            "breath_min_s" => &mut self.breath_min_s,
+            "silence_db" => &mut self.silence_db,
+            _ => return Err(format!("unknown phrase setting `{name}`")),
+        };
+        *field = v;
+        Ok(())
+    }
+
+    /// Checks every setting against its range.
+    pub fn validate(&self) -> Result<(), PhraseError> {
+        let checks: [(&'static str, f32, f32, f32, &'static str); 10] = [
+            ("hangover_s", self.hangover_s, 0.05, 1.0, "0.05–1 s"),
+            (
+                "onset_voiced_s",
+                self.onset_voiced_s,
+                0.01,
+                0.2,
+                "0.01–0.2 s",
+            ),
+            ("run_gap_s", self.run_gap_s, 0.01, 0.2, "0.01–0.2 s"),
+            (
+                "activity_margin_db",
+                self.activity_margin_db,
+                3.0,
+                30.0,
+                "3–30 dB",
+            ),
+            (
+                "unvoiced_drop_db",
+                self.unvoiced_drop_db,
+                6.0,
+                40.0,
+                "6–40 dB",
+            ),
+            ("edge_margin_db", self.edge_margin_db, 2.0, 20.0, "2–20 dB"),
+            ("edge_extend_s", self.edge_extend_s, 0.0, 0.4, "0–0.4 s"),
+            ("offset_extend_s", self.offset_extend_s, 0.0, 0.4, "0–0.4 s"),
+            ("breath_min_s", self.breath_min_s, 0.05, 1.0, "0.05–1 s"),
+            (
+                "silence_db",
+                self.silence_db,
+                -140.0,
+                -30.0,
+                "−140 to −30 dBFS",
+            ),
+        ];
+        for (name, value, lo, hi, range) in checks {
+            if !(value.is_finite() && (lo..=hi).contains(&value)) {
+                return Err(PhraseError::OutOfRange { name, value, range });
+            }
+        }
+        Ok(())
+    }
+}
