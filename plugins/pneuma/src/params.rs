@@ -12,8 +12,10 @@
 use std::sync::{Arc, RwLock};
 
 use nice_plug::prelude::*;
+use pneuma_core::breathing::{BreathingParams, Preset};
 use pneuma_core::encode::midi_cc::{CcMap, CcResolution, CcSignal, SIGNAL_COUNT};
 use pneuma_core::encode::osc::OscFormat;
+use pneuma_core::head::HeadConfig;
 
 /// Breathing preset: `Custom` uses the individual breathing controls, the others replace them.
 #[derive(Enum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -377,6 +379,44 @@ impl PneumaParams {
         }
     }
 
+    /// The breathing model's settings: the preset's, or the individual controls with preset
+    /// `custom` (the independent settings the plugin does not expose keep their defaults).
+    pub fn breathing_params(&self) -> BreathingParams {
+        let preset = match self.preset.value() {
+            PresetChoice::Custom => None,
+            PresetChoice::Neutral => Some(Preset::Neutral),
+            PresetChoice::Calm => Some(Preset::Calm),
+            PresetChoice::Anxious => Some(Preset::Anxious),
+            PresetChoice::Tired => Some(Preset::Tired),
+            PresetChoice::Excited => Some(Preset::Excited),
+        };
+        if let Some(p) = preset {
+            return p.params();
+        }
+        BreathingParams {
+            thorax_vs_abdomen: self.thorax_vs_abdomen.value(),
+            capacity_lung: self.capacity_lung.value(),
+            mouth_vs_nose: self.mouth_vs_nose.value(),
+            amplitude_breathing_sound: self.breath_sound.value(),
+            opening_inspiration_channels: self.opening.value(),
+            speaking_loudness: self.speaking_loudness.value(),
+            inspiration_length_s: self.inspiration_length_s.value(),
+            neck_motion_amplitude_deg: self.neck_amplitude_deg.value(),
+            ..BreathingParams::default()
+        }
+    }
+
+    /// The head-motion settings (amount and limits; the rest keep their defaults).
+    pub fn head_config(&self) -> HeadConfig {
+        HeadConfig {
+            amount: self.head_amount.value(),
+            max_pitch_deg: self.head_max_pitch_deg.value(),
+            max_yaw_deg: self.head_max_yaw_deg.value(),
+            max_roll_deg: self.head_max_roll_deg.value(),
+            ..HeadConfig::default()
+        }
+    }
+
     /// The OSC host (empty if the lock is poisoned or busy).
     pub fn osc_host(&self) -> String {
         self.osc_host.read().map(|h| h.clone()).unwrap_or_default()
@@ -403,6 +443,42 @@ mod tests {
         let params = PneumaParams::default();
         assert_eq!(params.cc_map(), CcMap::default());
         params.cc_map().validate().unwrap();
+    }
+
+    #[test]
+    fn defaults_are_the_models_defaults_and_presets_replace_the_controls() {
+        let params = PneumaParams::default();
+        assert_eq!(params.breathing_params(), BreathingParams::default());
+        assert_eq!(params.head_config(), HeadConfig::default());
+        params.breathing_params().validate().unwrap();
+        params.head_config().validate().unwrap();
+        // Every slider's range lies inside what the models accept: all minima, all maxima.
+        let p = &params;
+        for x in [0.0, 1.0] {
+            let breathing = BreathingParams {
+                thorax_vs_abdomen: p.thorax_vs_abdomen.preview_plain(x),
+                capacity_lung: p.capacity_lung.preview_plain(x),
+                mouth_vs_nose: p.mouth_vs_nose.preview_plain(x),
+                amplitude_breathing_sound: p.breath_sound.preview_plain(x),
+                opening_inspiration_channels: p.opening.preview_plain(x),
+                speaking_loudness: p.speaking_loudness.preview_plain(x),
+                inspiration_length_s: p.inspiration_length_s.preview_plain(x),
+                neck_motion_amplitude_deg: p.neck_amplitude_deg.preview_plain(x),
+                ..BreathingParams::default()
+            };
+            breathing.validate().unwrap();
+            let head = HeadConfig {
+                amount: p.head_amount.preview_plain(x),
+                max_pitch_deg: p.head_max_pitch_deg.preview_plain(x),
+                max_yaw_deg: p.head_max_yaw_deg.preview_plain(x),
+                max_roll_deg: p.head_max_roll_deg.preview_plain(x),
+                ..HeadConfig::default()
+            };
+            head.validate().unwrap();
+        }
+        for preset in Preset::ALL {
+            preset.params().validate().unwrap();
+        }
     }
 
     #[test]
