@@ -84,3 +84,33 @@ pub fn ensure_clap() -> PathBuf {
         Err(e) => panic!("{e}"),
     }
 }
+
+fn build_cli() -> Result<PathBuf, String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let output = Command::new(cargo)
+        .args(["build", "--release", "-p", "pneuma-cli"])
+        .current_dir(workspace_root())
+        .output()
+        .map_err(|e| format!("cannot run cargo to build the CLI ({e})"))?;
+    if !output.status.success() {
+        return Err(format!(
+            "building the CLI failed; run `cargo build --release -p pneuma-cli`:\n{}",
+            String::from_utf8_lossy(&output.stderr)
+        ));
+    }
+    let path = target_dir().join("release").join("pneuma");
+    if path.exists() {
+        Ok(path)
+    } else {
+        Err(format!("{} missing after the build", path.display()))
+    }
+}
+
+/// The release `pneuma` binary, built once per process (same policy as the bundle).
+pub fn ensure_cli() -> PathBuf {
+    static BUILT: OnceLock<Result<PathBuf, String>> = OnceLock::new();
+    match BUILT.get_or_init(build_cli) {
+        Ok(p) => p.clone(),
+        Err(e) => panic!("{e}"),
+    }
+}

@@ -348,3 +348,46 @@ fn latency_is_reported_and_structural_changes_ask_for_a_restart() {
     );
     eprintln!("reported latency at 48 kHz: lookahead {lookahead} samples, live 0");
 }
+
+/// The plugin and `pneuma render` give the same audio for the same file and settings, apart
+/// from the latency the plugin reports.
+#[test]
+#[ignore = "needs `pneuma render` and the Engine (issue 4); un-ignore when they land"]
+fn the_plugin_output_equals_the_cli_render() {
+    let voice_path = pneuma_tests::wav::example_voice_path();
+    let (voice, rate) = pneuma_tests::wav::example_voice();
+    let dir = std::env::temp_dir().join(format!("pneuma-render-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let status = std::process::Command::new(pneuma_tests::bundle::ensure_cli())
+        .arg("render")
+        .arg(&voice_path)
+        .arg("-o")
+        .arg(&dir)
+        .status()
+        .expect("pneuma runs");
+    assert!(status.success(), "pneuma render failed");
+    let (rendered, rendered_rate) = pneuma_tests::wav::read(&dir.join("voice.wav"));
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(rendered_rate, rate);
+    let rendered = &rendered[0];
+    assert_eq!(rendered.len(), voice.len(), "the render keeps the length");
+
+    let mut plugin = load();
+    plugin.activate(f64::from(rate), 512, 1).unwrap();
+    let latency = plugin.latency() as usize;
+    // Feed the voice plus `latency` samples of silence so the delayed output is complete.
+    let mut input = voice.clone();
+    input.resize(voice.len() + latency, 0.0);
+    let (out, _) = run(&mut plugin, &input, &block_sizes(input.len(), 512, 0));
+    let out = &out[latency..];
+    // The render is stored as a 16-bit or float WAV: allow one 16-bit step.
+    let max_diff = out
+        .iter()
+        .zip(rendered)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0f32, f32::max);
+    assert!(
+        max_diff <= 1.5 / 32768.0,
+        "plugin vs CLI render: max difference {max_diff} (latency {latency})"
+    );
+}
