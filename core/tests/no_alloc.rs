@@ -78,3 +78,64 @@ fn process_never_allocates() {
         assert_eq!(n, 0, "{n} allocations at {rate} Hz");
     }
 }
+
+/// Phrases with pauses at `rate`: 0.8 s voiced, 0.6 s silence, repeated.
+fn phrases(rate: f64, seconds: f64) -> Vec<f32> {
+    let mut x = synth::harmonic_tone(rate, seconds, 0.4, &[1.0, 0.6, 0.4, 0.2], |t| {
+        if t % 1.4 < 0.8 {
+            120.0 + 30.0 * (2.0 * t).sin()
+        } else {
+            0.0
+        }
+    });
+    x[777] = f32::NAN;
+    x[1234] = f32::INFINITY;
+    x
+}
+
+#[test]
+fn the_engine_never_allocates_while_processing() {
+    use pneuma_core::engine::{Engine, EngineConfig, PlacementMode};
+    use pneuma_core::head::HeadModel;
+    for (rate, channels, mode) in [
+        (44_100.0, 1usize, PlacementMode::Lookahead),
+        (48_000.0, 2, PlacementMode::Lookahead),
+        (16_000.0, 1, PlacementMode::Live),
+        (96_000.0, 2, PlacementMode::Live),
+    ] {
+        let x = phrases(rate, 4.5);
+        let mut config = EngineConfig::default();
+        config.placement.mode = mode;
+        let mut engine = Engine::new(config, HeadModel::default_model().clone()).expect("config");
+        engine.prepare(rate, 1024, channels).expect("prepare");
+        let mut bufs = vec![x.clone(); channels];
+        let mut frames = 0usize;
+        let mut breaths = 0usize;
+        let ((), n) = watched(|| {
+            let mut pos = 0;
+            for size in [1usize, 37, 512, 1024, 3000].iter().cycle() {
+                if pos >= x.len() {
+                    break;
+                }
+                let size = (*size).min(x.len() - pos);
+                let (a, b) = bufs.split_at_mut(1);
+                let mut chans: [&mut [f32]; 2] = match b.first_mut() {
+                    Some(r) => [&mut a[0][pos..pos + size], &mut r[pos..pos + size]],
+                    None => [&mut a[0][pos..pos + size], &mut []],
+                };
+                engine.process(&mut chans[..channels], &mut |_, _| frames += 1);
+                engine.take_breaths(|_| breaths += 1);
+                pos += size;
+            }
+            engine.finish();
+            engine.take_breaths(|_| breaths += 1);
+            engine.reset();
+        });
+        assert!(frames > 100, "{frames} frames");
+        assert!(breaths >= 1, "no breath inserted at {rate} Hz");
+        assert_eq!(
+            n, 0,
+            "{n} allocations at {rate} Hz, {channels} ch, {mode:?}"
+        );
+    }
+}

@@ -184,6 +184,21 @@ impl Analyzer {
         Ok(())
     }
 
+    /// Like [`Analyzer::process`], but tells `on_frame` the index in `block` of the sample that
+    /// completed each frame (for callers that act at that exact sample). Never allocates.
+    pub fn process_indexed(
+        &mut self,
+        block: &[f32],
+        mut on_frame: impl FnMut(&FeatureFrame, usize),
+    ) -> Result<(), AnalysisError> {
+        let s = self.state.as_mut().ok_or(AnalysisError::NotPrepared)?;
+        for (i, &x) in block.iter().enumerate() {
+            s.push(x, &mut |f: &FeatureFrame| on_frame(f, i));
+        }
+        s.samples_in += block.len() as u64;
+        Ok(())
+    }
+
     /// Ends the stream: emits the remaining frames whose centres lie inside the audio given so
     /// far (feeding silence past its end). Call [`Analyzer::reset`] before reusing.
     pub fn finish(&mut self, mut on_frame: impl FnMut(&FeatureFrame)) -> Result<(), AnalysisError> {

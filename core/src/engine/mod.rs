@@ -1,1 +1,720 @@
-//! The one streaming `Engine` that the CLI and the plugin both drive. (Being built: issue 4.)
+//! The one streaming [`Engine`] that the CLI and the plugin both drive: audio blocks of any size
+//! in, the same audio with breaths inserted out, plus one [`ControlFrame`] per frame of the frame
+//! clock.
+//!
+//! ## Inside one call to [`Engine::process`]
+//! 1. The input is cleaned (non-finite samples become 0), mixed to mono for analysis, and written
+//!    into a per-channel delay line of `latency_samples()` (lookahead mode) or none (live mode).
+//! 2. The analyzer turns the mono signal into feature frames sample by sample; each frame goes to
+//!    the head-pose synthesis and the phrase tracker at once, and waits in a queue until the
+//!    output reaches its time.
+//! 3. Phrase events schedule breaths and breathing-cycle events on the input timeline:
+//!    - lookahead: at a confirmed onset that ends a pause of at least `min_pause_s` with no breath
+//!      in it, an inhalation is placed to end `gap_s` before the onset, no earlier than
+//!      `after_offset_s` after the previous phrase and no earlier than the output position, and
+//!      as long as the breathing model's inspiration length allows;
+//!    - live: at a confirmed phrase end (after the tracker's hangover) an inhalation starts at
+//!      once; a new onset fades it out within `live_fade_s`.
+//! 4. The output is the delayed input, bit for bit, plus the breath sound where a breath plays,
+//!    spread over the channels in the voice's stereo image.
+//! 5. Control frames are emitted when the output reaches their time, with their sample offset in
+//!    the block: the breathing cycle advances by one frame, driven by the scheduled events.
+//!
+//! Every decision depends on the sample sequence only, so any block partition gives identical
+//! output and control frames. `process` never allocates.
+
+mod config;
+mod schedule;
+
+pub use config::{EngineConfig, EngineError, PlacementConfig, PlacementMode};
+
+use crate::analysis::{Analyzer, FeatureFrame};
+use crate::breathing::{BreathCycle, BreathSample, BreathVoice, SampleSlot};
+use crate::control::{BreathEvent, BreathKind, ControlFrame, HeadAngles};
+use crate::head::{HeadModel, HeadSynth};
+use crate::phrase::{PhraseEvent, PhraseTracker};
+use schedule::Queue;
+
+/// Most channels a stream may have.
+pub const MAX_CHANNELS: usize = 8;
+/// Shortest inhalation worth inserting, seconds.
+const MIN_BREATH_S: f64 = 0.12;
+/// Prior of the utterance length before any phrase was heard, seconds.
+const PRIOR_UTTERANCE_S: f32 = 2.5;
+/// Weight of the newest phrase in the running utterance-length estimate.
+const UTTERANCE_SMOOTHING: f32 = 0.3;
+
+/// A breath action on the input timeline (sample index).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum BreathAction {
+    /// Start an inhalation of `length` samples with plateau RMS `gain`.
+    Start { length: usize, gain: f32 },
+    /// Fade the playing inhalation out.
+    FadeOut,
+}
+
+/// A breathing-cycle event on the input timeline (seconds).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum CycleAction {
+    Inspire { length_s: f32, utterance_s: f32 },
+    UtteranceStarts { utterance_s: f32 },
+    SpeechStopped,
+}
+
+/// A feature frame waiting for the output to reach it.
+#[derive(Debug, Clone, Copy, Default)]
+struct Pending {
+    frame: FeatureFrame,
+    head: HeadAngles,
+    /// Output sample index from which it may be emitted.
+    emit_at: u64,
+}
+
+/// The breath being rendered, for `breaths.csv`.
+#[derive(Debug, Clone, Copy)]
+struct OpenBreath {
+    start: u64,
+    /// Planned end (input timeline), shortened by a fade-out.
+    end: u64,
+    kind: BreathKind,
+    peak: f32,
+}
+
+/// Everything sized by `prepare`.
+#[derive(Debug)]
+struct Stream {
+    sample_rate_hz: f64,
+    channels: usize,
+    max_block: usize,
+    mode: PlacementMode,
+    latency: usize,
+    analyzer: Analyzer,
+    tracker: PhraseTracker,
+    head: HeadSynth,
+    cycle: BreathCycle,
+    voice: BreathVoice,
+    /// Per-channel delay rings (power-of-two length).
+    delay: Vec<Vec<f32>>,
+    delay_mask: usize,
+    breath: Vec<f32>,
+    pending: Queue<Pending>,
+    breath_actions: Queue<(u64, BreathAction)>,
+    cycle_actions: Queue<(f64, CycleAction)>,
+    finished_breaths: Queue<BreathEvent>,
+    open_breath: Option<OpenBreath>,
+    /// Samples taken in (input timeline) = samples given out (output timeline).
+    position: u64,
+    /// Running mean square per channel over voiced frames, for the stereo image.
+    channel_ms: [f64; MAX_CHANNELS],
+    /// Per-channel mean square smoothed over about 20 ms, sample by sample.
+    short_ms: [f64; MAX_CHANNELS],
+    /// `short_ms` at every sample of the current block, per channel.
+    ms_trace: Vec<Vec<f64>>,
+    energy_smoothing: f64,
+    /// Mono mix of the current block.
+    mono: Vec<f32>,
+    /// Frames completed in the current block with the index of the completing sample.
+    completed: Vec<(FeatureFrame, usize)>,
+    speech_level_db: f32,
+    utterance_s: f32,
+    speaking: bool,
+    breath_end: u64,
+}
+
+/// The streaming engine. See the module docs.
+#[derive(Debug)]
+pub struct Engine {
+    config: EngineConfig,
+    model: HeadModel,
+    samples: [Option<BreathSample>; 2],
+    stream: Option<Stream>,
+}
+
+impl Engine {
+    /// An engine with validated settings and a head model; call [`Engine::prepare`] before
+    /// processing.
+    pub fn new(config: EngineConfig, head_model: HeadModel) -> Result<Self, EngineError> {
+        config.validate()?;
+        // Fail early on a model the synthesis rejects.
+        HeadSynth::new(head_model.clone(), config.head.clone())?;
+        Ok(Self {
+            config,
+            model: head_model,
+            samples: [None, None],
+            stream: None,
+        })
+    }
+
+    /// The settings.
+    pub fn config(&self) -> &EngineConfig {
+        &self.config
+    }
+
+    /// Sets a user breath sample (`None`: the procedural sound). Allocates: not for the audio
+    /// thread. Takes effect at once when prepared.
+    pub fn set_breath_sample(&mut self, slot: SampleSlot, sample: Option<BreathSample>) {
+        let i = match slot {
+            SampleSlot::Mouth => 0,
+            SampleSlot::Nose => 1,
+        };
+        self.samples[i] = sample.clone();
+        if let Some(s) = &mut self.stream {
+            s.voice.set_sample(slot, sample);
+        }
+    }
+
+    /// Allocates everything for a stream at `sample_rate_hz` (8–192 kHz) with blocks of at most
+    /// `max_block` samples and `channels` channels (1–8), and resets.
+    pub fn prepare(
+        &mut self,
+        sample_rate_hz: f64,
+        max_block: usize,
+        channels: usize,
+    ) -> Result<(), EngineError> {
+        if channels == 0 || channels > MAX_CHANNELS {
+            return Err(EngineError::Channels(channels));
+        }
+        if max_block == 0 || max_block > 65_536 {
+            return Err(EngineError::MaxBlock(max_block));
+        }
+        let c = &self.config;
+        let mut analyzer = Analyzer::new(c.analysis.clone())?;
+        analyzer.prepare(sample_rate_hz, max_block)?;
+        let frame_rate_hz = c.analysis.frame_rate_hz;
+        let tracker = PhraseTracker::new(c.phrase, frame_rate_hz)?;
+        let head = HeadSynth::new(self.model.clone(), c.head.clone())?;
+        let low = c.breathing.map();
+        let cycle = BreathCycle::new(&low);
+        let mut voice = BreathVoice::new(c.seed);
+        voice.prepare(sample_rate_hz, max_block);
+        for (slot, sample) in [SampleSlot::Mouth, SampleSlot::Nose]
+            .into_iter()
+            .zip(self.samples.iter())
+        {
+            voice.set_sample(slot, sample.clone());
+        }
+        let latency = match c.placement.mode {
+            PlacementMode::Lookahead => {
+                (c.placement.lookahead_s as f64 * sample_rate_hz).round() as usize
+            }
+            PlacementMode::Live => 0,
+        };
+        let ring = (latency + max_block + 1).next_power_of_two();
+        let frames_per_block =
+            (max_block as f64 * frame_rate_hz / sample_rate_hz).ceil() as usize + 4;
+        let analysis_latency_s = analyzer.latency_s().unwrap_or(0.05);
+        let max_pending = ((latency as f64 / sample_rate_hz + analysis_latency_s + 0.1)
+            * frame_rate_hz
+            + max_block as f64 / sample_rate_hz * frame_rate_hz)
+            .ceil() as usize
+            + 8;
+        self.stream = Some(Stream {
+            sample_rate_hz,
+            channels,
+            max_block,
+            mode: c.placement.mode,
+            latency,
+            analyzer,
+            tracker,
+            head,
+            cycle,
+            voice,
+            delay: vec![vec![0.0; ring]; channels],
+            delay_mask: ring - 1,
+            breath: vec![0.0; max_block],
+            pending: Queue::with_capacity(max_pending),
+            breath_actions: Queue::with_capacity(16),
+            cycle_actions: Queue::with_capacity(16),
+            finished_breaths: Queue::with_capacity(64),
+            open_breath: None,
+            position: 0,
+            channel_ms: [0.0; MAX_CHANNELS],
+            short_ms: [0.0; MAX_CHANNELS],
+            ms_trace: vec![vec![0.0; max_block]; channels],
+            mono: vec![0.0; max_block],
+            completed: vec![(FeatureFrame::default(), 0); frames_per_block],
+            energy_smoothing: 1.0 - (-1.0 / (0.02 * sample_rate_hz)).exp(),
+            speech_level_db: -26.0,
+            utterance_s: PRIOR_UTTERANCE_S,
+            speaking: false,
+            breath_end: 0,
+        });
+        self.reset();
+        Ok(())
+    }
+
+    /// Clears all state (a transport jump, a re-activation): silence in the delay line, the
+    /// analysis, the phrase tracker, the cycle and the head back to their start.
+    pub fn reset(&mut self) {
+        if let Some(s) = &mut self.stream {
+            s.analyzer.reset();
+            s.tracker.reset();
+            s.head.reset();
+            s.cycle.reset();
+            s.voice.reset();
+            s.delay.iter_mut().for_each(|d| d.fill(0.0));
+            s.pending.clear();
+            s.breath_actions.clear();
+            s.cycle_actions.clear();
+            s.finished_breaths.clear();
+            s.open_breath = None;
+            s.position = 0;
+            s.channel_ms = [0.0; MAX_CHANNELS];
+            s.short_ms = [0.0; MAX_CHANNELS];
+            s.speech_level_db = -26.0;
+            s.utterance_s = PRIOR_UTTERANCE_S;
+            s.speaking = false;
+            s.breath_end = 0;
+        }
+    }
+
+    /// The delay the engine adds, in samples: the lookahead in lookahead mode, 0 in live mode
+    /// (0 before `prepare`).
+    pub fn latency_samples(&self) -> u32 {
+        self.stream.as_ref().map_or(0, |s| s.latency as u32)
+    }
+
+    /// The prepared sample rate.
+    pub fn sample_rate_hz(&self) -> Option<f64> {
+        self.stream.as_ref().map(|s| s.sample_rate_hz)
+    }
+
+    /// Changes the settings that can change while playing, without allocating: breath level,
+    /// insertion on/off, minimum pause, gap, breathing parameters, head settings. Changes to the
+    /// mode, the lookahead, the analysis, the phrase tracker or the seed take effect at the next
+    /// [`Engine::prepare`].
+    pub fn set_config(&mut self, config: &EngineConfig) -> Result<(), EngineError> {
+        config.validate()?;
+        if let Some(s) = &mut self.stream {
+            s.cycle.set_params(&config.breathing.map());
+            s.head.set_config(config.head.clone());
+        }
+        self.config = config.clone();
+        Ok(())
+    }
+
+    /// Hands every finished inserted breath to `on_breath` (oldest first) and forgets them. Up
+    /// to 64 are kept between calls.
+    pub fn take_breaths(&mut self, mut on_breath: impl FnMut(&BreathEvent)) {
+        if let Some(s) = &mut self.stream {
+            while let Some(b) = s.finished_breaths.pop_front() {
+                on_breath(&b);
+            }
+        }
+    }
+
+    /// Ends a stream: closes a breath still playing so that [`Engine::take_breaths`] reports it.
+    pub fn finish(&mut self) {
+        if let Some(s) = &mut self.stream {
+            s.close_breath();
+        }
+    }
+
+    /// Processes one block in place: `audio` holds one slice per channel (as many as prepared or
+    /// fewer), all of the same length (at most the prepared maximum; longer blocks are processed
+    /// in pieces). Calls `on_control` for every control frame due in this block with its sample
+    /// offset. Never allocates. Does nothing before `prepare`.
+    pub fn process(
+        &mut self,
+        audio: &mut [&mut [f32]],
+        on_control: &mut dyn FnMut(&ControlFrame, usize),
+    ) {
+        let Some(s) = &mut self.stream else {
+            return;
+        };
+        let len = audio.iter().map(|c| c.len()).min().unwrap_or(0);
+        let channels = audio.len().min(s.channels);
+        if channels == 0 {
+            return;
+        }
+        let mut done = 0;
+        while done < len {
+            let n = (len - done).min(s.max_block);
+            s.process_piece(&self.config, audio, channels, done, n, on_control);
+            done += n;
+        }
+    }
+}
+
+impl Stream {
+    fn process_piece(
+        &mut self,
+        config: &EngineConfig,
+        audio: &mut [&mut [f32]],
+        channels: usize,
+        start: usize,
+        n: usize,
+        on_control: &mut dyn FnMut(&ControlFrame, usize),
+    ) {
+        let base = self.position;
+        // 1. Per sample: clean input, delay line, energies smoothed over ~20 ms per channel
+        // (kept per sample for step 2), mono mix.
+        let smooth = self.energy_smoothing;
+        let mask = self.delay_mask;
+        for (c, chan) in audio.iter().take(channels).enumerate() {
+            let mut ms = self.short_ms[c];
+            let delay = &mut self.delay[c];
+            let trace = &mut self.ms_trace[c];
+            let mono = &mut self.mono;
+            for (i, &x) in chan[start..start + n].iter().enumerate() {
+                let x = if x.is_finite() { x } else { 0.0 };
+                delay[(base as usize + i) & mask] = x;
+                ms += smooth * ((x as f64) * (x as f64) - ms);
+                trace[i] = ms;
+                if c == 0 {
+                    mono[i] = x;
+                } else {
+                    mono[i] += x;
+                }
+            }
+            self.short_ms[c] = ms;
+        }
+        if channels > 1 {
+            let inv = 1.0 / channels as f32;
+            self.mono[..n].iter_mut().for_each(|m| *m *= inv);
+        }
+        // 2. Analysis; each frame goes to the head pose, the phrase tracker and the scheduler
+        // as of the sample that completed it, so any partition gives the same decisions.
+        let mut count = 0;
+        let completed = &mut self.completed;
+        // An analyzer prepared for this block size never fails here.
+        let _ = self.analyzer.process_indexed(&self.mono[..n], |f, i| {
+            if count < completed.len() {
+                completed[count] = (*f, i);
+                count += 1;
+            }
+        });
+        for k in 0..count {
+            let (f, i) = self.completed[k];
+            self.on_frame(config, &f, base + i as u64, i, channels);
+        }
+        // 3. Output: the delayed input.
+        for (chan, delay) in audio.iter_mut().zip(&self.delay).take(channels) {
+            let out = &mut chan[start..start + n];
+            for (i, y) in out.iter_mut().enumerate() {
+                *y = delay[(base as usize + i + mask + 1 - self.latency) & mask];
+            }
+        }
+        // 4. Breaths.
+        self.render_breaths(config, audio, channels, start, n);
+        // 5. Control frames due in this block.
+        let end = base + n as u64;
+        let dt_s = (1.0 / config.analysis.frame_rate_hz) as f32;
+        while let Some(p) = self.pending.front().copied() {
+            if p.emit_at >= end {
+                break;
+            }
+            self.pending.pop_front();
+            while let Some(&(t, action)) = self.cycle_actions.front() {
+                if t > p.frame.time_s + 1e-9 {
+                    break;
+                }
+                self.cycle_actions.pop_front();
+                match action {
+                    CycleAction::Inspire {
+                        length_s,
+                        utterance_s,
+                    } => self.cycle.inspire(length_s, utterance_s),
+                    CycleAction::UtteranceStarts { utterance_s } => {
+                        self.speaking = true;
+                        self.cycle.utterance_starts(utterance_s);
+                    }
+                    CycleAction::SpeechStopped => {
+                        self.speaking = false;
+                        self.cycle.speech_stopped();
+                    }
+                }
+            }
+            let breathing = self.cycle.advance(dt_s);
+            let f = &p.frame;
+            let frame = ControlFrame {
+                index: f.index,
+                time_s: f.time_s,
+                f0_hz: f.f0_hz,
+                voiced: f.voiced,
+                rms_db: f.rms_db,
+                level_db: f.level_db,
+                speaking: self.speaking,
+                breathing,
+                head: p.head,
+            };
+            let offset = p.emit_at.max(base) - base;
+            on_control(&frame, start + offset as usize);
+        }
+        self.position = end;
+    }
+
+    /// One analysis frame, produced while taking in input sample `now`.
+    fn on_frame(
+        &mut self,
+        config: &EngineConfig,
+        f: &FeatureFrame,
+        now: u64,
+        i: usize,
+        channels: usize,
+    ) {
+        let head = self.head.process(f, config.analysis.frame_rate_hz);
+        if f.voiced && f.rms_db.is_finite() && f.level_db.is_finite() {
+            self.speech_level_db = f.rms_db - f.level_db;
+            // The voice's stereo image: the channels' share of the recent energy, averaged over
+            // voiced frames.
+            let total: f64 = (0..channels).map(|c| self.ms_trace[c][i]).sum();
+            if total > 0.0 {
+                for c in 0..channels {
+                    self.channel_ms[c] += 0.05 * (self.ms_trace[c][i] / total - self.channel_ms[c]);
+                }
+            }
+        }
+        let frame_pos = (f.time_s * self.sample_rate_hz).round() as u64;
+        let emit_at = (frame_pos + self.latency as u64).max(now);
+        self.pending.push_back(Pending {
+            frame: *f,
+            head,
+            emit_at,
+        });
+        let mut events: [Option<PhraseEvent>; 2] = [None, None];
+        let mut count = 0;
+        self.tracker.update(f, |e| {
+            if count < 2 {
+                events[count] = Some(e);
+            }
+            count += 1;
+        });
+        for e in events.into_iter().flatten() {
+            self.on_phrase_event(config, e, now);
+        }
+    }
+
+    fn breath_gain(&self, config: &EngineConfig) -> f32 {
+        let neutral = crate::breathing::BreathingParams::default()
+            .map()
+            .breath_rms_re_speech();
+        let ours = config.breathing.map().breath_rms_re_speech();
+        let preset_db = if neutral > 0.0 && ours > 0.0 {
+            20.0 * (ours / neutral).log10()
+        } else if ours <= 0.0 {
+            -200.0
+        } else {
+            0.0
+        };
+        let rel_db = (config.placement.breath_level_db + preset_db).min(-6.0);
+        10f32.powf((self.speech_level_db + rel_db) / 20.0)
+    }
+
+    fn on_phrase_event(&mut self, config: &EngineConfig, e: PhraseEvent, now: u64) {
+        let p = &config.placement;
+        let rate = self.sample_rate_hz;
+        let inspiration_s = config.breathing.map().length_inspiration_s as f64;
+        match e {
+            PhraseEvent::Start { onset_s, pause } => {
+                let utterance_s = self.utterance_s;
+                self.cycle_actions
+                    .insert_sorted((onset_s, CycleAction::UtteranceStarts { utterance_s }));
+                let (pause_start_s, has_breath) = match pause {
+                    Some(pz) => (pz.start_s, pz.has_breath),
+                    None => (0.0, false),
+                };
+                match self.mode {
+                    PlacementMode::Lookahead => {
+                        if !p.insert_breaths
+                            || has_breath
+                            || onset_s - pause_start_s < p.min_pause_s as f64
+                        {
+                            return;
+                        }
+                        let end_s = onset_s - p.gap_s as f64;
+                        // The output has reached input sample `now - latency`: never start in
+                        // the past, never before the previous breath ended.
+                        let earliest = ((now + 1).saturating_sub(self.latency as u64))
+                            .max(self.breath_end) as f64
+                            / rate;
+                        let start_s = (end_s - inspiration_s)
+                            .max(pause_start_s + p.after_offset_s as f64)
+                            .max(earliest);
+                        if end_s - start_s < MIN_BREATH_S {
+                            return;
+                        }
+                        let start = (start_s * rate).round() as u64;
+                        let length = ((end_s - start_s) * rate).round() as usize;
+                        let gain = self.breath_gain(config);
+                        self.breath_actions
+                            .insert_sorted((start, BreathAction::Start { length, gain }));
+                        self.breath_end = start + length as u64;
+                        self.cycle_actions.insert_sorted((
+                            start_s,
+                            CycleAction::Inspire {
+                                length_s: (end_s - start_s) as f32,
+                                utterance_s,
+                            },
+                        ));
+                    }
+                    PlacementMode::Live => {
+                        if self.breath_end > now {
+                            self.breath_actions
+                                .insert_sorted((now, BreathAction::FadeOut));
+                            self.breath_end = now;
+                        }
+                    }
+                }
+            }
+            PhraseEvent::End { onset_s, offset_s } => {
+                let length_s = (offset_s - onset_s).max(0.0) as f32;
+                self.utterance_s += UTTERANCE_SMOOTHING * (length_s - self.utterance_s);
+                self.cycle_actions
+                    .insert_sorted((offset_s, CycleAction::SpeechStopped));
+                if self.mode == PlacementMode::Live && p.insert_breaths {
+                    let length = (inspiration_s * rate).round() as usize;
+                    let gain = self.breath_gain(config);
+                    self.breath_actions
+                        .insert_sorted((now, BreathAction::Start { length, gain }));
+                    self.breath_end = now + length as u64;
+                    let now_s = now as f64 / rate;
+                    self.cycle_actions.insert_sorted((
+                        now_s,
+                        CycleAction::Inspire {
+                            length_s: inspiration_s as f32,
+                            utterance_s: self.utterance_s,
+                        },
+                    ));
+                }
+            }
+        }
+    }
+
+    /// Renders the breath sound for the output block and adds it to the channels.
+    fn render_breaths(
+        &mut self,
+        config: &EngineConfig,
+        audio: &mut [&mut [f32]],
+        channels: usize,
+        start: usize,
+        n: usize,
+    ) {
+        let base = self.position;
+        let end = base + n as u64;
+        // Output sample o plays input sample o - latency.
+        let in_base = base.saturating_sub(self.latency as u64);
+        let warm = (self.latency as u64).saturating_sub(base).min(n as u64) as usize;
+        if !self.voice.is_active()
+            && self
+                .breath_actions
+                .front()
+                .is_none_or(|&(t, _)| t + self.latency as u64 >= end)
+        {
+            return;
+        }
+        // Taken out for the loop (no allocation) and put back at the end.
+        let mut breath = std::mem::take(&mut self.breath);
+        let buf = &mut breath[..n];
+        buf.fill(0.0);
+        let mut pos = warm;
+        let mut active_from = n;
+        let mut active_to = 0;
+        loop {
+            let next = self
+                .breath_actions
+                .front()
+                .map(|&(t, a)| ((t.max(in_base) - in_base) as usize + warm, a))
+                .filter(|&(off, _)| off < n);
+            let stop = next.map_or(n, |(off, _)| off);
+            if self.voice.is_active() && stop > pos {
+                active_from = active_from.min(pos);
+                active_to = stop;
+                self.voice.render_add(&mut buf[pos..stop]);
+            }
+            pos = stop;
+            let Some((_, action)) = next else { break };
+            self.breath_actions.pop_front();
+            match action {
+                BreathAction::Start { length, gain } => {
+                    // Close the previous breath's record before the new one starts.
+                    if self.open_breath.is_some() {
+                        let peak = buf[active_from.min(pos)..pos]
+                            .iter()
+                            .fold(0.0f32, |m, x| m.max(x.abs()));
+                        let g_max = self.max_channel_gain(channels);
+                        if let Some(b) = &mut self.open_breath {
+                            b.peak = b.peak.max(peak * g_max);
+                        }
+                        self.close_breath();
+                    }
+                    if config.placement.insert_breaths {
+                        let mouth = config.breathing.map().mouth_share();
+                        self.voice.start(mouth, length, gain);
+                        let at = in_base + pos as u64 - warm as u64;
+                        self.open_breath = Some(OpenBreath {
+                            start: at,
+                            end: at + length as u64,
+                            kind: self.voice.kind(),
+                            peak: 0.0,
+                        });
+                        active_from = active_from.min(pos);
+                    }
+                }
+                BreathAction::FadeOut => {
+                    let fade = (config.placement.live_fade_s as f64 * self.sample_rate_hz)
+                        .round()
+                        .max(1.0) as usize;
+                    self.voice.fade_out(fade);
+                    let at = in_base + pos as u64 - warm as u64;
+                    if let Some(b) = &mut self.open_breath {
+                        b.end = b.end.min(at + fade as u64);
+                    }
+                }
+            }
+        }
+        if active_from < active_to {
+            let peak = buf[active_from..active_to]
+                .iter()
+                .fold(0.0f32, |m, x| m.max(x.abs()));
+            let g_max = self.max_channel_gain(channels);
+            if let Some(b) = &mut self.open_breath {
+                b.peak = b.peak.max(peak * g_max);
+            }
+            for (c, chan) in audio.iter_mut().take(channels).enumerate() {
+                let g = self.channel_gain(c, channels);
+                let out = &mut chan[start + active_from..start + active_to];
+                for (y, b) in out.iter_mut().zip(&buf[active_from..active_to]) {
+                    *y += g * b;
+                }
+            }
+        }
+        self.breath = breath;
+        if !self.voice.is_active() {
+            self.close_breath();
+        }
+    }
+
+    /// Gain of channel `c` for the breath: the voice's share of energy in it, so a centred voice
+    /// gets the breath at full level in every channel.
+    fn channel_gain(&self, c: usize, channels: usize) -> f32 {
+        if channels == 1 {
+            return 1.0;
+        }
+        let total: f64 = self.channel_ms[..channels].iter().sum();
+        if total <= 0.0 {
+            1.0
+        } else {
+            ((self.channel_ms[c] / total) * channels as f64).sqrt() as f32
+        }
+    }
+
+    fn max_channel_gain(&self, channels: usize) -> f32 {
+        (0..channels)
+            .map(|c| self.channel_gain(c, channels))
+            .fold(0.0, f32::max)
+    }
+
+    /// Files the current breath (if any) as finished, with its planned (or faded) end.
+    fn close_breath(&mut self) {
+        if let Some(b) = self.open_breath.take() {
+            let rate = self.sample_rate_hz;
+            self.finished_breaths.push_back(BreathEvent {
+                start_s: b.start as f64 / rate,
+                end_s: b.end.max(b.start) as f64 / rate,
+                kind: b.kind,
+                peak_db: crate::analysis::amplitude_to_db(b.peak as f64),
+            });
+        }
+    }
+}

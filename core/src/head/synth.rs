@@ -353,6 +353,7 @@ mod tests {
             rms_db: -20.0,
             f0_st,
             level_db,
+            band_db: -20.0,
         }
     }
 

@@ -1,0 +1,76 @@
+//! Throughput of the whole engine per instance (analysis, phrase tracking, breathing cycle,
+//! breath sound, head pose, delay line) on 10 s of phrases with pauses, at 48 kHz with
+//! 64-sample blocks (the plugin case, mono and stereo) and 512-sample blocks, in lookahead and
+//! live mode. Multiples of real time = 10 s / time per iteration.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use pneuma_core::engine::{Engine, EngineConfig, PlacementMode};
+use pneuma_core::head::HeadModel;
+use pneuma_core::synth::{self, GlottalVowel, Vowel};
+
+fn speech_like(rate: f64) -> Vec<f32> {
+    let cfg = GlottalVowel {
+        sample_rate_hz: rate,
+        length_s: 10.0,
+        vowel: Vowel::A,
+        jitter: 0.01,
+        shimmer: 0.05,
+        peak: 0.5,
+        seed: 1,
+    };
+    // 1.5 s phrases separated by 0.5 s pauses, f0 wandering 100–200 Hz.
+    let mut x = synth::glottal_vowel(&cfg, |t| {
+        if t % 2.0 < 1.5 {
+            150.0 + 50.0 * (1.3 * t).sin()
+        } else {
+            0.0
+        }
+    });
+    synth::add_white_noise(&mut x, 40.0, 2);
+    x
+}
+
+fn bench(c: &mut Criterion) {
+    let mut group = c.benchmark_group("engine_10s_48k");
+    group.sample_size(10);
+    let rate = 48_000.0;
+    let x = speech_like(rate);
+    for (mode, channels, block) in [
+        (PlacementMode::Lookahead, 1usize, 64usize),
+        (PlacementMode::Lookahead, 2, 64),
+        (PlacementMode::Live, 1, 64),
+        (PlacementMode::Lookahead, 1, 512),
+    ] {
+        let mut config = EngineConfig::default();
+        config.placement.mode = mode;
+        let mut engine = Engine::new(config, HeadModel::default_model().clone()).expect("config");
+        engine.prepare(rate, block, channels).expect("prepare");
+        let mut bufs = vec![x.clone(); channels];
+        group.throughput(Throughput::Elements(x.len() as u64));
+        group.bench_function(
+            BenchmarkId::new(format!("{}_{}ch", mode.as_str(), channels), block),
+            |b| {
+                b.iter(|| {
+                    engine.reset();
+                    let mut frames = 0u32;
+                    let mut pos = 0;
+                    while pos < x.len() {
+                        let n = block.min(x.len() - pos);
+                        for (buf, src) in bufs.iter_mut().zip(std::iter::repeat(&x)) {
+                            buf[pos..pos + n].copy_from_slice(&src[pos..pos + n]);
+                        }
+                        let mut chans: Vec<&mut [f32]> =
+                            bufs.iter_mut().map(|b| &mut b[pos..pos + n]).collect();
+                        engine.process(&mut chans, &mut |_, _| frames += 1);
+                        pos += n;
+                    }
+                    frames
+                })
+            },
+        );
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
