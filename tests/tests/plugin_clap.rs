@@ -157,15 +157,91 @@ fn the_example_voice_gives_the_same_output_in_any_block_partition_at_44k_and_48k
                 }
             }
         }
-        let (_, events) = reference.unwrap();
-        // The speaking gate (CC 24) opens and closes with the phrases of the example voice
-        // (at least eight phrases), and loudness (CC 25) follows the speech.
-        let gate: Vec<&CcEvent> = events.iter().filter(|e| e.controller == 24).collect();
-        let opens = gate.iter().filter(|e| e.value == 127).count();
-        assert!(opens >= 8, "speaking gate opened {opens} times");
-        let loud = events.iter().filter(|e| e.controller == 25).count();
-        assert!(loud > 200, "loudness CC changed only {loud} times");
+        let (out, events) = reference.unwrap();
+        let mut probe = load();
+        probe.activate(rate, 512, 1).unwrap();
+        let latency = probe.latency() as usize;
+        check_breaths_in_audio(&voice, &out, latency, rate);
+        check_controls_follow_speech_and_breaths(&events);
     }
+}
+
+/// Output sample `latency + i` is input sample `i` plus the inserted breath: the difference must
+/// be zero outside breaths and show several separate breaths.
+fn check_breaths_in_audio(input: &[f32], output: &[f32], latency: usize, rate: f64) {
+    assert!(
+        (latency as f64 - 0.5 * rate).abs() <= 1.0,
+        "lookahead latency {latency}"
+    );
+    let n = input.len() - latency;
+    let diff: Vec<f32> = (0..n).map(|i| output[latency + i] - input[i]).collect();
+    let exact = diff.iter().filter(|d| **d == 0.0).count();
+    assert!(
+        exact as f64 > 0.8 * n as f64,
+        "the voice passes bit for bit outside breaths: {exact} of {n} samples"
+    );
+    // Breaths: runs of 20 ms windows where the inserted sound is above -70 dBFS RMS.
+    let win = (0.02 * rate) as usize;
+    let mut breaths = 0;
+    let mut inside = false;
+    for w in diff.chunks(win) {
+        let rms = (w.iter().map(|d| d * d).sum::<f32>() / w.len() as f32).sqrt();
+        let loud = rms > 10f32.powf(-70.0 / 20.0);
+        if loud && !inside {
+            breaths += 1;
+        }
+        inside = loud;
+    }
+    assert!(
+        (4..=30).contains(&breaths),
+        "{breaths} separate breaths in the audio of the example voice"
+    );
+}
+
+/// CC 2 (lung) rises during inspirations, CC 16-18 (head) move while the speaking gate (CC 24)
+/// is open.
+fn check_controls_follow_speech_and_breaths(events: &[CcEvent]) {
+    let lung: Vec<u8> = events
+        .iter()
+        .filter(|e| e.controller == 2)
+        .map(|e| e.value)
+        .collect();
+    // Count rising runs of at least 10 CC steps: inspirations.
+    let mut rises = 0;
+    let mut run_start = lung.first().copied().unwrap_or(0);
+    for w in lung.windows(2) {
+        if w[1] < w[0] {
+            if w[0] >= run_start + 10 {
+                rises += 1;
+            }
+            run_start = w[1];
+        }
+    }
+    if let (Some(&last), true) = (lung.last(), !lung.is_empty()) {
+        if last >= run_start + 10 {
+            rises += 1;
+        }
+    }
+    assert!(rises >= 4, "CC 2 rose {rises} times (inspirations)");
+
+    let mut speaking = false;
+    let mut head_moves_speaking = 0;
+    for e in events {
+        match e.controller {
+            24 => speaking = e.value == 127,
+            16..=18 if speaking => head_moves_speaking += 1,
+            _ => {}
+        }
+    }
+    assert!(
+        head_moves_speaking > 300,
+        "CC 16-18 changed {head_moves_speaking} times during speech"
+    );
+    let gate_opens = events
+        .iter()
+        .filter(|e| e.controller == 24 && e.value == 127)
+        .count();
+    assert!(gate_opens >= 8, "speaking gate opened {gate_opens} times");
 }
 
 /// MIDI CC stream rules: channel 0 by default, sorted by time, each controller at most once per

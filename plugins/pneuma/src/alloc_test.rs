@@ -8,8 +8,11 @@ use std::sync::Arc;
 use pneuma_core::encode::midi_cc::{CcEncoder, CcMap};
 use pneuma_core::encode::osc::OscFormat;
 
-use crate::engine_adapter::EngineAdapter;
+use pneuma_core::engine::Engine;
+use pneuma_core::head::HeadModel;
+
 use crate::osc_sender::{self, OscSettings};
+use crate::params::PneumaParams;
 use crate::{run_block, Outputs};
 
 struct Target;
@@ -25,7 +28,9 @@ impl OscSettings for Target {
 
 #[test]
 fn the_audio_path_never_allocates_after_prepare() {
-    let mut engine = EngineAdapter::new(120.0).unwrap();
+    let params = PneumaParams::default();
+    let mut engine =
+        Engine::new(params.engine_config(), HeadModel::default_model().clone()).unwrap();
     engine.prepare(48_000.0, 512, 2).unwrap();
     let mut cc = CcEncoder::new(CcMap::default()).unwrap();
     let (mut feed, _worker, _stats) = osc_sender::start(Arc::new(Target)).unwrap();
@@ -43,6 +48,10 @@ fn the_audio_path_never_allocates_after_prepare() {
                 left[i] = if on { 0.3 * phase.sin() } else { 0.0 };
                 right[i] = if i == 3 { f32::NAN } else { left[i] };
             }
+            // What `process()` does per block before the engine runs.
+            let config = params.engine_config();
+            engine.set_config(&config).unwrap();
+            std::hint::black_box(params.cc_map());
             let mut audio: [&mut [f32]; 2] = [&mut left[..n], &mut right[..n]];
             let outputs = Outputs {
                 cc: Some(&mut cc),

@@ -1,8 +1,11 @@
 //! Pneuma as a CLAP and VST3 plugin, built on nice-plug.
 //!
-//! - Audio: stereo (default) or mono, in place; breaths are mixed into the output as the CLI's
-//!   render does (once the Engine is wired in; until then [`engine_adapter`] runs the analysis
-//!   only and passes the audio). Non-finite input never reaches the output.
+//! - Audio: stereo (default) or mono, in place, through [`pneuma_core::engine::Engine`]: breaths
+//!   are mixed into the output exactly as `pneuma render` does for the same settings. Non-finite
+//!   input never reaches the output.
+//! - Breath samples: the persisted paths (`breath_sample_mouth`, `breath_sample_nose`) are
+//!   loaded at activation (WAV, mixed to mono); a file that cannot be used is logged and the
+//!   procedural breath stays.
 //! - Latency: the engine's (`mode` = lookahead: the lookahead delay; live: none), reported at
 //!   activation. Changing `mode`, `lookahead_s` or `frame_rate_hz` asks the host for a restart.
 //! - Reset (engine, MIDI CC memory, OSC time anchor) on re-activation, on the host's reset and on
@@ -25,7 +28,6 @@
 
 #[cfg(test)]
 mod alloc_test;
-pub mod engine_adapter;
 pub mod osc_sender;
 pub mod params;
 
@@ -36,9 +38,11 @@ use nice_plug::prelude::*;
 use pneuma_core::encode::midi_cc::{CcEncoder, CcMessage};
 use pneuma_core::encode::osc::OscFormat;
 
-use engine_adapter::EngineAdapter;
 use osc_sender::{OscFeed, OscSettings, OscStats, OscWorker};
 pub use params::{PneumaParams, PARAM_IDS};
+use pneuma_core::breathing::{BreathSample, SampleSlot};
+use pneuma_core::engine::{Engine, EngineConfig};
+use pneuma_core::head::HeadModel;
 
 /// Stable identifier of the breath level parameter, saved in host projects and presets.
 pub const BREATH_LEVEL_PARAM_ID: &str = "breath_level_db";
@@ -96,7 +100,9 @@ impl OscSettings for PneumaParams {
 /// The Pneuma plugin instance.
 pub struct Pneuma {
     params: Arc<PneumaParams>,
-    engine: Option<EngineAdapter>,
+    engine: Option<Engine>,
+    /// The configuration last given to the engine.
+    engine_config: EngineConfig,
     cc: CcEncoder,
     midi_was_enabled: bool,
     osc_feed: Option<OscFeed>,
@@ -114,6 +120,7 @@ impl Default for Pneuma {
         Self {
             params,
             engine: None,
+            engine_config: EngineConfig::default(),
             cc,
             midi_was_enabled: true,
             osc_feed: None,
@@ -149,11 +156,11 @@ pub struct Outputs<'a> {
     pub osc: Option<&'a mut OscFeed>,
 }
 
-/// The audio-thread work of one block: runs the engine in place and hands every control frame to
-/// the outputs; `send_cc(offset, message)` receives each CC message with its sample offset in the
+/// The audio-thread work of one block: runs the engine in place (then flushes subnormal output
+/// samples to 0) and hands every control frame to the outputs; `send_cc(offset, message)` receives each CC message with its sample offset in the
 /// block. Never allocates, locks or blocks.
 pub fn run_block(
-    engine: &mut EngineAdapter,
+    engine: &mut Engine,
     audio: &mut [&mut [f32]],
     mut outputs: Outputs<'_>,
     send_cc: &mut dyn FnMut(u32, CcMessage),
@@ -166,6 +173,44 @@ pub fn run_block(
             feed.push(frame);
         }
     });
+    // The plugin has no use for the breath list; keep the engine's queue empty.
+    engine.take_breaths(|_| {});
+    // The engine passes the voice bit for bit, subnormal samples included; hosts and validators
+    // reject subnormal output, so they become 0 (no other sample changes).
+    for channel in audio.iter_mut() {
+        sanitize_in_place(channel);
+    }
+}
+
+/// Reads a breath sample WAV (any channel count, mixed to mono). Empty path: none.
+pub fn load_breath_sample(path: &str) -> Result<Option<BreathSample>, String> {
+    if path.trim().is_empty() {
+        return Ok(None);
+    }
+    let mut reader = hound::WavReader::open(path).map_err(|e| format!("{path}: {e}"))?;
+    let spec = reader.spec();
+    let channels = usize::from(spec.channels.max(1));
+    let interleaved: Vec<f32> = match spec.sample_format {
+        hound::SampleFormat::Float => reader
+            .samples::<f32>()
+            .collect::<Result<_, _>>()
+            .map_err(|e| format!("{path}: {e}"))?,
+        hound::SampleFormat::Int => {
+            let scale = 1.0 / (1u64 << (spec.bits_per_sample.clamp(1, 32) - 1)) as f32;
+            reader
+                .samples::<i32>()
+                .map(|s| s.map(|v| v as f32 * scale))
+                .collect::<Result<_, _>>()
+                .map_err(|e| format!("{path}: {e}"))?
+        }
+    };
+    let mono: Vec<f32> = interleaved
+        .chunks(channels)
+        .map(|f| f.iter().sum::<f32>() / channels as f32)
+        .collect();
+    BreathSample::from_mono(mono, f64::from(spec.sample_rate))
+        .map(Some)
+        .map_err(|e| format!("{path}: {e}"))
 }
 
 /// Replaces every sample that is not a normal finite number (NaN, ±inf, subnormal) by `0.0` and
@@ -225,13 +270,24 @@ impl Plugin for Pneuma {
         let channels = audio_io_layout
             .main_output_channels
             .map_or(1, NonZeroU32::get) as usize;
-        let mut engine = match EngineAdapter::new(f64::from(structural.frame_rate_hz)) {
+        let config = self.params.engine_config();
+        let mut engine = match Engine::new(config.clone(), HeadModel::default_model().clone()) {
             Ok(e) => e,
             Err(e) => {
                 nice_error!("Pneuma: engine settings rejected: {e}");
                 return false;
             }
         };
+        for (slot, path) in [
+            (SampleSlot::Mouth, &self.params.breath_sample_mouth),
+            (SampleSlot::Nose, &self.params.breath_sample_nose),
+        ] {
+            let path = path.read().map(|p| p.clone()).unwrap_or_default();
+            match load_breath_sample(&path) {
+                Ok(sample) => engine.set_breath_sample(slot, sample),
+                Err(e) => nice_error!("Pneuma: breath sample not used: {e}"),
+            }
+        }
         if let Err(e) = engine.prepare(
             f64::from(buffer_config.sample_rate),
             buffer_config.max_buffer_size as usize,
@@ -240,6 +296,7 @@ impl Plugin for Pneuma {
             nice_error!("Pneuma: cannot prepare: {e}");
             return false;
         }
+        self.engine_config = config;
         context.set_latency_samples(engine.latency_samples());
         self.engine = Some(engine);
         self.prepared = Some(structural);
@@ -296,12 +353,19 @@ impl Plugin for Pneuma {
         self.midi_was_enabled = midi_on;
         let osc_on = self.params.osc_enabled.value();
 
+        let config = self.params.engine_config();
         let Some(engine) = self.engine.as_mut() else {
             for channel in buffer.as_slice().iter_mut() {
                 sanitize_in_place(channel);
             }
             return ProcessStatus::Normal;
         };
+        if config != self.engine_config {
+            // An invalid combination keeps the previous settings; ranges make it unlikely.
+            if engine.set_config(&config).is_ok() {
+                self.engine_config = config;
+            }
+        }
         let outputs = Outputs {
             cc: midi_on.then_some(&mut self.cc),
             osc: if osc_on { self.osc_feed.as_mut() } else { None },
@@ -396,6 +460,42 @@ mod tests {
         assert_eq!(p.preview_plain(0.0), -40.0);
         assert_eq!(p.preview_plain(1.0), -6.0);
         assert_eq!(p.name(), "Breath level");
+    }
+
+    #[test]
+    fn breath_samples_load_from_wav_and_bad_files_are_refused() {
+        assert!(load_breath_sample("").unwrap().is_none());
+        assert!(load_breath_sample("/no/such/breath.wav").is_err());
+        let dir = std::env::temp_dir().join(format!("pneuma-plugin-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("breath.wav");
+        let spec = hound::WavSpec {
+            channels: 2,
+            sample_rate: 44_100,
+            bits_per_sample: 16,
+            sample_format: hound::SampleFormat::Int,
+        };
+        let mut w = hound::WavWriter::create(&path, spec).unwrap();
+        let mut state = 1u32;
+        for _ in 0..(44_100 / 2) {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let v = (state >> 16) as i16 / 8;
+            w.write_sample(v).unwrap();
+            w.write_sample(v).unwrap();
+        }
+        w.finalize().unwrap();
+        let sample = load_breath_sample(path.to_str().unwrap()).unwrap();
+        assert!(sample.is_some(), "a half-second noise breath is usable");
+        // Silence is refused by the breathing model, with the path in the message.
+        let silent = dir.join("silent.wav");
+        let mut w = hound::WavWriter::create(&silent, spec).unwrap();
+        for _ in 0..44_100 {
+            w.write_sample(0i16).unwrap();
+        }
+        w.finalize().unwrap();
+        let err = load_breath_sample(silent.to_str().unwrap()).unwrap_err();
+        assert!(err.contains("silent.wav"), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

@@ -15,6 +15,7 @@ use nice_plug::prelude::*;
 use pneuma_core::breathing::{BreathingParams, Preset};
 use pneuma_core::encode::midi_cc::{CcMap, CcResolution, CcSignal, SIGNAL_COUNT};
 use pneuma_core::encode::osc::OscFormat;
+use pneuma_core::engine::{EngineConfig, PlacementMode};
 use pneuma_core::head::HeadConfig;
 
 /// Breathing preset: `Custom` uses the individual breathing controls, the others replace them.
@@ -156,13 +157,13 @@ pub struct PneumaParams {
     /// Insert breaths into the audio (off: audio passes, controls still leave). Default on.
     #[id = "insert_breaths"]
     pub insert_breaths: BoolParam,
-    /// Shortest pause that gets a breath, seconds, 0.1..2. Default 0.3.
+    /// Shortest pause that gets a breath, seconds, 0.1..2. Default 0.25.
     #[id = "min_pause_s"]
     pub min_pause_s: FloatParam,
     /// Lookahead (latency = lookahead) or live (zero latency). Default lookahead. Restart.
     #[id = "mode"]
     pub mode: EnumParam<ModeChoice>,
-    /// Lookahead length, seconds, 0.2..2. Default 0.8. Restart.
+    /// Lookahead length (= latency), seconds, 0.2..2. Default 0.5. Restart.
     #[id = "lookahead_s"]
     pub lookahead_s: FloatParam,
 
@@ -303,9 +304,9 @@ impl Default for PneumaParams {
             neck_amplitude_deg: linear("Neck motion", 3.0, 0.0, 15.0, "°", 0.1),
             breath_level_db: linear("Breath level", -22.0, -40.0, -6.0, " dB", 0.1),
             insert_breaths: BoolParam::new("Insert breaths", true),
-            min_pause_s: linear("Minimum pause", 0.3, 0.1, 2.0, " s", 0.01),
+            min_pause_s: linear("Minimum pause", 0.25, 0.1, 2.0, " s", 0.01),
             mode: EnumParam::new("Mode", ModeChoice::Lookahead),
-            lookahead_s: linear("Lookahead", 0.8, 0.2, 2.0, " s", 0.01),
+            lookahead_s: linear("Lookahead", 0.5, 0.2, 2.0, " s", 0.01),
             head_amount: linear("Head motion", 1.0, 0.0, 4.0, "", 0.01),
             head_max_pitch_deg: linear("Head pitch limit", 8.0, 0.5, 90.0, "°", 0.5),
             head_max_yaw_deg: linear("Head yaw limit", 15.0, 0.5, 90.0, "°", 0.5),
@@ -406,6 +407,25 @@ impl PneumaParams {
         }
     }
 
+    /// The engine settings the parameters describe; everything the plugin does not expose keeps
+    /// [`EngineConfig::default`], so default parameters give exactly the CLI's default render.
+    /// Allocation-free.
+    pub fn engine_config(&self) -> EngineConfig {
+        let mut config = EngineConfig::default();
+        config.analysis.frame_rate_hz = f64::from(self.frame_rate_hz.value());
+        config.placement.mode = match self.mode.value() {
+            ModeChoice::Lookahead => PlacementMode::Lookahead,
+            ModeChoice::Live => PlacementMode::Live,
+        };
+        config.placement.lookahead_s = self.lookahead_s.value();
+        config.placement.min_pause_s = self.min_pause_s.value();
+        config.placement.breath_level_db = self.breath_level_db.value();
+        config.placement.insert_breaths = self.insert_breaths.value();
+        config.breathing = self.breathing_params();
+        config.head = self.head_config();
+        config
+    }
+
     /// The head-motion settings (amount and limits; the rest keep their defaults).
     pub fn head_config(&self) -> HeadConfig {
         HeadConfig {
@@ -479,6 +499,13 @@ mod tests {
         for preset in Preset::ALL {
             preset.params().validate().unwrap();
         }
+    }
+
+    #[test]
+    fn default_parameters_give_the_default_engine() {
+        let params = PneumaParams::default();
+        assert_eq!(params.engine_config(), EngineConfig::default());
+        params.engine_config().validate().unwrap();
     }
 
     #[test]
