@@ -296,6 +296,8 @@ fn channel_and_fourteen_bit_settings_reach_the_midi_output() {
     let mut plugin = load();
     plugin.set_param("midi_channel", "5").unwrap();
     plugin.set_param("cc_14bit", "On").unwrap();
+    // A controller above 31 cannot carry a 14-bit pair: that signal goes quiet, the rest stay.
+    plugin.set_param("cc_loudness", "40").unwrap();
     plugin.activate(48_000.0, 256, 1).unwrap();
     let (_, events) = run(&mut plugin, voice, &block_sizes(voice.len(), 256, 0));
     assert!(!events.is_empty());

@@ -360,16 +360,21 @@ impl PneumaParams {
         ]
     }
 
-    /// The CC map the parameters describe (allocation-free). Controller 0 means off.
+    /// The CC map the parameters describe (allocation-free). Controller 0 means off; in 14-bit
+    /// mode a signal on a controller above 31 (which cannot carry an MSB/LSB pair) is off too. A
+    /// map where two signals share a controller is invalid: the plugin then keeps its last valid
+    /// map.
     pub fn cc_map(&self) -> CcMap {
+        let fourteen = self.cc_14bit.value();
         let mut controllers = [None; SIGNAL_COUNT];
         for (slot, p) in controllers.iter_mut().zip(self.cc_params()) {
             let v = p.value();
-            *slot = (v > 0).then_some(v.clamp(0, 127) as u8);
+            let usable = v > 0 && (!fourteen || v <= 31);
+            *slot = usable.then_some(v.clamp(0, 127) as u8);
         }
         CcMap {
             channel: (self.midi_channel.value() - 1).clamp(0, 15) as u8,
-            resolution: if self.cc_14bit.value() {
+            resolution: if fourteen {
                 CcResolution::Bits14
             } else {
                 CcResolution::Bits7
