@@ -14,10 +14,11 @@ use clack_extensions::audio_ports_config::PluginAudioPortsConfig;
 use clack_extensions::latency::PluginLatency;
 use clack_extensions::params::{ParamInfoBuffer, PluginParams};
 use clack_extensions::state::PluginState;
-use clack_host::events::event_types::{MidiEvent, ParamValueEvent};
+use clack_host::events::event_types::{MidiEvent, ParamValueEvent, TransportEvent, TransportFlags};
 use clack_host::events::io::{EventBuffer, InputEvents, OutputEvents};
-use clack_host::events::Pckn;
+use clack_host::events::{EventFlags, EventHeader, Pckn};
 use clack_host::prelude::*;
+use clack_host::utils::{BeatTime, SecondsTime};
 
 /// One MIDI CC message from the plugin.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -300,8 +301,31 @@ impl Plugin {
     }
 
     /// Processes one block in place (`audio[channel][sample]`, every channel the same length, at
-    /// most the activation's maximum); returns the CC messages the plugin sent in it.
+    /// most the activation's maximum) without transport information; returns the CC messages
+    /// the plugin sent in it.
     pub fn process(&mut self, audio: &mut [Vec<f32>]) -> Vec<CcEvent> {
+        self.process_at(audio, None)
+    }
+
+    /// As [`Plugin::process`], with a playing transport at `pos_s` seconds (the song position of
+    /// the block's first sample) when given.
+    pub fn process_at(&mut self, audio: &mut [Vec<f32>], pos_s: Option<f64>) -> Vec<CcEvent> {
+        let transport = pos_s.map(|pos| TransportEvent {
+            header: EventHeader::new_core(0, EventFlags::empty()),
+            flags: TransportFlags::HAS_SECONDS_TIMELINE | TransportFlags::IS_PLAYING,
+            song_pos_beats: BeatTime::from_float(0.0),
+            song_pos_seconds: SecondsTime::from_float(pos),
+            tempo: 120.0,
+            tempo_inc: 0.0,
+            loop_start_beats: BeatTime::from_float(0.0),
+            loop_end_beats: BeatTime::from_float(0.0),
+            loop_start_seconds: SecondsTime::from_float(0.0),
+            loop_end_seconds: SecondsTime::from_float(0.0),
+            bar_start: BeatTime::from_float(0.0),
+            bar_number: 0,
+            time_signature_numerator: 4,
+            time_signature_denominator: 4,
+        });
         assert_eq!(
             audio.len(),
             self.channels,
@@ -339,7 +363,7 @@ impl Plugin {
                 &InputEvents::from_buffer(&self.pending),
                 &mut OutputEvents::from_buffer(&mut self.output_events),
                 Some(self.samples_done),
-                None,
+                transport.as_ref(),
             )
             .expect("process succeeds");
         self.pending.clear();

@@ -469,3 +469,40 @@ fn the_plugin_output_equals_the_cli_render() {
         "plugin vs CLI render: max difference {max_diff} (latency {latency})"
     );
 }
+
+#[test]
+fn a_transport_jump_resets_the_stream() {
+    let voice = example_voice_at(48_000);
+    let rate = 48_000.0;
+    let block = 480;
+    let jump_block = 1000; // at 10 s of audio
+    let run_with = |jump: bool| {
+        let mut plugin = load();
+        plugin.activate(rate, block, 1).unwrap();
+        let mut out = Vec::new();
+        for (i, chunk) in voice.chunks(block).take(jump_block + 200).enumerate() {
+            // Song position in seconds; with `jump` it leaps 60 s ahead at `jump_block`.
+            let mut pos = (i * block) as f64 / rate;
+            if jump && i >= jump_block {
+                pos += 60.0;
+            }
+            let mut audio = [chunk.to_vec()];
+            plugin.process_at(&mut audio, Some(pos));
+            out.extend_from_slice(&audio[0]);
+        }
+        (out, plugin.latency() as usize)
+    };
+    let (steady, latency) = run_with(false);
+    let (jumped, _) = run_with(true);
+    let at = jump_block * block;
+    assert_eq!(&steady[..at], &jumped[..at], "identical before the jump");
+    // After the reset the delay line starts empty: one latency of silence, where the steady
+    // stream still plays the voice.
+    let after = &jumped[at..at + latency];
+    assert!(
+        after.iter().all(|s| *s == 0.0),
+        "silence for the lookahead after a jump"
+    );
+    let steady_energy: f32 = steady[at..at + latency].iter().map(|s| s * s).sum();
+    assert!(steady_energy > 0.0, "the steady stream plays on");
+}

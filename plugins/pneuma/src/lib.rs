@@ -65,20 +65,32 @@ impl Structural {
     }
 }
 
-/// Detects transport jumps: a playing block that does not start where the last one ended.
+/// Detects transport jumps: a playing block that does not start where the last one ended (give
+/// or take `tolerance` samples: hosts that derive positions from beats or seconds round them).
 #[derive(Debug, Default)]
 struct JumpDetector {
     expected_pos: Option<i64>,
+    tolerance: i64,
 }
 
 impl JumpDetector {
+    /// A detector that ignores position errors up to `tolerance` samples.
+    fn new(tolerance: i64) -> Self {
+        Self {
+            expected_pos: None,
+            tolerance,
+        }
+    }
+
     /// True if this block jumps; remembers where it ends.
     fn check(&mut self, playing: bool, pos_samples: Option<i64>, block: usize) -> bool {
         let (true, Some(pos)) = (playing, pos_samples) else {
             // Stopped or unknown: keep the last end, so a restart elsewhere is a jump.
             return false;
         };
-        let jumped = self.expected_pos.is_some_and(|e| e != pos);
+        let jumped = self
+            .expected_pos
+            .is_some_and(|e| (e - pos).abs() > self.tolerance);
         self.expected_pos = Some(pos + block as i64);
         jumped
     }
@@ -301,7 +313,8 @@ impl Plugin for Pneuma {
         self.engine = Some(engine);
         self.prepared = Some(structural);
         self.restart_requested = false;
-        self.jumps = JumpDetector::default();
+        // One millisecond of tolerance for rounded host positions.
+        self.jumps = JumpDetector::new((buffer_config.sample_rate / 1000.0).ceil() as i64);
         // A map the parameters describe may be invalid (a controller over 31 in 14-bit mode):
         // keep the previous one then.
         let _ = self.cc.set_map(self.params.cc_map());
@@ -500,9 +513,14 @@ mod tests {
 
     #[test]
     fn transport_jumps_are_detected_only_while_playing() {
-        let mut d = JumpDetector::default();
+        let mut d = JumpDetector::new(2);
         assert!(!d.check(true, Some(0), 64), "first block");
         assert!(!d.check(true, Some(64), 64), "contiguous");
+        assert!(
+            !d.check(true, Some(129), 63),
+            "one sample of rounding is no jump"
+        );
+        assert!(!d.check(true, Some(192), 872), "back on track");
         assert!(d.check(true, Some(1000), 64), "jump forward");
         assert!(!d.check(true, Some(1064), 32));
         assert!(!d.check(false, Some(5000), 32), "stopped: no reset");
