@@ -191,6 +191,10 @@ pub struct Args {
     /// Feature frame rate in Hz.
     #[arg(long, default_value_t = 120.0)]
     pub frame_rate: f64,
+    /// SD of the Gaussian smoothing of the training motion in seconds (tracking-jitter
+    /// removal; 0 = none).
+    #[arg(long, default_value_t = 0.025)]
+    pub motion_smoothing: f64,
 }
 
 /// Prints the held-out log-likelihoods and the unvoiced-behaviour comparison.
@@ -242,6 +246,7 @@ pub fn run(
         components: args.components,
         restarts: args.restarts,
         seed: args.seed,
+        motion_smoothing_s: args.motion_smoothing,
         data_description: data_description.to_string(),
         ..TrainConfig::default()
     };

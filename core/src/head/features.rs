@@ -111,12 +111,15 @@ pub struct FeatureRows {
 }
 
 impl FeatureRows {
-    /// Appends the rows of `clip`, clamping f0 and level to the normalisation's ranges.
-    pub fn add_clip(&mut self, clip: &TrainingClip, norm: &Normalisation) {
+    /// Appends the rows of `clip`, clamping f0 and level to the normalisation's ranges. The
+    /// pose is first smoothed by a Gaussian of SD `smoothing_s` seconds (0 = none), which
+    /// removes the tracking jitter that would otherwise dominate the acceleration.
+    pub fn add_clip(&mut self, clip: &TrainingClip, norm: &Normalisation, smoothing_s: f64) {
         let r = clip.frame_rate_hz;
-        for t in 2..clip.pose_deg.len().min(clip.frames.len()) {
+        let pose = smooth_pose(&clip.pose_deg, smoothing_s * r);
+        for t in 2..pose.len().min(clip.frames.len()) {
             let f = &clip.frames[t];
-            let (p, p1, p2) = (clip.pose_deg[t], clip.pose_deg[t - 1], clip.pose_deg[t - 2]);
+            let (p, p1, p2) = (pose[t], pose[t - 1], pose[t - 2]);
             let mut v2 = 0.0;
             let mut a2 = 0.0;
             for k in 0..3 {
@@ -141,6 +144,32 @@ impl FeatureRows {
             }
         }
     }
+}
+
+/// Zero-phase Gaussian smoothing of a pose track (SD `sigma_frames` frames, kernel ±3 SD,
+/// edges held); returns a copy when `sigma_frames` < 0.1.
+pub fn smooth_pose(pose: &[[f64; 3]], sigma_frames: f64) -> Vec<[f64; 3]> {
+    if sigma_frames.is_nan() || sigma_frames < 0.1 || pose.is_empty() {
+        return pose.to_vec();
+    }
+    let half = (3.0 * sigma_frames).ceil() as isize;
+    let kernel: Vec<f64> = (-half..=half)
+        .map(|j| (-0.5 * (j as f64 / sigma_frames).powi(2)).exp())
+        .collect();
+    let sum: f64 = kernel.iter().sum();
+    let n = pose.len() as isize;
+    (0..n)
+        .map(|i| {
+            let mut acc = [0.0; 3];
+            for (w, j) in kernel.iter().zip(-half..=half) {
+                let p = pose[(i + j).clamp(0, n - 1) as usize];
+                for k in 0..3 {
+                    acc[k] += w / sum * p[k];
+                }
+            }
+            acc
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -14,7 +14,7 @@
 //!   "unvoiced": { "behaviour": "hold" | "return" | "loudness_model", "return_time_s": t,
 //!                 "roll": GMM, ... },
 //!   "synthesis": { "pose_weight": 0.2, "velocity_weight": 0.25, "acceleration_weight": 0.0625,
-//!                  "bound_deg": 90 },
+//!                  "bound_deg": 90, "output_gain": [roll, pitch, yaw] },
 //!   "provenance": { ... } }
 //! GMM = { "weights": [..], "means": [[..], ..], "covariances": [[[..]..], ..] }
 //! ```
@@ -147,6 +147,15 @@ pub struct SynthesisWeights {
     pub acceleration_weight: f64,
     /// Box bound of each angle during the search, degrees (reference: 90).
     pub bound_deg: f64,
+    /// Output gain per axis (roll, pitch, yaw), 1..10: the argmax follows the densities' modes
+    /// and so shrinks the motion; training calibrates this gain on the training clips so the
+    /// generated per-axis SD matches the real one (1 = the paper's raw argmax).
+    #[serde(default = "unit_gain")]
+    pub output_gain: [f64; 3],
+}
+
+fn unit_gain() -> [f64; 3] {
+    [1.0; 3]
 }
 
 impl Default for SynthesisWeights {
@@ -156,6 +165,7 @@ impl Default for SynthesisWeights {
             velocity_weight: 0.25,
             acceleration_weight: 0.0625,
             bound_deg: 90.0,
+            output_gain: unit_gain(),
         }
     }
 }
@@ -177,6 +187,10 @@ pub struct Provenance {
     pub components: usize,
     /// EM seed.
     pub seed: u64,
+    /// SD of the Gaussian smoothing applied to the training motion, seconds (tracking jitter
+    /// removal); 0 = none.
+    #[serde(default)]
+    pub motion_smoothing_s: f64,
     /// The program that trained it.
     pub trainer: String,
     /// Leave-one-clip-out held-out mean log-likelihood per voiced GMM (nats per frame), in
@@ -279,6 +293,25 @@ pub struct HeadModel {
     pub synthesis: SynthesisWeights,
     /// Where the model came from.
     pub provenance: Provenance,
+}
+
+impl HeadModel {
+    /// Replaces the synthesis weights (validated).
+    pub fn set_synthesis(&mut self, synthesis: SynthesisWeights) -> Result<(), HeadModelError> {
+        let mut probe = self.clone();
+        probe.synthesis = synthesis;
+        let checked = HeadModel::new(
+            probe.voiced,
+            probe.unvoiced,
+            probe.unvoiced_behaviour,
+            probe.return_time_s,
+            probe.normalisation,
+            probe.synthesis,
+            probe.provenance,
+        )?;
+        self.synthesis = checked.synthesis;
+        Ok(())
+    }
 }
 
 fn check(
@@ -466,6 +499,9 @@ impl HeadModel {
             180.0,
             "1..180 degrees",
         )?;
+        for g in s.output_gain {
+            check("synthesis.output_gain", g, 1.0, 10.0, "1..10")?;
+        }
         Ok(Self {
             voiced,
             unvoiced,

@@ -233,15 +233,18 @@ impl HeadSynth {
         };
         let cfg = &self.config;
         let amount = cfg.amount as f64;
+        // Output = internal pose × gain (per axis, from the model) × amount.
+        let gain = DVec3::from_array(self.model.synthesis.output_gain) * amount;
         let limits = DVec3::new(
             cfg.max_roll_deg as f64,
             cfg.max_pitch_deg as f64,
             cfg.max_yaw_deg as f64,
         );
+        let search = DVec3::splat(self.model.synthesis.bound_deg);
         let bound = if amount > 1e-6 {
-            (limits / amount).min(DVec3::splat(self.model.synthesis.bound_deg))
+            (limits / gain).min(search)
         } else {
-            DVec3::splat(self.model.synthesis.bound_deg).min(limits)
+            search.min(limits)
         };
 
         let behaviour = if voiced {
@@ -270,7 +273,7 @@ impl HeadSynth {
         next = next.clamp(-bound, bound);
         // Speed limit on the output (scaled) motion.
         let max_step = if amount > 1e-6 {
-            cfg.max_speed_deg_s as f64 / rate / amount
+            cfg.max_speed_deg_s as f64 / rate / gain.max_element()
         } else {
             f64::INFINITY
         };
@@ -282,7 +285,7 @@ impl HeadSynth {
         self.prev2 = self.prev1;
         self.prev1 = next;
 
-        let mut out = next * amount;
+        let mut out = next * gain;
         if cfg.liveliness > 0.0 {
             let a = (-1.0 / (rate * LIVELINESS_TIME_S)).exp();
             let sd = LIVELINESS_SD_DEG * cfg.liveliness as f64 * amount;

@@ -53,6 +53,9 @@ pub struct TrainConfig {
     /// Time constant of the damped return toward neutral stored in the model, seconds
     /// (default 0.8).
     pub return_time_s: f64,
+    /// SD of the Gaussian smoothing of the training motion, seconds (default 0.025): removes
+    /// the tracking jitter of video-based head tracking from velocity and acceleration.
+    pub motion_smoothing_s: f64,
     /// Description of the data for the provenance.
     pub data_description: String,
 }
@@ -66,6 +69,7 @@ impl Default for TrainConfig {
             max_iterations: 200,
             seed: 2015,
             return_time_s: 0.8,
+            motion_smoothing_s: 0.025,
             data_description: String::new(),
         }
     }
@@ -92,7 +96,7 @@ pub fn fit_model(
     let norm = Normalisation::default();
     let mut rows = FeatureRows::default();
     for c in clips {
-        rows.add_clip(c, &norm);
+        rows.add_clip(c, &norm, cfg.motion_smoothing_s);
     }
     let fit = |group: &'static str, k: usize, dim: usize, comps: usize, data: &[[f64; 3]]| {
         em(cfg, dim, comps, (k as u64) * 1000 + dim as u64)
@@ -124,12 +128,13 @@ pub fn fit_model(
         frame_rate_hz: clips[0].frame_rate_hz,
         components: cfg.components,
         seed: cfg.seed,
+        motion_smoothing_s: cfg.motion_smoothing_s,
         trainer: format!("pneuma-core {} head::train", env!("CARGO_PKG_VERSION")),
         held_out_log_likelihood: Vec::new(),
         notes: String::new(),
     };
     let to5 = |v: Vec<Gmm>| -> [Gmm; 5] { v.try_into().expect("five GMMs") };
-    Ok(HeadModel::new(
+    let mut model = HeadModel::new(
         to5(voiced),
         to5(unvoiced),
         behaviour,
@@ -137,13 +142,62 @@ pub fn fit_model(
         norm,
         SynthesisWeights::default(),
         provenance,
-    )?)
+    )?;
+    calibrate_gain(&mut model, clips, behaviour)?;
+    Ok(model)
+}
+
+/// Sets the model's unvoiced behaviour and calibrates its per-axis output gain on `clips`:
+/// gain = mean real SD / mean generated SD per axis (clamped to 1..10), with the motion
+/// generated at gain 1 without limits. The argmax follows the densities' modes and so
+/// generates less motion than the data it was trained on; the gain restores the amplitude.
+pub fn calibrate_gain(
+    model: &mut HeadModel,
+    clips: &[&TrainingClip],
+    behaviour: UnvoicedBehaviour,
+) -> Result<(), TrainError> {
+    model.unvoiced_behaviour = behaviour;
+    let mut weights = model.synthesis;
+    weights.output_gain = [1.0; 3];
+    model.set_synthesis(weights)?;
+    let free = HeadConfig {
+        max_pitch_deg: 90.0,
+        max_yaw_deg: 90.0,
+        max_roll_deg: 90.0,
+        max_speed_deg_s: 2000.0,
+        unvoiced: Some(behaviour),
+        ..HeadConfig::default()
+    };
+    let mut sd_gen = [0.0; 3];
+    let mut sd_real = [0.0; 3];
+    for c in clips {
+        let gen = synthesize_clip(model, &free, c);
+        let g = motion_stats(&gen, c.frame_rate_hz);
+        let r = motion_stats(&c.pose_deg, c.frame_rate_hz);
+        for k in 0..3 {
+            sd_gen[k] += g.sd_deg[k];
+            sd_real[k] += r.sd_deg[k];
+        }
+    }
+    for k in 0..3 {
+        weights.output_gain[k] = if sd_gen[k] > 0.0 {
+            (sd_real[k] / sd_gen[k]).clamp(1.0, 10.0)
+        } else {
+            1.0
+        };
+    }
+    model.set_synthesis(weights)?;
+    Ok(())
 }
 
 /// Mean log-likelihood (nats per frame) of each voiced GMM on the voiced frames of `clip`.
 pub fn held_out_log_likelihood(model: &HeadModel, clip: &TrainingClip) -> [f64; 5] {
     let mut rows = FeatureRows::default();
-    rows.add_clip(clip, &model.normalisation);
+    rows.add_clip(
+        clip,
+        &model.normalisation,
+        model.provenance.motion_smoothing_s,
+    );
     let mut out = [f64::NAN; 5];
     for k in 0..5 {
         let r = &rows.voiced[k];
@@ -321,6 +375,8 @@ pub fn cross_validate(
         let model = fit_model(&train, cfg, UnvoicedBehaviour::LoudnessModel)?;
         held_out.push((clip.name.clone(), held_out_log_likelihood(&model, clip)));
         for (b, list) in evals.iter_mut() {
+            let mut model = model.clone();
+            calibrate_gain(&mut model, &train, *b)?;
             let c = HeadConfig {
                 unvoiced: Some(*b),
                 ..config.clone()

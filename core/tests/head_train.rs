@@ -1,0 +1,141 @@
+//! Training on a generated data set where head pitch follows f0 yields a model whose output
+//! follows f0, and leave-one-clip-out reports finite held-out likelihoods.
+
+use pneuma_core::head::train::{cross_validate, fit_model, synthesize_clip};
+use pneuma_core::head::{HeadConfig, TrainConfig, TrainingClip, UnvoicedBehaviour};
+use pneuma_core::rng::SeededRng;
+use pneuma_core::FeatureFrame;
+
+const RATE_HZ: f64 = 60.0;
+
+/// A smooth random signal (sum of a few slow sinusoids with seeded phases).
+fn smooth(rng: &mut SeededRng, t: f64) -> f64 {
+    let _ = rng;
+    (0.7 * t).sin() + 0.5 * (1.9 * t + 1.0).sin() + 0.3 * (3.1 * t + 2.0).sin()
+}
+
+/// f0 wanders; 1 frame in 6 is unvoiced; pitch = 1.5 × f0_st + small noise; roll and yaw
+/// move independently of f0.
+fn clip(name: &str, seconds: f64, seed: u64) -> TrainingClip {
+    let mut rng = SeededRng::new(seed);
+    let n = (seconds * RATE_HZ) as usize;
+    let ph = [
+        rng.uniform() * 6.0,
+        rng.uniform() * 6.0,
+        rng.uniform() * 6.0,
+    ];
+    let mut frames = Vec::with_capacity(n);
+    let mut pose = Vec::with_capacity(n);
+    for i in 0..n {
+        let t = i as f64 / RATE_HZ;
+        let f0_st = 3.0 * smooth(&mut rng, t + ph[0]);
+        let voiced = (i / 20) % 6 != 5;
+        let level_db = -3.0 + 3.0 * (2.3 * t + ph[1]).sin() - if voiced { 0.0 } else { 15.0 };
+        frames.push(FeatureFrame {
+            index: i as u64,
+            time_s: t,
+            f0_hz: if voiced { 150.0 } else { 0.0 },
+            voiced,
+            voicing: if voiced { 0.9 } else { 0.1 },
+            rms_db: (-20.0 + level_db) as f32,
+            f0_st: if voiced { f0_st as f32 } else { 0.0 },
+            level_db: level_db as f32,
+        });
+        pose.push([
+            2.0 * (0.9 * t + ph[2]).sin(),
+            1.5 * f0_st + 0.2 * rng.normal(),
+            3.0 * (0.5 * t + ph[1]).sin(),
+        ]);
+    }
+    TrainingClip {
+        name: name.into(),
+        frame_rate_hz: RATE_HZ,
+        frames,
+        pose_deg: pose,
+    }
+}
+
+fn corr(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len() as f64;
+    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
+    let cov: f64 = a.iter().zip(b).map(|(x, y)| (x - ma) * (y - mb)).sum();
+    let va: f64 = a.iter().map(|x| (x - ma).powi(2)).sum();
+    let vb: f64 = b.iter().map(|y| (y - mb).powi(2)).sum();
+    cov / (va * vb).sqrt()
+}
+
+fn cfg() -> TrainConfig {
+    TrainConfig {
+        components: 5,
+        unvoiced_components: 2,
+        restarts: 1,
+        max_iterations: 100,
+        ..TrainConfig::default()
+    }
+}
+
+#[test]
+fn a_model_trained_where_pitch_follows_f0_makes_pitch_follow_f0() {
+    let train = [clip("a", 60.0, 1), clip("b", 60.0, 2)];
+    let refs: Vec<&TrainingClip> = train.iter().collect();
+    let model = fit_model(&refs, &cfg(), UnvoicedBehaviour::Hold).unwrap();
+    let test = clip("c", 40.0, 3);
+    let gen = synthesize_clip(&model, &HeadConfig::default(), &test);
+    let (pitch, f0): (Vec<f64>, Vec<f64>) = gen
+        .iter()
+        .zip(&test.frames)
+        .filter(|(_, f)| f.voiced)
+        .map(|(p, f)| (p[1], f.f0_st as f64))
+        .unzip();
+    let r = corr(&pitch, &f0);
+    assert!(r > 0.7, "generated pitch vs f0: r = {r}");
+    // Yaw was independent of f0 in the data: it should not follow f0 as closely.
+    let yaw: Vec<f64> = gen
+        .iter()
+        .zip(&test.frames)
+        .filter(|(_, f)| f.voiced)
+        .map(|(p, _)| p[2])
+        .collect();
+    assert!(corr(&yaw, &f0).abs() < r, "yaw follows f0 as much as pitch");
+}
+
+#[test]
+fn leave_one_clip_out_reports_finite_held_out_likelihoods() {
+    let clips = [clip("a", 30.0, 4), clip("b", 30.0, 5), clip("c", 30.0, 6)];
+    let cv = cross_validate(
+        &clips,
+        &cfg(),
+        &HeadConfig::default(),
+        &UnvoicedBehaviour::ALL,
+        |_| {},
+    )
+    .unwrap();
+    assert_eq!(cv.held_out.len(), 3);
+    assert!(cv
+        .held_out
+        .iter()
+        .all(|(_, ll)| ll.iter().all(|v| v.is_finite())));
+    assert_eq!(cv.evals.len(), 3);
+    // Holding on unvoiced frames freezes the head on them (1 frame in 6 here).
+    let hold = &cv
+        .evals
+        .iter()
+        .find(|e| e.0 == UnvoicedBehaviour::Hold)
+        .unwrap()
+        .1;
+    let model = &cv
+        .evals
+        .iter()
+        .find(|e| e.0 == UnvoicedBehaviour::LoudnessModel)
+        .unwrap()
+        .1;
+    let frozen = |e: &[pneuma_core::head::train::ClipEval]| {
+        e.iter().map(|c| c.generated.frozen_share).sum::<f64>()
+    };
+    assert!(
+        frozen(hold) > frozen(model),
+        "hold {} vs model {}",
+        frozen(hold),
+        frozen(model)
+    );
+}
