@@ -2,7 +2,7 @@
 //!
 //! - Audio: stereo (default) or mono, in place, through [`pneuma_core::engine::Engine`]: breaths
 //!   are mixed into the output exactly as `pneuma render` does for the same settings. Non-finite
-//!   input never reaches the output.
+//!   input never reaches the output, and subnormal output samples become 0.
 //! - Breath samples: the persisted paths (`breath_sample_mouth`, `breath_sample_nose`) are
 //!   loaded at activation (WAV, mixed to mono); a file that cannot be used is logged and the
 //!   procedural breath stays.
