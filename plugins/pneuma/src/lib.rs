@@ -1,18 +1,23 @@
 //! Pneuma as a CLAP and VST3 plugin, built on nice-plug.
 //!
-//! This is the plugin shell: it declares the plugin (name, ids, audio layouts, MIDI, parameters)
-//! and passes audio through unchanged. The engine from `pneuma-core` (analysis, breath insertion,
-//! head pose, MIDI CC and OSC output) is wired in later; until then:
-//!
-//! - audio: stereo (default) or mono, output equals input sample for sample, except that
-//!   non-finite samples (NaN, ±inf) and subnormals are replaced by silence (`0.0`), so neither ever
-//!   reaches the output (DESIGN.md, "Real-time rules");
-//! - MIDI input: none. Declaring it on VST3 adds about 2 000 hidden parameters and hosts take tens
-//!   of seconds to load the plugin, and no feature needs it;
-//! - MIDI output: declared as [`MidiConfig::MidiCCs`] so the control signals can later leave as CC
-//!   lanes (DESIGN.md, "Contracts", MIDI CC); nothing is sent yet;
-//! - latency: zero samples;
-//! - no editor.
+//! - Audio: stereo (default) or mono, in place, through [`pneuma_core::engine::Engine`]: breaths
+//!   are mixed into the output exactly as `pneuma render` does for the same settings. Non-finite
+//!   input never reaches the output, and subnormal output samples become 0.
+//! - Breath samples: the persisted paths (`breath_sample_mouth`, `breath_sample_nose`) are
+//!   loaded at activation (WAV, mixed to mono); a file that cannot be used is logged and the
+//!   procedural breath stays.
+//! - Latency: the engine's (`mode` = lookahead: the lookahead delay; live: none), reported at
+//!   activation. Changing `mode`, `lookahead_s` or `frame_rate_hz` asks the host for a restart.
+//! - Reset (engine, MIDI CC memory, OSC time anchor) on re-activation, on the host's reset and on
+//!   a transport jump (a position that is not where the previous block ended, while playing).
+//! - MIDI output: CC per the DESIGN.md map ([`pneuma_core::encode::midi_cc`]), sent only on change,
+//!   at most once per frame, at the sample offset inside the block where the frame became
+//!   available. No MIDI input (on VST3 it adds ~2 000 hidden parameters).
+//! - OSC output: [`osc_sender`]: a preallocated `rtrb` queue to a worker thread that sends UDP
+//!   bundles (pneuma or VMC); the target can change while playing; network trouble never reaches
+//!   the audio thread.
+//! - Parameters and persisted settings: [`params`]. CLAP remote-control pages: "Breathing",
+//!   "Breaths & head", "Output".
 //!
 //! Real-time: `process()` never allocates, locks, blocks, logs or does I/O. The crate enables
 //! nice-plug's `assert_process_allocs` (debug builds abort on an allocation in `process()`) and
@@ -21,60 +26,203 @@
 // No `#![allow(unsafe_code)]` needed: the unsafe entry points come from nice-plug's export macros
 // (`nice_export_clap!`, `nice_export_vst3!`), and the lint is not reported inside external macros.
 
+#[cfg(test)]
+mod alloc_test;
+pub mod osc_sender;
+pub mod params;
+
 use std::num::NonZeroU32;
 use std::sync::Arc;
 
 use nice_plug::prelude::*;
+use pneuma_core::encode::midi_cc::{CcEncoder, CcMessage};
+use pneuma_core::encode::osc::OscFormat;
+
+use osc_sender::{OscFeed, OscSettings, OscStats, OscWorker};
+pub use params::{PneumaParams, PARAM_IDS};
+use pneuma_core::breathing::{BreathSample, SampleSlot};
+use pneuma_core::engine::{Engine, EngineConfig};
+use pneuma_core::head::HeadModel;
 
 /// Stable identifier of the breath level parameter, saved in host projects and presets.
 pub const BREATH_LEVEL_PARAM_ID: &str = "breath_level_db";
-/// Lowest breath level, in dB relative to the speech level.
-pub const BREATH_LEVEL_MIN_DB: f32 = -40.0;
-/// Highest breath level, in dB relative to the speech level.
-pub const BREATH_LEVEL_MAX_DB: f32 = -6.0;
-/// Default breath level, in dB relative to the speech level.
-pub const BREATH_LEVEL_DEFAULT_DB: f32 = -22.0;
 
-/// The Pneuma plugin instance: owns its parameters; the engine joins later.
-pub struct Pneuma {
-    /// Parameters shared with the host wrapper (and later the editor).
-    params: Arc<PneumaParams>,
+/// Settings that need a new `prepare` (and maybe a new latency) when they change.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Structural {
+    mode: params::ModeChoice,
+    lookahead_s: f32,
+    frame_rate_hz: i32,
 }
 
-/// The plugin's parameters. Parameter ids are part of saved host state: never change them.
-#[derive(Params)]
-pub struct PneumaParams {
-    /// Loudness of the inserted breaths, in dB relative to the speech level around them, range
-    /// -40..-6 dB, default -22 dB.
-    ///
-    /// Not used yet: the plugin is a pass-through shell until the breath voice is wired in.
-    #[id = "breath_level_db"]
-    pub breath_level_db: FloatParam,
-}
-
-impl Default for PneumaParams {
-    fn default() -> Self {
+impl Structural {
+    fn of(p: &PneumaParams) -> Self {
         Self {
-            breath_level_db: FloatParam::new(
-                "Breath level",
-                BREATH_LEVEL_DEFAULT_DB,
-                FloatRange::Linear {
-                    min: BREATH_LEVEL_MIN_DB,
-                    max: BREATH_LEVEL_MAX_DB,
-                },
-            )
-            .with_unit(" dB")
-            .with_step_size(0.1),
+            mode: p.mode.value(),
+            lookahead_s: p.lookahead_s.value(),
+            frame_rate_hz: p.frame_rate_hz.value(),
         }
     }
+}
+
+/// Detects transport jumps: a playing block that does not start where the last one ended (give
+/// or take `tolerance` samples: hosts that derive positions from beats or seconds round them).
+#[derive(Debug, Default)]
+struct JumpDetector {
+    expected_pos: Option<i64>,
+    tolerance: i64,
+}
+
+impl JumpDetector {
+    /// A detector that ignores position errors up to `tolerance` samples.
+    fn new(tolerance: i64) -> Self {
+        Self {
+            expected_pos: None,
+            tolerance,
+        }
+    }
+
+    /// True if this block jumps; remembers where it ends.
+    fn check(&mut self, playing: bool, pos_samples: Option<i64>, block: usize) -> bool {
+        let (true, Some(pos)) = (playing, pos_samples) else {
+            // Stopped or unknown: keep the last end, so a restart elsewhere is a jump.
+            return false;
+        };
+        let jumped = self
+            .expected_pos
+            .is_some_and(|e| (e - pos).abs() > self.tolerance);
+        self.expected_pos = Some(pos + block as i64);
+        jumped
+    }
+}
+
+impl OscSettings for PneumaParams {
+    fn target(&self) -> (String, u16) {
+        (
+            self.osc_host(),
+            self.osc_port.value().clamp(1, 65535) as u16,
+        )
+    }
+
+    fn format(&self) -> OscFormat {
+        self.osc_format.value().into()
+    }
+}
+
+/// The Pneuma plugin instance.
+pub struct Pneuma {
+    params: Arc<PneumaParams>,
+    engine: Option<Engine>,
+    /// The configuration last given to the engine.
+    engine_config: EngineConfig,
+    cc: CcEncoder,
+    midi_was_enabled: bool,
+    osc_feed: Option<OscFeed>,
+    osc_worker: Option<OscWorker>,
+    osc_stats: Option<Arc<OscStats>>,
+    prepared: Option<Structural>,
+    restart_requested: bool,
+    jumps: JumpDetector,
 }
 
 impl Default for Pneuma {
     fn default() -> Self {
+        let params = Arc::new(PneumaParams::default());
+        let cc = CcEncoder::new(params.cc_map()).expect("the default CC map is valid");
         Self {
-            params: Arc::new(PneumaParams::default()),
+            params,
+            engine: None,
+            engine_config: EngineConfig::default(),
+            cc,
+            midi_was_enabled: true,
+            osc_feed: None,
+            osc_worker: None,
+            osc_stats: None,
+            prepared: None,
+            restart_requested: false,
+            jumps: JumpDetector::default(),
         }
     }
+}
+
+impl Pneuma {
+    /// OSC counters (sent, failed, dropped), once activated.
+    pub fn osc_stats(&self) -> Option<&Arc<OscStats>> {
+        self.osc_stats.as_ref()
+    }
+
+    fn reset_streams(&mut self) {
+        if let Some(e) = &mut self.engine {
+            e.reset();
+        }
+        self.cc.reset();
+    }
+}
+
+/// Where a block's control frames go: the CC encoder (when MIDI is on) and the OSC feed (when OSC
+/// is on).
+pub struct Outputs<'a> {
+    /// The CC encoder, or `None` when MIDI output is off.
+    pub cc: Option<&'a mut CcEncoder>,
+    /// The OSC feed, or `None` when OSC output is off.
+    pub osc: Option<&'a mut OscFeed>,
+}
+
+/// The audio-thread work of one block: runs the engine in place (then flushes subnormal output
+/// samples to 0) and hands every control frame to the outputs; `send_cc(offset, message)` receives each CC message with its sample offset in the
+/// block. Never allocates, locks or blocks.
+pub fn run_block(
+    engine: &mut Engine,
+    audio: &mut [&mut [f32]],
+    mut outputs: Outputs<'_>,
+    send_cc: &mut dyn FnMut(u32, CcMessage),
+) {
+    engine.process(audio, &mut |frame, offset| {
+        if let Some(cc) = outputs.cc.as_deref_mut() {
+            cc.encode(frame, |m| send_cc(offset as u32, m));
+        }
+        if let Some(feed) = outputs.osc.as_deref_mut() {
+            feed.push(frame);
+        }
+    });
+    // The plugin has no use for the breath list; keep the engine's queue empty.
+    engine.take_breaths(|_| {});
+    // The engine passes the voice bit for bit, subnormal samples included; hosts and validators
+    // reject subnormal output, so they become 0 (no other sample changes).
+    for channel in audio.iter_mut() {
+        sanitize_in_place(channel);
+    }
+}
+
+/// Reads a breath sample WAV (any channel count, mixed to mono). Empty path: none.
+pub fn load_breath_sample(path: &str) -> Result<Option<BreathSample>, String> {
+    if path.trim().is_empty() {
+        return Ok(None);
+    }
+    let mut reader = hound::WavReader::open(path).map_err(|e| format!("{path}: {e}"))?;
+    let spec = reader.spec();
+    let channels = usize::from(spec.channels.max(1));
+    let interleaved: Vec<f32> = match spec.sample_format {
+        hound::SampleFormat::Float => reader
+            .samples::<f32>()
+            .collect::<Result<_, _>>()
+            .map_err(|e| format!("{path}: {e}"))?,
+        hound::SampleFormat::Int => {
+            let scale = 1.0 / (1u64 << (spec.bits_per_sample.clamp(1, 32) - 1)) as f32;
+            reader
+                .samples::<i32>()
+                .map(|s| s.map(|v| v as f32 * scale))
+                .collect::<Result<_, _>>()
+                .map_err(|e| format!("{path}: {e}"))?
+        }
+    };
+    let mono: Vec<f32> = interleaved
+        .chunks(channels)
+        .map(|f| f.iter().sum::<f32>() / channels as f32)
+        .collect();
+    BreathSample::from_mono(mono, f64::from(spec.sample_rate))
+        .map(Some)
+        .map_err(|e| format!("{path}: {e}"))
 }
 
 /// Replaces every sample that is not a normal finite number (NaN, ±inf, subnormal) by `0.0` and
@@ -126,24 +274,124 @@ impl Plugin for Pneuma {
 
     fn activate(
         &mut self,
-        _audio_io_layout: &AudioIOLayout,
-        _buffer_config: &BufferConfig,
+        audio_io_layout: &AudioIOLayout,
+        buffer_config: &BufferConfig,
         context: &mut impl ActivateContext<Self>,
     ) -> bool {
-        context.set_latency_samples(0);
+        let structural = Structural::of(&self.params);
+        let channels = audio_io_layout
+            .main_output_channels
+            .map_or(1, NonZeroU32::get) as usize;
+        let config = self.params.engine_config();
+        let mut engine = match Engine::new(config.clone(), HeadModel::default_model().clone()) {
+            Ok(e) => e,
+            Err(e) => {
+                nice_error!("Pneuma: engine settings rejected: {e}");
+                return false;
+            }
+        };
+        for (slot, path) in [
+            (SampleSlot::Mouth, &self.params.breath_sample_mouth),
+            (SampleSlot::Nose, &self.params.breath_sample_nose),
+        ] {
+            let path = path.read().map(|p| p.clone()).unwrap_or_default();
+            match load_breath_sample(&path) {
+                Ok(sample) => engine.set_breath_sample(slot, sample),
+                Err(e) => nice_error!("Pneuma: breath sample not used: {e}"),
+            }
+        }
+        if let Err(e) = engine.prepare(
+            f64::from(buffer_config.sample_rate),
+            buffer_config.max_buffer_size as usize,
+            channels,
+        ) {
+            nice_error!("Pneuma: cannot prepare: {e}");
+            return false;
+        }
+        self.engine_config = config;
+        context.set_latency_samples(engine.latency_samples());
+        self.engine = Some(engine);
+        self.prepared = Some(structural);
+        self.restart_requested = false;
+        // One millisecond of tolerance for rounded host positions.
+        self.jumps = JumpDetector::new((buffer_config.sample_rate / 1000.0).ceil() as i64);
+        // A map the parameters describe may be invalid (a controller over 31 in 14-bit mode):
+        // keep the previous one then.
+        let _ = self.cc.set_map(self.params.cc_map());
+        self.cc.reset();
+        if self.osc_worker.is_none() {
+            match osc_sender::start(self.params.clone()) {
+                Ok((feed, worker, stats)) => {
+                    self.osc_feed = Some(feed);
+                    self.osc_worker = Some(worker);
+                    self.osc_stats = Some(stats);
+                }
+                // OSC is optional: the plugin still works without its thread.
+                Err(e) => nice_error!("Pneuma: cannot start the OSC thread: {e}"),
+            }
+        }
         true
+    }
+
+    fn reset(&mut self) {
+        self.reset_streams();
     }
 
     fn process(
         &mut self,
         buffer: &mut Buffer,
         _aux: &mut AuxiliaryBuffers,
-        _context: &mut impl ProcessContext<Self>,
+        context: &mut impl ProcessContext<Self>,
     ) -> ProcessStatus {
-        // The wrapper has already copied input to output; only non-finite/subnormal samples change.
-        for channel in buffer.as_slice().iter_mut() {
-            sanitize_in_place(channel);
+        let transport = context.transport();
+        if self
+            .jumps
+            .check(transport.playing, transport.pos_samples(), buffer.samples())
+        {
+            self.reset_streams();
         }
+        if !self.restart_requested && self.prepared != Some(Structural::of(&self.params)) {
+            self.restart_requested = true;
+            context.request_restart();
+        }
+        let map = self.params.cc_map();
+        if map != *self.cc.map() {
+            // An invalid map keeps the previous one (see `activate`).
+            let _ = self.cc.set_map(map);
+        }
+        let midi_on = self.params.midi_enabled.value();
+        if midi_on && !self.midi_was_enabled {
+            self.cc.reset();
+        }
+        self.midi_was_enabled = midi_on;
+        let osc_on = self.params.osc_enabled.value();
+
+        let config = self.params.engine_config();
+        let Some(engine) = self.engine.as_mut() else {
+            for channel in buffer.as_slice().iter_mut() {
+                sanitize_in_place(channel);
+            }
+            return ProcessStatus::Normal;
+        };
+        if config != self.engine_config {
+            // An invalid combination keeps the previous settings; ranges make it unlikely.
+            if engine.set_config(&config).is_ok() {
+                self.engine_config = config;
+            }
+        }
+        let outputs = Outputs {
+            cc: midi_on.then_some(&mut self.cc),
+            osc: if osc_on { self.osc_feed.as_mut() } else { None },
+        };
+        run_block(engine, buffer.as_slice(), outputs, &mut |offset, m| {
+            // A full host event buffer loses the message; never block for it.
+            let _ = context.try_send_event(NoteEvent::MidiCC {
+                timing: offset,
+                channel: m.channel,
+                cc: m.controller,
+                value: f32::from(m.value) / 127.0,
+            });
+        });
         ProcessStatus::Normal
     }
 }
@@ -161,6 +409,42 @@ impl ClapPlugin for Pneuma {
         ClapFeature::Utility,
         ClapFeature::Analyzer,
     ];
+
+    fn remote_controls(&self, context: &mut impl RemoteControlsContext) {
+        let p = &self.params;
+        context.add_section("Pneuma", |section| {
+            section.add_page("Breathing", |page| {
+                page.add_param(&p.preset);
+                page.add_param(&p.thorax_vs_abdomen);
+                page.add_param(&p.capacity_lung);
+                page.add_param(&p.mouth_vs_nose);
+                page.add_param(&p.breath_sound);
+                page.add_param(&p.opening);
+                page.add_param(&p.speaking_loudness);
+                page.add_param(&p.inspiration_length_s);
+            });
+            section.add_page("Breaths & head", |page| {
+                page.add_param(&p.breath_level_db);
+                page.add_param(&p.insert_breaths);
+                page.add_param(&p.min_pause_s);
+                page.add_param(&p.neck_amplitude_deg);
+                page.add_param(&p.head_amount);
+                page.add_param(&p.head_max_pitch_deg);
+                page.add_param(&p.head_max_yaw_deg);
+                page.add_param(&p.head_max_roll_deg);
+            });
+            section.add_page("Output", |page| {
+                page.add_param(&p.midi_enabled);
+                page.add_param(&p.midi_channel);
+                page.add_param(&p.cc_14bit);
+                page.add_param(&p.cc_head_range_deg);
+                page.add_param(&p.osc_enabled);
+                page.add_param(&p.osc_format);
+                page.add_param(&p.osc_port);
+                page.add_param(&p.mode);
+            });
+        });
+    }
 }
 
 impl Vst3Plugin for Pneuma {
@@ -181,11 +465,7 @@ mod tests {
         let params = PneumaParams::default();
         let map = params.param_map();
         let ids: Vec<&str> = map.iter().map(|(id, _, _)| id.as_str()).collect();
-        assert_eq!(
-            ids,
-            vec![BREATH_LEVEL_PARAM_ID],
-            "exactly one parameter, by its stable id"
-        );
+        assert!(ids.contains(&BREATH_LEVEL_PARAM_ID));
 
         let p = &params.breath_level_db;
         assert_eq!(p.default_plain_value(), -22.0);
@@ -193,6 +473,60 @@ mod tests {
         assert_eq!(p.preview_plain(0.0), -40.0);
         assert_eq!(p.preview_plain(1.0), -6.0);
         assert_eq!(p.name(), "Breath level");
+    }
+
+    #[test]
+    fn breath_samples_load_from_wav_and_bad_files_are_refused() {
+        assert!(load_breath_sample("").unwrap().is_none());
+        assert!(load_breath_sample("/no/such/breath.wav").is_err());
+        let dir = std::env::temp_dir().join(format!("pneuma-plugin-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("breath.wav");
+        let spec = hound::WavSpec {
+            channels: 2,
+            sample_rate: 44_100,
+            bits_per_sample: 16,
+            sample_format: hound::SampleFormat::Int,
+        };
+        let mut w = hound::WavWriter::create(&path, spec).unwrap();
+        let mut state = 1u32;
+        for _ in 0..(44_100 / 2) {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let v = (state >> 16) as i16 / 8;
+            w.write_sample(v).unwrap();
+            w.write_sample(v).unwrap();
+        }
+        w.finalize().unwrap();
+        let sample = load_breath_sample(path.to_str().unwrap()).unwrap();
+        assert!(sample.is_some(), "a half-second noise breath is usable");
+        // Silence is refused by the breathing model, with the path in the message.
+        let silent = dir.join("silent.wav");
+        let mut w = hound::WavWriter::create(&silent, spec).unwrap();
+        for _ in 0..44_100 {
+            w.write_sample(0i16).unwrap();
+        }
+        w.finalize().unwrap();
+        let err = load_breath_sample(silent.to_str().unwrap()).unwrap_err();
+        assert!(err.contains("silent.wav"), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn transport_jumps_are_detected_only_while_playing() {
+        let mut d = JumpDetector::new(2);
+        assert!(!d.check(true, Some(0), 64), "first block");
+        assert!(!d.check(true, Some(64), 64), "contiguous");
+        assert!(
+            !d.check(true, Some(129), 63),
+            "one sample of rounding is no jump"
+        );
+        assert!(!d.check(true, Some(192), 872), "back on track");
+        assert!(d.check(true, Some(1000), 64), "jump forward");
+        assert!(!d.check(true, Some(1064), 32));
+        assert!(!d.check(false, Some(5000), 32), "stopped: no reset");
+        assert!(d.check(true, Some(5000), 32), "restart elsewhere is a jump");
+        assert!(!d.check(true, None, 32), "no position: no jump");
+        assert!(!d.check(true, Some(5032), 32));
     }
 
     #[test]

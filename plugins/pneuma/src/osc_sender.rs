@@ -1,0 +1,334 @@
+//! The OSC sender: the audio thread hands control frames to a worker thread through a
+//! preallocated lock-free `rtrb` queue; the worker encodes them (pneuma or VMC bundles with NTP
+//! time tags) and sends them over UDP.
+//!
+//! - The audio side ([`OscFeed::push`]) never blocks, locks or allocates: if the queue is full
+//!   (the worker has not run for `QUEUE_FRAMES` frames) the frame is dropped and counted.
+//! - The worker keeps only fresh frames: when more than [`MAX_BACKLOG_FRAMES`] wait, it drops the
+//!   oldest ones (an avatar wants the newest pose, not a late replay) and counts them. So a slow
+//!   network or a stalled worker drops the oldest frames; only a worker that does not run at all
+//!   for a whole queue can cost the newest.
+//! - The target (host, port) and format are read by the worker from the shared settings on every
+//!   wake-up, so they can change while playing. Name resolution happens on the worker; a target
+//!   that does not resolve or an unreachable one only counts send failures and is retried every
+//!   [`RETRY_INTERVAL`]. Nothing the network does reaches the audio thread.
+//! - Time tags: the first frame after a start or reset (the frame index goes back) anchors the
+//!   frame clock to the wall clock; a frame's tag is `anchor + time_s`. When the tags fall more
+//!   than 0.5 s behind the wall clock (playback paused, a stall) they are re-anchored forward to
+//!   now, so tags always increase; faster-than-real-time processing (offline bounce) gives tags
+//!   ahead of the wall clock, as the audio time says.
+
+use std::net::{SocketAddr, ToSocketAddrs, UdpSocket};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+use pneuma_core::encode::osc::{encode_frame, OscFormat, TimeTag, MAX_FRAME_PACKET_BYTES};
+use pneuma_core::ControlFrame;
+
+/// Queue capacity in frames (about 4 s at 120 Hz).
+pub const QUEUE_FRAMES: usize = 512;
+/// Most frames the worker lets wait before dropping the oldest (about 0.1 s at 120 Hz).
+pub const MAX_BACKLOG_FRAMES: usize = 12;
+/// How long the worker sleeps between polls of the queue.
+pub const POLL_INTERVAL: Duration = Duration::from_millis(2);
+/// How often an unresolvable target is retried.
+pub const RETRY_INTERVAL: Duration = Duration::from_secs(1);
+
+/// Where and how to send; read by the worker on every wake-up.
+pub trait OscSettings: Send + Sync + 'static {
+    /// Host name or address, and port.
+    fn target(&self) -> (String, u16);
+    /// Address space.
+    fn format(&self) -> OscFormat;
+}
+
+/// Counters shared by the audio side and the worker (all monotonic).
+#[derive(Debug, Default)]
+pub struct OscStats {
+    /// Frames dropped because the queue was full (audio side).
+    pub dropped_full: AtomicU64,
+    /// Old frames the worker skipped to catch up.
+    pub dropped_stale: AtomicU64,
+    /// Bundles handed to the OS.
+    pub sent: AtomicU64,
+    /// Frames not sent: unresolvable target, encoding or send error.
+    pub failed: AtomicU64,
+}
+
+/// The audio-thread end: push frames, never blocks.
+pub struct OscFeed {
+    producer: rtrb::Producer<ControlFrame>,
+    stats: Arc<OscStats>,
+}
+
+impl OscFeed {
+    /// Hands a frame to the worker; if the queue is full the frame is dropped and counted.
+    /// Wait-free, allocation-free.
+    pub fn push(&mut self, frame: &ControlFrame) {
+        if self.producer.push(*frame).is_err() {
+            self.stats.dropped_full.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+}
+
+/// The worker thread; stops and joins on drop.
+pub struct OscWorker {
+    stop: Arc<AtomicBool>,
+    handle: Option<JoinHandle<()>>,
+}
+
+impl Drop for OscWorker {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(h) = self.handle.take() {
+            let _ = h.join();
+        }
+    }
+}
+
+/// Starts a worker; returns the audio-side feed, the worker handle and the counters.
+pub fn start<S: OscSettings>(
+    settings: Arc<S>,
+) -> std::io::Result<(OscFeed, OscWorker, Arc<OscStats>)> {
+    let (producer, consumer) = rtrb::RingBuffer::new(QUEUE_FRAMES);
+    let stats = Arc::new(OscStats::default());
+    let stop = Arc::new(AtomicBool::new(false));
+    let handle = std::thread::Builder::new()
+        .name("pneuma-osc".into())
+        .spawn({
+            let stats = stats.clone();
+            let stop = stop.clone();
+            move || run(consumer, settings, stats, stop)
+        })?;
+    Ok((
+        OscFeed {
+            producer,
+            stats: stats.clone(),
+        },
+        OscWorker {
+            stop,
+            handle: Some(handle),
+        },
+        stats,
+    ))
+}
+
+/// The worker's resolved target.
+struct Target {
+    key: (String, u16),
+    addr: Option<SocketAddr>,
+    resolved_at: Instant,
+}
+
+/// The target's first address, IPv4 preferred.
+fn resolve(key: &(String, u16)) -> Option<SocketAddr> {
+    let addrs: Vec<SocketAddr> = (key.0.as_str(), key.1).to_socket_addrs().ok()?.collect();
+    addrs
+        .iter()
+        .find(|a| a.is_ipv4())
+        .or(addrs.first())
+        .copied()
+}
+
+/// A non-blocking UDP socket of the address family of `addr`.
+fn socket_for(addr: &SocketAddr) -> Option<UdpSocket> {
+    let socket = if addr.is_ipv4() {
+        UdpSocket::bind(("0.0.0.0", 0))
+    } else {
+        UdpSocket::bind(("::", 0))
+    }
+    .ok()?;
+    socket.set_nonblocking(true).ok()?;
+    Some(socket)
+}
+
+fn now_unix_s() -> f64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0.0, |d| d.as_secs_f64())
+}
+
+fn run<S: OscSettings>(
+    mut consumer: rtrb::Consumer<ControlFrame>,
+    settings: Arc<S>,
+    stats: Arc<OscStats>,
+    stop: Arc<AtomicBool>,
+) {
+    let mut socket: Option<UdpSocket> = None;
+    let mut target: Option<Target> = None;
+    let mut buf = [0u8; MAX_FRAME_PACKET_BYTES];
+    // (anchor unix seconds, last frame index)
+    let mut anchor: Option<(f64, u64)> = None;
+    while !stop.load(Ordering::Relaxed) {
+        let waiting = consumer.slots();
+        if waiting == 0 {
+            std::thread::sleep(POLL_INTERVAL);
+            continue;
+        }
+        if waiting > MAX_BACKLOG_FRAMES {
+            let skip = waiting - MAX_BACKLOG_FRAMES;
+            if let Ok(chunk) = consumer.read_chunk(skip) {
+                chunk.commit_all();
+                stats
+                    .dropped_stale
+                    .fetch_add(skip as u64, Ordering::Relaxed);
+            }
+        }
+        let key = settings.target();
+        let format = settings.format();
+        let stale = match &target {
+            Some(t) => {
+                t.key != key || (t.addr.is_none() && t.resolved_at.elapsed() > RETRY_INTERVAL)
+            }
+            None => true,
+        };
+        if stale {
+            let addr = resolve(&key);
+            if let Some(a) = &addr {
+                let family_ok = socket
+                    .as_ref()
+                    .and_then(|s| s.local_addr().ok())
+                    .is_some_and(|l| l.is_ipv4() == a.is_ipv4());
+                if !family_ok {
+                    socket = socket_for(a);
+                }
+            }
+            target = Some(Target {
+                key,
+                addr,
+                resolved_at: Instant::now(),
+            });
+        }
+        let addr = target.as_ref().and_then(|t| t.addr);
+        while let Ok(frame) = consumer.pop() {
+            let now = now_unix_s();
+            let base = match anchor {
+                Some((a, last)) if frame.index > last && a + frame.time_s > now - 0.5 => a,
+                _ => now - frame.time_s,
+            };
+            anchor = Some((base, frame.index));
+            let tag = TimeTag::from_unix_seconds(base + frame.time_s);
+            let sent = match (addr, &socket, encode_frame(format, &frame, tag, &mut buf)) {
+                (Some(addr), Some(socket), Ok(n)) => socket.send_to(&buf[..n], addr).is_ok(),
+                _ => false,
+            };
+            let counter = if sent { &stats.sent } else { &stats.failed };
+            counter.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pneuma_core::encode::osc::{decode_packet, OscValue};
+    use std::sync::Mutex;
+
+    struct Settings {
+        target: Mutex<(String, u16)>,
+        format: Mutex<OscFormat>,
+    }
+
+    impl OscSettings for Settings {
+        fn target(&self) -> (String, u16) {
+            self.target.lock().unwrap().clone()
+        }
+        fn format(&self) -> OscFormat {
+            *self.format.lock().unwrap()
+        }
+    }
+
+    fn frame(index: u64) -> ControlFrame {
+        ControlFrame {
+            index,
+            time_s: index as f64 / 120.0,
+            f0_hz: 100.0 + index as f32,
+            voiced: true,
+            ..Default::default()
+        }
+    }
+
+    fn receive(sock: &UdpSocket) -> Vec<pneuma_core::encode::osc::OscMessage> {
+        let mut buf = [0u8; 2048];
+        let n = sock.recv(&mut buf).expect("a packet within the timeout");
+        decode_packet(&buf[..n]).unwrap()
+    }
+
+    #[test]
+    fn frames_arrive_and_the_target_and_format_change_while_running() {
+        let a = UdpSocket::bind("127.0.0.1:0").unwrap();
+        let b = UdpSocket::bind("127.0.0.1:0").unwrap();
+        for s in [&a, &b] {
+            s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+        }
+        let settings = Arc::new(Settings {
+            target: Mutex::new(("127.0.0.1".into(), a.local_addr().unwrap().port())),
+            format: Mutex::new(OscFormat::Pneuma),
+        });
+        let (mut feed, worker, stats) = start(settings.clone()).unwrap();
+        feed.push(&frame(1));
+        let msgs = receive(&a);
+        assert_eq!(msgs[0].address, "/pneuma/frame");
+        assert_eq!(msgs[1].args, vec![OscValue::Float(101.0)]);
+        let tag = msgs[0].time_tag.unwrap().to_unix_seconds();
+        assert!((tag - now_unix_s()).abs() < 2.0, "time tag near now: {tag}");
+
+        *settings.target.lock().unwrap() = ("127.0.0.1".into(), b.local_addr().unwrap().port());
+        *settings.format.lock().unwrap() = OscFormat::Vmc;
+        // The change applies from the worker's next wake-up (a frame already being sent may still
+        // go to the old target): push until the new target hears.
+        b.set_read_timeout(Some(Duration::from_millis(50))).unwrap();
+        let mut buf = [0u8; 2048];
+        let mut got = None;
+        for i in 2..100 {
+            feed.push(&frame(i));
+            if let Ok(n) = b.recv(&mut buf) {
+                got = Some(decode_packet(&buf[..n]).unwrap());
+                break;
+            }
+        }
+        let msgs = got.expect("the new target receives within 100 frames");
+        assert_eq!(msgs[0].address, "/VMC/Ext/Bone/Pos", "the new format");
+        drop(worker);
+        assert!(stats.sent.load(Ordering::Relaxed) >= 2);
+        assert_eq!(stats.failed.load(Ordering::Relaxed), 0);
+    }
+
+    #[test]
+    fn a_bad_target_never_blocks_the_feed_and_counts_every_frame() {
+        let settings = Arc::new(Settings {
+            // An empty host never resolves (and needs no DNS round trip to fail).
+            target: Mutex::new((String::new(), 9)),
+            format: Mutex::new(OscFormat::Pneuma),
+        });
+        let (mut feed, worker, stats) = start(settings).unwrap();
+        // Push as fast as possible until the queue overflows: the feed never blocks.
+        let mut pushed = 0u64;
+        while stats.dropped_full.load(Ordering::Relaxed) == 0 && pushed < 10_000_000 {
+            feed.push(&frame(pushed));
+            pushed += 1;
+        }
+        assert!(
+            stats.dropped_full.load(Ordering::Relaxed) > 0,
+            "queue never overflowed"
+        );
+        let accounted = || {
+            stats.failed.load(Ordering::Relaxed)
+                + stats.dropped_full.load(Ordering::Relaxed)
+                + stats.dropped_stale.load(Ordering::Relaxed)
+        };
+        let start = Instant::now();
+        while accounted() < pushed && start.elapsed() < Duration::from_secs(10) {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        drop(worker);
+        assert_eq!(accounted(), pushed, "every frame sent, failed or dropped");
+        assert_eq!(stats.sent.load(Ordering::Relaxed), 0);
+        assert!(
+            stats.dropped_stale.load(Ordering::Relaxed) > 0,
+            "the oldest were skipped"
+        );
+    }
+}

@@ -1,0 +1,528 @@
+//! The plugin's parameters and persisted settings.
+//!
+//! Every `#[id]` is saved in host projects, presets and automation: never change one. The table
+//! of ids is in [`PARAM_IDS`] (a test holds the struct to it). Settings that are not numbers
+//! (the OSC host, breath sample paths) are persisted fields (`#[persist]`), saved and restored with
+//! the state but not automatable.
+//!
+//! Parameters that change the frame clock or the latency (`mode`, `lookahead_s`,
+//! `frame_rate_hz`) take effect at the next activation; the plugin asks the host for a restart
+//! when they change.
+
+use std::sync::{Arc, RwLock};
+
+use nice_plug::prelude::*;
+use pneuma_core::breathing::{BreathingParams, Preset};
+use pneuma_core::encode::midi_cc::{CcMap, CcResolution, CcSignal, SIGNAL_COUNT};
+use pneuma_core::encode::osc::OscFormat;
+use pneuma_core::engine::{EngineConfig, PlacementMode};
+use pneuma_core::head::HeadConfig;
+
+/// Breathing preset: `Custom` uses the individual breathing controls, the others replace them.
+#[derive(Enum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PresetChoice {
+    /// Use the individual breathing parameters.
+    #[id = "custom"]
+    Custom,
+    /// Everyday speech.
+    #[id = "neutral"]
+    Neutral,
+    /// Long, deep, abdominal, nasal.
+    #[id = "calm"]
+    Calm,
+    /// Fast, shallow, thoracic, mouth gasps.
+    #[id = "anxious"]
+    Anxious,
+    /// Slow, sighing, audible.
+    #[id = "tired"]
+    Tired,
+    /// Loud, fast, big quick breaths.
+    #[id = "excited"]
+    Excited,
+}
+
+/// Where breaths are placed.
+#[derive(Enum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModeChoice {
+    /// Delays the audio by the lookahead and knows each pause's length before filling it.
+    #[id = "lookahead"]
+    Lookahead,
+    /// Zero latency: estimates from the recent phrases.
+    #[id = "live"]
+    Live,
+}
+
+/// OSC address space.
+#[derive(Enum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OscFormatChoice {
+    /// The `/pneuma/...` address space.
+    #[id = "pneuma"]
+    #[name = "pneuma"]
+    Pneuma,
+    /// The VMC protocol.
+    #[id = "vmc"]
+    #[name = "VMC"]
+    Vmc,
+}
+
+impl From<OscFormatChoice> for OscFormat {
+    fn from(c: OscFormatChoice) -> Self {
+        match c {
+            OscFormatChoice::Pneuma => OscFormat::Pneuma,
+            OscFormatChoice::Vmc => OscFormat::Vmc,
+        }
+    }
+}
+
+/// Default OSC port (the VMC marionette port most avatar apps listen on).
+pub const DEFAULT_OSC_PORT: i32 = 39539;
+/// Default OSC host.
+pub const DEFAULT_OSC_HOST: &str = "127.0.0.1";
+
+/// Every parameter id, in declaration order.
+pub const PARAM_IDS: &[&str] = &[
+    "preset",
+    "thorax_vs_abdomen",
+    "capacity_lung",
+    "mouth_vs_nose",
+    "breath_sound",
+    "opening",
+    "speaking_loudness",
+    "inspiration_length_s",
+    "neck_amplitude_deg",
+    "breath_level_db",
+    "insert_breaths",
+    "min_pause_s",
+    "mode",
+    "lookahead_s",
+    "head_amount",
+    "head_max_pitch_deg",
+    "head_max_yaw_deg",
+    "head_max_roll_deg",
+    "frame_rate_hz",
+    "midi_enabled",
+    "midi_channel",
+    "cc_14bit",
+    "cc_head_range_deg",
+    "cc_lung",
+    "cc_head_pitch",
+    "cc_head_yaw",
+    "cc_head_roll",
+    "cc_thorax",
+    "cc_abdomen",
+    "cc_nostril_flare",
+    "cc_mouth_open",
+    "cc_neck_pitch",
+    "cc_speaking",
+    "cc_loudness",
+    "osc_enabled",
+    "osc_port",
+    "osc_format",
+];
+
+/// The plugin's parameters and persisted settings.
+#[derive(Params)]
+pub struct PneumaParams {
+    /// Breathing preset (custom, neutral, calm, anxious, tired, excited). Default custom.
+    #[id = "preset"]
+    pub preset: EnumParam<PresetChoice>,
+    /// ThoraxVsAbdomen, 0 (thorax only)..1 (abdomen only). Default 0.5.
+    #[id = "thorax_vs_abdomen"]
+    pub thorax_vs_abdomen: FloatParam,
+    /// Lung capacity, percent 10..100. Default 60.
+    #[id = "capacity_lung"]
+    pub capacity_lung: FloatParam,
+    /// MouthVsNose, 0 (nose only)..1 (mouth only). Default 0.5.
+    #[id = "mouth_vs_nose"]
+    pub mouth_vs_nose: FloatParam,
+    /// Breathing sound amplitude, 0..1. Default 0.35.
+    #[id = "breath_sound"]
+    pub breath_sound: FloatParam,
+    /// Opening of the inspiration channels (nostrils, mouth), 0..1. Default 0.5.
+    #[id = "opening"]
+    pub opening: FloatParam,
+    /// Speaking loudness, 0.05..1. Default 0.5.
+    #[id = "speaking_loudness"]
+    pub speaking_loudness: FloatParam,
+    /// Inspiration length of a full lung, seconds, 0.2..3. Default 1.
+    #[id = "inspiration_length_s"]
+    pub inspiration_length_s: FloatParam,
+    /// Neck motion amplitude (head pitch at full lungs), degrees 0..15. Default 3.
+    #[id = "neck_amplitude_deg"]
+    pub neck_amplitude_deg: FloatParam,
+
+    /// Loudness of the inserted breaths, dB relative to the speech level, −40..−6. Default −22.
+    #[id = "breath_level_db"]
+    pub breath_level_db: FloatParam,
+    /// Insert breaths into the audio (off: audio passes, controls still leave). Default on.
+    #[id = "insert_breaths"]
+    pub insert_breaths: BoolParam,
+    /// Shortest pause that gets a breath, seconds, 0.1..2. Default 0.25.
+    #[id = "min_pause_s"]
+    pub min_pause_s: FloatParam,
+    /// Lookahead (latency = lookahead) or live (zero latency). Default lookahead. Restart.
+    #[id = "mode"]
+    pub mode: EnumParam<ModeChoice>,
+    /// Lookahead length (= latency), seconds, 0.2..2. Default 0.5. Restart.
+    #[id = "lookahead_s"]
+    pub lookahead_s: FloatParam,
+
+    /// Head-motion amount, 0..4 (0 = still). Default 1.
+    #[id = "head_amount"]
+    pub head_amount: FloatParam,
+    /// Largest |head pitch|, degrees, 0.5..90. Default 8.
+    #[id = "head_max_pitch_deg"]
+    pub head_max_pitch_deg: FloatParam,
+    /// Largest |head yaw|, degrees, 0.5..90. Default 15.
+    #[id = "head_max_yaw_deg"]
+    pub head_max_yaw_deg: FloatParam,
+    /// Largest |head roll|, degrees, 0.5..90. Default 12.
+    #[id = "head_max_roll_deg"]
+    pub head_max_roll_deg: FloatParam,
+
+    /// Control frame rate, Hz, 30..240. Default 120. Restart.
+    #[id = "frame_rate_hz"]
+    pub frame_rate_hz: IntParam,
+
+    /// Send MIDI CC. Default on.
+    #[id = "midi_enabled"]
+    pub midi_enabled: BoolParam,
+    /// MIDI channel, 1..16. Default 1.
+    #[id = "midi_channel"]
+    pub midi_channel: IntParam,
+    /// 14-bit CC pairs (MSB on n, LSB on n + 32) instead of 7-bit. Default off.
+    #[id = "cc_14bit"]
+    pub cc_14bit: BoolParam,
+    /// Head angle at the ends of the CC range, degrees, 1..90. Default 30.
+    #[id = "cc_head_range_deg"]
+    pub cc_head_range_deg: FloatParam,
+    /// Controller per signal, in [`CcSignal::ALL`] order; 0 = off, 1..119 (1..31 in 14-bit mode).
+    #[id = "cc_lung"]
+    pub cc_lung: IntParam,
+    /// Controller for head pitch (0 = off). Default 16.
+    #[id = "cc_head_pitch"]
+    pub cc_head_pitch: IntParam,
+    /// Controller for head yaw (0 = off). Default 17.
+    #[id = "cc_head_yaw"]
+    pub cc_head_yaw: IntParam,
+    /// Controller for head roll (0 = off). Default 18.
+    #[id = "cc_head_roll"]
+    pub cc_head_roll: IntParam,
+    /// Controller for thorax (0 = off). Default 19.
+    #[id = "cc_thorax"]
+    pub cc_thorax: IntParam,
+    /// Controller for abdomen (0 = off). Default 20.
+    #[id = "cc_abdomen"]
+    pub cc_abdomen: IntParam,
+    /// Controller for nostril flare (0 = off). Default 21.
+    #[id = "cc_nostril_flare"]
+    pub cc_nostril_flare: IntParam,
+    /// Controller for mouth open (0 = off). Default 22.
+    #[id = "cc_mouth_open"]
+    pub cc_mouth_open: IntParam,
+    /// Controller for neck pitch (0 = off). Default 23.
+    #[id = "cc_neck_pitch"]
+    pub cc_neck_pitch: IntParam,
+    /// Controller for the speaking gate (0 = off). Default 24.
+    #[id = "cc_speaking"]
+    pub cc_speaking: IntParam,
+    /// Controller for loudness (0 = off). Default 25.
+    #[id = "cc_loudness"]
+    pub cc_loudness: IntParam,
+
+    /// Send OSC. Default off.
+    #[id = "osc_enabled"]
+    pub osc_enabled: BoolParam,
+    /// OSC UDP port, 1..65535. Default 39539.
+    #[id = "osc_port"]
+    pub osc_port: IntParam,
+    /// OSC format: pneuma or VMC. Default pneuma.
+    #[id = "osc_format"]
+    pub osc_format: EnumParam<OscFormatChoice>,
+
+    /// OSC target host (name or IP address). Default `127.0.0.1`. Persisted, not automatable.
+    #[persist = "osc_host"]
+    pub osc_host: Arc<RwLock<String>>,
+    /// Path of a mouth breath WAV replacing the procedural mouth breath (empty = none).
+    #[persist = "breath_sample_mouth"]
+    pub breath_sample_mouth: Arc<RwLock<String>>,
+    /// Path of a nose breath WAV replacing the procedural nose breath (empty = none).
+    #[persist = "breath_sample_nose"]
+    pub breath_sample_nose: Arc<RwLock<String>>,
+}
+
+fn unit_param(name: &str, default: f32) -> FloatParam {
+    FloatParam::new(name, default, FloatRange::Linear { min: 0.0, max: 1.0 }).with_step_size(0.01)
+}
+
+fn linear(
+    name: &str,
+    default: f32,
+    min: f32,
+    max: f32,
+    unit: &'static str,
+    step: f32,
+) -> FloatParam {
+    FloatParam::new(name, default, FloatRange::Linear { min, max })
+        .with_unit(unit)
+        .with_step_size(step)
+}
+
+fn cc_param(signal: CcSignal) -> IntParam {
+    let default = i32::from(CcSignal::DEFAULT_CONTROLLERS[signal.index()]);
+    let name = format!("CC {}", signal.name().replace('_', " "));
+    IntParam::new(name, default, IntRange::Linear { min: 0, max: 119 }).with_value_to_string(
+        Arc::new(|v| {
+            if v == 0 {
+                "off".to_owned()
+            } else {
+                v.to_string()
+            }
+        }),
+    )
+}
+
+impl Default for PneumaParams {
+    fn default() -> Self {
+        Self {
+            preset: EnumParam::new("Breathing preset", PresetChoice::Custom),
+            thorax_vs_abdomen: unit_param("Thorax vs abdomen", 0.5),
+            capacity_lung: linear("Lung capacity", 60.0, 10.0, 100.0, " %", 1.0),
+            mouth_vs_nose: unit_param("Mouth vs nose", 0.5),
+            breath_sound: unit_param("Breath sound", 0.35),
+            opening: unit_param("Channel opening", 0.5),
+            speaking_loudness: FloatParam::new(
+                "Speaking loudness",
+                0.5,
+                FloatRange::Linear {
+                    min: 0.05,
+                    max: 1.0,
+                },
+            )
+            .with_step_size(0.01),
+            inspiration_length_s: linear("Inspiration length", 1.0, 0.2, 3.0, " s", 0.01),
+            neck_amplitude_deg: linear("Neck motion", 3.0, 0.0, 15.0, "°", 0.1),
+            breath_level_db: linear("Breath level", -22.0, -40.0, -6.0, " dB", 0.1),
+            insert_breaths: BoolParam::new("Insert breaths", true),
+            min_pause_s: linear("Minimum pause", 0.25, 0.1, 2.0, " s", 0.01),
+            mode: EnumParam::new("Mode", ModeChoice::Lookahead),
+            lookahead_s: linear("Lookahead", 0.5, 0.2, 2.0, " s", 0.01),
+            head_amount: linear("Head motion", 1.0, 0.0, 4.0, "", 0.01),
+            head_max_pitch_deg: linear("Head pitch limit", 8.0, 0.5, 90.0, "°", 0.5),
+            head_max_yaw_deg: linear("Head yaw limit", 15.0, 0.5, 90.0, "°", 0.5),
+            head_max_roll_deg: linear("Head roll limit", 12.0, 0.5, 90.0, "°", 0.5),
+            frame_rate_hz: IntParam::new("Frame rate", 120, IntRange::Linear { min: 30, max: 240 })
+                .with_unit(" Hz"),
+            midi_enabled: BoolParam::new("CC output", true),
+            midi_channel: IntParam::new("MIDI channel", 1, IntRange::Linear { min: 1, max: 16 }),
+            cc_14bit: BoolParam::new("CC 14-bit", false),
+            cc_head_range_deg: linear("CC head range", 30.0, 1.0, 90.0, "°", 0.5),
+            cc_lung: cc_param(CcSignal::Lung),
+            cc_head_pitch: cc_param(CcSignal::HeadPitch),
+            cc_head_yaw: cc_param(CcSignal::HeadYaw),
+            cc_head_roll: cc_param(CcSignal::HeadRoll),
+            cc_thorax: cc_param(CcSignal::Thorax),
+            cc_abdomen: cc_param(CcSignal::Abdomen),
+            cc_nostril_flare: cc_param(CcSignal::NostrilFlare),
+            cc_mouth_open: cc_param(CcSignal::MouthOpen),
+            cc_neck_pitch: cc_param(CcSignal::NeckPitch),
+            cc_speaking: cc_param(CcSignal::Speaking),
+            cc_loudness: cc_param(CcSignal::Loudness),
+            osc_enabled: BoolParam::new("OSC out", false),
+            osc_port: IntParam::new(
+                "OSC port",
+                DEFAULT_OSC_PORT,
+                IntRange::Linear { min: 1, max: 65535 },
+            ),
+            osc_format: EnumParam::new("OSC format", OscFormatChoice::Pneuma),
+            osc_host: Arc::new(RwLock::new(DEFAULT_OSC_HOST.to_owned())),
+            breath_sample_mouth: Arc::new(RwLock::new(String::new())),
+            breath_sample_nose: Arc::new(RwLock::new(String::new())),
+        }
+    }
+}
+
+impl PneumaParams {
+    /// The CC parameters in [`CcSignal::ALL`] order.
+    pub fn cc_params(&self) -> [&IntParam; SIGNAL_COUNT] {
+        [
+            &self.cc_lung,
+            &self.cc_head_pitch,
+            &self.cc_head_yaw,
+            &self.cc_head_roll,
+            &self.cc_thorax,
+            &self.cc_abdomen,
+            &self.cc_nostril_flare,
+            &self.cc_mouth_open,
+            &self.cc_neck_pitch,
+            &self.cc_speaking,
+            &self.cc_loudness,
+        ]
+    }
+
+    /// The CC map the parameters describe (allocation-free). Controller 0 means off; in 14-bit
+    /// mode a signal on a controller above 31 (which cannot carry an MSB/LSB pair) is off too. A
+    /// map where two signals share a controller is invalid: the plugin then keeps its last valid
+    /// map.
+    pub fn cc_map(&self) -> CcMap {
+        let fourteen = self.cc_14bit.value();
+        let mut controllers = [None; SIGNAL_COUNT];
+        for (slot, p) in controllers.iter_mut().zip(self.cc_params()) {
+            let v = p.value();
+            let usable = v > 0 && (!fourteen || v <= 31);
+            *slot = usable.then_some(v.clamp(0, 127) as u8);
+        }
+        CcMap {
+            channel: (self.midi_channel.value() - 1).clamp(0, 15) as u8,
+            resolution: if fourteen {
+                CcResolution::Bits14
+            } else {
+                CcResolution::Bits7
+            },
+            controllers,
+            head_range_deg: self.cc_head_range_deg.value(),
+            ..CcMap::default()
+        }
+    }
+
+    /// The breathing model's settings: the preset's, or the individual controls with preset
+    /// `custom` (the independent settings the plugin does not expose keep their defaults).
+    pub fn breathing_params(&self) -> BreathingParams {
+        let preset = match self.preset.value() {
+            PresetChoice::Custom => None,
+            PresetChoice::Neutral => Some(Preset::Neutral),
+            PresetChoice::Calm => Some(Preset::Calm),
+            PresetChoice::Anxious => Some(Preset::Anxious),
+            PresetChoice::Tired => Some(Preset::Tired),
+            PresetChoice::Excited => Some(Preset::Excited),
+        };
+        if let Some(p) = preset {
+            return p.params();
+        }
+        BreathingParams {
+            thorax_vs_abdomen: self.thorax_vs_abdomen.value(),
+            capacity_lung: self.capacity_lung.value(),
+            mouth_vs_nose: self.mouth_vs_nose.value(),
+            amplitude_breathing_sound: self.breath_sound.value(),
+            opening_inspiration_channels: self.opening.value(),
+            speaking_loudness: self.speaking_loudness.value(),
+            inspiration_length_s: self.inspiration_length_s.value(),
+            neck_motion_amplitude_deg: self.neck_amplitude_deg.value(),
+            ..BreathingParams::default()
+        }
+    }
+
+    /// The engine settings the parameters describe; everything the plugin does not expose keeps
+    /// [`EngineConfig::default`], so default parameters give exactly the CLI's default render.
+    /// Allocation-free.
+    pub fn engine_config(&self) -> EngineConfig {
+        let mut config = EngineConfig::default();
+        config.analysis.frame_rate_hz = f64::from(self.frame_rate_hz.value());
+        config.placement.mode = match self.mode.value() {
+            ModeChoice::Lookahead => PlacementMode::Lookahead,
+            ModeChoice::Live => PlacementMode::Live,
+        };
+        config.placement.lookahead_s = self.lookahead_s.value();
+        config.placement.min_pause_s = self.min_pause_s.value();
+        config.placement.breath_level_db = self.breath_level_db.value();
+        config.placement.insert_breaths = self.insert_breaths.value();
+        config.breathing = self.breathing_params();
+        config.head = self.head_config();
+        config
+    }
+
+    /// The head-motion settings (amount and limits; the rest keep their defaults).
+    pub fn head_config(&self) -> HeadConfig {
+        HeadConfig {
+            amount: self.head_amount.value(),
+            max_pitch_deg: self.head_max_pitch_deg.value(),
+            max_yaw_deg: self.head_max_yaw_deg.value(),
+            max_roll_deg: self.head_max_roll_deg.value(),
+            ..HeadConfig::default()
+        }
+    }
+
+    /// The OSC host (empty if the lock is poisoned or busy).
+    pub fn osc_host(&self) -> String {
+        self.osc_host.read().map(|h| h.clone()).unwrap_or_default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_are_the_promised_ones_in_order() {
+        let params = PneumaParams::default();
+        let ids: Vec<String> = params
+            .param_map()
+            .into_iter()
+            .map(|(id, _, _)| id)
+            .collect();
+        assert_eq!(ids, PARAM_IDS);
+    }
+
+    #[test]
+    fn default_cc_map_is_the_design_map() {
+        let params = PneumaParams::default();
+        assert_eq!(params.cc_map(), CcMap::default());
+        params.cc_map().validate().unwrap();
+    }
+
+    #[test]
+    fn defaults_are_the_models_defaults_and_presets_replace_the_controls() {
+        let params = PneumaParams::default();
+        assert_eq!(params.breathing_params(), BreathingParams::default());
+        assert_eq!(params.head_config(), HeadConfig::default());
+        params.breathing_params().validate().unwrap();
+        params.head_config().validate().unwrap();
+        // Every slider's range lies inside what the models accept: all minima, all maxima.
+        let p = &params;
+        for x in [0.0, 1.0] {
+            let breathing = BreathingParams {
+                thorax_vs_abdomen: p.thorax_vs_abdomen.preview_plain(x),
+                capacity_lung: p.capacity_lung.preview_plain(x),
+                mouth_vs_nose: p.mouth_vs_nose.preview_plain(x),
+                amplitude_breathing_sound: p.breath_sound.preview_plain(x),
+                opening_inspiration_channels: p.opening.preview_plain(x),
+                speaking_loudness: p.speaking_loudness.preview_plain(x),
+                inspiration_length_s: p.inspiration_length_s.preview_plain(x),
+                neck_motion_amplitude_deg: p.neck_amplitude_deg.preview_plain(x),
+                ..BreathingParams::default()
+            };
+            breathing.validate().unwrap();
+            let head = HeadConfig {
+                amount: p.head_amount.preview_plain(x),
+                max_pitch_deg: p.head_max_pitch_deg.preview_plain(x),
+                max_yaw_deg: p.head_max_yaw_deg.preview_plain(x),
+                max_roll_deg: p.head_max_roll_deg.preview_plain(x),
+                ..HeadConfig::default()
+            };
+            head.validate().unwrap();
+        }
+        for preset in Preset::ALL {
+            preset.params().validate().unwrap();
+        }
+    }
+
+    #[test]
+    fn default_parameters_give_the_default_engine() {
+        let params = PneumaParams::default();
+        assert_eq!(params.engine_config(), EngineConfig::default());
+        params.engine_config().validate().unwrap();
+    }
+
+    #[test]
+    fn persisted_settings_round_trip() {
+        let params = PneumaParams::default();
+        *params.osc_host.write().unwrap() = "192.168.1.20".into();
+        *params.breath_sample_nose.write().unwrap() = "/tmp/nose.wav".into();
+        let saved = params.serialize_fields();
+        let fresh = PneumaParams::default();
+        fresh.deserialize_fields(&saved);
+        assert_eq!(fresh.osc_host(), "192.168.1.20");
+        assert_eq!(*fresh.breath_sample_nose.read().unwrap(), "/tmp/nose.wav");
+        assert_eq!(*fresh.breath_sample_mouth.read().unwrap(), "");
+    }
+}

@@ -1,0 +1,44 @@
+//! CPU per plugin instance: the built `Pneuma.clap` through the CLAP test host at 48 kHz in
+//! 64-sample blocks, mono and stereo, one second of the example voice per iteration.
+//! Real-time multiple = 1 s / (time per iteration). Run: `cargo bench -p pneuma-tests`.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use pneuma_tests::bundle::ensure_clap;
+use pneuma_tests::host::Plugin;
+use pneuma_tests::wav::example_voice_at;
+
+fn plugin_cpu(c: &mut Criterion) {
+    let voice = example_voice_at(48_000);
+    let second = &voice[48_000 * 2..48_000 * 3];
+    let mut group = c.benchmark_group("plugin_48k_64");
+    group.throughput(Throughput::Elements(48_000));
+    for (channels, osc) in [(1, false), (2, false), (1, true)] {
+        let mut plugin = Plugin::load(&ensure_clap(), "org.pneuma.pneuma").expect("bundle loads");
+        if osc {
+            plugin.set_param("osc_enabled", "On").unwrap();
+            // Nobody listens on the discard port: the sends still happen.
+            plugin.set_param("osc_port", "9").unwrap();
+        }
+        plugin.activate(48_000.0, 64, channels).unwrap();
+        let source: Vec<Vec<Vec<f32>>> = second
+            .chunks(64)
+            .map(|b| vec![b.to_vec(); channels])
+            .collect();
+        let mut blocks = source.clone();
+        let name = format!("{channels}ch{}", if osc { "_osc" } else { "" });
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                for (block, src) in blocks.iter_mut().zip(&source) {
+                    for (c, s) in block.iter_mut().zip(src) {
+                        c.copy_from_slice(s);
+                    }
+                    std::hint::black_box(plugin.process(block));
+                }
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, plugin_cpu);
+criterion_main!(benches);
