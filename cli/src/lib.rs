@@ -4,7 +4,9 @@
 pub mod analyze;
 pub mod eval;
 pub mod output;
+pub mod plot;
 pub mod render;
 pub mod speak;
 pub mod train;
 pub mod wav;
+pub mod wav_out;

@@ -27,15 +27,7 @@ impl Output {
                 inner: Some(Inner::Stdout(BufWriter::new(std::io::stdout()))),
             });
         }
-        let dir = match path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
-            _ => PathBuf::from("."),
-        };
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "output".into());
-        let temp = dir.join(format!(".{name}.{}.partial", std::process::id()));
+        let temp = temp_path(path);
         let file = File::create(&temp)?;
         Ok(Self {
             inner: Some(Inner::File {
@@ -76,6 +68,21 @@ impl Output {
             None => Ok(()),
         }
     }
+}
+
+/// The temporary name beside `target` that a file is written under before it is renamed
+/// into place: `.<name>.<pid>.partial` in the same folder (so the rename stays on one file
+/// system).
+pub fn temp_path(target: &Path) -> PathBuf {
+    let dir = match target.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
+        _ => PathBuf::from("."),
+    };
+    let name = target
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "output".into());
+    dir.join(format!(".{name}.{}.partial", std::process::id()))
 }
 
 impl Drop for Output {

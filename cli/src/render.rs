@@ -1,17 +1,501 @@
-//! `pneuma render`: breaths into recorded speech, controls, plot. (Being built: issue 4.)
+//! `pneuma render IN.wav -o DIR`: streams a WAV file through the [`Engine`] in blocks and writes
+//! `DIR/<stem>.wav` (the input with breaths, same rate, channels and sample format),
+//! `DIR/<stem>.controls.csv`, `DIR/<stem>.breaths.csv`, `DIR/<stem>.png` and, with `--bvh`,
+//! `DIR/<stem>.bvh` (contracts in DESIGN.md).
+//!
+//! The engine runs exactly as in the plugin (same lookahead); the lookahead delay is removed
+//! here by dropping the first `latency` output samples and feeding `latency` samples of silence
+//! at the end. Memory stays bounded: audio is read, processed and written block by block, the
+//! controls stream to their file, and the plot keeps a min/max envelope of at most a few
+//! hundred thousand points. Every output file is written under a temporary name and renamed into
+//! place only when the whole render succeeded.
 
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-/// Command-line arguments of `pneuma render`.
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// Remaining arguments (the full interface is being built).
-    #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
-    pub rest: Vec<String>,
+use pneuma_core::breathing::{BreathSample, Preset, SampleSlot};
+use pneuma_core::encode::{breaths_csv, bvh, controls_csv};
+use pneuma_core::engine::{Engine, EngineConfig, EngineError, PlacementMode};
+use pneuma_core::head::HeadModel;
+use pneuma_core::{BreathEvent, ControlFrame};
+use thiserror::Error;
+
+use crate::output::Output;
+use crate::wav::{WavError, WavInfo, WavSource};
+use crate::wav_out::WavSink;
+
+/// Sample frames per block.
+const BLOCK_FRAMES: usize = 4096;
+/// Most points of the plot's waveform envelope.
+const PLOT_POINTS: usize = 400_000;
+/// Most control frames kept for the plot.
+const PLOT_FRAMES: usize = 200_000;
+
+/// Errors of `pneuma render`.
+#[derive(Debug, Error)]
+pub enum RenderError {
+    /// The input file.
+    #[error(transparent)]
+    Wav(#[from] WavError),
+    /// The settings.
+    #[error("invalid settings: {0}")]
+    Settings(#[from] EngineError),
+    /// A breath sample or the head model.
+    #[error("{0}")]
+    Input(String),
+    /// An output file.
+    #[error("cannot write {path}: {source} (check that the folder exists and is writable)")]
+    Output {
+        /// Where we tried to write.
+        path: PathBuf,
+        /// Why it failed.
+        source: std::io::Error,
+    },
+    /// The plot.
+    #[error("cannot draw {path}: {reason}")]
+    Plot {
+        /// The plot file.
+        path: PathBuf,
+        /// Why.
+        reason: String,
+    },
 }
 
-/// Runs `pneuma render`.
-pub fn main(_args: Args) -> ExitCode {
-    eprintln!("error: `pneuma render` is not built yet (issue 4)");
-    ExitCode::FAILURE
+/// Command-line arguments of `pneuma render`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct Args {
+    /// Input WAV (8/16/24/32-bit integer or 32-bit float PCM, any channels, 8–192 kHz).
+    pub input: PathBuf,
+    /// Output folder (created if missing).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Breathing preset: neutral, calm, anxious, tired, excited.
+    #[arg(long, default_value = "neutral")]
+    pub preset: String,
+    /// Breath level relative to the speech level, dB (−60 to −6).
+    #[arg(long, default_value_t = -22.0, allow_hyphen_values = true)]
+    pub breath_level_db: f32,
+    /// Pauses shorter than this get no breath, ms.
+    #[arg(long, default_value_t = 250.0)]
+    pub min_pause_ms: f32,
+    /// Placement: `lookahead` (breath ends just before the next phrase) or `live` (no delay).
+    #[arg(long, default_value = "lookahead")]
+    pub mode: String,
+    /// Lookahead of the lookahead mode, ms (as in the plugin).
+    #[arg(long, default_value_t = 500.0)]
+    pub lookahead_ms: f32,
+    /// Do not insert breaths (controls only; the audio is copied unchanged).
+    #[arg(long)]
+    pub no_breaths: bool,
+    /// Folder with user breath samples `mouth.wav` and/or `nose.wav`.
+    #[arg(long)]
+    pub breath_samples: Option<PathBuf>,
+    /// Head-pose model file (JSON); the embedded default model when absent.
+    #[arg(long)]
+    pub head_model: Option<PathBuf>,
+    /// Seed of every random source.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Control frames per second.
+    #[arg(long, default_value_t = 120.0)]
+    pub frame_rate: f64,
+    /// Also write `<stem>.bvh` (head and neck motion).
+    #[arg(long)]
+    pub bvh: bool,
+    /// Skip the plot.
+    #[arg(long)]
+    pub no_plot: bool,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+impl Args {
+    /// The engine settings these arguments ask for.
+    pub fn engine_config(&self) -> Result<EngineConfig, RenderError> {
+        let preset = Preset::from_name(&self.preset)
+            .map_err(|e| RenderError::Input(format!("--preset: {e}")))?;
+        let mut c = EngineConfig::default();
+        c.analysis.frame_rate_hz = self.frame_rate;
+        c.placement.mode = PlacementMode::from_name(&self.mode)?;
+        c.placement.breath_level_db = self.breath_level_db;
+        c.placement.min_pause_s = self.min_pause_ms / 1000.0;
+        c.placement.lookahead_s = self.lookahead_ms / 1000.0;
+        c.placement.insert_breaths = !self.no_breaths;
+        c.breathing = preset.params();
+        c.seed = self.seed;
+        c.validate()?;
+        Ok(c)
+    }
+}
+
+/// What a render did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenderSummary {
+    /// The input format (also the output format).
+    pub info: WavInfo,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+    /// Breaths inserted.
+    pub breaths: Vec<BreathEvent>,
+    /// Control frames written.
+    pub frames: u64,
+    /// Output samples clipped to the integer range.
+    pub clipped: u64,
+}
+
+/// A min/max envelope of the mono output for the plot, bounded in size.
+struct Envelope {
+    bucket: usize,
+    filled: usize,
+    lo: f32,
+    hi: f32,
+    points: Vec<f32>,
+}
+
+impl Envelope {
+    fn new(total_frames: u64) -> Self {
+        let bucket = (total_frames as usize * 2).div_ceil(PLOT_POINTS).max(1);
+        Self {
+            bucket,
+            filled: 0,
+            lo: f32::INFINITY,
+            hi: f32::NEG_INFINITY,
+            points: Vec::new(),
+        }
+    }
+    fn push(&mut self, x: f32) {
+        if self.bucket == 1 {
+            self.points.push(x);
+            return;
+        }
+        self.lo = self.lo.min(x);
+        self.hi = self.hi.max(x);
+        self.filled += 1;
+        if self.filled == self.bucket {
+            self.points.push(self.lo);
+            self.points.push(self.hi);
+            self.filled = 0;
+            self.lo = f32::INFINITY;
+            self.hi = f32::NEG_INFINITY;
+        }
+    }
+    /// The envelope's sample rate: two points per bucket.
+    fn rate_hz(&self, sample_rate_hz: f64) -> f64 {
+        if self.bucket == 1 {
+            sample_rate_hz
+        } else {
+            2.0 * sample_rate_hz / self.bucket as f64
+        }
+    }
+}
+
+fn out_err(path: &Path) -> impl Fn(std::io::Error) -> RenderError + '_ {
+    move |source| RenderError::Output {
+        path: path.to_owned(),
+        source,
+    }
+}
+
+fn load_sample(dir: &Path, name: &str) -> Result<Option<BreathSample>, RenderError> {
+    let path = dir.join(name);
+    if !path.exists() {
+        return Ok(None);
+    }
+    let (samples, rate) = crate::wav::read_mono(&path)?;
+    BreathSample::from_mono(samples, rate as f64)
+        .map(Some)
+        .map_err(|e| RenderError::Input(format!("breath sample {}: {e}", path.display())))
+}
+
+/// Runs a render; `progress` is called with the fraction done (0..1) now and then.
+pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, RenderError> {
+    let config = args.engine_config()?;
+    let mut src = WavSource::open(&args.input)?;
+    let info = src.info();
+    let channels = info.channels as usize;
+    if channels > pneuma_core::engine::MAX_CHANNELS {
+        return Err(EngineError::Channels(channels).into());
+    }
+    let model = match &args.head_model {
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .map_err(|e| RenderError::Input(format!("head model {}: {e}", p.display())))?;
+            HeadModel::from_json(&text)
+                .map_err(|e| RenderError::Input(format!("head model {}: {e}", p.display())))?
+        }
+        None => HeadModel::default_model().clone(),
+    };
+    let mut engine = Engine::new(config.clone(), model)?;
+    engine.prepare(info.sample_rate_hz as f64, BLOCK_FRAMES, channels)?;
+    let mut sample_names = Vec::new();
+    if let Some(dir) = &args.breath_samples {
+        if !dir.is_dir() {
+            return Err(RenderError::Input(format!(
+                "--breath-samples {}: not a folder (it should hold mouth.wav and/or nose.wav)",
+                dir.display()
+            )));
+        }
+        for (slot, name) in [
+            (SampleSlot::Mouth, "mouth.wav"),
+            (SampleSlot::Nose, "nose.wav"),
+        ] {
+            if let Some(s) = load_sample(dir, name)? {
+                engine.set_breath_sample(slot, Some(s));
+                sample_names.push(name);
+            }
+        }
+        if sample_names.is_empty() {
+            return Err(RenderError::Input(format!(
+                "--breath-samples {}: no mouth.wav or nose.wav in it",
+                dir.display()
+            )));
+        }
+    }
+
+    std::fs::create_dir_all(&args.output).map_err(out_err(&args.output))?;
+    let stem = args
+        .input
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "render".into());
+    let wav_path = args.output.join(format!("{stem}.wav"));
+    if same_file(&args.input, &wav_path) {
+        return Err(RenderError::Output {
+            path: wav_path,
+            source: std::io::Error::other("it is the input file; choose another output folder"),
+        });
+    }
+    let controls_path = args.output.join(format!("{stem}.controls.csv"));
+    let breaths_path = args.output.join(format!("{stem}.breaths.csv"));
+    let plot_path = args.output.join(format!("{stem}.png"));
+    let bvh_path = args.output.join(format!("{stem}.bvh"));
+
+    let mut sink = WavSink::create(&wav_path, info).map_err(out_err(&wav_path))?;
+    let mut controls = Output::create(&controls_path).map_err(out_err(&controls_path))?;
+    writeln!(controls.writer(), "{}", controls_csv::HEADER).map_err(out_err(&controls_path))?;
+
+    let latency = engine.latency_samples() as u64;
+    let total_in = info.frames;
+    let frame_rate = config.analysis.frame_rate_hz;
+    let frames_total =
+        pneuma_core::analysis::FrameClock::new(frame_rate, info.sample_rate_hz as f64)
+            .frames_in(total_in);
+    let mut envelope = Envelope::new(total_in);
+    let plot_every = (frames_total as usize).div_ceil(PLOT_FRAMES).max(1);
+    let mut plot_frames: Vec<ControlFrame> = Vec::new();
+    // The BVH streams too: its header needs the frame count, known from the WAV header.
+    let mut bvh_out = if args.bvh {
+        let mut o = Output::create(&bvh_path).map_err(out_err(&bvh_path))?;
+        o.writer()
+            .write_all(bvh::header(frames_total as usize, frame_rate).as_bytes())
+            .map_err(out_err(&bvh_path))?;
+        Some(o)
+    } else {
+        None
+    };
+    let mut bvh_row = String::new();
+    let mut breaths = Vec::new();
+    let mut row = String::new();
+    let mut frames_written = 0u64;
+    let mut write_error: Option<std::io::Error> = None;
+
+    let mut interleaved = Vec::with_capacity(BLOCK_FRAMES * channels);
+    let mut planar: Vec<Vec<f32>> = vec![vec![0.0; BLOCK_FRAMES]; channels];
+    let mut out_interleaved = Vec::with_capacity(BLOCK_FRAMES * channels);
+    let mut fed = 0u64; // sample frames given to the engine
+    let mut written = 0u64; // sample frames written to the output
+    let mut input_done = false;
+    let mut last_progress = 0.0;
+    loop {
+        // Next block: from the file, then silence to flush the lookahead.
+        let n = if !input_done {
+            let n = src.read_interleaved(BLOCK_FRAMES, &mut interleaved)?;
+            if n == 0 {
+                input_done = true;
+                continue;
+            }
+            for (i, frame) in interleaved.chunks_exact(channels).enumerate() {
+                for (c, &x) in frame.iter().enumerate() {
+                    planar[c][i] = x;
+                }
+            }
+            n
+        } else {
+            let remaining = (src.frames_read() + latency).saturating_sub(fed);
+            if remaining == 0 {
+                break;
+            }
+            let n = (remaining as usize).min(BLOCK_FRAMES);
+            planar.iter_mut().for_each(|p| p[..n].fill(0.0));
+            n
+        };
+        let total_now = src.frames_read();
+        let frames_limit =
+            pneuma_core::analysis::FrameClock::new(frame_rate, info.sample_rate_hz as f64)
+                .frames_in(total_now);
+        {
+            let mut chans: Vec<&mut [f32]> = planar.iter_mut().map(|p| &mut p[..n]).collect();
+            engine.process(&mut chans, &mut |f: &ControlFrame, _offset| {
+                // Frames past the end of the input (the flush) are not part of the file.
+                if input_done && f.index >= frames_limit {
+                    return;
+                }
+                row.clear();
+                controls_csv::write_row(&mut row, f);
+                if write_error.is_none() {
+                    if let Err(e) = controls.writer().write_all(row.as_bytes()) {
+                        write_error = Some(e);
+                    }
+                }
+                if (f.index as usize).is_multiple_of(plot_every) {
+                    plot_frames.push(*f);
+                }
+                if let Some(o) = &mut bvh_out {
+                    bvh_row.clear();
+                    bvh::push_frame(&mut bvh_row, &f.head, f.breathing.neck_pitch_deg);
+                    if write_error.is_none() {
+                        if let Err(e) = o.writer().write_all(bvh_row.as_bytes()) {
+                            write_error = Some(e);
+                        }
+                    }
+                }
+                frames_written += 1;
+            });
+        }
+        if let Some(e) = write_error.take() {
+            return Err(RenderError::Output {
+                path: args.output.clone(),
+                source: e,
+            });
+        }
+        engine.take_breaths(|b| breaths.push(*b));
+        // Drop the first `latency` output samples; never write past the input's length.
+        out_interleaved.clear();
+        for i in 0..n {
+            let t = fed + i as u64;
+            if t < latency || t - latency >= total_now {
+                continue;
+            }
+            let mut mono = 0.0;
+            for p in &planar {
+                out_interleaved.push(p[i]);
+                mono += p[i];
+            }
+            envelope.push(mono / channels as f32);
+            written += 1;
+        }
+        fed += n as u64;
+        sink.write_interleaved(&out_interleaved)
+            .map_err(out_err(&wav_path))?;
+        let done = written as f64 / total_in.max(1) as f64;
+        if done - last_progress >= 0.01 {
+            last_progress = done;
+            progress(done.min(1.0));
+        }
+    }
+    engine.finish();
+    engine.take_breaths(|b| breaths.push(*b));
+    let clipped = sink.clipped();
+
+    let mut breaths_out = Output::create(&breaths_path).map_err(out_err(&breaths_path))?;
+    breaths_csv::write_all(&mut breaths_out.writer(), &breaths).map_err(out_err(&breaths_path))?;
+
+    if !args.no_plot {
+        crate::plot::write_plot(
+            &plot_path,
+            &envelope.points,
+            envelope.rate_hz(info.sample_rate_hz as f64),
+            &plot_frames,
+            &breaths,
+        )
+        .map_err(|e| RenderError::Plot {
+            path: plot_path.clone(),
+            reason: e.to_string(),
+        })?;
+    }
+
+    // Everything succeeded: move the files into place.
+    let mut files = vec![
+        wav_path.clone(),
+        controls_path.clone(),
+        breaths_path.clone(),
+    ];
+    sink.commit().map_err(out_err(&wav_path))?;
+    controls.commit().map_err(out_err(&controls_path))?;
+    breaths_out.commit().map_err(out_err(&breaths_path))?;
+    if let Some(o) = bvh_out {
+        o.commit().map_err(out_err(&bvh_path))?;
+        files.push(bvh_path);
+    }
+    if !args.no_plot {
+        files.push(plot_path);
+    }
+    Ok(RenderSummary {
+        info,
+        files,
+        breaths,
+        frames: frames_written,
+        clipped,
+    })
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => false,
+    }
+}
+
+/// Runs `pneuma render` from parsed arguments, with a progress bar on long files.
+pub fn main(args: Args) -> ExitCode {
+    let long = WavSource::open(&args.input)
+        .map(|s| s.info().frames as f64 / s.info().sample_rate_hz as f64 > 60.0)
+        .unwrap_or(false);
+    let bar = (!args.quiet && long).then(|| {
+        let bar = indicatif::ProgressBar::new(1000);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("rendering [{bar:40}] {percent}% ({eta} left)")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+                .progress_chars("=> "),
+        );
+        bar
+    });
+    let result = run(&args, |f| {
+        if let Some(b) = &bar {
+            b.set_position((f * 1000.0) as u64);
+        }
+    });
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    match result {
+        Ok(s) => {
+            if !args.quiet {
+                eprintln!(
+                    "rendered {} ({} Hz, {} ch, {}-bit{}): {} breaths, {} control frames{}",
+                    args.input.display(),
+                    s.info.sample_rate_hz,
+                    s.info.channels,
+                    s.info.bits,
+                    if s.info.float { " float" } else { "" },
+                    s.breaths.len(),
+                    s.frames,
+                    if s.clipped > 0 {
+                        format!(", {} samples clipped", s.clipped)
+                    } else {
+                        String::new()
+                    }
+                );
+                for f in &s.files {
+                    eprintln!("  {}", f.display());
+                }
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
 }

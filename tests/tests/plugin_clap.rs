@@ -430,7 +430,6 @@ fn latency_is_reported_and_structural_changes_ask_for_a_restart() {
 /// The plugin and `pneuma render` give the same audio for the same file and settings, apart
 /// from the latency the plugin reports.
 #[test]
-#[ignore = "needs `pneuma render` and the Engine (issue 4); un-ignore when they land"]
 fn the_plugin_output_equals_the_cli_render() {
     let voice_path = pneuma_tests::wav::example_voice_path();
     let (voice, rate) = pneuma_tests::wav::example_voice();

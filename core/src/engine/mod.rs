@@ -118,6 +118,9 @@ struct Stream {
     speech_level_db: f32,
     utterance_s: f32,
     speaking: bool,
+    /// Start (s) and expected length (s) of the utterance being spoken.
+    utterance_start_s: f64,
+    utterance_expected_s: f64,
     breath_end: u64,
 }
 
@@ -237,6 +240,8 @@ impl Engine {
             speech_level_db: -26.0,
             utterance_s: PRIOR_UTTERANCE_S,
             speaking: false,
+            utterance_start_s: 0.0,
+            utterance_expected_s: PRIOR_UTTERANCE_S as f64,
             breath_end: 0,
         });
         self.reset();
@@ -264,6 +269,8 @@ impl Engine {
             s.speech_level_db = -26.0;
             s.utterance_s = PRIOR_UTTERANCE_S;
             s.speaking = false;
+            s.utterance_start_s = 0.0;
+            s.utterance_expected_s = PRIOR_UTTERANCE_S as f64;
             s.breath_end = 0;
         }
     }
@@ -418,11 +425,23 @@ impl Stream {
                     CycleAction::UtteranceStarts { utterance_s } => {
                         self.speaking = true;
                         self.cycle.utterance_starts(utterance_s);
+                        self.utterance_start_s = t;
+                        self.utterance_expected_s = utterance_s as f64;
                     }
                     CycleAction::SpeechStopped => {
                         self.speaking = false;
                         self.cycle.speech_stopped();
                     }
+                }
+            }
+            // A phrase longer than expected: spread the rest of the air over a new estimate, so
+            // the lung keeps falling smoothly instead of sitting empty while speaking.
+            if self.speaking {
+                let spoken_s = p.frame.time_s - self.utterance_start_s;
+                if spoken_s >= 0.9 * self.utterance_expected_s {
+                    let extra_s = (0.5 * self.utterance_expected_s).max(1.0);
+                    self.cycle.utterance_starts(extra_s as f32);
+                    self.utterance_expected_s = spoken_s + extra_s;
                 }
             }
             let breathing = self.cycle.advance(dt_s);

@@ -1,0 +1,65 @@
+//! Speed of a whole `pneuma render` (WAV in, engine with breaths and head pose, WAV, controls
+//! CSV, breaths CSV and plot out) on the example voice brought to 48 kHz mono (25 s, linear
+//! interpolation ×3). Multiples of real time = 25.3 s / time per iteration; the target
+//! is ≥ 200×.
+
+use std::path::PathBuf;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use pneuma_cli::render::{run, Args};
+
+fn voice_48k(dir: &std::path::Path) -> PathBuf {
+    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../assets/examples/voice.wav");
+    let (x, rate) = pneuma_cli::wav::read_mono(&src).expect("example voice");
+    assert_eq!(rate, 16_000);
+    let path = dir.join("voice48.wav");
+    let spec = hound::WavSpec {
+        channels: 1,
+        sample_rate: 48_000,
+        bits_per_sample: 16,
+        sample_format: hound::SampleFormat::Int,
+    };
+    let mut w = hound::WavWriter::create(&path, spec).expect("create");
+    for i in 0..x.len() * 3 {
+        let p = i as f32 / 3.0;
+        let k = p as usize;
+        let f = p - k as f32;
+        let a = x[k];
+        let b = x.get(k + 1).copied().unwrap_or(0.0);
+        let v = a + f * (b - a);
+        w.write_sample((v * 32767.0).round() as i16).expect("write");
+    }
+    w.finalize().expect("finalize");
+    path
+}
+
+fn bench(c: &mut Criterion) {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let input = voice_48k(dir.path());
+    let args = Args {
+        input,
+        output: dir.path().join("out"),
+        preset: "neutral".into(),
+        breath_level_db: -22.0,
+        min_pause_ms: 250.0,
+        mode: "lookahead".into(),
+        lookahead_ms: 500.0,
+        no_breaths: false,
+        breath_samples: None,
+        head_model: None,
+        seed: 1,
+        frame_rate: 120.0,
+        bvh: false,
+        no_plot: false,
+        quiet: true,
+    };
+    let mut group = c.benchmark_group("render_voice_25s_48k_mono");
+    group.sample_size(10);
+    group.bench_function("with_breaths_controls_plot", |b| {
+        b.iter(|| run(&args, |_| {}).expect("render").breaths.len())
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
