@@ -4,8 +4,8 @@
 //! `DIR/<stem>.bvh` (contracts in DESIGN.md).
 //!
 //! The engine runs exactly as in the plugin (same lookahead); the lookahead delay is removed
-//! here by dropping the first `latency` output samples and feeding `latency` samples of silence
-//! at the end. Memory stays bounded: audio is read, processed and written block by block, the
+//! here by dropping the first `latency` output samples and feeding silence at the end (the
+//! engine's tail: latency, analysis delay and a frame) until every frame of the file is out. Memory stays bounded: audio is read, processed and written block by block, the
 //! controls stream to their file, and the plot keeps a min/max envelope of at most a few
 //! hundred thousand points. Every output file is written under a temporary name and renamed into
 //! place only when the whole render succeeded.
@@ -276,6 +276,7 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
     writeln!(controls.writer(), "{}", controls_csv::HEADER).map_err(out_err(&controls_path))?;
 
     let latency = engine.latency_samples() as u64;
+    let tail = engine.tail_samples();
     let total_in = info.frames;
     let frame_rate = config.analysis.frame_rate_hz;
     let frames_total =
@@ -322,7 +323,7 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
             }
             n
         } else {
-            let remaining = (src.frames_read() + latency).saturating_sub(fed);
+            let remaining = (src.frames_read() + tail).saturating_sub(fed);
             if remaining == 0 {
                 break;
             }
@@ -396,22 +397,33 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
     }
     engine.finish();
     engine.take_breaths(|b| breaths.push(*b));
+    // A breath cut by the end of the file ends with it.
+    let duration_s = written as f64 / info.sample_rate_hz as f64;
+    breaths.retain(|b| b.start_s < duration_s);
+    for b in &mut breaths {
+        b.end_s = b.end_s.min(duration_s);
+    }
     let clipped = sink.clipped();
 
     let mut breaths_out = Output::create(&breaths_path).map_err(out_err(&breaths_path))?;
     breaths_csv::write_all(&mut breaths_out.writer(), &breaths).map_err(out_err(&breaths_path))?;
 
+    // The plot is drawn under a temporary name and renamed with the other files.
+    let plot_temp = crate::output::temp_path(&plot_path);
     if !args.no_plot {
         crate::plot::write_plot(
-            &plot_path,
+            &plot_temp,
             &envelope.points,
             envelope.rate_hz(info.sample_rate_hz as f64),
             &plot_frames,
             &breaths,
         )
-        .map_err(|e| RenderError::Plot {
-            path: plot_path.clone(),
-            reason: e.to_string(),
+        .map_err(|e| {
+            let _ = std::fs::remove_file(&plot_temp);
+            RenderError::Plot {
+                path: plot_path.clone(),
+                reason: e.to_string(),
+            }
         })?;
     }
 
@@ -421,15 +433,23 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
         controls_path.clone(),
         breaths_path.clone(),
     ];
-    sink.commit().map_err(out_err(&wav_path))?;
-    controls.commit().map_err(out_err(&controls_path))?;
-    breaths_out.commit().map_err(out_err(&breaths_path))?;
-    if let Some(o) = bvh_out {
-        o.commit().map_err(out_err(&bvh_path))?;
-        files.push(bvh_path);
-    }
-    if !args.no_plot {
-        files.push(plot_path);
+    let committed = (|| {
+        sink.commit().map_err(out_err(&wav_path))?;
+        controls.commit().map_err(out_err(&controls_path))?;
+        breaths_out.commit().map_err(out_err(&breaths_path))?;
+        if let Some(o) = bvh_out {
+            o.commit().map_err(out_err(&bvh_path))?;
+            files.push(bvh_path.clone());
+        }
+        if !args.no_plot {
+            std::fs::rename(&plot_temp, &plot_path).map_err(out_err(&plot_path))?;
+            files.push(plot_path.clone());
+        }
+        Ok::<(), RenderError>(())
+    })();
+    if let Err(e) = committed {
+        let _ = std::fs::remove_file(&plot_temp);
+        return Err(e);
     }
     Ok(RenderSummary {
         info,

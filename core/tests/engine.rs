@@ -75,7 +75,7 @@ fn render(config: &EngineConfig, input: &[Vec<f32>], blocks: &[usize]) -> Render
     engine.prepare(SR, max_block, input.len()).unwrap();
     let latency = engine.latency_samples() as usize;
     let len = input[0].len();
-    let total = len + latency;
+    let total = len + engine.tail_samples() as usize;
     let mut padded: Vec<Vec<f32>> = input
         .iter()
         .map(|c| {
@@ -341,6 +341,145 @@ fn no_breaths_setting_passes_the_audio_unchanged_and_keeps_the_controls() {
         .frames
         .iter()
         .any(|f| f.0.breathing.phase == Phase::Expiration));
+    // The body still breathes in before each phrase.
+    let insp = r
+        .frames
+        .iter()
+        .filter(|f| f.0.breathing.phase == Phase::Inspiration)
+        .count();
+    assert!(
+        insp > 20,
+        "{insp} inspiration frames without inserted breaths"
+    );
+    let max_lung = r
+        .frames
+        .iter()
+        .map(|f| f.0.breathing.lung)
+        .fold(0.0, f32::max);
+    assert!(max_lung > 0.2, "lung at most {max_lung}");
+}
+
+#[test]
+fn a_word_too_short_to_confirm_is_never_covered_by_a_breath() {
+    // A 1.4 s pause with a 0.1 s vowel in its middle (too short to become a phrase).
+    let (mut audio, spans) = sequence(0.6, &[1.2, 1.2], &[1.4]);
+    let word = phrase(0.1, 42);
+    let at = ((spans[0].1 + 0.7) * SR) as usize;
+    audio[at..at + word.len()].copy_from_slice(&word);
+    let (w0, w1) = (at as f64 / SR, (at + word.len()) as f64 / SR);
+    let r = render(&config(), std::slice::from_ref(&audio), &[512]);
+    for b in &r.breaths {
+        assert!(
+            b.end_s <= w0 || b.start_s >= w1,
+            "{b:?} covers the word at {w0:.2}–{w1:.2}"
+        );
+    }
+    assert!(changed(&audio, &r.audio[0]).iter().all(|&i| {
+        let t = i as f64 / SR;
+        t < w0 || t >= w1
+    }));
+}
+
+#[test]
+fn the_first_breath_follows_the_level_of_quiet_and_loud_speech() {
+    let (audio, spans) = sequence(0.8, &[1.5, 1.5], &[0.8]);
+    let speech: Vec<f32> = audio.iter().copied().filter(|x| *x != 0.0).collect();
+    let speech_db = 20.0 * synth::rms(&speech).log10();
+    // (Speech under about −55 dBFS RMS starts under the analysis gates, whose speech-level
+    // prior is −26 dBFS, and is heard only once the level has adapted.)
+    for target_db in [-45.0, -30.0, -17.0] {
+        let g = 10f64.powf((target_db - speech_db) / 20.0) as f32;
+        let scaled: Vec<f32> = audio.iter().map(|x| x * g).collect();
+        let r = render(&config(), std::slice::from_ref(&scaled), &[512]);
+        let b = r.breaths.first().expect("a breath before the first phrase");
+        assert!(
+            b.end_s <= spans[0].0,
+            "{target_db}: {b:?} onset {}",
+            spans[0].0
+        );
+        let diff: Vec<f32> = scaled.iter().zip(&r.audio[0]).map(|(a, b)| b - a).collect();
+        let seg = &diff[(b.start_s * SR) as usize..(b.end_s * SR) as usize];
+        let rel_db = 20.0 * synth::rms(seg).log10() - target_db;
+        assert!(
+            (-30.0..=-16.0).contains(&rel_db),
+            "speech at {target_db} dBFS: first breath at {rel_db:.1} dB re speech"
+        );
+    }
+}
+
+#[test]
+fn a_moving_stereo_image_gives_the_same_result_for_any_partition() {
+    let (voice, _) = sequence(0.5, &[1.0, 1.0, 1.0], &[0.7, 0.7]);
+    // The voice pans from left to right over the file.
+    let n = voice.len() as f32;
+    let left: Vec<f32> = voice
+        .iter()
+        .enumerate()
+        .map(|(i, x)| x * (1.0 - i as f32 / n))
+        .collect();
+    let right: Vec<f32> = voice
+        .iter()
+        .enumerate()
+        .map(|(i, x)| x * (i as f32 / n))
+        .collect();
+    let input = [left, right];
+    let reference = render(&config(), &input, &[4096]);
+    assert!(reference.breaths.len() >= 2);
+    for blocks in [vec![37], vec![1, 700, 64]] {
+        let r = render(&config(), &input, &blocks);
+        assert_eq!(r.audio, reference.audio);
+        assert_eq!(r.breaths, reference.breaths);
+        assert_eq!(
+            r.frames, reference.frames,
+            "frames and their sample positions"
+        );
+    }
+}
+
+#[test]
+fn every_frame_of_the_stream_comes_out_in_both_modes() {
+    let (audio, _) = sequence(0.3, &[1.0, 0.8], &[0.6]);
+    let expected = pneuma_core::analysis::FrameClock::new(120.0, SR).frames_in(audio.len() as u64);
+    for mode in [PlacementMode::Lookahead, PlacementMode::Live] {
+        let mut c = config();
+        c.placement.mode = mode;
+        let r = render(&c, std::slice::from_ref(&audio), &[256]);
+        let inside = r.frames.iter().filter(|f| f.0.index < expected).count() as u64;
+        assert_eq!(inside, expected, "{mode:?}");
+    }
+}
+
+#[test]
+fn settings_change_while_playing_without_changing_the_frame_clock() {
+    let (audio, _) = sequence(0.3, &[1.0, 1.0], &[0.6]);
+    let mut engine = Engine::new(config(), HeadModel::default_model().clone()).unwrap();
+    engine.prepare(SR, 512, 1).unwrap();
+    let mut buf = audio.clone();
+    let mut times = Vec::new();
+    for (k, chunk) in buf.chunks_mut(512).enumerate() {
+        if k == 10 {
+            let mut c = config();
+            c.analysis.frame_rate_hz = 30.0; // takes effect at the next prepare only
+            c.placement.breath_level_db = -30.0;
+            c.head.amount = 0.5;
+            engine.set_config(&c).unwrap();
+        }
+        engine.process(&mut [chunk], &mut |f, _| times.push(f.time_s));
+    }
+    assert!(times.len() > 100);
+    for w in times.windows(2) {
+        assert!(
+            (w[1] - w[0] - 1.0 / 120.0).abs() < 1e-9,
+            "frame step {}",
+            w[1] - w[0]
+        );
+    }
+    let mut bad = config();
+    bad.placement.breath_level_db = 3.0;
+    assert!(
+        engine.set_config(&bad).is_err(),
+        "a breath louder than speech is refused"
+    );
 }
 
 #[test]

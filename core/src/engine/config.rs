@@ -45,8 +45,9 @@ impl PlacementMode {
 pub struct PlacementConfig {
     /// Lookahead or live placement.
     pub mode: PlacementMode,
-    /// Delay of the audio in lookahead mode, seconds (0.2–2, default 0.5). The longest breath
-    /// that fits is about this minus the onset confirmation (~60 ms) and `gap_s`.
+    /// Delay of the audio in lookahead mode, seconds (0.3–2, default 0.5). The longest breath
+    /// that fits is about this minus the onset confirmation (~60 ms) and `gap_s`; under 0.3 s
+    /// too little would fit.
     pub lookahead_s: f32,
     /// Pauses shorter than this get no breath, seconds (0.1–5, default 0.25).
     pub min_pause_s: f32,
@@ -87,7 +88,7 @@ impl PlacementConfig {
     /// Checks every setting against its range.
     pub fn validate(&self) -> Result<(), EngineError> {
         let checks: [(&'static str, f32, f32, f32); 6] = [
-            ("lookahead_s", self.lookahead_s, 0.2, 2.0),
+            ("lookahead_s", self.lookahead_s, 0.3, 2.0),
             ("min_pause_s", self.min_pause_s, 0.1, 5.0),
             ("gap_s", self.gap_s, 0.0, 0.3),
             ("after_offset_s", self.after_offset_s, 0.0, 0.5),

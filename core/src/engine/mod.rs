@@ -47,8 +47,13 @@ const UTTERANCE_SMOOTHING: f32 = 0.3;
 /// A breath action on the input timeline (sample index).
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum BreathAction {
-    /// Start an inhalation of `length` samples with plateau RMS `gain`.
-    Start { length: usize, gain: f32 },
+    /// Start an inhalation of `length` samples with plateau RMS `gain`, spread over the
+    /// channels with `gains`.
+    Start {
+        length: usize,
+        gain: f32,
+        gains: [f32; MAX_CHANNELS],
+    },
     /// Fade the playing inhalation out.
     FadeOut,
 }
@@ -87,7 +92,11 @@ struct Stream {
     channels: usize,
     max_block: usize,
     mode: PlacementMode,
+    /// Frame rate fixed at `prepare` (a new one takes effect at the next `prepare`).
+    frame_rate_hz: f64,
     latency: usize,
+    /// Samples from an input sample to the last frame that depends on it being emitted.
+    tail: usize,
     analyzer: Analyzer,
     tracker: PhraseTracker,
     head: HeadSynth,
@@ -116,6 +125,13 @@ struct Stream {
     /// Frames completed in the current block with the index of the completing sample.
     completed: Vec<(FeatureFrame, usize)>,
     speech_level_db: f32,
+    /// Power sum and count of the voiced frames of the phrase being spoken.
+    phrase_power: f64,
+    phrase_voiced: u32,
+    /// Level of the last complete phrase, dBFS.
+    last_phrase_level_db: Option<f32>,
+    /// Channel gains of the breath playing.
+    breath_gains: [f32; MAX_CHANNELS],
     utterance_s: f32,
     speaking: bool,
     /// Start (s) and expected length (s) of the utterance being spoken.
@@ -211,12 +227,20 @@ impl Engine {
             + max_block as f64 / sample_rate_hz * frame_rate_hz)
             .ceil() as usize
             + 8;
+        // The tracker reports at most one end and one start per frame; actions wait at most the
+        // latency plus a block.
+        let max_actions = 2 * max_pending + 16;
         self.stream = Some(Stream {
             sample_rate_hz,
             channels,
             max_block,
             mode: c.placement.mode,
+            frame_rate_hz,
             latency,
+            tail: latency
+                + (analysis_latency_s * sample_rate_hz).ceil() as usize
+                + (sample_rate_hz / frame_rate_hz).ceil() as usize
+                + 1,
             analyzer,
             tracker,
             head,
@@ -226,8 +250,8 @@ impl Engine {
             delay_mask: ring - 1,
             breath: vec![0.0; max_block],
             pending: Queue::with_capacity(max_pending),
-            breath_actions: Queue::with_capacity(16),
-            cycle_actions: Queue::with_capacity(16),
+            breath_actions: Queue::with_capacity(max_actions),
+            cycle_actions: Queue::with_capacity(max_actions),
             finished_breaths: Queue::with_capacity(64),
             open_breath: None,
             position: 0,
@@ -238,6 +262,10 @@ impl Engine {
             completed: vec![(FeatureFrame::default(), 0); frames_per_block],
             energy_smoothing: 1.0 - (-1.0 / (0.02 * sample_rate_hz)).exp(),
             speech_level_db: -26.0,
+            phrase_power: 0.0,
+            phrase_voiced: 0,
+            last_phrase_level_db: None,
+            breath_gains: [1.0; MAX_CHANNELS],
             utterance_s: PRIOR_UTTERANCE_S,
             speaking: false,
             utterance_start_s: 0.0,
@@ -267,6 +295,10 @@ impl Engine {
             s.channel_ms = [0.0; MAX_CHANNELS];
             s.short_ms = [0.0; MAX_CHANNELS];
             s.speech_level_db = -26.0;
+            s.phrase_power = 0.0;
+            s.phrase_voiced = 0;
+            s.last_phrase_level_db = None;
+            s.breath_gains = [1.0; MAX_CHANNELS];
             s.utterance_s = PRIOR_UTTERANCE_S;
             s.speaking = false;
             s.utterance_start_s = 0.0;
@@ -279,6 +311,14 @@ impl Engine {
     /// (0 before `prepare`).
     pub fn latency_samples(&self) -> u32 {
         self.stream.as_ref().map_or(0, |s| s.latency as u32)
+    }
+
+    /// Silence to feed after the end of a stream so every frame of it is emitted and every
+    /// breath scheduled in it has played: the latency plus the analysis delay and one frame,
+    /// in samples (0 before `prepare`). Offline renders feed this much and drop what lies past
+    /// the end.
+    pub fn tail_samples(&self) -> u64 {
+        self.stream.as_ref().map_or(0, |s| s.tail as u64)
     }
 
     /// The prepared sample rate.
@@ -406,7 +446,7 @@ impl Stream {
         self.render_breaths(config, audio, channels, start, n);
         // 5. Control frames due in this block.
         let end = base + n as u64;
-        let dt_s = (1.0 / config.analysis.frame_rate_hz) as f32;
+        let dt_s = (1.0 / self.frame_rate_hz) as f32;
         while let Some(p) = self.pending.front().copied() {
             if p.emit_at >= end {
                 break;
@@ -472,9 +512,11 @@ impl Stream {
         i: usize,
         channels: usize,
     ) {
-        let head = self.head.process(f, config.analysis.frame_rate_hz);
+        let head = self.head.process(f, self.frame_rate_hz);
         if f.voiced && f.rms_db.is_finite() && f.level_db.is_finite() {
             self.speech_level_db = f.rms_db - f.level_db;
+            self.phrase_power += 10f64.powf(f.rms_db as f64 / 10.0);
+            self.phrase_voiced += 1;
             // The voice's stereo image: the channels' share of the recent energy, averaged over
             // voiced frames.
             let total: f64 = (0..channels).map(|c| self.ms_trace[c][i]).sum();
@@ -491,20 +533,61 @@ impl Stream {
             head,
             emit_at,
         });
-        let mut events: [Option<PhraseEvent>; 2] = [None, None];
+        let mut events: [Option<PhraseEvent>; 3] = [None; 3];
         let mut count = 0;
         self.tracker.update(f, |e| {
-            if count < 2 {
+            if count < 3 {
                 events[count] = Some(e);
             }
             count += 1;
         });
         for e in events.into_iter().flatten() {
-            self.on_phrase_event(config, e, now);
+            self.on_phrase_event(config, e, now, channels);
         }
     }
 
-    fn breath_gain(&self, config: &EngineConfig) -> f32 {
+    /// Level of the speech around a breath, dBFS: the phrase just spoken (its voiced frames'
+    /// mean power), or, before the first phrase has ended, the loudest voiced frame of the
+    /// upcoming phrase already analysed (lookahead; only its first tens of milliseconds are
+    /// known, still rising, so their loudest frame stands for the phrase), or the running
+    /// speech level.
+    fn local_speech_level_db(&self, onset_s: Option<f64>) -> f32 {
+        if let Some(db) = self.last_phrase_level_db {
+            return db;
+        }
+        if let Some(onset_s) = onset_s {
+            let loudest = self
+                .pending
+                .iter()
+                .filter(|p| {
+                    p.frame.time_s >= onset_s && p.frame.voiced && p.frame.rms_db.is_finite()
+                })
+                .map(|p| p.frame.rms_db)
+                .fold(f32::NEG_INFINITY, f32::max);
+            if loudest.is_finite() {
+                return loudest;
+            }
+        }
+        self.speech_level_db
+    }
+
+    /// Per-channel gains of a breath: the voice's share of energy in each channel, so a
+    /// centred voice gets the breath at full level in every channel. Fixed when the breath is
+    /// scheduled.
+    fn channel_gains(&self, channels: usize) -> [f32; MAX_CHANNELS] {
+        let mut g = [0.0f32; MAX_CHANNELS];
+        let total: f64 = self.channel_ms[..channels].iter().sum();
+        for (c, gc) in g.iter_mut().enumerate().take(channels) {
+            *gc = if channels == 1 || total <= 0.0 {
+                1.0
+            } else {
+                ((self.channel_ms[c] / total) * channels as f64).sqrt() as f32
+            };
+        }
+        g
+    }
+
+    fn breath_gain(&self, config: &EngineConfig, speech_level_db: f32) -> f32 {
         let neutral = crate::breathing::BreathingParams::default()
             .map()
             .breath_rms_re_speech();
@@ -517,76 +600,100 @@ impl Stream {
             0.0
         };
         let rel_db = (config.placement.breath_level_db + preset_db).min(-6.0);
-        10f32.powf((self.speech_level_db + rel_db) / 20.0)
+        10f32.powf((speech_level_db + rel_db) / 20.0)
     }
 
-    fn on_phrase_event(&mut self, config: &EngineConfig, e: PhraseEvent, now: u64) {
+    fn on_phrase_event(
+        &mut self,
+        config: &EngineConfig,
+        e: PhraseEvent,
+        now: u64,
+        channels: usize,
+    ) {
         let p = &config.placement;
         let rate = self.sample_rate_hz;
         let inspiration_s = config.breathing.map().length_inspiration_s as f64;
         match e {
+            PhraseEvent::Activity { .. } => {
+                // Live: whatever plays into the pause gives way at the first sign of activity.
+                if self.mode == PlacementMode::Live && self.breath_end > now {
+                    self.breath_actions
+                        .insert_sorted((now, BreathAction::FadeOut));
+                    self.breath_end = now;
+                }
+            }
             PhraseEvent::Start { onset_s, pause } => {
                 let utterance_s = self.utterance_s;
+                self.phrase_power = 0.0;
+                self.phrase_voiced = 0;
                 self.cycle_actions
                     .insert_sorted((onset_s, CycleAction::UtteranceStarts { utterance_s }));
-                let (pause_start_s, has_breath) = match pause {
-                    Some(pz) => (pz.start_s, pz.has_breath),
-                    None => (0.0, false),
-                };
-                match self.mode {
-                    PlacementMode::Lookahead => {
-                        if !p.insert_breaths
-                            || has_breath
-                            || onset_s - pause_start_s < p.min_pause_s as f64
-                        {
-                            return;
-                        }
-                        let end_s = onset_s - p.gap_s as f64;
-                        // The output has reached input sample `now - latency`: never start in
-                        // the past, never before the previous breath ended.
-                        let earliest = ((now + 1).saturating_sub(self.latency as u64))
-                            .max(self.breath_end) as f64
-                            / rate;
-                        let start_s = (end_s - inspiration_s)
-                            .max(pause_start_s + p.after_offset_s as f64)
-                            .max(earliest);
-                        if end_s - start_s < MIN_BREATH_S {
-                            return;
-                        }
-                        let start = (start_s * rate).round() as u64;
-                        let length = ((end_s - start_s) * rate).round() as usize;
-                        let gain = self.breath_gain(config);
+                if self.mode == PlacementMode::Live {
+                    if self.breath_end > now {
                         self.breath_actions
-                            .insert_sorted((start, BreathAction::Start { length, gain }));
-                        self.breath_end = start + length as u64;
-                        self.cycle_actions.insert_sorted((
-                            start_s,
-                            CycleAction::Inspire {
-                                length_s: (end_s - start_s) as f32,
-                                utterance_s,
-                            },
-                        ));
+                            .insert_sorted((now, BreathAction::FadeOut));
+                        self.breath_end = now;
                     }
-                    PlacementMode::Live => {
-                        if self.breath_end > now {
-                            self.breath_actions
-                                .insert_sorted((now, BreathAction::FadeOut));
-                            self.breath_end = now;
-                        }
-                    }
+                    return;
                 }
+                if onset_s - pause.start_s < p.min_pause_s as f64 {
+                    return;
+                }
+                let end_s = onset_s - p.gap_s as f64;
+                // Never over activity inside the pause, never in the past (the output has
+                // reached input sample `now - latency`), never before the previous breath ended.
+                let after_s = pause
+                    .last_activity_end_s
+                    .map_or(pause.start_s, |a| a.max(pause.start_s));
+                let after_s = if pause.leading && pause.last_activity_end_s.is_none() {
+                    after_s
+                } else {
+                    after_s + p.after_offset_s as f64
+                };
+                let earliest = ((now + 1).saturating_sub(self.latency as u64)).max(self.breath_end)
+                    as f64
+                    / rate;
+                let start_s = (end_s - inspiration_s).max(after_s).max(earliest);
+                if end_s - start_s < MIN_BREATH_S {
+                    return;
+                }
+                let start = (start_s * rate).round() as u64;
+                let length = ((end_s - start_s) * rate).round() as usize;
+                // The body breathes in whether or not a sound is inserted (a breath already in
+                // the pause, or insertion switched off).
+                self.cycle_actions.insert_sorted((
+                    start_s,
+                    CycleAction::Inspire {
+                        length_s: (end_s - start_s) as f32,
+                        utterance_s,
+                    },
+                ));
+                if !p.insert_breaths || pause.has_breath {
+                    return;
+                }
+                let gain = self.breath_gain(config, self.local_speech_level_db(Some(onset_s)));
+                let gains = self.channel_gains(channels);
+                self.breath_actions.insert_sorted((
+                    start,
+                    BreathAction::Start {
+                        length,
+                        gain,
+                        gains,
+                    },
+                ));
+                self.breath_end = start + length as u64;
             }
             PhraseEvent::End { onset_s, offset_s } => {
                 let length_s = (offset_s - onset_s).max(0.0) as f32;
                 self.utterance_s += UTTERANCE_SMOOTHING * (length_s - self.utterance_s);
+                if self.phrase_voiced >= 3 {
+                    self.last_phrase_level_db = Some(
+                        (10.0 * (self.phrase_power / self.phrase_voiced as f64).log10()) as f32,
+                    );
+                }
                 self.cycle_actions
                     .insert_sorted((offset_s, CycleAction::SpeechStopped));
-                if self.mode == PlacementMode::Live && p.insert_breaths {
-                    let length = (inspiration_s * rate).round() as usize;
-                    let gain = self.breath_gain(config);
-                    self.breath_actions
-                        .insert_sorted((now, BreathAction::Start { length, gain }));
-                    self.breath_end = now + length as u64;
+                if self.mode == PlacementMode::Live {
                     let now_s = now as f64 / rate;
                     self.cycle_actions.insert_sorted((
                         now_s,
@@ -595,6 +702,20 @@ impl Stream {
                             utterance_s: self.utterance_s,
                         },
                     ));
+                    if p.insert_breaths {
+                        let length = (inspiration_s * rate).round() as usize;
+                        let gain = self.breath_gain(config, self.local_speech_level_db(None));
+                        let gains = self.channel_gains(channels);
+                        self.breath_actions.insert_sorted((
+                            now,
+                            BreathAction::Start {
+                                length,
+                                gain,
+                                gains,
+                            },
+                        ));
+                        self.breath_end = now + length as u64;
+                    }
                 }
             }
         }
@@ -645,7 +766,11 @@ impl Stream {
             let Some((_, action)) = next else { break };
             self.breath_actions.pop_front();
             match action {
-                BreathAction::Start { length, gain } => {
+                BreathAction::Start {
+                    length,
+                    gain,
+                    gains,
+                } => {
                     // Close the previous breath's record before the new one starts.
                     if self.open_breath.is_some() {
                         let peak = buf[active_from.min(pos)..pos]
@@ -657,9 +782,10 @@ impl Stream {
                         }
                         self.close_breath();
                     }
-                    if config.placement.insert_breaths {
+                    {
                         let mouth = config.breathing.map().mouth_share();
                         self.voice.start(mouth, length, gain);
+                        self.breath_gains = gains;
                         let at = in_base + pos as u64 - warm as u64;
                         self.open_breath = Some(OpenBreath {
                             start: at,
@@ -691,10 +817,13 @@ impl Stream {
                 b.peak = b.peak.max(peak * g_max);
             }
             for (c, chan) in audio.iter_mut().take(channels).enumerate() {
-                let g = self.channel_gain(c, channels);
+                let g = self.breath_gains[c];
                 let out = &mut chan[start + active_from..start + active_to];
                 for (y, b) in out.iter_mut().zip(&buf[active_from..active_to]) {
-                    *y += g * b;
+                    // Only where the breath sounds: adding 0 would turn −0.0 into +0.0.
+                    if *b != 0.0 {
+                        *y += g * b;
+                    }
                 }
             }
         }
@@ -704,24 +833,10 @@ impl Stream {
         }
     }
 
-    /// Gain of channel `c` for the breath: the voice's share of energy in it, so a centred voice
-    /// gets the breath at full level in every channel.
-    fn channel_gain(&self, c: usize, channels: usize) -> f32 {
-        if channels == 1 {
-            return 1.0;
-        }
-        let total: f64 = self.channel_ms[..channels].iter().sum();
-        if total <= 0.0 {
-            1.0
-        } else {
-            ((self.channel_ms[c] / total) * channels as f64).sqrt() as f32
-        }
-    }
-
     fn max_channel_gain(&self, channels: usize) -> f32 {
-        (0..channels)
-            .map(|c| self.channel_gain(c, channels))
-            .fold(0.0, f32::max)
+        self.breath_gains[..channels]
+            .iter()
+            .fold(0.0, |m, g| m.max(*g))
     }
 
     /// Files the current breath (if any) as finished, with its planned (or faded) end.

@@ -27,6 +27,10 @@ impl<T: Copy> Queue<T> {
         self.items.clear();
     }
 
+    pub(crate) fn iter(&self) -> impl Iterator<Item = &T> {
+        self.items.iter()
+    }
+
     pub(crate) fn front(&self) -> Option<&T> {
         self.items.front()
     }

@@ -28,15 +28,23 @@ pub use config::{PhraseConfig, PhraseError};
 
 use crate::analysis::FeatureFrame;
 
-/// A pause between two phrases, reported with the onset that ends it.
+/// A pause before a phrase, reported with the onset that ends it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pause {
-    /// Start of the pause (offset of the previous phrase), seconds.
+    /// Start of the pause (offset of the previous phrase; 0 for the silence that leads into the
+    /// first phrase of the stream), seconds.
     pub start_s: f64,
     /// End of the pause (onset of the new phrase), seconds.
     pub end_s: f64,
+    /// True for the silence before the first phrase of the stream (not a pause between
+    /// phrases).
+    pub leading: bool,
     /// True when a breath-like noise burst was heard inside the pause.
     pub has_breath: bool,
+    /// End of the last activity inside the pause that did not become a phrase (a noise burst, a
+    /// word too short to confirm), seconds; `None` when the pause was quiet. Nothing should be
+    /// placed over it.
+    pub last_activity_end_s: Option<f64>,
 }
 
 impl Pause {
@@ -49,13 +57,18 @@ impl Pause {
 /// What the tracker learned at one frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PhraseEvent {
-    /// A phrase started at `onset_s`. `pause` is the pause it ends (None for the first phrase of
-    /// the stream, whose preceding silence has no start).
+    /// Something active began in a pause (reported at once, before it is known to be speech):
+    /// a live consumer fades out what it plays into the pause.
+    Activity {
+        /// Time of the first active frame, seconds.
+        time_s: f64,
+    },
+    /// A phrase started at `onset_s`, ending `pause`.
     Start {
         /// Onset time, seconds (in the past of the frame that reports it).
         onset_s: f64,
         /// The pause that ended here.
-        pause: Option<Pause>,
+        pause: Pause,
     },
     /// The phrase that started at `onset_s` ended at `offset_s` (confirmed after the hangover).
     End {
@@ -107,6 +120,8 @@ pub struct PhraseTracker {
     candidate_start: Option<u64>,
     candidate_last_active: u64,
     candidate_voiced: u32,
+    /// Last active frame of a run in this pause that did not become a phrase.
+    pause_last_active: Option<u64>,
     // Breath detection inside the current pause.
     breath_run: u32,
     breath_run_start: u64,
@@ -150,6 +165,7 @@ impl PhraseTracker {
             candidate_start: None,
             candidate_last_active: 0,
             candidate_voiced: 0,
+            pause_last_active: None,
             breath_run: 0,
             breath_run_start: 0,
             breath_seen: false,
@@ -176,6 +192,7 @@ impl PhraseTracker {
         self.candidate_start = None;
         self.candidate_last_active = 0;
         self.candidate_voiced = 0;
+        self.pause_last_active = None;
         self.breath_run = 0;
         self.breath_seen = false;
     }
@@ -228,7 +245,7 @@ impl PhraseTracker {
     }
 
     /// Feeds one frame (in order). Calls `on_event` for what became certain at this frame: at
-    /// most an end and a start.
+    /// most an end, an activity and a start.
     pub fn update(&mut self, frame: &FeatureFrame, mut on_event: impl FnMut(PhraseEvent)) {
         let c = self.config;
         // Decisions use the voice-band level (rumble stays out); the speech level comes from
@@ -275,6 +292,7 @@ impl PhraseTracker {
                 self.last_offset_index = Some(offset);
                 self.candidate_start = None;
                 self.candidate_voiced = 0;
+                self.pause_last_active = None;
                 // Breath detection restarts from the offset (frames since are in the ring).
                 self.breath_run = 0;
                 self.breath_seen = false;
@@ -294,6 +312,9 @@ impl PhraseTracker {
             if self.candidate_start.is_none() {
                 self.candidate_start = Some(i);
                 self.candidate_voiced = 0;
+                on_event(PhraseEvent::Activity {
+                    time_s: self.time_s(i),
+                });
             }
             self.candidate_last_active = i;
             if voiced {
@@ -301,8 +322,9 @@ impl PhraseTracker {
             }
         } else if let Some(_start) = self.candidate_start {
             if i - self.candidate_last_active > self.run_gap_frames {
-                // The run died out without enough voicing: it was noise. Its frames may be a
-                // breath; replay them for breath detection.
+                // The run died out without enough voicing: noise or a word too short to
+                // confirm. Nothing may be placed over it.
+                self.pause_last_active = Some(self.candidate_last_active);
                 self.candidate_start = None;
                 self.candidate_voiced = 0;
             }
@@ -316,6 +338,7 @@ impl PhraseTracker {
                 let limit = self
                     .last_offset_index
                     .unwrap_or(0)
+                    .max(self.pause_last_active.map_or(0, |k| k + 1))
                     .max(start.saturating_sub(self.edge_frames))
                     .max(i.saturating_sub(len - 1));
                 let mut onset = start;
@@ -327,15 +350,18 @@ impl PhraseTracker {
                     || (self.breath_run > 0
                         && onset.saturating_sub(self.breath_run_start)
                             >= self.breath_min_frames as u64);
-                let pause = self.last_offset_index.map(|off| Pause {
-                    start_s: self.time_s(off),
+                let pause = Pause {
+                    start_s: self.time_s(self.last_offset_index.unwrap_or(0)),
                     end_s: self.time_s(onset),
+                    leading: self.last_offset_index.is_none(),
                     has_breath,
-                });
+                    last_activity_end_s: self.pause_last_active.map(|k| self.time_s(k + 1)),
+                };
                 self.in_phrase = true;
                 self.onset_index = onset;
                 self.last_active_index = i;
                 self.candidate_start = None;
+                self.pause_last_active = None;
                 on_event(PhraseEvent::Start {
                     onset_s: self.time_s(onset),
                     pause,
@@ -378,8 +404,17 @@ mod tests {
         }
     }
 
-    /// Runs a scripted level/voicing sequence at 100 frames/s and collects the events.
+    /// Runs a scripted level/voicing sequence at 100 frames/s and collects the start and end
+    /// events.
     fn run(script: &[(usize, f32, bool)]) -> Vec<PhraseEvent> {
+        run_all(script)
+            .into_iter()
+            .filter(|e| !matches!(e, PhraseEvent::Activity { .. }))
+            .collect()
+    }
+
+    /// All events, activity included.
+    fn run_all(script: &[(usize, f32, bool)]) -> Vec<PhraseEvent> {
         let mut t = PhraseTracker::new(PhraseConfig::default(), 100.0).unwrap();
         let mut events = Vec::new();
         let mut i = 0u64;
@@ -405,13 +440,14 @@ mod tests {
         match ev[0] {
             PhraseEvent::Start { onset_s, pause } => {
                 assert!((onset_s - 1.0).abs() < 0.011, "{onset_s}");
-                assert!(pause.is_none());
+                assert!(pause.leading && pause.start_s == 0.0);
             }
             _ => panic!("{ev:?}"),
         }
         match ev[2] {
             PhraseEvent::Start { onset_s, pause } => {
-                let p = pause.unwrap();
+                let p = pause;
+                assert!(!p.leading && p.last_activity_end_s.is_none());
                 assert!((onset_s - 3.1).abs() < 0.011, "{onset_s}");
                 assert!((p.start_s - 2.5).abs() < 0.011, "{p:?}");
                 assert!((p.length_s() - 0.6).abs() < 0.021, "{p:?}");
@@ -452,7 +488,7 @@ mod tests {
             })
             .collect();
         assert_eq!(starts.len(), 2, "{ev:?}");
-        assert!(starts[1].unwrap().has_breath, "{ev:?}");
+        assert!(starts[1].has_breath, "{ev:?}");
     }
 
     #[test]
@@ -465,6 +501,52 @@ mod tests {
         ]);
         match ev[0] {
             PhraseEvent::Start { onset_s, .. } => assert!((onset_s - 1.0).abs() < 0.011),
+            _ => panic!("{ev:?}"),
+        }
+    }
+
+    #[test]
+    fn a_loud_unvoiced_burst_in_a_pause_is_reported_and_bounds_the_pause() {
+        let ev = run_all(&[
+            (100, -70.0, false),
+            (100, -20.0, true),
+            (30, -70.0, false),
+            (8, -22.0, false), // a click or a word too short to confirm, at 2.3 s
+            (40, -70.0, false),
+            (100, -20.0, true),
+            (50, -70.0, false),
+        ]);
+        let activity: Vec<f64> = ev
+            .iter()
+            .filter_map(|e| match e {
+                PhraseEvent::Activity { time_s } => Some(*time_s),
+                _ => None,
+            })
+            .collect();
+        assert!(activity.iter().any(|t| (t - 2.3).abs() < 0.011), "{ev:?}");
+        let last = ev
+            .iter()
+            .rev()
+            .find_map(|e| match e {
+                PhraseEvent::Start { pause, .. } => Some(*pause),
+                _ => None,
+            })
+            .unwrap();
+        let end = last.last_activity_end_s.expect("the burst is reported");
+        assert!((end - 2.38).abs() < 0.011, "{last:?}");
+    }
+
+    #[test]
+    fn a_breath_before_the_first_phrase_is_seen() {
+        let ev = run(&[
+            (50, -70.0, false),
+            (35, -48.0, false),
+            (30, -70.0, false),
+            (100, -20.0, true),
+            (30, -70.0, false),
+        ]);
+        match ev[0] {
+            PhraseEvent::Start { pause, .. } => assert!(pause.leading && pause.has_breath),
             _ => panic!("{ev:?}"),
         }
     }

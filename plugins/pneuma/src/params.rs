@@ -306,7 +306,7 @@ impl Default for PneumaParams {
             insert_breaths: BoolParam::new("Insert breaths", true),
             min_pause_s: linear("Minimum pause", 0.25, 0.1, 2.0, " s", 0.01),
             mode: EnumParam::new("Mode", ModeChoice::Lookahead),
-            lookahead_s: linear("Lookahead", 0.5, 0.2, 2.0, " s", 0.01),
+            lookahead_s: linear("Lookahead", 0.5, 0.3, 2.0, " s", 0.01),
             head_amount: linear("Head motion", 1.0, 0.0, 4.0, "", 0.01),
             head_max_pitch_deg: linear("Head pitch limit", 8.0, 0.5, 90.0, "°", 0.5),
             head_max_yaw_deg: linear("Head yaw limit", 15.0, 0.5, 90.0, "°", 0.5),
