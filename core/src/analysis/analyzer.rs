@@ -101,9 +101,10 @@ impl Analyzer {
             noise_floor: NoiseFloor::new(c.noise_window_s as f64, c.frame_rate_hz),
             noise_margin_db: c.noise_margin_db,
             noise_headroom_db: c.noise_headroom_db,
-            pitch: NsdfPitch::new(
+            pitch: NsdfPitch::with_short_window(
                 internal_rate_hz,
                 window_len,
+                (c.short_window_s as f64 * internal_rate_hz).round() as usize,
                 c.f0_min_hz,
                 c.f0_max_hz,
                 c.key_max_ratio,
