@@ -289,7 +289,13 @@ impl NsdfPitch {
             .find(|c| c.clarity >= threshold && c.clarity > 0.0)
             .unwrap_or_default();
         self.periodicity = best;
-        if chosen.f0_hz > 0.0 {
+        // The short window can only confirm the chosen period or prefer a longer one, so it
+        // has nothing to say when the chosen period is beyond its reach.
+        let in_reach = self.short.as_ref().is_some_and(|(_, last)| {
+            chosen.f0_hz > 0.0
+                && self.rate_hz / (chosen.f0_hz as f64) <= *last as f64 * SAME_LOBE_RATIO
+        });
+        if in_reach {
             if let Some(short_pick) = self.short_pick(window) {
                 let ratio = SAME_LOBE_RATIO as f32;
                 let same = |a: f32, b: f32| a < b * ratio && a * ratio > b;
