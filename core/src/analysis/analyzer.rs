@@ -299,10 +299,28 @@ impl State {
         let gate_db = (speech_db - self.speech_gate_db).max(noise_gate_db);
         let level_rel_db = (rms_db - self.speaker.speech_level_db()).clamp(-20.0, 10.0);
         let level_bonus = self.level_weight * level_rel_db / 10.0;
+        // At a voice onset the voice fills only the newest part of the window, at an offset
+        // only the oldest: when the window's periodicity alone would leave a loud enough frame
+        // unvoiced, the decision also hears the short window at that end (its clarity at the
+        // chosen period, when its own choice agrees), so phrase edges are not clipped by the
+        // long window's dilution. Still no look-ahead beyond the window.
+        let edge_periodicity =
+            if self
+                .tracker
+                .wants_more_evidence(periodicity, rms_db, gate_db, level_bonus)
+            {
+                let newest = !self.tracker.is_voiced();
+                self.pitch
+                    .edge_clarity(&self.window, chosen, newest)
+                    .unwrap_or(0.0)
+            } else {
+                0.0
+            };
         let t = self.tracker.update(
             chosen,
             self.pitch.candidates(),
             periodicity,
+            edge_periodicity,
             rms_db,
             gate_db,
             level_bonus,

@@ -67,16 +67,18 @@ pub struct AnalysisConfig {
     /// Short pitch window in seconds, centred in the long one, for the periods it holds twice
     /// (f0 ≥ 2 / `short_window_s`); 0 = off, else 0.005..`window_s` (default 0.02). A voice
     /// gliding fast is periodic over a short window when it is not over the long one; the short
-    /// window confirms or corrects the long window's period (see the pitch module).
+    /// window confirms or corrects the long window's period (see the pitch module). At phrase
+    /// edges the voicing decision also hears a short window at the newest (onset) or oldest
+    /// (offset) end of the long one.
     pub short_window_s: f32,
     /// RMS window in seconds, centred on the frame time (default 0.02).
     pub rms_window_s: f32,
     /// Key-maximum rule: the first NSDF key maximum at least this fraction of the highest one is
     /// the period, 0.5..1 (default 0.88).
     pub key_max_ratio: f32,
-    /// Clarity (NSDF peak height) a frame needs to become voiced, 0..1 (default 0.8).
+    /// Clarity (NSDF peak height) a frame needs to become voiced, 0..1 (default 0.85).
     pub voicing_on: f32,
-    /// Clarity under which a voiced track becomes unvoiced, 0..`voicing_on` (default 0.63).
+    /// Clarity under which a voiced track becomes unvoiced, 0..`voicing_on` (default 0.7).
     pub voicing_off: f32,
     /// Loudness helps the voiced decision: the clarity compared with the thresholds is raised by
     /// this much per 10 dB the frame lies above the speaker's speech level (and lowered below
@@ -114,8 +116,8 @@ impl Default for AnalysisConfig {
             short_window_s: 0.02,
             rms_window_s: 0.02,
             key_max_ratio: 0.88,
-            voicing_on: 0.8,
-            voicing_off: 0.63,
+            voicing_on: 0.85,
+            voicing_off: 0.7,
             level_weight: 0.1,
             silence_db: -60.0,
             speech_gate_db: 30.0,

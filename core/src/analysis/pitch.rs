@@ -21,6 +21,8 @@
 //! when it prefers a longer period that the long window also has as a key maximum, that longer
 //! period is taken (the long window's choice was a fraction of the period); otherwise it is
 //! ignored, so the short window never introduces a period the long window did not see.
+//! [`NsdfPitch::edge_clarity`] runs the same short window at either end of the long one for the
+//! voicing decision at phrase edges.
 //!
 //! Plans and buffers are made in [`NsdfPitch::new`]; [`NsdfPitch::analyse`] never allocates.
 
@@ -318,10 +320,38 @@ impl NsdfPitch {
         chosen
     }
 
+    /// Clarity of `chosen` on a short window at one end of `window` (the newest samples when
+    /// `newest`, else the oldest), if that window's own key-maximum choice is the same lobe;
+    /// `None` without a short window or when the period is beyond its reach. For the voicing
+    /// decision at phrase edges, where the voice fills only one end of the window.
+    pub fn edge_clarity(
+        &mut self,
+        window: &[f32],
+        chosen: PitchEstimate,
+        newest: bool,
+    ) -> Option<f32> {
+        let (short, last) = self.short.as_ref()?;
+        let (len, reach) = (short.window_len, *last as f64 * SAME_LOBE_RATIO);
+        if window.len() != self.long.window_len
+            || chosen.f0_hz <= 0.0
+            || self.rate_hz / chosen.f0_hz as f64 > reach
+        {
+            return None;
+        }
+        let start = if newest { window.len() - len } else { 0 };
+        let p = self.short_pick_at(window, start)?;
+        let ratio = SAME_LOBE_RATIO as f32;
+        (p.f0_hz < chosen.f0_hz * ratio && p.f0_hz * ratio > chosen.f0_hz).then_some(p.clarity)
+    }
+
     /// The key-maximum choice on the short window (periods it holds twice), if there is one.
     fn short_pick(&mut self, window: &[f32]) -> Option<PitchEstimate> {
+        let len = self.short.as_ref()?.0.window_len;
+        self.short_pick_at(window, (window.len() - len) / 2)
+    }
+
+    fn short_pick_at(&mut self, window: &[f32], start: usize) -> Option<PitchEstimate> {
         let (short, short_last) = self.short.as_mut()?;
-        let start = (window.len() - short.window_len) / 2;
         if !short.compute(&window[start..start + short.window_len]) {
             return None;
         }
