@@ -28,7 +28,7 @@ use pneuma_core::{AnalysisConfig, Analyzer};
 
 const HOP_S: f64 = 0.005;
 /// Regression guard for the 40 dB comparison with Praat (FFE fraction).
-const PRAAT_40DB_GUARD: f64 = 0.015;
+const PRAAT_40DB_GUARD: f64 = 0.005;
 const OFFSETS_MS: [i32; 9] = [-20, -15, -10, -5, 0, 5, 10, 15, 20];
 
 /// One tracker's output on the 5 ms grid: f0 in Hz, 0 = unvoiced.
