@@ -386,3 +386,49 @@ fn unsupported_rates_and_unprepared_use_are_errors() {
     .expect_err("20 Hz is out of range");
     assert!(err.to_string().contains("30 ≤ min"), "{err}");
 }
+
+/// First voiced frame at or after `from_s`, in seconds.
+fn first_voiced_after(frames: &[FeatureFrame], from_s: f64) -> f64 {
+    frames
+        .iter()
+        .find(|f| f.time_s >= from_s && f.voiced)
+        .map_or(f64::INFINITY, |f| f.time_s)
+}
+
+#[test]
+fn a_vowel_after_a_fricative_is_voiced_from_its_onset() {
+    // 0.3 s of loud noise (a fricative), then a 150 Hz vowel-like tone: the frames whose long
+    // window still holds the noise are judged on the newest 20 ms too, so voicing starts near
+    // the onset, not only once the noise has left the 40 ms window.
+    let rate = 16_000.0;
+    let mut seed = 7u32;
+    let mut x: Vec<f32> = (0..(0.3 * rate) as usize)
+        .map(|_| {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            ((seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 0.4
+        })
+        .collect();
+    x.extend(synth::harmonic_tone(rate, 0.3, 0.5, &RICH, |_| 150.0));
+    let run = |short_window_s: f32| {
+        let mut a = Analyzer::new(AnalysisConfig {
+            short_window_s,
+            ..Default::default()
+        })
+        .expect("config");
+        a.prepare(rate, 512).expect("rate");
+        let mut frames = Vec::new();
+        a.process(&x, |f| frames.push(*f)).expect("prepared");
+        a.finish(|f| frames.push(*f)).expect("prepared");
+        frames
+    };
+    let with_edges = first_voiced_after(&run(0.02), 0.2);
+    let long_only = first_voiced_after(&run(0.0), 0.2);
+    assert!(
+        (0.3..0.31).contains(&with_edges),
+        "voiced from {with_edges} s (onset 0.3 s; long window only: {long_only} s)"
+    );
+    assert!(
+        with_edges < long_only,
+        "{with_edges} s vs {long_only} s (long window only)"
+    );
+}

@@ -101,9 +101,10 @@ impl Analyzer {
             noise_floor: NoiseFloor::new(c.noise_window_s as f64, c.frame_rate_hz),
             noise_margin_db: c.noise_margin_db,
             noise_headroom_db: c.noise_headroom_db,
-            pitch: NsdfPitch::new(
+            pitch: NsdfPitch::with_short_window(
                 internal_rate_hz,
                 window_len,
+                (c.short_window_s as f64 * internal_rate_hz).round() as usize,
                 c.f0_min_hz,
                 c.f0_max_hz,
                 c.key_max_ratio,
@@ -313,10 +314,28 @@ impl State {
         let gate_db = (speech_db - self.speech_gate_db).max(noise_gate_db);
         let level_rel_db = (rms_db - self.speaker.speech_level_db()).clamp(-20.0, 10.0);
         let level_bonus = self.level_weight * level_rel_db / 10.0;
+        // At a voice onset the voice fills only the newest part of the window, at an offset
+        // only the oldest: when the window's periodicity alone would leave a loud enough frame
+        // unvoiced, the decision also hears the short window at that end (its clarity at the
+        // chosen period, when its own choice agrees), so phrase edges are not clipped by the
+        // long window's dilution. Still no look-ahead beyond the window.
+        let edge_periodicity =
+            if self
+                .tracker
+                .wants_more_evidence(periodicity, rms_db, gate_db, level_bonus)
+            {
+                let newest = !self.tracker.is_voiced();
+                self.pitch
+                    .edge_clarity(&self.window, chosen, newest)
+                    .unwrap_or(0.0)
+            } else {
+                0.0
+            };
         let t = self.tracker.update(
             chosen,
             self.pitch.candidates(),
             periodicity,
+            edge_periodicity,
             rms_db,
             gate_db,
             level_bonus,

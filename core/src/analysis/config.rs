@@ -64,14 +64,21 @@ pub struct AnalysisConfig {
     pub f0_max_hz: f32,
     /// Pitch analysis window in seconds, at least two periods of `f0_min_hz` (default 0.04).
     pub window_s: f32,
+    /// Short pitch window in seconds, centred in the long one, for the periods it holds twice
+    /// (f0 ≥ 2 / `short_window_s`); 0 = off, else 0.005..`window_s` (default 0.02). A voice
+    /// gliding fast is periodic over a short window when it is not over the long one; the short
+    /// window confirms or corrects the long window's period (see the pitch module). At phrase
+    /// edges the voicing decision also hears a short window at the newest (onset) or oldest
+    /// (offset) end of the long one.
+    pub short_window_s: f32,
     /// RMS window in seconds, centred on the frame time (default 0.02).
     pub rms_window_s: f32,
     /// Key-maximum rule: the first NSDF key maximum at least this fraction of the highest one is
     /// the period, 0.5..1 (default 0.88).
     pub key_max_ratio: f32,
-    /// Clarity (NSDF peak height) a frame needs to become voiced, 0..1 (default 0.72).
+    /// Clarity (NSDF peak height) a frame needs to become voiced, 0..1 (default 0.85).
     pub voicing_on: f32,
-    /// Clarity under which a voiced track becomes unvoiced, 0..`voicing_on` (default 0.6).
+    /// Clarity under which a voiced track becomes unvoiced, 0..`voicing_on` (default 0.7).
     pub voicing_off: f32,
     /// Loudness helps the voiced decision: the clarity compared with the thresholds is raised by
     /// this much per 10 dB the frame lies above the speaker's speech level (and lowered below
@@ -106,10 +113,11 @@ impl Default for AnalysisConfig {
             f0_min_hz: 50.0,
             f0_max_hz: 600.0,
             window_s: 0.04,
+            short_window_s: 0.02,
             rms_window_s: 0.02,
             key_max_ratio: 0.88,
-            voicing_on: 0.72,
-            voicing_off: 0.6,
+            voicing_on: 0.85,
+            voicing_off: 0.7,
             level_weight: 0.1,
             silence_db: -60.0,
             speech_gate_db: 30.0,
@@ -134,6 +142,7 @@ impl AnalysisConfig {
             "f0_min_hz" => self.f0_min_hz = v as f32,
             "f0_max_hz" => self.f0_max_hz = v as f32,
             "window_s" => self.window_s = v as f32,
+            "short_window_s" => self.short_window_s = v as f32,
             "rms_window_s" => self.rms_window_s = v as f32,
             "key_max_ratio" => self.key_max_ratio = v as f32,
             "voicing_on" => self.voicing_on = v as f32,
@@ -170,6 +179,15 @@ impl AnalysisConfig {
                 f0_min_hz: lo,
                 needed_s,
             });
+        }
+        if self.short_window_s != 0.0 {
+            check_range(
+                "short_window_s",
+                self.short_window_s,
+                0.005,
+                self.window_s,
+                "0 (off) or 0.005 s..window_s",
+            )?;
         }
         check_range(
             "rms_window_s",
@@ -297,6 +315,19 @@ mod tests {
                 ..
             })
         ));
+        c = AnalysisConfig {
+            short_window_s: 0.05,
+            ..Default::default()
+        };
+        assert!(matches!(
+            c.validate(),
+            Err(AnalysisError::OutOfRange {
+                name: "short_window_s",
+                ..
+            })
+        ));
+        c.short_window_s = 0.0;
+        assert_eq!(c.validate(), Ok(()));
         c = AnalysisConfig {
             noise_window_s: 1e9,
             ..Default::default()

@@ -11,6 +11,19 @@
 //! is nearly as periodic as the true one). Parabolic interpolation refines the lag and the peak
 //! height, which is the clarity.
 //!
+//! Two window lengths (the second optional): the long window must hold two periods of the lowest
+//! f0, but a voice whose pitch glides fast (a falling phrase end, an accent, a short syllable of
+//! a low voice) is not periodic over 40 ms: its harmonics drift apart in phase across the window
+//! and the NSDF peak sinks although every single period is clean, and the key-maximum rule may
+//! then take a lobe at half the period. A short window centred in the long one sees less of the
+//! glide; the same key-maximum rule runs on it over the lags it holds twice. When it agrees with
+//! the long window's choice, its clarity counts for the periodicity (the higher of the two);
+//! when it prefers a longer period that the long window also has as a key maximum, that longer
+//! period is taken (the long window's choice was a fraction of the period); otherwise it is
+//! ignored, so the short window never introduces a period the long window did not see.
+//! [`NsdfPitch::edge_clarity`] runs the same short window at either end of the long one for the
+//! voicing decision at phrase edges.
+//!
 //! Plans and buffers are made in [`NsdfPitch::new`]; [`NsdfPitch::analyse`] never allocates.
 
 use std::sync::Arc;
@@ -21,6 +34,9 @@ use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 /// Most key maxima kept per frame.
 pub const MAX_CANDIDATES: usize = 16;
 
+/// Key maxima of the two windows closer than this lag ratio are the same lobe.
+const SAME_LOBE_RATIO: f64 = 1.04;
+
 /// One period candidate: a key maximum of the NSDF.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PitchEstimate {
@@ -30,22 +46,107 @@ pub struct PitchEstimate {
     pub clarity: f32,
 }
 
-/// NSDF pitch estimator for windows of a fixed length at a fixed rate.
-pub struct NsdfPitch {
-    rate_hz: f64,
+/// The NSDF of one window length, with its FFT plans and buffers.
+struct Nsdf {
     window_len: usize,
-    lag_min: usize,
-    lag_max: usize,
-    key_max_ratio: f32,
     r2c: Arc<dyn RealToComplex<f32>>,
     c2r: Arc<dyn ComplexToReal<f32>>,
     time: Vec<f32>,
     spectrum: Vec<Complex<f32>>,
     scratch: Vec<Complex<f32>>,
     acf: Vec<f32>,
-    nsdf: Vec<f32>,
+    /// n(τ) for τ = 0..=lag_max+1.
+    curve: Vec<f32>,
+}
+
+impl Nsdf {
+    fn new(planner: &mut RealFftPlanner<f32>, window_len: usize, lag_max: usize) -> Self {
+        let fft_len = fft_len_for(window_len + lag_max + 2);
+        let r2c = planner.plan_fft_forward(fft_len);
+        let c2r = planner.plan_fft_inverse(fft_len);
+        let scratch_len = r2c.get_scratch_len().max(c2r.get_scratch_len());
+        Self {
+            window_len,
+            time: r2c.make_input_vec(),
+            spectrum: r2c.make_output_vec(),
+            scratch: vec![Complex::default(); scratch_len],
+            acf: c2r.make_output_vec(),
+            curve: vec![0.0; lag_max + 2],
+            r2c,
+            c2r,
+        }
+    }
+
+    /// Computes the curve of `window` (exactly `window_len` samples, mean removed here); returns
+    /// false (curve all zero) for a silent window.
+    fn compute(&mut self, window: &[f32]) -> bool {
+        let w = self.window_len;
+        let mean = window.iter().map(|&x| x as f64).sum::<f64>() / w.max(1) as f64;
+        let mean = mean as f32;
+        let mut energy = 0.0f64;
+        for (t, &x) in self.time.iter_mut().zip(window) {
+            *t = x - mean;
+            energy += (*t as f64) * (*t as f64);
+        }
+        self.time[w..].fill(0.0);
+        if energy < 1e-12 * w as f64 {
+            self.curve.fill(0.0);
+            return false;
+        }
+        // r(τ) by FFT: |X|² then inverse. Plans and buffers are sized in new(), so the only
+        // failure is impossible here; fall back to "no pitch" rather than panic.
+        if self
+            .r2c
+            .process_with_scratch(&mut self.time, &mut self.spectrum, &mut self.scratch)
+            .is_err()
+        {
+            self.curve.fill(0.0);
+            return false;
+        }
+        for c in self.spectrum.iter_mut() {
+            *c = Complex::new(c.norm_sqr(), 0.0);
+        }
+        if self
+            .c2r
+            .process_with_scratch(&mut self.spectrum, &mut self.acf, &mut self.scratch)
+            .is_err()
+        {
+            self.curve.fill(0.0);
+            return false;
+        }
+        // m(0) = 2·Σx²; later lags drop one sample from each end (the forward pass overwrote
+        // `time`, so the ends are read from the window itself).
+        let mut m = 2.0 * energy;
+        let scale = 1.0 / self.time.len() as f64;
+        for tau in 0..self.curve.len() {
+            if tau > 0 {
+                let a = (window[tau - 1] - mean) as f64;
+                let b = (window[w - tau] - mean) as f64;
+                m -= a * a + b * b;
+            }
+            let r = self.acf[tau] as f64 * scale;
+            self.curve[tau] = if m > 1e-12 {
+                (2.0 * r / m).clamp(-1.0, 1.0) as f32
+            } else {
+                0.0
+            };
+        }
+        true
+    }
+}
+
+/// NSDF pitch estimator for windows of a fixed length at a fixed rate.
+pub struct NsdfPitch {
+    rate_hz: f64,
+    lag_min: usize,
+    lag_max: usize,
+    key_max_ratio: f32,
+    long: Nsdf,
+    /// The short centred window and the longest lag it serves.
+    short: Option<(Nsdf, usize)>,
     candidates: [PitchEstimate; MAX_CANDIDATES],
     n_candidates: usize,
+    short_candidates: [PitchEstimate; MAX_CANDIDATES],
     periodicity: f32,
 }
 
@@ -53,10 +154,13 @@ impl std::fmt::Debug for NsdfPitch {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("NsdfPitch")
             .field("rate_hz", &self.rate_hz)
-            .field("window_len", &self.window_len)
+            .field("window_len", &self.long.window_len)
+            .field(
+                "short_window_len",
+                &self.short.as_ref().map(|s| s.0.window_len),
+            )
             .field("lag_min", &self.lag_min)
             .field("lag_max", &self.lag_max)
-            .field("fft_len", &self.time.len())
             .finish()
     }
 }
@@ -88,37 +192,50 @@ impl NsdfPitch {
         f0_max_hz: f32,
         key_max_ratio: f32,
     ) -> Self {
+        Self::with_short_window(rate_hz, window_len, 0, f0_min_hz, f0_max_hz, key_max_ratio)
+    }
+
+    /// Like [`NsdfPitch::new`], plus a short window of `short_len` samples centred in the long
+    /// one (see the module docs) serving the lags it holds twice; 0, or a short window too
+    /// short for two periods of `f0_max_hz` or not shorter than the long one, means none.
+    pub fn with_short_window(
+        rate_hz: f64,
+        window_len: usize,
+        short_len: usize,
+        f0_min_hz: f32,
+        f0_max_hz: f32,
+        key_max_ratio: f32,
+    ) -> Self {
         let lag_min = ((rate_hz / f0_max_hz as f64).floor() as usize).max(2);
         let lag_max = ((rate_hz / f0_min_hz as f64).ceil() as usize)
             .min(window_len.saturating_sub(2))
             .max(lag_min + 2);
-        let fft_len = fft_len_for(window_len + lag_max + 2);
         let mut planner = RealFftPlanner::<f32>::new();
-        let r2c = planner.plan_fft_forward(fft_len);
-        let c2r = planner.plan_fft_inverse(fft_len);
-        let scratch_len = r2c.get_scratch_len().max(c2r.get_scratch_len());
+        let long = Nsdf::new(&mut planner, window_len, lag_max);
+        let short_lag_max = (short_len / 2).min(lag_max);
+        let short = (short_len < window_len && short_lag_max >= lag_min + 2).then(|| {
+            (
+                Nsdf::new(&mut planner, short_len, short_lag_max),
+                short_lag_max,
+            )
+        });
         Self {
             rate_hz,
-            window_len,
             lag_min,
             lag_max,
             key_max_ratio,
-            time: r2c.make_input_vec(),
-            spectrum: r2c.make_output_vec(),
-            scratch: vec![Complex::default(); scratch_len],
-            acf: c2r.make_output_vec(),
-            nsdf: vec![0.0; lag_max + 2],
-            r2c,
-            c2r,
+            long,
+            short,
             candidates: [PitchEstimate::default(); MAX_CANDIDATES],
             n_candidates: 0,
+            short_candidates: [PitchEstimate::default(); MAX_CANDIDATES],
             periodicity: 0.0,
         }
     }
 
     /// Window length in samples.
     pub fn window_len(&self) -> usize {
-        self.window_len
+        self.long.window_len
     }
 
     /// The key maxima of the last analysed window, shortest period (highest f0) first.
@@ -132,9 +249,9 @@ impl NsdfPitch {
         self.periodicity
     }
 
-    /// The NSDF of the last analysed window, lags 0..=lag_max+1.
+    /// The NSDF of the last analysed (long) window, lags 0..=lag_max+1.
     pub fn nsdf(&self) -> &[f32] {
-        &self.nsdf
+        &self.long.curve
     }
 
     /// Analyses one window of exactly [`Self::window_len`] samples (any other length gives a
@@ -144,139 +261,189 @@ impl NsdfPitch {
     pub fn analyse(&mut self, window: &[f32]) -> PitchEstimate {
         self.n_candidates = 0;
         self.periodicity = 0.0;
-        if window.len() != self.window_len {
+        if window.len() != self.long.window_len {
             return PitchEstimate::default();
         }
-        let w = self.window_len;
-        let mean = window[..w].iter().map(|&x| x as f64).sum::<f64>() / w.max(1) as f64;
-        let mean = mean as f32;
-        let mut energy = 0.0f64;
-        for (t, &x) in self.time.iter_mut().zip(&window[..w]) {
-            *t = x - mean;
-            energy += (*t as f64) * (*t as f64);
-        }
-        self.time[w..].fill(0.0);
-        if energy < 1e-12 * w as f64 {
-            self.nsdf.fill(0.0);
+        if !self.long.compute(window) {
+            if let Some((short, _)) = &mut self.short {
+                short.curve.fill(0.0);
+            }
             return PitchEstimate::default();
         }
-        // r(τ) by FFT: |X|² then inverse. Plans and buffers are sized in new(), so the only
-        // failure is impossible here; fall back to "no pitch" rather than panic.
-        if self
-            .r2c
-            .process_with_scratch(&mut self.time, &mut self.spectrum, &mut self.scratch)
-            .is_err()
-        {
-            return PitchEstimate::default();
-        }
-        for c in self.spectrum.iter_mut() {
-            *c = Complex::new(c.norm_sqr(), 0.0);
-        }
-        if self
-            .c2r
-            .process_with_scratch(&mut self.spectrum, &mut self.acf, &mut self.scratch)
-            .is_err()
-        {
-            return PitchEstimate::default();
-        }
-        // m(0) = 2·Σx²; later lags drop one sample from each end (the forward pass overwrote
-        // `time`, so the ends are read from the window itself).
-        let mut m = 2.0 * energy;
-        let scale = 1.0 / self.time.len() as f64;
-        for tau in 0..self.nsdf.len() {
-            if tau > 0 {
-                let a = (window[tau - 1] - mean) as f64;
-                let b = (window[w - tau] - mean) as f64;
-                m -= a * a + b * b;
-            }
-            let r = self.acf[tau] as f64 * scale;
-            self.nsdf[tau] = if m > 1e-12 {
-                (2.0 * r / m).clamp(-1.0, 1.0) as f32
-            } else {
-                0.0
-            };
-        }
-        self.pick()
-    }
-
-    /// Key maxima and the key-maximum rule.
-    fn pick(&mut self) -> PitchEstimate {
-        let n = &self.nsdf;
-        let last = self.lag_max.min(n.len() - 2);
-        // Skip the lobe around lag 0: start after the first negative-going zero crossing.
-        let mut tau = 1;
-        while tau <= last && n[tau] > 0.0 {
-            tau += 1;
-        }
-        let mut best = 0.0f32;
-        while tau <= last {
-            // Skip the negative region.
-            while tau <= last && n[tau] <= 0.0 {
-                tau += 1;
-            }
-            // Highest point of this positive lobe.
-            let mut peak_tau = 0;
-            let mut peak = f32::MIN;
-            while tau <= last && n[tau] > 0.0 {
-                if n[tau] > peak {
-                    peak = n[tau];
-                    peak_tau = tau;
-                }
-                tau += 1;
-            }
-            if peak_tau == 0 || peak_tau < self.lag_min {
-                continue;
-            }
-            // A lobe cut off by the end of the search range is only a candidate if its highest
-            // point is a true local maximum.
-            if n[peak_tau + 1] > n[peak_tau] {
-                continue;
-            }
-            let (a, b, c) = (n[peak_tau - 1], n[peak_tau], n[peak_tau + 1]);
-            let denom = a - 2.0 * b + c;
-            let (delta, height) = if denom < 0.0 {
-                let d = (0.5 * (a - c) / denom).clamp(-0.5, 0.5);
-                (d, b - 0.25 * (a - c) * d)
-            } else {
-                (0.0, b)
-            };
-            let lag = peak_tau as f64 + delta as f64;
-            let clarity = height.clamp(0.0, 1.0);
-            let candidate = PitchEstimate {
-                f0_hz: (self.rate_hz / lag) as f32,
-                clarity,
-            };
-            best = best.max(clarity);
-            if self.n_candidates == MAX_CANDIDATES {
-                // Full (very low f0 with a bright spectrum has many lobes): drop the weakest
-                // kept lobe if this one is stronger, keeping the lag order.
-                let (weakest, w) =
-                    self.candidates
-                        .iter()
-                        .enumerate()
-                        .fold((0, f32::MAX), |m, (i, c)| {
-                            if c.clarity < m.1 {
-                                (i, c.clarity)
-                            } else {
-                                m
-                            }
-                        });
-                if clarity <= w {
-                    continue;
-                }
-                self.candidates.copy_within(weakest + 1.., weakest);
-                self.n_candidates -= 1;
-            }
-            self.candidates[self.n_candidates] = candidate;
-            self.n_candidates += 1;
-        }
-        self.periodicity = best;
+        let last = self.lag_max.min(self.long.curve.len() - 2);
+        let mut n = 0;
+        key_maxima(
+            &self.long.curve,
+            self.rate_hz,
+            self.lag_min,
+            last,
+            &mut self.candidates,
+            &mut n,
+        );
+        self.n_candidates = n;
+        let best = self.candidates[..n]
+            .iter()
+            .fold(0.0f32, |m, c| m.max(c.clarity));
         let threshold = self.key_max_ratio * best;
-        self.candidates[..self.n_candidates]
+        let mut chosen = self.candidates[..n]
             .iter()
             .copied()
             .find(|c| c.clarity >= threshold && c.clarity > 0.0)
-            .unwrap_or_default()
+            .unwrap_or_default();
+        self.periodicity = best;
+        // The short window can only confirm the chosen period or prefer a longer one, so it
+        // has nothing to say when the chosen period is beyond its reach.
+        let in_reach = self.short.as_ref().is_some_and(|(_, last)| {
+            chosen.f0_hz > 0.0
+                && self.rate_hz / (chosen.f0_hz as f64) <= *last as f64 * SAME_LOBE_RATIO
+        });
+        if in_reach {
+            if let Some(short_pick) = self.short_pick(window) {
+                let ratio = SAME_LOBE_RATIO as f32;
+                let same = |a: f32, b: f32| a < b * ratio && a * ratio > b;
+                if !same(short_pick.f0_hz, chosen.f0_hz) && short_pick.f0_hz < chosen.f0_hz {
+                    // The short window, free of the glide, prefers a longer period: the long
+                    // window's pick was a fraction of the period. Take the long window's lobe
+                    // at the short window's period, if it has one.
+                    if let Some(c) = self.candidates[..n]
+                        .iter()
+                        .find(|c| same(c.f0_hz, short_pick.f0_hz))
+                    {
+                        chosen = *c;
+                    }
+                }
+                if same(short_pick.f0_hz, chosen.f0_hz) {
+                    self.periodicity = self.periodicity.max(short_pick.clarity);
+                }
+            }
+        }
+        chosen
+    }
+
+    /// Clarity of `chosen` on a short window at one end of `window` (the newest samples when
+    /// `newest`, else the oldest), if that window's own key-maximum choice is the same lobe;
+    /// `None` without a short window or when the period is beyond its reach. For the voicing
+    /// decision at phrase edges, where the voice fills only one end of the window.
+    pub fn edge_clarity(
+        &mut self,
+        window: &[f32],
+        chosen: PitchEstimate,
+        newest: bool,
+    ) -> Option<f32> {
+        let (short, last) = self.short.as_ref()?;
+        let (len, reach) = (short.window_len, *last as f64 * SAME_LOBE_RATIO);
+        if window.len() != self.long.window_len
+            || chosen.f0_hz <= 0.0
+            || self.rate_hz / chosen.f0_hz as f64 > reach
+        {
+            return None;
+        }
+        let start = if newest { window.len() - len } else { 0 };
+        let p = self.short_pick_at(window, start)?;
+        let ratio = SAME_LOBE_RATIO as f32;
+        (p.f0_hz < chosen.f0_hz * ratio && p.f0_hz * ratio > chosen.f0_hz).then_some(p.clarity)
+    }
+
+    /// The key-maximum choice on the short window (periods it holds twice), if there is one.
+    fn short_pick(&mut self, window: &[f32]) -> Option<PitchEstimate> {
+        let len = self.short.as_ref()?.0.window_len;
+        self.short_pick_at(window, (window.len() - len) / 2)
+    }
+
+    fn short_pick_at(&mut self, window: &[f32], start: usize) -> Option<PitchEstimate> {
+        let (short, short_last) = self.short.as_mut()?;
+        if !short.compute(&window[start..start + short.window_len]) {
+            return None;
+        }
+        let mut k = 0;
+        key_maxima(
+            &short.curve,
+            self.rate_hz,
+            self.lag_min,
+            *short_last,
+            &mut self.short_candidates,
+            &mut k,
+        );
+        let cands = &self.short_candidates[..k];
+        let best = cands.iter().fold(0.0f32, |m, c| m.max(c.clarity));
+        let threshold = self.key_max_ratio * best;
+        cands
+            .iter()
+            .copied()
+            .find(|c| c.clarity >= threshold && c.clarity > 0.0)
+    }
+}
+
+/// Key maxima of one NSDF curve between `lag_min` and `last`, shortest lag first, into `out`
+/// (count in `n`); when `out` is full the weakest kept lobe gives way to a stronger one.
+fn key_maxima(
+    n: &[f32],
+    rate_hz: f64,
+    lag_min: usize,
+    last: usize,
+    out: &mut [PitchEstimate],
+    count: &mut usize,
+) {
+    // Skip the lobe around lag 0: start after the first negative-going zero crossing.
+    let mut tau = 1;
+    while tau <= last && n[tau] > 0.0 {
+        tau += 1;
+    }
+    while tau <= last {
+        // Skip the negative region.
+        while tau <= last && n[tau] <= 0.0 {
+            tau += 1;
+        }
+        // Highest point of this positive lobe.
+        let mut peak_tau = 0;
+        let mut peak = f32::MIN;
+        while tau <= last && n[tau] > 0.0 {
+            if n[tau] > peak {
+                peak = n[tau];
+                peak_tau = tau;
+            }
+            tau += 1;
+        }
+        if peak_tau == 0 || peak_tau < lag_min {
+            continue;
+        }
+        // A lobe cut off by the end of the search range is only a candidate if its highest
+        // point is a true local maximum.
+        if n[peak_tau + 1] > n[peak_tau] {
+            continue;
+        }
+        let (a, b, c) = (n[peak_tau - 1], n[peak_tau], n[peak_tau + 1]);
+        let denom = a - 2.0 * b + c;
+        let (delta, height) = if denom < 0.0 {
+            let d = (0.5 * (a - c) / denom).clamp(-0.5, 0.5);
+            (d, b - 0.25 * (a - c) * d)
+        } else {
+            (0.0, b)
+        };
+        let lag = peak_tau as f64 + delta as f64;
+        let clarity = height.clamp(0.0, 1.0);
+        let candidate = PitchEstimate {
+            f0_hz: (rate_hz / lag) as f32,
+            clarity,
+        };
+        if *count == out.len() {
+            // Full (very low f0 with a bright spectrum has many lobes): drop the weakest
+            // kept lobe if this one is stronger, keeping the lag order.
+            let (weakest, w) = out.iter().enumerate().fold((0, f32::MAX), |m, (i, c)| {
+                if c.clarity < m.1 {
+                    (i, c.clarity)
+                } else {
+                    m
+                }
+            });
+            if clarity <= w {
+                continue;
+            }
+            out.copy_within(weakest + 1.., weakest);
+            *count -= 1;
+        }
+        out[*count] = candidate;
+        *count += 1;
     }
 }
 
@@ -327,6 +494,57 @@ mod tests {
         assert!((best.f0_hz - 52.0).abs() < 1.0, "{:?}", p.candidates());
         assert!(e.f0_hz < 65.0, "{}", e.f0_hz);
         assert_eq!(p.analyse(&x[..100]), PitchEstimate::default());
+    }
+
+    /// A harmonic-rich tone whose f0 falls exponentially at `octaves_per_s`, `f0_mid` at the
+    /// centre of the `n` samples.
+    fn glide(f0_mid: f64, octaves_per_s: f64, rate: f64, n: usize) -> Vec<f32> {
+        let mut phase = 0.0f64;
+        (0..n)
+            .map(|i| {
+                let t = (i as f64 - n as f64 / 2.0) / rate;
+                let f0 = f0_mid * (-octaves_per_s * t).exp2();
+                phase += 2.0 * std::f64::consts::PI * f0 / rate;
+                (1..=12)
+                    .map(|h| (h as f64 * phase).sin() / h as f64)
+                    .sum::<f64>() as f32
+                    * 0.2
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_short_window_keeps_a_fast_glide_periodic() {
+        // 125 Hz falling 6 octaves per second (a fast phrase-final fall): over the 40 ms
+        // window the period changes by 16 %.
+        let rate = 8_000.0;
+        let x = glide(125.0, 6.0, rate, 320);
+        let mut long_only = NsdfPitch::new(rate, 320, 50.0, 600.0, 0.88);
+        let mut both = NsdfPitch::with_short_window(rate, 320, 160, 50.0, 600.0, 0.88);
+        let a = long_only.analyse(&x);
+        let b = both.analyse(&x);
+        let cents = |f: f32| 1200.0 * (f as f64 / 125.0).log2();
+        assert!(cents(b.f0_hz).abs() < 100.0, "short: {} Hz", b.f0_hz);
+        assert!(
+            both.periodicity() > long_only.periodicity() + 0.05,
+            "long {} ({} Hz), with short {} ({} Hz)",
+            long_only.periodicity(),
+            a.f0_hz,
+            both.periodicity(),
+            b.f0_hz
+        );
+        // A steady tone gains nothing: both windows see the same period.
+        let steady = tone(125.0, rate, 320, &[1.0, 0.5, 0.3]);
+        long_only.analyse(&steady);
+        let e = both.analyse(&steady);
+        assert!(cents(e.f0_hz).abs() < 10.0);
+        assert!((both.periodicity() - long_only.periodicity()).abs() < 0.02);
+        // The short window never brings a period the long window did not see: for a 60 Hz
+        // tone (beyond its reach) the choice is the long window's.
+        let low = tone(60.0, rate, 320, &[1.0, 0.8, 0.6, 0.4]);
+        let a = long_only.analyse(&low);
+        let b = both.analyse(&low);
+        assert_eq!(a, b);
     }
 
     #[test]

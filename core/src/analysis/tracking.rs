@@ -45,16 +45,44 @@ impl Tracker {
         }
     }
 
+    /// Whether the frame is voiced now (the last decision).
+    pub(crate) fn is_voiced(&self) -> bool {
+        self.voiced
+    }
+
+    /// Whether the periodicity alone leaves a frame that passes the level gates on the unvoiced
+    /// side of the current threshold: only then can more evidence (the edge windows) change the
+    /// decision, so only then is it worth computing.
+    pub(crate) fn wants_more_evidence(
+        &self,
+        periodicity: f32,
+        rms_db: f32,
+        gate_db: f32,
+        level_bonus: f32,
+    ) -> bool {
+        let threshold = if self.voiced {
+            self.voicing_off
+        } else {
+            self.voicing_on
+        };
+        rms_db >= gate_db.max(self.silence_db) && periodicity + level_bonus < threshold
+    }
+
     pub(crate) fn reset(&mut self) {
         self.history = [0.0; 2];
         self.voiced = false;
     }
 
+    /// One frame: the chosen period and all key maxima, the window's periodicity (reported as
+    /// the voicing field) and the edge window's (0 when not computed; it only helps the
+    /// decision), the frame level, the level gate and the loudness bonus.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn update(
         &mut self,
         chosen: PitchEstimate,
         candidates: &[PitchEstimate],
         periodicity: f32,
+        edge_periodicity: f32,
         rms_db: f32,
         gate_db: f32,
         level_bonus: f32,
@@ -83,7 +111,10 @@ impl Tracker {
         } else {
             self.voicing_on
         };
-        let voiced = est.f0_hz > 0.0 && periodicity + level_bonus >= threshold && rms_db >= gate_db;
+        // The voicing field is the window's own periodicity; the decision also hears the
+        // short window at the phrase edge (see the analyzer).
+        let evidence = periodicity.max(edge_periodicity);
+        let voiced = est.f0_hz > 0.0 && evidence + level_bonus >= threshold && rms_db >= gate_db;
         let raw = if voiced { est.f0_hz } else { 0.0 };
         let mut f0_hz = raw;
         if voiced && self.history[0] > 0.0 && self.history[1] > 0.0 {
@@ -135,6 +166,7 @@ mod tests {
             chosen,
             candidates,
             periodicity,
+            0.0,
             rms_db,
             gate_db,
             level_bonus,
