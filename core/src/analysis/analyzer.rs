@@ -340,7 +340,18 @@ impl State {
             gate_db,
             level_bonus,
         );
-        self.speaker.update(t.voiced, t.f0_hz, rms_db);
+        // Strongly periodic frames teach the speaker statistics even when the decision (which
+        // leans on the level relative to the speaker's level) said unvoiced: otherwise a voice
+        // far quieter than the prior level would never be voiced and never teach the level.
+        let (learn, learn_f0_hz) = if t.voiced {
+            (true, t.f0_hz)
+        } else {
+            (
+                periodicity >= FLOOR_MAX_PERIODICITY && rms_db >= gate_db,
+                chosen.f0_hz,
+            )
+        };
+        self.speaker.update(learn, learn_f0_hz, rms_db);
         FeatureFrame {
             index: self.next_frame,
             time_s: self.clock.time_s(self.next_frame),
