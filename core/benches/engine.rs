@@ -6,28 +6,10 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use pneuma_core::engine::{Engine, EngineConfig, PlacementMode};
 use pneuma_core::head::HeadModel;
-use pneuma_core::synth::{self, GlottalVowel, Vowel};
+use pneuma_core::synth;
 
 fn speech_like(rate: f64) -> Vec<f32> {
-    let cfg = GlottalVowel {
-        sample_rate_hz: rate,
-        length_s: 10.0,
-        vowel: Vowel::A,
-        jitter: 0.01,
-        shimmer: 0.05,
-        peak: 0.5,
-        seed: 1,
-    };
-    // 1.5 s phrases separated by 0.5 s pauses, f0 wandering 100–200 Hz.
-    let mut x = synth::glottal_vowel(&cfg, |t| {
-        if t % 2.0 < 1.5 {
-            150.0 + 50.0 * (1.3 * t).sin()
-        } else {
-            0.0
-        }
-    });
-    synth::add_white_noise(&mut x, 40.0, 2);
-    x
+    synth::phrases_with_pauses(rate, 10.0, 40.0, 1)
 }
 
 fn bench(c: &mut Criterion) {

@@ -2,54 +2,13 @@
 //! 200 Hz–8 kHz, plateau RMS = gain, bit-reproducible from the seed, any rate, user samples fitted
 //! without clicks, and no allocation while rendering.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
 use pneuma_core::breathing::{BreathSample, BreathVoice, SampleSlot};
 use pneuma_core::rng::SeededRng;
 use pneuma_core::BreathKind;
 use realfft::RealFftPlanner;
 
-struct Counting;
-
-thread_local! {
-    static WATCH: Cell<bool> = const { Cell::new(false) };
-    static COUNT: Cell<usize> = const { Cell::new(0) };
-}
-
-// SAFETY: defers to the system allocator; only counts calls on a watched thread.
-#[allow(unsafe_code)]
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if WATCH.with(|w| w.get()) {
-            COUNT.with(|c| c.set(c.get() + 1));
-        }
-        // SAFETY: same contract as the caller's.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: same contract as the caller's.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        if WATCH.with(|w| w.get()) {
-            COUNT.with(|c| c.set(c.get() + 1));
-        }
-        // SAFETY: same contract as the caller's.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static ALLOC: Counting = Counting;
-
-fn watched<R>(f: impl FnOnce() -> R) -> (R, usize) {
-    COUNT.with(|c| c.set(0));
-    WATCH.with(|w| w.set(true));
-    let r = f();
-    WATCH.with(|w| w.set(false));
-    (r, COUNT.with(|c| c.get()))
-}
+mod support;
+use support::watched;
 
 const RATES: [f64; 6] = [8_000.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 192_000.0];
 

@@ -1,37 +1,11 @@
 //! Head-pose synthesis: deterministic, within the configured limits, moving on voiced input,
 //! finite on extreme and NaN input, and allocation-free per frame.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
 use pneuma_core::head::{HeadConfig, HeadModel, HeadSynth, UnvoicedBehaviour};
 use pneuma_core::{FeatureFrame, HeadAngles};
 
-struct Counting;
-
-thread_local! {
-    static WATCH: Cell<bool> = const { Cell::new(false) };
-    static COUNT: Cell<usize> = const { Cell::new(0) };
-}
-
-// SAFETY: defers to the system allocator; only counts calls on a watched thread.
-#[allow(unsafe_code)]
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if WATCH.with(|w| w.get()) {
-            COUNT.with(|c| c.set(c.get() + 1));
-        }
-        // SAFETY: same contract as the caller's.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: same contract as the caller's.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static ALLOC: Counting = Counting;
+mod support;
+use support::watched;
 
 /// A speech-like frame sequence: voiced stretches with a moving f0 and level, short unvoiced
 /// gaps.
@@ -177,9 +151,7 @@ fn finite_on_extreme_and_nan_input_without_allocating() {
         f.voiced = i % 2 == 0;
     }
     let rates = [120.0, f64::NAN, 0.0, -5.0, 1e9, 30.0];
-    let ((), allocations) = {
-        COUNT.with(|c| c.set(0));
-        WATCH.with(|w| w.set(true));
+    let ((), allocations) = watched(|| {
         for round in 0..20 {
             for (i, f) in nasty.iter().enumerate() {
                 let a = s.process(f, rates[(i + round) % rates.len()]);
@@ -189,9 +161,7 @@ fn finite_on_extreme_and_nan_input_without_allocating() {
                 );
             }
         }
-        WATCH.with(|w| w.set(false));
-        ((), COUNT.with(|c| c.get()))
-    };
+    });
     assert_eq!(allocations, 0, "process allocated");
     // After the nasty input, ordinary speech still moves the head.
     let out: Vec<HeadAngles> = frames(600).iter().map(|f| s.process(f, 120.0)).collect();
