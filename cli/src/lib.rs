@@ -4,6 +4,7 @@
 pub mod analyze;
 pub mod eval;
 pub mod output;
+pub mod plot;
 pub mod render;
 pub mod speak;
 pub mod train;
