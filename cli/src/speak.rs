@@ -1,17 +1,571 @@
-//! `pneuma speak`: text to speech with breaths. (Being built: issue 3.)
+//! `pneuma speak "TEXT" -o DIR`: text to speech with breaths, after Bernardet et al.
+//!
+//! The text is cut into breath groups by the paper's chunker; each chunk is synthesised by a TTS
+//! program (espeak-ng by default, festival's `text2wave` as the alternative), its real duration is
+//! measured from the audio (leading and trailing silence below −50 dBFS trimmed, as the paper
+//! measures the length of the TTS output), and the timeline is laid out as
+//! `[rest 0.25 s] [inspiration + breath sound] [chunk] [pause 0.1 s] [inspiration] [chunk] … [rest 0.6 s]`.
+//! The same [`BreathCycle`] as the audio-driven engine runs on the events ("inspiration of L s
+//! for an utterance of U s", "utterance of U s starts", "speech stopped"). The breath sound's
+//! plateau RMS is the speech RMS times `breath_rms_re_speech` of the mapped parameters.
+//!
+//! Writes `DIR/speech.wav` (16-bit mono at the TTS rate), `DIR/speech.controls.csv`,
+//! `DIR/speech.breaths.csv` and `DIR/speech.png`; every file is written atomically. f0, voicing
+//! and level in the controls come from Pneuma's analysis of the written audio; head angles are 0.
 
-use std::process::ExitCode;
+use std::io::{Cursor, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode, Stdio};
+
+use pneuma_core::breathing::{
+    chunk_text, BreathCycle, BreathSample, BreathVoice, BreathingError, BreathingParams, Chunk,
+    Preset, SampleSlot,
+};
+use pneuma_core::encode::{breaths_csv, controls_csv};
+use pneuma_core::{AnalysisConfig, Analyzer, BreathEvent, ControlFrame};
+use thiserror::Error;
+
+use crate::output::Output;
+use crate::plot::{write_plot, PlotError};
+use crate::wav::{read_mono, WavError};
+
+/// Silence before the first breath, seconds.
+pub const LEAD_IN_S: f64 = 0.25;
+/// Pause between the end of a chunk and the next inspiration, seconds.
+pub const PAUSE_S: f64 = 0.1;
+/// Rest after the last chunk, seconds.
+pub const TAIL_S: f64 = 0.6;
+/// Level under which the ends of a TTS chunk count as silence, dBFS.
+pub const TRIM_DB: f32 = -50.0;
+/// Frame rate of the controls, Hz (DESIGN.md frame clock).
+pub const FRAME_RATE_HZ: f64 = 120.0;
+
+/// Which TTS program speaks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Tts {
+    /// `espeak-ng` (Debian package `espeak-ng`).
+    Espeak,
+    /// festival's `text2wave` (Debian package `festival`).
+    Festival,
+}
 
 /// Command-line arguments of `pneuma speak`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Remaining arguments (the full interface is being built).
-    #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
-    pub rest: Vec<String>,
+    /// The text to speak ("." and "_" mark pauses; see the chunker's docs).
+    pub text: Option<String>,
+    /// Read the text from this file instead.
+    #[arg(long, value_name = "FILE", conflicts_with = "text")]
+    pub text_file: Option<PathBuf>,
+    /// Output folder (created if missing); receives speech.wav, speech.controls.csv,
+    /// speech.breaths.csv and speech.png.
+    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    pub out_dir: PathBuf,
+    /// Breathing preset: neutral, calm, anxious, tired, excited.
+    #[arg(long, default_value = "neutral")]
+    pub preset: String,
+    /// TTS voice (espeak-ng: e.g. `en-us`, `en-gb`; festival: e.g. `kal_diphone`).
+    #[arg(long)]
+    pub voice: Option<String>,
+    /// Prosody rate, 0.5..2 (speaking-rate multiplier; default: the preset's).
+    #[arg(long)]
+    pub rate: Option<f32>,
+    /// Speaking loudness, 0.05..1 (default: the preset's); louder speech gets shorter breath
+    /// groups (Equation 1) and a louder TTS.
+    #[arg(long)]
+    pub loudness: Option<f32>,
+    /// Seed of the breath sounds.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// TTS program.
+    #[arg(long, value_enum, default_value_t = Tts::Espeak)]
+    pub tts: Tts,
+    /// A WAV recording of a mouth inhalation to use instead of the procedural one.
+    #[arg(long, value_name = "WAV")]
+    pub breath_mouth: Option<PathBuf>,
+    /// A WAV recording of a nose inhalation to use instead of the procedural one.
+    #[arg(long, value_name = "WAV")]
+    pub breath_nose: Option<PathBuf>,
+}
+
+/// Errors of `pneuma speak`.
+#[derive(Debug, Error)]
+pub enum SpeakError {
+    /// No text given.
+    #[error("no text to speak: give TEXT or --text-file FILE with some words in it")]
+    NoText,
+    /// The text file cannot be read.
+    #[error("cannot read the text file {path}: {source}")]
+    TextFile {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Bad breathing settings.
+    #[error(transparent)]
+    Breathing(#[from] BreathingError),
+    /// The TTS program is not installed.
+    #[error("`{program}` was not found: install the Debian package `{package}` (apt-get install {package}) or choose another --tts")]
+    MissingTts {
+        /// The program.
+        program: &'static str,
+        /// The package that provides it.
+        package: &'static str,
+    },
+    /// The TTS program failed.
+    #[error("`{program}` failed on chunk {chunk:?}: {reason}")]
+    TtsFailed {
+        /// The program.
+        program: &'static str,
+        /// The chunk's text.
+        chunk: String,
+        /// What went wrong.
+        reason: String,
+    },
+    /// A WAV file (TTS output or breath sample) could not be read.
+    #[error(transparent)]
+    Wav(#[from] WavError),
+    /// The TTS changed its sample rate between chunks.
+    #[error("the TTS produced {0} Hz and then {1} Hz; use one voice")]
+    RateChanged(u32, u32),
+    /// An output file could not be written.
+    #[error("cannot write {path}: {source} (check that the folder exists and is writable)")]
+    Output {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The plot could not be drawn.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+}
+
+/// What `speak` produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpeakSummary {
+    /// The chunks, in order.
+    pub chunks: Vec<Chunk>,
+    /// Measured duration of each chunk's speech, seconds.
+    pub chunk_durations_s: Vec<f64>,
+    /// Total length of speech.wav, seconds.
+    pub duration_s: f64,
+    /// The inserted breaths.
+    pub breaths: Vec<BreathEvent>,
 }
 
 /// Runs `pneuma speak`.
-pub fn main(_args: Args) -> ExitCode {
-    eprintln!("error: `pneuma speak` is not built yet (issue 3)");
-    ExitCode::FAILURE
+pub fn main(args: Args) -> ExitCode {
+    match run(&args) {
+        Ok(s) => {
+            eprintln!(
+                "spoke {} breath groups ({:.2} s, {} breaths) into {}",
+                s.chunks.len(),
+                s.duration_s,
+                s.breaths.len(),
+                args.out_dir.display()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The breathing parameters from the preset and the overrides, validated.
+pub fn params_from_args(args: &Args) -> Result<BreathingParams, SpeakError> {
+    let mut p = Preset::from_name(&args.preset)?.params();
+    if let Some(r) = args.rate {
+        p.prosody_rate = r;
+    }
+    if let Some(l) = args.loudness {
+        p.speaking_loudness = l;
+    }
+    p.validate()?;
+    Ok(p)
+}
+
+fn text_from_args(args: &Args) -> Result<String, SpeakError> {
+    let text = match (&args.text, &args.text_file) {
+        (_, Some(path)) => {
+            std::fs::read_to_string(path).map_err(|source| SpeakError::TextFile {
+                path: path.clone(),
+                source,
+            })?
+        }
+        (Some(t), None) => t.clone(),
+        (None, None) => String::new(),
+    };
+    if text
+        .split_whitespace()
+        .all(|w| !w.chars().any(char::is_alphanumeric))
+    {
+        return Err(SpeakError::NoText);
+    }
+    Ok(text)
+}
+
+/// Synthesises `text` with the chosen TTS into mono samples and their rate.
+fn synthesize(
+    tts: Tts,
+    text: &str,
+    voice: Option<&str>,
+    rate: f32,
+    loudness: f32,
+    dir: &Path,
+) -> Result<(Vec<f32>, u32), SpeakError> {
+    let wav = dir.join("chunk.wav");
+    let (program, package) = match tts {
+        Tts::Espeak => ("espeak-ng", "espeak-ng"),
+        Tts::Festival => ("text2wave", "festival"),
+    };
+    let mut cmd = Command::new(program);
+    match tts {
+        Tts::Espeak => {
+            let wpm = (175.0 * rate).round().clamp(80.0, 450.0) as u32;
+            let amplitude = (100.0 * loudness / 0.5).round().clamp(10.0, 200.0) as u32;
+            cmd.arg("--stdin")
+                .arg("-s")
+                .arg(wpm.to_string())
+                .arg("-a")
+                .arg(amplitude.to_string())
+                .arg("-w")
+                .arg(&wav);
+            if let Some(v) = voice {
+                cmd.arg("-v").arg(v);
+            }
+        }
+        Tts::Festival => {
+            cmd.arg("-o").arg(&wav);
+            cmd.arg("-scale").arg(format!("{:.3}", loudness / 0.5));
+            if let Some(v) = voice {
+                let v = v.trim_start_matches("voice_");
+                cmd.arg("-eval").arg(format!("(voice_{v})"));
+            }
+            cmd.arg("-eval").arg(format!(
+                "(Parameter.set 'Duration_Stretch {:.3})",
+                1.0 / rate
+            ));
+        }
+    }
+    let failed = |reason: String| SpeakError::TtsFailed {
+        program,
+        chunk: text.to_owned(),
+        reason,
+    };
+    let mut child = cmd
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| match e.kind() {
+            std::io::ErrorKind::NotFound => SpeakError::MissingTts { program, package },
+            _ => failed(e.to_string()),
+        })?;
+    if let Some(mut stdin) = child.stdin.take() {
+        stdin
+            .write_all(text.as_bytes())
+            .and_then(|()| stdin.write_all(b"\n"))
+            .map_err(|e| failed(e.to_string()))?;
+    }
+    let out = child
+        .wait_with_output()
+        .map_err(|e| failed(e.to_string()))?;
+    if !out.status.success() {
+        return Err(failed(format!(
+            "{}: {}",
+            out.status,
+            String::from_utf8_lossy(&out.stderr).trim()
+        )));
+    }
+    Ok(read_mono(&wav)?)
+}
+
+/// Trims leading and trailing samples below [`TRIM_DB`] (keeping 10 ms of margin).
+pub fn trim_silence(audio: &[f32], rate_hz: u32) -> &[f32] {
+    let threshold = 10f32.powf(TRIM_DB / 20.0);
+    let margin = (0.01 * rate_hz as f64) as usize;
+    let first = audio.iter().position(|v| v.abs() > threshold);
+    let last = audio.iter().rposition(|v| v.abs() > threshold);
+    match (first, last) {
+        (Some(a), Some(b)) => &audio[a.saturating_sub(margin)..(b + 1 + margin).min(audio.len())],
+        _ => &audio[..0],
+    }
+}
+
+fn rms(x: &[f32]) -> f64 {
+    if x.is_empty() {
+        return 0.0;
+    }
+    (x.iter().map(|&v| (v as f64).powi(2)).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+fn load_sample(path: &Path) -> Result<BreathSample, SpeakError> {
+    let (samples, rate) = read_mono(path)?;
+    BreathSample::from_mono(samples, rate as f64).map_err(|e| {
+        SpeakError::Breathing(BreathingError::BadSample(format!(
+            "{}: {e}",
+            path.display()
+        )))
+    })
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Event {
+    Inspire { length_s: f32, utterance_s: f32 },
+    Speak { utterance_s: f32 },
+    Stop,
+}
+
+/// Runs `speak` and returns what it produced.
+pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
+    let text = text_from_args(args)?;
+    let params = params_from_args(args)?;
+    let low = params.map();
+    let mouth_sample = args.breath_mouth.as_deref().map(load_sample).transpose()?;
+    let nose_sample = args.breath_nose.as_deref().map(load_sample).transpose()?;
+    let chunks = chunk_text(&text, &low);
+    if chunks.is_empty() {
+        return Err(SpeakError::NoText);
+    }
+    std::fs::create_dir_all(&args.out_dir).map_err(|source| SpeakError::Output {
+        path: args.out_dir.clone(),
+        source,
+    })?;
+    let scratch = Scratch::new(&args.out_dir)?;
+
+    // Synthesise and measure every chunk.
+    let mut rate_hz = 0u32;
+    let mut speech: Vec<Vec<f32>> = Vec::with_capacity(chunks.len());
+    for c in &chunks {
+        let (audio, r) = synthesize(
+            args.tts,
+            &c.text,
+            args.voice.as_deref(),
+            low.prosody_rate,
+            low.speaking_loudness,
+            &scratch.0,
+        )?;
+        if rate_hz != 0 && r != rate_hz {
+            return Err(SpeakError::RateChanged(rate_hz, r));
+        }
+        rate_hz = r;
+        speech.push(trim_silence(&audio, r).to_vec());
+    }
+    let fs = rate_hz as f64;
+    let all_speech: Vec<f32> = speech.iter().flatten().copied().collect();
+    let speech_rms = rms(&all_speech).max(1e-4);
+
+    // Lay out the timeline.
+    let secs = |n: usize| n as f64 / fs;
+    let samples = |s: f64| (s * fs).round() as usize;
+    let insp_n = samples(low.length_inspiration_s as f64).max(1);
+    let mut audio: Vec<f32> = vec![0.0; samples(LEAD_IN_S)];
+    let mut events: Vec<(f64, Event)> = Vec::new();
+    let mut breath_spans: Vec<(usize, usize)> = Vec::new();
+    let mut speech_spans: Vec<(f64, f64)> = Vec::new();
+    let mut durations = Vec::with_capacity(chunks.len());
+    for (i, s) in speech.iter().enumerate() {
+        if i > 0 {
+            audio.resize(audio.len() + samples(PAUSE_S), 0.0);
+        }
+        let utterance_s = secs(s.len()) as f32;
+        durations.push(secs(s.len()));
+        events.push((
+            secs(audio.len()),
+            Event::Inspire {
+                length_s: secs(insp_n) as f32,
+                utterance_s,
+            },
+        ));
+        breath_spans.push((audio.len(), insp_n));
+        audio.resize(audio.len() + insp_n, 0.0);
+        let start = audio.len();
+        events.push((secs(start), Event::Speak { utterance_s }));
+        audio.extend_from_slice(s);
+        events.push((secs(audio.len()), Event::Stop));
+        speech_spans.push((secs(start), secs(audio.len())));
+    }
+    audio.resize(audio.len() + samples(TAIL_S), 0.0);
+
+    // Breath sounds.
+    let mut voice = BreathVoice::new(args.seed);
+    voice.set_sample(SampleSlot::Mouth, mouth_sample);
+    voice.set_sample(SampleSlot::Nose, nose_sample);
+    voice.prepare(fs, insp_n);
+    let gain = (speech_rms * low.breath_rms_re_speech() as f64) as f32;
+    let mut breath_buf = vec![0.0f32; insp_n];
+    let mut breaths = Vec::with_capacity(breath_spans.len());
+    for &(start, n) in &breath_spans {
+        breath_buf.iter_mut().for_each(|v| *v = 0.0);
+        voice.start(low.mouth_share(), n, gain);
+        voice.render_add(&mut breath_buf[..n]);
+        let peak = breath_buf[..n].iter().fold(0.0f32, |m, v| m.max(v.abs()));
+        for (o, b) in audio[start..start + n].iter_mut().zip(&breath_buf[..n]) {
+            *o += *b;
+        }
+        breaths.push(BreathEvent {
+            start_s: secs(start),
+            end_s: secs(start + n),
+            kind: voice.kind(),
+            peak_db: pneuma_core::analysis::amplitude_to_db(peak as f64),
+        });
+    }
+    for v in audio.iter_mut() {
+        *v = v.clamp(-1.0, 1.0);
+    }
+
+    // Controls: the breath cycle on the events, analysis of the written audio.
+    let mut features = Vec::new();
+    let mut analyzer = Analyzer::new(AnalysisConfig {
+        frame_rate_hz: FRAME_RATE_HZ,
+        ..Default::default()
+    })
+    .map_err(|e| SpeakError::TtsFailed {
+        program: "analysis",
+        chunk: String::new(),
+        reason: e.to_string(),
+    })?;
+    let analysis_err = |e: pneuma_core::AnalysisError| SpeakError::TtsFailed {
+        program: "analysis",
+        chunk: String::new(),
+        reason: e.to_string(),
+    };
+    analyzer.prepare(fs, 4096).map_err(analysis_err)?;
+    for block in audio.chunks(4096) {
+        analyzer
+            .process(block, |f| features.push(*f))
+            .map_err(analysis_err)?;
+    }
+    analyzer
+        .finish(|f| features.push(*f))
+        .map_err(analysis_err)?;
+    let frames = controls_for(&low, &events, &speech_spans, &features, secs(audio.len()));
+
+    // Write everything.
+    let wav_bytes = wav_16bit(&audio, rate_hz);
+    let out = |name: &str| args.out_dir.join(name);
+    write_file(&out("speech.wav"), |w| w.write_all(&wav_bytes))?;
+    write_file(&out("speech.controls.csv"), |mut w| {
+        controls_csv::write_all(&mut w, &frames)
+    })?;
+    write_file(&out("speech.breaths.csv"), |mut w| {
+        breaths_csv::write_all(&mut w, &breaths)
+    })?;
+    write_plot(&out("speech.png"), &audio, fs, &frames, &breaths)?;
+    Ok(SpeakSummary {
+        chunks,
+        chunk_durations_s: durations,
+        duration_s: secs(audio.len()),
+        breaths,
+    })
+}
+
+/// Control frames for the timeline: the cycle driven by `events` (time-sorted), frames at
+/// [`FRAME_RATE_HZ`] (time = index / rate), features matched by index.
+fn controls_for(
+    low: &pneuma_core::breathing::LowLevelParams,
+    events: &[(f64, Event)],
+    speech_spans: &[(f64, f64)],
+    features: &[pneuma_core::FeatureFrame],
+    duration_s: f64,
+) -> Vec<ControlFrame> {
+    let mut cycle = BreathCycle::new(low);
+    let n = (duration_s * FRAME_RATE_HZ).ceil() as usize;
+    let mut frames = Vec::with_capacity(n);
+    let mut now = 0.0f64;
+    let mut next = 0;
+    for i in 0..n {
+        let t = i as f64 / FRAME_RATE_HZ;
+        while next < events.len() && events[next].0 <= t {
+            let (te, ev) = events[next];
+            cycle.advance((te - now) as f32);
+            now = te;
+            match ev {
+                Event::Inspire {
+                    length_s,
+                    utterance_s,
+                } => cycle.inspire(length_s, utterance_s),
+                Event::Speak { utterance_s } => cycle.utterance_starts(utterance_s),
+                Event::Stop => cycle.speech_stopped(),
+            }
+            next += 1;
+        }
+        let state = cycle.advance((t - now).max(0.0) as f32);
+        now = t;
+        let f = features.get(i).copied().unwrap_or_default();
+        frames.push(ControlFrame {
+            index: i as u64,
+            time_s: t,
+            f0_hz: f.f0_hz,
+            voiced: f.voiced,
+            rms_db: if features.get(i).is_some() {
+                f.rms_db
+            } else {
+                -120.0
+            },
+            level_db: f.level_db,
+            speaking: speech_spans.iter().any(|&(a, b)| t >= a && t < b),
+            breathing: state,
+            head: Default::default(),
+        });
+    }
+    frames
+}
+
+/// A scratch folder for the TTS output, removed when dropped.
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn new(parent: &Path) -> Result<Self, SpeakError> {
+        let dir = parent.join(format!(".pneuma-speak-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).map_err(|source| SpeakError::Output {
+            path: dir.clone(),
+            source,
+        })?;
+        Ok(Self(dir))
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn wav_16bit(audio: &[f32], rate_hz: u32) -> Vec<u8> {
+    let spec = hound::WavSpec {
+        channels: 1,
+        sample_rate: rate_hz,
+        bits_per_sample: 16,
+        sample_format: hound::SampleFormat::Int,
+    };
+    let mut cursor = Cursor::new(Vec::with_capacity(44 + 2 * audio.len()));
+    {
+        // Writing to memory cannot fail except for sizes beyond 4 GiB, which 16-bit mono
+        // speech never reaches.
+        let mut w = hound::WavWriter::new(&mut cursor, spec).expect("in-memory WAV header");
+        for &v in audio {
+            let s = (v.clamp(-1.0, 1.0) * 32767.0).round() as i16;
+            w.write_sample(s).expect("in-memory WAV sample");
+        }
+        w.finalize().expect("in-memory WAV");
+    }
+    cursor.into_inner()
+}
+
+fn write_file(
+    path: &Path,
+    body: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<(), SpeakError> {
+    let err = |source| SpeakError::Output {
+        path: path.to_owned(),
+        source,
+    };
+    let mut out = Output::create(path).map_err(err)?;
+    body(out.writer()).map_err(err)?;
+    out.commit().map_err(err)
 }
