@@ -47,6 +47,9 @@ use pneuma_core::head::HeadModel;
 /// Stable identifier of the breath level parameter, saved in host projects and presets.
 pub const BREATH_LEVEL_PARAM_ID: &str = "breath_level_db";
 
+/// Largest block the engine is prepared for; longer host blocks are processed in pieces.
+const MAX_ENGINE_BLOCK: usize = 8192;
+
 /// Settings that need a new `prepare` (and maybe a new latency) when they change.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Structural {
@@ -302,7 +305,9 @@ impl Plugin for Pneuma {
         }
         if let Err(e) = engine.prepare(
             f64::from(buffer_config.sample_rate),
-            buffer_config.max_buffer_size as usize,
+            // The engine splits longer blocks itself; a host reporting 0 or a huge maximum
+            // must not stop the plugin from activating.
+            (buffer_config.max_buffer_size as usize).clamp(1, MAX_ENGINE_BLOCK),
             channels,
         ) {
             nice_error!("Pneuma: cannot prepare: {e}");
@@ -383,15 +388,26 @@ impl Plugin for Pneuma {
             cc: midi_on.then_some(&mut self.cc),
             osc: if osc_on { self.osc_feed.as_mut() } else { None },
         };
+        let mut cc_lost = false;
         run_block(engine, buffer.as_slice(), outputs, &mut |offset, m| {
             // A full host event buffer loses the message; never block for it.
-            let _ = context.try_send_event(NoteEvent::MidiCC {
-                timing: offset,
-                channel: m.channel,
-                cc: m.controller,
-                value: f32::from(m.value) / 127.0,
-            });
+            if context
+                .try_send_event(NoteEvent::MidiCC {
+                    timing: offset,
+                    channel: m.channel,
+                    cc: m.controller,
+                    value: f32::from(m.value) / 127.0,
+                })
+                .is_err()
+            {
+                cc_lost = true;
+            }
         });
+        if cc_lost {
+            // Forget what was sent so every controller is sent again at the next frame: a lost
+            // message must not leave a receiver on a stale value.
+            self.cc.reset();
+        }
         ProcessStatus::Normal
     }
 }

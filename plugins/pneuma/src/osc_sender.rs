@@ -33,6 +33,8 @@ pub const QUEUE_FRAMES: usize = 512;
 pub const MAX_BACKLOG_FRAMES: usize = 12;
 /// How long the worker sleeps between polls of the queue.
 pub const POLL_INTERVAL: Duration = Duration::from_millis(2);
+/// How often the worker looks for frames after 100 ms without any.
+pub const IDLE_POLL_INTERVAL: Duration = Duration::from_millis(20);
 /// How often an unresolvable target is retried.
 pub const RETRY_INTERVAL: Duration = Duration::from_secs(1);
 
@@ -161,12 +163,20 @@ fn run<S: OscSettings>(
     let mut buf = [0u8; MAX_FRAME_PACKET_BYTES];
     // (anchor unix seconds, last frame index)
     let mut anchor: Option<(f64, u64)> = None;
+    let mut idle_polls: u32 = 0;
     while !stop.load(Ordering::Relaxed) {
         let waiting = consumer.slots();
         if waiting == 0 {
-            std::thread::sleep(POLL_INTERVAL);
+            // Idle (not playing, or OSC off): back off to a slow poll after 100 ms.
+            idle_polls = idle_polls.saturating_add(1);
+            std::thread::sleep(if idle_polls > 50 {
+                IDLE_POLL_INTERVAL
+            } else {
+                POLL_INTERVAL
+            });
             continue;
         }
+        idle_polls = 0;
         if waiting > MAX_BACKLOG_FRAMES {
             let skip = waiting - MAX_BACKLOG_FRAMES;
             if let Ok(chunk) = consumer.read_chunk(skip) {
@@ -180,7 +190,9 @@ fn run<S: OscSettings>(
         let format = settings.format();
         let stale = match &target {
             Some(t) => {
-                t.key != key || (t.addr.is_none() && t.resolved_at.elapsed() > RETRY_INTERVAL)
+                t.key != key
+                    || ((t.addr.is_none() || socket.is_none())
+                        && t.resolved_at.elapsed() > RETRY_INTERVAL)
             }
             None => true,
         };

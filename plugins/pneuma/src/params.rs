@@ -163,7 +163,7 @@ pub struct PneumaParams {
     /// Lookahead (latency = lookahead) or live (zero latency). Default lookahead. Restart.
     #[id = "mode"]
     pub mode: EnumParam<ModeChoice>,
-    /// Lookahead length (= latency), seconds, 0.2..2. Default 0.5. Restart.
+    /// Lookahead length (= latency), seconds, 0.3..2. Default 0.5. Restart.
     #[id = "lookahead_s"]
     pub lookahead_s: FloatParam,
 
