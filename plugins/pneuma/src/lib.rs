@@ -5,7 +5,8 @@
 //!   input never reaches the output, and subnormal output samples become 0.
 //! - Breath samples: the persisted paths (`breath_sample_mouth`, `breath_sample_nose`) are
 //!   loaded at activation (WAV, mixed to mono); a file that cannot be used is logged and the
-//!   procedural breath stays.
+//!   procedural breath stays. A path changed while active (a project or preset loaded) asks the
+//!   host for a restart, which loads the new file.
 //! - Latency: the engine's (`mode` = lookahead: the lookahead delay; live: none), reported at
 //!   activation. Changing `mode`, `lookahead_s` or `frame_rate_hz` asks the host for a restart.
 //! - Reset (engine, MIDI CC memory, OSC time anchor) on re-activation, on the host's reset and on
@@ -56,6 +57,8 @@ struct Structural {
     mode: params::ModeChoice,
     lookahead_s: f32,
     frame_rate_hz: i32,
+    /// Changes of the breath-sample paths (the files are loaded at activation).
+    sample_generation: u64,
 }
 
 impl Structural {
@@ -64,6 +67,8 @@ impl Structural {
             mode: p.mode.value(),
             lookahead_s: p.lookahead_s.value(),
             frame_rate_hz: p.frame_rate_hz.value(),
+            sample_generation: p.breath_sample_mouth.generation()
+                + p.breath_sample_nose.generation(),
         }
     }
 }
@@ -297,7 +302,7 @@ impl Plugin for Pneuma {
             (SampleSlot::Mouth, &self.params.breath_sample_mouth),
             (SampleSlot::Nose, &self.params.breath_sample_nose),
         ] {
-            let path = path.read().map(|p| p.clone()).unwrap_or_default();
+            let path = path.get();
             match load_breath_sample(&path) {
                 Ok(sample) => engine.set_breath_sample(slot, sample),
                 Err(e) => nice_error!("Pneuma: breath sample not used: {e}"),

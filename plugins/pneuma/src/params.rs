@@ -9,6 +9,7 @@
 //! `frame_rate_hz`) take effect at the next activation; the plugin asks the host for a restart
 //! when they change.
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, RwLock};
 
 use nice_plug::prelude::*;
@@ -245,10 +246,57 @@ pub struct PneumaParams {
     pub osc_host: Arc<RwLock<String>>,
     /// Path of a mouth breath WAV replacing the procedural mouth breath (empty = none).
     #[persist = "breath_sample_mouth"]
-    pub breath_sample_mouth: Arc<RwLock<String>>,
+    pub breath_sample_mouth: SamplePath,
     /// Path of a nose breath WAV replacing the procedural nose breath (empty = none).
     #[persist = "breath_sample_nose"]
-    pub breath_sample_nose: Arc<RwLock<String>>,
+    pub breath_sample_nose: SamplePath,
+}
+
+/// A persisted breath-sample path that counts its changes, so the audio thread notices a
+/// restored state (a project or preset loaded while active) without taking a lock, and asks
+/// the host for the re-activation that loads the new file.
+#[derive(Debug, Default)]
+pub struct SamplePath {
+    path: RwLock<String>,
+    generation: AtomicU64,
+}
+
+impl SamplePath {
+    /// The path (empty = none). Takes a lock: not for the audio thread.
+    pub fn get(&self) -> String {
+        self.path.read().map(|p| p.clone()).unwrap_or_default()
+    }
+
+    /// Sets the path; a different path counts as a change.
+    pub fn set_path(&self, path: String) {
+        if let Ok(mut p) = self.path.write() {
+            if *p != path {
+                *p = path;
+                self.generation.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+    }
+
+    /// How many times the path was set (lock-free; for the audio thread).
+    pub fn generation(&self) -> u64 {
+        self.generation.load(Ordering::Relaxed)
+    }
+}
+
+impl<'a> nice_plug::params::persist::PersistentField<'a, String> for SamplePath {
+    fn set(&self, new_value: String) {
+        self.set_path(new_value);
+    }
+
+    fn map<F, R>(&self, f: F) -> R
+    where
+        F: Fn(&String) -> R,
+    {
+        match self.path.read() {
+            Ok(p) => f(&p),
+            Err(poisoned) => f(&poisoned.into_inner()),
+        }
+    }
 }
 
 fn unit_param(name: &str, default: f32) -> FloatParam {
@@ -336,8 +384,8 @@ impl Default for PneumaParams {
             ),
             osc_format: EnumParam::new("OSC format", OscFormatChoice::Pneuma),
             osc_host: Arc::new(RwLock::new(DEFAULT_OSC_HOST.to_owned())),
-            breath_sample_mouth: Arc::new(RwLock::new(String::new())),
-            breath_sample_nose: Arc::new(RwLock::new(String::new())),
+            breath_sample_mouth: SamplePath::default(),
+            breath_sample_nose: SamplePath::default(),
         }
     }
 }
@@ -517,12 +565,18 @@ mod tests {
     fn persisted_settings_round_trip() {
         let params = PneumaParams::default();
         *params.osc_host.write().unwrap() = "192.168.1.20".into();
-        *params.breath_sample_nose.write().unwrap() = "/tmp/nose.wav".into();
+        params.breath_sample_nose.set_path("/tmp/nose.wav".into());
         let saved = params.serialize_fields();
         let fresh = PneumaParams::default();
+        let before = fresh.breath_sample_nose.generation();
         fresh.deserialize_fields(&saved);
         assert_eq!(fresh.osc_host(), "192.168.1.20");
-        assert_eq!(*fresh.breath_sample_nose.read().unwrap(), "/tmp/nose.wav");
-        assert_eq!(*fresh.breath_sample_mouth.read().unwrap(), "");
+        assert_eq!(fresh.breath_sample_nose.get(), "/tmp/nose.wav");
+        let after = fresh.breath_sample_nose.generation();
+        assert!(after > before, "a restored path is seen as a change");
+        // Restoring the same path again is no change (no needless restart).
+        fresh.deserialize_fields(&saved);
+        assert_eq!(fresh.breath_sample_nose.generation(), after);
+        assert_eq!(fresh.breath_sample_mouth.get(), "");
     }
 }
