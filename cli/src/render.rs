@@ -279,9 +279,8 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
     let tail = engine.tail_samples();
     let total_in = info.frames;
     let frame_rate = config.analysis.frame_rate_hz;
-    let frames_total =
-        pneuma_core::analysis::FrameClock::new(frame_rate, info.sample_rate_hz as f64)
-            .frames_in(total_in);
+    let clock = pneuma_core::analysis::FrameClock::new(frame_rate, info.sample_rate_hz as f64);
+    let frames_total = clock.frames_in(total_in);
     let mut envelope = Envelope::new(total_in);
     let plot_every = (frames_total as usize).div_ceil(PLOT_FRAMES).max(1);
     let mut plot_frames: Vec<ControlFrame> = Vec::new();
@@ -332,9 +331,7 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
             n
         };
         let total_now = src.frames_read();
-        let frames_limit =
-            pneuma_core::analysis::FrameClock::new(frame_rate, info.sample_rate_hz as f64)
-                .frames_in(total_now);
+        let frames_limit = clock.frames_in(total_now);
         {
             let mut chans: Vec<&mut [f32]> = planar.iter_mut().map(|p| &mut p[..n]).collect();
             engine.process(&mut chans, &mut |f: &ControlFrame, _offset| {

@@ -25,7 +25,7 @@ use std::time::Instant;
 use pneuma_core::phrase::{PhraseConfig, PhraseEvent, PhraseTracker};
 use pneuma_core::{AnalysisConfig, Analyzer};
 
-use crate::eval_pitch::{read_reference, split_name};
+use crate::eval_pitch::{list_clips, read_reference, split_name};
 
 /// Shortest pause evaluated, seconds.
 const MIN_PAUSE_S: f64 = 0.25;
@@ -251,14 +251,7 @@ fn run(args: &[String]) -> Result<i32, String> {
             data.display()
         ));
     }
-    let mut names: Vec<String> = std::fs::read_dir(&data)
-        .map_err(|e| e.to_string())?
-        .filter_map(|e| e.ok())
-        .filter_map(|e| e.file_name().to_str().map(str::to_string))
-        .filter_map(|n| n.strip_suffix(".wav").map(str::to_string))
-        .filter(|n| data.join(format!("{n}.f0.csv")).exists())
-        .collect();
-    names.sort();
+    let names = list_clips(&data)?;
     let mut per_snr: BTreeMap<u32, Counts> = BTreeMap::new();
     let mut per_noise: BTreeMap<String, Counts> = BTreeMap::new();
     let mut total = Counts::default();

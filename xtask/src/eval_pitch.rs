@@ -434,6 +434,26 @@ fn dump_tracks(
     Ok(())
 }
 
+/// The clips of a PTDB-style folder: every `<clip>` with both `<clip>.wav` and `<clip>.f0.csv`,
+/// sorted; an error when there is none.
+pub(crate) fn list_clips(data: &Path) -> Result<Vec<String>, String> {
+    let mut names: Vec<String> = std::fs::read_dir(data)
+        .map_err(|e| e.to_string())?
+        .filter_map(|e| e.ok())
+        .filter_map(|e| e.file_name().to_str().map(str::to_string))
+        .filter_map(|n| n.strip_suffix(".wav").map(str::to_string))
+        .filter(|n| data.join(format!("{n}.f0.csv")).exists())
+        .collect();
+    names.sort();
+    if names.is_empty() {
+        return Err(format!(
+            "no <clip>.wav with <clip>.f0.csv in {}",
+            data.display()
+        ));
+    }
+    Ok(names)
+}
+
 pub(crate) fn read_reference(path: &Path) -> Result<Vec<(f64, f32)>, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     text.lines()
@@ -553,20 +573,7 @@ fn run(args: &[String]) -> Result<i32, String> {
             args.data.display()
         ));
     }
-    let mut names: Vec<String> = std::fs::read_dir(&args.data)
-        .map_err(|e| e.to_string())?
-        .filter_map(|e| e.ok())
-        .filter_map(|e| e.file_name().to_str().map(str::to_string))
-        .filter_map(|n| n.strip_suffix(".wav").map(str::to_string))
-        .filter(|n| args.data.join(format!("{n}.f0.csv")).exists())
-        .collect();
-    names.sort();
-    if names.is_empty() {
-        return Err(format!(
-            "no <clip>.wav with <clip>.f0.csv in {}",
-            args.data.display()
-        ));
-    }
+    let names = list_clips(&args.data)?;
     let use_praat = args.praat && praat_available();
     if args.praat && !use_praat {
         eprintln!("note: praat not found (Debian package `praat`); comparing without it");

@@ -314,7 +314,7 @@ impl HeadModel {
     }
 }
 
-fn check(
+pub(super) fn check(
     name: &'static str,
     v: f64,
     lo: f64,

@@ -62,6 +62,7 @@ impl Default for HeadConfig {
     }
 }
 
+/// The model file's range check, for the `f32` settings.
 fn range(
     name: &'static str,
     v: f32,
@@ -69,15 +70,7 @@ fn range(
     hi: f32,
     words: &'static str,
 ) -> Result<(), HeadModelError> {
-    if v.is_finite() && v >= lo && v <= hi {
-        Ok(())
-    } else {
-        Err(HeadModelError::OutOfRange {
-            name,
-            value: v as f64,
-            range: words,
-        })
-    }
+    super::model_file::check(name, v as f64, lo as f64, hi as f64, words)
 }
 
 impl HeadConfig {
