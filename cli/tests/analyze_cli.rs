@@ -2,42 +2,15 @@
 //! with clear errors and without touching existing output.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use pneuma_core::synth;
 
-fn pneuma(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pneuma"))
-        .args(args)
-        .output()
-        .expect("the pneuma binary runs")
-}
+mod support;
+use support::pneuma;
 
+/// Writes `mono` to all channels (the second at 0.5×) in the given format.
 fn write_wav(path: &Path, rate: u32, channels: u16, bits: u16, float: bool, mono: &[f32]) {
-    let spec = hound::WavSpec {
-        channels,
-        sample_rate: rate,
-        bits_per_sample: bits,
-        sample_format: if float {
-            hound::SampleFormat::Float
-        } else {
-            hound::SampleFormat::Int
-        },
-    };
-    let mut w = hound::WavWriter::create(path, spec).expect("create wav");
-    for &v in mono {
-        for ch in 0..channels {
-            // Second channel at half level: the mix is still the same pitch.
-            let v = if ch == 0 { v } else { v * 0.5 };
-            if float {
-                w.write_sample(v).expect("write");
-            } else {
-                let max = ((1i64 << (bits - 1)) - 1) as f32;
-                w.write_sample((v * max).round() as i32).expect("write");
-            }
-        }
-    }
-    w.finalize().expect("finalize");
+    support::write_wav(path, (rate, channels, bits, float), mono, 0.5);
 }
 
 /// 0.3 s silence, 0.6 s of a 200 Hz voice-like tone, 0.3 s silence.

@@ -3,15 +3,16 @@
 //! breaths only in long pauses, and broken input rejected without touching existing output.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use pneuma_core::synth::{self, GlottalVowel, Vowel};
 
-fn pneuma(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pneuma"))
-        .args(args)
-        .output()
-        .expect("the pneuma binary runs")
+mod support;
+use support::pneuma;
+
+/// Writes `mono` to all channels (the second at 0.7×) in the given format.
+fn write_wav(path: &Path, rate: u32, channels: u16, bits: u16, float: bool, mono: &[f32]) {
+    support::write_wav(path, (rate, channels, bits, float), mono, 0.7);
 }
 
 /// Phrases (voiced glottal vowels) separated by the given pauses after a 0.5 s lead-in; returns
@@ -40,33 +41,6 @@ fn phrases(rate: u32, lengths: &[f64], pauses: &[f64]) -> (Vec<f32>, Vec<(f64, f
         x.extend(std::iter::repeat_n(0.0, (p * r) as usize));
     }
     (x, spans)
-}
-
-/// Writes `mono` to all channels (the second at 0.7×) in the given format.
-fn write_wav(path: &Path, rate: u32, channels: u16, bits: u16, float: bool, mono: &[f32]) {
-    let spec = hound::WavSpec {
-        channels,
-        sample_rate: rate,
-        bits_per_sample: bits,
-        sample_format: if float {
-            hound::SampleFormat::Float
-        } else {
-            hound::SampleFormat::Int
-        },
-    };
-    let mut w = hound::WavWriter::create(path, spec).expect("create wav");
-    for &v in mono {
-        for ch in 0..channels {
-            let v = if ch == 0 { v } else { v * 0.7 };
-            if float {
-                w.write_sample(v).expect("write");
-            } else {
-                let max = ((1i64 << (bits - 1)) - 1) as f32;
-                w.write_sample((v * max).round() as i32).expect("write");
-            }
-        }
-    }
-    w.finalize().expect("finalize");
 }
 
 /// Raw samples as i64 (float bits for float files), interleaved.

@@ -4,17 +4,12 @@
 
 use std::fmt::Write as _;
 use std::path::Path;
-use std::process::{Command, Output};
 
 use pneuma_core::head::HeadModel;
 use pneuma_core::synth::{self, GlottalVowel, Vowel};
 
-fn pneuma(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pneuma"))
-        .args(args)
-        .output()
-        .expect("the pneuma binary runs")
-}
+mod support;
+use support::pneuma;
 
 fn f0_of(t: f64, phase: f64) -> f64 {
     if t % 2.0 < 1.6 {

@@ -1,0 +1,48 @@
+//! Shared by the CLI end-to-end tests: running the `pneuma` binary and writing test WAV files.
+
+#![allow(dead_code)] // each test binary uses its own subset
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// Runs the built `pneuma` binary with `args`.
+pub fn pneuma(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pneuma"))
+        .args(args)
+        .output()
+        .expect("the pneuma binary runs")
+}
+
+/// Writes `mono` to every channel of a WAV file in the given format, channels after the first
+/// scaled by `other_channel_gain` (so a mix differs from a copy).
+pub fn write_wav(
+    path: &Path,
+    format: (u32, u16, u16, bool),
+    mono: &[f32],
+    other_channel_gain: f32,
+) {
+    let (rate, channels, bits, float) = format;
+    let spec = hound::WavSpec {
+        channels,
+        sample_rate: rate,
+        bits_per_sample: bits,
+        sample_format: if float {
+            hound::SampleFormat::Float
+        } else {
+            hound::SampleFormat::Int
+        },
+    };
+    let mut w = hound::WavWriter::create(path, spec).expect("create wav");
+    for &v in mono {
+        for ch in 0..channels {
+            let v = if ch == 0 { v } else { v * other_channel_gain };
+            if float {
+                w.write_sample(v).expect("write");
+            } else {
+                let max = ((1i64 << (bits - 1)) - 1) as f32;
+                w.write_sample((v * max).round() as i32).expect("write");
+            }
+        }
+    }
+    w.finalize().expect("finalize");
+}
