@@ -119,11 +119,26 @@ fn train_then_eval_on_generated_clips() {
         .skip(1)
         .map(|v| v.parse().unwrap())
         .collect();
-    // In this data head pitch is a function of f0: the real motion's CCA is high, and the
-    // model trained on it generates motion that follows f0 too.
-    let (cca_gen, cca_real) = (cols[1], cols[2]);
+    // In this data head pitch is a function of f0, so the real motion's CCA with f0 is high.
+    // The generated motion's CCA is not asserted: on three 8 s clips of smooth sinusoids it
+    // comes out near 0.45 whether or not the training motion followed f0 (checked by training
+    // on a head pitch unrelated to f0), so it says nothing here; the model's tie to f0 is
+    // checked on real motion by `eval head --cross-validate --check` in `.ci/run`. What is
+    // asserted of the generated motion is that it moves on every axis and is rarely frozen.
+    let cca_real = cols[2];
     assert!(cca_real > 0.8, "{mean}");
-    assert!(cca_gen > 0.5, "{mean}");
+    for (axis, col) in [("roll", 7), ("pitch", 9), ("yaw", 11)] {
+        assert!(
+            cols[col] > 0.2,
+            "generated {axis} SD {} deg: {mean}",
+            cols[col]
+        );
+    }
+    assert!(
+        cols[15] < 0.3,
+        "generated frozen share {}: {mean}",
+        cols[15]
+    );
     assert!(stdout.contains("targets:"));
 }
 

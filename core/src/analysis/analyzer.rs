@@ -312,7 +312,7 @@ impl State {
             f32::NEG_INFINITY
         };
         let gate_db = (speech_db - self.speech_gate_db).max(noise_gate_db);
-        let level_rel_db = (rms_db - self.speaker.speech_level_db()).clamp(-20.0, 10.0);
+        let level_rel_db = (rms_db - self.speaker.speech_level_db()).clamp(-10.0, 10.0);
         let level_bonus = self.level_weight * level_rel_db / 10.0;
         // At a voice onset the voice fills only the newest part of the window, at an offset
         // only the oldest: when the window's periodicity alone would leave a loud enough frame
