@@ -432,3 +432,24 @@ fn a_vowel_after_a_fricative_is_voiced_from_its_onset() {
         "{with_edges} s vs {long_only} s (long window only)"
     );
 }
+
+#[test]
+fn a_quiet_talker_is_voiced_before_the_speech_level_adapts() {
+    // A clean vowel at −46 dBFS, 20 dB under the −26 dBFS speech-level prior: the loudness
+    // penalty is bounded (±10 dB of the speech level), so the clearly periodic onset is voiced
+    // at once instead of waiting for the level to learn the talker.
+    let rate = 16_000.0;
+    let mut x = vec![0.0f32; (0.3 * rate) as usize];
+    let vowel = synth::harmonic_tone(rate, 0.6, 1.0, &RICH, |_| 120.0);
+    let gain = (10f64.powf(-46.0 / 20.0) / synth::rms(&vowel)) as f32;
+    x.extend(vowel.iter().map(|v| v * gain));
+    let frames = analyse(&x, rate);
+    let onset_s = first_voiced_after(&frames, 0.2);
+    assert!(
+        (0.3..0.33).contains(&onset_s),
+        "voiced from {onset_s} s (onset 0.3 s)"
+    );
+    let f = between(&frames, 0.4, 0.8);
+    assert!(f.iter().all(|f| f.voiced), "a frame of the vowel unvoiced");
+    assert!(f.iter().all(|f| cents(f.f0_hz, 120.0).abs() < 20.0));
+}
