@@ -1,9 +1,32 @@
-//! Streaming WAV input: 8/16/24/32-bit integer and 32-bit float PCM, any channel count, any
-//! rate, read block by block so memory stays bounded on hour-long files. Every failure says
-//! what is wrong with the file and what to do.
+//! Streaming WAV input, read by our own RIFF/WAVE parser so that the files users actually have
+//! open, and every file that cannot be read fails with what is wrong and what to do.
+//!
+//! What is read:
+//! - `RIFF`/`WAVE` files, and `RF64`/`BW64` files (their `ds64` chunk carries the 64-bit sizes of
+//!   files over 4 GiB);
+//! - format tag 1 (integer PCM: 8-bit unsigned, 16/24/32-bit signed little-endian), tag 3
+//!   (32-bit IEEE float) and tag `0xFFFE` (`WAVE_FORMAT_EXTENSIBLE`) with the PCM or IEEE-float
+//!   subformat GUID. When the valid bits are fewer than the container's (24 valid bits in a 32-bit
+//!   container, 20 in 24), the samples sit in the top bits of the container: the whole container
+//!   is read as a signed integer and scaled by the container width, so [`WavInfo::bits`] is the
+//!   container width and writing that width back (`wav_out`) is lossless;
+//! - any channel count, 8000–192000 Hz.
+//!
+//! Chunks other than `fmt ` and `data` (`LIST`, `bext`, `iXML`, `fact`, `JUNK`, …) are skipped
+//! with the RIFF pad byte after odd lengths; `fmt ` must come before `data`, and nothing after
+//! `data` is read. A data size of `0xFFFFFFFF`, sox's "unspecified" `0x7FFFF000` (when the file
+//! is shorter than that), or 0 with a RIFF size of 0 or `0xFFFFFFFF` is what ffmpeg or sox write
+//! to a pipe: the length is unknown and the data is read to the end of the file (a trailing
+//! partial frame is dropped). A data chunk that announces more than the file holds fails with
+//! [`WavError::Truncated`] when its data runs out.
+//!
+//! Samples become f32 at full scale ±1 exactly as before: an integer sample `v` of a `b`-bit
+//! container becomes `v as f32 * (1 / 2^(b−1)) as f32` (8-bit: `(u − 128) / 128`), float samples
+//! pass unchanged. The file is read through a [`BufReader`] block by block into one reused byte
+//! buffer, so memory stays bounded on hour-long files; header numbers never drive allocations.
 
 use std::fs::File;
-use std::io::BufReader;
+use std::io::{BufReader, Read};
 use std::path::{Path, PathBuf};
 
 use thiserror::Error;
@@ -24,25 +47,25 @@ pub enum WavError {
     Format {
         /// The file.
         path: PathBuf,
-        /// What the decoder said.
+        /// What is wrong with the header.
         reason: String,
     },
     /// A sample format Pneuma does not read.
-    #[error("{path}: {what} is not supported; use 8/16/24/32-bit integer or 32-bit float PCM (e.g. `sox IN -b 24 OUT.wav`)")]
+    #[error("{path}: {what} is not supported; Pneuma reads 8/16/24/32-bit integer and 32-bit float PCM WAV: convert it, e.g. `sox IN -b 24 OUT.wav`")]
     Unsupported {
         /// The file.
         path: PathBuf,
         /// The format found.
         what: String,
     },
-    /// The data ends early or is damaged.
-    #[error("{path} is damaged after {frames_read} sample frames ({reason}); re-export or repair the file")]
+    /// The data ends early or cannot be read.
+    #[error("{path} is damaged after {frames_read} sample frames ({reason}); re-export it, or keep what is there with `sox --ignore-length IN OUT.wav`")]
     Truncated {
         /// The file.
         path: PathBuf,
         /// Sample frames read before the damage.
         frames_read: u64,
-        /// What the decoder said.
+        /// What went wrong.
         reason: String,
     },
     /// The sample rate is outside what the engine supports.
@@ -53,6 +76,14 @@ pub enum WavError {
         /// The rate found.
         rate_hz: u32,
     },
+    /// A well-formed WAV file without a single sample frame.
+    #[error("{path} holds no audio: {detail}")]
+    Empty {
+        /// The file.
+        path: PathBuf,
+        /// What the header says, and what to do.
+        detail: String,
+    },
 }
 
 /// What a WAV file holds.
@@ -62,21 +93,60 @@ pub struct WavInfo {
     pub sample_rate_hz: u32,
     /// Channel count.
     pub channels: u16,
-    /// Bits per sample.
+    /// Bits per sample of the container (8, 16, 24 or 32; 32 for float). A
+    /// `WAVE_FORMAT_EXTENSIBLE` file with fewer valid bits (24 in 32) reports the container.
     pub bits: u16,
     /// Float (true) or integer PCM.
     pub float: bool,
-    /// Sample frames the header announces.
+    /// Sample frames the header announces; for a file of unknown length (streamed to a pipe and
+    /// then saved) the whole frames between the data start and the end of the file, and 0 when
+    /// that cannot be known either (the input itself is a pipe).
     pub frames: u64,
 }
+
+/// How one sample is stored.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Encoding {
+    /// 8-bit unsigned, offset 128.
+    U8,
+    /// 16-bit signed little-endian.
+    I16,
+    /// 24-bit signed little-endian.
+    I24,
+    /// 32-bit signed little-endian.
+    I32,
+    /// 32-bit IEEE float little-endian.
+    F32,
+}
+
+/// Largest read of one [`WavSource::read_interleaved`] call, bytes (more frames are returned
+/// by the following calls).
+const MAX_READ_BYTES: usize = 1 << 22;
+/// The data size sox writes when it cannot know the length (a pipe, or over 4 GiB).
+const SOX_UNSPECIFIED: u32 = 0x7fff_f000;
+/// The tail shared by every `KSDATAFORMAT_SUBTYPE_*` GUID whose first two bytes are a
+/// format tag.
+const GUID_TAIL: [u8; 14] = [
+    0x00, 0x00, 0x00, 0x00, 0x10, 0x00, 0x80, 0x00, 0x00, 0xaa, 0x00, 0x38, 0x9b, 0x71,
+];
+const TAG_PCM: u16 = 0x0001;
+const TAG_FLOAT: u16 = 0x0003;
+const TAG_EXTENSIBLE: u16 = 0xfffe;
 
 /// A WAV file opened for block-wise reading.
 pub struct WavSource {
     path: PathBuf,
-    reader: hound::WavReader<BufReader<File>>,
+    reader: BufReader<File>,
     info: WavInfo,
+    encoding: Encoding,
+    /// Bytes per sample frame.
+    block_align: usize,
+    /// Whole-frame data bytes not yet read; `None` when the length is unknown (read to EOF).
+    remaining: Option<u64>,
     frames_read: u64,
     scale: f32,
+    /// Reused raw-byte buffer.
+    bytes: Vec<u8>,
 }
 
 impl std::fmt::Debug for WavSource {
@@ -88,69 +158,123 @@ impl std::fmt::Debug for WavSource {
     }
 }
 
+/// The parts of a `fmt ` chunk the reader uses.
+#[derive(Debug, Clone, Copy)]
+struct Fmt {
+    tag: u16,
+    channels: u16,
+    rate: u32,
+    block_align: u16,
+    bits: u16,
+    /// Bytes the chunk announces.
+    size: u32,
+    /// `WAVE_FORMAT_EXTENSIBLE` only: valid bits and subformat GUID.
+    valid_bits: u16,
+    subformat: [u8; 16],
+}
+
+/// The sizes a `ds64` chunk gives.
+#[derive(Debug, Clone, Copy)]
+struct Ds64 {
+    riff: u64,
+    data: u64,
+}
+
+/// Reads until `buf` is full or the input ends; returns the bytes read.
+fn read_full(r: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> {
+    let mut n = 0;
+    while n < buf.len() {
+        match r.read(&mut buf[n..]) {
+            Ok(0) => break,
+            Ok(k) => n += k,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(n)
+}
+
+fn u16_at(b: &[u8], at: usize) -> u16 {
+    u16::from_le_bytes([b[at], b[at + 1]])
+}
+
+fn u32_at(b: &[u8], at: usize) -> u32 {
+    u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
+}
+
+fn u64_at(b: &[u8], at: usize) -> u64 {
+    let mut a = [0u8; 8];
+    a.copy_from_slice(&b[at..at + 8]);
+    u64::from_le_bytes(a)
+}
+
+/// A chunk or file id for messages: `'LIST'`, or hex when not printable.
+fn show_id(id: &[u8]) -> String {
+    if id.iter().all(|b| (0x20..0x7f).contains(b)) {
+        format!("'{}'", String::from_utf8_lossy(id))
+    } else {
+        let hex: Vec<String> = id.iter().map(|b| format!("{b:02x}")).collect();
+        format!("bytes {}", hex.join(" "))
+    }
+}
+
+/// What a file that does not start with `RIFF`/`RF64`/`BW64` probably is.
+fn not_riff(head: &[u8]) -> String {
+    let what = match head {
+        [b'f', b'L', b'a', b'C', ..] => "a FLAC file",
+        [b'O', b'g', b'g', b'S', ..] => "an Ogg (Vorbis/Opus) file",
+        [b'I', b'D', b'3', ..] => "an MP3 file",
+        [0xff, b, ..] if b & 0xe0 == 0xe0 => "an MP3/MPEG audio file",
+        [b'F', b'O', b'R', b'M', ..] => "an AIFF file",
+        [_, _, _, _, b'f', b't', b'y', b'p', ..] => "an MP4/M4A file",
+        _ => "",
+    };
+    if what.is_empty() {
+        format!(
+            "it starts with {} instead of 'RIFF'",
+            show_id(&head[..4.min(head.len())])
+        )
+    } else {
+        format!("it looks like {what}, not WAV")
+    }
+}
+
+/// A name for a format tag that is not read.
+fn tag_name(tag: u16) -> String {
+    let name = match tag {
+        0x0002 => "Microsoft ADPCM",
+        0x0006 => "A-law",
+        0x0007 => "µ-law",
+        0x0011 => "IMA ADPCM",
+        0x0031 => "GSM 6.10",
+        0x0050 => "MPEG audio",
+        0x0055 => "MP3",
+        0x00ff | 0x1610 => "AAC",
+        0x2000 => "AC-3",
+        _ => "",
+    };
+    if name.is_empty() {
+        format!("WAV format tag 0x{tag:04x}")
+    } else {
+        format!("{name} audio (WAV format tag 0x{tag:04x})")
+    }
+}
+
 impl WavSource {
-    /// Opens and checks a WAV file.
+    /// Opens a WAV file and checks its header: format, channels, rate, block alignment and that
+    /// it holds at least one sample frame.
     pub fn open(path: &Path) -> Result<Self, WavError> {
         let file = File::open(path).map_err(|source| WavError::Open {
             path: path.to_owned(),
             source,
         })?;
-        let reader = hound::WavReader::new(BufReader::new(file)).map_err(|e| match e {
-            hound::Error::Unsupported => WavError::Unsupported {
-                path: path.to_owned(),
-                what: "this WAV encoding (compressed or unusual format tag)".into(),
-            },
-            hound::Error::IoError(io) => WavError::Format {
-                path: path.to_owned(),
-                reason: format!("header ends early or cannot be read: {io}"),
-            },
-            other => WavError::Format {
-                path: path.to_owned(),
-                reason: other.to_string(),
-            },
-        })?;
-        let spec = reader.spec();
-        let float = spec.sample_format == hound::SampleFormat::Float;
-        let ok_bits = if float {
-            spec.bits_per_sample == 32
-        } else {
-            matches!(spec.bits_per_sample, 8 | 16 | 24 | 32)
-        };
-        if !ok_bits || spec.channels == 0 {
-            return Err(WavError::Unsupported {
-                path: path.to_owned(),
-                what: format!(
-                    "{}-bit {} with {} channels",
-                    spec.bits_per_sample,
-                    if float { "float" } else { "integer" },
-                    spec.channels
-                ),
-            });
-        }
-        if !(8_000..=192_000).contains(&spec.sample_rate) {
-            return Err(WavError::Rate {
-                path: path.to_owned(),
-                rate_hz: spec.sample_rate,
-            });
-        }
-        let info = WavInfo {
-            sample_rate_hz: spec.sample_rate,
-            channels: spec.channels,
-            bits: spec.bits_per_sample,
-            float,
-            frames: reader.duration() as u64,
-        };
-        Ok(Self {
-            path: path.to_owned(),
-            reader,
-            info,
-            frames_read: 0,
-            scale: if float {
-                1.0
-            } else {
-                1.0 / (1u64 << (spec.bits_per_sample - 1)) as f32
-            },
-        })
+        // The length of a regular file; unknown for a pipe or device.
+        let file_len = file
+            .metadata()
+            .ok()
+            .filter(|m| m.is_file())
+            .map(|m| m.len());
+        Header::parse(path, BufReader::with_capacity(1 << 16, file), file_len)
     }
 
     /// What the file holds.
@@ -164,52 +288,451 @@ impl WavSource {
     }
 
     /// Reads up to `max_frames` sample frames as interleaved f32 (full scale ±1) into `out`
-    /// (cleared first). Returns the number of frames read; 0 at the end of the data.
+    /// (cleared first). Returns the number of frames read, which may be fewer than asked for
+    /// very large requests; 0 at the end of the data. Fails with [`WavError::Truncated`] when
+    /// the data ends before the length the header announces, and with [`WavError::Empty`] when
+    /// a file of unknown length turns out to hold no frame at all.
     pub fn read_interleaved(
         &mut self,
         max_frames: usize,
         out: &mut Vec<f32>,
     ) -> Result<usize, WavError> {
         out.clear();
-        let want = max_frames * self.info.channels as usize;
-        let scale = self.scale;
-        let r = if self.info.float {
-            collect(self.reader.samples::<f32>(), want, out, |v| v)
-        } else {
-            collect(self.reader.samples::<i32>(), want, out, |v| {
-                v as f32 * scale
-            })
-        };
-        if let Err(e) = r {
-            return Err(WavError::Truncated {
+        if max_frames == 0 {
+            return Ok(0);
+        }
+        let align = self.block_align;
+        let mut want = max_frames.min((MAX_READ_BYTES / align).max(1));
+        if let Some(left) = self.remaining {
+            want = (want as u64).min(left / align as u64) as usize;
+        }
+        if want == 0 {
+            return self.at_end();
+        }
+        self.bytes.resize(want * align, 0);
+        let got =
+            read_full(&mut self.reader, &mut self.bytes).map_err(|e| WavError::Truncated {
                 path: self.path.clone(),
-                frames_read: self.frames_read + (out.len() / self.info.channels as usize) as u64,
-                reason: e.to_string(),
+                frames_read: self.frames_read,
+                reason: format!("read error: {e}"),
+            })?;
+        let whole = got / align;
+        if let Some(left) = &mut self.remaining {
+            if got < want * align {
+                return Err(WavError::Truncated {
+                    path: self.path.clone(),
+                    frames_read: self.frames_read + whole as u64,
+                    reason: format!(
+                        "the header announces {} sample frames but the data ends after {}",
+                        self.info.frames,
+                        self.frames_read + whole as u64
+                    ),
+                });
+            }
+            *left -= (whole * align) as u64;
+        }
+        if whole == 0 {
+            // Unknown length: the end of the file (a trailing partial frame is dropped).
+            return self.at_end();
+        }
+        out.reserve(whole * self.info.channels as usize);
+        decode(self.encoding, &self.bytes[..whole * align], self.scale, out);
+        self.frames_read += whole as u64;
+        Ok(whole)
+    }
+
+    /// The end of the data: 0, or [`WavError::Empty`] if nothing was read.
+    fn at_end(&self) -> Result<usize, WavError> {
+        if self.frames_read == 0 {
+            return Err(WavError::Empty {
+                path: self.path.clone(),
+                detail:
+                    "the data chunk ends before the first sample frame; record or export it again"
+                        .into(),
             });
         }
-        if !out.len().is_multiple_of(self.info.channels as usize) {
-            return Err(WavError::Truncated {
-                path: self.path.clone(),
-                frames_read: self.frames_read + (out.len() / self.info.channels as usize) as u64,
-                reason: "the data ends in the middle of a sample frame".into(),
-            });
-        }
-        let frames = out.len() / self.info.channels as usize;
-        self.frames_read += frames as u64;
-        Ok(frames)
+        Ok(0)
     }
 }
 
-fn collect<S, I: Iterator<Item = Result<S, hound::Error>>>(
-    iter: I,
-    want: usize,
-    out: &mut Vec<f32>,
-    convert: impl Fn(S) -> f32,
-) -> Result<(), hound::Error> {
-    for s in iter.take(want) {
-        out.push(convert(s?));
+/// Appends the samples of whole frames in `bytes` to `out`.
+fn decode(encoding: Encoding, bytes: &[u8], scale: f32, out: &mut Vec<f32>) {
+    match encoding {
+        Encoding::U8 => out.extend(bytes.iter().map(|&b| (b as i32 - 128) as f32 * scale)),
+        Encoding::I16 => out.extend(
+            bytes
+                .chunks_exact(2)
+                .map(|b| i16::from_le_bytes([b[0], b[1]]) as f32 * scale),
+        ),
+        Encoding::I24 => out.extend(
+            bytes
+                .chunks_exact(3)
+                .map(|b| (i32::from_le_bytes([0, b[0], b[1], b[2]]) >> 8) as f32 * scale),
+        ),
+        Encoding::I32 => out.extend(
+            bytes
+                .chunks_exact(4)
+                .map(|b| i32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f32 * scale),
+        ),
+        Encoding::F32 => out.extend(
+            bytes
+                .chunks_exact(4)
+                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+        ),
     }
-    Ok(())
+}
+
+/// Header parsing state.
+struct Header<'a> {
+    path: &'a Path,
+    reader: BufReader<File>,
+    file_len: Option<u64>,
+    /// Bytes consumed so far.
+    pos: u64,
+}
+
+impl<'a> Header<'a> {
+    fn format(&self, reason: impl Into<String>) -> WavError {
+        WavError::Format {
+            path: self.path.to_owned(),
+            reason: reason.into(),
+        }
+    }
+
+    fn unsupported(&self, what: impl Into<String>) -> WavError {
+        WavError::Unsupported {
+            path: self.path.to_owned(),
+            what: what.into(),
+        }
+    }
+
+    /// The file ends `got` bytes into the chunk `id` that announces `size` bytes.
+    fn ends_inside(
+        &self,
+        id: &[u8; 4],
+        size: impl std::fmt::Display,
+        got: impl std::fmt::Display,
+    ) -> WavError {
+        self.format(format!(
+            "the {} chunk announces {size} bytes but the file ends {got} bytes into it, \
+             before any data chunk",
+            show_id(id)
+        ))
+    }
+
+    /// Reads up to `buf.len()` bytes; the count read.
+    fn read(&mut self, buf: &mut [u8]) -> Result<usize, WavError> {
+        let n = read_full(&mut self.reader, buf)
+            .map_err(|e| self.format(format!("the header cannot be read: {e}")))?;
+        self.pos += n as u64;
+        Ok(n)
+    }
+
+    /// Skips `n` bytes of the chunk `id` (announced as `size` bytes, of which `done` are
+    /// already read).
+    fn skip(&mut self, n: u64, id: &[u8; 4], size: u32, done: u64) -> Result<(), WavError> {
+        match self.file_len {
+            Some(len) => {
+                let left = len.saturating_sub(self.pos);
+                if n > left {
+                    return Err(self.ends_inside(id, size, done + left));
+                }
+                // n ≤ the file length, so it fits an i64.
+                self.reader
+                    .seek_relative(n as i64)
+                    .map_err(|e| self.format(format!("the header cannot be read: {e}")))?;
+                self.pos += n;
+            }
+            None => {
+                let copied = std::io::copy(&mut (&mut self.reader).take(n), &mut std::io::sink())
+                    .map_err(|e| self.format(format!("the header cannot be read: {e}")))?;
+                self.pos += copied;
+                if copied < n {
+                    return Err(self.ends_inside(id, size, done + copied));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn parse(
+        path: &'a Path,
+        reader: BufReader<File>,
+        file_len: Option<u64>,
+    ) -> Result<WavSource, WavError> {
+        let mut h = Header {
+            path,
+            reader,
+            file_len,
+            pos: 0,
+        };
+        let mut head = [0u8; 12];
+        let n = h.read(&mut head)?;
+        if n == 0 {
+            return Err(h.format("the file is empty"));
+        }
+        if n >= 4 && &head[..4] == b"RIFX" {
+            return Err(h.unsupported("big-endian WAV (RIFX)"));
+        }
+        let rf64 = match &head[..4.min(n)] {
+            b"RIFF" => false,
+            b"RF64" | b"BW64" => true,
+            _ => return Err(h.format(not_riff(&head[..n]))),
+        };
+        if n < 12 {
+            return Err(h.format(format!(
+                "the file is {n} bytes long, too short for a WAV header"
+            )));
+        }
+        if &head[8..12] != b"WAVE" {
+            return Err(h.format(format!(
+                "a RIFF file of form {}, not WAVE",
+                show_id(&head[8..12])
+            )));
+        }
+        let riff_size = u32_at(&head, 4);
+
+        let mut fmt: Option<Fmt> = None;
+        let mut ds64: Option<Ds64> = None;
+        // A chunk id already read (libsndfile's oversized ds64, see below).
+        let mut next_id: Option<[u8; 4]> = None;
+        let (fmt, data_size) = loop {
+            let mut ch = [0u8; 8];
+            let (id, size) = match next_id.take() {
+                Some(id) => {
+                    let got = h.read(&mut ch[..4])?;
+                    (id, (got == 4).then(|| u32_at(&ch, 0)))
+                }
+                None => {
+                    let got = h.read(&mut ch)?;
+                    let mut id = [0u8; 4];
+                    id.copy_from_slice(&ch[..4]);
+                    (id, (got == 8).then(|| u32_at(&ch, 4)))
+                }
+            };
+            let Some(size) = size else {
+                return Err(h.format(if fmt.is_none() {
+                    "there is no fmt chunk (the file ends first)"
+                } else {
+                    "there is no data chunk (the file ends first)"
+                }));
+            };
+            let pad = u64::from(size & 1);
+            match &id {
+                b"ds64" if rf64 && ds64.is_none() => {
+                    if size < 24 {
+                        return Err(h.format(format!(
+                            "the ds64 chunk is {size} bytes, shorter than the 24 it needs"
+                        )));
+                    }
+                    let mut body = [0u8; 32];
+                    let want = (size as usize).min(body.len());
+                    let got = h.read(&mut body[..want])?;
+                    if got < want {
+                        return Err(h.ends_inside(&id, size, got));
+                    }
+                    ds64 = Some(Ds64 {
+                        riff: u64_at(&body, 0),
+                        data: u64_at(&body, 8),
+                    });
+                    if size == 32 && &body[28..32] == b"fmt " {
+                        // Old libsndfile wrote a 28-byte ds64 chunk announced as 32 bytes.
+                        next_id = Some(*b"fmt ");
+                    } else {
+                        h.skip(u64::from(size) - want as u64 + pad, &id, size, want as u64)?;
+                    }
+                }
+                b"fmt " if fmt.is_none() => {
+                    if size < 16 {
+                        return Err(h.format(format!(
+                            "the fmt chunk is {size} bytes, shorter than the 16 it needs"
+                        )));
+                    }
+                    let mut body = [0u8; 40];
+                    let want = (size as usize).min(body.len());
+                    let got = h.read(&mut body[..want])?;
+                    if got < want {
+                        return Err(h.ends_inside(&id, size, got));
+                    }
+                    let mut subformat = [0u8; 16];
+                    subformat.copy_from_slice(&body[24..40]);
+                    fmt = Some(Fmt {
+                        tag: u16_at(&body, 0),
+                        channels: u16_at(&body, 2),
+                        rate: u32_at(&body, 4),
+                        block_align: u16_at(&body, 12),
+                        bits: u16_at(&body, 14),
+                        size,
+                        valid_bits: u16_at(&body, 18),
+                        subformat,
+                    });
+                    h.skip(u64::from(size) - want as u64 + pad, &id, size, want as u64)?;
+                }
+                b"data" => match fmt {
+                    Some(f) => break (f, size),
+                    None => {
+                        return Err(h.format(
+                            "the data chunk comes before the fmt chunk that describes it \
+                             (or there is no fmt chunk)",
+                        ))
+                    }
+                },
+                // LIST, bext, iXML, fact, JUNK, PAD, cue, a second fmt, …
+                _ => h.skip(u64::from(size) + pad, &id, size, 0)?,
+            }
+        };
+        let data_start = h.pos;
+        let (encoding, bits) = h.check(&fmt)?;
+        let align = usize::from(fmt.block_align);
+
+        // The data length: known, or unknown (streamed) and read to the end of the file.
+        let unknown =
+            |d: u64, riff: u64, max: u64| d == max || (d == 0 && (riff == 0 || riff == max));
+        let data_len = if rf64 && data_size == u32::MAX {
+            match ds64 {
+                Some(d) if !unknown(d.data, d.riff, u64::MAX) => Some(d.data),
+                _ => None,
+            }
+        } else if unknown(data_size.into(), riff_size.into(), u32::MAX.into())
+            || (data_size == SOX_UNSPECIFIED
+                && file_len.is_none_or(|len| len < data_start + u64::from(SOX_UNSPECIFIED)))
+        {
+            None
+        } else {
+            Some(u64::from(data_size))
+        };
+        let frames = match data_len {
+            Some(n) => n / align as u64,
+            None => file_len.map_or(0, |len| len.saturating_sub(data_start) / align as u64),
+        };
+        let following = file_len.map(|len| len.saturating_sub(data_start));
+        if frames == 0 && (data_len.is_some() || following.is_some()) {
+            let detail = match (data_len, following) {
+                (Some(0), Some(f)) if f >= align as u64 => format!(
+                    "its data chunk announces 0 bytes, yet {f} bytes follow it; if it was \
+                     written to a pipe, `sox --ignore-length IN OUT.wav` recovers them"
+                ),
+                (Some(0), _) => "its data chunk is empty; record or export it again".to_string(),
+                (Some(n), _) => format!(
+                    "its data chunk holds {n} bytes, less than one {align}-byte sample frame; \
+                     record or export it again"
+                ),
+                _ => "its data chunk ends before the first sample frame; record or export it again"
+                    .to_string(),
+            };
+            return Err(WavError::Empty {
+                path: path.to_owned(),
+                detail,
+            });
+        }
+        let info = WavInfo {
+            sample_rate_hz: fmt.rate,
+            channels: fmt.channels,
+            bits,
+            float: encoding == Encoding::F32,
+            frames,
+        };
+        Ok(WavSource {
+            path: path.to_owned(),
+            reader: h.reader,
+            info,
+            encoding,
+            block_align: align,
+            remaining: data_len.map(|n| n / align as u64 * align as u64),
+            frames_read: 0,
+            scale: if encoding == Encoding::F32 {
+                1.0
+            } else {
+                1.0 / (1u64 << (bits - 1)) as f32
+            },
+            bytes: Vec::new(),
+        })
+    }
+
+    /// Checks the format; the sample encoding and the container bits.
+    fn check(&self, fmt: &Fmt) -> Result<(Encoding, u16), WavError> {
+        if fmt.channels == 0 {
+            return Err(self.format("the fmt chunk gives 0 channels"));
+        }
+        if fmt.rate == 0 {
+            return Err(self.format("the fmt chunk gives a sample rate of 0 Hz"));
+        }
+        let (float, valid_bits) = match fmt.tag {
+            TAG_PCM => (false, fmt.bits),
+            TAG_FLOAT => (true, fmt.bits),
+            TAG_EXTENSIBLE => {
+                if fmt.size < 40 {
+                    return Err(self.format(format!(
+                        "the WAVE_FORMAT_EXTENSIBLE fmt chunk is {} bytes, shorter than the 40 \
+                         it needs",
+                        fmt.size
+                    )));
+                }
+                let tag = u16_at(&fmt.subformat, 0);
+                let standard = fmt.subformat[2..] == GUID_TAIL;
+                let valid = if fmt.valid_bits == 0 {
+                    fmt.bits
+                } else {
+                    fmt.valid_bits
+                };
+                match (standard, tag) {
+                    (true, TAG_PCM) => (false, valid),
+                    (true, TAG_FLOAT) => (true, valid),
+                    (true, other) => {
+                        return Err(self
+                            .unsupported(format!("{} in WAVE_FORMAT_EXTENSIBLE", tag_name(other))))
+                    }
+                    (false, _) => {
+                        let hex: String =
+                            fmt.subformat.iter().map(|b| format!("{b:02x}")).collect();
+                        return Err(self.unsupported(format!(
+                            "WAVE_FORMAT_EXTENSIBLE with the unknown subformat GUID {hex}"
+                        )));
+                    }
+                }
+            }
+            other => return Err(self.unsupported(tag_name(other))),
+        };
+        if fmt.bits == 0 {
+            return Err(self.format("the fmt chunk gives 0 bits per sample"));
+        }
+        if valid_bits > fmt.bits {
+            return Err(self.format(format!(
+                "the fmt chunk gives {valid_bits} valid bits in a {}-bit container",
+                fmt.bits
+            )));
+        }
+        let (encoding, bits) = if float {
+            if fmt.bits != 32 {
+                return Err(self.unsupported(format!("{}-bit float", fmt.bits)));
+            }
+            (Encoding::F32, 32)
+        } else {
+            // Integer samples fill whole bytes, left-justified (a 20-bit sample in 24 bits).
+            match fmt.bits.div_ceil(8) {
+                1 => (Encoding::U8, 8),
+                2 => (Encoding::I16, 16),
+                3 => (Encoding::I24, 24),
+                4 => (Encoding::I32, 32),
+                _ => return Err(self.unsupported(format!("{}-bit integer", fmt.bits))),
+            }
+        };
+        if !(8_000..=192_000).contains(&fmt.rate) {
+            return Err(WavError::Rate {
+                path: self.path.to_owned(),
+                rate_hz: fmt.rate,
+            });
+        }
+        let need = u32::from(fmt.channels) * u32::from(bits / 8);
+        if u32::from(fmt.block_align) != need {
+            return Err(self.format(format!(
+                "the fmt chunk gives a block_align of {} bytes per sample frame, but {} \
+                 channels of {bits}-bit samples take {need}",
+                fmt.block_align, fmt.channels
+            )));
+        }
+        Ok((encoding, bits))
+    }
 }
 
 /// Mixes interleaved frames to mono (mean of the channels) into `mono` (cleared first).

@@ -3,12 +3,11 @@
 //! breaths only in long pauses, and broken input rejected without touching existing output.
 
 use std::path::{Path, PathBuf};
-use std::process::Output;
 
 use pneuma_core::synth::{self, GlottalVowel, Vowel};
 
 mod support;
-use support::pneuma;
+use support::render;
 
 /// Writes `mono` to all channels (the second at 0.7×) in the given format.
 fn write_wav(path: &Path, rate: u32, channels: u16, bits: u16, float: bool, mono: &[f32]) {
@@ -75,18 +74,6 @@ fn read_breaths(path: &Path) -> Vec<(f64, f64, String, f64)> {
             )
         })
         .collect()
-}
-
-fn render(input: &Path, out: &Path, extra: &[&str]) -> Output {
-    let mut args = vec![
-        "render",
-        input.to_str().expect("utf-8"),
-        "-o",
-        out.to_str().expect("utf-8"),
-        "--quiet",
-    ];
-    args.extend_from_slice(extra);
-    pneuma(&args)
 }
 
 #[test]

@@ -13,6 +13,19 @@ pub fn pneuma(args: &[&str]) -> Output {
         .expect("the pneuma binary runs")
 }
 
+/// Runs `pneuma render INPUT -o OUT --quiet` with `extra` arguments.
+pub fn render(input: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "render",
+        input.to_str().expect("utf-8"),
+        "-o",
+        out.to_str().expect("utf-8"),
+        "--quiet",
+    ];
+    args.extend_from_slice(extra);
+    pneuma(&args)
+}
+
 /// Writes `mono` to every channel of a WAV file in the given format, channels after the first
 /// scaled by `other_channel_gain` (so a mix differs from a copy).
 pub fn write_wav(
