@@ -139,6 +139,9 @@ impl Nsdf {
 pub struct NsdfPitch {
     rate_hz: f64,
     lag_min: usize,
+    /// Shortest and longest period in range, in samples (`rate / f0_max`, `rate / f0_min`): a
+    /// refined key maximum outside them is no candidate.
+    lag_range: (f64, f64),
     lag_max: usize,
     key_max_ratio: f32,
     long: Nsdf,
@@ -222,6 +225,7 @@ impl NsdfPitch {
         Self {
             rate_hz,
             lag_min,
+            lag_range: (rate_hz / f0_max_hz as f64, rate_hz / f0_min_hz as f64),
             lag_max,
             key_max_ratio,
             long,
@@ -276,6 +280,7 @@ impl NsdfPitch {
             &self.long.curve,
             self.rate_hz,
             self.lag_min,
+            self.lag_range,
             last,
             &mut self.candidates,
             &mut n,
@@ -360,6 +365,7 @@ impl NsdfPitch {
             &short.curve,
             self.rate_hz,
             self.lag_min,
+            self.lag_range,
             *short_last,
             &mut self.short_candidates,
             &mut k,
@@ -375,11 +381,13 @@ impl NsdfPitch {
 }
 
 /// Key maxima of one NSDF curve between `lag_min` and `last`, shortest lag first, into `out`
-/// (count in `n`); when `out` is full the weakest kept lobe gives way to a stronger one.
+/// (count in `n`); a maximum whose refined lag lies outside `lag_range` (the f0 range) is
+/// dropped; when `out` is full the weakest kept lobe gives way to a stronger one.
 fn key_maxima(
     n: &[f32],
     rate_hz: f64,
     lag_min: usize,
+    lag_range: (f64, f64),
     last: usize,
     out: &mut [PitchEstimate],
     count: &mut usize,
@@ -421,6 +429,9 @@ fn key_maxima(
             (0.0, b)
         };
         let lag = peak_tau as f64 + delta as f64;
+        if lag < lag_range.0 || lag > lag_range.1 {
+            continue;
+        }
         let clarity = height.clamp(0.0, 1.0);
         let candidate = PitchEstimate {
             f0_hz: (rate_hz / lag) as f32,
@@ -545,6 +556,38 @@ mod tests {
         let a = long_only.analyse(&low);
         let b = both.analyse(&low);
         assert_eq!(a, b);
+    }
+
+    #[test]
+    fn no_candidate_lies_outside_the_f0_range() {
+        // Just above the top of the range the period falls between two lags, and parabolic
+        // refinement of the peak at the shortest searched lag would land above 600 Hz; just
+        // below the bottom, past the longest lag. Rates 8 kHz, 8.82 kHz (44.1 kHz / 5) and
+        // 12 kHz (48 kHz / 4, 96 kHz / 8).
+        for rate in [8_000.0, 8_820.0, 12_000.0] {
+            let len = (0.04 * rate) as usize;
+            let mut p = NsdfPitch::with_short_window(rate, len, len / 2, 50.0, 600.0, 0.88);
+            for f0 in [601.0, 605.0, 615.0, 630.0, 645.0, 48.0, 49.5] {
+                let x = tone(f0, rate, len, &[1.0, 0.5, 0.3]);
+                let e = p.analyse(&x);
+                for c in p.candidates().iter().chain([&e]) {
+                    assert!(
+                        c.f0_hz == 0.0 || (50.0..=600.0).contains(&c.f0_hz),
+                        "rate {rate}, tone {f0} Hz: candidate {} Hz",
+                        c.f0_hz
+                    );
+                }
+            }
+            // Inside the range, next to its ends, the tones are still found.
+            for f0 in [52.0, 590.0] {
+                let e = p.analyse(&tone(f0, rate, len, &[1.0, 0.5, 0.3]));
+                assert!(
+                    (e.f0_hz / f0 as f32 - 1.0).abs() < 0.01,
+                    "{rate}: {f0} → {}",
+                    e.f0_hz
+                );
+            }
+        }
     }
 
     #[test]
