@@ -48,7 +48,7 @@ fn between(frames: &[FeatureFrame], from_s: f64, to_s: f64) -> Vec<FeatureFrame>
 }
 
 /// Every field of a frame as raw bits, for bit-exact comparison.
-type FrameBits = (u64, u64, u32, bool, u32, u32, u32, u32);
+type FrameBits = (u64, u64, u32, bool, u32, u32, u32, u32, u32);
 
 const RICH: [f64; 6] = [1.0, 0.7, 0.5, 0.35, 0.25, 0.15];
 
@@ -143,6 +143,20 @@ fn glottal_vowels_with_jitter_shimmer_and_noise() {
                 .iter()
                 .filter(|f| f.voiced && cents(f.f0_hz, contour(f.time_s)).abs() > 300.0)
                 .count();
+            let mut fine: Vec<f64> = mid
+                .iter()
+                .filter(|f| f.voiced)
+                .map(|f| cents(f.f0_hz, contour(f.time_s)).abs())
+                .filter(|c| *c <= 300.0)
+                .collect();
+            fine.sort_by(f64::total_cmp);
+            let median_cents = fine[fine.len() / 2];
+            println!("{vowel:?} {f0} Hz at {rate}: median error {median_cents:.1} cents");
+            // 1 % jitter moves single periods by about 17 cents; the window spans several.
+            assert!(
+                median_cents < 12.0,
+                "{vowel:?} {f0} Hz at {rate}: median error {median_cents:.1} cents"
+            );
             assert!(
                 unvoiced * 50 <= mid.len(),
                 "{vowel:?} {f0} Hz at {rate}: {unvoiced} unvoiced of {}",
@@ -257,48 +271,52 @@ fn nan_and_inf_bursts_count_as_silence() {
 
 #[test]
 fn any_block_partition_gives_bit_identical_frames() {
-    let rate = 44_100.0;
-    let cfg = GlottalVowel {
-        sample_rate_hz: rate,
-        length_s: 1.0,
-        vowel: Vowel::A,
-        jitter: 0.01,
-        shimmer: 0.05,
-        peak: 0.6,
-        seed: 5,
-    };
-    let mut x = synth::glottal_vowel(&cfg, |t| 120.0 + 60.0 * t);
-    x.extend(std::iter::repeat_n(0.0, 10_000));
-    x.extend(synth::white_noise(10_000, 0.05, 3));
-    let reference = analyse_blocks(&x, rate, &mut |_| 4096);
-    let bits = |v: &[FeatureFrame]| -> Vec<FrameBits> {
-        v.iter()
-            .map(|f| {
-                (
-                    f.index,
-                    f.time_s.to_bits(),
-                    f.f0_hz.to_bits(),
-                    f.voiced,
-                    f.voicing.to_bits(),
-                    f.rms_db.to_bits(),
-                    f.f0_st.to_bits(),
-                    f.level_db.to_bits(),
-                )
-            })
-            .collect()
-    };
-    let want = bits(&reference);
-    assert!(reference.iter().any(|f| f.voiced));
-    for size in [1usize, 37, 512] {
-        assert_eq!(
-            bits(&analyse_blocks(&x, rate, &mut |_| size)),
-            want,
-            "block size {size}"
-        );
+    // 8 kHz (no decimation), 44.1 kHz (factor 5, 367.5 samples per frame), 192 kHz (factor 24).
+    for rate in [8_000.0, 44_100.0, 192_000.0] {
+        let cfg = GlottalVowel {
+            sample_rate_hz: rate,
+            length_s: 1.0,
+            vowel: Vowel::A,
+            jitter: 0.01,
+            shimmer: 0.05,
+            peak: 0.6,
+            seed: 5,
+        };
+        let mut x = synth::glottal_vowel(&cfg, |t| 120.0 + 60.0 * t);
+        let pause = (0.2 * rate) as usize;
+        x.extend(std::iter::repeat_n(0.0, pause));
+        x.extend(synth::white_noise(pause, 0.05, 3));
+        let reference = analyse_blocks(&x, rate, &mut |_| 4096);
+        let bits = |v: &[FeatureFrame]| -> Vec<FrameBits> {
+            v.iter()
+                .map(|f| {
+                    (
+                        f.index,
+                        f.time_s.to_bits(),
+                        f.f0_hz.to_bits(),
+                        f.voiced,
+                        f.voicing.to_bits(),
+                        f.rms_db.to_bits(),
+                        f.f0_st.to_bits(),
+                        f.level_db.to_bits(),
+                        f.band_db.to_bits(),
+                    )
+                })
+                .collect()
+        };
+        let want = bits(&reference);
+        assert!(reference.iter().any(|f| f.voiced));
+        for size in [1usize, 37, 512] {
+            assert_eq!(
+                bits(&analyse_blocks(&x, rate, &mut |_| size)),
+                want,
+                "{rate} Hz, block size {size}"
+            );
+        }
+        let mut s = pneuma_core::rng::SeededRng::new(42);
+        let random = analyse_blocks(&x, rate, &mut |_| 1 + (s.next_u64() % 3000) as usize);
+        assert_eq!(bits(&random), want, "{rate} Hz, random block sizes");
     }
-    let mut s = pneuma_core::rng::SeededRng::new(42);
-    let random = analyse_blocks(&x, rate, &mut |_| 1 + (s.next_u64() % 3000) as usize);
-    assert_eq!(bits(&random), want, "random block sizes");
 }
 
 #[test]
@@ -316,38 +334,54 @@ fn frames_are_timestamped_on_the_clock_and_complete() {
 
 #[test]
 fn a_pitch_change_is_reported_within_the_stated_latency() {
-    let rate = 48_000.0;
-    let step_s = 0.5;
-    let x = synth::harmonic_tone(rate, 1.0, 0.5, &RICH, |t| {
-        if t < step_s {
-            150.0
-        } else {
-            250.0
+    // The algorithmic latency the README reports: from a 150 → 250 Hz step in the input to the
+    // input sample at which the first frame reporting 250 Hz is emitted (`--nocapture` prints
+    // it). Half the 40 ms window and the decimation filter (`latency_s`), plus the frame
+    // spacing (the step falls between two frame centres) and the outlier filter's one frame.
+    for rate in [16_000.0, 44_100.0, 48_000.0] {
+        let frame_s = 1.0 / 120.0;
+        let mut worst_s: f64 = 0.0;
+        let mut latency_s = 0.0;
+        // Steps at several phases relative to the frame clock.
+        for phase in 0..4 {
+            let step_s = 0.5 + phase as f64 * frame_s / 4.0;
+            let x = synth::harmonic_tone(rate, 1.0, 0.5, &RICH, |t| {
+                if t < step_s {
+                    150.0
+                } else {
+                    250.0
+                }
+            });
+            let mut a = Analyzer::new(AnalysisConfig::default()).expect("config");
+            a.prepare(rate, 1).expect("rate");
+            latency_s = a.latency_s().expect("prepared");
+            let mut reported_at = None;
+            for (i, s) in x.iter().enumerate() {
+                let mut hit = false;
+                a.process(std::slice::from_ref(s), |f| {
+                    hit |= f.voiced && cents(f.f0_hz, 250.0).abs() < 50.0;
+                })
+                .expect("prepared");
+                if hit {
+                    reported_at = Some((i + 1) as f64 / rate);
+                    break;
+                }
+            }
+            let delay_s = reported_at.expect("the new pitch is reported") - step_s;
+            assert!(delay_s > 0.0, "{rate} Hz: reported before the change");
+            worst_s = worst_s.max(delay_s);
         }
-    });
-    let mut a = Analyzer::new(AnalysisConfig::default()).expect("config");
-    a.prepare(rate, 1).expect("rate");
-    let latency_s = a.latency_s().expect("prepared");
-    let mut reported_at = None;
-    for (i, s) in x.iter().enumerate() {
-        let mut hit = false;
-        a.process(std::slice::from_ref(s), |f| {
-            hit |= f.time_s >= step_s && f.voiced && cents(f.f0_hz, 250.0).abs() < 50.0;
-        })
-        .expect("prepared");
-        if hit {
-            reported_at = Some((i + 1) as f64 / rate);
-            break;
-        }
+        println!(
+            "{rate} Hz: pitch change reported after at most {:.1} ms (frames complete {:.1} ms after their centre)",
+            worst_s * 1e3,
+            latency_s * 1e3
+        );
+        assert!(latency_s > 0.02 && latency_s < 0.025, "{latency_s}");
+        assert!(
+            worst_s <= latency_s + 2.0 * frame_s + 1e-3,
+            "{rate} Hz: {worst_s} s vs {latency_s} s + two frames"
+        );
     }
-    let delay_s = reported_at.expect("the new pitch is reported") - step_s;
-    // Half the 40 ms window, the decimation filter, and at most two frames of the outlier
-    // filter and frame spacing.
-    assert!(
-        delay_s > 0.0 && delay_s <= latency_s + 2.0 / 120.0,
-        "{delay_s} s vs {latency_s} s"
-    );
-    assert!(latency_s > 0.02 && latency_s < 0.03, "{latency_s}");
 }
 
 #[test]

@@ -15,7 +15,9 @@ fn the_counter_sees_allocations() {
 
 #[test]
 fn process_never_allocates() {
-    for rate in [8_000.0, 22_050.0, 44_100.0, 48_000.0, 192_000.0] {
+    for rate in [
+        8_000.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 96_000.0, 192_000.0,
+    ] {
         let mut x = synth::harmonic_tone(rate, 1.0, 0.5, &[1.0, 0.5, 0.3], |t| 100.0 + 200.0 * t);
         x[1000] = f32::NAN;
         let mut a = Analyzer::new(AnalysisConfig::default()).expect("config");
