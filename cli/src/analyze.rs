@@ -13,6 +13,8 @@ use crate::wav::{mix_to_mono, WavError, WavInfo, WavSource};
 
 /// Frames read from the file per block.
 const BLOCK_FRAMES: usize = 8192;
+/// CSV text gathered before it is written to an output file.
+const FLUSH_BYTES: usize = 1 << 16;
 
 /// Errors of `pneuma analyze`.
 #[derive(Debug, Error)]
@@ -81,17 +83,30 @@ pub fn run(
             source: std::io::Error::other("it is the input file; choose another output path"),
         });
     }
-    // Read and analyse first, so a broken input never touches the output.
-    let mut text = String::with_capacity(1 << 16);
+    // A file is streamed to a temporary name and renamed into place only when the whole
+    // analysis succeeded, so a broken input never touches an existing output and memory stays
+    // bounded on long files. Standard output cannot take back what it printed, so it gets the
+    // rows only at the end.
+    WavSource::open(input)?;
+    let stream = output.as_os_str() != "-";
+    let mut out = Output::create(output).map_err(out_err)?;
+    let mut text = String::with_capacity(FLUSH_BYTES + 256);
     text.push_str(features_csv::HEADER);
     text.push('\n');
     let (mut frames, mut voiced_frames) = (0u64, 0u64);
+    let mut write_error = None;
     let info = analyze_file(input, config, |f| {
         features_csv::write_row(&mut text, f);
         frames += 1;
         voiced_frames += u64::from(f.voiced);
+        if stream && text.len() >= FLUSH_BYTES && write_error.is_none() {
+            write_error = out.writer().write_all(text.as_bytes()).err();
+            text.clear();
+        }
     })?;
-    let mut out = Output::create(output).map_err(out_err)?;
+    if let Some(e) = write_error {
+        return Err(out_err(e));
+    }
     out.writer().write_all(text.as_bytes()).map_err(out_err)?;
     out.commit().map_err(out_err)?;
     Ok(AnalyzeSummary {

@@ -204,6 +204,45 @@ fn broken_files_fail_clearly_and_keep_existing_output() {
 }
 
 #[test]
+fn a_long_file_streams_its_csv_and_a_late_failure_keeps_existing_output() {
+    // 40 s at 8 kHz: its CSV (4 800 rows) is written to the output in several pieces.
+    let dir = temp();
+    let rate = 8_000;
+    let mut x = Vec::new();
+    while x.len() < 40 * rate as usize {
+        x.extend(test_signal(rate));
+    }
+    let long = dir.path().join("long.wav");
+    write_wav(&long, rate, 1, 16, false, &x);
+    let csv = dir.path().join("long.csv");
+    let out = pneuma(&[
+        "analyze",
+        long.to_str().expect("utf8"),
+        "-o",
+        csv.to_str().expect("utf8"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&csv).expect("csv");
+    let rows = parse_csv(&text);
+    assert_eq!(
+        rows.len(),
+        (x.len() as f64 / rate as f64 * 120.0).ceil() as usize
+    );
+    // The rows of the first 30 s fill more than one 64 KiB piece.
+    assert!(text.len() * 3 / 4 > 65_536, "CSV of {} bytes", text.len());
+    // The same file cut at 30 s fails after most rows were streamed to the temporary file:
+    // the earlier output stays, and no temporary file is left.
+    let bytes = std::fs::read(&long).expect("read");
+    let cut = dir.path().join("cut.wav");
+    std::fs::write(&cut, &bytes[..44 + 2 * 30 * rate as usize + 1]).expect("write");
+    assert_fails_cleanly(&cut, "damaged after 240000 sample frames");
+}
+
+#[test]
 fn unwritable_output_is_a_clear_error() {
     let dir = temp();
     let wav = dir.path().join("in.wav");
