@@ -155,7 +155,9 @@ struct Envelope {
 
 impl Envelope {
     fn new(total_frames: u64) -> Self {
-        let bucket = (total_frames as usize * 2).div_ceil(PLOT_POINTS).max(1);
+        let bucket = usize::try_from(total_frames.saturating_mul(2).div_ceil(PLOT_POINTS as u64))
+            .unwrap_or(usize::MAX)
+            .max(1);
         Self {
             bucket,
             filled: 0,

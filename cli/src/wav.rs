@@ -208,6 +208,15 @@ fn u64_at(b: &[u8], at: usize) -> u64 {
     u64::from_le_bytes(a)
 }
 
+/// `1 byte`, `2 bytes`: a count with its noun for messages.
+fn count(n: u64, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
 /// A chunk or file id for messages: `'LIST'`, or hex when not printable.
 fn show_id(id: &[u8]) -> String {
     if id.iter().all(|b| (0x20..0x7f).contains(b)) {
@@ -268,12 +277,15 @@ impl WavSource {
             path: path.to_owned(),
             source,
         })?;
+        let meta = file.metadata().ok();
+        if meta.as_ref().is_some_and(|m| m.is_dir()) {
+            return Err(WavError::Open {
+                path: path.to_owned(),
+                source: std::io::Error::other("it is a folder; give a WAV file inside it"),
+            });
+        }
         // The length of a regular file; unknown for a pipe or device.
-        let file_len = file
-            .metadata()
-            .ok()
-            .filter(|m| m.is_file())
-            .map(|m| m.len());
+        let file_len = meta.filter(|m| m.is_file()).map(|m| m.len());
         Header::parse(path, BufReader::with_capacity(1 << 16, file), file_len)
     }
 
@@ -413,9 +425,15 @@ impl<'a> Header<'a> {
         size: impl std::fmt::Display,
         got: impl std::fmt::Display,
     ) -> WavError {
+        let hint = if show_id(id).starts_with("bytes") {
+            " (that id is not text: the chunks are out of step, perhaps an odd-length chunk \
+             was written without its pad byte)"
+        } else {
+            ""
+        };
         self.format(format!(
             "the {} chunk announces {size} bytes but the file ends {got} bytes into it, \
-             before any data chunk",
+             before any data chunk{hint}",
             show_id(id)
         ))
     }
@@ -593,9 +611,20 @@ impl<'a> Header<'a> {
                 Some(d) if !unknown(d.data, d.riff, u64::MAX) => Some(d.data),
                 _ => None,
             }
-        } else if unknown(data_size.into(), riff_size.into(), u32::MAX.into())
-            || (data_size == SOX_UNSPECIFIED
-                && file_len.is_none_or(|len| len < data_start + u64::from(SOX_UNSPECIFIED)))
+        } else if unknown(
+            data_size.into(),
+            // An RF64 file's RIFF size is always 0xFFFFFFFF: its real one is in ds64.
+            match (rf64, ds64) {
+                (true, Some(d)) => d.riff,
+                _ => riff_size.into(),
+            },
+            if rf64 && ds64.is_some() {
+                u64::MAX
+            } else {
+                u32::MAX.into()
+            },
+        ) || (data_size == SOX_UNSPECIFIED
+            && file_len.is_none_or(|len| len < data_start + u64::from(SOX_UNSPECIFIED)))
         {
             None
         } else {
@@ -624,6 +653,19 @@ impl<'a> Header<'a> {
                 path: path.to_owned(),
                 detail,
             });
+        }
+        if let (Some(n), Some(f)) = (data_len, following) {
+            if n > f {
+                // Found now rather than after reading (and analysing) everything there is.
+                return Err(WavError::Truncated {
+                    path: path.to_owned(),
+                    frames_read: f / align as u64,
+                    reason: format!(
+                        "the header announces {frames} sample frames but the file holds only {}",
+                        f / align as u64
+                    ),
+                });
+            }
         }
         let info = WavInfo {
             sample_rate_hz: fmt.rate,
@@ -726,9 +768,10 @@ impl<'a> Header<'a> {
         let need = u32::from(fmt.channels) * u32::from(bits / 8);
         if u32::from(fmt.block_align) != need {
             return Err(self.format(format!(
-                "the fmt chunk gives a block_align of {} bytes per sample frame, but {} \
-                 channels of {bits}-bit samples take {need}",
-                fmt.block_align, fmt.channels
+                "the fmt chunk gives a block_align of {} per sample frame, but {} of \
+                 {bits}-bit samples take {need}",
+                count(fmt.block_align.into(), "byte"),
+                count(fmt.channels.into(), "channel")
             )));
         }
         Ok((encoding, bits))

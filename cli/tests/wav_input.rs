@@ -488,6 +488,54 @@ fn rf64_and_bw64_take_the_data_size_from_ds64() {
 }
 
 #[test]
+fn found_by_fuzzing() {
+    let dir = temp();
+    // An RF64 whose ds64 announces 2^64 − 2 bytes of 8-bit data with 3 000 bytes there:
+    // `render` multiplied the announced frame count and panicked; it is a truncated file.
+    let mut ds = Vec::new();
+    for v in [0u64, u64::MAX - 1, 0] {
+        ds.extend_from_slice(&v.to_le_bytes());
+    }
+    ds.extend_from_slice(&0u32.to_le_bytes());
+    let huge = put(
+        dir.path(),
+        "huge.wav",
+        &riff_with(
+            b"RF64",
+            u32::MAX,
+            &[
+                chunk(b"ds64", &ds),
+                fmt(PCM, 1, 16_000, 8),
+                raw_chunk(b"data", u32::MAX, &[0x80; 3000]),
+            ],
+        ),
+    );
+    fails(
+        &huge,
+        &["damaged after 3000 sample frames", "holds only 3000"],
+    );
+    let out = dir.path().join("render");
+    let o = support::render(&huge, &out, &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && !err.contains("panicked"), "{err}");
+    assert!(err.contains("damaged after 3000 sample frames"), "{err}");
+    // An odd-length chunk written without its pad byte puts the chunks out of step.
+    let mut odd = fmt(PCM, 1, 16_000, 16);
+    odd.extend_from_slice(&raw_chunk(b"odd ", 3, b"abc"));
+    odd.extend_from_slice(&chunk(b"data", &i16_bytes(&[1, 256, 1, 256])));
+    let mut file = b"RIFF".to_vec();
+    file.extend_from_slice(&((odd.len() + 4) as u32).to_le_bytes());
+    file.extend_from_slice(b"WAVE");
+    file.extend_from_slice(&odd);
+    fails(
+        &put(dir.path(), "nopad.wav", &file),
+        &["out of step", "without its pad byte"],
+    );
+    // A folder is not a file to convert.
+    fails(dir.path(), &["it is a folder"]);
+}
+
+#[test]
 fn a_file_without_sample_frames_holds_no_audio() {
     let dir = temp();
     let empty = put(
@@ -549,18 +597,16 @@ fn data_announced_beyond_the_end_is_truncated() {
         ],
     );
     let path = put(dir.path(), "cut.wav", &file);
-    assert_eq!(
-        WavSource::open(&path)
-            .expect("the header is fine")
-            .info()
-            .frames,
-        20_000
-    );
+    // Found when the file is opened, before anything is read or analysed.
+    match WavSource::open(&path) {
+        Err(WavError::Truncated { frames_read, .. }) => assert_eq!(frames_read, 5000),
+        other => panic!("expected Truncated at open, got {other:?}"),
+    }
     fails(
         &path,
         &[
             "damaged after 5000 sample frames",
-            "announces 20000 sample frames",
+            "announces 20000 sample frames but the file holds only 5000",
             "sox --ignore-length IN OUT.wav",
         ],
     );
