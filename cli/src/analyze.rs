@@ -50,9 +50,19 @@ pub struct AnalyzeSummary {
 pub fn analyze_file(
     input: &Path,
     config: AnalysisConfig,
+    on_frame: impl FnMut(&FeatureFrame),
+) -> Result<WavInfo, AnalyzeError> {
+    analyze_source(WavSource::open(input)?, config, on_frame)
+}
+
+/// Analyses an opened WAV file into frames, calling `on_frame` for each; returns its format.
+/// (A pipe can be opened only once, so the caller that checks the header first hands the
+/// opened source on.)
+pub fn analyze_source(
+    mut src: WavSource,
+    config: AnalysisConfig,
     mut on_frame: impl FnMut(&FeatureFrame),
 ) -> Result<WavInfo, AnalyzeError> {
-    let mut src = WavSource::open(input)?;
     let info = src.info();
     let mut analyzer = Analyzer::new(config)?;
     analyzer.prepare(info.sample_rate_hz as f64, BLOCK_FRAMES)?;
@@ -87,7 +97,7 @@ pub fn run(
     // analysis succeeded, so a broken input never touches an existing output and memory stays
     // bounded on long files. Standard output cannot take back what it printed, so it gets the
     // rows only at the end.
-    WavSource::open(input)?;
+    let src = WavSource::open(input)?;
     let stream = output.as_os_str() != "-";
     let mut out = Output::create(output).map_err(out_err)?;
     let mut text = String::with_capacity(FLUSH_BYTES + 256);
@@ -95,7 +105,7 @@ pub fn run(
     text.push('\n');
     let (mut frames, mut voiced_frames) = (0u64, 0u64);
     let mut write_error = None;
-    let info = analyze_file(input, config, |f| {
+    let info = analyze_source(src, config, |f| {
         features_csv::write_row(&mut text, f);
         frames += 1;
         voiced_frames += u64::from(f.voiced);

@@ -17,10 +17,11 @@
 //! `data` is read. A data size of `0xFFFFFFFF`, sox's "unspecified" `0x7FFFF000` (when the file
 //! is shorter than that), or 0 with a RIFF size of 0 or `0xFFFFFFFF` is what ffmpeg or sox write
 //! to a pipe: the length is unknown and the data is read to the end of the file (a trailing
-//! partial frame is dropped). A data chunk that announces more than the file holds fails with
-//! [`WavError::Truncated`] when its data runs out.
+//! partial frame is dropped). A data chunk that announces more sample frames than the file
+//! holds fails with [`WavError::Truncated`] when it is opened (from a pipe, whose length is not
+//! known, when its data runs out).
 //!
-//! Samples become f32 at full scale ±1 exactly as before: an integer sample `v` of a `b`-bit
+//! Samples become f32 at full scale ±1: an integer sample `v` of a `b`-bit
 //! container becomes `v as f32 * (1 / 2^(b−1)) as f32` (8-bit: `(u − 128) / 128`), float samples
 //! pass unchanged. The file is read through a [`BufReader`] block by block into one reused byte
 //! buffer, so memory stays bounded on hour-long files; header numbers never drive allocations.
@@ -487,7 +488,10 @@ impl<'a> Header<'a> {
         let mut head = [0u8; 12];
         let n = h.read(&mut head)?;
         if n == 0 {
-            return Err(h.format("the file is empty"));
+            return Err(WavError::Empty {
+                path: path.to_owned(),
+                detail: "the file is 0 bytes long; record or export it again".into(),
+            });
         }
         if n >= 4 && &head[..4] == b"RIFX" {
             return Err(h.unsupported("big-endian WAV (RIFX)"));
@@ -655,7 +659,8 @@ impl<'a> Header<'a> {
             });
         }
         if let (Some(n), Some(f)) = (data_len, following) {
-            if n > f {
+            // Whole frames: a trailing partial frame announced but missing loses nothing.
+            if n / align as u64 > f / align as u64 {
                 // Found now rather than after reading (and analysing) everything there is.
                 return Err(WavError::Truncated {
                     path: path.to_owned(),

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use pneuma_core::synth;
 
 mod support;
-use support::pneuma;
+use support::{pneuma, pneuma_with_stdin};
 
 /// Writes `mono` to all channels (the second at 0.5×) in the given format.
 fn write_wav(path: &Path, rate: u32, channels: u16, bits: u16, float: bool, mono: &[f32]) {
@@ -135,6 +135,15 @@ fn dash_writes_to_stdout() {
     );
 }
 
+/// The files in `dir` other than `keep`.
+fn files_besides(dir: &Path, keep: &Path) -> Vec<PathBuf> {
+    std::fs::read_dir(dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p != keep)
+        .collect()
+}
+
 fn assert_fails_cleanly(input: &Path, must_mention: &str) {
     let dir = temp();
     let csv = dir.path().join("existing.csv");
@@ -157,11 +166,7 @@ fn assert_fails_cleanly(input: &Path, must_mention: &str) {
         std::fs::read_to_string(&csv).expect("still there"),
         "precious\n"
     );
-    let leftovers: Vec<PathBuf> = std::fs::read_dir(dir.path())
-        .expect("dir")
-        .map(|e| e.expect("entry").path())
-        .filter(|p| p != &csv)
-        .collect();
+    let leftovers = files_besides(dir.path(), &csv);
     assert!(leftovers.is_empty(), "partial files left: {leftovers:?}");
 }
 
@@ -170,7 +175,7 @@ fn broken_files_fail_clearly_and_keep_existing_output() {
     let dir = temp();
     let empty = dir.path().join("empty.wav");
     std::fs::write(&empty, b"").expect("write");
-    assert_fails_cleanly(&empty, "not a readable WAV file");
+    assert_fails_cleanly(&empty, "holds no audio");
 
     let text = dir.path().join("text.wav");
     std::fs::write(&text, b"this is not audio at all, just some text in a file").expect("write");
@@ -204,7 +209,7 @@ fn broken_files_fail_clearly_and_keep_existing_output() {
 }
 
 #[test]
-fn a_long_file_streams_its_csv_and_a_late_failure_keeps_existing_output() {
+fn a_long_file_streams_its_csv_also_from_a_pipe_and_a_late_failure_keeps_existing_output() {
     // 40 s at 8 kHz: its CSV (4 800 rows) is written to the output in several pieces.
     let dir = temp();
     let rate = 8_000;
@@ -234,12 +239,50 @@ fn a_long_file_streams_its_csv_and_a_late_failure_keeps_existing_output() {
     );
     // The rows of the first 30 s fill more than one 64 KiB piece.
     assert!(text.len() * 3 / 4 > 65_536, "CSV of {} bytes", text.len());
-    // The same file cut at 30 s fails after most rows were streamed to the temporary file:
-    // the earlier output stays, and no temporary file is left.
+    // Through a pipe (`/dev/stdin`, length unknown) the same CSV comes out.
     let bytes = std::fs::read(&long).expect("read");
-    let cut = dir.path().join("cut.wav");
-    std::fs::write(&cut, &bytes[..44 + 2 * 30 * rate as usize + 1]).expect("write");
-    assert_fails_cleanly(&cut, "damaged after 240000 sample frames");
+    let existing = dir.path().join("piped.csv");
+    let o = pneuma_with_stdin(
+        &[
+            "analyze",
+            "/dev/stdin",
+            "-o",
+            existing.to_str().expect("utf8"),
+        ],
+        &bytes,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(std::fs::read_to_string(&existing).expect("csv"), text);
+    // The same file cut at 30 s, piped: the cut is only found when the data runs out, after
+    // most rows were streamed to the temporary file. The earlier output stays, and no
+    // temporary file is left.
+    std::fs::write(&existing, "precious\n").expect("write");
+    let cut = &bytes[..44 + 2 * 30 * rate as usize + 1];
+    let o = pneuma_with_stdin(
+        &[
+            "analyze",
+            "/dev/stdin",
+            "-o",
+            existing.to_str().expect("utf8"),
+        ],
+        cut,
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(err.contains("damaged after 240000 sample frames"), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(&existing).expect("kept"),
+        "precious\n"
+    );
+    let leftovers: Vec<PathBuf> = files_besides(dir.path(), &existing)
+        .into_iter()
+        .filter(|p| p.to_string_lossy().ends_with(".partial"))
+        .collect();
+    assert!(leftovers.is_empty(), "partial files left: {leftovers:?}");
+    // From a regular file the cut is found before anything is analysed.
+    let cut_path = dir.path().join("cut.wav");
+    std::fs::write(&cut_path, cut).expect("write");
+    assert_fails_cleanly(&cut_path, "damaged after 240000 sample frames");
 }
 
 #[test]

@@ -218,7 +218,7 @@ fn broken_input_fails_cleanly_and_keeps_existing_output() {
     write_wav(&good, 16_000, 1, 16, false, &x);
     let bytes = std::fs::read(&good).expect("read");
     let cases: Vec<(&str, Vec<u8>, &str)> = vec![
-        ("empty", vec![], "not a readable WAV"),
+        ("empty", vec![], "holds no audio"),
         (
             "text",
             b"hello, this is not audio".to_vec(),

@@ -13,6 +13,28 @@ pub fn pneuma(args: &[&str]) -> Output {
         .expect("the pneuma binary runs")
 }
 
+/// Runs the built `pneuma` binary with `args`, writing `stdin` to its standard input.
+pub fn pneuma_with_stdin(args: &[&str], stdin: &[u8]) -> Output {
+    use std::io::Write as _;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_pneuma"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the pneuma binary starts");
+    let mut pipe = child.stdin.take().expect("stdin");
+    let bytes = stdin.to_vec();
+    // A writer thread, so a reader that stops early cannot dead-lock the test.
+    let writer = std::thread::spawn(move || {
+        let _ = pipe.write_all(&bytes);
+    });
+    let out = child.wait_with_output().expect("the pneuma binary runs");
+    writer.join().expect("writer");
+    out
+}
+
 /// Runs `pneuma render INPUT -o OUT --quiet` with `extra` arguments.
 pub fn render(input: &Path, out: &Path, extra: &[&str]) -> Output {
     let mut args = vec![
