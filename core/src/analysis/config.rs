@@ -60,7 +60,8 @@ pub struct AnalysisConfig {
     pub frame_rate_hz: f64,
     /// Lowest f0 searched, Hz (default 50).
     pub f0_min_hz: f32,
-    /// Highest f0 searched, Hz (default 600).
+    /// Highest f0 searched, Hz (default 600). A voice above it has no pitch (unvoiced frames),
+    /// not the subharmonic that lies in range.
     pub f0_max_hz: f32,
     /// Pitch analysis window in seconds, at least two periods of `f0_min_hz` (default 0.04).
     pub window_s: f32,

@@ -276,10 +276,9 @@ impl NsdfPitch {
         }
         let last = self.lag_max.min(self.long.curve.len() - 2);
         let mut n = 0;
-        key_maxima(
+        let above_range = key_maxima(
             &self.long.curve,
             self.rate_hz,
-            self.lag_min,
             self.lag_range,
             last,
             &mut self.candidates,
@@ -289,13 +288,18 @@ impl NsdfPitch {
         let best = self.candidates[..n]
             .iter()
             .fold(0.0f32, |m, c| m.max(c.clarity));
-        let threshold = self.key_max_ratio * best;
+        self.periodicity = best;
+        let threshold = self.key_max_ratio * best.max(above_range);
+        if above_range > 0.0 && above_range >= threshold {
+            // The key-maximum rule would take a period shorter than the range allows: the
+            // voice is above `f0_max_hz`. No pitch, rather than its subharmonic.
+            return PitchEstimate::default();
+        }
         let mut chosen = self.candidates[..n]
             .iter()
             .copied()
             .find(|c| c.clarity >= threshold && c.clarity > 0.0)
             .unwrap_or_default();
-        self.periodicity = best;
         // The short window can only confirm the chosen period or prefer a longer one, so it
         // has nothing to say when the chosen period is beyond its reach.
         let in_reach = self.short.as_ref().is_some_and(|(_, last)| {
@@ -364,7 +368,6 @@ impl NsdfPitch {
         key_maxima(
             &short.curve,
             self.rate_hz,
-            self.lag_min,
             self.lag_range,
             *short_last,
             &mut self.short_candidates,
@@ -380,18 +383,20 @@ impl NsdfPitch {
     }
 }
 
-/// Key maxima of one NSDF curve between `lag_min` and `last`, shortest lag first, into `out`
-/// (count in `n`); a maximum whose refined lag lies outside `lag_range` (the f0 range) is
-/// dropped; when `out` is full the weakest kept lobe gives way to a stronger one.
+/// Key maxima of one NSDF curve up to lag `last`, shortest lag first, into `out`
+/// (count in `n`); a maximum whose refined lag lies outside `lag_range` (the f0 range) is no
+/// candidate, and the returned value is the highest clarity among those above the range
+/// (shorter than its shortest period; 0 if none); when `out` is full the weakest kept lobe
+/// gives way to a stronger one.
 fn key_maxima(
     n: &[f32],
     rate_hz: f64,
-    lag_min: usize,
     lag_range: (f64, f64),
     last: usize,
     out: &mut [PitchEstimate],
     count: &mut usize,
-) {
+) -> f32 {
+    let mut above_range = 0.0f32;
     // Skip the lobe around lag 0: start after the first negative-going zero crossing.
     let mut tau = 1;
     while tau <= last && n[tau] > 0.0 {
@@ -412,7 +417,8 @@ fn key_maxima(
             }
             tau += 1;
         }
-        if peak_tau == 0 || peak_tau < lag_min {
+        // Lobes before the shortest period searched still tell of a voice above the range.
+        if peak_tau == 0 {
             continue;
         }
         // A lobe cut off by the end of the search range is only a candidate if its highest
@@ -429,10 +435,14 @@ fn key_maxima(
             (0.0, b)
         };
         let lag = peak_tau as f64 + delta as f64;
-        if lag < lag_range.0 || lag > lag_range.1 {
+        let clarity = height.clamp(0.0, 1.0);
+        if lag < lag_range.0 {
+            above_range = above_range.max(clarity);
             continue;
         }
-        let clarity = height.clamp(0.0, 1.0);
+        if lag > lag_range.1 {
+            continue;
+        }
         let candidate = PitchEstimate {
             f0_hz: (rate_hz / lag) as f32,
             clarity,
@@ -456,6 +466,7 @@ fn key_maxima(
         out[*count] = candidate;
         *count += 1;
     }
+    above_range
 }
 
 #[cfg(test)]
@@ -577,6 +588,15 @@ mod tests {
                         c.f0_hz
                     );
                 }
+            }
+            // A voice above the range has no pitch, rather than its subharmonic.
+            for f0 in [605.0, 630.0, 700.0] {
+                let e = p.analyse(&tone(f0, rate, len, &[1.0, 0.5, 0.3]));
+                assert_eq!(
+                    e.f0_hz, 0.0,
+                    "rate {rate}, tone {f0} Hz reported at {}",
+                    e.f0_hz
+                );
             }
             // Inside the range, next to its ends, the tones are still found.
             for f0 in [52.0, 590.0] {
