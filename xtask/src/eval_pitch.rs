@@ -3,11 +3,13 @@
 //! accuracy on the PTDB-TUG excerpts (`<clip>.wav` + `<clip>.f0.csv`, 10 ms reference).
 //!
 //! Every tracker analyses at the same frame rate: Pneuma's, 120 Hz as shipped, or another with
-//! `--set frame_rate_hz=200` (200 = Praat's usual 5 ms step, the rate `.ci/run` checks the
-//! targets at; the shipped rate is run for the record). Pneuma's frames and the `pitch-detection` detectors' windows
-//! are centred at `k / rate`, Praat's at its own times one step apart. Each reference time,
-//! shifted by the global offset, is scored on each tracker's nearest frame. One global time offset
-//! (−20…+20 ms in 5 ms steps, the reference is known to sit early) is searched once for the
+//! `--set frame_rate_hz=200` (Praat's usual 5 ms step; `.ci/run` checks the targets at both).
+//! Every tracker's frames are centred at
+//! `k / rate`: Pneuma's and the `pitch-detection` detectors' windows by construction, Praat's
+//! because the clip is padded with silence to a whole number of steps (Praat centres its frames
+//! in the sound). Each reference time, shifted by the global offset, is scored on each
+//! tracker's nearest frame. One global time offset (−20…+20 ms in 5 ms steps, the reference is
+//! known to sit early) is searched once for the
 //! whole data set, minimising the summed FFE of all trackers, and applied to every tracker.
 //! Metrics (over reference frames): VDE = voicing decisions that differ / all frames;
 //! GPE = frames voiced in both with more than 20 % f0 error / frames voiced in both;
@@ -229,8 +231,10 @@ type Internals = Vec<[f32; 3]>;
 
 /// Spreads frames at `times_s` (ascending) onto the 1 ms grid (`grid_len` points): each grid
 /// time takes the frame nearest to it (compared in whole microseconds, so a time exactly
-/// between two frames takes the earlier one, whatever the rounding), or the default (0, i.e.
-/// unvoiced) beyond half a frame step (`step_s`) from every frame.
+/// between two frames takes the earlier one), or the default (0, i.e. unvoiced) before the
+/// first or after the last frame by more than half a frame step (`step_s`). (Between frames
+/// the nearest always counts: Praat prints its times rounded to 10 µs, so a grid time halfway
+/// between two of its frames may lie a few µs beyond half a step from both.)
 fn on_grid<T: Copy + Default>(
     times_s: &[f64],
     frames: &[T],
@@ -250,8 +254,10 @@ fn on_grid<T: Copy + Default>(
                 (Some(i), None) => Some(i),
                 (None, None) => None,
             };
+            let inside =
+                times.first().is_some_and(|&a| a <= t) && times.last().is_some_and(|&b| t <= b);
             nearest
-                .filter(|&i| (times[i] - t).abs() <= half_step)
+                .filter(|&i| inside || (times[i] - t).abs() <= half_step)
                 .map_or_else(T::default, |i| frames[i])
         })
         .collect()
@@ -345,6 +351,17 @@ const PRAAT_SCRIPT: &str = r#"form args
 endform
 s = Read from file: in$
 step = number(step$)
+# Praat centres its frames in the sound: silence padded to a whole number of steps puts them
+# at multiples of the step, the frame times of the other trackers.
+dur = Get total duration
+sr = Get sampling frequency
+pad = ceiling(dur / step) * step - dur
+if pad > 0.5 / sr
+  z = Create Sound from formula: "pad", 1, 0, pad, sr, "0"
+  selectObject: s, z
+  s = Concatenate
+endif
+selectObject: s
 p = To Pitch (ac): step, 50, 15, "no", 0.03, 0.45, 0.01, 0.35, 0.14, 600
 n = Get number of frames
 out_text$ = ""
