@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use pneuma_core::synth;
 
 mod support;
-use support::{pneuma, pneuma_with_stdin};
+use support::{assert_analyze_fails, files_besides, pneuma, pneuma_with_stdin};
 
 /// Writes `mono` to all channels (the second at 0.5×) in the given format.
 fn write_wav(path: &Path, rate: u32, channels: u16, bits: u16, float: bool, mono: &[f32]) {
@@ -135,51 +135,16 @@ fn dash_writes_to_stdout() {
     );
 }
 
-/// The files in `dir` other than `keep`.
-fn files_besides(dir: &Path, keep: &Path) -> Vec<PathBuf> {
-    std::fs::read_dir(dir)
-        .expect("dir")
-        .map(|e| e.expect("entry").path())
-        .filter(|p| p != keep)
-        .collect()
-}
-
-fn assert_fails_cleanly(input: &Path, must_mention: &str) {
-    let dir = temp();
-    let csv = dir.path().join("existing.csv");
-    std::fs::write(&csv, "precious\n").expect("write");
-    let out = pneuma(&[
-        "analyze",
-        input.to_str().expect("utf8"),
-        "-o",
-        csv.to_str().expect("utf8"),
-    ]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "{} should fail", input.display());
-    assert!(
-        err.contains(must_mention),
-        "message for {}: {err}",
-        input.display()
-    );
-    assert!(err.starts_with("error: "), "{err}");
-    assert_eq!(
-        std::fs::read_to_string(&csv).expect("still there"),
-        "precious\n"
-    );
-    let leftovers = files_besides(dir.path(), &csv);
-    assert!(leftovers.is_empty(), "partial files left: {leftovers:?}");
-}
-
 #[test]
 fn broken_files_fail_clearly_and_keep_existing_output() {
     let dir = temp();
     let empty = dir.path().join("empty.wav");
     std::fs::write(&empty, b"").expect("write");
-    assert_fails_cleanly(&empty, "holds no audio");
+    assert_analyze_fails(&empty, &["holds no audio"]);
 
     let text = dir.path().join("text.wav");
     std::fs::write(&text, b"this is not audio at all, just some text in a file").expect("write");
-    assert_fails_cleanly(&text, "not a readable WAV file");
+    assert_analyze_fails(&text, &["not a readable WAV file"]);
 
     // A real WAV cut in the middle of its data.
     let good = dir.path().join("good.wav");
@@ -187,12 +152,12 @@ fn broken_files_fail_clearly_and_keep_existing_output() {
     let bytes = std::fs::read(&good).expect("read");
     let cut = dir.path().join("cut.wav");
     std::fs::write(&cut, &bytes[..bytes.len() / 2 + 1]).expect("write");
-    assert_fails_cleanly(&cut, "damaged");
+    assert_analyze_fails(&cut, &["damaged"]);
 
     // A rate outside 8–192 kHz.
     let slow = dir.path().join("slow.wav");
     write_wav(&slow, 4_000, 1, 16, false, &vec![0.0; 4000]);
-    assert_fails_cleanly(&slow, "4000 Hz");
+    assert_analyze_fails(&slow, &["4000 Hz"]);
 
     // 64-bit float is not read.
     let mut f64_wav = bytes[..44].to_vec();
@@ -205,7 +170,7 @@ fn broken_files_fail_clearly_and_keep_existing_output() {
     let out = pneuma(&["analyze", f64_path.to_str().expect("utf8"), "-o", "-"]);
     assert!(!out.status.success());
 
-    assert_fails_cleanly(&dir.path().join("missing.wav"), "cannot open");
+    assert_analyze_fails(&dir.path().join("missing.wav"), &["cannot open"]);
 }
 
 #[test]
@@ -282,7 +247,7 @@ fn a_long_file_streams_its_csv_also_from_a_pipe_and_a_late_failure_keeps_existin
     // From a regular file the cut is found before anything is analysed.
     let cut_path = dir.path().join("cut.wav");
     std::fs::write(&cut_path, cut).expect("write");
-    assert_fails_cleanly(&cut_path, "damaged after 240000 sample frames");
+    assert_analyze_fails(&cut_path, &["damaged after 240000 sample frames"]);
 }
 
 #[test]

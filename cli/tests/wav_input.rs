@@ -9,7 +9,7 @@ use pneuma_cli::wav::{WavError, WavInfo, WavSource};
 use pneuma_core::synth::{self, GlottalVowel, Vowel};
 
 mod support;
-use support::pneuma;
+use support::{assert_analyze_fails, pneuma};
 
 const PCM: u16 = 0x0001;
 const FLOAT: u16 = 0x0003;
@@ -198,31 +198,6 @@ fn check_tone_csv(csv: &str, what: &str) {
     for r in tone {
         assert!(r[2] == 1.0 && (r[1] - 200.0).abs() < 3.0, "{what}: {r:?}");
     }
-}
-
-/// `pneuma analyze` fails with every one of `must_mention` in its message and leaves an
-/// existing output file as it was.
-fn fails(input: &Path, must_mention: &[&str]) {
-    let dir = temp();
-    let csv = dir.path().join("existing.csv");
-    std::fs::write(&csv, "precious\n").expect("write");
-    let out = pneuma(&[
-        "analyze",
-        input.to_str().expect("utf-8"),
-        "-o",
-        csv.to_str().expect("utf-8"),
-    ]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        !out.status.success(),
-        "{} should fail; stderr {err}",
-        input.display()
-    );
-    assert!(err.starts_with("error: "), "{err}");
-    for m in must_mention {
-        assert!(err.contains(m), "{}: `{m}` not in: {err}", input.display());
-    }
-    assert_eq!(std::fs::read_to_string(&csv).expect("kept"), "precious\n");
 }
 
 // ---- chunks ----
@@ -510,7 +485,7 @@ fn found_by_fuzzing() {
             ],
         ),
     );
-    fails(
+    assert_analyze_fails(
         &huge,
         &["damaged after 3000 sample frames", "holds only 3000"],
     );
@@ -527,12 +502,12 @@ fn found_by_fuzzing() {
     file.extend_from_slice(&((odd.len() + 4) as u32).to_le_bytes());
     file.extend_from_slice(b"WAVE");
     file.extend_from_slice(&odd);
-    fails(
+    assert_analyze_fails(
         &put(dir.path(), "nopad.wav", &file),
         &["out of step", "without its pad byte"],
     );
     // A folder is not a file to convert.
-    fails(dir.path(), &["it is a folder"]);
+    assert_analyze_fails(dir.path(), &["it is a folder"]);
 }
 
 #[test]
@@ -543,7 +518,7 @@ fn a_file_without_sample_frames_holds_no_audio() {
         "zero.wav",
         &riff(&[fmt(PCM, 1, 16_000, 16), chunk(b"data", &[])]),
     );
-    fails(&empty, &["holds no audio", "data chunk is empty"]);
+    assert_analyze_fails(&empty, &["holds no audio", "data chunk is empty"]);
     assert!(matches!(
         WavSource::open(&empty),
         Err(WavError::Empty { .. })
@@ -554,7 +529,7 @@ fn a_file_without_sample_frames_holds_no_audio() {
         "short.wav",
         &riff(&[fmt(PCM, 2, 16_000, 16), chunk(b"data", &[1, 2])]),
     );
-    fails(
+    assert_analyze_fails(
         &short,
         &["holds no audio", "less than one 4-byte sample frame"],
     );
@@ -567,7 +542,7 @@ fn a_file_without_sample_frames_holds_no_audio() {
             raw_chunk(b"data", 0, &i16_bytes(&[1, 2, 3, 4])),
         ]),
     );
-    fails(
+    assert_analyze_fails(
         &lost,
         &["holds no audio", "8 bytes follow", "sox --ignore-length"],
     );
@@ -581,7 +556,7 @@ fn a_file_without_sample_frames_holds_no_audio() {
             &[fmt(PCM, 1, 16_000, 16), raw_chunk(b"data", u32::MAX, &[7])],
         ),
     );
-    fails(&streamed, &["holds no audio"]);
+    assert_analyze_fails(&streamed, &["holds no audio"]);
 }
 
 #[test]
@@ -602,7 +577,7 @@ fn data_announced_beyond_the_end_is_truncated() {
         Err(WavError::Truncated { frames_read, .. }) => assert_eq!(frames_read, 5000),
         other => panic!("expected Truncated at open, got {other:?}"),
     }
-    fails(
+    assert_analyze_fails(
         &path,
         &[
             "damaged after 5000 sample frames",
@@ -767,7 +742,7 @@ fn bad_headers_fail_with_their_reason() {
         ),
     ];
     for (name, bytes, must) in cases {
-        fails(&put(dir.path(), &format!("{name}.wav"), &bytes), &must);
+        assert_analyze_fails(&put(dir.path(), &format!("{name}.wav"), &bytes), &must);
     }
 }
 

@@ -2,7 +2,7 @@
 
 #![allow(dead_code)] // each test binary uses its own subset
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// Runs the built `pneuma` binary with `args`.
@@ -80,4 +80,40 @@ pub fn write_wav(
         }
     }
     w.finalize().expect("finalize");
+}
+
+/// The files in `dir` other than `keep`.
+pub fn files_besides(dir: &Path, keep: &Path) -> Vec<PathBuf> {
+    std::fs::read_dir(dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p != keep)
+        .collect()
+}
+
+/// `pneuma analyze INPUT -o existing.csv` fails with every one of `must_mention` in its
+/// message, leaves the existing output as it was and no temporary file beside it.
+pub fn assert_analyze_fails(input: &Path, must_mention: &[&str]) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let csv = dir.path().join("existing.csv");
+    std::fs::write(&csv, "precious\n").expect("write");
+    let out = pneuma(&[
+        "analyze",
+        input.to_str().expect("utf-8"),
+        "-o",
+        csv.to_str().expect("utf-8"),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success(),
+        "{} should fail; stderr {err}",
+        input.display()
+    );
+    assert!(err.starts_with("error: "), "{err}");
+    for m in must_mention {
+        assert!(err.contains(m), "{}: `{m}` not in: {err}", input.display());
+    }
+    assert_eq!(std::fs::read_to_string(&csv).expect("kept"), "precious\n");
+    let leftovers = files_besides(dir.path(), &csv);
+    assert!(leftovers.is_empty(), "partial files left: {leftovers:?}");
 }
