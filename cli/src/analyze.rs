@@ -46,18 +46,9 @@ pub struct AnalyzeSummary {
     pub voiced_frames: u64,
 }
 
-/// Analyses `input` into frames, calling `on_frame` for each; returns the input's format.
-pub fn analyze_file(
-    input: &Path,
-    config: AnalysisConfig,
-    on_frame: impl FnMut(&FeatureFrame),
-) -> Result<WavInfo, AnalyzeError> {
-    analyze_source(WavSource::open(input)?, config, on_frame)
-}
-
 /// Analyses an opened WAV file into frames, calling `on_frame` for each; returns its format.
-/// (A pipe can be opened only once, so the caller that checks the header first hands the
-/// opened source on.)
+/// (It takes the opened source because a pipe can be opened only once, and `run` checks the
+/// header before it creates the output.)
 pub fn analyze_source(
     mut src: WavSource,
     config: AnalysisConfig,

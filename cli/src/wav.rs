@@ -447,6 +447,29 @@ impl<'a> Header<'a> {
         Ok(n)
     }
 
+    /// Reads the start of the chunk `id` (announced as `size` bytes, at least `need`) into
+    /// `body`, as much as fits; returns the bytes read.
+    fn read_body(
+        &mut self,
+        id: &[u8; 4],
+        size: u32,
+        need: u32,
+        body: &mut [u8],
+    ) -> Result<usize, WavError> {
+        if size < need {
+            return Err(self.format(format!(
+                "the {} chunk is {size} bytes, shorter than the {need} it needs",
+                String::from_utf8_lossy(id).trim_end()
+            )));
+        }
+        let want = (size as usize).min(body.len());
+        let got = self.read(&mut body[..want])?;
+        if got < want {
+            return Err(self.ends_inside(id, size, got));
+        }
+        Ok(want)
+    }
+
     /// Skips `n` bytes of the chunk `id` (announced as `size` bytes, of which `done` are
     /// already read).
     fn skip(&mut self, n: u64, id: &[u8; 4], size: u32, done: u64) -> Result<(), WavError> {
@@ -542,17 +565,8 @@ impl<'a> Header<'a> {
             let pad = u64::from(size & 1);
             match &id {
                 b"ds64" if rf64 && ds64.is_none() => {
-                    if size < 24 {
-                        return Err(h.format(format!(
-                            "the ds64 chunk is {size} bytes, shorter than the 24 it needs"
-                        )));
-                    }
                     let mut body = [0u8; 32];
-                    let want = (size as usize).min(body.len());
-                    let got = h.read(&mut body[..want])?;
-                    if got < want {
-                        return Err(h.ends_inside(&id, size, got));
-                    }
+                    let want = h.read_body(&id, size, 24, &mut body)?;
                     ds64 = Some(Ds64 {
                         riff: u64_at(&body, 0),
                         data: u64_at(&body, 8),
@@ -565,17 +579,8 @@ impl<'a> Header<'a> {
                     }
                 }
                 b"fmt " if fmt.is_none() => {
-                    if size < 16 {
-                        return Err(h.format(format!(
-                            "the fmt chunk is {size} bytes, shorter than the 16 it needs"
-                        )));
-                    }
                     let mut body = [0u8; 40];
-                    let want = (size as usize).min(body.len());
-                    let got = h.read(&mut body[..want])?;
-                    if got < want {
-                        return Err(h.ends_inside(&id, size, got));
-                    }
+                    let want = h.read_body(&id, size, 16, &mut body)?;
                     let mut subformat = [0u8; 16];
                     subformat.copy_from_slice(&body[24..40]);
                     fmt = Some(Fmt {
