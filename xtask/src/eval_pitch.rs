@@ -4,12 +4,11 @@
 //!
 //! Every tracker analyses at the same frame rate: Pneuma's, 120 Hz as shipped, or another with
 //! `--set frame_rate_hz=200` (Praat's usual 5 ms step; `.ci/run` checks the targets at both).
-//! Every tracker's frames are centred at
-//! `k / rate`: Pneuma's and the `pitch-detection` detectors' windows by construction, Praat's
-//! because the clip is padded with silence to a whole number of steps (Praat centres its frames
-//! in the sound). Each reference time, shifted by the global offset, is scored on each
-//! tracker's nearest frame. One global time offset (−20…+20 ms in 5 ms steps, the reference is
-//! known to sit early) is searched once for the
+//! Every tracker's frames are centred at `k / rate`: Pneuma's and the `pitch-detection`
+//! detectors' windows by construction, Praat's because the clip is padded with silence to a
+//! whole number of steps (Praat centres its frames in the sound). Each reference time, shifted
+//! by the global offset, is scored on each tracker's nearest frame. One global time offset
+//! (−20…+20 ms in 5 ms steps, the reference is known to sit early) is searched once for the
 //! whole data set, minimising the summed FFE of all trackers, and applied to every tracker.
 //! Metrics (over reference frames): VDE = voicing decisions that differ / all frames;
 //! GPE = frames voiced in both with more than 20 % f0 error / frames voiced in both;
