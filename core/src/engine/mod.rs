@@ -44,6 +44,16 @@ const MIN_BREATH_S: f64 = 0.12;
 const PRIOR_UTTERANCE_S: f32 = 2.5;
 /// Weight of the newest phrase in the running utterance-length estimate.
 const UTTERANCE_SMOOTHING: f32 = 0.3;
+/// Live mode: time constant of the input envelope that watches for speech under a breath, s.
+const LIVE_GATE_ENVELOPE_S: f64 = 0.002;
+/// Live mode: the input counts as active once its envelope stands this far over the pause's
+/// floor, dB (quiet consonants included).
+const LIVE_GATE_MARGIN_DB: f64 = 9.0;
+/// Live mode: how fast the gate's floor may rise, dB per second (it falls at once).
+const LIVE_GATE_FLOOR_RISE_DB_PER_S: f64 = 6.0;
+/// Live mode: a breath whose peak stayed under this, dBFS, is an inaudible stub and is not
+/// reported.
+const LIVE_STUB_PEAK_DB: f32 = -60.0;
 
 /// A breath action on the input timeline (sample index).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -139,6 +149,20 @@ struct Stream {
     utterance_start_s: f64,
     utterance_expected_s: f64,
     breath_end: u64,
+    /// Live mode: whether the input is active (speech may have resumed) at every sample of the
+    /// current block (see `LIVE_GATE_*`).
+    input_active: Vec<bool>,
+    /// Live mode: the gate's fast input envelope (mean square), its ~20 ms envelope, the floor
+    /// that follows the slow one (down at once, up slowly), and their constants.
+    gate_env: f64,
+    gate_slow: f64,
+    gate_floor: f64,
+    gate_env_coef: f64,
+    gate_floor_rise: f64,
+    gate_ratio: f64,
+    gate_silence: f64,
+    /// Live mode: the playing breath is already fading out.
+    fading: bool,
 }
 
 /// The streaming engine. See the module docs.
@@ -272,6 +296,15 @@ impl Engine {
             utterance_start_s: 0.0,
             utterance_expected_s: PRIOR_UTTERANCE_S as f64,
             breath_end: 0,
+            input_active: vec![false; max_block],
+            gate_env: 0.0,
+            gate_slow: 0.0,
+            gate_floor: 0.0,
+            gate_env_coef: 1.0 - (-1.0 / (LIVE_GATE_ENVELOPE_S * sample_rate_hz)).exp(),
+            gate_floor_rise: 10f64.powf(LIVE_GATE_FLOOR_RISE_DB_PER_S / 10.0 / sample_rate_hz),
+            gate_ratio: 10f64.powf(LIVE_GATE_MARGIN_DB / 10.0),
+            gate_silence: 10f64.powf(c.phrase.silence_db as f64 / 10.0),
+            fading: false,
         });
         self.reset();
         Ok(())
@@ -305,6 +338,11 @@ impl Engine {
             s.utterance_start_s = 0.0;
             s.utterance_expected_s = PRIOR_UTTERANCE_S as f64;
             s.breath_end = 0;
+            s.input_active.fill(false);
+            s.gate_env = 0.0;
+            s.gate_slow = 0.0;
+            s.gate_floor = 0.0;
+            s.fading = false;
         }
     }
 
@@ -421,6 +459,9 @@ impl Stream {
             let inv = 1.0 / channels as f32;
             self.mono[..n].iter_mut().for_each(|m| *m *= inv);
         }
+        if self.mode == PlacementMode::Live {
+            self.update_gate(n);
+        }
         // 2. Analysis; each frame goes to the head pose, the phrase tracker and the scheduler
         // as of the sample that completed it, so any partition gives the same decisions.
         let mut count = 0;
@@ -502,6 +543,38 @@ impl Stream {
             on_control(&frame, start + offset as usize);
         }
         self.position = end;
+    }
+
+    /// Live mode: marks the samples of the block where the input is active, sample by sample,
+    /// so a breath gives way to speech within milliseconds, long before the analysis confirms
+    /// it.
+    fn update_gate(&mut self, n: usize) {
+        let (mut env, mut slow, mut floor) = (self.gate_env, self.gate_slow, self.gate_floor);
+        for (x, active) in self.mono[..n].iter().zip(&mut self.input_active[..n]) {
+            let p = (*x as f64) * (*x as f64);
+            env += self.gate_env_coef * (p - env);
+            slow += self.energy_smoothing * (p - slow);
+            floor = if slow < floor {
+                slow
+            } else {
+                (floor * self.gate_floor_rise).max(self.gate_silence * 1e-3)
+            };
+            *active = env > self.gate_silence && env > floor * self.gate_ratio;
+        }
+        self.gate_env = env;
+        self.gate_slow = slow;
+        self.gate_floor = floor;
+    }
+
+    /// Live mode: whatever is scheduled to start at or after input sample `from` is dropped
+    /// (speech came back before the pause was long enough), with its inspiration.
+    fn cancel_live_breaths_from(&mut self, from: u64) {
+        let from_s = from as f64 / self.sample_rate_hz;
+        self.breath_actions
+            .retain(|&(t, a)| !(t >= from && matches!(a, BreathAction::Start { .. })));
+        self.cycle_actions
+            .retain(|&(t, a)| !(t >= from_s && matches!(a, CycleAction::Inspire { .. })));
+        self.breath_end = self.breath_end.min(from);
     }
 
     /// One analysis frame, produced while taking in input sample `now`.
@@ -615,12 +688,15 @@ impl Stream {
         let rate = self.sample_rate_hz;
         let inspiration_s = config.breathing.map().length_inspiration_s as f64;
         match e {
-            PhraseEvent::Activity { .. } => {
-                // Live: whatever plays into the pause gives way at the first sign of activity.
-                if self.mode == PlacementMode::Live && self.breath_end > now {
-                    self.breath_actions
-                        .insert_sorted((now, BreathAction::FadeOut));
-                    self.breath_end = now;
+            PhraseEvent::Activity { time_s } => {
+                // Live: a breath not started yet is dropped; one playing gives way (the gate
+                // has usually faded it already).
+                if self.mode == PlacementMode::Live {
+                    self.cancel_live_breaths_from((time_s * rate).round() as u64);
+                    if self.voice.is_active() && !self.fading {
+                        self.breath_actions
+                            .insert_sorted((now, BreathAction::FadeOut));
+                    }
                 }
             }
             PhraseEvent::Start { onset_s, pause } => {
@@ -630,10 +706,11 @@ impl Stream {
                 self.cycle_actions
                     .insert_sorted((onset_s, CycleAction::UtteranceStarts { utterance_s }));
                 if self.mode == PlacementMode::Live {
-                    if self.breath_end > now {
+                    // The onset may lie before the first active frame (a quiet consonant).
+                    self.cancel_live_breaths_from((onset_s * rate).round() as u64);
+                    if self.voice.is_active() && !self.fading {
                         self.breath_actions
                             .insert_sorted((now, BreathAction::FadeOut));
-                        self.breath_end = now;
                     }
                     return;
                 }
@@ -695,9 +772,14 @@ impl Stream {
                 self.cycle_actions
                     .insert_sorted((offset_s, CycleAction::SpeechStopped));
                 if self.mode == PlacementMode::Live {
-                    let now_s = now as f64 / rate;
+                    // The inhalation starts once the pause has lasted the minimum pause and
+                    // `after_offset_s`; speech before then cancels it (see Activity and Start).
+                    let wait_s = (p.min_pause_s as f64).max(p.after_offset_s as f64);
+                    let start = ((((offset_s + wait_s) * rate).round() as u64).max(now))
+                        .max(self.breath_end);
+                    let start_s = start as f64 / rate;
                     self.cycle_actions.insert_sorted((
-                        now_s,
+                        start_s,
                         CycleAction::Inspire {
                             length_s: inspiration_s as f32,
                             utterance_s: self.utterance_s,
@@ -708,14 +790,14 @@ impl Stream {
                         let gain = self.breath_gain(config, self.local_speech_level_db(None));
                         let gains = self.channel_gains(channels);
                         self.breath_actions.insert_sorted((
-                            now,
+                            start,
                             BreathAction::Start {
                                 length,
                                 gain,
                                 gains,
                             },
                         ));
-                        self.breath_end = now + length as u64;
+                        self.breath_end = start + length as u64;
                     }
                 }
             }
@@ -751,12 +833,22 @@ impl Stream {
         let mut pos = warm;
         let mut active_from = n;
         let mut active_to = 0;
+        let live = self.mode == PlacementMode::Live;
         loop {
-            let next = self
+            let mut next = self
                 .breath_actions
                 .front()
                 .map(|&(t, a)| ((t.max(in_base) - in_base) as usize + warm, a))
                 .filter(|&(off, _)| off < n);
+            // Live: the first active input sample under a breath not yet fading fades it.
+            let mut gated = false;
+            if live && self.voice.is_active() && !self.fading {
+                let until = next.map_or(n, |(off, _)| off);
+                if let Some(k) = self.input_active[pos..until].iter().position(|&a| a) {
+                    next = Some((pos + k, BreathAction::FadeOut));
+                    gated = true;
+                }
+            }
             let stop = next.map_or(n, |(off, _)| off);
             if self.voice.is_active() && stop > pos {
                 active_from = active_from.min(pos);
@@ -765,8 +857,12 @@ impl Stream {
             }
             pos = stop;
             let Some((_, action)) = next else { break };
-            self.breath_actions.pop_front();
+            if !gated {
+                self.breath_actions.pop_front();
+            }
             match action {
+                // Live: a breath due where the input is active is not started.
+                BreathAction::Start { .. } if live && self.input_active[pos] => {}
                 BreathAction::Start {
                     length,
                     gain,
@@ -785,6 +881,7 @@ impl Stream {
                     }
                     {
                         let mouth = config.breathing.map().mouth_share();
+                        self.fading = false;
                         self.voice.start(mouth, length, gain);
                         self.breath_gains = gains;
                         let at = in_base + pos as u64 - warm as u64;
@@ -797,7 +894,9 @@ impl Stream {
                         active_from = active_from.min(pos);
                     }
                 }
+                BreathAction::FadeOut if self.fading => {}
                 BreathAction::FadeOut => {
+                    self.fading = true;
                     let fade = (config.placement.live_fade_s as f64 * self.sample_rate_hz)
                         .round()
                         .max(1.0) as usize;
@@ -843,12 +942,16 @@ impl Stream {
     /// Files the current breath (if any) as finished, with its planned (or faded) end.
     fn close_breath(&mut self) {
         if let Some(b) = self.open_breath.take() {
+            let peak_db = crate::analysis::amplitude_to_db(b.peak as f64);
+            if self.mode == PlacementMode::Live && !(peak_db >= LIVE_STUB_PEAK_DB) {
+                return;
+            }
             let rate = self.sample_rate_hz;
             self.finished_breaths.push_back(BreathEvent {
                 start_s: b.start as f64 / rate,
                 end_s: b.end.max(b.start) as f64 / rate,
                 kind: b.kind,
-                peak_db: crate::analysis::amplitude_to_db(b.peak as f64),
+                peak_db,
             });
         }
     }

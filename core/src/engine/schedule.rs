@@ -39,6 +39,11 @@ impl<T: Copy> Queue<T> {
         self.items.pop_front()
     }
 
+    /// Keeps only the items for which `keep` is true (order kept, no allocation).
+    pub(crate) fn retain(&mut self, keep: impl FnMut(&T) -> bool) {
+        self.items.retain(keep);
+    }
+
     #[allow(dead_code)]
     pub(crate) fn len(&self) -> usize {
         self.items.len()
