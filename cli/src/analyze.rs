@@ -26,7 +26,7 @@ pub enum AnalyzeError {
     #[error("invalid analysis settings: {0}")]
     Settings(#[from] AnalysisError),
     /// The output file.
-    #[error("cannot write {path}: {source} (check that the folder exists and is writable)")]
+    #[error("cannot write {path}: {source}{}", crate::output::write_hint(source))]
     Output {
         /// Where we tried to write.
         path: PathBuf,
@@ -168,6 +168,12 @@ pub fn main(args: Args) -> ExitCode {
                     args.output.display()
                 );
             }
+            ExitCode::SUCCESS
+        }
+        // The reader of standard output went away (`| head`): end quietly, as Unix tools do.
+        Err(AnalyzeError::Output { ref source, .. })
+            if args.output.as_os_str() == "-" && crate::output::is_broken_pipe(source) =>
+        {
             ExitCode::SUCCESS
         }
         Err(e) => {

@@ -20,7 +20,7 @@ use pneuma_core::head::HeadModel;
 use pneuma_core::{BreathEvent, ControlFrame};
 use thiserror::Error;
 
-use crate::output::Output;
+use crate::output::{commit_all, Output, Staged};
 use crate::wav::{WavError, WavInfo, WavSource};
 use crate::wav_out::WavSink;
 
@@ -44,7 +44,7 @@ pub enum RenderError {
     #[error("{0}")]
     Input(String),
     /// An output file.
-    #[error("cannot write {path}: {source} (check that the folder exists and is writable)")]
+    #[error("cannot write {path}: {source}{}", crate::output::write_hint(source))]
     Output {
         /// Where we tried to write.
         path: PathBuf,
@@ -52,13 +52,8 @@ pub enum RenderError {
         source: std::io::Error,
     },
     /// The plot.
-    #[error("cannot draw {path}: {reason}")]
-    Plot {
-        /// The plot file.
-        path: PathBuf,
-        /// Why.
-        reason: String,
-    },
+    #[error(transparent)]
+    Plot(#[from] crate::plot::PlotError),
 }
 
 /// Command-line arguments of `pneuma render`.
@@ -182,13 +177,14 @@ impl Envelope {
             self.hi = f32::NEG_INFINITY;
         }
     }
-    /// The envelope's sample rate: two points per bucket.
-    fn rate_hz(&self, sample_rate_hz: f64) -> f64 {
-        if self.bucket == 1 {
-            sample_rate_hz
-        } else {
-            2.0 * sample_rate_hz / self.bucket as f64
+    /// The points, evenly spread over the samples pushed so far (a last partial bucket
+    /// included).
+    fn finish(mut self) -> Vec<f32> {
+        if self.filled > 0 {
+            self.points.push(self.lo);
+            self.points.push(self.hi);
         }
+        self.points
     }
 }
 
@@ -407,49 +403,36 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
     let mut breaths_out = Output::create(&breaths_path).map_err(out_err(&breaths_path))?;
     breaths_csv::write_all(&mut breaths_out.writer(), &breaths).map_err(out_err(&breaths_path))?;
 
-    // The plot is drawn under a temporary name and renamed with the other files.
-    let plot_temp = crate::output::temp_path(&plot_path);
-    if !args.no_plot {
-        crate::plot::write_plot(
-            &plot_temp,
-            &envelope.points,
-            envelope.rate_hz(info.sample_rate_hz as f64),
-            &plot_frames,
-            &breaths,
-        )
-        .map_err(|e| {
-            let _ = std::fs::remove_file(&plot_temp);
-            RenderError::Plot {
-                path: plot_path.clone(),
-                reason: e.to_string(),
-            }
-        })?;
-    }
-
-    // Everything succeeded: move the files into place.
+    // Every file is finished under a temporary name first ...
     let mut files = vec![
         wav_path.clone(),
         controls_path.clone(),
         breaths_path.clone(),
     ];
-    let committed = (|| {
-        sink.commit().map_err(out_err(&wav_path))?;
-        controls.commit().map_err(out_err(&controls_path))?;
-        breaths_out.commit().map_err(out_err(&breaths_path))?;
-        if let Some(o) = bvh_out {
-            o.commit().map_err(out_err(&bvh_path))?;
-            files.push(bvh_path.clone());
-        }
-        if !args.no_plot {
-            std::fs::rename(&plot_temp, &plot_path).map_err(out_err(&plot_path))?;
-            files.push(plot_path.clone());
-        }
-        Ok::<(), RenderError>(())
-    })();
-    if let Err(e) = committed {
-        let _ = std::fs::remove_file(&plot_temp);
-        return Err(e);
+    let mut staged = vec![
+        sink.finish().map_err(out_err(&wav_path))?,
+        staged_file(controls, &controls_path)?,
+        staged_file(breaths_out, &breaths_path)?,
+    ];
+    if let Some(o) = bvh_out {
+        staged.push(staged_file(o, &bvh_path)?);
+        files.push(bvh_path.clone());
     }
+    if !args.no_plot {
+        let plot = Staged::new(&plot_path).map_err(out_err(&plot_path))?;
+        crate::plot::draw_png(
+            plot.temp(),
+            &plot_path,
+            &envelope.finish(),
+            duration_s,
+            &plot_frames,
+            &breaths,
+        )?;
+        staged.push(plot);
+        files.push(plot_path.clone());
+    }
+    // ... then all are moved into place together, or none.
+    commit_all(staged).map_err(|(path, source)| RenderError::Output { path, source })?;
     Ok(RenderSummary {
         info,
         files,
@@ -457,6 +440,13 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
         frames: frames_written,
         clipped,
     })
+}
+
+/// Finishes a file output of the render (never standard output) into its staged file.
+fn staged_file(out: Output, path: &Path) -> Result<Staged, RenderError> {
+    out.finish()
+        .map_err(out_err(path))?
+        .ok_or_else(|| out_err(path)(std::io::Error::other("not a file")))
 }
 
 fn same_file(a: &Path, b: &Path) -> bool {

@@ -25,8 +25,8 @@ use pneuma_core::encode::{breaths_csv, controls_csv};
 use pneuma_core::{AnalysisConfig, Analyzer, BreathEvent, ControlFrame};
 use thiserror::Error;
 
-use crate::output::Output;
-use crate::plot::{write_plot, PlotError};
+use crate::output::{commit_all, Output, Staged};
+use crate::plot::{draw_png, PlotError};
 use crate::wav::{read_mono, WavError};
 
 /// Silence before the first breath, seconds.
@@ -130,7 +130,7 @@ pub enum SpeakError {
     #[error("the TTS produced {0} Hz and then {1} Hz; use one voice")]
     RateChanged(u32, u32),
     /// An output file could not be written.
-    #[error("cannot write {path}: {source} (check that the folder exists and is writable)")]
+    #[error("cannot write {path}: {source}{}", crate::output::write_hint(source))]
     Output {
         /// The file.
         path: PathBuf,
@@ -448,14 +448,31 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     // Write everything.
     let wav_bytes = wav_16bit(&audio, rate_hz);
     let out = |name: &str| args.out_dir.join(name);
-    write_file(&out("speech.wav"), |w| w.write_all(&wav_bytes))?;
-    write_file(&out("speech.controls.csv"), |mut w| {
-        controls_csv::write_all(&mut w, &frames)
+    // All files are staged first and moved into place together, or none of them.
+    let mut staged = vec![
+        write_file(&out("speech.wav"), |w| w.write_all(&wav_bytes))?,
+        write_file(&out("speech.controls.csv"), |mut w| {
+            controls_csv::write_all(&mut w, &frames)
+        })?,
+        write_file(&out("speech.breaths.csv"), |mut w| {
+            breaths_csv::write_all(&mut w, &breaths)
+        })?,
+    ];
+    let plot_path = out("speech.png");
+    let plot = Staged::new(&plot_path).map_err(|source| SpeakError::Output {
+        path: plot_path.clone(),
+        source,
     })?;
-    write_file(&out("speech.breaths.csv"), |mut w| {
-        breaths_csv::write_all(&mut w, &breaths)
-    })?;
-    write_plot(&out("speech.png"), &audio, fs, &frames, &breaths)?;
+    draw_png(
+        plot.temp(),
+        &plot_path,
+        &audio,
+        secs(audio.len()),
+        &frames,
+        &breaths,
+    )?;
+    staged.push(plot);
+    commit_all(staged).map_err(|(path, source)| SpeakError::Output { path, source })?;
     Ok(SpeakSummary {
         chunks,
         chunk_durations_s: durations,
@@ -560,12 +577,16 @@ fn wav_16bit(audio: &[f32], rate_hz: u32) -> Vec<u8> {
 fn write_file(
     path: &Path,
     body: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
-) -> Result<(), SpeakError> {
+) -> Result<Staged, SpeakError> {
     let err = |source| SpeakError::Output {
         path: path.to_owned(),
         source,
     };
     let mut out = Output::create(path).map_err(err)?;
     body(out.writer()).map_err(err)?;
-    out.commit().map_err(err)
+    out.finish().map_err(err)?.ok_or_else(|| {
+        err(std::io::Error::other(
+            "speak writes files, not standard output",
+        ))
+    })
 }
