@@ -59,7 +59,7 @@ pub struct Args {
     pub text_file: Option<PathBuf>,
     /// Output folder (created if missing); receives speech.wav, speech.controls.csv,
     /// speech.breaths.csv and speech.png.
-    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    #[arg(short = 'o', long = "output", alias = "out", value_name = "DIR")]
     pub out_dir: PathBuf,
     /// Breathing preset: neutral, calm, anxious, tired, excited.
     #[arg(long, default_value = "neutral")]
@@ -67,16 +67,23 @@ pub struct Args {
     /// TTS voice (espeak-ng: e.g. `en-us`, `en-gb`; festival: e.g. `kal_diphone`).
     #[arg(long)]
     pub voice: Option<String>,
-    /// Prosody rate, 0.5..2 (speaking-rate multiplier; default: the preset's).
-    #[arg(long)]
+    /// Speaking-rate multiplier, 0.5 to 2 (default: the preset's).
+    #[arg(long, value_parser = crate::options::number)]
     pub rate: Option<f32>,
-    /// Speaking loudness, 0.05..1 (default: the preset's); louder speech gets shorter breath
+    /// Speaking loudness, 0.05 to 1 (default: the preset's); louder speech gets shorter breath
     /// groups (Equation 1) and a louder TTS.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::options::number)]
     pub loudness: Option<f32>,
-    /// Seed of the breath sounds.
-    #[arg(long, default_value_t = 0)]
+    /// Seed of the breath sounds (the same default as `render`).
+    #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Refuse to replace existing outputs. By default existing outputs are replaced, all
+    /// together and only when the whole run succeeded.
+    #[arg(short = 'n', long)]
+    pub no_overwrite: bool,
+    /// Print errors only, no summary.
+    #[arg(long, short)]
+    pub quiet: bool,
     /// TTS program.
     #[arg(long, value_enum, default_value_t = Tts::Espeak)]
     pub tts: Tts,
@@ -86,11 +93,18 @@ pub struct Args {
     /// A WAV recording of a nose inhalation to use instead of the procedural one.
     #[arg(long, value_name = "WAV")]
     pub breath_nose: Option<PathBuf>,
+    /// Folder with breath samples `mouth.wav` and/or `nose.wav` (the same as giving them with
+    /// --breath-mouth and --breath-nose, as in `render`).
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["breath_mouth", "breath_nose"])]
+    pub breath_samples: Option<PathBuf>,
 }
 
 /// Errors of `pneuma speak`.
 #[derive(Debug, Error)]
 pub enum SpeakError {
+    /// An option is out of range or inconsistent.
+    #[error("{0}")]
+    Option(String),
     /// No text given.
     #[error("no text to speak: give TEXT or --text-file FILE with some words in it")]
     NoText,
@@ -159,13 +173,15 @@ pub struct SpeakSummary {
 pub fn main(args: Args) -> ExitCode {
     match run(&args) {
         Ok(s) => {
-            eprintln!(
-                "spoke {} breath groups ({:.2} s, {} breaths) into {}",
-                s.chunks.len(),
-                s.duration_s,
-                s.breaths.len(),
-                args.out_dir.display()
-            );
+            if !args.quiet {
+                eprintln!(
+                    "spoke {} ({:.2} s, {}) into {}",
+                    plural(s.chunks.len(), "breath group", "breath groups"),
+                    s.duration_s,
+                    plural(s.breaths.len(), "breath", "breaths"),
+                    args.out_dir.display()
+                );
+            }
             ExitCode::SUCCESS
         }
         Err(e) => {
@@ -175,8 +191,20 @@ pub fn main(args: Args) -> ExitCode {
     }
 }
 
+/// `1 breath`, `2 breaths`.
+fn plural(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
 /// The breathing parameters from the preset and the overrides, validated.
 pub fn params_from_args(args: &Args) -> Result<BreathingParams, SpeakError> {
+    use crate::options::check_range;
+    if let Some(r) = args.rate {
+        check_range("--rate", r, 0.5, 2.0, "").map_err(SpeakError::Option)?;
+    }
+    if let Some(l) = args.loudness {
+        check_range("--loudness", l, 0.05, 1.0, "").map_err(SpeakError::Option)?;
+    }
     let mut p = Preset::from_name(&args.preset)?.params();
     if let Some(r) = args.rate {
         p.prosody_rate = r;
@@ -275,8 +303,14 @@ fn synthesize(
         .wait_with_output()
         .map_err(|e| failed(e.to_string()))?;
     if !out.status.success() {
+        let hint = match (tts, voice) {
+            (Tts::Espeak, Some(v)) => {
+                format!(" (is `{v}` an espeak-ng voice? `espeak-ng --voices` lists them)")
+            }
+            _ => String::new(),
+        };
         return Err(failed(format!(
-            "{}: {}",
+            "{}: {}{hint}",
             out.status,
             String::from_utf8_lossy(&out.stderr).trim()
         )));
@@ -325,11 +359,39 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     let text = text_from_args(args)?;
     let params = params_from_args(args)?;
     let low = params.map();
-    let mouth_sample = args.breath_mouth.as_deref().map(load_sample).transpose()?;
-    let nose_sample = args.breath_nose.as_deref().map(load_sample).transpose()?;
+    let in_folder = |name: &str| {
+        args.breath_samples
+            .as_ref()
+            .map(|d| d.join(name))
+            .filter(|p| p.exists())
+    };
+    if let Some(d) = &args.breath_samples {
+        if in_folder("mouth.wav").is_none() && in_folder("nose.wav").is_none() {
+            return Err(SpeakError::Option(format!(
+                "--breath-samples {}: no mouth.wav or nose.wav in it",
+                d.display()
+            )));
+        }
+    }
+    let mouth_path = args.breath_mouth.clone().or_else(|| in_folder("mouth.wav"));
+    let nose_path = args.breath_nose.clone().or_else(|| in_folder("nose.wav"));
+    let mouth_sample = mouth_path.as_deref().map(load_sample).transpose()?;
+    let nose_sample = nose_path.as_deref().map(load_sample).transpose()?;
     let chunks = chunk_text(&text, &low);
     if chunks.is_empty() {
         return Err(SpeakError::NoText);
+    }
+    crate::options::check_output_folder("-o", &args.out_dir).map_err(SpeakError::Option)?;
+    let out = |name: &str| args.out_dir.join(name);
+    let names = [
+        "speech.wav",
+        "speech.controls.csv",
+        "speech.breaths.csv",
+        "speech.png",
+    ];
+    if args.no_overwrite {
+        let paths: Vec<PathBuf> = names.iter().map(|n| out(n)).collect();
+        crate::options::refuse_existing(&paths).map_err(SpeakError::Option)?;
     }
     std::fs::create_dir_all(&args.out_dir).map_err(|source| SpeakError::Output {
         path: args.out_dir.clone(),
@@ -447,7 +509,6 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
 
     // Write everything.
     let wav_bytes = wav_16bit(&audio, rate_hz);
-    let out = |name: &str| args.out_dir.join(name);
     // All files are staged first and moved into place together, or none of them.
     let mut staged = vec![
         write_file(&out("speech.wav"), |w| w.write_all(&wav_bytes))?,

@@ -154,13 +154,20 @@ fn missing_tts_names_the_package() {
 #[test]
 fn bad_input_gets_clear_errors() {
     let dir = tempfile::tempdir().unwrap();
-    let cases: [(&[&str], &str); 4] = [
+    let cases: [(&[&str], &str); 5] = [
         (&["speak", "  ...  "], "no text"),
         (
             &["speak", "Hi.", "--preset", "sleepy"],
             "unknown breathing preset",
         ),
-        (&["speak", "Hi.", "--rate", "5"], "prosody_rate"),
+        (
+            &["speak", "Hi.", "--rate", "5"],
+            "--rate 5 is out of range: use 0.5 to 2",
+        ),
+        (
+            &["speak", "Hi.", "--loudness", "0"],
+            "--loudness 0 is out of range: use 0.05 to 1",
+        ),
         (
             &["speak", "--text-file", "/nonexistent/x.txt"],
             "cannot read the text file",
