@@ -1,6 +1,6 @@
 //! What the subcommands share about their options: numbers as users paste them (a Unicode
 //! minus accepted), range checks that name the option typed in its unit, the
-//! `--no-overwrite` check, and the progress bar.
+//! `--no-overwrite` check, the head-model loading and the progress bar.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -53,6 +53,19 @@ pub fn check_output_folder(option: &str, dir: &Path) -> Result<(), String> {
         ));
     }
     Ok(())
+}
+
+/// The head-pose model from `path` (JSON), or the embedded default model when `None`.
+pub fn load_head_model(path: Option<&Path>) -> Result<pneuma_core::head::HeadModel, String> {
+    match path {
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .map_err(|e| format!("--head-model {}: {e}", p.display()))?;
+            pneuma_core::head::HeadModel::from_json(&text)
+                .map_err(|e| format!("--head-model {}: {e}", p.display()))
+        }
+        None => Ok(pneuma_core::head::HeadModel::default_model().clone()),
+    }
 }
 
 /// A progress bar on standard error that appears only when standard error is a terminal and

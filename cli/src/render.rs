@@ -16,7 +16,6 @@ use std::process::ExitCode;
 use pneuma_core::breathing::{BreathSample, Preset, SampleSlot};
 use pneuma_core::encode::{breaths_csv, bvh, controls_csv};
 use pneuma_core::engine::{Engine, EngineConfig, EngineError, PlacementMode};
-use pneuma_core::head::HeadModel;
 use pneuma_core::{BreathEvent, ControlFrame};
 use thiserror::Error;
 
@@ -232,15 +231,8 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
     if channels > pneuma_core::engine::MAX_CHANNELS {
         return Err(EngineError::Channels(channels).into());
     }
-    let model = match &args.head_model {
-        Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .map_err(|e| RenderError::Input(format!("head model {}: {e}", p.display())))?;
-            HeadModel::from_json(&text)
-                .map_err(|e| RenderError::Input(format!("head model {}: {e}", p.display())))?
-        }
-        None => HeadModel::default_model().clone(),
-    };
+    let model =
+        crate::options::load_head_model(args.head_model.as_deref()).map_err(RenderError::Input)?;
     let mut engine = Engine::new(config.clone(), model)?;
     engine.prepare(info.sample_rate_hz as f64, BLOCK_FRAMES, channels)?;
     let mut sample_names = Vec::new();

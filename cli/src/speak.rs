@@ -21,7 +21,8 @@ use pneuma_core::breathing::{
     chunk_text, BreathCycle, BreathSample, BreathVoice, BreathingError, BreathingParams, Chunk,
     Preset, SampleSlot,
 };
-use pneuma_core::encode::{breaths_csv, controls_csv};
+use pneuma_core::encode::{breaths_csv, bvh, controls_csv};
+use pneuma_core::head::{HeadConfig, HeadSynth};
 use pneuma_core::{AnalysisConfig, Analyzer, BreathEvent, ControlFrame};
 use thiserror::Error;
 
@@ -37,7 +38,7 @@ pub const PAUSE_S: f64 = 0.1;
 pub const TAIL_S: f64 = 0.6;
 /// Level under which the ends of a TTS chunk count as silence, dBFS.
 pub const TRIM_DB: f32 = -50.0;
-/// Frame rate of the controls, Hz (DESIGN.md frame clock).
+/// Default frame rate of the controls, Hz (DESIGN.md frame clock), as in `render`.
 pub const FRAME_RATE_HZ: f64 = 120.0;
 
 /// Which TTS program speaks.
@@ -93,6 +94,18 @@ pub struct Args {
     /// A WAV recording of a nose inhalation to use instead of the procedural one.
     #[arg(long, value_name = "WAV")]
     pub breath_nose: Option<PathBuf>,
+    /// Head-pose model file (JSON); the embedded default model when absent.
+    #[arg(long, value_name = "JSON")]
+    pub head_model: Option<PathBuf>,
+    /// Control frames per second (10 to 1000).
+    #[arg(long, default_value_t = FRAME_RATE_HZ)]
+    pub frame_rate: f64,
+    /// Also write `speech.bvh` (head, neck and chest motion).
+    #[arg(long)]
+    pub bvh: bool,
+    /// Skip the plot.
+    #[arg(long)]
+    pub no_plot: bool,
     /// Folder with breath samples `mouth.wav` and/or `nose.wav` (the same as giving them with
     /// --breath-mouth and --breath-nose, as in `render`).
     #[arg(long, value_name = "DIR", conflicts_with_all = ["breath_mouth", "breath_nose"])]
@@ -205,6 +218,8 @@ pub fn params_from_args(args: &Args) -> Result<BreathingParams, SpeakError> {
     if let Some(l) = args.loudness {
         check_range("--loudness", l, 0.05, 1.0, "").map_err(SpeakError::Option)?;
     }
+    check_range("--frame-rate", args.frame_rate as f32, 10.0, 1000.0, "Hz")
+        .map_err(SpeakError::Option)?;
     let mut p = Preset::from_name(&args.preset)?.params();
     if let Some(r) = args.rate {
         p.prosody_rate = r;
@@ -375,6 +390,8 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     }
     let mouth_path = args.breath_mouth.clone().or_else(|| in_folder("mouth.wav"));
     let nose_path = args.breath_nose.clone().or_else(|| in_folder("nose.wav"));
+    let model =
+        crate::options::load_head_model(args.head_model.as_deref()).map_err(SpeakError::Option)?;
     let mouth_sample = mouth_path.as_deref().map(load_sample).transpose()?;
     let nose_sample = nose_path.as_deref().map(load_sample).transpose()?;
     let chunks = chunk_text(&text, &low);
@@ -388,6 +405,7 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         "speech.controls.csv",
         "speech.breaths.csv",
         "speech.png",
+        "speech.bvh",
     ];
     if args.no_overwrite {
         let paths: Vec<PathBuf> = names.iter().map(|n| out(n)).collect();
@@ -483,7 +501,7 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     // Controls: the breath cycle on the events, analysis of the written audio.
     let mut features = Vec::new();
     let mut analyzer = Analyzer::new(AnalysisConfig {
-        frame_rate_hz: FRAME_RATE_HZ,
+        frame_rate_hz: args.frame_rate,
         ..Default::default()
     })
     .map_err(|e| SpeakError::TtsFailed {
@@ -505,7 +523,17 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     analyzer
         .finish(|f| features.push(*f))
         .map_err(analysis_err)?;
-    let frames = controls_for(&low, &events, &speech_spans, &features, secs(audio.len()));
+    let mut head = HeadSynth::new(model, HeadConfig::default())
+        .map_err(|e| SpeakError::Option(format!("head model: {e}")))?;
+    let frames = controls_for(
+        &low,
+        &events,
+        &speech_spans,
+        &features,
+        secs(audio.len()),
+        args.frame_rate,
+        &mut head,
+    );
 
     // Write everything.
     let wav_bytes = wav_16bit(&audio, rate_hz);
@@ -519,20 +547,31 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
             breaths_csv::write_all(&mut w, &breaths)
         })?,
     ];
-    let plot_path = out("speech.png");
-    let plot = Staged::new(&plot_path).map_err(|source| SpeakError::Output {
-        path: plot_path.clone(),
-        source,
-    })?;
-    draw_png(
-        plot.temp(),
-        &plot_path,
-        &audio,
-        secs(audio.len()),
-        &frames,
-        &breaths,
-    )?;
-    staged.push(plot);
+    if args.bvh {
+        staged.push(write_file(&out("speech.bvh"), |w| {
+            let mut text = bvh::header(frames.len(), args.frame_rate);
+            for f in &frames {
+                bvh::push_frame(&mut text, &f.head, f.breathing.neck_pitch_deg);
+            }
+            w.write_all(text.as_bytes())
+        })?);
+    }
+    if !args.no_plot {
+        let plot_path = out("speech.png");
+        let plot = Staged::new(&plot_path).map_err(|source| SpeakError::Output {
+            path: plot_path.clone(),
+            source,
+        })?;
+        draw_png(
+            plot.temp(),
+            &plot_path,
+            &audio,
+            secs(audio.len()),
+            &frames,
+            &breaths,
+        )?;
+        staged.push(plot);
+    }
     commit_all(staged).map_err(|(path, source)| SpeakError::Output { path, source })?;
     Ok(SpeakSummary {
         chunks,
@@ -543,21 +582,24 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
 }
 
 /// Control frames for the timeline: the cycle driven by `events` (time-sorted), frames at
-/// [`FRAME_RATE_HZ`] (time = index / rate), features matched by index.
+/// `frame_rate_hz` (time = index / rate), features matched by index; the head pose comes from
+/// `head` run on the features (as the engine does in `render`).
 fn controls_for(
     low: &pneuma_core::breathing::LowLevelParams,
     events: &[(f64, Event)],
     speech_spans: &[(f64, f64)],
     features: &[pneuma_core::FeatureFrame],
     duration_s: f64,
+    frame_rate_hz: f64,
+    head: &mut HeadSynth,
 ) -> Vec<ControlFrame> {
     let mut cycle = BreathCycle::new(low);
-    let n = (duration_s * FRAME_RATE_HZ).ceil() as usize;
+    let n = (duration_s * frame_rate_hz).ceil() as usize;
     let mut frames = Vec::with_capacity(n);
     let mut now = 0.0f64;
     let mut next = 0;
     for i in 0..n {
-        let t = i as f64 / FRAME_RATE_HZ;
+        let t = i as f64 / frame_rate_hz;
         while next < events.len() && events[next].0 <= t {
             let (te, ev) = events[next];
             cycle.advance((te - now) as f32);
@@ -575,6 +617,7 @@ fn controls_for(
         let state = cycle.advance((t - now).max(0.0) as f32);
         now = t;
         let f = features.get(i).copied().unwrap_or_default();
+        let pose = head.process(&f, frame_rate_hz);
         frames.push(ControlFrame {
             index: i as u64,
             time_s: t,
@@ -588,7 +631,7 @@ fn controls_for(
             level_db: f.level_db,
             speaking: speech_spans.iter().any(|&(a, b)| t >= a && t < b),
             breathing: state,
-            head: Default::default(),
+            head: pose,
         });
     }
     frames

@@ -226,3 +226,66 @@ fn plot_of_a_long_file_has_a_fixed_size() {
     assert!(write_plot(&path, &[], seconds, &[], &[]).is_err());
     assert!(write_plot(&path, &audio[..100], f64::NAN, &controls, &breaths).is_err());
 }
+
+#[test]
+fn speak_moves_the_head_and_writes_bvh_at_the_asked_rate() {
+    if !have("espeak-ng") {
+        let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
+        assert!(!ci, "espeak-ng is not installed but CI=true: install it");
+        eprintln!("SKIPPED speak_moves_the_head...: espeak-ng is not installed");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = pneuma()
+        .args(["speak", TEXT, "--output"])
+        .arg(&out)
+        .args(["--bvh", "--no-plot", "--frame-rate", "60", "-q"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(o.stderr.is_empty(), "-q printed something");
+    assert!(!out.join("speech.png").exists(), "--no-plot drew a plot");
+    let (h, rows) = csv(&out.join("speech.controls.csv"));
+    // 60 frames per second.
+    let t1: f64 = rows[1][0].parse().unwrap();
+    assert!((t1 - 1.0 / 60.0).abs() < 1e-6, "second frame at {t1} s");
+    // The head moves: each angle column varies over the speech.
+    for name in ["head_pitch_deg", "head_yaw_deg", "head_roll_deg"] {
+        let c = h.iter().position(|x| x == name).expect(name);
+        let v: Vec<f64> = rows.iter().map(|r| r[c].parse().unwrap()).collect();
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+        assert!(hi - lo > 0.5, "{name} spans only {lo}..{hi} degrees");
+    }
+    let bvh = std::fs::read_to_string(out.join("speech.bvh")).unwrap();
+    let frames: usize = bvh
+        .lines()
+        .find_map(|l| l.strip_prefix("Frames:"))
+        .unwrap()
+        .trim()
+        .parse()
+        .unwrap();
+    assert_eq!(frames, rows.len());
+    assert!(bvh.contains("Frame Time: 0.016"), "BVH not at 60 frames/s");
+}
+
+#[test]
+fn a_bad_voice_points_to_the_voice_list() {
+    if !have("espeak-ng") {
+        let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
+        assert!(!ci, "espeak-ng is not installed but CI=true: install it");
+        eprintln!("SKIPPED a_bad_voice_points_to_the_voice_list: espeak-ng is not installed");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let o = pneuma()
+        .args(["speak", "Hello there.", "--voice", "xx-nonesuch", "-o"])
+        .arg(dir.path().join("out"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "a bad voice succeeded");
+    assert!(err.contains("espeak-ng --voices"), "{err}");
+}
