@@ -7,18 +7,25 @@
 //!   loaded at activation (WAV, mixed to mono); a file that cannot be used is logged and the
 //!   procedural breath stays. A path changed while active (a project or preset loaded) asks the
 //!   host for a restart, which loads the new file.
+//! - Activation never fails, at any sample rate a host uses (1 Hz … 768 kHz, odd rates): where
+//!   the engine cannot run at that rate, the audio passes untouched (latency 0) and the controls
+//!   go to rest once ([`send_rest_pose`]: one CC message per controller, one OSC frame).
+//! - Bypass (the host's switch, parameter `bypass`): the audio still passes through the delay
+//!   line (the latency stays, so the track stays aligned), no breaths, controls at rest.
 //! - Latency: the engine's (`mode` = lookahead: the lookahead delay; live: none), reported at
 //!   activation. Changing `mode`, `lookahead_s` or `frame_rate_hz` asks the host for a restart.
+//! - Parameter changes reach the audio thread through [`ChangeFlags`] raised by the parameters'
+//!   callbacks: the engine settings and the CC map are rebuilt only after a change.
 //! - Reset (engine, MIDI CC memory, OSC time anchor) on re-activation, on the host's reset and on
 //!   a transport jump (a position that is not where the previous block ended, while playing).
 //! - MIDI output: CC per the DESIGN.md map ([`pneuma_core::encode::midi_cc`]), sent only on change,
 //!   at most once per frame, at the sample offset inside the block where the frame became
 //!   available. No MIDI input (on VST3 it adds ~2 000 hidden parameters).
 //! - OSC output: [`osc_sender`]: a preallocated `rtrb` queue to a worker thread that sends UDP
-//!   bundles (pneuma or VMC); the target can change while playing; network trouble never reaches
-//!   the audio thread.
+//!   bundles (pneuma or VMC) to a numeric address (no DNS); the target can change while playing;
+//!   network trouble never reaches the audio thread or holds up unloading.
 //! - Parameters and persisted settings: [`params`]. CLAP remote-control pages: "Breathing",
-//!   "Breaths & head", "Output".
+//!   "Breaths & timing", "Head", "Output", "CC map 1", "CC map 2" (every parameter but bypass).
 //!
 //! Real-time: `process()` never allocates, locks, blocks, logs or does I/O. The crate enables
 //! nice-plug's `assert_process_allocs` (debug builds abort on an allocation in `process()`) and
@@ -40,10 +47,11 @@ use pneuma_core::encode::midi_cc::{CcEncoder, CcMessage};
 use pneuma_core::encode::osc::OscFormat;
 
 use osc_sender::{OscFeed, OscSettings, OscStats, OscWorker};
-pub use params::{PneumaParams, PARAM_IDS};
+pub use params::{ChangeFlags, PneumaParams, PARAM_IDS};
 use pneuma_core::breathing::{BreathSample, SampleSlot};
-use pneuma_core::engine::{Engine, EngineConfig};
+use pneuma_core::engine::{Engine, EngineError};
 use pneuma_core::head::HeadModel;
+use pneuma_core::ControlFrame;
 
 /// Stable identifier of the breath level parameter, saved in host projects and presets.
 pub const BREATH_LEVEL_PARAM_ID: &str = "breath_level_db";
@@ -120,9 +128,12 @@ impl OscSettings for PneumaParams {
 /// The Pneuma plugin instance.
 pub struct Pneuma {
     params: Arc<PneumaParams>,
+    /// `None` before activation and where the engine cannot run at the host's sample rate: the
+    /// audio then passes untouched and the controls rest.
     engine: Option<Engine>,
-    /// The configuration last given to the engine.
-    engine_config: EngineConfig,
+    /// The rest pose went out since the controls stopped following the voice (bypass, or no
+    /// engine); the next frames from the engine clear it.
+    at_rest: bool,
     cc: CcEncoder,
     midi_was_enabled: bool,
     osc_feed: Option<OscFeed>,
@@ -140,7 +151,7 @@ impl Default for Pneuma {
         Self {
             params,
             engine: None,
-            engine_config: EngineConfig::default(),
+            at_rest: false,
             cc,
             midi_was_enabled: true,
             osc_feed: None,
@@ -157,6 +168,36 @@ impl Pneuma {
     /// OSC counters (sent, failed, dropped), once activated.
     pub fn osc_stats(&self) -> Option<&Arc<OscStats>> {
         self.osc_stats.as_ref()
+    }
+
+    /// A new engine for the current parameters and breath samples, prepared for the host's
+    /// stream. Fails where the engine cannot run (a sample rate the analysis does not take).
+    fn prepared_engine(
+        &self,
+        buffer_config: &BufferConfig,
+        channels: usize,
+    ) -> Result<Engine, EngineError> {
+        let mut engine = Engine::new(
+            self.params.engine_config(),
+            HeadModel::default_model().clone(),
+        )?;
+        for (slot, path) in [
+            (SampleSlot::Mouth, &self.params.breath_sample_mouth),
+            (SampleSlot::Nose, &self.params.breath_sample_nose),
+        ] {
+            match load_breath_sample(&path.get()) {
+                Ok(sample) => engine.set_breath_sample(slot, sample),
+                Err(e) => nice_error!("Pneuma: breath sample not used: {e}"),
+            }
+        }
+        engine.prepare(
+            f64::from(buffer_config.sample_rate),
+            // The engine splits longer blocks itself; a host reporting 0 or a huge maximum
+            // must not stop the plugin from activating.
+            (buffer_config.max_buffer_size as usize).clamp(1, MAX_ENGINE_BLOCK),
+            channels,
+        )?;
+        Ok(engine)
     }
 
     fn reset_streams(&mut self) {
@@ -199,6 +240,18 @@ pub fn run_block(
     // reject subnormal output, so they become 0 (no other sample changes).
     for channel in audio.iter_mut() {
         sanitize_in_place(channel);
+    }
+}
+
+/// Sends the rest pose ([`ControlFrame::default`]: head straight, lungs empty, breath at rest)
+/// to the outputs: every controller the CC encoder has not sent at that value, and one OSC frame.
+pub fn send_rest_pose(outputs: &mut Outputs<'_>, send_cc: &mut dyn FnMut(u32, CcMessage)) {
+    let rest = ControlFrame::default();
+    if let Some(cc) = outputs.cc.as_deref_mut() {
+        cc.encode(&rest, |m| send_cc(0, m));
+    }
+    if let Some(feed) = outputs.osc.as_deref_mut() {
+        feed.push(&rest);
     }
 }
 
@@ -286,45 +339,31 @@ impl Plugin for Pneuma {
         buffer_config: &BufferConfig,
         context: &mut impl ActivateContext<Self>,
     ) -> bool {
+        // Everything is read afresh here: earlier changes need no action.
+        self.params.changes.clear();
         let structural = Structural::of(&self.params);
         let channels = audio_io_layout
             .main_output_channels
             .map_or(1, NonZeroU32::get) as usize;
-        let config = self.params.engine_config();
-        let mut engine = match Engine::new(config.clone(), HeadModel::default_model().clone()) {
-            Ok(e) => e,
+        // Never refuse: a host may use any rate (1 Hz, 768 kHz, 1 234.5678 Hz). Where the engine
+        // cannot run, the audio passes untouched and the controls rest.
+        self.engine = match self.prepared_engine(buffer_config, channels) {
+            Ok(engine) => Some(engine),
             Err(e) => {
-                nice_error!("Pneuma: engine settings rejected: {e}");
-                return false;
+                nice_error!("Pneuma: audio passes untouched and the controls rest: {e}");
+                None
             }
         };
-        for (slot, path) in [
-            (SampleSlot::Mouth, &self.params.breath_sample_mouth),
-            (SampleSlot::Nose, &self.params.breath_sample_nose),
-        ] {
-            let path = path.get();
-            match load_breath_sample(&path) {
-                Ok(sample) => engine.set_breath_sample(slot, sample),
-                Err(e) => nice_error!("Pneuma: breath sample not used: {e}"),
-            }
-        }
-        if let Err(e) = engine.prepare(
-            f64::from(buffer_config.sample_rate),
-            // The engine splits longer blocks itself; a host reporting 0 or a huge maximum
-            // must not stop the plugin from activating.
-            (buffer_config.max_buffer_size as usize).clamp(1, MAX_ENGINE_BLOCK),
-            channels,
-        ) {
-            nice_error!("Pneuma: cannot prepare: {e}");
-            return false;
-        }
-        self.engine_config = config;
-        context.set_latency_samples(engine.latency_samples());
-        self.engine = Some(engine);
+        context.set_latency_samples(self.engine.as_ref().map_or(0, Engine::latency_samples));
         self.prepared = Some(structural);
         self.restart_requested = false;
-        // One millisecond of tolerance for rounded host positions.
-        self.jumps = JumpDetector::new((buffer_config.sample_rate / 1000.0).ceil() as i64);
+        self.at_rest = false;
+        // One millisecond of tolerance for rounded host positions (at least one sample).
+        self.jumps = JumpDetector::new(
+            (f64::from(buffer_config.sample_rate) / 1000.0)
+                .ceil()
+                .max(1.0) as i64,
+        );
         // A map the parameters describe may be invalid (a controller over 31 in 14-bit mode):
         // keep the previous one then.
         let _ = self.cc.set_map(self.params.cc_map());
@@ -360,14 +399,23 @@ impl Plugin for Pneuma {
         {
             self.reset_streams();
         }
+        let changes = &self.params.changes;
+        if ChangeFlags::take(&changes.structure) {
+            self.restart_requested = false;
+        }
         if !self.restart_requested && self.prepared != Some(Structural::of(&self.params)) {
             self.restart_requested = true;
             context.request_restart();
         }
-        let map = self.params.cc_map();
-        if map != *self.cc.map() {
+        if ChangeFlags::take(&changes.cc_map) {
             // An invalid map keeps the previous one (see `activate`).
-            let _ = self.cc.set_map(map);
+            let _ = self.cc.set_map(self.params.cc_map());
+        }
+        if ChangeFlags::take(&changes.engine) {
+            if let Some(engine) = self.engine.as_mut() {
+                // An invalid combination keeps the previous settings; ranges make it unlikely.
+                let _ = engine.set_config(&self.params.engine_config());
+            }
         }
         let midi_on = self.params.midi_enabled.value();
         if midi_on && !self.midi_was_enabled {
@@ -375,26 +423,10 @@ impl Plugin for Pneuma {
         }
         self.midi_was_enabled = midi_on;
         let osc_on = self.params.osc_enabled.value();
+        let bypassed = self.params.bypass.value();
 
-        let config = self.params.engine_config();
-        let Some(engine) = self.engine.as_mut() else {
-            for channel in buffer.as_slice().iter_mut() {
-                sanitize_in_place(channel);
-            }
-            return ProcessStatus::Normal;
-        };
-        if config != self.engine_config {
-            // An invalid combination keeps the previous settings; ranges make it unlikely.
-            if engine.set_config(&config).is_ok() {
-                self.engine_config = config;
-            }
-        }
-        let outputs = Outputs {
-            cc: midi_on.then_some(&mut self.cc),
-            osc: if osc_on { self.osc_feed.as_mut() } else { None },
-        };
         let mut cc_lost = false;
-        run_block(engine, buffer.as_slice(), outputs, &mut |offset, m| {
+        let mut send_cc = |offset: u32, m: CcMessage| {
             // A full host event buffer loses the message; never block for it.
             if context
                 .try_send_event(NoteEvent::MidiCC {
@@ -407,11 +439,46 @@ impl Plugin for Pneuma {
             {
                 cc_lost = true;
             }
-        });
+        };
+        let rest = bypassed || self.engine.is_none();
+        if rest && !self.at_rest {
+            // Once: every controller to the rest pose, one rest frame to OSC.
+            self.at_rest = true;
+            let mut outputs = Outputs {
+                cc: midi_on.then_some(&mut self.cc),
+                osc: if osc_on { self.osc_feed.as_mut() } else { None },
+            };
+            send_rest_pose(&mut outputs, &mut send_cc);
+        }
+        match self.engine.as_mut() {
+            Some(engine) => {
+                self.at_rest = rest;
+                let outputs = if bypassed {
+                    Outputs {
+                        cc: None,
+                        osc: None,
+                    }
+                } else {
+                    Outputs {
+                        cc: midi_on.then_some(&mut self.cc),
+                        osc: if osc_on { self.osc_feed.as_mut() } else { None },
+                    }
+                };
+                run_block(engine, buffer.as_slice(), outputs, &mut send_cc);
+            }
+            None => {
+                for channel in buffer.as_slice().iter_mut() {
+                    sanitize_in_place(channel);
+                }
+            }
+        }
         if cc_lost {
             // Forget what was sent so every controller is sent again at the next frame: a lost
             // message must not leave a receiver on a stale value.
             self.cc.reset();
+            if rest {
+                self.at_rest = false;
+            }
         }
         ProcessStatus::Normal
     }
@@ -433,6 +500,7 @@ impl ClapPlugin for Pneuma {
 
     fn remote_controls(&self, context: &mut impl RemoteControlsContext) {
         let p = &self.params;
+        // Every parameter but bypass (the host's own switch) on one page, pages of at most 8.
         context.add_section("Pneuma", |section| {
             section.add_page("Breathing", |page| {
                 page.add_param(&p.preset);
@@ -444,15 +512,20 @@ impl ClapPlugin for Pneuma {
                 page.add_param(&p.speaking_loudness);
                 page.add_param(&p.inspiration_length_s);
             });
-            section.add_page("Breaths & head", |page| {
-                page.add_param(&p.breath_level_db);
+            section.add_page("Breaths & timing", |page| {
                 page.add_param(&p.insert_breaths);
+                page.add_param(&p.breath_level_db);
                 page.add_param(&p.min_pause_s);
-                page.add_param(&p.neck_amplitude_deg);
+                page.add_param(&p.mode);
+                page.add_param(&p.lookahead_s);
+                page.add_param(&p.frame_rate_hz);
+            });
+            section.add_page("Head", |page| {
                 page.add_param(&p.head_amount);
                 page.add_param(&p.head_max_pitch_deg);
                 page.add_param(&p.head_max_yaw_deg);
                 page.add_param(&p.head_max_roll_deg);
+                page.add_param(&p.neck_amplitude_deg);
             });
             section.add_page("Output", |page| {
                 page.add_param(&p.midi_enabled);
@@ -462,7 +535,14 @@ impl ClapPlugin for Pneuma {
                 page.add_param(&p.osc_enabled);
                 page.add_param(&p.osc_format);
                 page.add_param(&p.osc_port);
-                page.add_param(&p.mode);
+            });
+            let ccs = p.cc_params();
+            let (first, rest) = ccs.split_at(8);
+            section.add_page("CC map 1", |page| {
+                first.iter().for_each(|c| page.add_param(*c))
+            });
+            section.add_page("CC map 2", |page| {
+                rest.iter().for_each(|c| page.add_param(*c))
             });
         });
     }
