@@ -125,6 +125,44 @@ impl OscSettings for PneumaParams {
     }
 }
 
+/// Mono sources on stereo outputs: the right channel takes a copy of the left one before the
+/// engine, so a mono voice comes out on both sides and the stereo image stays centred.
+/// - Mono in, stereo out (a layout): always.
+/// - Stereo in: while the right input has been exact digital silence since activation (a mono
+///   track feeding a stereo plugin, whose second input the host leaves silent). The first
+///   sample that is not 0 on the right makes the input stereo until the next activation.
+#[derive(Debug, Default, Clone, Copy)]
+struct MonoSource {
+    /// The layout has one input and two outputs.
+    mono_input: bool,
+    /// The right input carried something since activation.
+    right_heard: bool,
+}
+
+impl MonoSource {
+    fn new(layout: &AudioIOLayout) -> Self {
+        let count = |c: Option<NonZeroU32>| c.map_or(0, NonZeroU32::get);
+        Self {
+            mono_input: count(layout.main_input_channels) == 1
+                && count(layout.main_output_channels) == 2,
+            right_heard: false,
+        }
+    }
+
+    /// Copies the left channel into the right one where the source is mono. Never allocates.
+    fn apply(&mut self, audio: &mut [&mut [f32]]) {
+        let [left, right] = audio else {
+            return;
+        };
+        if !self.mono_input && !self.right_heard {
+            self.right_heard = right.iter().any(|&s| s != 0.0);
+        }
+        if self.mono_input || !self.right_heard {
+            right.copy_from_slice(left);
+        }
+    }
+}
+
 /// The Pneuma plugin instance.
 pub struct Pneuma {
     params: Arc<PneumaParams>,
@@ -134,6 +172,7 @@ pub struct Pneuma {
     /// The rest pose went out since the controls stopped following the voice (bypass, or no
     /// engine); the next frames from the engine clear it.
     at_rest: bool,
+    mono: MonoSource,
     cc: CcEncoder,
     midi_was_enabled: bool,
     osc_feed: Option<OscFeed>,
@@ -152,6 +191,7 @@ impl Default for Pneuma {
             params,
             engine: None,
             at_rest: false,
+            mono: MonoSource::default(),
             cc,
             midi_was_enabled: true,
             osc_feed: None,
@@ -304,10 +344,16 @@ impl Plugin for Pneuma {
     const EMAIL: &'static str = "";
     const VERSION: &'static str = env!("CARGO_PKG_VERSION");
 
-    // Stereo first: the first layout is the default one.
+    // Stereo first: the first layout is the default one. Mono in, stereo out puts a mono voice
+    // on both sides (see `MonoSource`).
     const AUDIO_IO_LAYOUTS: &'static [AudioIOLayout] = &[
         AudioIOLayout {
             main_input_channels: NonZeroU32::new(2),
+            main_output_channels: NonZeroU32::new(2),
+            ..AudioIOLayout::const_default()
+        },
+        AudioIOLayout {
+            main_input_channels: NonZeroU32::new(1),
             main_output_channels: NonZeroU32::new(2),
             ..AudioIOLayout::const_default()
         },
@@ -358,6 +404,7 @@ impl Plugin for Pneuma {
         self.prepared = Some(structural);
         self.restart_requested = false;
         self.at_rest = false;
+        self.mono = MonoSource::new(audio_io_layout);
         // One millisecond of tolerance for rounded host positions (at least one sample).
         self.jumps = JumpDetector::new(
             (f64::from(buffer_config.sample_rate) / 1000.0)
@@ -440,6 +487,7 @@ impl Plugin for Pneuma {
                 cc_lost = true;
             }
         };
+        self.mono.apply(buffer.as_slice());
         let rest = bypassed || self.engine.is_none();
         if rest && !self.at_rest {
             // Once: every controller to the rest pose, one rest frame to OSC.
@@ -630,21 +678,45 @@ mod tests {
         assert!(!d.check(true, Some(5032), 32));
     }
 
+    fn layout(inputs: u32, outputs: u32) -> AudioIOLayout {
+        AudioIOLayout {
+            main_input_channels: NonZeroU32::new(inputs),
+            main_output_channels: NonZeroU32::new(outputs),
+            ..AudioIOLayout::const_default()
+        }
+    }
+
     #[test]
-    fn audio_layouts_are_stereo_first_then_mono() {
-        let channels: Vec<(Option<u32>, Option<u32>)> = Pneuma::AUDIO_IO_LAYOUTS
-            .iter()
-            .map(|l| {
-                (
-                    l.main_input_channels.map(NonZeroU32::get),
-                    l.main_output_channels.map(NonZeroU32::get),
-                )
-            })
-            .collect();
-        assert_eq!(channels, vec![(Some(2), Some(2)), (Some(1), Some(1))]);
-        assert!(Pneuma::AUDIO_IO_LAYOUTS
-            .iter()
-            .all(|l| l.aux_input_ports.is_empty() && l.aux_output_ports.is_empty()));
+    fn a_mono_source_comes_out_on_both_sides() {
+        let voice = [0.25f32, -0.5, 0.125, 0.0];
+        // Stereo in with a silent right input: the left is copied until the right is heard.
+        let mut mono = MonoSource::new(&layout(2, 2));
+        let (mut l, mut r) = (voice, [0.0f32; 4]);
+        mono.apply(&mut [&mut l[..], &mut r[..]]);
+        assert_eq!((l, r), (voice, voice), "silent right input takes the left");
+        let other = [0.0f32, 0.0, 0.0, 0.75];
+        let (mut l, mut r) = (voice, other);
+        mono.apply(&mut [&mut l[..], &mut r[..]]);
+        assert_eq!((l, r), (voice, other), "a heard right input stays as it is");
+        let (mut l, mut r) = (voice, [0.0f32; 4]);
+        mono.apply(&mut [&mut l[..], &mut r[..]]);
+        assert_eq!(r, [0.0; 4], "stereo until the next activation");
+        // Mono in, stereo out: always copied.
+        let mut mono = MonoSource::new(&layout(1, 2));
+        for right in [[0.0f32; 4], other] {
+            let (mut l, mut r) = (voice, right);
+            mono.apply(&mut [&mut l[..], &mut r[..]]);
+            assert_eq!(r, voice);
+        }
+        // Mono in and out: one channel, nothing to do.
+        let mut l = voice;
+        MonoSource::new(&layout(1, 1)).apply(&mut [&mut l[..]]);
+        assert_eq!(l, voice);
+        // Every layout the plugin offers has a main input and output and no side ports.
+        for l in Pneuma::AUDIO_IO_LAYOUTS {
+            assert!(l.main_input_channels.is_some() && l.main_output_channels.is_some());
+            assert!(l.aux_input_ports.is_empty() && l.aux_output_ports.is_empty());
+        }
     }
 
     #[test]
