@@ -12,6 +12,7 @@ const CLAP_ID: &str = "org.pneuma.pneuma";
 
 /// The promised parameter ids (saved in host projects: they never change).
 const PARAM_IDS: &[&str] = &[
+    "bypass",
     "preset",
     "thorax_vs_abdomen",
     "capacity_lung",
@@ -504,4 +505,32 @@ fn a_transport_jump_resets_the_stream() {
     );
     let steady_energy: f32 = steady[at..at + latency].iter().map(|s| s * s).sum();
     assert!(steady_energy > 0.0, "the steady stream plays on");
+}
+
+#[test]
+fn any_sample_rate_activates_and_unsupported_rates_pass_the_audio_with_controls_at_rest() {
+    // A noise-like signal with no exact zeros, so a pass-through is visible bit for bit.
+    let signal: Vec<f32> = (0..4096)
+        .map(|i| 0.3 * ((i as f32 * 0.731).sin() + 0.05))
+        .collect();
+    for rate in [1.0, 1_234.567_8, 8_000.0, 48_000.0, 384_000.0, 768_000.0] {
+        let mut plugin = load();
+        plugin
+            .activate(rate, 512, 1)
+            .unwrap_or_else(|e| panic!("activation at {rate} Hz refused: {e}"));
+        let blocks = block_sizes(signal.len(), 512, 0);
+        let (out, events) = run(&mut plugin, &signal, &blocks);
+        assert!(out.iter().all(|s| s.is_finite()), "{rate} Hz");
+        if plugin.latency() == 0 {
+            // The engine does not run here: the audio passes untouched and each controller is
+            // sent once, at rest.
+            assert_eq!(out, signal, "pass-through at {rate} Hz");
+            let mut controllers: Vec<u8> = events.iter().map(|e| e.controller).collect();
+            let sent = controllers.len();
+            controllers.sort_unstable();
+            controllers.dedup();
+            assert_eq!(controllers.len(), sent, "one message per controller at {rate} Hz");
+            assert!(sent > 0, "the rest pose goes out at {rate} Hz");
+        }
+    }
 }
