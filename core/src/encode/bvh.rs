@@ -5,7 +5,8 @@
 //! right-handed): `Hips` (root, at 100 cm height) → `Chest` → `Neck` → `Head` → end site at the
 //! top of the head. From control frames ([`push_control`]):
 //! - `Chest`: the breathing reaches the chest as a small extension of the upper trunk with the
-//!   thorax expansion, [`CHEST_PITCH_DEG_PER_THORAX`] degrees at full expansion (a chosen
+//!   thorax expansion, [`CHEST_PITCH_DEG_PER_THORAX`] degrees at full expansion (as the VMC
+//!   rig's default `chest_pitch_deg` in `osc.rs`; a chosen
 //!   visible amount, not a measured one; scale it in the rig if needed);
 //! - `Neck`: the breathing neck pitch;
 //! - `Head`: the head pose;
@@ -27,7 +28,7 @@ use crate::control::{ControlFrame, HeadAngles};
 
 /// Chest extension at full thorax expansion (thorax = 1), degrees (positive = chest up and
 /// back, written as a negative X rotation like the head's pitch).
-pub const CHEST_PITCH_DEG_PER_THORAX: f32 = 1.5;
+pub const CHEST_PITCH_DEG_PER_THORAX: f32 = 3.0;
 
 /// Names of the joints, root first.
 pub const JOINTS: [&str; 4] = ["Hips", "Chest", "Neck", "Head"];
