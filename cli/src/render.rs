@@ -380,7 +380,7 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
                 }
                 if let Some(o) = &mut bvh_out {
                     bvh_row.clear();
-                    bvh::push_frame(&mut bvh_row, &f.head, f.breathing.neck_pitch_deg);
+                    bvh::push_control(&mut bvh_row, f);
                     if write_error.is_none() {
                         if let Err(e) = o.writer().write_all(bvh_row.as_bytes()) {
                             write_error = Some(e);

@@ -551,7 +551,7 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         staged.push(write_file(&out("speech.bvh"), |w| {
             let mut text = bvh::header(frames.len(), args.frame_rate);
             for f in &frames {
-                bvh::push_frame(&mut text, &f.head, f.breathing.neck_pitch_deg);
+                bvh::push_control(&mut text, f);
             }
             w.write_all(text.as_bytes())
         })?);

@@ -18,6 +18,21 @@ fn have(program: &str) -> bool {
         .is_ok_and(|o| o.status.success())
 }
 
+/// Whether espeak-ng is installed. Without it a test skips visibly, except under `CI=true`
+/// (`.ci/run` installs it), where it fails.
+fn espeak_or_skip(test: &str) -> bool {
+    if have("espeak-ng") {
+        return true;
+    }
+    let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
+    assert!(
+        !ci,
+        "{test}: espeak-ng is not installed but CI=true: install it (apt-get install espeak-ng)"
+    );
+    eprintln!("SKIPPED {test}: espeak-ng is not installed (apt-get install espeak-ng)");
+    false
+}
+
 fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let text = std::fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
@@ -47,14 +62,7 @@ const TEXT: &str = "Breathing is vital for animals. What about virtual character
 
 #[test]
 fn speak_end_to_end_with_espeak() {
-    if !have("espeak-ng") {
-        // CI installs espeak-ng (`.ci/run`); there a missing one is a failure, not a skip.
-        let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
-        assert!(
-            !ci,
-            "espeak-ng is not installed but CI=true: install it (apt-get install espeak-ng)"
-        );
-        eprintln!("SKIPPED speak_end_to_end_with_espeak: espeak-ng is not installed (apt-get install espeak-ng)");
+    if !espeak_or_skip("speak_end_to_end_with_espeak") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -229,10 +237,7 @@ fn plot_of_a_long_file_has_a_fixed_size() {
 
 #[test]
 fn speak_moves_the_head_and_writes_bvh_at_the_asked_rate() {
-    if !have("espeak-ng") {
-        let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
-        assert!(!ci, "espeak-ng is not installed but CI=true: install it");
-        eprintln!("SKIPPED speak_moves_the_head...: espeak-ng is not installed");
+    if !espeak_or_skip("speak_moves_the_head_and_writes_bvh_at_the_asked_rate") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -273,10 +278,7 @@ fn speak_moves_the_head_and_writes_bvh_at_the_asked_rate() {
 
 #[test]
 fn a_bad_voice_points_to_the_voice_list() {
-    if !have("espeak-ng") {
-        let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
-        assert!(!ci, "espeak-ng is not installed but CI=true: install it");
-        eprintln!("SKIPPED a_bad_voice_points_to_the_voice_list: espeak-ng is not installed");
+    if !espeak_or_skip("a_bad_voice_points_to_the_voice_list") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
