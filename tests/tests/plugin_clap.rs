@@ -458,6 +458,7 @@ fn cli_render() -> (Vec<f32>, u32, Vec<f32>) {
         .arg(&voice_path)
         .arg("-o")
         .arg(&dir)
+        .arg("--quiet")
         .status()
         .expect("pneuma runs");
     assert!(status.success(), "pneuma render failed");
