@@ -290,3 +290,40 @@ fn the_example_voice_has_phrases_and_pauses() {
     let median = f0[f0.len() / 2];
     assert!((140.0..280.0).contains(&median), "median f0 {median}");
 }
+
+#[test]
+fn f0_and_frame_rate_errors_name_the_option_typed_in_its_unit() {
+    let dir = temp();
+    let wav = dir.path().join("in.wav");
+    write_wav(&wav, 16_000, 1, 16, false, &test_signal(16_000));
+    let wav = wav.to_str().expect("utf8");
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["--f0-min", "10"],
+            "--f0-min 10 Hz is out of range: use 30 to 600 Hz",
+        ),
+        (&["--f0-max", "2000"], "--f0-max 2000 Hz is out of range"),
+        (
+            &["--f0-min", "200", "--f0-max", "250"],
+            "at least 1.5 times --f0-min",
+        ),
+        (&["--frame-rate", "5"], "--frame-rate 5 Hz is out of range"),
+    ];
+    for (extra, want) in cases {
+        let mut args = vec!["analyze", wav, "-o", "-"];
+        args.extend_from_slice(extra);
+        let out = pneuma(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{extra:?} was accepted");
+        assert!(stderr.contains(want), "{extra:?}: {stderr}");
+        assert!(
+            !stderr.contains("f0_min_hz") && !stderr.contains("frame_rate_hz"),
+            "{stderr}"
+        );
+    }
+    let help = String::from_utf8_lossy(&pneuma(&["analyze", "--help"]).stdout).into_owned();
+    assert!(
+        help.contains("30 to 600") && help.contains("45 to 1000"),
+        "{help}"
+    );
+}
