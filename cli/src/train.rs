@@ -235,10 +235,10 @@ pub struct Args {
     /// Feature frame rate in Hz.
     #[arg(long, default_value_t = 120.0)]
     pub frame_rate: f64,
-    /// SD of the Gaussian smoothing of the training motion in seconds (tracking-jitter
-    /// removal; 0 = none).
-    #[arg(long, default_value_t = 0.025)]
-    pub motion_smoothing: f64,
+    /// SD of the Gaussian smoothing of the training motion in milliseconds (tracking-jitter
+    /// removal; 0 = none), 0 to 500.
+    #[arg(long, default_value_t = 25.0)]
+    pub motion_smoothing_ms: f64,
 }
 
 /// Prints the held-out log-likelihoods and the unvoiced-behaviour comparison.
@@ -290,7 +290,7 @@ pub fn run(
         components: args.components,
         restarts: args.restarts,
         seed: args.seed,
-        motion_smoothing_s: args.motion_smoothing,
+        motion_smoothing_s: args.motion_smoothing_ms / 1000.0,
         data_description: data_description.to_string(),
         ..TrainConfig::default()
     };
@@ -300,6 +300,13 @@ pub fn run(
 
 /// Runs `pneuma train`.
 pub fn main(args: Args) -> ExitCode {
+    let smoothing_ms = args.motion_smoothing_ms as f32;
+    if let Err(e) =
+        crate::options::check_range("--motion-smoothing-ms", smoothing_ms, 0.0, 500.0, "ms")
+    {
+        eprintln!("error: {e}");
+        return ExitCode::FAILURE;
+    }
     let desc = format!("clips of {}", args.data.display());
     match run(&args, &desc) {
         Ok((json, cv)) => {
