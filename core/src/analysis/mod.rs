@@ -14,6 +14,7 @@ mod noise_floor;
 mod pitch;
 mod speaker_norm;
 mod tracking;
+mod voicing;
 
 pub use analyzer::Analyzer;
 pub use clock::FrameClock;
