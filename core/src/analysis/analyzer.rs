@@ -81,7 +81,7 @@ impl Analyzer {
         &self.config
     }
 
-    /// Allocates everything for a stream at `sample_rate_hz` (8–192 kHz) with blocks of up to
+    /// Allocates everything for a stream at `sample_rate_hz` (8–768 kHz) with blocks of up to
     /// `max_block` samples, and resets. Blocks larger than `max_block` are still handled.
     pub fn prepare(&mut self, sample_rate_hz: f64, max_block: usize) -> Result<(), AnalysisError> {
         check_sample_rate(sample_rate_hz)?;
