@@ -5,8 +5,8 @@
 use pneuma_core::synth::{self, GlottalVowel, Vowel};
 use pneuma_core::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
 
-const RATES: [f64; 7] = [
-    8_000.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 96_000.0, 192_000.0,
+const RATES: [f64; 9] = [
+    8_000.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 96_000.0, 192_000.0, 384_000.0, 768_000.0,
 ];
 
 fn analyse_blocks(
@@ -278,8 +278,9 @@ fn nan_and_inf_bursts_count_as_silence() {
 
 #[test]
 fn any_block_partition_gives_bit_identical_frames() {
-    // 8 kHz (no decimation), 44.1 kHz (factor 5, 367.5 samples per frame), 192 kHz (factor 24).
-    for rate in [8_000.0, 44_100.0, 192_000.0] {
+    // 8 kHz (no decimation), 44.1 kHz (factor 5, 367.5 samples per frame), 192 kHz (factor 24),
+    // 768 kHz (factor 96).
+    for rate in [8_000.0, 44_100.0, 192_000.0, 768_000.0] {
         let cfg = GlottalVowel {
             sample_rate_hz: rate,
             length_s: 1.0,
@@ -416,7 +417,7 @@ fn unsupported_rates_and_unprepared_use_are_errors() {
         Err(AnalysisError::SampleRate(_))
     ));
     assert!(matches!(
-        a.prepare(384_000.0, 64),
+        a.prepare(768_001.0, 64),
         Err(AnalysisError::SampleRate(_))
     ));
     assert!(a.prepare(8_000.0, 64).is_ok());
