@@ -3,11 +3,12 @@
 //! noise at 10 dB SNR, a pause that already holds a breath, live mode, the stereo image and the
 //! breathing controls.
 
+use pneuma_core::engine::offline::{self, Rendered};
 use pneuma_core::engine::{Engine, EngineConfig, PlacementMode};
 use pneuma_core::head::HeadModel;
 use pneuma_core::rng::SeededRng;
 use pneuma_core::synth::{self, GlottalVowel, Vowel};
-use pneuma_core::{BreathEvent, ControlFrame, Phase};
+use pneuma_core::{ControlFrame, Phase};
 
 const SR: f64 = 16_000.0;
 
@@ -60,57 +61,13 @@ fn sequence(lead_s: f64, phrases: &[f64], pauses: &[f64]) -> (Vec<f32>, Vec<(f64
     (audio, spans)
 }
 
-struct Rendered {
-    audio: Vec<Vec<f32>>,
-    frames: Vec<(ControlFrame, u64)>,
-    breaths: Vec<BreathEvent>,
-    latency: usize,
-}
-
 /// Runs the engine over `input` (one Vec per channel) in the given block sizes (cycled), then
 /// flushes the latency and removes it, as an offline render does.
 fn render(config: &EngineConfig, input: &[Vec<f32>], blocks: &[usize]) -> Rendered {
     let mut engine = Engine::new(config.clone(), HeadModel::default_model().clone()).unwrap();
     let max_block = blocks.iter().copied().max().unwrap();
     engine.prepare(SR, max_block, input.len()).unwrap();
-    let latency = engine.latency_samples() as usize;
-    let len = input[0].len();
-    let total = len + engine.tail_samples() as usize;
-    let mut padded: Vec<Vec<f32>> = input
-        .iter()
-        .map(|c| {
-            let mut c = c.clone();
-            c.resize(total, 0.0);
-            c
-        })
-        .collect();
-    let mut frames = Vec::new();
-    let mut breaths = Vec::new();
-    let mut pos = 0;
-    let mut k = 0;
-    while pos < total {
-        let n = blocks[k % blocks.len()].min(total - pos);
-        k += 1;
-        let mut chans: Vec<&mut [f32]> = padded.iter_mut().map(|c| &mut c[pos..pos + n]).collect();
-        let base = pos as u64;
-        engine.process(&mut chans, &mut |f, off| {
-            frames.push((*f, base + off as u64))
-        });
-        engine.take_breaths(|b| breaths.push(*b));
-        pos += n;
-    }
-    engine.finish();
-    engine.take_breaths(|b| breaths.push(*b));
-    let audio = padded
-        .into_iter()
-        .map(|c| c[latency..latency + len].to_vec())
-        .collect();
-    Rendered {
-        audio,
-        frames,
-        breaths,
-        latency,
-    }
+    offline::render(&mut engine, input, blocks)
 }
 
 fn config() -> EngineConfig {
@@ -492,7 +449,7 @@ fn live_mode_adds_no_latency_and_breathes_after_the_pause_is_confirmed() {
     let mut c = config();
     c.placement.mode = PlacementMode::Live;
     let r = render(&c, std::slice::from_ref(&audio), &[128]);
-    assert_eq!(r.latency, 0);
+    assert_eq!(r.latency_samples, 0);
     for (i, _) in pauses.iter().enumerate() {
         let off = spans[i].1;
         let b = r
@@ -588,7 +545,7 @@ fn the_lung_fills_during_inspirations_and_empties_while_speaking() {
     // Frames come once each, in order, at the output time of their centre.
     for (k, (f, at)) in r.frames.iter().enumerate() {
         assert_eq!(f.index, k as u64);
-        let expected = (f.time_s * SR).round() as u64 + r.latency as u64;
+        let expected = (f.time_s * SR).round() as u64 + r.latency_samples as u64;
         assert!(
             at.abs_diff(expected) <= 1,
             "frame {k} at {at}, expected {expected}"

@@ -24,6 +24,7 @@
 //! output and control frames. `process` never allocates.
 
 mod config;
+pub mod offline;
 mod schedule;
 
 pub use config::{EngineConfig, EngineError, PlacementConfig, PlacementMode};

@@ -1,0 +1,260 @@
+//! Golden-output check: the example voice (`assets/examples/voice.wav`) and generated test
+//! signals, mono and stereo, lookahead and live, several breathing presets and a user breath
+//! sample, rendered through the [`Engine`]; the output audio, the control frames and the breath
+//! events must match, bit for bit, the digests stored in `core/tests/golden.txt`.
+//!
+//! A refactoring must keep this green. A change that alters the output on purpose (a new
+//! voicing rule, a placement fix) re-blesses the digests with one command and says why in its
+//! commit message:
+//!
+//! ```sh
+//! PNEUMA_BLESS=1 cargo test -p pneuma-core --test golden
+//! ```
+//!
+//! The digest is FNV-1a (64 bit) over the bits of every output sample, over the `Debug` text
+//! of every control frame with its output position (shortest round-trip floats: bit-exact,
+//! `-0.0` included) and over every breath event; counts are stored beside it so a mismatch
+//! says where to look.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use pneuma_core::breathing::{BreathSample, Preset, SampleSlot};
+use pneuma_core::engine::offline::{self, Rendered};
+use pneuma_core::engine::{Engine, EngineConfig, PlacementMode};
+use pneuma_core::head::HeadModel;
+use pneuma_core::synth;
+
+/// FNV-1a, 64 bit.
+struct Fnv(u64);
+
+impl Fnv {
+    fn new() -> Self {
+        Self(0xcbf2_9ce4_8422_2325)
+    }
+    fn bytes(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.0 ^= *b as u64;
+            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+}
+
+fn repo_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// The example voice: 16-bit PCM mono WAV (the asset's format; anything else is a test error).
+fn example_voice() -> (Vec<f32>, f64) {
+    let path = repo_root().join("assets/examples/voice.wav");
+    let bytes = std::fs::read(&path).unwrap_or_else(|e| panic!("read {}: {e}", path.display()));
+    assert_eq!(&bytes[0..4], b"RIFF");
+    assert_eq!(&bytes[8..12], b"WAVE");
+    let mut at = 12;
+    let mut rate = 0u32;
+    while at + 8 <= bytes.len() {
+        let id = &bytes[at..at + 4];
+        let size = u32::from_le_bytes(bytes[at + 4..at + 8].try_into().unwrap()) as usize;
+        let body = &bytes[at + 8..(at + 8 + size).min(bytes.len())];
+        if id == b"fmt " {
+            let format = u16::from_le_bytes([body[0], body[1]]);
+            let channels = u16::from_le_bytes([body[2], body[3]]);
+            let bits = u16::from_le_bytes([body[14], body[15]]);
+            assert_eq!(
+                (format, channels, bits),
+                (1, 1, 16),
+                "voice.wav is not PCM16 mono"
+            );
+            rate = u32::from_le_bytes(body[4..8].try_into().unwrap());
+        } else if id == b"data" {
+            assert!(rate > 0, "fmt chunk after data");
+            let samples = body
+                .chunks_exact(2)
+                .map(|b| i16::from_le_bytes([b[0], b[1]]) as f32 / 32768.0)
+                .collect();
+            return (samples, rate as f64);
+        }
+        at += 8 + size + (size & 1);
+    }
+    panic!("no data chunk in {}", path.display());
+}
+
+/// One golden case.
+struct Case {
+    name: &'static str,
+    input: Vec<Vec<f32>>,
+    sample_rate_hz: f64,
+    config: EngineConfig,
+    breath_sample: bool,
+}
+
+fn config(mode: PlacementMode, preset: Preset) -> EngineConfig {
+    let mut c = EngineConfig::default();
+    c.placement.mode = mode;
+    c.breathing = preset.params();
+    c
+}
+
+fn cases() -> Vec<Case> {
+    use PlacementMode::{Live, Lookahead};
+    let (voice, voice_sr) = example_voice();
+    // The voice on the left, a quieter, slightly later copy on the right.
+    let right: Vec<f32> = std::iter::repeat_n(0.0, 40)
+        .chain(voice.iter().map(|x| 0.4 * x))
+        .take(voice.len())
+        .collect();
+    let gen_sr = 22_050.0;
+    let generated = synth::phrases_with_pauses(gen_sr, 12.0, 20.0, 7);
+    let gen_right: Vec<f32> = generated.iter().map(|x| -0.7 * x).collect();
+    let case = |name, input, sample_rate_hz, config, breath_sample| Case {
+        name,
+        input,
+        sample_rate_hz,
+        config,
+        breath_sample,
+    };
+    vec![
+        case(
+            "voice_mono_lookahead_neutral",
+            vec![voice.clone()],
+            voice_sr,
+            config(Lookahead, Preset::Neutral),
+            false,
+        ),
+        case(
+            "voice_mono_live_neutral",
+            vec![voice.clone()],
+            voice_sr,
+            config(Live, Preset::Neutral),
+            false,
+        ),
+        case(
+            "voice_stereo_lookahead_calm",
+            vec![voice.clone(), right.clone()],
+            voice_sr,
+            config(Lookahead, Preset::Calm),
+            false,
+        ),
+        case(
+            "voice_stereo_live_excited",
+            vec![voice.clone(), right],
+            voice_sr,
+            config(Live, Preset::Excited),
+            false,
+        ),
+        case(
+            "voice_mono_lookahead_sample",
+            vec![voice],
+            voice_sr,
+            config(Lookahead, Preset::Tired),
+            true,
+        ),
+        case(
+            "generated_mono_live_anxious",
+            vec![generated.clone()],
+            gen_sr,
+            config(Live, Preset::Anxious),
+            false,
+        ),
+        case(
+            "generated_stereo_lookahead_neutral",
+            vec![generated, gen_right],
+            gen_sr,
+            config(Lookahead, Preset::Neutral),
+            true,
+        ),
+    ]
+}
+
+fn run(case: &Case) -> Rendered {
+    let mut engine = Engine::new(case.config.clone(), HeadModel::default_model().clone()).unwrap();
+    if case.breath_sample {
+        // A generated "recording": 0.6 s of noise with a rise and fall.
+        let n = (0.6 * case.sample_rate_hz) as usize;
+        let noise = synth::white_noise(n, 0.1, 3);
+        let shaped = noise
+            .iter()
+            .enumerate()
+            .map(|(i, x)| x * (std::f32::consts::PI * i as f32 / n as f32).sin())
+            .collect();
+        let sample = BreathSample::from_mono(shaped, case.sample_rate_hz).unwrap();
+        engine.set_breath_sample(SampleSlot::Mouth, Some(sample.clone()));
+        engine.set_breath_sample(SampleSlot::Nose, Some(sample));
+    }
+    engine
+        .prepare(case.sample_rate_hz, 512, case.input.len())
+        .unwrap();
+    offline::render(&mut engine, &case.input, &[512])
+}
+
+/// `name audio=<hex> frames=<hex> breaths=<hex> n_frames=<n> n_breaths=<n>`.
+fn digest_line(name: &str, r: &Rendered) -> String {
+    let mut audio = Fnv::new();
+    for c in &r.audio {
+        for x in c {
+            audio.bytes(&x.to_bits().to_le_bytes());
+        }
+    }
+    let mut frames = Fnv::new();
+    let mut text = String::new();
+    for (f, at) in &r.frames {
+        text.clear();
+        writeln!(text, "{at} {f:?}").unwrap();
+        frames.bytes(text.as_bytes());
+    }
+    let mut breaths = Fnv::new();
+    for b in &r.breaths {
+        text.clear();
+        writeln!(text, "{b:?}").unwrap();
+        breaths.bytes(text.as_bytes());
+    }
+    format!(
+        "{name} audio={:016x} frames={:016x} breaths={:016x} n_frames={} n_breaths={}",
+        audio.0,
+        frames.0,
+        breaths.0,
+        r.frames.len(),
+        r.breaths.len()
+    )
+}
+
+#[test]
+fn engine_output_matches_the_golden_digests() {
+    let path = repo_root().join("core/tests/golden.txt");
+    let lines: Vec<String> = cases()
+        .iter()
+        .map(|c| digest_line(c.name, &run(c)))
+        .collect();
+    let actual = format!(
+        "# Golden digests of core/tests/golden.rs; re-bless with\n\
+         # PNEUMA_BLESS=1 cargo test -p pneuma-core --test golden\n{}\n",
+        lines.join("\n")
+    );
+    if std::env::var_os("PNEUMA_BLESS").is_some_and(|v| v == "1") {
+        std::fs::write(&path, &actual).unwrap();
+        eprintln!("blessed {}", path.display());
+        return;
+    }
+    let stored = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+        panic!(
+            "read {}: {e}; create it with PNEUMA_BLESS=1 cargo test -p pneuma-core --test golden",
+            path.display()
+        )
+    });
+    let stored: Vec<&str> = stored.lines().filter(|l| !l.starts_with('#')).collect();
+    let mut mismatches = Vec::new();
+    for line in &lines {
+        let name = line.split(' ').next().unwrap();
+        match stored.iter().find(|l| l.split(' ').next() == Some(name)) {
+            Some(s) if *s == line => {}
+            Some(s) => mismatches.push(format!("  stored: {s}\n  actual: {line}")),
+            None => mismatches.push(format!("  missing: {line}")),
+        }
+    }
+    assert!(
+        mismatches.is_empty() && stored.len() == lines.len(),
+        "engine output differs from core/tests/golden.txt (if intended, re-bless with \
+         PNEUMA_BLESS=1 cargo test -p pneuma-core --test golden and say why):\n{}",
+        mismatches.join("\n")
+    );
+}
