@@ -141,6 +141,10 @@ pub struct Args {
     /// Highest f0 searched, Hz, 45 to 1000, at least 1.5 times --f0-min.
     #[arg(long, default_value_t = 600.0, value_parser = crate::options::number)]
     pub f0_max: f32,
+    /// Refuse to replace an existing output file. By default it is replaced, only when the
+    /// analysis succeeded.
+    #[arg(short = 'n', long)]
+    pub no_overwrite: bool,
 }
 
 /// The options in the user's terms (the option typed, in its unit), before the analysis
@@ -157,6 +161,9 @@ fn check_options(args: &Args) -> Result<(), String> {
             args.f0_min,
             1.5 * args.f0_min
         ));
+    }
+    if args.no_overwrite && args.output.as_os_str() != "-" {
+        crate::options::refuse_existing(std::slice::from_ref(&args.output))?;
     }
     Ok(())
 }

@@ -327,3 +327,24 @@ fn f0_and_frame_rate_errors_name_the_option_typed_in_its_unit() {
         "{help}"
     );
 }
+
+#[test]
+fn no_overwrite_keeps_an_existing_csv_and_says_so() {
+    let dir = temp();
+    let wav = dir.path().join("in.wav");
+    write_wav(&wav, 16_000, 1, 16, false, &test_signal(16_000));
+    let csv = dir.path().join("out.csv");
+    std::fs::write(&csv, "keep me\n").expect("write");
+    let (wav, csv_arg) = (wav.to_str().expect("utf8"), csv.to_str().expect("utf8"));
+    let out = pneuma(&["analyze", wav, "-o", csv_arg, "-n"]);
+    assert!(
+        !out.status.success(),
+        "an existing output was replaced under -n"
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--no-overwrite"));
+    assert_eq!(std::fs::read_to_string(&csv).expect("read"), "keep me\n");
+    assert!(pneuma(&["analyze", wav, "-o", csv_arg]).status.success());
+    assert!(std::fs::read_to_string(&csv)
+        .expect("read")
+        .starts_with("time_s,"));
+}
