@@ -291,11 +291,17 @@ fn the_example_voice_has_phrases_and_pauses() {
     assert!((140.0..280.0).contains(&median), "median f0 {median}");
 }
 
+/// `dir/in.wav`: the test signal at 16 kHz, mono 16-bit.
+fn voice_wav_16k(dir: &Path) -> PathBuf {
+    let wav = dir.join("in.wav");
+    write_wav(&wav, 16_000, 1, 16, false, &test_signal(16_000));
+    wav
+}
+
 #[test]
 fn f0_and_frame_rate_errors_name_the_option_typed_in_its_unit() {
     let dir = temp();
-    let wav = dir.path().join("in.wav");
-    write_wav(&wav, 16_000, 1, 16, false, &test_signal(16_000));
+    let wav = voice_wav_16k(dir.path());
     let wav = wav.to_str().expect("utf8");
     let cases: [(&[&str], &str); 4] = [
         (
@@ -331,8 +337,7 @@ fn f0_and_frame_rate_errors_name_the_option_typed_in_its_unit() {
 #[test]
 fn no_overwrite_keeps_an_existing_csv_and_says_so() {
     let dir = temp();
-    let wav = dir.path().join("in.wav");
-    write_wav(&wav, 16_000, 1, 16, false, &test_signal(16_000));
+    let wav = voice_wav_16k(dir.path());
     let csv = dir.path().join("out.csv");
     std::fs::write(&csv, "keep me\n").expect("write");
     let (wav, csv_arg) = (wav.to_str().expect("utf8"), csv.to_str().expect("utf8"));
