@@ -46,11 +46,15 @@ fn bench(c: &mut Criterion) {
         lookahead_ms: 500.0,
         no_breaths: false,
         breath_samples: None,
+        breath_mouth: None,
+        breath_nose: None,
         head_model: None,
         seed: 1,
         frame_rate: 120.0,
         bvh: false,
         no_plot: false,
+        no_overwrite: false,
+        no_progress: true,
         quiet: true,
     };
     let mut group = c.benchmark_group("render_voice_25s_48k_mono");

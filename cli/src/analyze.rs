@@ -26,7 +26,7 @@ pub enum AnalyzeError {
     #[error("invalid analysis settings: {0}")]
     Settings(#[from] AnalysisError),
     /// The output file.
-    #[error("cannot write {path}: {source} (check that the folder exists and is writable)")]
+    #[error("cannot write {path}: {source}{}", crate::output::write_hint(source))]
     Output {
         /// Where we tried to write.
         path: PathBuf,
@@ -132,19 +132,48 @@ pub struct Args {
     /// Output CSV path, or `-` for standard output.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Frames per second.
+    /// Frames per second, 10 to 1000.
     #[arg(long, default_value_t = 120.0)]
     pub frame_rate: f64,
-    /// Lowest f0 searched, Hz.
-    #[arg(long, default_value_t = 50.0)]
+    /// Lowest f0 searched, Hz, 30 to 600.
+    #[arg(long, default_value_t = 50.0, value_parser = crate::options::number)]
     pub f0_min: f32,
-    /// Highest f0 searched, Hz.
-    #[arg(long, default_value_t = 600.0)]
+    /// Highest f0 searched, Hz, 45 to 1000, at least 1.5 times --f0-min.
+    #[arg(long, default_value_t = 600.0, value_parser = crate::options::number)]
     pub f0_max: f32,
+    /// Refuse to replace an existing output file. By default it is replaced, only when the
+    /// analysis succeeded.
+    #[arg(short = 'n', long)]
+    pub no_overwrite: bool,
+}
+
+/// The options in the user's terms (the option typed, in its unit), before the analysis
+/// settings they become are checked under their own names.
+fn check_options(args: &Args) -> Result<(), String> {
+    use crate::options::check_range;
+    check_range("--frame-rate", args.frame_rate as f32, 10.0, 1000.0, "Hz")?;
+    check_range("--f0-min", args.f0_min, 30.0, 600.0, "Hz")?;
+    check_range("--f0-max", args.f0_max, 45.0, 1000.0, "Hz")?;
+    if args.f0_max < 1.5 * args.f0_min {
+        return Err(format!(
+            "--f0-max {} Hz must be at least 1.5 times --f0-min {} Hz (at least {} Hz)",
+            args.f0_max,
+            args.f0_min,
+            1.5 * args.f0_min
+        ));
+    }
+    if args.no_overwrite && args.output.as_os_str() != "-" {
+        crate::options::refuse_existing(std::slice::from_ref(&args.output))?;
+    }
+    Ok(())
 }
 
 /// Runs `pneuma analyze` from parsed arguments, printing a summary or the error.
 pub fn main(args: Args) -> ExitCode {
+    if let Err(e) = check_options(&args) {
+        eprintln!("error: {e}");
+        return ExitCode::FAILURE;
+    }
     let config = AnalysisConfig {
         frame_rate_hz: args.frame_rate,
         f0_min_hz: args.f0_min,
@@ -168,6 +197,12 @@ pub fn main(args: Args) -> ExitCode {
                     args.output.display()
                 );
             }
+            ExitCode::SUCCESS
+        }
+        // The reader of standard output went away (`| head`): end quietly, as Unix tools do.
+        Err(AnalyzeError::Output { ref source, .. })
+            if args.output.as_os_str() == "-" && crate::output::is_broken_pipe(source) =>
+        {
             ExitCode::SUCCESS
         }
         Err(e) => {

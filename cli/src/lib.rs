@@ -3,6 +3,7 @@
 
 pub mod analyze;
 pub mod eval;
+pub mod options;
 pub mod output;
 pub mod plot;
 pub mod render;

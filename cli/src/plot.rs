@@ -2,13 +2,19 @@
 //! sawtooth (with thorax and abdomen) on top, the audio waveform below with speech and breath
 //! sounds in different colours, the breathing phases shaded in both panels, time in seconds.
 //!
-//! The image has a fixed size whatever the input length: the waveform is reduced to its minimum
+//! The image has a fixed size whatever the input length: the waveform (given as samples or as an
+//! already reduced min/max envelope, evenly spread over its duration) is reduced to its minimum
 //! and maximum per pixel column and the controls to at most a few points per column, so hour-long
-//! files plot as fast as short ones. Text uses an embedded subset of DejaVu Sans Condensed
+//! files plot as fast as short ones. When a pixel column spans more than [`MARKER_COLUMN_S`]
+//! (files longer than about 80 s) a breath no longer has columns of its own, so breaths are drawn
+//! as red markers at their true peak level over the speech waveform instead of colouring whole
+//! columns. Text uses an embedded subset of DejaVu Sans Condensed
 //! (`cli/assets/fonts`, Bitstream Vera licence), so no system fonts are needed. The file is
-//! written beside its target and renamed into place when complete.
+//! written to a temporary file and moved into place when complete ([`crate::output`]).
 
 use std::path::{Path, PathBuf};
+
+use crate::output::{commit_all, Staged};
 use std::sync::Once;
 
 use plotters::prelude::*;
@@ -20,6 +26,8 @@ use thiserror::Error;
 pub const WIDTH_PX: u32 = 1600;
 /// Height of the image, pixels.
 pub const HEIGHT_PX: u32 = 800;
+/// Column width above which breaths are drawn as markers, seconds.
+pub const MARKER_COLUMN_S: f64 = 0.05;
 const FONT: &str = "pneuma-sans";
 const FONT_BYTES: &[u8] = include_bytes!("../assets/fonts/DejaVuSansCondensed-subset.ttf");
 
@@ -38,9 +46,9 @@ pub enum PlotError {
     /// Nothing to plot.
     #[error("nothing to plot: the audio and the controls are both empty")]
     Empty,
-    /// The sample rate is not usable.
-    #[error("sample rate {0} Hz is not usable for the plot; give the audio's real rate (8000–192000 Hz)")]
-    Rate(f64),
+    /// The duration is not usable.
+    #[error("the plot's duration {0} s is not a finite positive number")]
+    Duration(f64),
     /// Drawing failed.
     #[error("cannot draw the plot {path}: {reason}")]
     Draw {
@@ -50,7 +58,7 @@ pub enum PlotError {
         reason: String,
     },
     /// Moving the finished file into place failed.
-    #[error("cannot write {path}: {source} (check that the folder exists and is writable)")]
+    #[error("cannot write {path}: {source}")]
     Io {
         /// The target file.
         path: PathBuf,
@@ -133,60 +141,59 @@ fn phase_runs(controls: &[ControlFrame]) -> Vec<(f64, f64, Phase)> {
     runs
 }
 
-/// Draws the plot of `audio_mono` (at `sample_rate_hz`), its `controls` and inserted `breaths`
-/// (sorted by time) to the PNG file `path`.
+/// Draws the plot of the waveform `wave` (mono samples or a min/max envelope, evenly spread
+/// over `duration_s`), its `controls` and inserted `breaths` (sorted by time) to the PNG file
+/// `path`, through a temporary file that replaces `path` only when complete.
 pub fn write_plot(
     path: &Path,
-    audio_mono: &[f32],
-    sample_rate_hz: f64,
+    wave: &[f32],
+    duration_s: f64,
     controls: &[ControlFrame],
     breaths: &[BreathEvent],
 ) -> Result<(), PlotError> {
-    if audio_mono.is_empty() && controls.is_empty() {
+    let io = |source| PlotError::Io {
+        path: path.to_owned(),
+        source,
+    };
+    let staged = Staged::new(path).map_err(io)?;
+    draw_png(staged.temp(), path, wave, duration_s, controls, breaths)?;
+    commit_all(vec![staged]).map_err(|(_, e)| io(e))
+}
+
+/// Draws the plot (as [`write_plot`]) straight into `file`; `shown_as` names it in errors.
+pub fn draw_png(
+    file: &Path,
+    shown_as: &Path,
+    wave: &[f32],
+    duration_s: f64,
+    controls: &[ControlFrame],
+    breaths: &[BreathEvent],
+) -> Result<(), PlotError> {
+    if wave.is_empty() && controls.is_empty() {
         return Err(PlotError::Empty);
     }
-    if !(sample_rate_hz.is_finite() && (1_000.0..=1_000_000.0).contains(&sample_rate_hz)) {
-        return Err(PlotError::Rate(sample_rate_hz));
+    if !(duration_s.is_finite() && duration_s >= 0.0) {
+        return Err(PlotError::Duration(duration_s));
     }
     register_font();
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "plot.png".into());
-    let temp = dir.join(format!(".{name}.{}.partial.png", std::process::id()));
-    let result = draw(&temp, audio_mono, sample_rate_hz, controls, breaths).map_err(|reason| {
-        PlotError::Draw {
-            path: path.to_owned(),
-            reason,
-        }
-    });
-    let result = result.and_then(|()| {
-        std::fs::rename(&temp, path).map_err(|source| PlotError::Io {
-            path: path.to_owned(),
-            source,
-        })
-    });
-    if result.is_err() {
-        let _ = std::fs::remove_file(&temp);
-    }
-    result
+    draw(file, wave, duration_s, controls, breaths).map_err(|reason| PlotError::Draw {
+        path: shown_as.to_owned(),
+        reason,
+    })
 }
 
 fn draw(
     file: &Path,
     audio: &[f32],
-    rate: f64,
+    audio_s: f64,
     controls: &[ControlFrame],
     breaths: &[BreathEvent],
 ) -> Result<(), String> {
     let e = |x: &dyn std::fmt::Display| x.to_string();
-    let audio_s = audio.len() as f64 / rate;
+    let rate = audio.len() as f64 / audio_s.max(1e-9);
     let controls_s = controls.last().map_or(0.0, |f| f.time_s);
     let duration_s = audio_s.max(controls_s).max(1e-3);
+    let markers = duration_s / WIDTH_PX as f64 > MARKER_COLUMN_S;
     let root = BitMapBackend::new(file, (WIDTH_PX, HEIGHT_PX)).into_drawing_area();
     root.fill(&WHITE).map_err(|x| e(&x))?;
     let (top, bottom) = root.split_vertically(HEIGHT_PX * 9 / 20);
@@ -232,6 +239,15 @@ fn draw(
             .map(move |c| (c.time_s, f(c) as f64))
             .collect::<Vec<_>>()
     };
+    // Abdomen first and wide, thorax over it and thin: both stay visible when equal.
+    chart
+        .draw_series(LineSeries::new(
+            series(|c| c.breathing.abdomen),
+            ABDOMEN.stroke_width(4),
+        ))
+        .map_err(|x| e(&x))?
+        .label("abdomen")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], ABDOMEN));
     chart
         .draw_series(LineSeries::new(
             series(|c| c.breathing.thorax),
@@ -240,14 +256,6 @@ fn draw(
         .map_err(|x| e(&x))?
         .label("thorax")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], THORAX));
-    chart
-        .draw_series(LineSeries::new(
-            series(|c| c.breathing.abdomen),
-            ABDOMEN.stroke_width(1),
-        ))
-        .map_err(|x| e(&x))?
-        .label("abdomen")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], ABDOMEN));
     chart
         .draw_series(LineSeries::new(
             series(|c| c.breathing.lung),
@@ -285,6 +293,7 @@ fn draw(
         .map_err(|x| e(&x))?;
     wave.configure_mesh()
         .disable_x_mesh()
+        .y_label_formatter(&|v: &f64| tick(*v))
         .light_line_style(TRANSPARENT)
         .x_desc("time (s)")
         .y_desc("amplitude")
@@ -297,12 +306,44 @@ fn draw(
     }))
     .map_err(|x| e(&x))?;
     wave.draw_series(cols.iter().map(|c| {
-        let colour = if c.breath { BREATH } else { SPEECH };
+        let colour = if c.breath && !markers { BREATH } else { SPEECH };
         PathElement::new(vec![(c.t_s, c.lo as f64), (c.t_s, c.hi as f64)], colour)
     }))
     .map_err(|x| e(&x))?;
+    if markers {
+        // Each breath: a red bar up to its peak level and a dot on top.
+        let at = |b: &BreathEvent| {
+            (
+                0.5 * (b.start_s + b.end_s),
+                10f64.powf(b.peak_db as f64 / 20.0).min(peak),
+            )
+        };
+        wave.draw_series(breaths.iter().map(|b| {
+            let (t, a) = at(b);
+            PathElement::new(vec![(t, -a), (t, a)], BREATH.stroke_width(2))
+        }))
+        .map_err(|x| e(&x))?;
+        wave.draw_series(breaths.iter().map(|b| {
+            let (t, a) = at(b);
+            Circle::new((t, a), 3, BREATH.filled())
+        }))
+        .map_err(|x| e(&x))?;
+    }
     root.present().map_err(|x| e(&x))?;
     Ok(())
+}
+
+/// An axis tick with two decimals, never "-0.00".
+fn tick(v: f64) -> String {
+    let s = format!("{v:.2}");
+    if s.trim_start_matches('-')
+        .chars()
+        .all(|c| c == '0' || c == '.')
+    {
+        "0".into()
+    } else {
+        s
+    }
 }
 
 #[cfg(test)]
@@ -326,6 +367,15 @@ mod tests {
         assert_eq!(cols[1].hi, 0.9);
         assert!(cols.iter().filter(|c| c.hi > 0.0).count() == 1);
         assert!(cols[5].breath && !cols[2].breath && !cols[8].breath);
+    }
+
+    #[test]
+    fn ticks_never_show_negative_zero() {
+        assert_eq!(tick(-0.0), "0");
+        assert_eq!(tick(-0.001), "0");
+        assert_eq!(tick(0.0), "0");
+        assert_eq!(tick(-0.25), "-0.25");
+        assert_eq!(tick(0.5), "0.50");
     }
 
     #[test]

@@ -16,11 +16,10 @@ use std::process::ExitCode;
 use pneuma_core::breathing::{BreathSample, Preset, SampleSlot};
 use pneuma_core::encode::{breaths_csv, bvh, controls_csv};
 use pneuma_core::engine::{Engine, EngineConfig, EngineError, PlacementMode};
-use pneuma_core::head::HeadModel;
 use pneuma_core::{BreathEvent, ControlFrame};
 use thiserror::Error;
 
-use crate::output::Output;
+use crate::output::{commit_all, Output, Staged};
 use crate::wav::{WavError, WavInfo, WavSource};
 use crate::wav_out::WavSink;
 
@@ -44,7 +43,7 @@ pub enum RenderError {
     #[error("{0}")]
     Input(String),
     /// An output file.
-    #[error("cannot write {path}: {source} (check that the folder exists and is writable)")]
+    #[error("cannot write {path}: {source}{}", crate::output::write_hint(source))]
     Output {
         /// Where we tried to write.
         path: PathBuf,
@@ -52,13 +51,8 @@ pub enum RenderError {
         source: std::io::Error,
     },
     /// The plot.
-    #[error("cannot draw {path}: {reason}")]
-    Plot {
-        /// The plot file.
-        path: PathBuf,
-        /// Why.
-        reason: String,
-    },
+    #[error(transparent)]
+    Plot(#[from] crate::plot::PlotError),
 }
 
 /// Command-line arguments of `pneuma render`.
@@ -66,37 +60,44 @@ pub enum RenderError {
 pub struct Args {
     /// Input WAV (8/16/24/32-bit integer or 32-bit float PCM, any channels, 8–192 kHz).
     pub input: PathBuf,
-    /// Output folder (created if missing).
-    #[arg(short, long)]
+    /// Output folder (created if missing); the files inside are named after the input.
+    #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
     /// Breathing preset: neutral, calm, anxious, tired, excited.
     #[arg(long, default_value = "neutral")]
     pub preset: String,
-    /// Breath level relative to the speech level, dB (−60 to −6).
-    #[arg(long, default_value_t = -22.0, allow_hyphen_values = true)]
+    /// Breath level relative to the speech level, dB (-60 to -6).
+    #[arg(long, default_value_t = -22.0, allow_hyphen_values = true, value_parser = crate::options::number)]
     pub breath_level_db: f32,
-    /// Pauses shorter than this get no breath, ms.
-    #[arg(long, default_value_t = 250.0)]
+    /// Pauses shorter than this get no breath, ms (100 to 5000).
+    #[arg(long, default_value_t = 250.0, value_parser = crate::options::number)]
     pub min_pause_ms: f32,
     /// Placement: `lookahead` (breath ends just before the next phrase) or `live` (no delay).
     #[arg(long, default_value = "lookahead")]
     pub mode: String,
-    /// Lookahead of the lookahead mode, ms (as in the plugin).
-    #[arg(long, default_value_t = 500.0)]
+    /// Lookahead of the lookahead mode, ms (300 to 2000; as in the plugin).
+    #[arg(long, default_value_t = 500.0, value_parser = crate::options::number)]
     pub lookahead_ms: f32,
     /// Do not insert breaths (controls only; the audio is copied unchanged).
     #[arg(long)]
     pub no_breaths: bool,
-    /// Folder with user breath samples `mouth.wav` and/or `nose.wav`.
-    #[arg(long)]
+    /// Folder with user breath samples `mouth.wav` and/or `nose.wav` (the same as giving
+    /// them with --breath-mouth and --breath-nose).
+    #[arg(long, value_name = "DIR")]
     pub breath_samples: Option<PathBuf>,
+    /// A WAV recording of a mouth inhalation to use instead of the procedural one.
+    #[arg(long, value_name = "WAV")]
+    pub breath_mouth: Option<PathBuf>,
+    /// A WAV recording of a nose inhalation to use instead of the procedural one.
+    #[arg(long, value_name = "WAV")]
+    pub breath_nose: Option<PathBuf>,
     /// Head-pose model file (JSON); the embedded default model when absent.
     #[arg(long)]
     pub head_model: Option<PathBuf>,
     /// Seed of every random source.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Control frames per second.
+    /// Control frames per second (10 to 1000).
     #[arg(long, default_value_t = 120.0)]
     pub frame_rate: f64,
     /// Also write `<stem>.bvh` (head and neck motion).
@@ -105,7 +106,14 @@ pub struct Args {
     /// Skip the plot.
     #[arg(long)]
     pub no_plot: bool,
-    /// No progress bar.
+    /// Refuse to replace existing outputs. By default existing outputs are replaced, all
+    /// together and only when the whole run succeeded.
+    #[arg(short = 'n', long)]
+    pub no_overwrite: bool,
+    /// No progress bar (the summary stays).
+    #[arg(long)]
+    pub no_progress: bool,
+    /// Print errors only: no progress bar, no summary.
     #[arg(long, short)]
     pub quiet: bool,
 }
@@ -115,6 +123,13 @@ impl Args {
     pub fn engine_config(&self) -> Result<EngineConfig, RenderError> {
         let preset = Preset::from_name(&self.preset)
             .map_err(|e| RenderError::Input(format!("--preset: {e}")))?;
+        // The options in the user's terms first; the engine checks its own settings again.
+        use crate::options::check_range;
+        check_range("--breath-level-db", self.breath_level_db, -60.0, -6.0, "dB")
+            .and_then(|()| check_range("--min-pause-ms", self.min_pause_ms, 100.0, 5000.0, "ms"))
+            .and_then(|()| check_range("--lookahead-ms", self.lookahead_ms, 300.0, 2000.0, "ms"))
+            .and_then(|()| check_range("--frame-rate", self.frame_rate as f32, 10.0, 1000.0, "Hz"))
+            .map_err(RenderError::Input)?;
         let mut c = EngineConfig::default();
         c.analysis.frame_rate_hz = self.frame_rate;
         c.placement.mode = PlacementMode::from_name(&self.mode)?;
@@ -182,13 +197,14 @@ impl Envelope {
             self.hi = f32::NEG_INFINITY;
         }
     }
-    /// The envelope's sample rate: two points per bucket.
-    fn rate_hz(&self, sample_rate_hz: f64) -> f64 {
-        if self.bucket == 1 {
-            sample_rate_hz
-        } else {
-            2.0 * sample_rate_hz / self.bucket as f64
+    /// The points, evenly spread over the samples pushed so far (a last partial bucket
+    /// included).
+    fn finish(mut self) -> Vec<f32> {
+        if self.filled > 0 {
+            self.points.push(self.lo);
+            self.points.push(self.hi);
         }
+        self.points
     }
 }
 
@@ -199,15 +215,11 @@ fn out_err(path: &Path) -> impl Fn(std::io::Error) -> RenderError + '_ {
     }
 }
 
-fn load_sample(dir: &Path, name: &str) -> Result<Option<BreathSample>, RenderError> {
-    let path = dir.join(name);
-    if !path.exists() {
-        return Ok(None);
-    }
-    let (samples, rate) = crate::wav::read_mono(&path)?;
+/// Reads the breath sample at `path`; `label` names it in errors.
+fn load_sample(path: &Path, label: &str) -> Result<BreathSample, RenderError> {
+    let (samples, rate) = crate::wav::read_mono(path)?;
     BreathSample::from_mono(samples, rate as f64)
-        .map(Some)
-        .map_err(|e| RenderError::Input(format!("breath sample {}: {e}", path.display())))
+        .map_err(|e| RenderError::Input(format!("{label} {}: {e}", path.display())))
 }
 
 /// Runs a render; `progress` is called with the fraction done (0..1) now and then.
@@ -219,18 +231,20 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
     if channels > pneuma_core::engine::MAX_CHANNELS {
         return Err(EngineError::Channels(channels).into());
     }
-    let model = match &args.head_model {
-        Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .map_err(|e| RenderError::Input(format!("head model {}: {e}", p.display())))?;
-            HeadModel::from_json(&text)
-                .map_err(|e| RenderError::Input(format!("head model {}: {e}", p.display())))?
-        }
-        None => HeadModel::default_model().clone(),
-    };
+    let model =
+        crate::options::load_head_model(args.head_model.as_deref()).map_err(RenderError::Input)?;
     let mut engine = Engine::new(config.clone(), model)?;
     engine.prepare(info.sample_rate_hz as f64, BLOCK_FRAMES, channels)?;
     let mut sample_names = Vec::new();
+    for (slot, path, name) in [
+        (SampleSlot::Mouth, &args.breath_mouth, "--breath-mouth"),
+        (SampleSlot::Nose, &args.breath_nose, "--breath-nose"),
+    ] {
+        if let Some(path) = path {
+            engine.set_breath_sample(slot, Some(load_sample(path, name)?));
+            sample_names.push(name);
+        }
+    }
     if let Some(dir) = &args.breath_samples {
         if !dir.is_dir() {
             return Err(RenderError::Input(format!(
@@ -238,16 +252,18 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
                 dir.display()
             )));
         }
+        let before = sample_names.len();
         for (slot, name) in [
             (SampleSlot::Mouth, "mouth.wav"),
             (SampleSlot::Nose, "nose.wav"),
         ] {
-            if let Some(s) = load_sample(dir, name)? {
-                engine.set_breath_sample(slot, Some(s));
+            let path = dir.join(name);
+            if path.exists() {
+                engine.set_breath_sample(slot, Some(load_sample(&path, "breath sample")?));
                 sample_names.push(name);
             }
         }
-        if sample_names.is_empty() {
+        if sample_names.len() == before {
             return Err(RenderError::Input(format!(
                 "--breath-samples {}: no mouth.wav or nose.wav in it",
                 dir.display()
@@ -255,6 +271,7 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
         }
     }
 
+    crate::options::check_output_folder("-o", &args.output).map_err(RenderError::Input)?;
     std::fs::create_dir_all(&args.output).map_err(out_err(&args.output))?;
     let stem = args
         .input
@@ -272,6 +289,16 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
     let breaths_path = args.output.join(format!("{stem}.breaths.csv"));
     let plot_path = args.output.join(format!("{stem}.png"));
     let bvh_path = args.output.join(format!("{stem}.bvh"));
+    if args.no_overwrite {
+        let mut all = vec![
+            wav_path.clone(),
+            controls_path.clone(),
+            breaths_path.clone(),
+        ];
+        all.extend((!args.no_plot).then(|| plot_path.clone()));
+        all.extend(args.bvh.then(|| bvh_path.clone()));
+        crate::options::refuse_existing(&all).map_err(RenderError::Input)?;
+    }
 
     let mut sink = WavSink::create(&wav_path, info).map_err(out_err(&wav_path))?;
     let mut controls = Output::create(&controls_path).map_err(out_err(&controls_path))?;
@@ -353,7 +380,7 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
                 }
                 if let Some(o) = &mut bvh_out {
                     bvh_row.clear();
-                    bvh::push_frame(&mut bvh_row, &f.head, f.breathing.neck_pitch_deg);
+                    bvh::push_control(&mut bvh_row, f);
                     if write_error.is_none() {
                         if let Err(e) = o.writer().write_all(bvh_row.as_bytes()) {
                             write_error = Some(e);
@@ -407,49 +434,36 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
     let mut breaths_out = Output::create(&breaths_path).map_err(out_err(&breaths_path))?;
     breaths_csv::write_all(&mut breaths_out.writer(), &breaths).map_err(out_err(&breaths_path))?;
 
-    // The plot is drawn under a temporary name and renamed with the other files.
-    let plot_temp = crate::output::temp_path(&plot_path);
-    if !args.no_plot {
-        crate::plot::write_plot(
-            &plot_temp,
-            &envelope.points,
-            envelope.rate_hz(info.sample_rate_hz as f64),
-            &plot_frames,
-            &breaths,
-        )
-        .map_err(|e| {
-            let _ = std::fs::remove_file(&plot_temp);
-            RenderError::Plot {
-                path: plot_path.clone(),
-                reason: e.to_string(),
-            }
-        })?;
-    }
-
-    // Everything succeeded: move the files into place.
+    // Every file is finished under a temporary name first ...
     let mut files = vec![
         wav_path.clone(),
         controls_path.clone(),
         breaths_path.clone(),
     ];
-    let committed = (|| {
-        sink.commit().map_err(out_err(&wav_path))?;
-        controls.commit().map_err(out_err(&controls_path))?;
-        breaths_out.commit().map_err(out_err(&breaths_path))?;
-        if let Some(o) = bvh_out {
-            o.commit().map_err(out_err(&bvh_path))?;
-            files.push(bvh_path.clone());
-        }
-        if !args.no_plot {
-            std::fs::rename(&plot_temp, &plot_path).map_err(out_err(&plot_path))?;
-            files.push(plot_path.clone());
-        }
-        Ok::<(), RenderError>(())
-    })();
-    if let Err(e) = committed {
-        let _ = std::fs::remove_file(&plot_temp);
-        return Err(e);
+    let mut staged = vec![
+        sink.finish().map_err(out_err(&wav_path))?,
+        staged_file(controls, &controls_path)?,
+        staged_file(breaths_out, &breaths_path)?,
+    ];
+    if let Some(o) = bvh_out {
+        staged.push(staged_file(o, &bvh_path)?);
+        files.push(bvh_path.clone());
     }
+    if !args.no_plot {
+        let plot = Staged::new(&plot_path).map_err(out_err(&plot_path))?;
+        crate::plot::draw_png(
+            plot.temp(),
+            &plot_path,
+            &envelope.finish(),
+            duration_s,
+            &plot_frames,
+            &breaths,
+        )?;
+        staged.push(plot);
+        files.push(plot_path.clone());
+    }
+    // ... then all are moved into place together, or none.
+    commit_all(staged).map_err(|(path, source)| RenderError::Output { path, source })?;
     Ok(RenderSummary {
         info,
         files,
@@ -459,6 +473,13 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
     })
 }
 
+/// Finishes a file output of the render (never standard output) into its staged file.
+fn staged_file(out: Output, path: &Path) -> Result<Staged, RenderError> {
+    out.finish()
+        .map_err(out_err(path))?
+        .ok_or_else(|| out_err(path)(std::io::Error::other("not a file")))
+}
+
 fn same_file(a: &Path, b: &Path) -> bool {
     match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
         (Ok(x), Ok(y)) => x == y,
@@ -466,28 +487,12 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Runs `pneuma render` from parsed arguments, with a progress bar on long files.
+/// Runs `pneuma render` from parsed arguments, with a progress bar when a terminal is attached
+/// and the job takes more than a second.
 pub fn main(args: Args) -> ExitCode {
-    let long = WavSource::open(&args.input)
-        .map(|s| s.info().frames as f64 / s.info().sample_rate_hz as f64 > 60.0)
-        .unwrap_or(false);
-    let bar = (!args.quiet && long).then(|| {
-        let bar = indicatif::ProgressBar::new(1000);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template("rendering [{bar:40}] {percent}% ({eta} left)")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
-                .progress_chars("=> "),
-        );
-        bar
-    });
-    let result = run(&args, |f| {
-        if let Some(b) = &bar {
-            b.set_position((f * 1000.0) as u64);
-        }
-    });
-    if let Some(b) = &bar {
-        b.finish_and_clear();
-    }
+    let mut bar = crate::options::Progress::new("rendering", !args.quiet && !args.no_progress);
+    let result = run(&args, |f| bar.set(f));
+    bar.finish();
     match result {
         Ok(s) => {
             if !args.quiet {

@@ -21,12 +21,13 @@ use pneuma_core::breathing::{
     chunk_text, BreathCycle, BreathSample, BreathVoice, BreathingError, BreathingParams, Chunk,
     Preset, SampleSlot,
 };
-use pneuma_core::encode::{breaths_csv, controls_csv};
+use pneuma_core::encode::{breaths_csv, bvh, controls_csv};
+use pneuma_core::head::{HeadConfig, HeadSynth};
 use pneuma_core::{AnalysisConfig, Analyzer, BreathEvent, ControlFrame};
 use thiserror::Error;
 
-use crate::output::Output;
-use crate::plot::{write_plot, PlotError};
+use crate::output::{commit_all, Output, Staged};
+use crate::plot::{draw_png, PlotError};
 use crate::wav::{read_mono, WavError};
 
 /// Silence before the first breath, seconds.
@@ -37,7 +38,7 @@ pub const PAUSE_S: f64 = 0.1;
 pub const TAIL_S: f64 = 0.6;
 /// Level under which the ends of a TTS chunk count as silence, dBFS.
 pub const TRIM_DB: f32 = -50.0;
-/// Frame rate of the controls, Hz (DESIGN.md frame clock).
+/// Default frame rate of the controls, Hz (DESIGN.md frame clock), as in `render`.
 pub const FRAME_RATE_HZ: f64 = 120.0;
 
 /// Which TTS program speaks.
@@ -59,7 +60,7 @@ pub struct Args {
     pub text_file: Option<PathBuf>,
     /// Output folder (created if missing); receives speech.wav, speech.controls.csv,
     /// speech.breaths.csv and speech.png.
-    #[arg(short = 'o', long = "out", value_name = "DIR")]
+    #[arg(short = 'o', long = "output", alias = "out", value_name = "DIR")]
     pub out_dir: PathBuf,
     /// Breathing preset: neutral, calm, anxious, tired, excited.
     #[arg(long, default_value = "neutral")]
@@ -67,16 +68,23 @@ pub struct Args {
     /// TTS voice (espeak-ng: e.g. `en-us`, `en-gb`; festival: e.g. `kal_diphone`).
     #[arg(long)]
     pub voice: Option<String>,
-    /// Prosody rate, 0.5..2 (speaking-rate multiplier; default: the preset's).
-    #[arg(long)]
+    /// Speaking-rate multiplier, 0.5 to 2 (default: the preset's).
+    #[arg(long, value_parser = crate::options::number)]
     pub rate: Option<f32>,
-    /// Speaking loudness, 0.05..1 (default: the preset's); louder speech gets shorter breath
+    /// Speaking loudness, 0.05 to 1 (default: the preset's); louder speech gets shorter breath
     /// groups (Equation 1) and a louder TTS.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::options::number)]
     pub loudness: Option<f32>,
-    /// Seed of the breath sounds.
-    #[arg(long, default_value_t = 0)]
+    /// Seed of the breath sounds (the same default as `render`).
+    #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Refuse to replace existing outputs. By default existing outputs are replaced, all
+    /// together and only when the whole run succeeded.
+    #[arg(short = 'n', long)]
+    pub no_overwrite: bool,
+    /// Print errors only, no summary.
+    #[arg(long, short)]
+    pub quiet: bool,
     /// TTS program.
     #[arg(long, value_enum, default_value_t = Tts::Espeak)]
     pub tts: Tts,
@@ -86,11 +94,30 @@ pub struct Args {
     /// A WAV recording of a nose inhalation to use instead of the procedural one.
     #[arg(long, value_name = "WAV")]
     pub breath_nose: Option<PathBuf>,
+    /// Head-pose model file (JSON); the embedded default model when absent.
+    #[arg(long, value_name = "JSON")]
+    pub head_model: Option<PathBuf>,
+    /// Control frames per second (10 to 1000).
+    #[arg(long, default_value_t = FRAME_RATE_HZ)]
+    pub frame_rate: f64,
+    /// Also write `speech.bvh` (head, neck and chest motion).
+    #[arg(long)]
+    pub bvh: bool,
+    /// Skip the plot.
+    #[arg(long)]
+    pub no_plot: bool,
+    /// Folder with breath samples `mouth.wav` and/or `nose.wav` (the same as giving them with
+    /// --breath-mouth and --breath-nose, as in `render`).
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["breath_mouth", "breath_nose"])]
+    pub breath_samples: Option<PathBuf>,
 }
 
 /// Errors of `pneuma speak`.
 #[derive(Debug, Error)]
 pub enum SpeakError {
+    /// An option is out of range or inconsistent.
+    #[error("{0}")]
+    Option(String),
     /// No text given.
     #[error("no text to speak: give TEXT or --text-file FILE with some words in it")]
     NoText,
@@ -130,7 +157,7 @@ pub enum SpeakError {
     #[error("the TTS produced {0} Hz and then {1} Hz; use one voice")]
     RateChanged(u32, u32),
     /// An output file could not be written.
-    #[error("cannot write {path}: {source} (check that the folder exists and is writable)")]
+    #[error("cannot write {path}: {source}{}", crate::output::write_hint(source))]
     Output {
         /// The file.
         path: PathBuf,
@@ -159,13 +186,15 @@ pub struct SpeakSummary {
 pub fn main(args: Args) -> ExitCode {
     match run(&args) {
         Ok(s) => {
-            eprintln!(
-                "spoke {} breath groups ({:.2} s, {} breaths) into {}",
-                s.chunks.len(),
-                s.duration_s,
-                s.breaths.len(),
-                args.out_dir.display()
-            );
+            if !args.quiet {
+                eprintln!(
+                    "spoke {} ({:.2} s, {}) into {}",
+                    plural(s.chunks.len(), "breath group", "breath groups"),
+                    s.duration_s,
+                    plural(s.breaths.len(), "breath", "breaths"),
+                    args.out_dir.display()
+                );
+            }
             ExitCode::SUCCESS
         }
         Err(e) => {
@@ -175,8 +204,22 @@ pub fn main(args: Args) -> ExitCode {
     }
 }
 
+/// `1 breath`, `2 breaths`.
+fn plural(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
 /// The breathing parameters from the preset and the overrides, validated.
 pub fn params_from_args(args: &Args) -> Result<BreathingParams, SpeakError> {
+    use crate::options::check_range;
+    if let Some(r) = args.rate {
+        check_range("--rate", r, 0.5, 2.0, "").map_err(SpeakError::Option)?;
+    }
+    if let Some(l) = args.loudness {
+        check_range("--loudness", l, 0.05, 1.0, "").map_err(SpeakError::Option)?;
+    }
+    check_range("--frame-rate", args.frame_rate as f32, 10.0, 1000.0, "Hz")
+        .map_err(SpeakError::Option)?;
     let mut p = Preset::from_name(&args.preset)?.params();
     if let Some(r) = args.rate {
         p.prosody_rate = r;
@@ -275,8 +318,14 @@ fn synthesize(
         .wait_with_output()
         .map_err(|e| failed(e.to_string()))?;
     if !out.status.success() {
+        let hint = match (tts, voice) {
+            (Tts::Espeak, Some(v)) => {
+                format!(" (is `{v}` an espeak-ng voice? `espeak-ng --voices` lists them)")
+            }
+            _ => String::new(),
+        };
         return Err(failed(format!(
-            "{}: {}",
+            "{}: {}{hint}",
             out.status,
             String::from_utf8_lossy(&out.stderr).trim()
         )));
@@ -325,11 +374,42 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     let text = text_from_args(args)?;
     let params = params_from_args(args)?;
     let low = params.map();
-    let mouth_sample = args.breath_mouth.as_deref().map(load_sample).transpose()?;
-    let nose_sample = args.breath_nose.as_deref().map(load_sample).transpose()?;
+    let in_folder = |name: &str| {
+        args.breath_samples
+            .as_ref()
+            .map(|d| d.join(name))
+            .filter(|p| p.exists())
+    };
+    if let Some(d) = &args.breath_samples {
+        if in_folder("mouth.wav").is_none() && in_folder("nose.wav").is_none() {
+            return Err(SpeakError::Option(format!(
+                "--breath-samples {}: no mouth.wav or nose.wav in it",
+                d.display()
+            )));
+        }
+    }
+    let mouth_path = args.breath_mouth.clone().or_else(|| in_folder("mouth.wav"));
+    let nose_path = args.breath_nose.clone().or_else(|| in_folder("nose.wav"));
+    let model =
+        crate::options::load_head_model(args.head_model.as_deref()).map_err(SpeakError::Option)?;
+    let mouth_sample = mouth_path.as_deref().map(load_sample).transpose()?;
+    let nose_sample = nose_path.as_deref().map(load_sample).transpose()?;
     let chunks = chunk_text(&text, &low);
     if chunks.is_empty() {
         return Err(SpeakError::NoText);
+    }
+    crate::options::check_output_folder("-o", &args.out_dir).map_err(SpeakError::Option)?;
+    let out = |name: &str| args.out_dir.join(name);
+    let names = [
+        "speech.wav",
+        "speech.controls.csv",
+        "speech.breaths.csv",
+        "speech.png",
+        "speech.bvh",
+    ];
+    if args.no_overwrite {
+        let paths: Vec<PathBuf> = names.iter().map(|n| out(n)).collect();
+        crate::options::refuse_existing(&paths).map_err(SpeakError::Option)?;
     }
     std::fs::create_dir_all(&args.out_dir).map_err(|source| SpeakError::Output {
         path: args.out_dir.clone(),
@@ -421,7 +501,7 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     // Controls: the breath cycle on the events, analysis of the written audio.
     let mut features = Vec::new();
     let mut analyzer = Analyzer::new(AnalysisConfig {
-        frame_rate_hz: FRAME_RATE_HZ,
+        frame_rate_hz: args.frame_rate,
         ..Default::default()
     })
     .map_err(|e| SpeakError::TtsFailed {
@@ -443,19 +523,56 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     analyzer
         .finish(|f| features.push(*f))
         .map_err(analysis_err)?;
-    let frames = controls_for(&low, &events, &speech_spans, &features, secs(audio.len()));
+    let mut head = HeadSynth::new(model, HeadConfig::default())
+        .map_err(|e| SpeakError::Option(format!("head model: {e}")))?;
+    let frames = controls_for(
+        &low,
+        &events,
+        &speech_spans,
+        &features,
+        secs(audio.len()),
+        args.frame_rate,
+        &mut head,
+    );
 
     // Write everything.
     let wav_bytes = wav_16bit(&audio, rate_hz);
-    let out = |name: &str| args.out_dir.join(name);
-    write_file(&out("speech.wav"), |w| w.write_all(&wav_bytes))?;
-    write_file(&out("speech.controls.csv"), |mut w| {
-        controls_csv::write_all(&mut w, &frames)
-    })?;
-    write_file(&out("speech.breaths.csv"), |mut w| {
-        breaths_csv::write_all(&mut w, &breaths)
-    })?;
-    write_plot(&out("speech.png"), &audio, fs, &frames, &breaths)?;
+    // All files are staged first and moved into place together, or none of them.
+    let mut staged = vec![
+        write_file(&out("speech.wav"), |w| w.write_all(&wav_bytes))?,
+        write_file(&out("speech.controls.csv"), |mut w| {
+            controls_csv::write_all(&mut w, &frames)
+        })?,
+        write_file(&out("speech.breaths.csv"), |mut w| {
+            breaths_csv::write_all(&mut w, &breaths)
+        })?,
+    ];
+    if args.bvh {
+        staged.push(write_file(&out("speech.bvh"), |w| {
+            let mut text = bvh::header(frames.len(), args.frame_rate);
+            for f in &frames {
+                bvh::push_control(&mut text, f);
+            }
+            w.write_all(text.as_bytes())
+        })?);
+    }
+    if !args.no_plot {
+        let plot_path = out("speech.png");
+        let plot = Staged::new(&plot_path).map_err(|source| SpeakError::Output {
+            path: plot_path.clone(),
+            source,
+        })?;
+        draw_png(
+            plot.temp(),
+            &plot_path,
+            &audio,
+            secs(audio.len()),
+            &frames,
+            &breaths,
+        )?;
+        staged.push(plot);
+    }
+    commit_all(staged).map_err(|(path, source)| SpeakError::Output { path, source })?;
     Ok(SpeakSummary {
         chunks,
         chunk_durations_s: durations,
@@ -465,21 +582,24 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
 }
 
 /// Control frames for the timeline: the cycle driven by `events` (time-sorted), frames at
-/// [`FRAME_RATE_HZ`] (time = index / rate), features matched by index.
+/// `frame_rate_hz` (time = index / rate), features matched by index; the head pose comes from
+/// `head` run on the features (as the engine does in `render`).
 fn controls_for(
     low: &pneuma_core::breathing::LowLevelParams,
     events: &[(f64, Event)],
     speech_spans: &[(f64, f64)],
     features: &[pneuma_core::FeatureFrame],
     duration_s: f64,
+    frame_rate_hz: f64,
+    head: &mut HeadSynth,
 ) -> Vec<ControlFrame> {
     let mut cycle = BreathCycle::new(low);
-    let n = (duration_s * FRAME_RATE_HZ).ceil() as usize;
+    let n = (duration_s * frame_rate_hz).ceil() as usize;
     let mut frames = Vec::with_capacity(n);
     let mut now = 0.0f64;
     let mut next = 0;
     for i in 0..n {
-        let t = i as f64 / FRAME_RATE_HZ;
+        let t = i as f64 / frame_rate_hz;
         while next < events.len() && events[next].0 <= t {
             let (te, ev) = events[next];
             cycle.advance((te - now) as f32);
@@ -497,6 +617,7 @@ fn controls_for(
         let state = cycle.advance((t - now).max(0.0) as f32);
         now = t;
         let f = features.get(i).copied().unwrap_or_default();
+        let pose = head.process(&f, frame_rate_hz);
         frames.push(ControlFrame {
             index: i as u64,
             time_s: t,
@@ -510,7 +631,7 @@ fn controls_for(
             level_db: f.level_db,
             speaking: speech_spans.iter().any(|&(a, b)| t >= a && t < b),
             breathing: state,
-            head: Default::default(),
+            head: pose,
         });
     }
     frames
@@ -560,12 +681,16 @@ fn wav_16bit(audio: &[f32], rate_hz: u32) -> Vec<u8> {
 fn write_file(
     path: &Path,
     body: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
-) -> Result<(), SpeakError> {
+) -> Result<Staged, SpeakError> {
     let err = |source| SpeakError::Output {
         path: path.to_owned(),
         source,
     };
     let mut out = Output::create(path).map_err(err)?;
     body(out.writer()).map_err(err)?;
-    out.commit().map_err(err)
+    out.finish().map_err(err)?.ok_or_else(|| {
+        err(std::io::Error::other(
+            "speak writes files, not standard output",
+        ))
+    })
 }

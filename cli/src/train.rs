@@ -28,8 +28,13 @@ pub enum TrainCliError {
         source: std::io::Error,
     },
     /// No clip pairs found.
-    #[error("no <clip>.wav + <clip>.head.csv pairs in {0}: check the folder")]
-    NoClips(PathBuf),
+    #[error("no <clip>.wav + <clip>.head.csv pairs in {path}: {unmatched}; each clip needs both files with the same name before the extension")]
+    NoClips {
+        /// The folder.
+        path: PathBuf,
+        /// Which files lack their partner, or that the folder has neither kind.
+        unmatched: String,
+    },
     /// A head CSV is malformed.
     #[error("{path} line {line}: {reason} (expected header time_s,pitch_deg,yaw_deg,roll_deg and numeric rows)")]
     Csv {
@@ -143,18 +148,57 @@ pub fn load_clips(dir: &Path, config: &AnalysisConfig) -> Result<Vec<TrainingCli
         path: dir.into(),
         source,
     };
-    let mut stems: Vec<String> = std::fs::read_dir(dir)
+    let names: Vec<String> = std::fs::read_dir(dir)
         .map_err(folder)?
         .filter_map(|e| e.ok())
-        .filter_map(|e| {
-            let name = e.file_name().to_string_lossy().into_owned();
-            name.strip_suffix(".head.csv").map(str::to_string)
-        })
-        .filter(|stem| dir.join(format!("{stem}.wav")).is_file())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    let heads: Vec<&str> = names
+        .iter()
+        .filter_map(|n| n.strip_suffix(".head.csv"))
+        .collect();
+    let wavs: Vec<&str> = names
+        .iter()
+        .filter_map(|n| n.strip_suffix(".wav"))
+        .collect();
+    let mut stems: Vec<String> = heads
+        .iter()
+        .filter(|s| wavs.contains(s))
+        .map(|s| s.to_string())
         .collect();
     stems.sort();
+    // Which file of a pair is missing, named (at most five of each kind).
+    let mut unmatched = Vec::new();
+    let list = |v: Vec<&&str>, ext: &str| {
+        let shown: Vec<String> = v.iter().take(5).map(|s| format!("{s}{ext}")).collect();
+        let more = v.len().saturating_sub(5);
+        let tail = if more > 0 {
+            format!(" and {more} more")
+        } else {
+            String::new()
+        };
+        format!("{}{tail}", shown.join(", "))
+    };
+    let lone_wavs: Vec<&&str> = wavs.iter().filter(|s| !heads.contains(s)).collect();
+    let lone_heads: Vec<&&str> = heads.iter().filter(|s| !wavs.contains(s)).collect();
+    if !lone_wavs.is_empty() {
+        unmatched.push(format!("no .head.csv for {}", list(lone_wavs, ".wav")));
+    }
+    if !lone_heads.is_empty() {
+        unmatched.push(format!("no .wav for {}", list(lone_heads, ".head.csv")));
+    }
     if stems.is_empty() {
-        return Err(TrainCliError::NoClips(dir.into()));
+        return Err(TrainCliError::NoClips {
+            path: dir.into(),
+            unmatched: if unmatched.is_empty() {
+                "it holds no .wav and no .head.csv files".into()
+            } else {
+                unmatched.join("; ")
+            },
+        });
+    }
+    if !unmatched.is_empty() {
+        eprintln!("note: {} skipped: {}", dir.display(), unmatched.join("; "));
     }
     let mut clips = Vec::with_capacity(stems.len());
     for stem in stems {
@@ -191,10 +235,10 @@ pub struct Args {
     /// Feature frame rate in Hz.
     #[arg(long, default_value_t = 120.0)]
     pub frame_rate: f64,
-    /// SD of the Gaussian smoothing of the training motion in seconds (tracking-jitter
-    /// removal; 0 = none).
-    #[arg(long, default_value_t = 0.025)]
-    pub motion_smoothing: f64,
+    /// SD of the Gaussian smoothing of the training motion in milliseconds (tracking-jitter
+    /// removal; 0 = none), 0 to 500.
+    #[arg(long, default_value_t = 25.0)]
+    pub motion_smoothing_ms: f64,
 }
 
 /// Prints the held-out log-likelihoods and the unvoiced-behaviour comparison.
@@ -246,7 +290,7 @@ pub fn run(
         components: args.components,
         restarts: args.restarts,
         seed: args.seed,
-        motion_smoothing_s: args.motion_smoothing,
+        motion_smoothing_s: args.motion_smoothing_ms / 1000.0,
         data_description: data_description.to_string(),
         ..TrainConfig::default()
     };
@@ -256,6 +300,13 @@ pub fn run(
 
 /// Runs `pneuma train`.
 pub fn main(args: Args) -> ExitCode {
+    let smoothing_ms = args.motion_smoothing_ms as f32;
+    if let Err(e) =
+        crate::options::check_range("--motion-smoothing-ms", smoothing_ms, 0.0, 500.0, "ms")
+    {
+        eprintln!("error: {e}");
+        return ExitCode::FAILURE;
+    }
     let desc = format!("clips of {}", args.data.display());
     match run(&args, &desc) {
         Ok((json, cv)) => {

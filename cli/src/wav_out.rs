@@ -1,6 +1,7 @@
-//! Atomic WAV output in the input's own format: the file is written under a temporary name
-//! beside the target and renamed into place only by [`WavSink::commit`]; dropping the sink
-//! without committing removes the temporary file, so an existing file is never half-replaced.
+//! WAV output in the input's own format: the file is written to a [`Staged`] temporary file
+//! and moved into place only by [`WavSink::commit`] (or [`crate::output::commit_all`] with the
+//! run's other outputs); dropping the sink without committing removes the temporary file, so
+//! an existing file is never half-replaced.
 //!
 //! Samples are converted back with the inverse of the reader's scaling (`round(x · 2^(bits−1))`,
 //! clamped), so integer samples that went through unchanged come out bit-identical (8, 16 and
@@ -8,24 +9,23 @@
 
 use std::fs::File;
 use std::io::BufWriter;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use crate::output::temp_path;
+use crate::output::{commit_all, Staged};
 use crate::wav::WavInfo;
 
 /// A WAV file being written.
 pub struct WavSink {
     writer: Option<hound::WavWriter<BufWriter<File>>>,
     info: WavInfo,
-    temp: PathBuf,
-    target: PathBuf,
+    staged: Staged,
     clipped: u64,
 }
 
 impl std::fmt::Debug for WavSink {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("WavSink")
-            .field("target", &self.target)
+            .field("target", &self.staged.target())
             .field("info", &self.info)
             .finish()
     }
@@ -44,13 +44,12 @@ impl WavSink {
                 hound::SampleFormat::Int
             },
         };
-        let temp = temp_path(target);
-        let writer = hound::WavWriter::create(&temp, spec).map_err(to_io)?;
+        let staged = Staged::new(target)?;
+        let writer = hound::WavWriter::create(staged.temp(), spec).map_err(to_io)?;
         Ok(Self {
             writer: Some(writer),
             info,
-            temp,
-            target: target.to_owned(),
+            staged,
             clipped: 0,
         })
     }
@@ -86,25 +85,16 @@ impl WavSink {
         Ok(())
     }
 
-    /// Finishes the header and moves the file onto the target.
-    pub fn commit(mut self) -> std::io::Result<()> {
-        let writer = self.writer.take().expect("writer present until commit");
-        let result = writer
-            .finalize()
-            .map_err(to_io)
-            .and_then(|()| std::fs::rename(&self.temp, &self.target));
-        if result.is_err() {
-            let _ = std::fs::remove_file(&self.temp);
-        }
-        result
+    /// Finishes the header; the file is returned staged for [`commit_all`].
+    pub fn finish(mut self) -> std::io::Result<Staged> {
+        let writer = self.writer.take().expect("writer present until finish");
+        writer.finalize().map_err(to_io)?;
+        Ok(self.staged)
     }
-}
 
-impl Drop for WavSink {
-    fn drop(&mut self) {
-        if self.writer.take().is_some() {
-            let _ = std::fs::remove_file(&self.temp);
-        }
+    /// Finishes and moves this single file into place.
+    pub fn commit(self) -> std::io::Result<()> {
+        commit_all(vec![self.finish()?]).map_err(|(_, e)| e)
     }
 }
 

@@ -290,3 +290,66 @@ fn the_example_voice_has_phrases_and_pauses() {
     let median = f0[f0.len() / 2];
     assert!((140.0..280.0).contains(&median), "median f0 {median}");
 }
+
+/// `dir/in.wav`: the test signal at 16 kHz, mono 16-bit.
+fn voice_wav_16k(dir: &Path) -> PathBuf {
+    let wav = dir.join("in.wav");
+    write_wav(&wav, 16_000, 1, 16, false, &test_signal(16_000));
+    wav
+}
+
+#[test]
+fn f0_and_frame_rate_errors_name_the_option_typed_in_its_unit() {
+    let dir = temp();
+    let wav = voice_wav_16k(dir.path());
+    let wav = wav.to_str().expect("utf8");
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["--f0-min", "10"],
+            "--f0-min 10 Hz is out of range: use 30 to 600 Hz",
+        ),
+        (&["--f0-max", "2000"], "--f0-max 2000 Hz is out of range"),
+        (
+            &["--f0-min", "200", "--f0-max", "250"],
+            "at least 1.5 times --f0-min",
+        ),
+        (&["--frame-rate", "5"], "--frame-rate 5 Hz is out of range"),
+    ];
+    for (extra, want) in cases {
+        let mut args = vec!["analyze", wav, "-o", "-"];
+        args.extend_from_slice(extra);
+        let out = pneuma(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{extra:?} was accepted");
+        assert!(stderr.contains(want), "{extra:?}: {stderr}");
+        assert!(
+            !stderr.contains("f0_min_hz") && !stderr.contains("frame_rate_hz"),
+            "{stderr}"
+        );
+    }
+    let help = String::from_utf8_lossy(&pneuma(&["analyze", "--help"]).stdout).into_owned();
+    assert!(
+        help.contains("30 to 600") && help.contains("45 to 1000"),
+        "{help}"
+    );
+}
+
+#[test]
+fn no_overwrite_keeps_an_existing_csv_and_says_so() {
+    let dir = temp();
+    let wav = voice_wav_16k(dir.path());
+    let csv = dir.path().join("out.csv");
+    std::fs::write(&csv, "keep me\n").expect("write");
+    let (wav, csv_arg) = (wav.to_str().expect("utf8"), csv.to_str().expect("utf8"));
+    let out = pneuma(&["analyze", wav, "-o", csv_arg, "-n"]);
+    assert!(
+        !out.status.success(),
+        "an existing output was replaced under -n"
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--no-overwrite"));
+    assert_eq!(std::fs::read_to_string(&csv).expect("read"), "keep me\n");
+    assert!(pneuma(&["analyze", wav, "-o", csv_arg]).status.success());
+    assert!(std::fs::read_to_string(&csv)
+        .expect("read")
+        .starts_with("time_s,"));
+}

@@ -249,7 +249,64 @@ fn broken_input_fails_cleanly_and_keeps_existing_output() {
     let o = render(&good, &out, &["--preset", "sleepy"]);
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("preset"));
-    let o = render(&good, &out, &["--breath-level-db", "0"]);
-    assert!(!o.status.success());
-    assert!(String::from_utf8_lossy(&o.stderr).contains("breath_level_db"));
+    // Out-of-range options are named as typed, in their unit, with the range.
+    for (option, value, want) in [
+        (
+            "--breath-level-db",
+            "0",
+            "--breath-level-db 0 dB is out of range: use -60 to -6 dB",
+        ),
+        (
+            "--lookahead-ms",
+            "0",
+            "--lookahead-ms 0 ms is out of range: use 300 to 2000 ms",
+        ),
+        (
+            "--min-pause-ms",
+            "0",
+            "--min-pause-ms 0 ms is out of range: use 100 to 5000 ms",
+        ),
+    ] {
+        let o = render(&good, &out, &[option, value]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{option} {value}");
+        assert!(err.contains(want), "{option}: {err}");
+        assert!(!err.contains("_s`") && !err.contains("writable"), "{err}");
+    }
+    // A Unicode minus pasted from the docs is a minus.
+    let o = render(&good, &out, &["--breath-level-db", "\u{2212}30"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // `-o name.wav` is not silently made a folder.
+    let o = render(&good, &dir.path().join("result.wav"), &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("output folder"),
+        "{err}"
+    );
+    assert!(!dir.path().join("result.wav").exists());
+    // -n keeps existing outputs and says which one exists.
+    let o = render(&good, &out, &["-n"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("--no-overwrite"),
+        "{err}"
+    );
+}
+
+#[test]
+fn help_shows_every_range_in_ascii() {
+    let o = support::pneuma(&["render", "--help"]);
+    let help = String::from_utf8_lossy(&o.stdout);
+    assert!(!help.contains('\u{2212}'), "Unicode minus in help");
+    for want in ["-60 to -6", "100 to 5000", "300 to 2000", "10 to 1000"] {
+        assert!(
+            help.contains(want),
+            "`{want}` not in render --help:\n{help}"
+        );
+    }
+    let o = support::pneuma(&["speak", "--help"]);
+    let help = String::from_utf8_lossy(&o.stdout);
+    for want in ["0.5 to 2", "0.05 to 1", "--output"] {
+        assert!(help.contains(want), "`{want}` not in speak --help:\n{help}");
+    }
 }

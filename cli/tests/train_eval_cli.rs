@@ -156,6 +156,23 @@ fn clear_errors_for_bad_data_and_models() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("no <clip>.wav + <clip>.head.csv pairs"));
 
+    // A lone WAV and a lone motion file: the message names which partner is missing.
+    std::fs::write(data.join("solo.wav"), b"RIFF").unwrap();
+    std::fs::write(
+        data.join("other.head.csv"),
+        "time_s,pitch_deg,yaw_deg,roll_deg\n",
+    )
+    .unwrap();
+    let out = pneuma(&["train", "--data", data.to_str().unwrap(), "-o", "x.json"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{err}");
+    assert!(
+        err.contains("no .head.csv for solo.wav") && err.contains("no .wav for other.head.csv"),
+        "{err}"
+    );
+    std::fs::remove_file(data.join("solo.wav")).unwrap();
+    std::fs::remove_file(data.join("other.head.csv")).unwrap();
+
     write_clip(&data, "one", 0.0, 1);
     std::fs::write(
         data.join("one.head.csv"),

@@ -5,8 +5,8 @@
 use pneuma_core::synth::{self, GlottalVowel, Vowel};
 use pneuma_core::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
 
-const RATES: [f64; 7] = [
-    8_000.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 96_000.0, 192_000.0,
+const RATES: [f64; 9] = [
+    8_000.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 96_000.0, 192_000.0, 384_000.0, 768_000.0,
 ];
 
 fn analyse_blocks(
@@ -38,13 +38,22 @@ fn cents(a: f32, b: f64) -> f64 {
     1200.0 * (a as f64 / b).log2()
 }
 
-/// Frames whose centre lies in `from_s..to_s`.
+/// Frames whose centre lies in `from_s..to_s`; panics unless that is every frame the range
+/// must hold at the default frame rate, so a loop over it cannot pass by looping over nothing.
 fn between(frames: &[FeatureFrame], from_s: f64, to_s: f64) -> Vec<FeatureFrame> {
-    frames
+    let picked: Vec<FeatureFrame> = frames
         .iter()
         .filter(|f| f.time_s >= from_s && f.time_s < to_s)
         .copied()
-        .collect()
+        .collect();
+    let expected = ((to_s - from_s) * AnalysisConfig::default().frame_rate_hz).floor() as usize;
+    assert!(
+        picked.len() >= expected.max(1),
+        "{from_s}..{to_s} s holds {} frames, expected at least {expected} (of {} in all)",
+        picked.len(),
+        frames.len()
+    );
+    picked
 }
 
 /// Every field of a frame as raw bits, for bit-exact comparison.
@@ -207,12 +216,10 @@ fn dc_offset_changes_neither_pitch_nor_level() {
     let rate = 44_100.0;
     let x = synth::harmonic_tone(rate, 0.5, 0.3, &RICH, |_| 150.0);
     let shifted: Vec<f32> = x.iter().map(|v| v + 0.4).collect();
-    let a = analyse(&x, rate);
-    let b = analyse(&shifted, rate);
-    for (fa, fb) in between(&a, 0.06, 0.44)
-        .iter()
-        .zip(between(&b, 0.06, 0.44).iter())
-    {
+    let a = between(&analyse(&x, rate), 0.06, 0.44);
+    let b = between(&analyse(&shifted, rate), 0.06, 0.44);
+    assert_eq!(a.len(), b.len(), "the DC offset changed the frame count");
+    for (fa, fb) in a.iter().zip(&b) {
         assert!(fb.voiced);
         assert!(cents(fb.f0_hz, fa.f0_hz as f64).abs() < 2.0);
         assert!(
@@ -271,8 +278,9 @@ fn nan_and_inf_bursts_count_as_silence() {
 
 #[test]
 fn any_block_partition_gives_bit_identical_frames() {
-    // 8 kHz (no decimation), 44.1 kHz (factor 5, 367.5 samples per frame), 192 kHz (factor 24).
-    for rate in [8_000.0, 44_100.0, 192_000.0] {
+    // 8 kHz (no decimation), 44.1 kHz (factor 5, 367.5 samples per frame), 192 kHz (factor 24),
+    // 768 kHz (factor 96).
+    for rate in [8_000.0, 44_100.0, 192_000.0, 768_000.0] {
         let cfg = GlottalVowel {
             sample_rate_hz: rate,
             length_s: 1.0,
@@ -409,7 +417,7 @@ fn unsupported_rates_and_unprepared_use_are_errors() {
         Err(AnalysisError::SampleRate(_))
     ));
     assert!(matches!(
-        a.prepare(384_000.0, 64),
+        a.prepare(768_001.0, 64),
         Err(AnalysisError::SampleRate(_))
     ));
     assert!(a.prepare(8_000.0, 64).is_ok());

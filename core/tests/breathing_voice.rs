@@ -117,7 +117,8 @@ fn exact_length_no_dc_no_clicks_at_every_rate() {
 
 #[test]
 fn plateau_rms_is_the_gain() {
-    for rate in [16_000.0, 48_000.0, 96_000.0] {
+    // 384 and 768 kHz: hosts run there, and the analysis accepts them (up to 768 kHz).
+    for rate in [16_000.0, 48_000.0, 96_000.0, 384_000.0, 768_000.0] {
         for mouth in [0.0, 0.3, 1.0] {
             let gain = 0.04;
             let (out, n) = breath(rate, mouth, 2.0, gain, 11);
@@ -148,6 +149,24 @@ fn mouth_is_brighter_than_nose_and_energy_lies_in_200_to_8000_hz() {
             assert!(
                 share > 0.9,
                 "{name}: {share:.3} of the energy in 200–8000 Hz at {rate}"
+            );
+        }
+    }
+}
+
+#[test]
+fn above_192_khz_the_breath_sounds_as_at_48_khz() {
+    // Hosts run at 384 and 768 kHz and the analysis accepts them: the filters must be designed
+    // for the real rate (designed for a lower one, every resonance would move up).
+    for mouth in [0.0, 1.0] {
+        let (x, n) = breath(48_000.0, mouth, 1.5, 0.05, 5);
+        let reference_hz = centroid_hz(&x[..n], 48_000.0);
+        for rate in [384_000.0, 768_000.0] {
+            let (y, m) = breath(rate, mouth, 1.5, 0.05, 5);
+            let hz = centroid_hz(&y[..m], rate);
+            assert!(
+                (hz / reference_hz - 1.0).abs() < 0.15,
+                "mouth {mouth}: centroid {hz:.0} Hz at {rate} Hz vs {reference_hz:.0} Hz at 48 kHz"
             );
         }
     }

@@ -1,6 +1,8 @@
 //! CPU per plugin instance: the built `Pneuma.clap` through the CLAP test host at 48 kHz in
 //! 64-sample blocks, mono and stereo, one second of the example voice per iteration.
-//! Real-time multiple = 1 s / (time per iteration). Run: `cargo bench -p pneuma-tests`.
+//! Real-time multiple = 1 s / (time per iteration). Also the time from loading the plugin (the
+//! bundle's library already mapped by an earlier load) to its first processed block: load,
+//! activate at 48 kHz, one 64-sample block. Run: `cargo bench -p pneuma-tests`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use pneuma_tests::bundle::ensure_clap;
@@ -40,5 +42,20 @@ fn plugin_cpu(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, plugin_cpu);
+fn load_to_first_block(c: &mut Criterion) {
+    let path = ensure_clap();
+    let mut group = c.benchmark_group("plugin_load");
+    group.sample_size(20);
+    group.bench_function("load_activate_first_block_48k_64", |b| {
+        b.iter(|| {
+            let mut plugin = Plugin::load(&path, "org.pneuma.pneuma").expect("bundle loads");
+            plugin.activate(48_000.0, 64, 2).unwrap();
+            let mut block = vec![vec![0.0f32; 64]; 2];
+            std::hint::black_box(plugin.process(&mut block));
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, plugin_cpu, load_to_first_block);
 criterion_main!(benches);

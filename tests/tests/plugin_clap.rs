@@ -12,6 +12,7 @@ const CLAP_ID: &str = "org.pneuma.pneuma";
 
 /// The promised parameter ids (saved in host projects: they never change).
 const PARAM_IDS: &[&str] = &[
+    "bypass",
     "preset",
     "thorax_vs_abdomen",
     "capacity_lung",
@@ -431,24 +432,7 @@ fn latency_is_reported_and_structural_changes_ask_for_a_restart() {
 /// from the latency the plugin reports.
 #[test]
 fn the_plugin_output_equals_the_cli_render() {
-    let voice_path = pneuma_tests::wav::example_voice_path();
-    let (voice, rate) = pneuma_tests::wav::example_voice();
-    let dir = std::env::temp_dir().join(format!("pneuma-render-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let status = std::process::Command::new(pneuma_tests::bundle::ensure_cli())
-        .arg("render")
-        .arg(&voice_path)
-        .arg("-o")
-        .arg(&dir)
-        .status()
-        .expect("pneuma runs");
-    assert!(status.success(), "pneuma render failed");
-    let (rendered, rendered_rate) = pneuma_tests::wav::read(&dir.join("voice.wav"));
-    let _ = std::fs::remove_dir_all(&dir);
-    assert_eq!(rendered_rate, rate);
-    let rendered = &rendered[0];
-    assert_eq!(rendered.len(), voice.len(), "the render keeps the length");
-
+    let (voice, rate, rendered) = cli_render();
     let mut plugin = load();
     plugin.activate(f64::from(rate), 512, 1).unwrap();
     let latency = plugin.latency() as usize;
@@ -456,17 +440,88 @@ fn the_plugin_output_equals_the_cli_render() {
     let mut input = voice.clone();
     input.resize(voice.len() + latency, 0.0);
     let (out, _) = run(&mut plugin, &input, &block_sizes(input.len(), 512, 0));
-    let out = &out[latency..];
-    // The render is stored as a 16-bit or float WAV: allow one 16-bit step.
-    let max_diff = out
+    assert_matches_render(&out[latency..], &rendered, "no transport");
+}
+
+/// The example voice and `pneuma render` of it (mono): `(voice, rate, rendered)`.
+fn cli_render() -> (Vec<f32>, u32, Vec<f32>) {
+    let voice_path = pneuma_tests::wav::example_voice_path();
+    let (voice, rate) = pneuma_tests::wav::example_voice();
+    let dir = std::env::temp_dir().join(format!(
+        "pneuma-render-{}-{:?}",
+        std::process::id(),
+        std::thread::current().id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    let status = std::process::Command::new(pneuma_tests::bundle::ensure_cli())
+        .arg("render")
+        .arg(&voice_path)
+        .arg("-o")
+        .arg(&dir)
+        .arg("--quiet")
+        .status()
+        .expect("pneuma runs");
+    assert!(status.success(), "pneuma render failed");
+    let (mut rendered, rendered_rate) = pneuma_tests::wav::read(&dir.join("voice.wav"));
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(rendered_rate, rate);
+    let rendered = rendered.swap_remove(0);
+    assert_eq!(rendered.len(), voice.len(), "the render keeps the length");
+    (voice, rate, rendered)
+}
+
+/// The plugin's latency-compensated output equals the render from the first sample (the
+/// render is stored as a 16-bit or float WAV: one 16-bit step allowed).
+fn assert_matches_render(out: &[f32], rendered: &[f32], case: &str) {
+    assert!(out.len() >= rendered.len(), "{case}: output too short");
+    let first_diff = out
         .iter()
         .zip(rendered)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0f32, f32::max);
+        .position(|(a, b)| (a - b).abs() > 1.5 / 32768.0);
     assert!(
-        max_diff <= 1.5 / 32768.0,
-        "plugin vs CLI render: max difference {max_diff} (latency {latency})"
+        first_diff.is_none(),
+        "{case}: plugin vs CLI render differ from sample {first_diff:?}"
     );
+}
+
+#[test]
+fn the_plugin_output_equals_the_cli_render_when_the_host_pre_rolls_from_time_zero() {
+    // A region at the start of the timeline, played from time 0 by a host that compensates the
+    // latency: it feeds the plugin the region from its first sample while it pre-rolls the
+    // latency, then rolls. Hosts report the pre-roll differently: positions running up to 0
+    // from -latency, or the position held at 0 until the roll starts.
+    let (voice, rate, rendered) = cli_render();
+    let block = 512;
+    for held_at_zero in [false, true] {
+        let mut plugin = load();
+        plugin.activate(f64::from(rate), block, 1).unwrap();
+        let latency = plugin.latency() as usize;
+        let mut input = voice.clone();
+        input.resize(voice.len() + latency, 0.0);
+        let mut out = Vec::with_capacity(input.len());
+        // The host splits its cycle where the pre-roll ends (as Ardour does).
+        let (pre_roll, roll) = input.split_at(latency);
+        let chunks = pre_roll.chunks(block).chain(roll.chunks(block));
+        let mut fed = 0i64;
+        for chunk in chunks {
+            let timeline = fed - latency as i64;
+            let pos = if held_at_zero {
+                timeline.max(0)
+            } else {
+                timeline
+            };
+            let mut audio = [chunk.to_vec()];
+            plugin.process_at(&mut audio, Some(pos as f64 / f64::from(rate)));
+            out.extend_from_slice(&audio[0]);
+            fed += chunk.len() as i64;
+        }
+        let case = if held_at_zero {
+            "pre-roll held at 0"
+        } else {
+            "pre-roll from -latency"
+        };
+        assert_matches_render(&out[latency..], &rendered, case);
+    }
 }
 
 #[test]
@@ -504,4 +559,36 @@ fn a_transport_jump_resets_the_stream() {
     );
     let steady_energy: f32 = steady[at..at + latency].iter().map(|s| s * s).sum();
     assert!(steady_energy > 0.0, "the steady stream plays on");
+}
+
+#[test]
+fn any_sample_rate_activates_and_unsupported_rates_pass_the_audio_with_controls_at_rest() {
+    // A noise-like signal with no exact zeros, so a pass-through is visible bit for bit.
+    let signal: Vec<f32> = (0..4096)
+        .map(|i| 0.3 * ((i as f32 * 0.731).sin() + 0.05))
+        .collect();
+    for rate in [1.0, 1_234.567_8, 8_000.0, 48_000.0, 384_000.0, 768_000.0] {
+        let mut plugin = load();
+        plugin
+            .activate(rate, 512, 1)
+            .unwrap_or_else(|e| panic!("activation at {rate} Hz refused: {e}"));
+        let blocks = block_sizes(signal.len(), 512, 0);
+        let (out, events) = run(&mut plugin, &signal, &blocks);
+        assert!(out.iter().all(|s| s.is_finite()), "{rate} Hz");
+        if plugin.latency() == 0 {
+            // The engine does not run here: the audio passes untouched and each controller is
+            // sent once, at rest.
+            assert_eq!(out, signal, "pass-through at {rate} Hz");
+            let mut controllers: Vec<u8> = events.iter().map(|e| e.controller).collect();
+            let sent = controllers.len();
+            controllers.sort_unstable();
+            controllers.dedup();
+            assert_eq!(
+                controllers.len(),
+                sent,
+                "one message per controller at {rate} Hz"
+            );
+            assert!(sent > 0, "the rest pose goes out at {rate} Hz");
+        }
+    }
 }

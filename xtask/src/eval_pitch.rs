@@ -1,6 +1,13 @@
-//! `cargo xtask eval-pitch --data DIR [--check] [--no-praat] [--verbose] [--dump DIR]
-//! [--set name=value]...`: pitch-tracking
-//! accuracy on the PTDB-TUG excerpts (`<clip>.wav` + `<clip>.f0.csv`, 10 ms reference).
+//! `cargo xtask eval-pitch --data DIR [--data DIR]... [--check] [--clean-only] [--no-praat]
+//! [--no-baselines] [--offset MS] [--verbose] [--dump DIR] [--set name=value]...`: pitch-tracking
+//! accuracy against laryngograph references (`<clip>.wav` + `<clip>.f0.csv`, 10 ms reference
+//! frames). Each `--data` folder is a data set: PTDB-TUG excerpts (noise and SNR in the clip name,
+//! `male1white10`) or clean clips such as Keele's (`f1nw0000`), whose reference frames marked
+//! `-1` (uncertain) are left out of every score. Clean clips are also evaluated with seeded added
+//! noise (unless `--clean-only`): white (Gaussian) and babble ([`BABBLE_TALKERS`] other clips of
+//! the same data set, from seeded start points, summed), each at 20, 10 and 0 dB SNR over the
+//! whole clip's power. Figures are printed per data set (per condition, per SNR, per noise, per
+//! speaker at the cleanest condition, all), and overall.
 //!
 //! Every tracker analyses at the same frame rate: Pneuma's, 120 Hz as shipped, or another with
 //! `--set frame_rate_hz=200` (Praat's usual 5 ms step; `.ci/run` checks the targets at both).
@@ -10,6 +17,8 @@
 //! by the global offset, is scored on each tracker's nearest frame. One global time offset
 //! (−20…+20 ms in 5 ms steps, the reference is known to sit early) is searched once for the
 //! whole data set, minimising the summed FFE of all trackers, and applied to every tracker.
+//! A clean data set's targets (Keele: FFE and VDE no higher than Praat's, at every added noise,
+//! per speaker within 1.5 points of Praat) are printed as met / MISSED but not checked.
 //! Metrics (over reference frames): VDE = voicing decisions that differ / all frames;
 //! GPE = frames voiced in both with more than 20 % f0 error / frames voiced in both;
 //! FFE = (voicing errors + gross errors) / all frames; fine error = median |cents| over frames
@@ -19,8 +28,8 @@
 //! 48 kHz, power gate −60 dBFS, clarity 0.6 for McLeod and 0.85 (threshold 0.15) for YIN, f0
 //! outside 50–600 Hz counted unvoiced: a baseline only, never on the audio path); Praat
 //! (`To Pitch (ac)`, 50–600 Hz, standard settings, time step one frame) when the `praat`
-//! program exists. `--check` fails (exit 1) unless Pneuma meets the targets of the issue at the
-//! frame rate evaluated: FFE at 40 dB no higher than Praat's, at most 8 % at 10 dB white and
+//! program exists. `--check` fails (exit 1) unless Pneuma meets the PTDB targets of the issue at
+//! the frame rate evaluated (a PTDB-style data set must be among the `--data`): FFE at 40 dB no higher than Praat's, at most 8 % at 10 dB white and
 //! car noise, below both `pitch-detection` detectors in every condition; a target whose clips
 //! are all unreadable counts as missed.
 
@@ -41,13 +50,39 @@ const OFFSETS_MS: [i32; 9] = [-20, -15, -10, -5, 0, 5, 10, 15, 20];
 /// One tracker's output on the 1 ms scoring grid: f0 in Hz, 0 = unvoiced.
 type Track = Vec<f32>;
 
+/// One evaluated clip: a file of a data set, clean or with generated noise.
 struct Clip {
+    /// File stem, with `+<noise><snr>` when the noise was added here.
     name: String,
+    /// Index into the evaluated data sets.
+    data_set: usize,
+    speaker: String,
+    condition: Condition,
     internals: Internals,
-    noise: String,
-    snr_db: u32,
     reference: Vec<(f64, f32)>,
     tracks: Vec<Track>,
+}
+
+/// A noise condition: the noise type and its SNR, or clean (`snr_db` = None).
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct Condition {
+    noise: String,
+    snr_db: Option<u32>,
+}
+
+impl Condition {
+    fn clean() -> Self {
+        Self {
+            noise: "clean".into(),
+            snr_db: None,
+        }
+    }
+    fn label(&self) -> String {
+        match self.snr_db {
+            Some(snr) => format!("{} {snr} dB", self.noise),
+            None => self.noise.clone(),
+        }
+    }
 }
 
 #[derive(Default, Clone)]
@@ -172,6 +207,10 @@ fn score(reference: &[(f64, f32)], track: &Track, offset_ms: i32) -> Counts {
     let mut c = Counts::default();
     let positions = run_positions(reference);
     for (&(t, f_ref), &(from_start, to_end)) in reference.iter().zip(&positions) {
+        // Keele marks uncertain frames −1: they are left out of every score.
+        if f_ref < 0.0 {
+            continue;
+        }
         let k = ((t + offset_ms as f64 / 1000.0) / GRID_S).round() as i64;
         let f = if k >= 0 && (k as usize) < track.len() {
             track[k as usize]
@@ -437,12 +476,12 @@ fn praat_track(
     ))
 }
 
-/// `--verbose`: where the frame errors come from, per SNR and per clip (Pneuma and Praat).
+/// `--verbose`: where the frame errors come from, per condition and per clip (Pneuma and Praat).
 fn print_breakdown(
-    clips: &[Clip],
+    clips: &[&Clip],
     tracker_names: &[&str],
     offset: i32,
-    by_snr: &BTreeMap<u32, Vec<Counts>>,
+    by_condition: &BTreeMap<Condition, Vec<Counts>>,
 ) {
     let shown: Vec<usize> = tracker_names
         .iter()
@@ -453,10 +492,11 @@ fn print_breakdown(
     println!(
         "\nerror breakdown (% of all frames; edges = first/last {EDGE_FRAMES} reference frames of a voiced run; low f0 < {LOW_F0_HZ} Hz):"
     );
-    for (snr, row) in by_snr.iter().rev() {
+    for (condition, row) in by_condition {
         for &i in &shown {
             println!(
-                "  all {snr:>2} dB {:<8} FFE {:5.2} {}",
+                "  {:<14} {:<8} FFE {:5.2} {}",
+                condition.label(),
                 tracker_names[i],
                 row[i].ffe() * 100.0,
                 row[i].breakdown()
@@ -482,7 +522,7 @@ fn print_breakdown(
 /// and Pneuma's voicing, RMS and level.
 fn dump_tracks(
     dir: &Path,
-    clips: &[Clip],
+    clips: &[&Clip],
     tracker_names: &[&str],
     offset: i32,
 ) -> Result<(), String> {
@@ -573,153 +613,538 @@ pub(crate) fn split_name(stem: &str) -> Option<(String, u32)> {
     None
 }
 
+/// `cargo xtask eval-pitch`: pitch and voicing accuracy against laryngograph references.
+#[derive(clap::Parser, Debug)]
+#[command(name = "cargo xtask eval-pitch")]
 struct Args {
-    data: PathBuf,
-    /// Analysis setting overrides for Pneuma (`--set name=value`).
+    /// A folder of `<clip>.wav` + `<clip>.f0.csv` (PTDB or Keele style); give it several times
+    /// (`--data ../shared/data/ptdb --data ../shared/data/keele`).
+    #[arg(long, required = true)]
+    data: Vec<PathBuf>,
+    /// Analysis setting override for Pneuma (`--set frame_rate_hz=200`); repeatable.
+    #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_setting)]
     set: Vec<(String, String)>,
+    /// Exit 1 unless Pneuma meets the PTDB targets (see the module documentation).
+    #[arg(long)]
     check: bool,
-    praat: bool,
-    /// Use this global offset (ms) instead of searching one.
-    offset_ms: Option<i32>,
+    /// Leave Praat out even when it is installed.
+    #[arg(long)]
+    no_praat: bool,
+    /// Use this global offset (ms) for every data set instead of searching one.
+    #[arg(long, allow_hyphen_values = true)]
+    offset: Option<i32>,
     /// Skip the `pitch-detection` baselines (faster while tuning; `--check` needs them).
-    baselines: bool,
-    /// Print the error breakdown per clip and per SNR.
+    #[arg(long)]
+    no_baselines: bool,
+    /// Evaluate clean data sets (no noise in their clip names) without the generated noise.
+    #[arg(long)]
+    clean_only: bool,
+    /// Print the error breakdown per condition and per clip.
+    #[arg(long)]
     verbose: bool,
     /// Write one CSV per clip (reference and every track on the reference grid) here.
+    #[arg(long, value_name = "DIR")]
     dump: Option<PathBuf>,
 }
 
-fn parse_args(args: &[String]) -> Result<Args, String> {
-    let mut data = None;
-    let mut check = false;
-    let mut praat = true;
-    let mut verbose = false;
-    let mut dump = None;
-    let mut offset_ms = None;
-    let mut baselines = true;
-    let mut set = Vec::new();
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--data" => data = it.next().map(PathBuf::from),
-            "--check" => check = true,
-            "--no-praat" => praat = false,
-            "--verbose" => verbose = true,
-            "--no-baselines" => baselines = false,
-            "--offset" => {
-                let v = it.next().ok_or("--offset needs a value in ms")?;
-                let ms: i32 = v
-                    .parse()
-                    .map_err(|_| format!("--offset: {v:?} is not a whole number of ms"))?;
-                offset_ms = Some(ms);
-            }
-            "--dump" => dump = Some(PathBuf::from(it.next().ok_or("--dump needs a folder")?)),
-            "--set" => {
-                let kv = it.next().ok_or("--set needs name=value")?;
-                let (k, v) = kv.split_once('=').ok_or("--set needs name=value")?;
-                set.push((k.to_string(), v.to_string()));
-            }
-            other => return Err(format!("unknown argument {other:?}")),
-        }
-    }
-    if check && !baselines {
-        return Err("--check compares with the baselines: drop --no-baselines".into());
-    }
-    let data =
-        data.ok_or("missing --data DIR (the PTDB-TUG excerpts, e.g. ../shared/data/ptdb)")?;
-    Ok(Args {
-        data,
-        set,
-        check,
-        praat,
-        verbose,
-        dump,
-        offset_ms,
-        baselines,
-    })
+fn parse_setting(kv: &str) -> Result<(String, String), String> {
+    let (k, v) = kv
+        .split_once('=')
+        .ok_or_else(|| format!("{kv:?}: --set needs name=value"))?;
+    Ok((k.to_string(), v.to_string()))
 }
 
 pub fn main(args: &[String]) -> i32 {
-    match run(args) {
+    use clap::Parser as _;
+    let args = match Args::try_parse_from(
+        std::iter::once("eval-pitch".to_string()).chain(args.iter().cloned()),
+    ) {
+        Ok(a) => a,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() { 2 } else { 0 };
+        }
+    };
+    match run(&args) {
         Ok(code) => code,
         Err(e) => {
             eprintln!("eval-pitch: {e}");
-            eprintln!("usage: cargo xtask eval-pitch --data ../shared/data/ptdb [--check] [--no-praat] [--verbose] [--dump DIR] [--set name=value]...");
             2
         }
     }
 }
 
-fn run(args: &[String]) -> Result<i32, String> {
-    let args = parse_args(args)?;
-    if !args.data.is_dir() {
+/// The noise added to clean data sets, and the SNRs (dB over the whole clip's power).
+const ADDED_NOISES: [&str; 2] = ["white", "babble"];
+const ADDED_SNRS_DB: [u32; 3] = [20, 10, 0];
+/// Other speakers mixed into the babble noise.
+const BABBLE_TALKERS: usize = 4;
+
+/// A small seeded generator (SplitMix64) for the added noise: the same figures on every run.
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in (0, 1].
+    fn unit(&mut self) -> f64 {
+        ((self.next_u64() >> 11) + 1) as f64 / (1u64 << 53) as f64
+    }
+    /// Standard normal (Box–Muller).
+    fn normal(&mut self) -> f64 {
+        let (u, v) = (self.unit(), self.unit());
+        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    }
+}
+
+fn power(x: &[f32]) -> f64 {
+    x.iter().map(|&v| v as f64 * v as f64).sum::<f64>() / x.len().max(1) as f64
+}
+
+/// Noise of `len` samples: white (seeded Gaussian) or babble (the other clips of the data set,
+/// [`BABBLE_TALKERS`] of them, each from a seeded start, looped, summed).
+fn make_noise(kind: &str, len: usize, others: &[&[f32]], seed: u64) -> Vec<f32> {
+    let mut rng = SplitMix(seed);
+    if kind == "white" || others.is_empty() {
+        return (0..len).map(|_| rng.normal() as f32).collect();
+    }
+    let mut noise = vec![0.0f32; len];
+    for t in 0..BABBLE_TALKERS {
+        let talker = others[(rng.next_u64() as usize + t) % others.len()];
+        if talker.is_empty() {
+            continue;
+        }
+        let start = rng.next_u64() as usize % talker.len();
+        for (i, n) in noise.iter_mut().enumerate() {
+            *n += talker[(start + i) % talker.len()];
+        }
+    }
+    noise
+}
+
+/// `speech + noise` scaled to `snr_db` over the whole clip.
+fn mix_at_snr(speech: &[f32], noise: &[f32], snr_db: u32) -> Vec<f32> {
+    let gain = (power(speech) / power(noise).max(1e-20) / 10f64.powf(snr_db as f64 / 10.0)).sqrt();
+    speech
+        .iter()
+        .zip(noise)
+        .map(|(&s, &n)| s + (gain * n as f64) as f32)
+        .collect()
+}
+
+/// One clip's audio as read or generated, before any tracker ran.
+struct Source {
+    name: String,
+    speaker: String,
+    condition: Condition,
+    audio: Vec<f32>,
+    rate: u32,
+    reference: Vec<(f64, f32)>,
+    /// The file on disk (Praat reads files); None for generated audio until written.
+    wav: Option<PathBuf>,
+}
+
+/// A data set's clips: every readable file, plus (for clean sets, unless `clean_only`) each
+/// clip with every added noise at every SNR. Unreadable files are listed in `skipped`.
+fn load_data_set(
+    dir: &Path,
+    clean_only: bool,
+    skipped: &mut Vec<String>,
+) -> Result<Vec<Source>, String> {
+    if !dir.is_dir() {
         return Err(format!(
-            "data folder {} not found: pass the folder holding <clip>.wav and <clip>.f0.csv (../shared/data/ptdb in a checkout beside shared/)",
-            args.data.display()
+            "data folder {} not found: pass a folder holding <clip>.wav and <clip>.f0.csv (../shared/data/ptdb or ../shared/data/keele in a checkout beside shared/)",
+            dir.display()
         ));
     }
-    let names = list_clips(&args.data)?;
+    let mut sources = Vec::new();
+    for name in list_clips(dir)? {
+        let wav = dir.join(format!("{name}.wav"));
+        let (audio, rate) = match pneuma_cli::wav::read_mono(&wav) {
+            Ok(v) => v,
+            Err(e) => {
+                skipped.push(format!("{}: {e}", wav.display()));
+                continue;
+            }
+        };
+        let (speaker, condition) = match split_name(&name) {
+            Some((noise, snr)) => {
+                let head = name.trim_end_matches(|c: char| c.is_ascii_digit());
+                let speaker = head
+                    .strip_suffix(noise.as_str())
+                    .unwrap_or(head)
+                    .to_string();
+                (
+                    speaker,
+                    Condition {
+                        noise,
+                        snr_db: Some(snr),
+                    },
+                )
+            }
+            None => (name.clone(), Condition::clean()),
+        };
+        let reference = read_reference(&dir.join(format!("{name}.f0.csv")))?;
+        sources.push(Source {
+            name,
+            speaker,
+            condition,
+            audio,
+            rate,
+            reference,
+            wav: Some(wav),
+        });
+    }
+    if clean_only {
+        return Ok(sources);
+    }
+    let clean: Vec<usize> = (0..sources.len())
+        .filter(|&i| sources[i].condition.snr_db.is_none())
+        .collect();
+    let mut noisy = Vec::new();
+    for (n, &i) in clean.iter().enumerate() {
+        let others: Vec<&[f32]> = clean
+            .iter()
+            .filter(|&&j| j != i && sources[j].rate == sources[i].rate)
+            .map(|&j| sources[j].audio.as_slice())
+            .collect();
+        let s = &sources[i];
+        for (k, kind) in ADDED_NOISES.iter().enumerate() {
+            let noise = make_noise(kind, s.audio.len(), &others, 1 + (n * 16 + k) as u64);
+            for snr in ADDED_SNRS_DB {
+                noisy.push(Source {
+                    name: format!("{}+{kind}{snr}", s.name),
+                    speaker: s.speaker.clone(),
+                    condition: Condition {
+                        noise: kind.to_string(),
+                        snr_db: Some(snr),
+                    },
+                    audio: mix_at_snr(&s.audio, &noise, snr),
+                    rate: s.rate,
+                    reference: s.reference.clone(),
+                    wav: None,
+                });
+            }
+        }
+    }
+    sources.extend(noisy);
+    Ok(sources)
+}
+
+/// The trackers compared, in table order: Pneuma first, Praat last when present.
+fn tracker_names(args: &Args) -> (Vec<&'static str>, bool) {
+    let use_praat = !args.no_praat && praat_available();
+    if !args.no_praat && !use_praat {
+        eprintln!("note: praat not found (Debian package `praat`); comparing without it");
+    }
+    let mut names = vec!["pneuma"];
+    if !args.no_baselines {
+        names.extend(["pd-mcleod", "pd-yin"]);
+    }
+    if use_praat {
+        names.push("praat");
+    }
+    (names, use_praat)
+}
+
+/// Runs every tracker on one clip; adds each tracker's time to `seconds`.
+fn evaluate(
+    source: Source,
+    data_set: usize,
+    config: &AnalysisConfig,
+    args: &Args,
+    use_praat: bool,
+    scratch: &Path,
+    seconds: &mut [f64],
+) -> Result<Clip, String> {
+    let frame_rate_hz = config.frame_rate_hz;
+    let duration_s = source.audio.len() as f64 / source.rate as f64;
+    let t = Instant::now();
+    let (ours, internals) = pneuma_track(&source.audio, source.rate, config)?;
+    seconds[0] += t.elapsed().as_secs_f64();
+    let mut tracks = vec![ours];
+    if !args.no_baselines {
+        for yin in [false, true] {
+            let t = Instant::now();
+            tracks.push(crate_track(&source.audio, source.rate, frame_rate_hz, yin));
+            seconds[tracks.len() - 1] += t.elapsed().as_secs_f64();
+        }
+    }
+    if use_praat {
+        let wav = match &source.wav {
+            Some(w) => w.clone(),
+            None => write_scratch_wav(scratch, &source.audio, source.rate)?,
+        };
+        let t = Instant::now();
+        tracks.push(praat_track(&wav, duration_s, frame_rate_hz, scratch)?);
+        seconds[tracks.len() - 1] += t.elapsed().as_secs_f64();
+    }
+    Ok(Clip {
+        name: source.name,
+        data_set,
+        speaker: source.speaker,
+        condition: source.condition,
+        internals,
+        reference: source.reference,
+        tracks,
+    })
+}
+
+/// Writes generated audio (32-bit float) for Praat into the scratch folder.
+fn write_scratch_wav(scratch: &Path, audio: &[f32], rate: u32) -> Result<PathBuf, String> {
+    let path = scratch.join("generated.wav");
+    let info = pneuma_cli::wav::WavInfo {
+        sample_rate_hz: rate,
+        channels: 1,
+        bits: 32,
+        float: true,
+        frames: audio.len() as u64,
+    };
+    let io = |e: std::io::Error| format!("{}: {e}", path.display());
+    let mut sink = pneuma_cli::wav_out::WavSink::create(&path, info).map_err(io)?;
+    sink.write_interleaved(audio).map_err(io)?;
+    sink.commit().map_err(io)?;
+    Ok(path)
+}
+
+/// Summed counts of `clips` for every tracker.
+fn total<'a>(
+    clips: impl IntoIterator<Item = &'a Clip>,
+    trackers: usize,
+    offset: i32,
+) -> Vec<Counts> {
+    let mut row = vec![Counts::default(); trackers];
+    for clip in clips {
+        for (i, tr) in clip.tracks.iter().enumerate() {
+            row[i].add(&score(&clip.reference, tr, offset));
+        }
+    }
+    row
+}
+
+/// The global offset minimising the summed FFE of all trackers over `clips` (printed).
+fn search_offset(clips: &[&Clip], tracker_names: &[&str]) -> i32 {
+    let mut best = (f64::INFINITY, 0);
+    println!("offset search (summed FFE of all trackers, and each tracker's own):");
+    for &o in &OFFSETS_MS {
+        let row = total(clips.iter().copied(), tracker_names.len(), o);
+        let sum: f64 = row.iter().map(Counts::ffe).sum();
+        println!(
+            "  {o:+3} ms: sum {:.4}  {}",
+            sum,
+            row.iter()
+                .zip(tracker_names)
+                .map(|(c, n)| format!("{n} {:.2}%", c.ffe() * 100.0))
+                .collect::<Vec<_>>()
+                .join("  ")
+        );
+        if sum < best.0 {
+            best = (sum, o);
+        }
+    }
+    best.1
+}
+
+fn print_header(tracker_names: &[&str]) {
+    let header = tracker_names
+        .iter()
+        .map(|n| format!("{n:>31}"))
+        .collect::<String>();
+    println!("{:<20}{header}", "");
+    println!(
+        "{:<20}{}",
+        "",
+        "    FFE%   VDE%   GPE%  cents".repeat(tracker_names.len())
+    );
+}
+
+fn print_row(label: &str, row: &[Counts]) {
+    let cells: String = row
+        .iter()
+        .map(|c| {
+            format!(
+                " {:>7.2}{:>7.2}{:>7.2}{:>7.1}  ",
+                c.ffe() * 100.0,
+                c.vde() * 100.0,
+                c.gpe() * 100.0,
+                c.fine_cents()
+            )
+        })
+        .collect();
+    println!("{label:<20}{cells}");
+}
+
+/// One data set's figures, kept for the checks.
+struct SetResult {
+    dir: PathBuf,
+    offset: i32,
+    by_condition: BTreeMap<Condition, Vec<Counts>>,
+    /// Per speaker at the cleanest SNR (clean, else the highest).
+    by_speaker: BTreeMap<String, Vec<Counts>>,
+    all: Vec<Counts>,
+}
+
+/// Prints one data set's tables: per condition, per SNR, per noise, per speaker, all.
+fn report_data_set(
+    dir: &Path,
+    clips: &[&Clip],
+    tracker_names: &[&str],
+    args: &Args,
+) -> Result<SetResult, String> {
+    println!("\n=== data set {} ({} clips)", dir.display(), clips.len());
+    let searched = search_offset(clips, tracker_names);
+    let offset = args.offset.unwrap_or(searched);
+    let how = if args.offset.is_some() {
+        "given by --offset"
+    } else {
+        "searched"
+    };
+    println!(
+        "global offset used: {offset:+} ms ({how}; tracker time = reference time {offset:+} ms)\n"
+    );
+    let n = tracker_names.len();
+    let mut by_condition: BTreeMap<Condition, Vec<Counts>> = BTreeMap::new();
+    for clip in clips {
+        by_condition.insert(
+            clip.condition.clone(),
+            total(
+                clips
+                    .iter()
+                    .copied()
+                    .filter(|c| c.condition == clip.condition),
+                n,
+                offset,
+            ),
+        );
+    }
+    print_header(tracker_names);
+    for (condition, row) in &by_condition {
+        print_row(&condition.label(), row);
+    }
+    let snrs: std::collections::BTreeSet<Option<u32>> =
+        by_condition.keys().map(|c| c.snr_db).collect();
+    let noises: std::collections::BTreeSet<&str> =
+        by_condition.keys().map(|c| c.noise.as_str()).collect();
+    if snrs.len() > 1 {
+        println!();
+        for snr in snrs.iter().rev().flatten() {
+            let row = total(
+                clips
+                    .iter()
+                    .copied()
+                    .filter(|c| c.condition.snr_db == Some(*snr)),
+                n,
+                offset,
+            );
+            print_row(&format!("all noise {snr} dB"), &row);
+        }
+        for noise in &noises {
+            let row = total(
+                clips
+                    .iter()
+                    .copied()
+                    .filter(|c| c.condition.noise == *noise),
+                n,
+                offset,
+            );
+            print_row(&format!("{noise} all SNR"), &row);
+        }
+    }
+    // Per speaker at the cleanest SNR (clean, else the highest), over its noise types.
+    let cleanest = snrs
+        .iter()
+        .max_by_key(|s| s.unwrap_or(u32::MAX))
+        .copied()
+        .flatten();
+    let label = cleanest.map_or("clean".to_string(), |s| format!("all noise {s} dB"));
+    let mut by_speaker = BTreeMap::new();
+    println!("\nper speaker, {label}:");
+    let mut speakers: Vec<&str> = clips.iter().map(|c| c.speaker.as_str()).collect();
+    speakers.sort_unstable();
+    speakers.dedup();
+    for speaker in speakers {
+        let row = total(
+            clips
+                .iter()
+                .copied()
+                .filter(|c| c.speaker == speaker && c.condition.snr_db == cleanest),
+            n,
+            offset,
+        );
+        print_row(speaker, &row);
+        by_speaker.insert(speaker.to_string(), row);
+    }
+    let all = total(clips.iter().copied(), n, offset);
+    println!();
+    print_row("data set, all", &all);
+    print_voicing_split(tracker_names, &all);
+    if args.verbose {
+        print_breakdown(clips, tracker_names, offset, &by_condition);
+    }
+    if let Some(dump) = &args.dump {
+        dump_tracks(dump, clips, tracker_names, offset)?;
+        println!("\nper-clip tracks written to {}", dump.display());
+    }
+    Ok(SetResult {
+        dir: dir.to_owned(),
+        offset,
+        by_condition,
+        by_speaker,
+        all,
+    })
+}
+
+fn print_voicing_split(tracker_names: &[&str], row: &[Counts]) {
+    println!(
+        "voicing errors split (false voiced / missed voiced, % of all frames): {}",
+        tracker_names
+            .iter()
+            .zip(row)
+            .map(|(n, c)| format!(
+                "{n} {:.2}/{:.2}",
+                c.false_voiced as f64 * 100.0 / c.frames.max(1) as f64,
+                (c.voicing_errors - c.false_voiced) as f64 * 100.0 / c.frames.max(1) as f64
+            ))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+}
+
+fn run(args: &Args) -> Result<i32, String> {
     let config = pneuma_config(&args.set)?;
     let frame_rate_hz = config.frame_rate_hz;
     println!(
-        "every tracker at {frame_rate_hz} frames per second (Pneuma's frame rate{}); each reference time is scored on each tracker's nearest frame\n",
+        "every tracker at {frame_rate_hz} frames per second (Pneuma's frame rate{}); each reference time is scored on each tracker's nearest frame",
         if args.set.iter().any(|(k, _)| k == "frame_rate_hz") { ", set" } else { ", as shipped" }
     );
-    let use_praat = args.praat && praat_available();
-    if args.praat && !use_praat {
-        eprintln!("note: praat not found (Debian package `praat`); comparing without it");
+    if args.check && args.no_baselines {
+        return Err("--check compares with the baselines: drop --no-baselines".into());
     }
-    let mut tracker_names = vec!["pneuma"];
-    if args.baselines {
-        tracker_names.extend(["pd-mcleod", "pd-yin"]);
-    }
-    if use_praat {
-        tracker_names.push("praat");
-    }
+    let (tracker_names, use_praat) = tracker_names(args);
     let scratch = std::env::temp_dir().join(format!("pneuma-eval-pitch-{}", std::process::id()));
     std::fs::create_dir_all(&scratch).map_err(|e| e.to_string())?;
     let mut clips = Vec::new();
     let mut seconds = vec![0.0f64; tracker_names.len()];
     let mut audio_s = 0.0;
     let mut skipped = Vec::new();
-    for name in &names {
-        let (noise, snr_db) = split_name(name)
-            .ok_or_else(|| format!("cannot read noise/SNR from clip name {name}"))?;
-        let wav = args.data.join(format!("{name}.wav"));
-        let (audio, rate) = match pneuma_cli::wav::read_mono(&wav) {
-            Ok(v) => v,
-            Err(e) => {
-                skipped.push(format!("{name}: {e}"));
-                continue;
-            }
-        };
-        let reference = read_reference(&args.data.join(format!("{name}.f0.csv")))?;
-        let duration_s = audio.len() as f64 / rate as f64;
-        audio_s += duration_s;
-        let t = Instant::now();
-        let (ours, internals) = pneuma_track(&audio, rate, &config)?;
-        seconds[0] += t.elapsed().as_secs_f64();
-        let mut tracks = vec![ours];
-        if args.baselines {
-            for yin in [false, true] {
-                let t = Instant::now();
-                tracks.push(crate_track(&audio, rate, frame_rate_hz, yin));
-                seconds[tracks.len() - 1] += t.elapsed().as_secs_f64();
-            }
+    for (set, dir) in args.data.iter().enumerate() {
+        for source in load_data_set(dir, args.clean_only, &mut skipped)? {
+            audio_s += source.audio.len() as f64 / source.rate as f64;
+            clips.push(evaluate(
+                source,
+                set,
+                &config,
+                args,
+                use_praat,
+                &scratch,
+                &mut seconds,
+            )?);
         }
-        if use_praat {
-            let t = Instant::now();
-            tracks.push(praat_track(&wav, duration_s, frame_rate_hz, &scratch)?);
-            seconds[tracks.len() - 1] += t.elapsed().as_secs_f64();
-        }
-        clips.push(Clip {
-            name: name.clone(),
-            internals,
-            noise,
-            snr_db,
-            reference,
-            tracks,
-        });
     }
     let _ = std::fs::remove_dir_all(&scratch);
     if !skipped.is_empty() {
@@ -730,131 +1155,30 @@ fn run(args: &[String]) -> Result<i32, String> {
         for s in &skipped {
             println!("  - {s}");
         }
-        println!();
     }
     if clips.is_empty() {
         return Err("no readable clip: every WAV failed to load (see above)".into());
     }
-
-    // One global offset for the data set.
-    let mut best = (f64::INFINITY, 0);
-    println!("offset search (summed FFE of all trackers, and each tracker's own):");
-    for &o in &OFFSETS_MS {
-        let per: Vec<f64> = (0..tracker_names.len())
-            .map(|i| {
-                let mut c = Counts::default();
-                for clip in &clips {
-                    c.add(&score(&clip.reference, &clip.tracks[i], o));
-                }
-                c.ffe()
-            })
-            .collect();
-        let sum: f64 = per.iter().sum();
-        println!(
-            "  {o:+3} ms: sum {:.4}  {}",
-            sum,
-            per.iter()
-                .zip(&tracker_names)
-                .map(|(f, n)| format!("{n} {:.2}%", f * 100.0))
-                .collect::<Vec<_>>()
-                .join("  ")
-        );
-        if sum < best.0 {
-            best = (sum, o);
-        }
-    }
-    let offset = args.offset_ms.unwrap_or(best.1);
-    let how = if args.offset_ms.is_some() {
-        "given by --offset"
-    } else {
-        "searched"
-    };
-    println!(
-        "global offset used: {offset:+} ms ({how}; tracker time = reference time {offset:+} ms)\n"
-    );
-
-    // Per condition.
-    let mut table: BTreeMap<(String, u32), Vec<Counts>> = BTreeMap::new();
-    for clip in &clips {
-        let row = table
-            .entry((clip.noise.clone(), clip.snr_db))
-            .or_insert_with(|| vec![Counts::default(); tracker_names.len()]);
-        for (i, tr) in clip.tracks.iter().enumerate() {
-            row[i].add(&score(&clip.reference, tr, offset));
-        }
-    }
-    let header = tracker_names
-        .iter()
-        .map(|n| format!("{n:>31}"))
-        .collect::<String>();
-    println!("{:<16}{header}", "condition");
-    println!(
-        "{:<16}{}",
-        "",
-        "    FFE%   VDE%   GPE%  cents"
-            .repeat(tracker_names.len())
-            .chars()
-            .collect::<String>()
-    );
-    let print_row = |label: &str, row: &[Counts]| {
-        let cells: String = row
-            .iter()
-            .map(|c| {
-                format!(
-                    " {:>7.2}{:>7.2}{:>7.2}{:>7.1}  ",
-                    c.ffe() * 100.0,
-                    c.vde() * 100.0,
-                    c.gpe() * 100.0,
-                    c.fine_cents()
-                )
-            })
-            .collect();
-        println!("{label:<16}{cells}");
-    };
-    let mut by_snr: BTreeMap<u32, Vec<Counts>> = BTreeMap::new();
-    let mut by_noise: BTreeMap<String, Vec<Counts>> = BTreeMap::new();
+    let mut results = Vec::new();
     let mut overall = vec![Counts::default(); tracker_names.len()];
-    for ((noise, snr), row) in &table {
-        print_row(&format!("{noise} {snr} dB"), row);
-        for (i, c) in row.iter().enumerate() {
-            by_snr
-                .entry(*snr)
-                .or_insert_with(|| vec![Counts::default(); row.len()])[i]
-                .add(c);
-            by_noise
-                .entry(noise.clone())
-                .or_insert_with(|| vec![Counts::default(); row.len()])[i]
-                .add(c);
-            overall[i].add(c);
+    for (set, dir) in args.data.iter().enumerate() {
+        let of_set: Vec<&Clip> = clips.iter().filter(|c| c.data_set == set).collect();
+        if of_set.is_empty() {
+            continue;
         }
+        let result = report_data_set(dir, &of_set, &tracker_names, args)?;
+        for (o, c) in overall.iter_mut().zip(&result.all) {
+            o.add(c);
+        }
+        results.push(result);
     }
-    println!();
-    for (snr, row) in by_snr.iter().rev() {
-        print_row(&format!("all {snr} dB"), row);
-    }
-    for (noise, row) in &by_noise {
-        print_row(&format!("{noise} all SNR"), row);
-    }
-    print_row("overall", &overall);
-    println!(
-        "\nvoicing errors split (false voiced / missed voiced, % of all frames): {}",
-        tracker_names
-            .iter()
-            .zip(&overall)
-            .map(|(n, c)| format!(
-                "{n} {:.2}/{:.2}",
-                c.false_voiced as f64 * 100.0 / c.frames as f64,
-                (c.voicing_errors - c.false_voiced) as f64 * 100.0 / c.frames as f64
-            ))
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
-    if args.verbose {
-        print_breakdown(&clips, &tracker_names, offset, &by_snr);
-    }
-    if let Some(dir) = &args.dump {
-        dump_tracks(dir, &clips, &tracker_names, offset)?;
-        println!("\nper-clip tracks written to {}", dir.display());
+    if results.len() > 1 {
+        println!(
+            "\n=== overall ({} data sets, each at its own offset)",
+            results.len()
+        );
+        print_header(&tracker_names);
+        print_row("overall", &overall);
     }
     println!(
         "\n{} clips, {:.1} s of audio; tracker time: {}",
@@ -867,72 +1191,25 @@ fn run(args: &[String]) -> Result<i32, String> {
             .collect::<Vec<_>>()
             .join(", ")
     );
-
+    let praat = use_praat.then(|| tracker_names.len() - 1);
+    for result in results.iter().filter(|r| !is_ptdb_style(r)) {
+        print_clean_targets(result, &tracker_names, praat);
+    }
     if !args.check {
         return Ok(0);
     }
     let mut failures = Vec::new();
-    if !args.baselines {
-        failures.push(
-            "--check compares with the pitch-detection baselines: drop --no-baselines".into(),
-        );
-    }
-    // Every condition the targets name must have been evaluated: the baselines are to be
-    // beaten in all 16 noise × SNR conditions, so a condition without a readable clip is a
-    // missed target, not a passed one.
-    for noise in ["cafeteria", "car", "traffic", "white"] {
-        for snr in [0, 10, 20, 40] {
-            if !table.contains_key(&(noise.to_string(), snr)) {
-                failures.push(format!(
-                    "no readable clip for {noise} {snr} dB in {}: that condition cannot be checked",
-                    args.data.display()
-                ));
-            }
-        }
-    }
     if !skipped.is_empty() {
         println!(
             "\ncheck: {} unreadable clip(s) were left out (listed at the top)",
             skipped.len()
         );
     }
-    if let (true, Some(at40)) = (use_praat, by_snr.get(&40)) {
-        let (ours, praat) = (at40[0].ffe(), at40[tracker_names.len() - 1].ffe());
-        // The issue's target: FFE at 40 dB SNR no higher than Praat's on the same frames.
-        if ours > praat {
-            failures.push(format!(
-                "FFE at 40 dB: pneuma {:.2}% exceeds praat {:.2}% (target: no higher than Praat)",
-                ours * 100.0,
-                praat * 100.0
-            ));
-        }
-    } else if !use_praat {
-        failures.push(
-            "praat is not installed: the 40 dB target compares with Praat (apt-get install praat)"
-                .into(),
-        );
+    for result in results.iter().filter(|r| is_ptdb_style(r)) {
+        failures.extend(ptdb_failures(result, &tracker_names, praat));
     }
-    for noise in ["white", "car"] {
-        if let Some(row) = table.get(&(noise.to_string(), 10)) {
-            if row[0].ffe() > 0.08 {
-                failures.push(format!(
-                    "FFE at 10 dB {noise}: {:.2}% > 8%",
-                    row[0].ffe() * 100.0
-                ));
-            }
-        }
-    }
-    for ((noise, snr), row) in &table {
-        for i in [1, 2] {
-            if row[0].ffe() >= row[i].ffe() {
-                failures.push(format!(
-                    "{noise} {snr} dB: pneuma FFE {:.2}% not below {} {:.2}%",
-                    row[0].ffe() * 100.0,
-                    tracker_names[i],
-                    row[i].ffe() * 100.0
-                ));
-            }
-        }
+    if results.iter().all(|r| !is_ptdb_style(r)) {
+        failures.push("--check checks the PTDB targets: pass --data ../shared/data/ptdb".into());
     }
     if failures.is_empty() {
         println!("\ncheck: pitch checks passed");
@@ -944,4 +1221,124 @@ fn run(args: &[String]) -> Result<i32, String> {
         }
         Ok(1)
     }
+}
+
+/// A data set whose clip names carry their noise and SNR (PTDB's excerpts).
+fn is_ptdb_style(result: &SetResult) -> bool {
+    ["cafeteria", "car", "traffic"]
+        .iter()
+        .any(|n| result.by_condition.keys().any(|c| c.noise == *n))
+}
+
+/// The issue's Keele targets, printed (not checked: they are not met yet; see README).
+fn print_clean_targets(result: &SetResult, tracker_names: &[&str], praat: Option<usize>) {
+    let Some(p) = praat else { return };
+    println!(
+        "\ntargets on {} (printed, not checked by --check):",
+        result.dir.display()
+    );
+    let status = |ok: bool| if ok { "met" } else { "MISSED" };
+    for (condition, row) in &result.by_condition {
+        let (ours, theirs) = (&row[0], &row[p]);
+        let vde = if condition.snr_db.is_none() {
+            format!(
+                ", VDE {:.2}% vs {:.2}% {}",
+                ours.vde() * 100.0,
+                theirs.vde() * 100.0,
+                status(ours.vde() <= theirs.vde())
+            )
+        } else {
+            String::new()
+        };
+        println!(
+            "  {:<14} FFE pneuma {:.2}% vs {} {:.2}% {}{vde}",
+            condition.label(),
+            ours.ffe() * 100.0,
+            tracker_names[p],
+            theirs.ffe() * 100.0,
+            status(ours.ffe() <= theirs.ffe())
+        );
+    }
+    for (speaker, row) in &result.by_speaker {
+        let (ours, theirs) = (row[0].ffe() * 100.0, row[p].ffe() * 100.0);
+        println!(
+            "  speaker {speaker:<10} FFE {ours:.2}% vs praat {theirs:.2}% (+1.5 allowed) {}",
+            status(ours <= theirs + 1.5)
+        );
+    }
+    println!("  (offset {:+} ms)", result.offset);
+}
+
+/// The PTDB targets: every noise × SNR condition present, FFE at 40 dB no higher than Praat's,
+/// at most 8 % at 10 dB white and car noise, below both `pitch-detection` detectors everywhere.
+fn ptdb_failures(result: &SetResult, tracker_names: &[&str], praat: Option<usize>) -> Vec<String> {
+    let mut failures = Vec::new();
+    let dir = result.dir.display();
+    let at = |noise: &str, snr: u32| {
+        result.by_condition.get(&Condition {
+            noise: noise.to_string(),
+            snr_db: Some(snr),
+        })
+    };
+    // Every condition the targets name must have been evaluated: a condition without a
+    // readable clip is a missed target, not a passed one.
+    for noise in ["cafeteria", "car", "traffic", "white"] {
+        for snr in [0, 10, 20, 40] {
+            if at(noise, snr).is_none() {
+                failures.push(format!(
+                    "no readable clip for {noise} {snr} dB in {dir}: that condition cannot be checked"
+                ));
+            }
+        }
+    }
+    match praat {
+        Some(p) => {
+            let mut at40 = vec![Counts::default(); tracker_names.len()];
+            for (_, row) in result
+                .by_condition
+                .iter()
+                .filter(|(c, _)| c.snr_db == Some(40))
+            {
+                for (a, c) in at40.iter_mut().zip(row) {
+                    a.add(c);
+                }
+            }
+            let (ours, theirs) = (at40[0].ffe(), at40[p].ffe());
+            if ours > theirs {
+                failures.push(format!(
+                    "{dir}: FFE at 40 dB: pneuma {:.2}% exceeds praat {:.2}% (target: no higher than Praat)",
+                    ours * 100.0,
+                    theirs * 100.0
+                ));
+            }
+        }
+        None => failures.push(
+            "praat is not installed: the 40 dB target compares with Praat (apt-get install praat)"
+                .into(),
+        ),
+    }
+    for noise in ["white", "car"] {
+        if let Some(row) = at(noise, 10) {
+            if row[0].ffe() > 0.08 {
+                failures.push(format!(
+                    "{dir}: FFE at 10 dB {noise}: {:.2}% > 8%",
+                    row[0].ffe() * 100.0
+                ));
+            }
+        }
+    }
+    for (condition, row) in &result.by_condition {
+        for i in [1, 2] {
+            if row[0].ffe() >= row[i].ffe() {
+                failures.push(format!(
+                    "{dir}: {}: pneuma FFE {:.2}% not below {} {:.2}%",
+                    condition.label(),
+                    row[0].ffe() * 100.0,
+                    tracker_names[i],
+                    row[i].ffe() * 100.0
+                ));
+            }
+        }
+    }
+    failures
 }

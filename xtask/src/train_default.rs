@@ -53,7 +53,7 @@ pub fn main(args: &[String]) -> i32 {
         restarts: 3,
         seed: 2015,
         frame_rate: 120.0,
-        motion_smoothing: 0.025,
+        motion_smoothing_ms: 25.0,
     };
     let (json, cv) = match run(&train_args, DATA_DESCRIPTION) {
         Ok(r) => r,

@@ -14,6 +14,7 @@ use super::noise_floor::NoiseFloor;
 use super::pitch::NsdfPitch;
 use super::speaker_norm::SpeakerNorm;
 use super::tracking::Tracker;
+use super::voicing::{VoicingEvidence, VoicingRule};
 use super::{amplitude_to_db, FeatureFrame};
 
 /// Input samples beyond this magnitude are clamped for analysis (+60 dBFS).
@@ -80,7 +81,7 @@ impl Analyzer {
         &self.config
     }
 
-    /// Allocates everything for a stream at `sample_rate_hz` (8–192 kHz) with blocks of up to
+    /// Allocates everything for a stream at `sample_rate_hz` (8–768 kHz) with blocks of up to
     /// `max_block` samples, and resets. Blocks larger than `max_block` are still handled.
     pub fn prepare(&mut self, sample_rate_hz: f64, max_block: usize) -> Result<(), AnalysisError> {
         check_sample_rate(sample_rate_hz)?;
@@ -109,7 +110,7 @@ impl Analyzer {
                 c.f0_max_hz,
                 c.key_max_ratio,
             ),
-            tracker: Tracker::new(c.voicing_on, c.voicing_off, c.silence_db),
+            tracker: Tracker::new(VoicingRule::new(c.voicing_on, c.voicing_off, c.silence_db)),
             speaker: SpeakerNorm::new(c.speaker.clone(), c.frame_rate_hz),
             ring: vec![0.0; cap],
             bin_sum: vec![0.0; cap],
@@ -319,27 +320,23 @@ impl State {
         // unvoiced, the decision also hears the short window at that end (its clarity at the
         // chosen period, when its own choice agrees), so phrase edges are not clipped by the
         // long window's dilution. Still no look-ahead beyond the window.
-        let edge_periodicity =
-            if self
-                .tracker
-                .wants_more_evidence(periodicity, rms_db, gate_db, level_bonus)
-            {
-                let newest = !self.tracker.is_voiced();
-                self.pitch
-                    .edge_clarity(&self.window, chosen, newest)
-                    .unwrap_or(0.0)
-            } else {
-                0.0
-            };
-        let t = self.tracker.update(
-            chosen,
-            self.pitch.candidates(),
+        let mut evidence = VoicingEvidence {
             periodicity,
-            edge_periodicity,
+            edge_periodicity: 0.0,
             rms_db,
             gate_db,
             level_bonus,
-        );
+        };
+        if self.tracker.rule().wants_more_evidence(&evidence) {
+            let newest = !self.tracker.rule().is_voiced();
+            evidence.edge_periodicity = self
+                .pitch
+                .edge_clarity(&self.window, chosen, newest)
+                .unwrap_or(0.0);
+        }
+        let t = self
+            .tracker
+            .update(chosen, self.pitch.candidates(), &evidence);
         // Strongly periodic frames teach the speaker statistics even when the decision (which
         // leans on the level relative to the speaker's level) said unvoiced: otherwise a voice
         // far quieter than the prior level would never be voiced and never teach the level.

@@ -7,13 +7,15 @@ use super::speaker_norm::SpeakerNormConfig;
 /// Lowest supported host sample rate in Hz.
 pub const MIN_SAMPLE_RATE_HZ: f64 = 8_000.0;
 /// Highest supported host sample rate in Hz.
-pub const MAX_SAMPLE_RATE_HZ: f64 = 192_000.0;
+pub const MAX_SAMPLE_RATE_HZ: f64 = 768_000.0;
 
 /// Errors of the analysis area; each message says what to change.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum AnalysisError {
-    /// The host sample rate is outside 8–192 kHz or not finite.
-    #[error("sample rate {0} Hz is not supported: use a rate between 8000 and 192000 Hz")]
+    /// The host sample rate is outside 8–768 kHz or not finite.
+    #[error(
+        "sample rate {0} Hz is not supported: use a rate between 8000 and 768000 Hz (resample the input)"
+    )]
     SampleRate(f64),
     /// The frame rate is outside 10–1000 Hz.
     #[error(
@@ -342,5 +344,7 @@ mod tests {
         assert!(check_sample_rate(7999.0).is_err());
         assert!(check_sample_rate(f64::NAN).is_err());
         assert!(check_sample_rate(192_000.0).is_ok());
+        assert!(check_sample_rate(768_000.0).is_ok());
+        assert!(check_sample_rate(768_001.0).is_err());
     }
 }

@@ -166,6 +166,7 @@ mod tests {
     fn factors_keep_the_internal_rate_between_8_and_16_khz() {
         for sr in [
             8_000.0, 11_025.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 96_000.0, 192_000.0,
+            352_800.0, 384_000.0, 705_600.0, 768_000.0,
         ] {
             let f = factor_for(sr);
             let internal = sr / f as f64;

@@ -1,6 +1,6 @@
 //! The analysis front end: Framer → PitchTracker + Energy → [`FeatureFrame`] → SpeakerNorm.
 //!
-//! [`Analyzer`] takes mono blocks of any size at any sample rate from 8 kHz to 192 kHz and emits
+//! [`Analyzer`] takes mono blocks of any size at any sample rate from 8 kHz to 768 kHz and emits
 //! one [`FeatureFrame`] per tick of a fixed frame clock (default 120 Hz). Internally the signal is
 //! decimated by an integer factor to a rate between 8 and 16 kHz, so the pitch analysis costs the
 //! same per second of audio whatever the host rate; the level is measured on the full-rate signal.
@@ -14,6 +14,7 @@ mod noise_floor;
 mod pitch;
 mod speaker_norm;
 mod tracking;
+mod voicing;
 
 pub use analyzer::Analyzer;
 pub use clock::FrameClock;

@@ -1,8 +1,10 @@
-//! Causal decisions on top of the per-window pitch estimates: the voiced decision with
-//! hysteresis and a silence gate, continuity against octave jumps, and a short outlier filter.
+//! Causal decisions on top of the per-window pitch estimates: the voiced decision (the
+//! [`VoicingRule`] of `voicing.rs`), continuity against octave jumps and a short outlier filter
+//! ([`F0Smoother`]).
 //! Nothing here looks ahead: each frame uses only itself and the two frames before it.
 
 use super::pitch::PitchEstimate;
+use super::voicing::{VoicingEvidence, VoicingRule};
 
 /// A candidate this close (ratio) to the previous f0 counts as continuing the track.
 const CONTINUITY_RATIO: f32 = 1.18;
@@ -12,9 +14,6 @@ const CONTINUITY_CLARITY: f32 = 0.85;
 /// The current f0 is an outlier when it differs from the median of the last three by more than
 /// this fraction.
 const OUTLIER_FRACTION: f32 = 0.15;
-/// Width of the fade of the voicing confidence below the silence gate, dB.
-const SILENCE_FADE_DB: f32 = 10.0;
-
 /// What the tracker says about one frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct TrackedPitch {
@@ -23,112 +22,96 @@ pub(crate) struct TrackedPitch {
     pub voicing: f32,
 }
 
-/// Causal voicing and f0 tracker.
-#[derive(Debug, Clone)]
-pub(crate) struct Tracker {
-    voicing_on: f32,
-    voicing_off: f32,
-    silence_db: f32,
+/// The f0 track's smoothing: continuity against octave jumps (a candidate near the previous
+/// f0 replaces a not much clearer jump) and a median-of-three outlier filter.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct F0Smoother {
     /// Raw f0 of the previous two frames (0 = unvoiced), newest first.
     history: [f32; 2],
-    voiced: bool,
+}
+
+impl F0Smoother {
+    pub(crate) fn reset(&mut self) {
+        self.history = [0.0; 2];
+    }
+
+    /// The estimate that continues the track: `chosen`, or a candidate near the previous f0
+    /// whose clarity is close to the chosen one's.
+    pub(crate) fn continue_track(
+        &self,
+        chosen: PitchEstimate,
+        candidates: &[PitchEstimate],
+    ) -> PitchEstimate {
+        let prev = self.history[0];
+        if prev <= 0.0 || chosen.f0_hz <= 0.0 || within(chosen.f0_hz, prev, CONTINUITY_RATIO) {
+            return chosen;
+        }
+        let mut best: Option<PitchEstimate> = None;
+        for c in candidates {
+            if within(c.f0_hz, prev, CONTINUITY_RATIO)
+                && c.clarity >= CONTINUITY_CLARITY * chosen.clarity
+                && best.is_none_or(|b| c.clarity > b.clarity)
+            {
+                best = Some(*c);
+            }
+        }
+        best.unwrap_or(chosen)
+    }
+
+    /// The reported f0 of a frame whose raw f0 is `raw_hz` (0 = unvoiced): a single outlier
+    /// against the last two voiced frames is replaced by their median.
+    pub(crate) fn smooth(&mut self, raw_hz: f32) -> f32 {
+        let mut f0_hz = raw_hz;
+        if raw_hz > 0.0 && self.history[0] > 0.0 && self.history[1] > 0.0 {
+            let med = median3(raw_hz, self.history[0], self.history[1]);
+            if (raw_hz / med - 1.0).abs() > OUTLIER_FRACTION {
+                f0_hz = med;
+            }
+        }
+        self.history = [raw_hz, self.history[0]];
+        f0_hz
+    }
+}
+
+/// Causal voicing and f0 tracker: the voicing rule and the f0 smoothing.
+#[derive(Debug, Clone)]
+pub(crate) struct Tracker {
+    rule: VoicingRule,
+    smoother: F0Smoother,
 }
 
 impl Tracker {
-    pub(crate) fn new(voicing_on: f32, voicing_off: f32, silence_db: f32) -> Self {
+    pub(crate) fn new(rule: VoicingRule) -> Self {
         Self {
-            voicing_on,
-            voicing_off,
-            silence_db,
-            history: [0.0; 2],
-            voiced: false,
+            rule,
+            smoother: F0Smoother::default(),
         }
     }
 
-    /// Whether the frame is voiced now (the last decision).
-    pub(crate) fn is_voiced(&self) -> bool {
-        self.voiced
-    }
-
-    /// Whether the periodicity alone leaves a frame that passes the level gates on the unvoiced
-    /// side of the current threshold: only then can more evidence (the edge windows) change the
-    /// decision, so only then is it worth computing.
-    pub(crate) fn wants_more_evidence(
-        &self,
-        periodicity: f32,
-        rms_db: f32,
-        gate_db: f32,
-        level_bonus: f32,
-    ) -> bool {
-        let threshold = if self.voiced {
-            self.voicing_off
-        } else {
-            self.voicing_on
-        };
-        rms_db >= gate_db.max(self.silence_db) && periodicity + level_bonus < threshold
+    /// The voicing rule (to ask whether more evidence is wanted, and the last decision).
+    pub(crate) fn rule(&self) -> &VoicingRule {
+        &self.rule
     }
 
     pub(crate) fn reset(&mut self) {
-        self.history = [0.0; 2];
-        self.voiced = false;
+        self.rule.reset();
+        self.smoother.reset();
     }
 
-    /// One frame: the chosen period and all key maxima, the window's periodicity (reported as
-    /// the voicing field) and the edge window's (0 when not computed; it only helps the
-    /// decision), the frame level, the level gate and the loudness bonus.
-    #[allow(clippy::too_many_arguments)]
+    /// One frame: the chosen period and all key maxima, and the frame's voicing evidence.
     pub(crate) fn update(
         &mut self,
         chosen: PitchEstimate,
         candidates: &[PitchEstimate],
-        periodicity: f32,
-        edge_periodicity: f32,
-        rms_db: f32,
-        gate_db: f32,
-        level_bonus: f32,
+        evidence: &VoicingEvidence,
     ) -> TrackedPitch {
-        let mut est = chosen;
-        let prev = self.history[0];
-        if prev > 0.0 && est.f0_hz > 0.0 && !within(est.f0_hz, prev, CONTINUITY_RATIO) {
-            let mut best: Option<PitchEstimate> = None;
-            for c in candidates {
-                if within(c.f0_hz, prev, CONTINUITY_RATIO)
-                    && c.clarity >= CONTINUITY_CLARITY * est.clarity
-                    && best.is_none_or(|b| c.clarity > b.clarity)
-                {
-                    best = Some(*c);
-                }
-            }
-            if let Some(b) = best {
-                est = b;
-            }
-        }
-        let gate_db = gate_db.max(self.silence_db);
-        let gate = ((rms_db - (gate_db - SILENCE_FADE_DB)) / SILENCE_FADE_DB).clamp(0.0, 1.0);
-        let voicing = (periodicity * gate).clamp(0.0, 1.0);
-        let threshold = if self.voiced {
-            self.voicing_off
-        } else {
-            self.voicing_on
-        };
-        // The voicing field is the window's own periodicity; the decision also hears the
-        // short window at the phrase edge (see the analyzer).
-        let evidence = periodicity.max(edge_periodicity);
-        let voiced = est.f0_hz > 0.0 && evidence + level_bonus >= threshold && rms_db >= gate_db;
-        let raw = if voiced { est.f0_hz } else { 0.0 };
-        let mut f0_hz = raw;
-        if voiced && self.history[0] > 0.0 && self.history[1] > 0.0 {
-            let med = median3(raw, self.history[0], self.history[1]);
-            if (raw / med - 1.0).abs() > OUTLIER_FRACTION {
-                f0_hz = med;
-            }
-        }
-        self.history = [raw, self.history[0]];
-        self.voiced = voiced;
+        let est = self.smoother.continue_track(chosen, candidates);
+        let voiced = self.rule.decide(est.f0_hz > 0.0, evidence);
+        let f0_hz = self.smoother.smooth(if voiced { est.f0_hz } else { 0.0 });
         TrackedPitch {
             f0_hz,
             voiced,
-            voicing,
+            voicing: self.rule.confidence(evidence),
         }
     }
 }
@@ -162,15 +145,14 @@ mod tests {
             .iter()
             .map(|c| c.clarity)
             .fold(chosen.clarity, f32::max);
-        t.update(
-            chosen,
-            candidates,
+        let evidence = VoicingEvidence {
             periodicity,
-            0.0,
+            edge_periodicity: 0.0,
             rms_db,
             gate_db,
             level_bonus,
-        )
+        };
+        t.update(chosen, candidates, &evidence)
     }
 
     #[test]
@@ -182,7 +164,7 @@ mod tests {
 
     #[test]
     fn hysteresis_and_silence_gate() {
-        let mut t = Tracker::new(0.7, 0.5, -60.0);
+        let mut t = Tracker::new(VoicingRule::new(0.7, 0.5, -60.0));
         assert!(!upd(&mut t, est(200.0, 0.6), &[], -20.0, -120.0, 0.0).voiced);
         assert!(upd(&mut t, est(200.0, 0.8), &[], -20.0, -120.0, 0.0).voiced);
         assert!(upd(&mut t, est(200.0, 0.6), &[], -20.0, -120.0, 0.0).voiced);
@@ -194,7 +176,7 @@ mod tests {
 
     #[test]
     fn continuity_prefers_the_candidate_near_the_track() {
-        let mut t = Tracker::new(0.7, 0.5, -60.0);
+        let mut t = Tracker::new(VoicingRule::new(0.7, 0.5, -60.0));
         upd(
             &mut t,
             est(150.0, 0.9),
@@ -222,7 +204,7 @@ mod tests {
 
     #[test]
     fn single_outliers_are_replaced_by_the_median() {
-        let mut t = Tracker::new(0.7, 0.5, -60.0);
+        let mut t = Tracker::new(VoicingRule::new(0.7, 0.5, -60.0));
         upd(&mut t, est(150.0, 0.9), &[], -20.0, -120.0, 0.0);
         upd(&mut t, est(152.0, 0.9), &[], -20.0, -120.0, 0.0);
         assert_eq!(

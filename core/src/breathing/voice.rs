@@ -11,7 +11,7 @@
 //!
 //! Both pass a 4th-order high-pass at 180 Hz and a 4th-order low-pass at min(8 kHz, 0.45 ×
 //! rate), so most energy lies between 200 Hz and 8 kHz, there is no DC, and the sound is the same
-//! at every rate from 8 to 192 kHz (resonances above 0.45 × rate are left out). Every breath
+//! at every rate from 8 to 768 kHz (resonances above 0.45 × rate are left out). Every breath
 //! shifts all resonances by a random factor within ±5 % (seeded), so consecutive breaths differ.
 //! Each chain is normalised to unit noise power at `prepare` (from its impulse response), so
 //! `gain` is the plateau RMS within about ±0.5 dB. A mix of mouth and nose uses independent noise
@@ -266,11 +266,11 @@ impl BreathVoice {
         }
     }
 
-    /// Designs the filters for `sample_rate_hz` (8–192 kHz) and fits user samples to it. Any block
+    /// Designs the filters for `sample_rate_hz` (8–768 kHz) and fits user samples to it. Any block
     /// size works with [`BreathVoice::render_add`]; `max_block` is accepted for the common
     /// life-cycle and not needed.
     pub fn prepare(&mut self, sample_rate_hz: f64, _max_block: usize) {
-        let fs = sample_rate_hz.clamp(8_000.0, 192_000.0);
+        let fs = sample_rate_hz.clamp(8_000.0, 768_000.0);
         self.sample_rate_hz = fs;
         self.mouth.design(&MOUTH_BANK, 1.0, fs);
         self.mouth.normalise(fs);

@@ -2,19 +2,33 @@
 //! (Blender, MotionBuilder, Maya) import.
 //!
 //! Skeleton, in centimetres, Y up, the character facing +Z (so +X is the character's left;
-//! right-handed): `Hips` (root, at 100 cm height, static: 6 channels, all zero motion) →
-//! `Chest` (static) → `Neck` (breathing neck pitch when encoded from control frames) → `Head`
-//! (the head pose) → end site at the top of the head.
+//! right-handed): `Hips` (root, at 100 cm height) → `Chest` → `Neck` → `Head` → end site at the
+//! top of the head. From control frames ([`push_control`]):
+//! - `Chest`: the breathing reaches the chest as a small extension of the upper trunk with the
+//!   thorax expansion, [`CHEST_PITCH_DEG_PER_THORAX`] degrees at full expansion (as the VMC
+//!   rig's default `chest_pitch_deg` in `osc.rs`; a chosen
+//!   visible amount, not a measured one; scale it in the rig if needed);
+//! - `Neck`: the breathing neck pitch;
+//! - `Head`: the head pose;
+//! - `Hips` stay still: breathing hardly moves the pelvis, and a root motion would move the
+//!   whole character.
 //!
-//! Every joint's rotation channels are `Zrotation Yrotation Xrotation`, in degrees, meaning the
-//! joint rotation `R = Rz(z)·Ry(y)·Rx(x)` (the BVH convention: channels compose left to right).
-//! From the DESIGN.md angles: `z = −roll_deg`, `y = yaw_deg`, `x = −pitch_deg`; this is the
-//! same rotation as [`crate::head::angles_to_quat`]. Pitch > 0 lifts the chin, yaw > 0 turns
-//! to the character's left, roll > 0 tilts the head to its left.
+//! Sign conventions: every joint's rotation channels are `Zrotation Yrotation Xrotation`, in
+//! degrees, meaning the joint rotation `R = Rz(z)·Ry(y)·Rx(x)` (the BVH convention: channels
+//! compose left to right). The angles of the controls CSV and OSC (pitch > 0 lifts the chin,
+//! yaw > 0 turns to the character's left, roll > 0 tilts the head to its left) become
+//! `z = −roll_deg`, `y = yaw_deg`, `x = −pitch_deg`: pitch and roll change sign in the file,
+//! because in this skeleton a positive X rotation tips +Y (up) towards +Z (forward, chin down)
+//! and a positive Z rotation tips +Y towards −X (the character's right). This is the same
+//! rotation as [`crate::head::angles_to_quat`]; importers show the CSV's signs again.
 
 use std::fmt::Write;
 
 use crate::control::{ControlFrame, HeadAngles};
+
+/// Chest extension at full thorax expansion (thorax = 1), degrees (positive = chest up and
+/// back, written as a negative X rotation like the head's pitch).
+pub const CHEST_PITCH_DEG_PER_THORAX: f32 = 3.0;
 
 /// Names of the joints, root first.
 pub const JOINTS: [&str; 4] = ["Hips", "Chest", "Neck", "Head"];
@@ -57,9 +71,21 @@ fn f(v: f32) -> f32 {
 /// Appends one MOTION line: static Hips and Chest, `neck_pitch_deg` on the Neck, `head` on the
 /// Head. Non-finite angles are written as 0.
 pub fn push_frame(out: &mut String, head: &HeadAngles, neck_pitch_deg: f32) {
+    push_pose(out, 0.0, neck_pitch_deg, head);
+}
+
+/// Appends one MOTION line of a control frame: the breathing on the Chest (from the thorax)
+/// and the Neck, the head pose on the Head.
+pub fn push_control(out: &mut String, frame: &ControlFrame) {
+    let chest = CHEST_PITCH_DEG_PER_THORAX * f(frame.breathing.thorax).clamp(0.0, 1.0);
+    push_pose(out, chest, frame.breathing.neck_pitch_deg, &frame.head);
+}
+
+fn push_pose(out: &mut String, chest_pitch_deg: f32, neck_pitch_deg: f32, head: &HeadAngles) {
     let _ = writeln!(
         out,
-        "0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 {:.4} {:.4} {:.4} {:.4}",
+        "0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 {:.4} 0.0000 0.0000 {:.4} {:.4} {:.4} {:.4}",
+        -f(chest_pitch_deg),
         -f(neck_pitch_deg),
         -f(head.roll_deg),
         f(head.yaw_deg),
@@ -77,13 +103,12 @@ pub fn encode_head(frames: &[HeadAngles], frame_rate_hz: f64) -> String {
     s
 }
 
-/// A whole BVH file of control frames: the head pose on `Head` and the breathing neck pitch
-/// on `Neck`.
+/// A whole BVH file of control frames ([`push_control`]).
 pub fn encode_controls(frames: &[ControlFrame], frame_rate_hz: f64) -> String {
     let mut s = header(frames.len(), frame_rate_hz);
     s.reserve(frames.len() * 96);
     for c in frames {
-        push_frame(&mut s, &c.head, c.breathing.neck_pitch_deg);
+        push_control(&mut s, c);
     }
     s
 }
@@ -189,10 +214,17 @@ mod tests {
         let mut c = ControlFrame::default();
         c.breathing.neck_pitch_deg = 2.0;
         c.head.yaw_deg = 4.0;
-        let text = encode_controls(&[c], 60.0);
+        let mut full = c;
+        full.breathing.thorax = 1.0;
+        let text = encode_controls(&[c, full], 60.0);
         let (_, _, rows) = parse(&text);
-        // Hips 6 + Chest 3, then Neck Z Y X.
+        // Hips 6, Chest Z Y X, Neck Z Y X, Head Z Y X.
         assert_eq!(rows[0][11], -2.0);
         assert_eq!(rows[0][13], 4.0);
+        // The chest follows the thorax: still at rest, extended (chin-up sign) when full.
+        assert_eq!(rows[0][8], 0.0);
+        assert!(rows[1][8] < -1.0, "chest X rotation {}", rows[1][8]);
+        // The hips never move.
+        assert!(rows.iter().all(|r| r[..6].iter().all(|v| *v == 0.0)));
     }
 }

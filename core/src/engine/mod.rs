@@ -207,7 +207,7 @@ impl Engine {
         }
     }
 
-    /// Allocates everything for a stream at `sample_rate_hz` (8–192 kHz) with blocks of at most
+    /// Allocates everything for a stream at `sample_rate_hz` (8–768 kHz) with blocks of at most
     /// `max_block` samples and `channels` channels (1–8), and resets.
     pub fn prepare(
         &mut self,

@@ -1,64 +1,180 @@
-//! Test-only: the audio-thread path ([`crate::run_block`]: engine, CC encoder, OSC feed) never
-//! allocates after `prepare`. It runs under nice-plug's allocation guard (`assert_no_alloc`, the
-//! global allocator `assert_process_allocs` installs in debug builds), which aborts the test
-//! binary on any allocation inside the guarded closure.
+//! Test-only: the real [`Plugin::process`] never allocates after [`Plugin::activate`]. A test
+//! host context (transport, CC events into a preallocated list) drives the plugin; `process` runs
+//! under nice-plug's allocation guard (`assert_no_alloc`, the global allocator
+//! `assert_process_allocs` installs in debug builds), which aborts the test binary on any
+//! allocation inside the guarded closure. Parameter changes between blocks go through the same
+//! change flags a host's automation raises.
 
-use std::sync::Arc;
+// nice-plug's `Buffer::set_slices` and `ParamPtr` setters are `unsafe`: the slices and parameters
+// outlive every call here.
+#![allow(unsafe_code)]
 
-use pneuma_core::encode::midi_cc::{CcEncoder, CcMap};
-use pneuma_core::encode::osc::OscFormat;
+use std::num::NonZeroU32;
 
-use pneuma_core::engine::Engine;
-use pneuma_core::head::HeadModel;
+use nice_plug::context::process::SendEventError;
+use nice_plug::prelude::*;
 
-use crate::osc_sender::{self, OscSettings};
-use crate::params::PneumaParams;
-use crate::{run_block, Outputs};
+use crate::Pneuma;
 
-struct Target;
+/// What the host context saw: CC events (preallocated) and restart requests.
+struct Host {
+    transport: Transport,
+    cc_events: Vec<(u32, u8)>,
+    restart_requests: std::cell::Cell<u32>,
+}
 
-impl OscSettings for Target {
-    fn target(&self) -> (String, u16) {
-        ("127.0.0.1".into(), 9)
+impl ProcessContext<Pneuma> for Host {
+    fn plugin_api(&self) -> PluginApi {
+        PluginApi::Clap
     }
-    fn format(&self) -> OscFormat {
-        OscFormat::Vmc
+    fn execute_background(&self, _task: ()) {}
+    fn execute_gui(&self, _task: ()) {}
+    fn transport(&self) -> &Transport {
+        &self.transport
     }
+    fn next_event(&mut self) -> Option<PluginNoteEvent<Pneuma>> {
+        None
+    }
+    fn try_send_event(
+        &mut self,
+        event: PluginNoteEvent<Pneuma>,
+    ) -> Result<(), (PluginNoteEvent<Pneuma>, SendEventError)> {
+        if self.cc_events.len() == self.cc_events.capacity() {
+            return Err((event, SendEventError::HostBufferFull));
+        }
+        if let NoteEvent::MidiCC { timing, cc, .. } = event {
+            self.cc_events.push((timing, cc));
+        }
+        Ok(())
+    }
+    fn set_latency_samples(&self, _samples: u32) {}
+    fn request_restart(&self) {
+        self.restart_requests.set(self.restart_requests.get() + 1);
+    }
+    fn set_current_voice_capacity(&self, _capacity: u32) {}
+}
+
+struct Activation {
+    latency: std::cell::Cell<u32>,
+}
+
+impl ActivateContext<Pneuma> for Activation {
+    fn plugin_api(&self) -> PluginApi {
+        PluginApi::Clap
+    }
+    fn execute(&self, _task: ()) {}
+    fn set_latency_samples(&self, samples: u32) {
+        self.latency.set(samples);
+    }
+    fn set_current_voice_capacity(&self, _capacity: u32) {}
+}
+
+fn set(plugin: &Pneuma, id: &str, normalized: f32) {
+    let ptr = plugin
+        .params
+        .param_map()
+        .into_iter()
+        .find(|(pid, _, _)| pid == id)
+        .map(|(_, ptr, _)| ptr)
+        .expect("a parameter id");
+    // SAFETY: the parameters live in `plugin`, which outlives the call.
+    unsafe { ptr._internal_set_normalized_value(normalized) };
 }
 
 #[test]
-fn the_audio_path_never_allocates_after_prepare() {
-    let params = PneumaParams::default();
-    let mut engine =
-        Engine::new(params.engine_config(), HeadModel::default_model().clone()).unwrap();
-    engine.prepare(48_000.0, 512, 2).unwrap();
-    let mut cc = CcEncoder::new(CcMap::default()).unwrap();
-    let (mut feed, _worker, _stats) = osc_sender::start(Arc::new(Target)).unwrap();
-    // A voiced-ish signal with pauses, NaN and a changing block size.
+fn the_real_process_never_allocates_after_activate() {
+    let mut plugin = Pneuma::default();
+    set(&plugin, "osc_enabled", 1.0);
+    let layout = AudioIOLayout {
+        main_input_channels: NonZeroU32::new(2),
+        main_output_channels: NonZeroU32::new(2),
+        ..AudioIOLayout::const_default()
+    };
+    let config = BufferConfig {
+        sample_rate: 48_000.0,
+        min_buffer_size: None,
+        max_buffer_size: 512,
+        process_mode: ProcessMode::Realtime,
+    };
+    let activation = Activation { latency: 0.into() };
+    assert!(plugin.activate(&layout, &config, &mut activation_ctx(&activation)));
+    assert_eq!(
+        activation.latency.get(),
+        24_000,
+        "lookahead latency reported"
+    );
+
+    let mut host = Host {
+        transport: Transport::new(48_000.0),
+        cc_events: Vec::with_capacity(1 << 16),
+        restart_requests: 0.into(),
+    };
+    host.transport.playing = true;
     let mut left = vec![0.0f32; 512];
     let mut right = vec![0.0f32; 512];
-    let mut sent = 0usize;
     let mut phase = 0.0f32;
-    nice_assert_no_alloc::assert_no_alloc(|| {
-        for block in 0..600 {
-            let n = 1 + (block * 37) % 512;
-            for i in 0..n {
-                phase += 2.0 * std::f32::consts::PI * 150.0 / 48_000.0;
-                let on = (block / 60) % 2 == 0;
-                left[i] = if on { 0.3 * phase.sin() } else { 0.0 };
-                right[i] = if i == 3 { f32::NAN } else { left[i] };
-            }
-            // What `process()` does per block before the engine runs.
-            let config = params.engine_config();
-            engine.set_config(&config).unwrap();
-            std::hint::black_box(params.cc_map());
-            let mut audio: [&mut [f32]; 2] = [&mut left[..n], &mut right[..n]];
-            let outputs = Outputs {
-                cc: Some(&mut cc),
-                osc: Some(&mut feed),
-            };
-            run_block(&mut engine, &mut audio, outputs, &mut |_, _| sent += 1);
+    let mut pos = 0i64;
+    for block in 0..400 {
+        // Automation between blocks: live settings, the CC map, bypass on and off, a mode change.
+        match block {
+            50 => set(&plugin, "breath_level_db", 0.8),
+            100 => set(&plugin, "cc_head_yaw", 0.0),
+            150 => set(&plugin, "bypass", 1.0),
+            200 => set(&plugin, "bypass", 0.0),
+            250 => set(&plugin, "mode", 1.0),
+            _ => {}
         }
-    });
-    assert!(sent > 20, "the path did work: {sent} CC messages");
+        let n = 1 + (block * 37) % 512;
+        for i in 0..n {
+            phase += 2.0 * std::f32::consts::PI * 150.0 / 48_000.0;
+            let on = (block / 60) % 2 == 0;
+            left[i] = if on { 0.3 * phase.sin() } else { 0.0 };
+            right[i] = if i == 3 { f32::NAN } else { left[i] };
+        }
+        host.transport.pos_samples = Some(pos);
+        pos += n as i64;
+        // Built (and its slice list allocated) outside the guard, as a host wrapper does.
+        let mut buffer = Buffer::default();
+        // SAFETY: the slices live until the end of this iteration, past `process`.
+        unsafe {
+            buffer.set_slices(n, |slices| {
+                slices.clear();
+                slices.push(&mut left[..n]);
+                slices.push(&mut right[..n]);
+            });
+        }
+        let mut aux = AuxiliaryBuffers {
+            inputs: &mut [],
+            outputs: &mut [],
+        };
+        nice_assert_no_alloc::assert_no_alloc(|| {
+            plugin.process(&mut buffer, &mut aux, &mut host);
+        });
+        drop(buffer);
+        assert!(left[..n].iter().chain(&right[..n]).all(|s| s.is_finite()));
+    }
+    assert!(
+        host.cc_events.len() > 20,
+        "the path did work: {} CC messages",
+        host.cc_events.len()
+    );
+    assert_eq!(host.restart_requests.get(), 1, "the mode change asks once");
+}
+
+/// The activation context by value (the trait takes `&mut impl ActivateContext`).
+fn activation_ctx(a: &Activation) -> ActivationRef<'_> {
+    ActivationRef(a)
+}
+
+struct ActivationRef<'a>(&'a Activation);
+
+impl ActivateContext<Pneuma> for ActivationRef<'_> {
+    fn plugin_api(&self) -> PluginApi {
+        PluginApi::Clap
+    }
+    fn execute(&self, _task: ()) {}
+    fn set_latency_samples(&self, samples: u32) {
+        self.0.set_latency_samples(samples);
+    }
+    fn set_current_voice_capacity(&self, _capacity: u32) {}
 }

@@ -7,18 +7,25 @@
 //!   loaded at activation (WAV, mixed to mono); a file that cannot be used is logged and the
 //!   procedural breath stays. A path changed while active (a project or preset loaded) asks the
 //!   host for a restart, which loads the new file.
+//! - Activation never fails, at any sample rate a host uses (1 Hz … 768 kHz, odd rates): where
+//!   the engine cannot run at that rate, the audio passes untouched (latency 0) and the controls
+//!   go to rest once ([`send_rest_pose`]: one CC message per controller, one OSC frame).
+//! - Bypass (the host's switch, parameter `bypass`): the audio still passes through the delay
+//!   line (the latency stays, so the track stays aligned), no breaths, controls at rest.
 //! - Latency: the engine's (`mode` = lookahead: the lookahead delay; live: none), reported at
 //!   activation. Changing `mode`, `lookahead_s` or `frame_rate_hz` asks the host for a restart.
+//! - Parameter changes reach the audio thread through [`ChangeFlags`] raised by the parameters'
+//!   callbacks: the engine settings and the CC map are rebuilt only after a change.
 //! - Reset (engine, MIDI CC memory, OSC time anchor) on re-activation, on the host's reset and on
 //!   a transport jump (a position that is not where the previous block ended, while playing).
 //! - MIDI output: CC per the DESIGN.md map ([`pneuma_core::encode::midi_cc`]), sent only on change,
 //!   at most once per frame, at the sample offset inside the block where the frame became
 //!   available. No MIDI input (on VST3 it adds ~2 000 hidden parameters).
 //! - OSC output: [`osc_sender`]: a preallocated `rtrb` queue to a worker thread that sends UDP
-//!   bundles (pneuma or VMC); the target can change while playing; network trouble never reaches
-//!   the audio thread.
+//!   bundles (pneuma or VMC) to a numeric address (no DNS); the target can change while playing;
+//!   network trouble never reaches the audio thread or holds up unloading.
 //! - Parameters and persisted settings: [`params`]. CLAP remote-control pages: "Breathing",
-//!   "Breaths & head", "Output".
+//!   "Breaths & timing", "Head", "Output", "CC map 1", "CC map 2" (every parameter but bypass).
 //!
 //! Real-time: `process()` never allocates, locks, blocks, logs or does I/O. The crate enables
 //! nice-plug's `assert_process_allocs` (debug builds abort on an allocation in `process()`) and
@@ -40,10 +47,11 @@ use pneuma_core::encode::midi_cc::{CcEncoder, CcMessage};
 use pneuma_core::encode::osc::OscFormat;
 
 use osc_sender::{OscFeed, OscSettings, OscStats, OscWorker};
-pub use params::{PneumaParams, PARAM_IDS};
+pub use params::{ChangeFlags, PneumaParams, PARAM_IDS};
 use pneuma_core::breathing::{BreathSample, SampleSlot};
-use pneuma_core::engine::{Engine, EngineConfig};
+use pneuma_core::engine::{Engine, EngineError};
 use pneuma_core::head::HeadModel;
+use pneuma_core::ControlFrame;
 
 /// Stable identifier of the breath level parameter, saved in host projects and presets.
 pub const BREATH_LEVEL_PARAM_ID: &str = "breath_level_db";
@@ -75,9 +83,13 @@ impl Structural {
 
 /// Detects transport jumps: a playing block that does not start where the last one ended (give
 /// or take `tolerance` samples: hosts that derive positions from beats or seconds round them).
+/// A block at the same position as the one before is no jump: hosts that compensate latency
+/// pre-roll with the position held (Ardour at time 0 feeds the region's first samples while it
+/// reports 0), and a reset there would drop the audio already in the delay line.
 #[derive(Debug, Default)]
 struct JumpDetector {
     expected_pos: Option<i64>,
+    last_pos: Option<i64>,
     tolerance: i64,
 }
 
@@ -86,6 +98,7 @@ impl JumpDetector {
     fn new(tolerance: i64) -> Self {
         Self {
             expected_pos: None,
+            last_pos: None,
             tolerance,
         }
     }
@@ -96,10 +109,13 @@ impl JumpDetector {
             // Stopped or unknown: keep the last end, so a restart elsewhere is a jump.
             return false;
         };
-        let jumped = self
-            .expected_pos
-            .is_some_and(|e| (e - pos).abs() > self.tolerance);
+        let held = self.last_pos == Some(pos);
+        let jumped = !held
+            && self
+                .expected_pos
+                .is_some_and(|e| (e - pos).abs() > self.tolerance);
         self.expected_pos = Some(pos + block as i64);
+        self.last_pos = Some(pos);
         jumped
     }
 }
@@ -117,12 +133,54 @@ impl OscSettings for PneumaParams {
     }
 }
 
+/// Mono sources on stereo outputs: the right channel takes a copy of the left one before the
+/// engine, so a mono voice comes out on both sides and the stereo image stays centred.
+/// - Mono in, stereo out (a layout): always.
+/// - Stereo in: while the right input has been exact digital silence since activation (a mono
+///   track feeding a stereo plugin, whose second input the host leaves silent). The first
+///   sample that is not 0 on the right makes the input stereo until the next activation.
+#[derive(Debug, Default, Clone, Copy)]
+struct MonoSource {
+    /// The layout has one input and two outputs.
+    mono_input: bool,
+    /// The right input carried something since activation.
+    right_heard: bool,
+}
+
+impl MonoSource {
+    fn new(layout: &AudioIOLayout) -> Self {
+        let count = |c: Option<NonZeroU32>| c.map_or(0, NonZeroU32::get);
+        Self {
+            mono_input: count(layout.main_input_channels) == 1
+                && count(layout.main_output_channels) == 2,
+            right_heard: false,
+        }
+    }
+
+    /// Copies the left channel into the right one where the source is mono. Never allocates.
+    fn apply(&mut self, audio: &mut [&mut [f32]]) {
+        let [left, right] = audio else {
+            return;
+        };
+        if !self.mono_input && !self.right_heard {
+            self.right_heard = right.iter().any(|&s| s != 0.0);
+        }
+        if self.mono_input || !self.right_heard {
+            right.copy_from_slice(left);
+        }
+    }
+}
+
 /// The Pneuma plugin instance.
 pub struct Pneuma {
     params: Arc<PneumaParams>,
+    /// `None` before activation and where the engine cannot run at the host's sample rate: the
+    /// audio then passes untouched and the controls rest.
     engine: Option<Engine>,
-    /// The configuration last given to the engine.
-    engine_config: EngineConfig,
+    /// The rest pose went out since the controls stopped following the voice (bypass, or no
+    /// engine); the next frames from the engine clear it.
+    at_rest: bool,
+    mono: MonoSource,
     cc: CcEncoder,
     midi_was_enabled: bool,
     osc_feed: Option<OscFeed>,
@@ -140,7 +198,8 @@ impl Default for Pneuma {
         Self {
             params,
             engine: None,
-            engine_config: EngineConfig::default(),
+            at_rest: false,
+            mono: MonoSource::default(),
             cc,
             midi_was_enabled: true,
             osc_feed: None,
@@ -157,6 +216,36 @@ impl Pneuma {
     /// OSC counters (sent, failed, dropped), once activated.
     pub fn osc_stats(&self) -> Option<&Arc<OscStats>> {
         self.osc_stats.as_ref()
+    }
+
+    /// A new engine for the current parameters and breath samples, prepared for the host's
+    /// stream. Fails where the engine cannot run (a sample rate the analysis does not take).
+    fn prepared_engine(
+        &self,
+        buffer_config: &BufferConfig,
+        channels: usize,
+    ) -> Result<Engine, EngineError> {
+        let mut engine = Engine::new(
+            self.params.engine_config(),
+            HeadModel::default_model().clone(),
+        )?;
+        for (slot, path) in [
+            (SampleSlot::Mouth, &self.params.breath_sample_mouth),
+            (SampleSlot::Nose, &self.params.breath_sample_nose),
+        ] {
+            match load_breath_sample(&path.get()) {
+                Ok(sample) => engine.set_breath_sample(slot, sample),
+                Err(e) => nice_error!("Pneuma: breath sample not used: {e}"),
+            }
+        }
+        engine.prepare(
+            f64::from(buffer_config.sample_rate),
+            // The engine splits longer blocks itself; a host reporting 0 or a huge maximum
+            // must not stop the plugin from activating.
+            (buffer_config.max_buffer_size as usize).clamp(1, MAX_ENGINE_BLOCK),
+            channels,
+        )?;
+        Ok(engine)
     }
 
     fn reset_streams(&mut self) {
@@ -199,6 +288,18 @@ pub fn run_block(
     // reject subnormal output, so they become 0 (no other sample changes).
     for channel in audio.iter_mut() {
         sanitize_in_place(channel);
+    }
+}
+
+/// Sends the rest pose ([`ControlFrame::default`]: head straight, lungs empty, breath at rest)
+/// to the outputs: every controller the CC encoder has not sent at that value, and one OSC frame.
+pub fn send_rest_pose(outputs: &mut Outputs<'_>, send_cc: &mut dyn FnMut(u32, CcMessage)) {
+    let rest = ControlFrame::default();
+    if let Some(cc) = outputs.cc.as_deref_mut() {
+        cc.encode(&rest, |m| send_cc(0, m));
+    }
+    if let Some(feed) = outputs.osc.as_deref_mut() {
+        feed.push(&rest);
     }
 }
 
@@ -251,7 +352,9 @@ impl Plugin for Pneuma {
     const EMAIL: &'static str = "";
     const VERSION: &'static str = env!("CARGO_PKG_VERSION");
 
-    // Stereo first: the first layout is the default one.
+    // Stereo first: the first layout is the default one. The order is kept (hosts and the
+    // test host select layouts by index): stereo, mono, then mono in / stereo out, which puts a
+    // mono voice on both sides (see `MonoSource`).
     const AUDIO_IO_LAYOUTS: &'static [AudioIOLayout] = &[
         AudioIOLayout {
             main_input_channels: NonZeroU32::new(2),
@@ -261,6 +364,11 @@ impl Plugin for Pneuma {
         AudioIOLayout {
             main_input_channels: NonZeroU32::new(1),
             main_output_channels: NonZeroU32::new(1),
+            ..AudioIOLayout::const_default()
+        },
+        AudioIOLayout {
+            main_input_channels: NonZeroU32::new(1),
+            main_output_channels: NonZeroU32::new(2),
             ..AudioIOLayout::const_default()
         },
     ];
@@ -286,45 +394,32 @@ impl Plugin for Pneuma {
         buffer_config: &BufferConfig,
         context: &mut impl ActivateContext<Self>,
     ) -> bool {
+        // Everything is read afresh here: earlier changes need no action.
+        self.params.changes.clear();
         let structural = Structural::of(&self.params);
         let channels = audio_io_layout
             .main_output_channels
             .map_or(1, NonZeroU32::get) as usize;
-        let config = self.params.engine_config();
-        let mut engine = match Engine::new(config.clone(), HeadModel::default_model().clone()) {
-            Ok(e) => e,
+        // Never refuse: a host may use any rate (1 Hz, 768 kHz, 1 234.5678 Hz). Where the engine
+        // cannot run, the audio passes untouched and the controls rest.
+        self.engine = match self.prepared_engine(buffer_config, channels) {
+            Ok(engine) => Some(engine),
             Err(e) => {
-                nice_error!("Pneuma: engine settings rejected: {e}");
-                return false;
+                nice_error!("Pneuma: audio passes untouched and the controls rest: {e}");
+                None
             }
         };
-        for (slot, path) in [
-            (SampleSlot::Mouth, &self.params.breath_sample_mouth),
-            (SampleSlot::Nose, &self.params.breath_sample_nose),
-        ] {
-            let path = path.get();
-            match load_breath_sample(&path) {
-                Ok(sample) => engine.set_breath_sample(slot, sample),
-                Err(e) => nice_error!("Pneuma: breath sample not used: {e}"),
-            }
-        }
-        if let Err(e) = engine.prepare(
-            f64::from(buffer_config.sample_rate),
-            // The engine splits longer blocks itself; a host reporting 0 or a huge maximum
-            // must not stop the plugin from activating.
-            (buffer_config.max_buffer_size as usize).clamp(1, MAX_ENGINE_BLOCK),
-            channels,
-        ) {
-            nice_error!("Pneuma: cannot prepare: {e}");
-            return false;
-        }
-        self.engine_config = config;
-        context.set_latency_samples(engine.latency_samples());
-        self.engine = Some(engine);
+        context.set_latency_samples(self.engine.as_ref().map_or(0, Engine::latency_samples));
         self.prepared = Some(structural);
         self.restart_requested = false;
-        // One millisecond of tolerance for rounded host positions.
-        self.jumps = JumpDetector::new((buffer_config.sample_rate / 1000.0).ceil() as i64);
+        self.at_rest = false;
+        self.mono = MonoSource::new(audio_io_layout);
+        // One millisecond of tolerance for rounded host positions (at least one sample).
+        self.jumps = JumpDetector::new(
+            (f64::from(buffer_config.sample_rate) / 1000.0)
+                .ceil()
+                .max(1.0) as i64,
+        );
         // A map the parameters describe may be invalid (a controller over 31 in 14-bit mode):
         // keep the previous one then.
         let _ = self.cc.set_map(self.params.cc_map());
@@ -360,14 +455,23 @@ impl Plugin for Pneuma {
         {
             self.reset_streams();
         }
+        let changes = &self.params.changes;
+        if ChangeFlags::take(&changes.structure) {
+            self.restart_requested = false;
+        }
         if !self.restart_requested && self.prepared != Some(Structural::of(&self.params)) {
             self.restart_requested = true;
             context.request_restart();
         }
-        let map = self.params.cc_map();
-        if map != *self.cc.map() {
+        if ChangeFlags::take(&changes.cc_map) {
             // An invalid map keeps the previous one (see `activate`).
-            let _ = self.cc.set_map(map);
+            let _ = self.cc.set_map(self.params.cc_map());
+        }
+        if ChangeFlags::take(&changes.engine) {
+            if let Some(engine) = self.engine.as_mut() {
+                // An invalid combination keeps the previous settings; ranges make it unlikely.
+                let _ = engine.set_config(&self.params.engine_config());
+            }
         }
         let midi_on = self.params.midi_enabled.value();
         if midi_on && !self.midi_was_enabled {
@@ -375,26 +479,10 @@ impl Plugin for Pneuma {
         }
         self.midi_was_enabled = midi_on;
         let osc_on = self.params.osc_enabled.value();
+        let bypassed = self.params.bypass.value();
 
-        let config = self.params.engine_config();
-        let Some(engine) = self.engine.as_mut() else {
-            for channel in buffer.as_slice().iter_mut() {
-                sanitize_in_place(channel);
-            }
-            return ProcessStatus::Normal;
-        };
-        if config != self.engine_config {
-            // An invalid combination keeps the previous settings; ranges make it unlikely.
-            if engine.set_config(&config).is_ok() {
-                self.engine_config = config;
-            }
-        }
-        let outputs = Outputs {
-            cc: midi_on.then_some(&mut self.cc),
-            osc: if osc_on { self.osc_feed.as_mut() } else { None },
-        };
         let mut cc_lost = false;
-        run_block(engine, buffer.as_slice(), outputs, &mut |offset, m| {
+        let mut send_cc = |offset: u32, m: CcMessage| {
             // A full host event buffer loses the message; never block for it.
             if context
                 .try_send_event(NoteEvent::MidiCC {
@@ -407,11 +495,47 @@ impl Plugin for Pneuma {
             {
                 cc_lost = true;
             }
-        });
+        };
+        self.mono.apply(buffer.as_slice());
+        let rest = bypassed || self.engine.is_none();
+        if rest && !self.at_rest {
+            // Once: every controller to the rest pose, one rest frame to OSC.
+            self.at_rest = true;
+            let mut outputs = Outputs {
+                cc: midi_on.then_some(&mut self.cc),
+                osc: if osc_on { self.osc_feed.as_mut() } else { None },
+            };
+            send_rest_pose(&mut outputs, &mut send_cc);
+        }
+        match self.engine.as_mut() {
+            Some(engine) => {
+                self.at_rest = rest;
+                let outputs = if bypassed {
+                    Outputs {
+                        cc: None,
+                        osc: None,
+                    }
+                } else {
+                    Outputs {
+                        cc: midi_on.then_some(&mut self.cc),
+                        osc: if osc_on { self.osc_feed.as_mut() } else { None },
+                    }
+                };
+                run_block(engine, buffer.as_slice(), outputs, &mut send_cc);
+            }
+            None => {
+                for channel in buffer.as_slice().iter_mut() {
+                    sanitize_in_place(channel);
+                }
+            }
+        }
         if cc_lost {
             // Forget what was sent so every controller is sent again at the next frame: a lost
             // message must not leave a receiver on a stale value.
             self.cc.reset();
+            if rest {
+                self.at_rest = false;
+            }
         }
         ProcessStatus::Normal
     }
@@ -433,6 +557,7 @@ impl ClapPlugin for Pneuma {
 
     fn remote_controls(&self, context: &mut impl RemoteControlsContext) {
         let p = &self.params;
+        // Every parameter but bypass (the host's own switch) on one page, pages of at most 8.
         context.add_section("Pneuma", |section| {
             section.add_page("Breathing", |page| {
                 page.add_param(&p.preset);
@@ -444,15 +569,20 @@ impl ClapPlugin for Pneuma {
                 page.add_param(&p.speaking_loudness);
                 page.add_param(&p.inspiration_length_s);
             });
-            section.add_page("Breaths & head", |page| {
-                page.add_param(&p.breath_level_db);
+            section.add_page("Breaths & timing", |page| {
                 page.add_param(&p.insert_breaths);
+                page.add_param(&p.breath_level_db);
                 page.add_param(&p.min_pause_s);
-                page.add_param(&p.neck_amplitude_deg);
+                page.add_param(&p.mode);
+                page.add_param(&p.lookahead_s);
+                page.add_param(&p.frame_rate_hz);
+            });
+            section.add_page("Head", |page| {
                 page.add_param(&p.head_amount);
                 page.add_param(&p.head_max_pitch_deg);
                 page.add_param(&p.head_max_yaw_deg);
                 page.add_param(&p.head_max_roll_deg);
+                page.add_param(&p.neck_amplitude_deg);
             });
             section.add_page("Output", |page| {
                 page.add_param(&p.midi_enabled);
@@ -462,7 +592,14 @@ impl ClapPlugin for Pneuma {
                 page.add_param(&p.osc_enabled);
                 page.add_param(&p.osc_format);
                 page.add_param(&p.osc_port);
-                page.add_param(&p.mode);
+            });
+            let ccs = p.cc_params();
+            let (first, rest) = ccs.split_at(8);
+            section.add_page("CC map 1", |page| {
+                first.iter().for_each(|c| page.add_param(*c))
+            });
+            section.add_page("CC map 2", |page| {
+                rest.iter().for_each(|c| page.add_param(*c))
             });
         });
     }
@@ -548,32 +685,57 @@ mod tests {
         assert!(d.check(true, Some(5000), 32), "restart elsewhere is a jump");
         assert!(!d.check(true, None, 32), "no position: no jump");
         assert!(!d.check(true, Some(5032), 32));
+        // A held position (latency pre-roll) is no jump, nor is the roll that follows it.
+        let mut d = JumpDetector::new(2);
+        for _ in 0..4 {
+            assert!(!d.check(true, Some(0), 512), "pre-roll held at 0");
+        }
+        assert!(!d.check(true, Some(512), 512), "rolling on");
+        assert!(
+            d.check(true, Some(0), 512),
+            "back to 0 while rolling is a jump"
+        );
+    }
+
+    fn layout(inputs: u32, outputs: u32) -> AudioIOLayout {
+        AudioIOLayout {
+            main_input_channels: NonZeroU32::new(inputs),
+            main_output_channels: NonZeroU32::new(outputs),
+            ..AudioIOLayout::const_default()
+        }
     }
 
     #[test]
-    fn audio_layouts_are_stereo_first_then_mono() {
-        let channels: Vec<(Option<u32>, Option<u32>)> = Pneuma::AUDIO_IO_LAYOUTS
-            .iter()
-            .map(|l| {
-                (
-                    l.main_input_channels.map(NonZeroU32::get),
-                    l.main_output_channels.map(NonZeroU32::get),
-                )
-            })
-            .collect();
-        assert_eq!(channels, vec![(Some(2), Some(2)), (Some(1), Some(1))]);
-        assert!(Pneuma::AUDIO_IO_LAYOUTS
-            .iter()
-            .all(|l| l.aux_input_ports.is_empty() && l.aux_output_ports.is_empty()));
-    }
-
-    #[test]
-    fn midi_is_output_cc_only_and_ids_are_stable() {
-        assert!(matches!(Pneuma::MIDI_INPUT, MidiConfig::None));
-        assert!(matches!(Pneuma::MIDI_OUTPUT, MidiConfig::MidiCCs));
-        assert_eq!(Pneuma::CLAP_ID, "org.pneuma.pneuma");
-        assert_eq!(&Pneuma::VST3_CLASS_ID, b"PneumaBreathHead");
-        assert_eq!(Pneuma::NAME, "Pneuma");
+    fn a_mono_source_comes_out_on_both_sides() {
+        let voice = [0.25f32, -0.5, 0.125, 0.0];
+        // Stereo in with a silent right input: the left is copied until the right is heard.
+        let mut mono = MonoSource::new(&layout(2, 2));
+        let (mut l, mut r) = (voice, [0.0f32; 4]);
+        mono.apply(&mut [&mut l[..], &mut r[..]]);
+        assert_eq!((l, r), (voice, voice), "silent right input takes the left");
+        let other = [0.0f32, 0.0, 0.0, 0.75];
+        let (mut l, mut r) = (voice, other);
+        mono.apply(&mut [&mut l[..], &mut r[..]]);
+        assert_eq!((l, r), (voice, other), "a heard right input stays as it is");
+        let (mut l, mut r) = (voice, [0.0f32; 4]);
+        mono.apply(&mut [&mut l[..], &mut r[..]]);
+        assert_eq!(r, [0.0; 4], "stereo until the next activation");
+        // Mono in, stereo out: always copied.
+        let mut mono = MonoSource::new(&layout(1, 2));
+        for right in [[0.0f32; 4], other] {
+            let (mut l, mut r) = (voice, right);
+            mono.apply(&mut [&mut l[..], &mut r[..]]);
+            assert_eq!(r, voice);
+        }
+        // Mono in and out: one channel, nothing to do.
+        let mut l = voice;
+        MonoSource::new(&layout(1, 1)).apply(&mut [&mut l[..]]);
+        assert_eq!(l, voice);
+        // Every layout the plugin offers has a main input and output and no side ports.
+        for l in Pneuma::AUDIO_IO_LAYOUTS {
+            assert!(l.main_input_channels.is_some() && l.main_output_channels.is_some());
+            assert!(l.aux_input_ports.is_empty() && l.aux_output_ports.is_empty());
+        }
     }
 
     #[test]

@@ -9,16 +9,18 @@
 //!   network or a stalled worker drops the oldest frames; only a worker that does not run at all
 //!   for a whole queue can cost the newest.
 //! - The target (host, port) and format are read by the worker from the shared settings on every
-//!   wake-up, so they can change while playing. Name resolution happens on the worker; a target
-//!   that does not resolve or an unreachable one only counts send failures and is retried every
-//!   [`RETRY_INTERVAL`]. Nothing the network does reaches the audio thread.
+//!   wake-up, so they can change while playing. The host must be a numeric IP address or
+//!   `localhost`: names are never looked up (DNS can block for minutes, also when the plugin
+//!   unloads and joins the worker). A host that is not an address, or an unreachable one, only
+//!   counts send failures and is retried every [`RETRY_INTERVAL`]. Nothing the network does
+//!   reaches the audio thread or holds up unloading.
 //! - Time tags: the first frame after a start or reset (the frame index goes back) anchors the
 //!   frame clock to the wall clock; a frame's tag is `anchor + time_s`. When the tags fall more
 //!   than 0.5 s behind the wall clock (playback paused, a stall) they are re-anchored forward to
 //!   now, so tags always increase; faster-than-real-time processing (offline bounce) gives tags
 //!   ahead of the wall clock, as the audio time says.
 
-use std::net::{SocketAddr, ToSocketAddrs, UdpSocket};
+use std::net::{IpAddr, Ipv4Addr, SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
@@ -124,14 +126,20 @@ struct Target {
     resolved_at: Instant,
 }
 
-/// The target's first address, IPv4 preferred.
+/// The target's address, without the network: a numeric IPv4 or IPv6 address (brackets
+/// allowed) or `localhost` (127.0.0.1). Host names are not resolved: a DNS lookup can block for
+/// minutes, and a worker stuck in one would hold up unloading the plugin (which joins it).
 fn resolve(key: &(String, u16)) -> Option<SocketAddr> {
-    let addrs: Vec<SocketAddr> = (key.0.as_str(), key.1).to_socket_addrs().ok()?.collect();
-    addrs
-        .iter()
-        .find(|a| a.is_ipv4())
-        .or(addrs.first())
-        .copied()
+    let host = key.0.trim();
+    let ip: IpAddr = if host.eq_ignore_ascii_case("localhost") {
+        Ipv4Addr::LOCALHOST.into()
+    } else {
+        host.trim_start_matches('[')
+            .trim_end_matches(']')
+            .parse()
+            .ok()?
+    };
+    Some(SocketAddr::new(ip, key.1))
 }
 
 /// A non-blocking UDP socket of the address family of `addr`.
@@ -235,6 +243,19 @@ fn run<S: OscSettings>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn only_numeric_addresses_and_localhost_are_targets() {
+        let at = |h: &str| resolve(&(h.to_owned(), 9000));
+        assert_eq!(at("127.0.0.1"), Some("127.0.0.1:9000".parse().unwrap()));
+        assert_eq!(at(" localhost "), Some("127.0.0.1:9000".parse().unwrap()));
+        assert_eq!(at("LOCALHOST"), Some("127.0.0.1:9000".parse().unwrap()));
+        assert_eq!(at("::1"), Some("[::1]:9000".parse().unwrap()));
+        assert_eq!(at("[fe80::1]"), Some("[fe80::1]:9000".parse().unwrap()));
+        for name in ["", "example.com", "my-avatar-pc", "10.0.0", "1.2.3.4:80"] {
+            assert_eq!(at(name), None, "{name:?} is not an address");
+        }
+    }
     use pneuma_core::encode::osc::{decode_packet, OscValue};
     use std::sync::Mutex;
 
@@ -311,8 +332,8 @@ mod tests {
     #[test]
     fn a_bad_target_never_blocks_the_feed_and_counts_every_frame() {
         let settings = Arc::new(Settings {
-            // An empty host never resolves (and needs no DNS round trip to fail).
-            target: Mutex::new((String::new(), 9)),
+            // A host name is never looked up: it fails at once, without a DNS round trip.
+            target: Mutex::new(("pneuma-osc.invalid".into(), 9)),
             format: Mutex::new(OscFormat::Pneuma),
         });
         let (mut feed, worker, stats) = start(settings).unwrap();

@@ -8,8 +8,15 @@
 //! Parameters that change the frame clock or the latency (`mode`, `lookahead_s`,
 //! `frame_rate_hz`) take effect at the next activation; the plugin asks the host for a restart
 //! when they change.
+//!
+//! Change flags: every parameter's callback raises one of the [`ChangeFlags`] (engine settings,
+//! CC map, structure), so the audio thread rebuilds the engine settings or the CC map only after
+//! a change, never by comparing them every block.
+//!
+//! Text: every parameter's text parses back to its value (the CC parameters show and accept
+//! `off` for 0).
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, RwLock};
 
 use nice_plug::prelude::*;
@@ -82,6 +89,7 @@ pub const DEFAULT_OSC_HOST: &str = "127.0.0.1";
 
 /// Every parameter id, in declaration order.
 pub const PARAM_IDS: &[&str] = &[
+    "bypass",
     "preset",
     "thorax_vs_abdomen",
     "capacity_lung",
@@ -124,6 +132,10 @@ pub const PARAM_IDS: &[&str] = &[
 /// The plugin's parameters and persisted settings.
 #[derive(Params)]
 pub struct PneumaParams {
+    /// The host's bypass switch: the audio passes delayed by the latency (so the track stays
+    /// aligned), no breaths, and the controls go to rest. Default off.
+    #[id = "bypass"]
+    pub bypass: BoolParam,
     /// Breathing preset (custom, neutral, calm, anxious, tired, excited). Default custom.
     #[id = "preset"]
     pub preset: EnumParam<PresetChoice>,
@@ -241,7 +253,8 @@ pub struct PneumaParams {
     #[id = "osc_format"]
     pub osc_format: EnumParam<OscFormatChoice>,
 
-    /// OSC target host (name or IP address). Default `127.0.0.1`. Persisted, not automatable.
+    /// OSC target: a numeric IP address or `localhost` (names are not looked up). Default
+    /// `127.0.0.1`. Persisted, not automatable.
     #[persist = "osc_host"]
     pub osc_host: Arc<RwLock<String>>,
     /// Path of a mouth breath WAV replacing the procedural mouth breath (empty = none).
@@ -250,6 +263,60 @@ pub struct PneumaParams {
     /// Path of a nose breath WAV replacing the procedural nose breath (empty = none).
     #[persist = "breath_sample_nose"]
     pub breath_sample_nose: SamplePath,
+
+    /// Raised by the parameters' callbacks; taken by the audio thread.
+    pub changes: Arc<ChangeFlags>,
+}
+
+/// What changed since the audio thread last looked: each flag is raised by a parameter callback
+/// (any thread, also while a state is restored) and taken (`swap(false)`) by the audio thread.
+#[derive(Debug, Default)]
+pub struct ChangeFlags {
+    /// An engine setting changed (breathing, placement, head).
+    pub engine: AtomicBool,
+    /// The CC map changed (channel, resolution, a controller, the head range).
+    pub cc_map: AtomicBool,
+    /// A setting that needs a new activation changed (`mode`, `lookahead_s`, `frame_rate_hz`).
+    pub structure: AtomicBool,
+}
+
+impl ChangeFlags {
+    /// Takes a flag: true if it was raised since the last take.
+    pub fn take(flag: &AtomicBool) -> bool {
+        flag.swap(false, Ordering::AcqRel)
+    }
+
+    /// Lowers every flag (at activation, where everything is read afresh).
+    pub fn clear(&self) {
+        for flag in [&self.engine, &self.cc_map, &self.structure] {
+            flag.store(false, Ordering::Release);
+        }
+    }
+}
+
+/// Which flag a parameter raises.
+#[derive(Debug, Clone, Copy)]
+enum Raises {
+    Engine,
+    CcMap,
+    /// Structure and engine: the engine keeps the settings it can apply live.
+    Structure,
+}
+
+/// A value-change callback that raises `raises` in `flags`.
+fn raise<T>(flags: &Arc<ChangeFlags>, raises: Raises) -> Arc<dyn Fn(T) + Send + Sync> {
+    let flags = flags.clone();
+    Arc::new(move |_| {
+        match raises {
+            Raises::Engine => {}
+            Raises::CcMap => {
+                flags.cc_map.store(true, Ordering::Release);
+                return;
+            }
+            Raises::Structure => flags.structure.store(true, Ordering::Release),
+        }
+        flags.engine.store(true, Ordering::Release);
+    })
 }
 
 /// A persisted breath-sample path that counts its changes, so the audio thread notices a
@@ -299,8 +366,10 @@ impl<'a> nice_plug::params::persist::PersistentField<'a, String> for SamplePath 
     }
 }
 
-fn unit_param(name: &str, default: f32) -> FloatParam {
-    FloatParam::new(name, default, FloatRange::Linear { min: 0.0, max: 1.0 }).with_step_size(0.01)
+fn unit_param(name: &str, default: f32, flags: &Arc<ChangeFlags>) -> FloatParam {
+    FloatParam::new(name, default, FloatRange::Linear { min: 0.0, max: 1.0 })
+        .with_step_size(0.01)
+        .with_callback(raise(flags, Raises::Engine))
 }
 
 fn linear(
@@ -316,66 +385,85 @@ fn linear(
         .with_step_size(step)
 }
 
-fn cc_param(signal: CcSignal) -> IntParam {
+/// The text of controller 0 (no controller) in the CC parameters.
+pub const CC_OFF_TEXT: &str = "off";
+
+fn cc_param(signal: CcSignal, flags: &Arc<ChangeFlags>) -> IntParam {
     let default = i32::from(CcSignal::DEFAULT_CONTROLLERS[signal.index()]);
     let name = format!("CC {}", signal.name().replace('_', " "));
-    IntParam::new(name, default, IntRange::Linear { min: 0, max: 119 }).with_value_to_string(
-        Arc::new(|v| {
+    IntParam::new(name, default, IntRange::Linear { min: 0, max: 119 })
+        .with_value_to_string(Arc::new(|v| {
             if v == 0 {
-                "off".to_owned()
+                CC_OFF_TEXT.to_owned()
             } else {
                 v.to_string()
             }
-        }),
-    )
+        }))
+        .with_string_to_value(Arc::new(parse_cc_text))
+        .with_callback(raise(flags, Raises::CcMap))
+}
+
+/// Parses a CC parameter's text: `off` (any case) is 0, otherwise a controller number.
+fn parse_cc_text(text: &str) -> Option<i32> {
+    let text = text.trim();
+    if text.eq_ignore_ascii_case(CC_OFF_TEXT) {
+        Some(0)
+    } else {
+        text.parse().ok()
+    }
 }
 
 impl Default for PneumaParams {
     fn default() -> Self {
+        let flags = Arc::new(ChangeFlags::default());
+        let engine = |p: FloatParam| p.with_callback(raise(&flags, Raises::Engine));
+        let cc_map = |p: FloatParam| p.with_callback(raise(&flags, Raises::CcMap));
         Self {
-            preset: EnumParam::new("Breathing preset", PresetChoice::Custom),
-            thorax_vs_abdomen: unit_param("Thorax vs abdomen", 0.5),
-            capacity_lung: linear("Lung capacity", 60.0, 10.0, 100.0, " %", 1.0),
-            mouth_vs_nose: unit_param("Mouth vs nose", 0.5),
-            breath_sound: unit_param("Breath sound", 0.35),
-            opening: unit_param("Channel opening", 0.5),
-            speaking_loudness: FloatParam::new(
-                "Speaking loudness",
-                0.5,
-                FloatRange::Linear {
-                    min: 0.05,
-                    max: 1.0,
-                },
-            )
-            .with_step_size(0.01),
-            inspiration_length_s: linear("Inspiration length", 1.0, 0.2, 3.0, " s", 0.01),
-            neck_amplitude_deg: linear("Neck motion", 3.0, 0.0, 15.0, "°", 0.1),
-            breath_level_db: linear("Breath level", -22.0, -40.0, -6.0, " dB", 0.1),
-            insert_breaths: BoolParam::new("Insert breaths", true),
-            min_pause_s: linear("Minimum pause", 0.25, 0.1, 2.0, " s", 0.01),
-            mode: EnumParam::new("Mode", ModeChoice::Lookahead),
-            lookahead_s: linear("Lookahead", 0.5, 0.3, 2.0, " s", 0.01),
-            head_amount: linear("Head motion", 1.0, 0.0, 4.0, "", 0.01),
-            head_max_pitch_deg: linear("Head pitch limit", 8.0, 0.5, 90.0, "°", 0.5),
-            head_max_yaw_deg: linear("Head yaw limit", 15.0, 0.5, 90.0, "°", 0.5),
-            head_max_roll_deg: linear("Head roll limit", 12.0, 0.5, 90.0, "°", 0.5),
+            bypass: BoolParam::new("Bypass", false)
+                .make_bypass()
+                .with_callback(raise(&flags, Raises::Engine)),
+            preset: EnumParam::new("Breathing preset", PresetChoice::Custom)
+                .with_callback(raise(&flags, Raises::Engine)),
+            thorax_vs_abdomen: unit_param("Thorax vs abdomen", 0.5, &flags),
+            capacity_lung: engine(linear("Lung capacity", 60.0, 10.0, 100.0, " %", 1.0)),
+            mouth_vs_nose: unit_param("Mouth vs nose", 0.5, &flags),
+            breath_sound: unit_param("Breath sound", 0.35, &flags),
+            opening: unit_param("Channel opening", 0.5, &flags),
+            speaking_loudness: engine(linear("Speaking loudness", 0.5, 0.05, 1.0, "", 0.01)),
+            inspiration_length_s: engine(linear("Inspiration length", 1.0, 0.2, 3.0, " s", 0.01)),
+            neck_amplitude_deg: engine(linear("Neck motion", 3.0, 0.0, 15.0, "°", 0.1)),
+            breath_level_db: engine(linear("Breath level", -22.0, -40.0, -6.0, " dB", 0.1)),
+            insert_breaths: BoolParam::new("Insert breaths", true)
+                .with_callback(raise(&flags, Raises::Engine)),
+            min_pause_s: engine(linear("Minimum pause", 0.25, 0.1, 2.0, " s", 0.01)),
+            mode: EnumParam::new("Mode", ModeChoice::Lookahead)
+                .with_callback(raise(&flags, Raises::Structure)),
+            lookahead_s: linear("Lookahead", 0.5, 0.3, 2.0, " s", 0.01)
+                .with_callback(raise(&flags, Raises::Structure)),
+            head_amount: engine(linear("Head motion", 1.0, 0.0, 4.0, "", 0.01)),
+            head_max_pitch_deg: engine(linear("Head pitch limit", 8.0, 0.5, 90.0, "°", 0.5)),
+            head_max_yaw_deg: engine(linear("Head yaw limit", 15.0, 0.5, 90.0, "°", 0.5)),
+            head_max_roll_deg: engine(linear("Head roll limit", 12.0, 0.5, 90.0, "°", 0.5)),
             frame_rate_hz: IntParam::new("Frame rate", 120, IntRange::Linear { min: 30, max: 240 })
-                .with_unit(" Hz"),
+                .with_unit(" Hz")
+                .with_callback(raise(&flags, Raises::Structure)),
             midi_enabled: BoolParam::new("CC output", true),
-            midi_channel: IntParam::new("MIDI channel", 1, IntRange::Linear { min: 1, max: 16 }),
-            cc_14bit: BoolParam::new("CC 14-bit", false),
-            cc_head_range_deg: linear("CC head range", 30.0, 1.0, 90.0, "°", 0.5),
-            cc_lung: cc_param(CcSignal::Lung),
-            cc_head_pitch: cc_param(CcSignal::HeadPitch),
-            cc_head_yaw: cc_param(CcSignal::HeadYaw),
-            cc_head_roll: cc_param(CcSignal::HeadRoll),
-            cc_thorax: cc_param(CcSignal::Thorax),
-            cc_abdomen: cc_param(CcSignal::Abdomen),
-            cc_nostril_flare: cc_param(CcSignal::NostrilFlare),
-            cc_mouth_open: cc_param(CcSignal::MouthOpen),
-            cc_neck_pitch: cc_param(CcSignal::NeckPitch),
-            cc_speaking: cc_param(CcSignal::Speaking),
-            cc_loudness: cc_param(CcSignal::Loudness),
+            midi_channel: IntParam::new("MIDI channel", 1, IntRange::Linear { min: 1, max: 16 })
+                .with_callback(raise(&flags, Raises::CcMap)),
+            cc_14bit: BoolParam::new("CC 14-bit", false)
+                .with_callback(raise(&flags, Raises::CcMap)),
+            cc_head_range_deg: cc_map(linear("CC head range", 30.0, 1.0, 90.0, "°", 0.5)),
+            cc_lung: cc_param(CcSignal::Lung, &flags),
+            cc_head_pitch: cc_param(CcSignal::HeadPitch, &flags),
+            cc_head_yaw: cc_param(CcSignal::HeadYaw, &flags),
+            cc_head_roll: cc_param(CcSignal::HeadRoll, &flags),
+            cc_thorax: cc_param(CcSignal::Thorax, &flags),
+            cc_abdomen: cc_param(CcSignal::Abdomen, &flags),
+            cc_nostril_flare: cc_param(CcSignal::NostrilFlare, &flags),
+            cc_mouth_open: cc_param(CcSignal::MouthOpen, &flags),
+            cc_neck_pitch: cc_param(CcSignal::NeckPitch, &flags),
+            cc_speaking: cc_param(CcSignal::Speaking, &flags),
+            cc_loudness: cc_param(CcSignal::Loudness, &flags),
             osc_enabled: BoolParam::new("OSC out", false),
             osc_port: IntParam::new(
                 "OSC port",
@@ -386,6 +474,7 @@ impl Default for PneumaParams {
             osc_host: Arc::new(RwLock::new(DEFAULT_OSC_HOST.to_owned())),
             breath_sample_mouth: SamplePath::default(),
             breath_sample_nose: SamplePath::default(),
+            changes: flags,
         }
     }
 }
@@ -473,7 +562,8 @@ impl PneumaParams {
         config.placement.lookahead_s = self.lookahead_s.value();
         config.placement.min_pause_s = self.min_pause_s.value();
         config.placement.breath_level_db = self.breath_level_db.value();
-        config.placement.insert_breaths = self.insert_breaths.value();
+        // Bypassed: the audio still goes through the delay line, without breaths.
+        config.placement.insert_breaths = self.insert_breaths.value() && !self.bypass.value();
         config.breathing = self.breathing_params();
         config.head = self.head_config();
         config
@@ -497,6 +587,9 @@ impl PneumaParams {
 }
 
 #[cfg(test)]
+// The tests walk every parameter through nice-plug's `ParamPtr`, whose methods are `unsafe` (the
+// pointer must not outlive its `PneumaParams`, which every test keeps alive).
+#[allow(unsafe_code)]
 mod tests {
     use super::*;
 
@@ -559,6 +652,82 @@ mod tests {
         let params = PneumaParams::default();
         assert_eq!(params.engine_config(), EngineConfig::default());
         params.engine_config().validate().unwrap();
+    }
+
+    /// The parameter with this id (the pointer lives as long as `params`).
+    fn param(params: &PneumaParams, want: &str) -> ParamPtr {
+        params
+            .param_map()
+            .into_iter()
+            .find(|(id, _, _)| id == want)
+            .map(|(_, ptr, _)| ptr)
+            .unwrap_or_else(|| panic!("no parameter {want}"))
+    }
+
+    #[test]
+    fn every_parameter_text_parses_back_to_its_value() {
+        let params = PneumaParams::default();
+        for (id, ptr, _) in params.param_map() {
+            // SAFETY: `params` outlives every pointer of its map.
+            unsafe {
+                // Both ends, the middle and the default of every parameter.
+                for normalized in [0.0, 0.5, 1.0, ptr.default_normalized_value()] {
+                    let text = ptr.normalized_value_to_string(normalized, true);
+                    let back = ptr.string_to_normalized_value(&text);
+                    let text_back = back.map(|b| ptr.normalized_value_to_string(b, true));
+                    assert_eq!(
+                        text_back.as_ref(),
+                        Some(&text),
+                        "{id}: {text:?} does not parse back"
+                    );
+                }
+            }
+        }
+        let cc = &params.cc_lung;
+        assert_eq!(cc.normalized_value_to_string(0.0, true), CC_OFF_TEXT);
+        assert_eq!(cc.string_to_normalized_value(" OFF "), Some(0.0));
+        assert_eq!(parse_cc_text("17"), Some(17));
+        assert_eq!(parse_cc_text("seventeen"), None);
+    }
+
+    #[test]
+    fn each_change_raises_its_flag_and_only_that() {
+        let params = PneumaParams::default();
+        let flags = params.changes.clone();
+        let taken = || [&flags.engine, &flags.cc_map, &flags.structure].map(ChangeFlags::take);
+        assert_eq!(taken(), [false; 3], "nothing changed yet");
+        let change = |id: &str, normalized: f32| {
+            // SAFETY: `params` outlives the pointer.
+            unsafe { param(&params, id)._internal_set_normalized_value(normalized) };
+            taken()
+        };
+        // [engine, CC map, structure]
+        assert_eq!(change("breath_level_db", 0.9), [true, false, false]);
+        assert_eq!(change("preset", 0.6), [true, false, false]);
+        assert_eq!(change("bypass", 1.0), [true, false, false]);
+        assert_eq!(change("cc_head_yaw", 0.0), [false, true, false]);
+        assert_eq!(change("midi_channel", 1.0), [false, true, false]);
+        assert_eq!(change("cc_head_range_deg", 0.2), [false, true, false]);
+        assert_eq!(change("mode", 1.0), [true, false, true]);
+        assert_eq!(change("lookahead_s", 1.0), [true, false, true]);
+        assert_eq!(change("frame_rate_hz", 0.0), [true, false, true]);
+        assert_eq!(change("osc_port", 0.3), [false, false, false]);
+        assert_eq!(change("midi_enabled", 0.0), [false, false, false]);
+        // The same value again is no change.
+        assert_eq!(change("mode", 1.0), [false, false, false]);
+        // Bypass keeps the audio path but stops the breaths.
+        assert!(!params.engine_config().placement.insert_breaths);
+        // Every parameter raises a flag except the ones the audio thread reads each block.
+        let read_each_block = ["midi_enabled", "osc_enabled", "osc_port", "osc_format"];
+        for (id, ptr, _) in params.param_map() {
+            // SAFETY: as above.
+            unsafe {
+                let now = ptr.unmodulated_normalized_value();
+                ptr._internal_set_normalized_value(if now > 0.5 { 0.0 } else { 1.0 });
+            }
+            let raised = taken().contains(&true);
+            assert_eq!(raised, !read_each_block.contains(&id.as_str()), "{id}");
+        }
     }
 
     #[test]

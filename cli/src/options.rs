@@ -1,0 +1,153 @@
+//! What the subcommands share about their options: numbers as users paste them (a Unicode
+//! minus accepted), range checks that name the option typed in its unit, the
+//! `--no-overwrite` check, the head-model loading and the progress bar.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Parses a number as typed or pasted: the Unicode minus (U+2212, as printed by some
+/// documents) is taken as `-`. For clap's `value_parser`.
+pub fn number(s: &str) -> Result<f32, String> {
+    let ascii = s.trim().replace('\u{2212}', "-");
+    ascii
+        .parse::<f32>()
+        .map_err(|_| format!("`{s}` is not a number (write e.g. -22 or 0.5)"))
+}
+
+/// `Err` naming `option` when `value` lies outside `min..=max` (all in the option's `unit`).
+pub fn check_range(option: &str, value: f32, min: f32, max: f32, unit: &str) -> Result<(), String> {
+    if value.is_finite() && (min..=max).contains(&value) {
+        Ok(())
+    } else {
+        let unit = if unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {unit}")
+        };
+        Err(format!(
+            "{option} {value}{unit} is out of range: use {min} to {max}{unit}"
+        ))
+    }
+}
+
+/// With `--no-overwrite`: `Err` naming the first of `outputs` that exists already.
+pub fn refuse_existing(outputs: &[PathBuf]) -> Result<(), String> {
+    match outputs.iter().find(|p| p.exists()) {
+        Some(p) => Err(format!(
+            "{} exists and --no-overwrite is given: remove it, choose another output, or drop -n",
+            p.display()
+        )),
+        None => Ok(()),
+    }
+}
+
+/// `Err` when `-o` names something that looks like a file (has an extension and is not an
+/// existing folder) where a folder is wanted, instead of silently making a folder of that name.
+pub fn check_output_folder(option: &str, dir: &Path) -> Result<(), String> {
+    if dir.extension().is_some() && !dir.is_dir() {
+        return Err(format!(
+            "{option} {} looks like a file name, but {option} names the output folder (the \
+             files inside are named after the input); give a folder, e.g. {option} out",
+            dir.display()
+        ));
+    }
+    Ok(())
+}
+
+/// The head-pose model from `path` (JSON), or the embedded default model when `None`.
+pub fn load_head_model(path: Option<&Path>) -> Result<pneuma_core::head::HeadModel, String> {
+    match path {
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .map_err(|e| format!("--head-model {}: {e}", p.display()))?;
+            pneuma_core::head::HeadModel::from_json(&text)
+                .map_err(|e| format!("--head-model {}: {e}", p.display()))
+        }
+        None => Ok(pneuma_core::head::HeadModel::default_model().clone()),
+    }
+}
+
+/// A progress bar on standard error that appears only when standard error is a terminal and
+/// the job has run for more than [`Progress::DELAY`]; hidden otherwise.
+pub struct Progress {
+    bar: Option<indicatif::ProgressBar>,
+    start: Instant,
+    shown: bool,
+}
+
+impl Progress {
+    /// Jobs shorter than this never show a bar.
+    pub const DELAY: Duration = Duration::from_secs(1);
+
+    /// A bar labelled `label`; none at all when `enabled` is false or stderr is no terminal.
+    pub fn new(label: &str, enabled: bool) -> Self {
+        let bar = (enabled && std::io::stderr().is_terminal()).then(|| {
+            let bar = indicatif::ProgressBar::with_draw_target(
+                Some(1000),
+                indicatif::ProgressDrawTarget::hidden(),
+            );
+            bar.set_style(
+                indicatif::ProgressStyle::with_template(&format!(
+                    "{label} [{{bar:40}}] {{percent}}% ({{eta}} left)"
+                ))
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
+                .progress_chars("=> "),
+            );
+            bar
+        });
+        Self {
+            bar,
+            start: Instant::now(),
+            shown: false,
+        }
+    }
+
+    /// Sets the fraction done (0..1).
+    pub fn set(&mut self, fraction: f64) {
+        let Some(bar) = &self.bar else { return };
+        if !self.shown && self.start.elapsed() > Self::DELAY {
+            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+            self.shown = true;
+        }
+        bar.set_position((fraction.clamp(0.0, 1.0) * 1000.0) as u64);
+    }
+
+    /// Removes the bar.
+    pub fn finish(&self) {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_accept_the_unicode_minus() {
+        assert_eq!(number("\u{2212}22"), Ok(-22.0));
+        assert_eq!(number("-22"), Ok(-22.0));
+        assert_eq!(number("0.5"), Ok(0.5));
+        assert!(number("x").is_err());
+    }
+
+    #[test]
+    fn ranges_name_the_option_and_unit() {
+        assert!(check_range("--lookahead-ms", 300.0, 300.0, 2000.0, "ms").is_ok());
+        let e = check_range("--lookahead-ms", 0.0, 300.0, 2000.0, "ms").unwrap_err();
+        assert_eq!(e, "--lookahead-ms 0 ms is out of range: use 300 to 2000 ms");
+        assert!(check_range("--rate", f32::NAN, 0.5, 2.0, "").is_err());
+    }
+
+    #[test]
+    fn a_file_name_is_not_taken_as_a_folder() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        assert!(check_output_folder("-o", &dir.path().join("name.wav")).is_err());
+        assert!(check_output_folder("-o", &dir.path().join("out")).is_ok());
+        let dotted = dir.path().join("take.2");
+        std::fs::create_dir(&dotted).expect("dir");
+        assert!(check_output_folder("-o", &dotted).is_ok());
+    }
+}
