@@ -13,8 +13,13 @@
 //!      in it, an inhalation is placed to end `gap_s` before the onset, no earlier than
 //!      `after_offset_s` after the previous phrase and no earlier than the output position, and
 //!      as long as the breathing model's inspiration length allows;
-//!    - live: at a confirmed phrase end (after the tracker's hangover) an inhalation starts at
-//!      once; a new onset fades it out within `live_fade_s`.
+//!    - live (no delay, so the next onset is unknown): once a confirmed phrase end (after the
+//!      tracker's hangover) lies `min_pause_s` (at least `after_offset_s`) in the past, an
+//!      inhalation starts, with the breathing cycle's inspiration, unless the input is active at
+//!      that sample; activity before then cancels it. A sample-level input gate (`gate`) fades
+//!      a playing breath out over `live_fade_s` from the first active sample, and the cycle
+//!      stops inspiring before the first frame that heard it. A breath cut within its first
+//!      60 ms or never above −60 dBFS is an inaudible stub and is not reported.
 //! 4. The output is the delayed input, bit for bit, plus the breath sound where a breath plays,
 //!    spread over the channels in the voice's stereo image.
 //! 5. Control frames are emitted when the output reaches their time, with their sample offset in
@@ -24,6 +29,7 @@
 //! output and control frames. `process` never allocates.
 
 mod config;
+mod gate;
 pub mod offline;
 mod schedule;
 
@@ -34,6 +40,7 @@ use crate::breathing::{BreathCycle, BreathSample, BreathVoice, SampleSlot};
 use crate::control::{BreathEvent, BreathKind, ControlFrame, HeadAngles};
 use crate::head::{HeadModel, HeadSynth};
 use crate::phrase::{PhraseEvent, PhraseTracker};
+use gate::InputGate;
 use schedule::Queue;
 
 /// Most channels a stream may have.
@@ -44,16 +51,12 @@ const MIN_BREATH_S: f64 = 0.12;
 const PRIOR_UTTERANCE_S: f32 = 2.5;
 /// Weight of the newest phrase in the running utterance-length estimate.
 const UTTERANCE_SMOOTHING: f32 = 0.3;
-/// Live mode: time constant of the input envelope that watches for speech under a breath, s.
-const LIVE_GATE_ENVELOPE_S: f64 = 0.002;
-/// Live mode: the input counts as active once its envelope stands this far over the pause's
-/// floor, dB (quiet consonants included).
-const LIVE_GATE_MARGIN_DB: f64 = 9.0;
-/// Live mode: how fast the gate's floor may rise, dB per second (it falls at once).
-const LIVE_GATE_FLOOR_RISE_DB_PER_S: f64 = 6.0;
 /// Live mode: a breath whose peak stayed under this, dBFS, is an inaudible stub and is not
 /// reported.
 const LIVE_STUB_PEAK_DB: f32 = -60.0;
+/// Live mode: a breath cut by speech before it sounded this long, seconds, is a stub (still in
+/// its attack, under the onset that cut it) and is not reported.
+const LIVE_STUB_S: f64 = 0.06;
 
 /// A breath action on the input timeline (sample index).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,6 +67,15 @@ enum BreathAction {
         length: usize,
         gain: f32,
         gains: [f32; MAX_CHANNELS],
+    },
+    /// Live mode: start an inhalation like `Start` unless the input is active at that sample,
+    /// and let the breathing cycle inspire with it (`audible` false: the cycle only).
+    LiveStart {
+        length: usize,
+        gain: f32,
+        gains: [f32; MAX_CHANNELS],
+        audible: bool,
+        utterance_s: f32,
     },
     /// Fade the playing inhalation out.
     FadeOut,
@@ -94,6 +106,8 @@ struct OpenBreath {
     end: u64,
     kind: BreathKind,
     peak: f32,
+    /// Where a fade-out began, if one did.
+    fade_from: Option<u64>,
 }
 
 /// Everything sized by `prepare`.
@@ -149,18 +163,13 @@ struct Stream {
     utterance_start_s: f64,
     utterance_expected_s: f64,
     breath_end: u64,
-    /// Live mode: whether the input is active (speech may have resumed) at every sample of the
-    /// current block (see `LIVE_GATE_*`).
+    /// Live mode: the input gate and whether the input is active at every sample of the
+    /// current block.
+    gate: InputGate,
     input_active: Vec<bool>,
-    /// Live mode: the gate's fast input envelope (mean square), its ~20 ms envelope, the floor
-    /// that follows the slow one (down at once, up slowly), and their constants.
-    gate_env: f64,
-    gate_slow: f64,
-    gate_floor: f64,
-    gate_env_coef: f64,
-    gate_floor_rise: f64,
-    gate_ratio: f64,
-    gate_silence: f64,
+    /// Live mode: the last input sample where the input was active (gate or tracker) that the
+    /// breathing cycle has not yet been told about.
+    activity_unseen: Option<u64>,
     /// Live mode: the playing breath is already fading out.
     fading: bool,
 }
@@ -296,14 +305,9 @@ impl Engine {
             utterance_start_s: 0.0,
             utterance_expected_s: PRIOR_UTTERANCE_S as f64,
             breath_end: 0,
+            gate: InputGate::new(sample_rate_hz, c.phrase.silence_db),
             input_active: vec![false; max_block],
-            gate_env: 0.0,
-            gate_slow: 0.0,
-            gate_floor: 0.0,
-            gate_env_coef: 1.0 - (-1.0 / (LIVE_GATE_ENVELOPE_S * sample_rate_hz)).exp(),
-            gate_floor_rise: 10f64.powf(LIVE_GATE_FLOOR_RISE_DB_PER_S / 10.0 / sample_rate_hz),
-            gate_ratio: 10f64.powf(LIVE_GATE_MARGIN_DB / 10.0),
-            gate_silence: 10f64.powf(c.phrase.silence_db as f64 / 10.0),
+            activity_unseen: None,
             fading: false,
         });
         self.reset();
@@ -338,10 +342,9 @@ impl Engine {
             s.utterance_start_s = 0.0;
             s.utterance_expected_s = PRIOR_UTTERANCE_S as f64;
             s.breath_end = 0;
+            s.gate.reset();
             s.input_active.fill(false);
-            s.gate_env = 0.0;
-            s.gate_slow = 0.0;
-            s.gate_floor = 0.0;
+            s.activity_unseen = None;
             s.fading = false;
         }
     }
@@ -459,8 +462,10 @@ impl Stream {
             let inv = 1.0 / channels as f32;
             self.mono[..n].iter_mut().for_each(|m| *m *= inv);
         }
-        if self.mode == PlacementMode::Live {
-            self.update_gate(n);
+        let live = self.mode == PlacementMode::Live;
+        if live {
+            self.gate
+                .process(&self.mono[..n], &mut self.input_active[..n]);
         }
         // 2. Analysis; each frame goes to the head pose, the phrase tracker and the scheduler
         // as of the sample that completed it, so any partition gives the same decisions.
@@ -489,11 +494,27 @@ impl Stream {
         // 5. Control frames due in this block.
         let end = base + n as u64;
         let dt_s = (1.0 / self.frame_rate_hz) as f32;
+        let mut checked = 0;
         while let Some(p) = self.pending.front().copied() {
             if p.emit_at >= end {
                 break;
             }
             self.pending.pop_front();
+            if live {
+                // Live: activity in the input up to the sample that completed this frame stops
+                // an inspiration (and cancels one not begun yet) before the frame is emitted.
+                let upto = (p.emit_at.max(base) - base) as usize;
+                if upto >= checked {
+                    self.note_activity(base, checked, upto + 1);
+                    checked = upto + 1;
+                }
+                if let Some(at) = self.activity_unseen.take() {
+                    let at_s = at as f64 / self.sample_rate_hz;
+                    self.cycle_actions
+                        .retain(|&(t, a)| !(t <= at_s && matches!(a, CycleAction::Inspire { .. })));
+                    self.cycle.interrupt();
+                }
+            }
             while let Some(&(t, action)) = self.cycle_actions.front() {
                 if t > p.frame.time_s + 1e-9 {
                     break;
@@ -542,39 +563,40 @@ impl Stream {
             let offset = p.emit_at.max(base) - base;
             on_control(&frame, start + offset as usize);
         }
+        if live {
+            self.note_activity(base, checked, n);
+        }
         self.position = end;
     }
 
-    /// Live mode: marks the samples of the block where the input is active, sample by sample,
-    /// so a breath gives way to speech within milliseconds, long before the analysis confirms
-    /// it.
-    fn update_gate(&mut self, n: usize) {
-        let (mut env, mut slow, mut floor) = (self.gate_env, self.gate_slow, self.gate_floor);
-        for (x, active) in self.mono[..n].iter().zip(&mut self.input_active[..n]) {
-            let p = (*x as f64) * (*x as f64);
-            env += self.gate_env_coef * (p - env);
-            slow += self.energy_smoothing * (p - slow);
-            floor = if slow < floor {
-                slow
-            } else {
-                (floor * self.gate_floor_rise).max(self.gate_silence * 1e-3)
-            };
-            *active = env > self.gate_silence && env > floor * self.gate_ratio;
+    /// Live mode: remembers the last active input sample of `input_active[from..to]` (block
+    /// starting at input sample `base`) for the breathing cycle.
+    fn note_activity(&mut self, base: u64, from: usize, to: usize) {
+        if let Some(k) = self.input_active[from..to].iter().rposition(|&a| a) {
+            let at = base + (from + k) as u64;
+            self.activity_unseen = Some(self.activity_unseen.map_or(at, |u| u.max(at)));
         }
-        self.gate_env = env;
-        self.gate_slow = slow;
-        self.gate_floor = floor;
     }
 
     /// Live mode: whatever is scheduled to start at or after input sample `from` is dropped
     /// (speech came back before the pause was long enough), with its inspiration.
     fn cancel_live_breaths_from(&mut self, from: u64) {
-        let from_s = from as f64 / self.sample_rate_hz;
         self.breath_actions
-            .retain(|&(t, a)| !(t >= from && matches!(a, BreathAction::Start { .. })));
-        self.cycle_actions
-            .retain(|&(t, a)| !(t >= from_s && matches!(a, CycleAction::Inspire { .. })));
+            .retain(|&(t, a)| !(t >= from && matches!(a, BreathAction::LiveStart { .. })));
         self.breath_end = self.breath_end.min(from);
+    }
+
+    /// Live mode: speech (or something like it) began in the pause, reported by the tracker at
+    /// input sample `now` with its first active frame at `from`: nothing more starts in this
+    /// pause, a breath playing fades out (if the gate has not faded it already), and the
+    /// breathing cycle stops inspiring.
+    fn live_activity(&mut self, from: u64, now: u64) {
+        self.cancel_live_breaths_from(from);
+        if self.voice.is_active() && !self.fading {
+            self.breath_actions
+                .insert_sorted((now, BreathAction::FadeOut));
+        }
+        self.activity_unseen = Some(self.activity_unseen.map_or(now, |u| u.max(now)));
     }
 
     /// One analysis frame, produced while taking in input sample `now`.
@@ -692,11 +714,7 @@ impl Stream {
                 // Live: a breath not started yet is dropped; one playing gives way (the gate
                 // has usually faded it already).
                 if self.mode == PlacementMode::Live {
-                    self.cancel_live_breaths_from((time_s * rate).round() as u64);
-                    if self.voice.is_active() && !self.fading {
-                        self.breath_actions
-                            .insert_sorted((now, BreathAction::FadeOut));
-                    }
+                    self.live_activity((time_s * rate).round() as u64, now);
                 }
             }
             PhraseEvent::Start { onset_s, pause } => {
@@ -707,11 +725,7 @@ impl Stream {
                     .insert_sorted((onset_s, CycleAction::UtteranceStarts { utterance_s }));
                 if self.mode == PlacementMode::Live {
                     // The onset may lie before the first active frame (a quiet consonant).
-                    self.cancel_live_breaths_from((onset_s * rate).round() as u64);
-                    if self.voice.is_active() && !self.fading {
-                        self.breath_actions
-                            .insert_sorted((now, BreathAction::FadeOut));
-                    }
+                    self.live_activity((onset_s * rate).round() as u64, now);
                     return;
                 }
                 if onset_s - pause.start_s < p.min_pause_s as f64 {
@@ -772,33 +786,27 @@ impl Stream {
                 self.cycle_actions
                     .insert_sorted((offset_s, CycleAction::SpeechStopped));
                 if self.mode == PlacementMode::Live {
-                    // The inhalation starts once the pause has lasted the minimum pause and
-                    // `after_offset_s`; speech before then cancels it (see Activity and Start).
+                    // The inhalation (sound and cycle) starts once the pause has lasted the
+                    // minimum pause and `after_offset_s`, unless the input is active then;
+                    // activity before then cancels it (`live_activity`), activity while it
+                    // plays fades it out (the gate in `render_breaths`).
                     let wait_s = (p.min_pause_s as f64).max(p.after_offset_s as f64);
                     let start = ((((offset_s + wait_s) * rate).round() as u64).max(now))
                         .max(self.breath_end);
-                    let start_s = start as f64 / rate;
-                    self.cycle_actions.insert_sorted((
-                        start_s,
-                        CycleAction::Inspire {
-                            length_s: inspiration_s as f32,
+                    let length = (inspiration_s * rate).round() as usize;
+                    let gain = self.breath_gain(config, self.local_speech_level_db(None));
+                    let gains = self.channel_gains(channels);
+                    self.breath_actions.insert_sorted((
+                        start,
+                        BreathAction::LiveStart {
+                            length,
+                            gain,
+                            gains,
+                            audible: p.insert_breaths,
                             utterance_s: self.utterance_s,
                         },
                     ));
-                    if p.insert_breaths {
-                        let length = (inspiration_s * rate).round() as usize;
-                        let gain = self.breath_gain(config, self.local_speech_level_db(None));
-                        let gains = self.channel_gains(channels);
-                        self.breath_actions.insert_sorted((
-                            start,
-                            BreathAction::Start {
-                                length,
-                                gain,
-                                gains,
-                            },
-                        ));
-                        self.breath_end = start + length as u64;
-                    }
+                    self.breath_end = start + length as u64;
                 }
             }
         }
@@ -860,9 +868,37 @@ impl Stream {
             if !gated {
                 self.breath_actions.pop_front();
             }
+            let at = in_base + pos as u64 - warm as u64;
+            let action = match action {
+                // Live: speech is back where the breath was due: neither sound nor inspiration.
+                BreathAction::LiveStart { .. } if self.input_active[pos] => continue,
+                BreathAction::LiveStart {
+                    length,
+                    gain,
+                    gains,
+                    audible,
+                    utterance_s,
+                } => {
+                    let rate = self.sample_rate_hz;
+                    self.cycle_actions.insert_sorted((
+                        at as f64 / rate,
+                        CycleAction::Inspire {
+                            length_s: (length as f64 / rate) as f32,
+                            utterance_s,
+                        },
+                    ));
+                    if !audible {
+                        continue;
+                    }
+                    BreathAction::Start {
+                        length,
+                        gain,
+                        gains,
+                    }
+                }
+                other => other,
+            };
             match action {
-                // Live: a breath due where the input is active is not started.
-                BreathAction::Start { .. } if live && self.input_active[pos] => {}
                 BreathAction::Start {
                     length,
                     gain,
@@ -884,12 +920,12 @@ impl Stream {
                         self.fading = false;
                         self.voice.start(mouth, length, gain);
                         self.breath_gains = gains;
-                        let at = in_base + pos as u64 - warm as u64;
                         self.open_breath = Some(OpenBreath {
                             start: at,
                             end: at + length as u64,
                             kind: self.voice.kind(),
                             peak: 0.0,
+                            fade_from: None,
                         });
                         active_from = active_from.min(pos);
                     }
@@ -901,11 +937,12 @@ impl Stream {
                         .round()
                         .max(1.0) as usize;
                     self.voice.fade_out(fade);
-                    let at = in_base + pos as u64 - warm as u64;
                     if let Some(b) = &mut self.open_breath {
                         b.end = b.end.min(at + fade as u64);
+                        b.fade_from.get_or_insert(at);
                     }
                 }
+                BreathAction::LiveStart { .. } => unreachable!("turned into Start above"),
             }
         }
         if active_from < active_to {
@@ -943,10 +980,13 @@ impl Stream {
     fn close_breath(&mut self) {
         if let Some(b) = self.open_breath.take() {
             let peak_db = crate::analysis::amplitude_to_db(b.peak as f64);
-            if self.mode == PlacementMode::Live && !(peak_db >= LIVE_STUB_PEAK_DB) {
+            let rate = self.sample_rate_hz;
+            let sounded_s = (b.fade_from.unwrap_or(b.end).saturating_sub(b.start)) as f64 / rate;
+            if self.mode == PlacementMode::Live
+                && (peak_db.is_nan() || peak_db < LIVE_STUB_PEAK_DB || sounded_s < LIVE_STUB_S)
+            {
                 return;
             }
-            let rate = self.sample_rate_hz;
             self.finished_breaths.push_back(BreathEvent {
                 start_s: b.start as f64 / rate,
                 end_s: b.end.max(b.start) as f64 / rate,
