@@ -172,12 +172,61 @@ struct Stream {
     activity_unseen: Option<u64>,
     /// Live mode: the playing breath is already fading out.
     fading: bool,
+    /// Losses counted since `prepare` (see [`Dropped`]).
+    lost: Lost,
+}
+
+/// Losses [`Dropped`] reports besides the queues' own counts.
+#[derive(Debug, Clone, Copy, Default)]
+struct Lost {
+    frames: u64,
+    phrase_events: u64,
+    analysis_blocks: u64,
+}
+
+/// What the engine had to drop since the last [`Engine::prepare`], counted so that no loss is
+/// silent. Every count but `breaths` stays 0 unless an internal bound is wrong (debug builds
+/// assert it); `breaths` grows when a caller lets more than 64 finished breaths pile up
+/// without [`Engine::take_breaths`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Dropped {
+    /// Feature frames completed in one block beyond the block's frame buffer.
+    pub frames: u64,
+    /// Phrase events beyond three reported at one frame.
+    pub phrase_events: u64,
+    /// Control frames, breath actions and breathing-cycle actions pushed out of full queues.
+    pub scheduled: u64,
+    /// Finished breaths pushed out before [`Engine::take_breaths`] collected them.
+    pub breaths: u64,
+    /// Blocks the analysis refused (it is prepared for every block `process` hands it).
+    pub analysis_blocks: u64,
+}
+
+impl Dropped {
+    /// True when nothing was dropped.
+    pub fn is_none(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+/// What [`Engine::set_config`] did with a new configuration.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ConfigChange {
+    /// Settings that apply while playing changed and are in effect now.
+    pub live: bool,
+    /// Settings that size the stream changed (see [`EngineConfig::stream_differs`]); they wait
+    /// for the next [`Engine::prepare`], and [`Engine::config`] keeps reporting the ones in
+    /// effect until then.
+    pub needs_prepare: bool,
 }
 
 /// The streaming engine. See the module docs.
 #[derive(Debug)]
 pub struct Engine {
+    /// The settings in effect.
     config: EngineConfig,
+    /// Settings waiting for the next `prepare` (a change of the stream part).
+    pending: Option<EngineConfig>,
     model: HeadModel,
     samples: [Option<BreathSample>; 2],
     stream: Option<Stream>,
@@ -192,15 +241,37 @@ impl Engine {
         HeadSynth::new(head_model.clone(), config.head.clone())?;
         Ok(Self {
             config,
+            pending: None,
             model: head_model,
             samples: [None, None],
             stream: None,
         })
     }
 
-    /// The settings.
+    /// The settings in effect (a stream change given to [`Engine::set_config`] shows here only
+    /// after the next [`Engine::prepare`]; see [`Engine::pending_config`]).
     pub fn config(&self) -> &EngineConfig {
         &self.config
+    }
+
+    /// Settings given to [`Engine::set_config`] that wait for the next [`Engine::prepare`].
+    pub fn pending_config(&self) -> Option<&EngineConfig> {
+        self.pending.as_ref()
+    }
+
+    /// What was dropped since the last [`Engine::prepare`] (all zero before it).
+    pub fn dropped(&self) -> Dropped {
+        self.stream
+            .as_ref()
+            .map_or_else(Dropped::default, |s| Dropped {
+                frames: s.lost.frames,
+                phrase_events: s.lost.phrase_events,
+                scheduled: s.pending.dropped()
+                    + s.breath_actions.dropped()
+                    + s.cycle_actions.dropped(),
+                breaths: s.finished_breaths.dropped(),
+                analysis_blocks: s.lost.analysis_blocks,
+            })
     }
 
     /// Sets a user breath sample (`None`: the procedural sound). Allocates: not for the audio
@@ -229,6 +300,9 @@ impl Engine {
         }
         if max_block == 0 || max_block > 65_536 {
             return Err(EngineError::MaxBlock(max_block));
+        }
+        if let Some(pending) = self.pending.take() {
+            self.config = pending;
         }
         let c = &self.config;
         let mut analyzer = Analyzer::new(c.analysis.clone())?;
@@ -309,6 +383,7 @@ impl Engine {
             input_active: vec![false; max_block],
             activity_unseen: None,
             fading: false,
+            lost: Lost::default(),
         });
         self.reset();
         Ok(())
@@ -368,18 +443,35 @@ impl Engine {
         self.stream.as_ref().map(|s| s.sample_rate_hz)
     }
 
-    /// Changes the settings that can change while playing, without allocating: breath level,
-    /// insertion on/off, minimum pause, gap, breathing parameters, head settings. Changes to the
-    /// mode, the lookahead, the analysis, the phrase tracker or the seed take effect at the next
-    /// [`Engine::prepare`].
-    pub fn set_config(&mut self, config: &EngineConfig) -> Result<(), EngineError> {
+    /// New settings. Before the first [`Engine::prepare`] all of them apply at once. After it,
+    /// the live part (breath level, insertion on/off, minimum pause, gap, live fade, breathing
+    /// parameters, head settings) applies at once, and a change of the stream part (mode,
+    /// lookahead, analysis, phrase tracker, seed) waits for the next `prepare`. Says which
+    /// happened. Never allocates.
+    pub fn set_config(&mut self, config: &EngineConfig) -> Result<ConfigChange, EngineError> {
         config.validate()?;
-        if let Some(s) = &mut self.stream {
+        let Some(s) = &mut self.stream else {
+            let change = ConfigChange {
+                live: config.live_differs(&self.config),
+                needs_prepare: false,
+            };
+            self.config = config.clone();
+            self.pending = None;
+            return Ok(change);
+        };
+        let change = ConfigChange {
+            live: config.live_differs(&self.config),
+            needs_prepare: config.stream_differs(&self.config),
+        };
+        if change.live {
             s.cycle.set_params(&config.breathing.map());
-            s.head.set_config(config.head.clone());
+            if config.head != self.config.head {
+                s.head.set_config(config.head.clone());
+            }
+            self.config.set_live_part(config);
         }
-        self.config = config.clone();
-        Ok(())
+        self.pending = change.needs_prepare.then(|| config.clone());
+        Ok(change)
     }
 
     /// Hands every finished inserted breath to `on_breath` (oldest first) and forgets them. Up
@@ -470,14 +562,22 @@ impl Stream {
         // 2. Analysis; each frame goes to the head pose, the phrase tracker and the scheduler
         // as of the sample that completed it, so any partition gives the same decisions.
         let mut count = 0;
+        let mut beyond = 0u64;
         let completed = &mut self.completed;
-        // An analyzer prepared for this block size never fails here.
-        let _ = self.analyzer.process_indexed(&self.mono[..n], |f, i| {
+        let analysed = self.analyzer.process_indexed(&self.mono[..n], |f, i| {
             if count < completed.len() {
                 completed[count] = (*f, i);
                 count += 1;
+            } else {
+                beyond += 1;
             }
         });
+        // The analyzer is prepared for this block size and `completed` holds every frame a
+        // block can complete: neither loss can happen unless a bound is wrong.
+        debug_assert!(analysed.is_ok(), "analysis refused a block: {analysed:?}");
+        debug_assert_eq!(beyond, 0, "frames beyond the block's frame buffer");
+        self.lost.analysis_blocks += u64::from(analysed.is_err());
+        self.lost.frames += beyond;
         for k in 0..count {
             let (f, i) = self.completed[k];
             self.on_frame(config, &f, base + i as u64, i, channels);
@@ -629,14 +729,17 @@ impl Stream {
             head,
             emit_at,
         });
+        // The tracker reports at most an end, an activity and a start per frame.
         let mut events: [Option<PhraseEvent>; 3] = [None; 3];
         let mut count = 0;
         self.tracker.update(f, |e| {
-            if count < 3 {
+            if count < events.len() {
                 events[count] = Some(e);
             }
             count += 1;
         });
+        debug_assert!(count <= events.len(), "{count} phrase events at one frame");
+        self.lost.phrase_events += count.saturating_sub(events.len()) as u64;
         for e in events.into_iter().flatten() {
             self.on_phrase_event(config, e, now, channels);
         }

@@ -49,8 +49,7 @@ impl<T: Copy> Queue<T> {
         self.items.len()
     }
 
-    /// Items dropped because the queue was full.
-    #[allow(dead_code)]
+    /// Items dropped because the queue was full (since construction; `clear` keeps the count).
     pub(crate) fn dropped(&self) -> u64 {
         self.dropped
     }
