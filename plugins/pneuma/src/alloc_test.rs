@@ -14,12 +14,16 @@ use std::num::NonZeroU32;
 use nice_plug::context::process::SendEventError;
 use nice_plug::prelude::*;
 
+use crate::rebuild::EngineTask;
 use crate::Pneuma;
 
-/// What the host context saw: CC events (preallocated) and restart requests.
+/// What the host context saw: CC events (preallocated), background tasks asked for, latency
+/// changes and restart requests.
 struct Host {
     transport: Transport,
     cc_events: Vec<(u32, u8)>,
+    tasks: std::cell::Cell<u32>,
+    latency: std::cell::Cell<Option<u32>>,
     restart_requests: std::cell::Cell<u32>,
 }
 
@@ -27,8 +31,11 @@ impl ProcessContext<Pneuma> for Host {
     fn plugin_api(&self) -> PluginApi {
         PluginApi::Clap
     }
-    fn execute_background(&self, _task: ()) {}
-    fn execute_gui(&self, _task: ()) {}
+    fn execute_background(&self, task: EngineTask) {
+        assert_eq!(task, EngineTask::Rebuild);
+        self.tasks.set(self.tasks.get() + 1);
+    }
+    fn execute_gui(&self, _task: EngineTask) {}
     fn transport(&self) -> &Transport {
         &self.transport
     }
@@ -47,7 +54,9 @@ impl ProcessContext<Pneuma> for Host {
         }
         Ok(())
     }
-    fn set_latency_samples(&self, _samples: u32) {}
+    fn set_latency_samples(&self, samples: u32) {
+        self.latency.set(Some(samples));
+    }
     fn request_restart(&self) {
         self.restart_requests.set(self.restart_requests.get() + 1);
     }
@@ -62,7 +71,7 @@ impl ActivateContext<Pneuma> for Activation {
     fn plugin_api(&self) -> PluginApi {
         PluginApi::Clap
     }
-    fn execute(&self, _task: ()) {}
+    fn execute(&self, _task: EngineTask) {}
     fn set_latency_samples(&self, samples: u32) {
         self.latency.set(samples);
     }
@@ -107,6 +116,8 @@ fn the_real_process_never_allocates_after_activate() {
     let mut host = Host {
         transport: Transport::new(48_000.0),
         cc_events: Vec::with_capacity(1 << 16),
+        tasks: 0.into(),
+        latency: None.into(),
         restart_requests: 0.into(),
     };
     host.transport.playing = true;
@@ -152,13 +163,24 @@ fn the_real_process_never_allocates_after_activate() {
         });
         drop(buffer);
         assert!(left[..n].iter().chain(&right[..n]).all(|s| s.is_finite()));
+        // The host's background thread: builds the engine the mode change asked for, outside
+        // the guard; the next `process` swaps it in under the guard.
+        if host.tasks.get() > 0 {
+            host.tasks.set(0);
+            plugin.builder.run();
+        }
     }
     assert!(
         host.cc_events.len() > 20,
         "the path did work: {} CC messages",
         host.cc_events.len()
     );
-    assert_eq!(host.restart_requests.get(), 1, "the mode change asks once");
+    assert_eq!(
+        host.latency.get(),
+        Some(0),
+        "the mode change swapped in a live engine and reported its latency"
+    );
+    assert_eq!(host.restart_requests.get(), 0, "no restart needed");
 }
 
 /// The activation context by value (the trait takes `&mut impl ActivateContext`).
@@ -172,7 +194,7 @@ impl ActivateContext<Pneuma> for ActivationRef<'_> {
     fn plugin_api(&self) -> PluginApi {
         PluginApi::Clap
     }
-    fn execute(&self, _task: ()) {}
+    fn execute(&self, _task: EngineTask) {}
     fn set_latency_samples(&self, samples: u32) {
         self.0.set_latency_samples(samples);
     }
