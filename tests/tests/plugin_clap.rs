@@ -376,6 +376,57 @@ fn state_restores_into_a_fresh_instance_with_the_same_output() {
     assert!(!ev_a.iter().any(|e| e.controller == 25));
 }
 
+/// Sets `changes` (id, value text) on `plugin`, saves its state and loads it into a fresh
+/// instance: every changed value must differ from its default in the saved instance and come
+/// back in the fresh one, every other value too.
+fn assert_state_holds(plugin: &mut Plugin, changes: &[(&str, &str)], case: &str) {
+    let mut defaults = load();
+    let state = plugin.save_state();
+    let mut fresh = load();
+    fresh.load_state(&state).unwrap();
+    for (id, text) in changes {
+        assert_ne!(
+            plugin.param_value(id),
+            defaults.param_value(id),
+            "{case}: {id} was set to {text}"
+        );
+    }
+    for id in PARAM_IDS {
+        assert_eq!(
+            fresh.param_value(id),
+            plugin.param_value(id),
+            "{case}: {id} in the saved state"
+        );
+    }
+}
+
+const CHANGES: &[(&str, &str)] = &[
+    ("breath_level_db", "-10"),
+    ("mode", "Live"),
+    ("cc_lung", "off"),
+    ("preset", "Tired"),
+    ("frame_rate_hz", "60"),
+];
+
+#[test]
+fn a_state_saved_right_after_a_change_holds_the_new_values() {
+    // Inactive: the host hands the values over with `params.flush`, then saves.
+    let mut plugin = load();
+    for (id, text) in CHANGES {
+        plugin.set_param(id, text).unwrap();
+    }
+    assert_state_holds(&mut plugin, CHANGES, "set while inactive");
+    // Active: the values arrive as events with the next block; the host saves right after it.
+    let mut plugin = load();
+    plugin.activate(48_000.0, 256, 2).unwrap();
+    plugin.process(&mut vec![vec![0.0; 256]; 2]);
+    for (id, text) in CHANGES {
+        plugin.set_param(id, text).unwrap();
+    }
+    plugin.process(&mut vec![vec![0.0; 256]; 2]);
+    assert_state_holds(&mut plugin, CHANGES, "set while processing");
+}
+
 #[test]
 fn nan_infinity_and_silence_never_break_the_output() {
     for channels in [1, 2] {

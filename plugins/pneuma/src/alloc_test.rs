@@ -14,15 +14,12 @@ use std::num::NonZeroU32;
 use nice_plug::context::process::SendEventError;
 use nice_plug::prelude::*;
 
-use crate::rebuild::EngineTask;
 use crate::Pneuma;
 
-/// What the host context saw: CC events (preallocated), background tasks asked for, latency
-/// changes and restart requests.
+/// What the host context saw: CC events (preallocated), latency changes and restart requests.
 struct Host {
     transport: Transport,
     cc_events: Vec<(u32, u8)>,
-    tasks: std::cell::Cell<u32>,
     latency: std::cell::Cell<Option<u32>>,
     restart_requests: std::cell::Cell<u32>,
 }
@@ -31,11 +28,8 @@ impl ProcessContext<Pneuma> for Host {
     fn plugin_api(&self) -> PluginApi {
         PluginApi::Clap
     }
-    fn execute_background(&self, task: EngineTask) {
-        assert_eq!(task, EngineTask::Rebuild);
-        self.tasks.set(self.tasks.get() + 1);
-    }
-    fn execute_gui(&self, _task: EngineTask) {}
+    fn execute_background(&self, _task: ()) {}
+    fn execute_gui(&self, _task: ()) {}
     fn transport(&self) -> &Transport {
         &self.transport
     }
@@ -71,7 +65,7 @@ impl ActivateContext<Pneuma> for Activation {
     fn plugin_api(&self) -> PluginApi {
         PluginApi::Clap
     }
-    fn execute(&self, _task: EngineTask) {}
+    fn execute(&self, _task: ()) {}
     fn set_latency_samples(&self, samples: u32) {
         self.latency.set(samples);
     }
@@ -116,7 +110,6 @@ fn the_real_process_never_allocates_after_activate() {
     let mut host = Host {
         transport: Transport::new(48_000.0),
         cc_events: Vec::with_capacity(1 << 16),
-        tasks: 0.into(),
         latency: None.into(),
         restart_requests: 0.into(),
     };
@@ -163,11 +156,14 @@ fn the_real_process_never_allocates_after_activate() {
         });
         drop(buffer);
         assert!(left[..n].iter().chain(&right[..n]).all(|s| s.is_finite()));
-        // The host's background thread: builds the engine the mode change asked for, outside
-        // the guard; the next `process` swaps it in under the guard.
-        if host.tasks.get() > 0 {
-            host.tasks.set(0);
-            plugin.builder.run();
+        // The build thread makes the engine the mode change asked for; the next `process`
+        // swaps it in under the guard.
+        if plugin.build_pending_samples.is_some() {
+            let start = std::time::Instant::now();
+            while plugin.swap.built.slots() == 0 {
+                assert!(start.elapsed().as_secs() < 10, "no engine built in 10 s");
+                std::thread::sleep(std::time::Duration::from_millis(1));
+            }
         }
     }
     assert!(
@@ -194,7 +190,7 @@ impl ActivateContext<Pneuma> for ActivationRef<'_> {
     fn plugin_api(&self) -> PluginApi {
         PluginApi::Clap
     }
-    fn execute(&self, _task: EngineTask) {}
+    fn execute(&self, _task: ()) {}
     fn set_latency_samples(&self, samples: u32) {
         self.0.set_latency_samples(samples);
     }

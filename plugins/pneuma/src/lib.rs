@@ -54,7 +54,7 @@ pub use params::{ChangeFlags, PneumaParams, PARAM_IDS};
 use pneuma_core::breathing::BreathSample;
 use pneuma_core::engine::Engine;
 use pneuma_core::ControlFrame;
-use rebuild::{EngineBuilder, EngineTask, StreamSpec, Structural, SwapEnds};
+use rebuild::{BuildWorker, EngineBuilder, StreamSpec, Structural, SwapEnds};
 
 /// Stable identifier of the breath level parameter, saved in host projects and presets.
 pub const BREATH_LEVEL_PARAM_ID: &str = "breath_level_db";
@@ -165,8 +165,10 @@ pub struct Pneuma {
     osc_feed: Option<OscFeed>,
     osc_worker: Option<OscWorker>,
     osc_stats: Option<Arc<OscStats>>,
-    /// Builds engines: at activation, and in the background when structural settings change.
+    /// Builds engines: at activation, and on `build_worker` when structural settings change.
     builder: Arc<EngineBuilder>,
+    /// The build thread (started at the first activation).
+    build_worker: Option<BuildWorker>,
     /// The audio thread's ends of the engine hand-over.
     swap: SwapEnds,
     /// The running engine's structural settings.
@@ -178,8 +180,7 @@ pub struct Pneuma {
     jumps: JumpDetector,
 }
 
-/// Seconds of processed audio after which an unanswered build is asked for again (the host's
-/// background queue may have been full).
+/// Seconds of processed audio after which an unanswered build is asked for again.
 const BUILD_RETRY_S: f64 = 2.0;
 
 impl Default for Pneuma {
@@ -198,6 +199,7 @@ impl Default for Pneuma {
             osc_worker: None,
             osc_stats: None,
             builder,
+            build_worker: None,
             swap,
             prepared: None,
             stream: None,
@@ -250,8 +252,10 @@ impl Pneuma {
             Some(waited) if *waited < retry => *waited += block as u64,
             _ => {
                 if self.prepared != Some(Structural::of(&self.params)) {
-                    self.build_pending_samples = Some(0);
-                    context.execute_background(EngineTask::Rebuild);
+                    if let Some(worker) = &self.build_worker {
+                        self.build_pending_samples = Some(0);
+                        worker.request();
+                    }
                 } else {
                     self.build_pending_samples = None;
                 }
@@ -386,17 +390,10 @@ impl Plugin for Pneuma {
 
     type Editor = ();
     type SysExMessage = ();
-    type BackgroundTask = EngineTask;
+    type BackgroundTask = ();
 
     fn params(&self) -> Arc<dyn Params> {
         self.params.clone()
-    }
-
-    fn task_executor(&mut self) -> TaskExecutor<Self> {
-        let builder = self.builder.clone();
-        Box::new(move |task| match task {
-            EngineTask::Rebuild => builder.run(),
-        })
     }
 
     fn deactivate(&mut self) {
@@ -452,6 +449,13 @@ impl Plugin for Pneuma {
         // keep the previous one then.
         let _ = self.cc.set_map(self.params.cc_map());
         self.cc.reset();
+        if self.build_worker.is_none() {
+            match BuildWorker::start(self.builder.clone()) {
+                Ok(worker) => self.build_worker = Some(worker),
+                // Structural changes then wait for the next activation.
+                Err(e) => nice_error!("Pneuma: cannot start the engine build thread: {e}"),
+            }
+        }
         if self.osc_worker.is_none() {
             match osc_sender::start(self.params.clone()) {
                 Ok((feed, worker, stats)) => {

@@ -7,8 +7,9 @@
 //! the new engine itself, off the audio thread, and swaps it in:
 //!
 //! 1. The audio thread sees that the [`Structural`] settings differ from the running engine's
-//!    and schedules one build (nice-plug's background task, [`EngineTask::Rebuild`]).
-//! 2. [`EngineBuilder::run`] (background thread: allocates, reads files) drops the engines the
+//!    and asks the plugin's build thread for one engine ([`BuildWorker::request`]: an atomic
+//!    flag and a thread unpark).
+//! 2. [`EngineBuilder::run`] (on that thread: allocates, reads files) drops the engines the
 //!    audio thread retired, builds an engine for the current parameters and the stream the
 //!    plugin was activated for, and hands it over through a lock-free queue ([`Built`]).
 //! 3. The audio thread ([`SwapEnds`]) takes it at the start of a block, swaps it in, reports its
@@ -19,8 +20,16 @@
 //! The new engine starts empty, as after a transport jump: in lookahead mode the track is
 //! silent for the new lookahead. Each activation starts a new stream epoch; an engine built for
 //! an earlier one (a build still running when the host re-activated) is never swapped in.
+//!
+//! The build thread is the plugin's own, not nice-plug's shared background thread: that one
+//! shuts down for every instance when a task of an instance already destroyed reaches it, and
+//! the host then aborts when the last instance unloads (nice-plug 0.4.2,
+//! `event_loop/background_thread.rs`).
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
+use std::thread::{JoinHandle, Thread};
+use std::time::Duration;
 
 use nice_plug::nice_error;
 use pneuma_core::breathing::SampleSlot;
@@ -101,15 +110,8 @@ pub struct Built {
     pub epoch: u64,
 }
 
-/// The plugin's background task.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum EngineTask {
-    /// Build an engine for the current parameters ([`EngineBuilder::run`]).
-    Rebuild,
-}
-
-/// Builds engines for the plugin's parameters, at activation (main thread) and in the
-/// background ([`EngineBuilder::run`]).
+/// Builds engines for the plugin's parameters, at activation (main thread) and on the build
+/// thread ([`EngineBuilder::run`]).
 pub struct EngineBuilder {
     params: Arc<PneumaParams>,
     stream: Mutex<Option<StreamSpec>>,
@@ -218,6 +220,66 @@ impl EngineBuilder {
             // The audio thread takes one result per build it asked for; a full queue means it
             // stopped asking (deactivated): this engine is simply dropped here.
             let _ = done.push(built);
+        }
+    }
+}
+
+/// How long the build thread sleeps between looks at its request flag when nobody wakes it.
+const BUILD_POLL: Duration = Duration::from_millis(50);
+
+/// The plugin's build thread: runs [`EngineBuilder::run`] once per request. Stops and joins on
+/// drop (after the build in progress, if any).
+pub struct BuildWorker {
+    requested: Arc<AtomicBool>,
+    stop: Arc<AtomicBool>,
+    thread: Thread,
+    handle: Option<JoinHandle<()>>,
+}
+
+impl BuildWorker {
+    /// Starts the thread for `builder`.
+    pub fn start(builder: Arc<EngineBuilder>) -> std::io::Result<Self> {
+        let requested = Arc::new(AtomicBool::new(false));
+        let stop = Arc::new(AtomicBool::new(false));
+        let handle = std::thread::Builder::new()
+            .name("pneuma-engine-build".into())
+            .spawn({
+                let requested = requested.clone();
+                let stop = stop.clone();
+                move || {
+                    while !stop.load(Ordering::Acquire) {
+                        if requested.swap(false, Ordering::AcqRel) {
+                            builder.run();
+                        }
+                        std::thread::park_timeout(BUILD_POLL);
+                    }
+                    builder.drop_retired();
+                }
+            })?;
+        Ok(Self {
+            requested,
+            stop,
+            thread: handle.thread().clone(),
+            handle: Some(handle),
+        })
+    }
+
+    /// Asks for one build (audio thread: an atomic store and a futex wake; no allocation, no
+    /// lock, no waiting).
+    pub fn request(&self) {
+        self.requested.store(true, Ordering::Release);
+        self.thread.unpark();
+    }
+}
+
+impl Drop for BuildWorker {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Release);
+        self.thread.unpark();
+        if let Some(handle) = self.handle.take() {
+            if handle.join().is_err() {
+                nice_error!("Pneuma: the engine build thread panicked");
+            }
         }
     }
 }
