@@ -36,6 +36,7 @@
 
 #[cfg(test)]
 mod alloc_test;
+pub mod editor;
 pub mod osc_sender;
 pub mod params;
 
