@@ -191,7 +191,7 @@ mod tests {
             index,
             time_s: index as f64 / 120.0,
             f0_hz: 100.0 + index as f32,
-            voiced: index % 2 == 0,
+            voiced: index.is_multiple_of(2),
             ..ControlFrame::default()
         }
     }
@@ -212,7 +212,7 @@ mod tests {
                 for i in 0..200u64 {
                     feed.begin_block(&[&mut left[..], &mut right[..]]);
                     feed.push_frame(&frame(i));
-                    if i % 50 == 0 {
+                    if i.is_multiple_of(50) {
                         feed.push_breath(&BreathEvent {
                             start_s: i as f64 / 120.0,
                             end_s: i as f64 / 120.0 + 0.3,
