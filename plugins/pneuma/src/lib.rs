@@ -47,6 +47,7 @@ use nice_plug::prelude::*;
 use pneuma_core::encode::midi_cc::{CcEncoder, CcMessage};
 use pneuma_core::encode::osc::OscFormat;
 
+use editor::feed::{EditorFeed, EditorShared};
 use osc_sender::{OscFeed, OscSettings, OscStats, OscWorker};
 pub use params::{ChangeFlags, PneumaParams, PARAM_IDS};
 use pneuma_core::breathing::{BreathSample, SampleSlot};
@@ -190,12 +191,16 @@ pub struct Pneuma {
     prepared: Option<Structural>,
     restart_requested: bool,
     jumps: JumpDetector,
+    /// The audio side of the editor's data path ([`editor::feed`]).
+    view: EditorFeed,
+    view_shared: Arc<EditorShared>,
 }
 
 impl Default for Pneuma {
     fn default() -> Self {
         let params = Arc::new(PneumaParams::default());
         let cc = CcEncoder::new(params.cc_map()).expect("the default CC map is valid");
+        let (view, view_shared) = editor::feed::channel();
         Self {
             params,
             engine: None,
@@ -209,6 +214,8 @@ impl Default for Pneuma {
             prepared: None,
             restart_requested: false,
             jumps: JumpDetector::default(),
+            view,
+            view_shared,
         }
     }
 }
@@ -217,6 +224,11 @@ impl Pneuma {
     /// OSC counters (sent, failed, dropped), once activated.
     pub fn osc_stats(&self) -> Option<&Arc<OscStats>> {
         self.osc_stats.as_ref()
+    }
+
+    /// The GUI's end of the editor's data path.
+    pub fn editor_shared(&self) -> &Arc<EditorShared> {
+        &self.view_shared
     }
 
     /// A new engine for the current parameters and breath samples, prepared for the host's
@@ -264,6 +276,8 @@ pub struct Outputs<'a> {
     pub cc: Option<&'a mut CcEncoder>,
     /// The OSC feed, or `None` when OSC output is off.
     pub osc: Option<&'a mut OscFeed>,
+    /// The editor's feed (frames and inserted breaths), or `None`.
+    pub view: Option<&'a mut EditorFeed>,
 }
 
 /// The audio-thread work of one block: runs the engine in place (then flushes subnormal output
@@ -282,9 +296,16 @@ pub fn run_block(
         if let Some(feed) = outputs.osc.as_deref_mut() {
             feed.push(frame);
         }
+        if let Some(view) = outputs.view.as_deref_mut() {
+            view.push_frame(frame);
+        }
     });
-    // The plugin has no use for the breath list; keep the engine's queue empty.
-    engine.take_breaths(|_| {});
+    // The breaths go to the editor only; keep the engine's queue empty.
+    engine.take_breaths(|b| {
+        if let Some(view) = outputs.view.as_deref_mut() {
+            view.push_breath(b);
+        }
+    });
     // The engine passes the voice bit for bit, subnormal samples included; hosts and validators
     // reject subnormal output, so they become 0 (no other sample changes).
     for channel in audio.iter_mut() {
@@ -410,7 +431,10 @@ impl Plugin for Pneuma {
                 None
             }
         };
-        context.set_latency_samples(self.engine.as_ref().map_or(0, Engine::latency_samples));
+        let latency = self.engine.as_ref().map_or(0, Engine::latency_samples);
+        context.set_latency_samples(latency);
+        self.view
+            .activated(self.engine.is_some(), latency, buffer_config.sample_rate);
         self.prepared = Some(structural);
         self.restart_requested = false;
         self.at_rest = false;
@@ -498,6 +522,7 @@ impl Plugin for Pneuma {
             }
         };
         self.mono.apply(buffer.as_slice());
+        self.view.begin_block(buffer.as_slice());
         let rest = bypassed || self.engine.is_none();
         if rest && !self.at_rest {
             // Once: every controller to the rest pose, one rest frame to OSC.
@@ -505,6 +530,7 @@ impl Plugin for Pneuma {
             let mut outputs = Outputs {
                 cc: midi_on.then_some(&mut self.cc),
                 osc: if osc_on { self.osc_feed.as_mut() } else { None },
+                view: None,
             };
             send_rest_pose(&mut outputs, &mut send_cc);
         }
@@ -515,11 +541,13 @@ impl Plugin for Pneuma {
                     Outputs {
                         cc: None,
                         osc: None,
+                        view: Some(&mut self.view),
                     }
                 } else {
                     Outputs {
                         cc: midi_on.then_some(&mut self.cc),
                         osc: if osc_on { self.osc_feed.as_mut() } else { None },
+                        view: Some(&mut self.view),
                     }
                 };
                 run_block(engine, buffer.as_slice(), outputs, &mut send_cc);
@@ -538,6 +566,7 @@ impl Plugin for Pneuma {
                 self.at_rest = false;
             }
         }
+        self.view.end_block(self.osc_stats.as_deref(), cc_lost);
         ProcessStatus::Normal
     }
 }

@@ -16,6 +16,8 @@ use std::sync::{Arc, Mutex};
 
 use pneuma_core::{BreathEvent, ControlFrame};
 
+use crate::osc_sender::OscStats;
+
 /// Ring capacity in frames: about 8.5 s at 120 Hz, so a GUI that skips a few repaints loses
 /// nothing.
 pub const FRAME_RING: usize = 1024;
@@ -148,6 +150,41 @@ impl EditorFeed {
                 .view_dropped
                 .fetch_add(1, Ordering::Relaxed);
         }
+    }
+
+    /// Ends a block: copies the OSC counters (when the sender runs) and counts a lost CC
+    /// message. Relaxed atomic stores only.
+    pub fn end_block(&mut self, osc: Option<&OscStats>, cc_lost: bool) {
+        let status = &self.shared.status;
+        if let Some(osc) = osc {
+            let load = |a: &AtomicU64| a.load(Ordering::Relaxed);
+            status.osc_sent.store(load(&osc.sent), Ordering::Relaxed);
+            status
+                .osc_failed
+                .store(load(&osc.failed), Ordering::Relaxed);
+            status.osc_dropped.store(
+                load(&osc.dropped_full) + load(&osc.dropped_stale),
+                Ordering::Relaxed,
+            );
+        }
+        if cc_lost {
+            status.cc_lost.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    /// Records an activation: whether the engine runs, its latency and the sample rate.
+    pub fn activated(&mut self, engine_running: bool, latency_samples: u32, sample_rate_hz: f32) {
+        let status = &self.shared.status;
+        status
+            .engine_running
+            .store(engine_running, Ordering::Relaxed);
+        status
+            .latency_samples
+            .store(latency_samples, Ordering::Relaxed);
+        status
+            .sample_rate_hz
+            .store(sample_rate_hz.round() as u32, Ordering::Relaxed);
+        self.pending_peak = 0.0;
     }
 
     /// The shared status the audio side writes (relaxed atomics).
