@@ -38,6 +38,7 @@
 
 #[cfg(test)]
 mod alloc_test;
+pub mod editor;
 pub mod osc_sender;
 pub mod params;
 pub mod rebuild;
@@ -49,6 +50,7 @@ use nice_plug::prelude::*;
 use pneuma_core::encode::midi_cc::{CcEncoder, CcMessage};
 use pneuma_core::encode::osc::OscFormat;
 
+use editor::feed::{EditorFeed, EditorShared};
 use osc_sender::{OscFeed, OscSettings, OscStats, OscWorker};
 pub use params::{ChangeFlags, PneumaParams, PARAM_IDS};
 use pneuma_core::breathing::BreathSample;
@@ -178,6 +180,9 @@ pub struct Pneuma {
     /// Samples processed since a background build was asked for (`None`: none pending).
     build_pending_samples: Option<u64>,
     jumps: JumpDetector,
+    /// The audio side of the editor's data path ([`editor::feed`]).
+    view: EditorFeed,
+    view_shared: Arc<EditorShared>,
 }
 
 /// Seconds of processed audio after which an unanswered build is asked for again.
@@ -188,6 +193,7 @@ impl Default for Pneuma {
         let params = Arc::new(PneumaParams::default());
         let cc = CcEncoder::new(params.cc_map()).expect("the default CC map is valid");
         let (builder, swap) = EngineBuilder::new(params.clone());
+        let (view, view_shared) = editor::feed::channel();
         Self {
             params,
             engine: None,
@@ -205,6 +211,8 @@ impl Default for Pneuma {
             stream: None,
             build_pending_samples: None,
             jumps: JumpDetector::default(),
+            view,
+            view_shared,
         }
     }
 }
@@ -213,6 +221,11 @@ impl Pneuma {
     /// OSC counters (sent, failed, dropped), once activated.
     pub fn osc_stats(&self) -> Option<&Arc<OscStats>> {
         self.osc_stats.as_ref()
+    }
+
+    /// The GUI's end of the editor's data path.
+    pub fn editor_shared(&self) -> &Arc<EditorShared> {
+        &self.view_shared
     }
 
     fn reset_streams(&mut self) {
@@ -244,7 +257,11 @@ impl Pneuma {
                     debug_assert!(false, "the parameters' engine settings are valid: {e}");
                 }
             }
-            context.set_latency_samples(self.engine.as_ref().map_or(0, |e| e.latency_samples()));
+            let latency = self.engine.as_ref().map_or(0, |e| e.latency_samples());
+            context.set_latency_samples(latency);
+            // The editor shows the latency the swapped-in engine costs.
+            self.view
+                .activated(self.engine.is_some(), latency, stream.sample_rate_hz as f32);
             self.at_rest = false;
         }
         let retry = (BUILD_RETRY_S * stream.sample_rate_hz) as u64;
@@ -271,6 +288,8 @@ pub struct Outputs<'a> {
     pub cc: Option<&'a mut CcEncoder>,
     /// The OSC feed, or `None` when OSC output is off.
     pub osc: Option<&'a mut OscFeed>,
+    /// The editor's feed (frames and inserted breaths), or `None`.
+    pub view: Option<&'a mut EditorFeed>,
 }
 
 /// The audio-thread work of one block: runs the engine in place (then flushes subnormal output
@@ -289,9 +308,16 @@ pub fn run_block(
         if let Some(feed) = outputs.osc.as_deref_mut() {
             feed.push(frame);
         }
+        if let Some(view) = outputs.view.as_deref_mut() {
+            view.push_frame(frame);
+        }
     });
-    // The plugin has no use for the breath list; keep the engine's queue empty.
-    engine.take_breaths(|_| {});
+    // The breaths go to the editor only; keep the engine's queue empty.
+    engine.take_breaths(|b| {
+        if let Some(view) = outputs.view.as_deref_mut() {
+            view.push_breath(b);
+        }
+    });
     // The engine passes the voice bit for bit, subnormal samples included; hosts and validators
     // reject subnormal output, so they become 0 (no other sample changes).
     for channel in audio.iter_mut() {
@@ -435,7 +461,10 @@ impl Plugin for Pneuma {
                 None
             }
         };
-        context.set_latency_samples(self.engine.as_ref().map_or(0, |e| e.latency_samples()));
+        let latency = self.engine.as_ref().map_or(0, |e| e.latency_samples());
+        context.set_latency_samples(latency);
+        self.view
+            .activated(self.engine.is_some(), latency, buffer_config.sample_rate);
         self.prepared = Some(structural);
         self.at_rest = false;
         self.mono = MonoSource::new(audio_io_layout);
@@ -525,6 +554,7 @@ impl Plugin for Pneuma {
             }
         };
         self.mono.apply(buffer.as_slice());
+        self.view.begin_block(buffer.as_slice());
         let rest = bypassed || self.engine.is_none();
         if rest && !self.at_rest {
             // Once: every controller to the rest pose, one rest frame to OSC.
@@ -532,6 +562,7 @@ impl Plugin for Pneuma {
             let mut outputs = Outputs {
                 cc: midi_on.then_some(&mut self.cc),
                 osc: if osc_on { self.osc_feed.as_mut() } else { None },
+                view: None,
             };
             send_rest_pose(&mut outputs, &mut send_cc);
         }
@@ -542,11 +573,13 @@ impl Plugin for Pneuma {
                     Outputs {
                         cc: None,
                         osc: None,
+                        view: Some(&mut self.view),
                     }
                 } else {
                     Outputs {
                         cc: midi_on.then_some(&mut self.cc),
                         osc: if osc_on { self.osc_feed.as_mut() } else { None },
+                        view: Some(&mut self.view),
                     }
                 };
                 run_block(engine, buffer.as_slice(), outputs, &mut send_cc);
@@ -565,6 +598,7 @@ impl Plugin for Pneuma {
                 self.at_rest = false;
             }
         }
+        self.view.end_block(self.osc_stats.as_deref(), cc_lost);
         ProcessStatus::Normal
     }
 }
