@@ -1,4 +1,5 @@
-//! The `pneuma` command's library: WAV input with clear errors, safe output files, and the
+//! The `pneuma` command's library: audio input (the shared `pneuma-io` crate, its WAV reader
+//! re-exported as [`wav`]), safe output files, and the
 //! subcommands. The binary in `main.rs` only parses arguments and reports errors.
 
 pub mod analyze;
@@ -9,5 +10,6 @@ pub mod plot;
 pub mod render;
 pub mod speak;
 pub mod train;
-pub mod wav;
 pub mod wav_out;
+
+pub use pneuma_io::wav;

@@ -20,8 +20,9 @@ use pneuma_core::{BreathEvent, ControlFrame};
 use thiserror::Error;
 
 use crate::output::{commit_all, Output, Staged};
-use crate::wav::{WavError, WavInfo, WavSource};
+use crate::wav::WavInfo;
 use crate::wav_out::WavSink;
+use pneuma_io::{AudioSource, ReadError};
 
 /// Sample frames per block.
 const BLOCK_FRAMES: usize = 4096;
@@ -35,7 +36,7 @@ const PLOT_FRAMES: usize = 200_000;
 pub enum RenderError {
     /// The input file.
     #[error(transparent)]
-    Wav(#[from] WavError),
+    Audio(#[from] ReadError),
     /// The settings.
     #[error("invalid settings: {0}")]
     Settings(#[from] EngineError),
@@ -217,7 +218,7 @@ fn out_err(path: &Path) -> impl Fn(std::io::Error) -> RenderError + '_ {
 
 /// Reads the breath sample at `path`; `label` names it in errors.
 fn load_sample(path: &Path, label: &str) -> Result<BreathSample, RenderError> {
-    let (samples, rate) = crate::wav::read_mono(path)?;
+    let (samples, rate) = pneuma_io::read_mono(path)?;
     BreathSample::from_mono(samples, rate as f64)
         .map_err(|e| RenderError::Input(format!("{label} {}: {e}", path.display())))
 }
@@ -225,7 +226,7 @@ fn load_sample(path: &Path, label: &str) -> Result<BreathSample, RenderError> {
 /// Runs a render; `progress` is called with the fraction done (0..1) now and then.
 pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, RenderError> {
     let config = args.engine_config()?;
-    let mut src = WavSource::open(&args.input)?;
+    let mut src = AudioSource::open(&args.input)?;
     let info = src.info();
     let channels = info.channels as usize;
     if channels > pneuma_core::engine::MAX_CHANNELS {
