@@ -442,7 +442,9 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
         breaths_path.clone(),
     ];
     let mut staged = vec![
-        sink.finish().map_err(out_err(&wav_path))?,
+        sink.finish()
+            .map_err(out_err(&wav_path))?
+            .ok_or_else(|| out_err(&wav_path)(std::io::Error::other("not a file")))?,
         staged_file(controls, &controls_path)?,
         staged_file(breaths_out, &breaths_path)?,
     ];
