@@ -575,6 +575,11 @@ impl AudioSink {
                 let flac = self.flac.as_mut().expect("FLAC state present");
                 flac.info.set_md5_digest(&flac.context.md5_digest());
                 flac.info.set_total_samples(flac.context.total_samples());
+                // A fixed-block-size stream announces its block size as both bounds (the last,
+                // shorter block is allowed), as the reference encoder does.
+                flac.info
+                    .set_block_sizes(FLAC_BLOCK, FLAC_BLOCK)
+                    .map_err(flac_err)?;
                 let mut sink = flacenc::bitsink::ByteSink::new();
                 flac.info.write(&mut sink).map_err(flac_err)?;
                 file.seek(SeekFrom::Start(flac.info_at))?;

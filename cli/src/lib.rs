@@ -4,7 +4,9 @@
 
 pub mod analyze;
 pub mod audio_out;
+pub mod batch;
 pub mod eval;
+pub mod markers;
 pub mod options;
 pub mod output;
 pub mod plot;
