@@ -337,33 +337,16 @@ pub fn send_rest_pose(outputs: &mut Outputs<'_>, send_cc: &mut dyn FnMut(u32, Cc
     }
 }
 
-/// Reads a breath sample WAV (any channel count, mixed to mono). Empty path: none.
+/// Reads a breath sample (WAV, FLAC, AIFF, … any channel count, mixed to mono). Empty path:
+/// none.
 pub fn load_breath_sample(path: &str) -> Result<Option<BreathSample>, String> {
     if path.trim().is_empty() {
         return Ok(None);
     }
-    let mut reader = hound::WavReader::open(path).map_err(|e| format!("{path}: {e}"))?;
-    let spec = reader.spec();
-    let channels = usize::from(spec.channels.max(1));
-    let interleaved: Vec<f32> = match spec.sample_format {
-        hound::SampleFormat::Float => reader
-            .samples::<f32>()
-            .collect::<Result<_, _>>()
-            .map_err(|e| format!("{path}: {e}"))?,
-        hound::SampleFormat::Int => {
-            let scale = 1.0 / (1u64 << (spec.bits_per_sample.clamp(1, 32) - 1)) as f32;
-            reader
-                .samples::<i32>()
-                .map(|s| s.map(|v| v as f32 * scale))
-                .collect::<Result<_, _>>()
-                .map_err(|e| format!("{path}: {e}"))?
-        }
-    };
-    let mono: Vec<f32> = interleaved
-        .chunks(channels)
-        .map(|f| f.iter().sum::<f32>() / channels as f32)
-        .collect();
-    BreathSample::from_mono(mono, f64::from(spec.sample_rate))
+    // The same reader as the CLI's (pneuma-io): every format and WAV variant it accepts.
+    let (mono, rate_hz) =
+        pneuma_io::read_mono(std::path::Path::new(path)).map_err(|e| e.to_string())?;
+    BreathSample::from_mono(mono, f64::from(rate_hz))
         .map(Some)
         .map_err(|e| format!("{path}: {e}"))
 }
@@ -728,6 +711,18 @@ mod tests {
         w.finalize().unwrap();
         let err = load_breath_sample(silent.to_str().unwrap()).unwrap_err();
         assert!(err.contains("silent.wav"), "{err}");
+        // The same file as saved from a pipe (ffmpeg/sox write 0xFFFFFFFF as the data size):
+        // the CLI reads it, so the plugin must too (issue 17.5: one reader for both).
+        let mut bytes = std::fs::read(&path).unwrap();
+        let data = bytes.windows(4).position(|w| w == b"data").unwrap();
+        bytes[data + 4..data + 8].copy_from_slice(&u32::MAX.to_le_bytes());
+        let piped = dir.join("piped.wav");
+        std::fs::write(&piped, &bytes).unwrap();
+        let sample = load_breath_sample(piped.to_str().unwrap());
+        assert!(
+            sample.as_ref().is_ok_and(|s| s.is_some()),
+            "a streamed-size WAV loads: {sample:?}"
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 
