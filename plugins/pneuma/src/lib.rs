@@ -18,8 +18,10 @@
 //!   reports the new latency ([`rebuild`]): no re-activation by the host is needed.
 //! - Parameter changes reach the audio thread through [`ChangeFlags`] raised by the parameters'
 //!   callbacks: the engine settings and the CC map are rebuilt only after a change.
-//! - Reset (engine, MIDI CC memory, OSC time anchor) on re-activation, on the host's reset and on
-//!   a transport jump (a position that is not where the previous block ended, while playing).
+//! - Reset (engine, MIDI CC memory, OSC time anchor) on re-activation, on the host's reset, when
+//!   the transport first plays after an activation, and on a transport jump (a position that is
+//!   not where the previous block ended, while playing). So playback and exports start from a
+//!   fresh engine, as `pneuma render` does, whatever ran through the plugin while stopped.
 //! - MIDI output: CC per the DESIGN.md map ([`pneuma_core::encode::midi_cc`]), sent only on change,
 //!   at most once per frame, at the sample offset inside the block where the frame became
 //!   available. No MIDI input (on VST3 it adds ~2 000 hidden parameters).
@@ -42,6 +44,7 @@ pub mod editor;
 pub mod osc_sender;
 pub mod params;
 pub mod rebuild;
+mod transport;
 
 use std::num::NonZeroU32;
 use std::sync::Arc;
@@ -57,48 +60,10 @@ use pneuma_core::breathing::BreathSample;
 use pneuma_core::engine::Engine;
 use pneuma_core::ControlFrame;
 use rebuild::{BuildWorker, EngineBuilder, StreamSpec, Structural, SwapEnds};
+use transport::{JumpDetector, PreRoll};
 
 /// Stable identifier of the breath level parameter, saved in host projects and presets.
 pub const BREATH_LEVEL_PARAM_ID: &str = "breath_level_db";
-
-/// Detects transport jumps: a playing block that does not start where the last one ended (give
-/// or take `tolerance` samples: hosts that derive positions from beats or seconds round them).
-/// A block at the same position as the one before is no jump: hosts that compensate latency
-/// pre-roll with the position held (Ardour at time 0 feeds the region's first samples while it
-/// reports 0), and a reset there would drop the audio already in the delay line.
-#[derive(Debug, Default)]
-struct JumpDetector {
-    expected_pos: Option<i64>,
-    last_pos: Option<i64>,
-    tolerance: i64,
-}
-
-impl JumpDetector {
-    /// A detector that ignores position errors up to `tolerance` samples.
-    fn new(tolerance: i64) -> Self {
-        Self {
-            expected_pos: None,
-            last_pos: None,
-            tolerance,
-        }
-    }
-
-    /// True if this block jumps; remembers where it ends.
-    fn check(&mut self, playing: bool, pos_samples: Option<i64>, block: usize) -> bool {
-        let (true, Some(pos)) = (playing, pos_samples) else {
-            // Stopped or unknown: keep the last end, so a restart elsewhere is a jump.
-            return false;
-        };
-        let held = self.last_pos == Some(pos);
-        let jumped = !held
-            && self
-                .expected_pos
-                .is_some_and(|e| (e - pos).abs() > self.tolerance);
-        self.expected_pos = Some(pos + block as i64);
-        self.last_pos = Some(pos);
-        jumped
-    }
-}
 
 impl OscSettings for PneumaParams {
     fn target(&self) -> (String, u16) {
@@ -183,6 +148,7 @@ pub struct Pneuma {
     /// The audio side of the editor's data path ([`editor::feed`]).
     view: EditorFeed,
     view_shared: Arc<EditorShared>,
+    pre_roll: PreRoll,
 }
 
 /// Seconds of processed audio after which an unanswered build is asked for again.
@@ -213,6 +179,7 @@ impl Default for Pneuma {
             jumps: JumpDetector::default(),
             view,
             view_shared,
+            pre_roll: PreRoll::default(),
         }
     }
 }
@@ -275,6 +242,42 @@ impl Pneuma {
                     }
                 } else {
                     self.build_pending_samples = None;
+                }
+            }
+        }
+    }
+
+    /// Runs the engine (or the pass-through where there is none) over `audio`, sending its
+    /// control frames to the enabled outputs.
+    fn run_engine(
+        &mut self,
+        audio: &mut [&mut [f32]],
+        midi_on: bool,
+        osc_on: bool,
+        send_cc: &mut dyn FnMut(u32, CcMessage),
+    ) {
+        let bypassed = self.params.bypass.value();
+        match self.engine.as_deref_mut() {
+            Some(engine) => {
+                self.at_rest = bypassed;
+                let outputs = if bypassed {
+                    Outputs {
+                        cc: None,
+                        osc: None,
+                        view: Some(&mut self.view),
+                    }
+                } else {
+                    Outputs {
+                        cc: midi_on.then_some(&mut self.cc),
+                        osc: if osc_on { self.osc_feed.as_mut() } else { None },
+                        view: Some(&mut self.view),
+                    }
+                };
+                run_block(engine, audio, outputs, send_cc);
+            }
+            None => {
+                for channel in audio.iter_mut() {
+                    sanitize_in_place(channel);
                 }
             }
         }
@@ -434,16 +437,23 @@ impl Plugin for Pneuma {
         while self.swap.built.pop().is_ok() {}
         self.builder.drop_retired();
         self.build_pending_samples = None;
-        // Never refuse: a host may use any rate (1 Hz, 768 kHz, 1 234.5678 Hz). Where the engine
-        // cannot run, the audio passes untouched and the controls rest.
-        let (engine, structural) = self.builder.build(&stream);
-        self.engine = match engine {
-            Ok(engine) => Some(Box::new(engine)),
-            Err(e) => {
-                nice_error!("Pneuma: audio passes untouched and the controls rest: {e}");
-                None
+        if self.build_worker.is_none() {
+            match BuildWorker::start(self.builder.clone()) {
+                Ok(worker) => self.build_worker = Some(worker),
+                // Structural changes then wait for the next activation.
+                Err(e) => nice_error!("Pneuma: cannot start the engine build thread: {e}"),
             }
-        };
+        }
+        // Never refuse: a host may use any rate (1 Hz, 768 kHz, 1 234.5678 Hz). Where the engine
+        // cannot run, the audio passes untouched and the controls rest. Built on the build
+        // thread (a known stack), here only if that thread is missing or stuck.
+        let built = self
+            .build_worker
+            .as_ref()
+            .and_then(|w| w.build_and_wait(&mut self.swap, epoch))
+            .unwrap_or_else(|| self.builder.build_boxed(&stream));
+        self.engine = built.engine;
+        let structural = built.structural;
         let latency = self.engine.as_ref().map_or(0, |e| e.latency_samples());
         context.set_latency_samples(latency);
         self.view
@@ -452,6 +462,7 @@ impl Plugin for Pneuma {
         self.at_rest = false;
         self.mono = MonoSource::new(audio_io_layout);
         // One millisecond of tolerance for rounded host positions (at least one sample).
+        self.pre_roll = PreRoll::default();
         self.jumps = JumpDetector::new(
             (f64::from(buffer_config.sample_rate) / 1000.0)
                 .ceil()
@@ -461,13 +472,6 @@ impl Plugin for Pneuma {
         // keep the previous one then.
         let _ = self.cc.set_map(self.params.cc_map());
         self.cc.reset();
-        if self.build_worker.is_none() {
-            match BuildWorker::start(self.builder.clone()) {
-                Ok(worker) => self.build_worker = Some(worker),
-                // Structural changes then wait for the next activation.
-                Err(e) => nice_error!("Pneuma: cannot start the engine build thread: {e}"),
-            }
-        }
         if self.osc_worker.is_none() {
             match osc_sender::start(self.params.clone()) {
                 Ok((feed, worker, stats)) => {
@@ -493,11 +497,13 @@ impl Plugin for Pneuma {
         context: &mut impl ProcessContext<Self>,
     ) -> ProcessStatus {
         let transport = context.transport();
-        if self
-            .jumps
-            .check(transport.playing, transport.pos_samples(), buffer.samples())
-        {
+        let pos = transport.pos_samples();
+        let playing = transport.playing;
+        let jumped = self.jumps.check(playing, pos, buffer.samples());
+        if jumped {
             self.reset_streams();
+            let latency = self.engine.as_ref().map_or(0, |e| e.latency_samples());
+            self.pre_roll.start(pos, latency);
         }
         self.follow_structure(context, buffer.samples());
         let changes = &self.params.changes;
@@ -549,29 +555,33 @@ impl Plugin for Pneuma {
             };
             send_rest_pose(&mut outputs, &mut send_cc);
         }
-        match self.engine.as_deref_mut() {
-            Some(engine) => {
-                self.at_rest = rest;
-                let outputs = if bypassed {
-                    Outputs {
-                        cc: None,
-                        osc: None,
-                        view: Some(&mut self.view),
-                    }
-                } else {
-                    Outputs {
-                        cc: midi_on.then_some(&mut self.cc),
-                        osc: if osc_on { self.osc_feed.as_mut() } else { None },
-                        view: Some(&mut self.view),
-                    }
-                };
-                run_block(engine, buffer.as_slice(), outputs, &mut send_cc);
-            }
-            None => {
-                for channel in buffer.as_slice().iter_mut() {
-                    sanitize_in_place(channel);
+        let audio = buffer.as_slice();
+        let restart_at = if playing {
+            self.pre_roll.restart_at(pos, audio)
+        } else {
+            self.pre_roll.stop();
+            None
+        };
+        match restart_at {
+            // A silent pre-roll ends in this block: the engine starts afresh with the audio, as
+            // `pneuma render` starts at the file's first sample.
+            Some(at) => {
+                let mut heads: [&mut [f32]; 2] = Default::default();
+                let mut tails: [&mut [f32]; 2] = Default::default();
+                let channels = audio.len().min(2);
+                for (i, channel) in audio.iter_mut().take(2).enumerate() {
+                    let (head, tail) = channel.split_at_mut(at);
+                    heads[i] = head;
+                    tails[i] = tail;
                 }
+                self.run_engine(&mut heads[..channels], midi_on, osc_on, &mut send_cc);
+                self.reset_streams();
+                let offset = at as u32;
+                self.run_engine(&mut tails[..channels], midi_on, osc_on, &mut |o, m| {
+                    send_cc(o + offset, m)
+                });
             }
+            None => self.run_engine(audio, midi_on, osc_on, &mut send_cc),
         }
         if cc_lost {
             // Forget what was sent so every controller is sent again at the next frame: a lost
@@ -724,34 +734,6 @@ mod tests {
             "a streamed-size WAV loads: {sample:?}"
         );
         let _ = std::fs::remove_dir_all(&dir);
-    }
-
-    #[test]
-    fn transport_jumps_are_detected_only_while_playing() {
-        let mut d = JumpDetector::new(2);
-        assert!(!d.check(true, Some(0), 64), "first block");
-        assert!(!d.check(true, Some(64), 64), "contiguous");
-        assert!(
-            !d.check(true, Some(129), 63),
-            "one sample of rounding is no jump"
-        );
-        assert!(!d.check(true, Some(192), 872), "back on track");
-        assert!(d.check(true, Some(1000), 64), "jump forward");
-        assert!(!d.check(true, Some(1064), 32));
-        assert!(!d.check(false, Some(5000), 32), "stopped: no reset");
-        assert!(d.check(true, Some(5000), 32), "restart elsewhere is a jump");
-        assert!(!d.check(true, None, 32), "no position: no jump");
-        assert!(!d.check(true, Some(5032), 32));
-        // A held position (latency pre-roll) is no jump, nor is the roll that follows it.
-        let mut d = JumpDetector::new(2);
-        for _ in 0..4 {
-            assert!(!d.check(true, Some(0), 512), "pre-roll held at 0");
-        }
-        assert!(!d.check(true, Some(512), 512), "rolling on");
-        assert!(
-            d.check(true, Some(0), 512),
-            "back to 0 while rolling is a jump"
-        );
     }
 
     fn layout(inputs: u32, outputs: u32) -> AudioIOLayout {

@@ -195,15 +195,9 @@ impl EngineBuilder {
         }
     }
 
-    /// The background task: drops retired engines, then builds one for the current parameters
-    /// and the last activation's stream and hands it to the audio thread. Does nothing before
-    /// the first activation.
-    pub fn run(&self) {
-        self.drop_retired();
-        let Some(stream) = self.stream.lock().ok().and_then(|s| *s) else {
-            return;
-        };
-        let (engine, structural) = self.build(&stream);
+    /// [`EngineBuilder::build`], boxed; an engine that cannot run is logged and `None`.
+    pub fn build_boxed(&self, stream: &StreamSpec) -> Built {
+        let (engine, structural) = self.build(stream);
         let engine = match engine {
             Ok(engine) => Some(Box::new(engine)),
             Err(e) => {
@@ -211,21 +205,42 @@ impl EngineBuilder {
                 None
             }
         };
-        let built = Built {
+        Built {
             engine,
             structural,
             epoch: stream.epoch,
+        }
+    }
+
+    /// The build thread's task: drops retired engines, then builds one for the current
+    /// parameters and the last activation's stream and hands it to the audio thread. Does
+    /// nothing before the first activation.
+    pub fn run(&self) {
+        self.drop_retired();
+        let Some(stream) = self.stream.lock().ok().and_then(|s| *s) else {
+            return;
         };
+        let built = self.build_boxed(&stream);
         if let Ok(mut done) = self.done.lock() {
-            // The audio thread takes one result per build it asked for; a full queue means it
-            // stopped asking (deactivated): this engine is simply dropped here.
-            let _ = done.push(built);
+            // A full queue means the audio thread stopped taking engines (deactivated): this
+            // one is dropped here.
+            if done.push(built).is_err() {
+                nice_error!("Pneuma: an engine was built for nobody (queue full)");
+            }
         }
     }
 }
 
 /// How long the build thread sleeps between looks at its request flag when nobody wakes it.
 const BUILD_POLL: Duration = Duration::from_millis(50);
+
+/// Stack of the build thread. An engine is about 55 kB inline and is built by value; hosts call
+/// `activate` on threads with small stacks (Ardour 7 from its process thread, where building
+/// there overflowed the stack), so activation builds here too.
+const BUILD_STACK_BYTES: usize = 8 << 20;
+
+/// The longest `activate` waits for the build thread before building on its own thread.
+const ACTIVATE_WAIT: Duration = Duration::from_secs(10);
 
 /// The plugin's build thread: runs [`EngineBuilder::run`] once per request. Stops and joins on
 /// drop (after the build in progress, if any).
@@ -243,6 +258,7 @@ impl BuildWorker {
         let stop = Arc::new(AtomicBool::new(false));
         let handle = std::thread::Builder::new()
             .name("pneuma-engine-build".into())
+            .stack_size(BUILD_STACK_BYTES)
             .spawn({
                 let requested = requested.clone();
                 let stop = stop.clone();
@@ -269,6 +285,27 @@ impl BuildWorker {
     pub fn request(&self) {
         self.requested.store(true, Ordering::Release);
         self.thread.unpark();
+    }
+}
+
+impl BuildWorker {
+    /// Activation (not the audio thread): builds an engine for `epoch` on the build thread and
+    /// waits for it; engines of earlier epochs met on the way are dropped here. `None` if the
+    /// thread gave no engine within [`ACTIVATE_WAIT`].
+    pub fn build_and_wait(&self, swap: &mut SwapEnds, epoch: u64) -> Option<Built> {
+        let start = std::time::Instant::now();
+        self.request();
+        loop {
+            while let Ok(built) = swap.built.pop() {
+                if built.epoch == epoch {
+                    return Some(built);
+                }
+            }
+            if start.elapsed() > ACTIVATE_WAIT {
+                return None;
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
     }
 }
 
