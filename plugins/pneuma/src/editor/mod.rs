@@ -100,3 +100,42 @@ pub fn create(
     let app = view::EditorApp::new(params, shared, saved_layout);
     create_egui_editor(state, RepaintNotifier::new(), settings, app)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nice_plug::prelude::Params;
+
+    #[test]
+    fn the_window_size_and_zoom_are_saved_with_the_state() {
+        let params = PneumaParams::default();
+        *params.editor_layout.write().unwrap() = EditorLayout {
+            width: 1234,
+            height: 777,
+            zoom: 1.5,
+        };
+        let saved = params.serialize_fields();
+        assert!(saved.contains_key("editor_layout"), "{:?}", saved.keys());
+        let restored = PneumaParams::default();
+        restored.deserialize_fields(&saved);
+        assert_eq!(
+            *restored.editor_layout.read().unwrap(),
+            EditorLayout {
+                width: 1234,
+                height: 777,
+                zoom: 1.5
+            }
+        );
+    }
+
+    #[test]
+    fn a_headless_process_has_no_editor() {
+        set_headless(true);
+        let (_, shared) = feed::channel();
+        let params = Arc::new(PneumaParams::default());
+        let layout = params.editor_layout.clone();
+        assert!(create(params.clone(), shared.clone(), layout.clone()).is_none());
+        set_headless(false);
+        assert!(create(params, shared, layout).is_some());
+    }
+}
