@@ -402,12 +402,20 @@ impl Plugin for Pneuma {
 
     const SAMPLE_ACCURATE_AUTOMATION: bool = false;
 
-    type Editor = ();
     type SysExMessage = ();
+    type Editor = editor::PneumaEditor;
     type BackgroundTask = ();
 
     fn params(&self) -> Arc<dyn Params> {
         self.params.clone()
+    }
+
+    fn editor(&mut self, _executor: AsyncExecutor<Self>) -> Option<Self::Editor> {
+        editor::create(
+            self.params.clone(),
+            self.view_shared.clone(),
+            self.params.editor_layout.clone(),
+        )
     }
 
     fn activate(
