@@ -164,7 +164,7 @@ pub fn choose_backend(o: &AppOptions) -> Result<Backend, String> {
 fn jack_server() -> Option<(u32, u32)> {
     match jack::Client::new("pneuma_probe", jack::ClientOptions::NO_START_SERVER) {
         Ok((client, status)) if status.is_empty() => {
-            Some((client.sample_rate() as u32, client.buffer_size()))
+            Some((client.sample_rate(), client.buffer_size()))
         }
         _ => None,
     }
