@@ -400,8 +400,8 @@ impl Plugin for Pneuma {
 
     const SAMPLE_ACCURATE_AUTOMATION: bool = false;
 
-    type Editor = ();
     type SysExMessage = ();
+    type Editor = editor::PneumaEditor;
     type BackgroundTask = ();
 
     fn params(&self) -> Arc<dyn Params> {
@@ -411,6 +411,14 @@ impl Plugin for Pneuma {
     fn deactivate(&mut self) {
         // Off the audio thread: drop what the audio thread handed back.
         self.builder.drop_retired();
+    }
+
+    fn editor(&mut self, _executor: AsyncExecutor<Self>) -> Option<Self::Editor> {
+        editor::create(
+            self.params.clone(),
+            self.view_shared.clone(),
+            self.params.editor_layout.clone(),
+        )
     }
 
     fn activate(

@@ -263,6 +263,9 @@ pub struct PneumaParams {
     /// Path of a nose breath WAV replacing the procedural nose breath (empty = none).
     #[persist = "breath_sample_nose"]
     pub breath_sample_nose: SamplePath,
+    /// The editor window's size and zoom.
+    #[persist = "editor_layout"]
+    pub editor_layout: Arc<RwLock<crate::editor::EditorLayout>>,
 
     /// Raised by the parameters' callbacks; taken by the audio thread.
     pub changes: Arc<ChangeFlags>,
@@ -416,6 +419,8 @@ fn parse_cc_text(text: &str) -> Option<i32> {
 impl Default for PneumaParams {
     fn default() -> Self {
         let flags = Arc::new(ChangeFlags::default());
+        // A standalone program's defaults (live mode, OSC on); plugin hosts never set them.
+        let app = crate::editor::standalone::app_defaults();
         let engine = |p: FloatParam| p.with_callback(raise(&flags, Raises::Engine));
         let cc_map = |p: FloatParam| p.with_callback(raise(&flags, Raises::CcMap));
         Self {
@@ -436,8 +441,14 @@ impl Default for PneumaParams {
             insert_breaths: BoolParam::new("Insert breaths", true)
                 .with_callback(raise(&flags, Raises::Engine)),
             min_pause_s: engine(linear("Minimum pause", 0.25, 0.1, 2.0, " s", 0.01)),
-            mode: EnumParam::new("Mode", ModeChoice::Lookahead)
-                .with_callback(raise(&flags, Raises::Structure)),
+            mode: EnumParam::new(
+                "Mode",
+                match app {
+                    Some(a) if a.live => ModeChoice::Live,
+                    _ => ModeChoice::Lookahead,
+                },
+            )
+            .with_callback(raise(&flags, Raises::Structure)),
             lookahead_s: linear("Lookahead", 0.5, 0.3, 2.0, " s", 0.01)
                 .with_callback(raise(&flags, Raises::Structure)),
             head_amount: engine(linear("Head motion", 1.0, 0.0, 4.0, "", 0.01)),
@@ -464,16 +475,23 @@ impl Default for PneumaParams {
             cc_neck_pitch: cc_param(CcSignal::NeckPitch, &flags),
             cc_speaking: cc_param(CcSignal::Speaking, &flags),
             cc_loudness: cc_param(CcSignal::Loudness, &flags),
-            osc_enabled: BoolParam::new("OSC out", false),
+            osc_enabled: BoolParam::new("OSC out", app.is_some()),
             osc_port: IntParam::new(
                 "OSC port",
-                DEFAULT_OSC_PORT,
+                app.map_or(DEFAULT_OSC_PORT, |a| i32::from(a.osc_port)),
                 IntRange::Linear { min: 1, max: 65535 },
             ),
-            osc_format: EnumParam::new("OSC format", OscFormatChoice::Pneuma),
-            osc_host: Arc::new(RwLock::new(DEFAULT_OSC_HOST.to_owned())),
+            osc_format: EnumParam::new(
+                "OSC format",
+                app.map_or(OscFormatChoice::Pneuma, |a| a.osc_format),
+            ),
+            osc_host: Arc::new(RwLock::new(
+                app.map_or(DEFAULT_OSC_HOST, |a| a.osc_host.as_str())
+                    .to_owned(),
+            )),
             breath_sample_mouth: SamplePath::default(),
             breath_sample_nose: SamplePath::default(),
+            editor_layout: Arc::default(),
             changes: flags,
         }
     }

@@ -6,13 +6,16 @@
 //!   through its own preallocated single-producer single-consumer `rtrb` ring.
 //! - [`OutputStatus`]: counters and flags the audio thread stores with relaxed atomics once a
 //!   block (OSC bundles sent, failed, dropped; CC messages the host lost; engine running; latency).
-//! - The audio side ([`EditorFeed`]) pushes only while the editor is open ([`EditorShared::open`]);
+//! - The audio side ([`EditorFeed`]) pushes only while the editor is open
+//!   ([`EditorShared::is_open`]: the egui window's own flag, or [`EditorShared::open`]);
 //!   a full ring drops the newest record and counts it (the GUI was not drawing), never waits.
 //! - The GUI side ([`EditorShared::drain`]) takes the consumers behind a mutex that only GUI
 //!   threads touch; the audio side never sees it.
 
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
+
+use nice_plug_egui::EguiEditorState;
 
 use pneuma_core::{BreathEvent, ControlFrame};
 
@@ -57,8 +60,10 @@ pub struct OutputStatus {
 /// The GUI's end, shared by the plugin and its editor (created once with the plugin).
 #[derive(Debug)]
 pub struct EditorShared {
-    /// The editor is open: the audio side pushes records only then.
+    /// Forces the feed on without a window (tests, measurements).
     pub open: AtomicBool,
+    /// The egui editor's state, once an editor was created: its open flag is read lock-free.
+    pub window: OnceLock<Arc<EguiEditorState>>,
     /// Output counters and flags.
     pub status: OutputStatus,
     consumers: Mutex<Option<Consumers>>,
@@ -88,6 +93,7 @@ pub fn channel() -> (EditorFeed, Arc<EditorShared>) {
     let (breaths, breath_rx) = rtrb::RingBuffer::new(BREATH_RING);
     let shared = Arc::new(EditorShared {
         open: AtomicBool::new(false),
+        window: OnceLock::new(),
         status: OutputStatus::default(),
         consumers: Mutex::new(Some(Consumers {
             frames: frame_rx,
@@ -110,7 +116,7 @@ impl EditorFeed {
     /// Starts a block: notes whether the editor is open and the peak of the input's first
     /// channel (read before the engine changes the samples in place).
     pub fn begin_block(&mut self, audio: &[&mut [f32]]) {
-        self.active = self.shared.open.load(Ordering::Relaxed);
+        self.active = self.shared.is_open();
         if !self.active {
             self.pending_peak = 0.0;
             return;
@@ -194,6 +200,11 @@ impl EditorFeed {
 }
 
 impl EditorShared {
+    /// The editor window is open (or the feed is forced on). Lock-free.
+    pub fn is_open(&self) -> bool {
+        self.open.load(Ordering::Relaxed) || self.window.get().is_some_and(|w| w.is_open())
+    }
+
     /// GUI side: hands every waiting frame and breath to the callbacks, oldest first. Returns
     /// false when another GUI thread is draining at the same moment (nothing lost: the records
     /// wait for the next call).
