@@ -121,7 +121,8 @@ pub struct Args {
     /// Do not insert breaths (controls only; the audio is copied unchanged).
     #[arg(long)]
     pub no_breaths: bool,
-    /// Folder with user breath samples `mouth.wav` and/or `nose.wav` (the same as giving
+    /// Folder with user breath samples `mouth.wav` and/or `nose.wav` (or .flac, .aiff, … any
+    /// input format; the same as giving
     /// them with --breath-mouth and --breath-nose).
     #[arg(long, value_name = "DIR")]
     pub breath_samples: Option<PathBuf>,
@@ -328,24 +329,20 @@ pub fn run(
     if let Some(dir) = &args.breath_samples {
         if !dir.is_dir() {
             return Err(RenderError::Input(format!(
-                "--breath-samples {}: not a folder (it should hold mouth.wav and/or nose.wav)",
+                "--breath-samples {}: not a folder (it should hold mouth.wav and/or nose.wav, or .flac, .aiff, …)",
                 dir.display()
             )));
         }
         let before = sample_names.len();
-        for (slot, name) in [
-            (SampleSlot::Mouth, "mouth.wav"),
-            (SampleSlot::Nose, "nose.wav"),
-        ] {
-            let path = dir.join(name);
-            if path.exists() {
+        for (slot, name) in [(SampleSlot::Mouth, "mouth"), (SampleSlot::Nose, "nose")] {
+            if let Some(path) = pneuma_io::find_audio(dir, name) {
                 engine.set_breath_sample(slot, Some(load_sample(&path, "breath sample")?));
                 sample_names.push(name);
             }
         }
         if sample_names.len() == before {
             return Err(RenderError::Input(format!(
-                "--breath-samples {}: no mouth.wav or nose.wav in it",
+                "--breath-samples {}: no mouth or nose audio file (mouth.wav, nose.flac, …) in it",
                 dir.display()
             )));
         }

@@ -365,6 +365,15 @@ pub fn audio_stem(name: &str) -> Option<&str> {
         .then_some(stem)
 }
 
+/// The audio file `dir/<stem>.<ext>` for the first extension of [`AUDIO_EXTENSIONS`] that
+/// exists (`mouth.wav`, else `mouth.flac`, …), as breath-sample folders are searched.
+pub fn find_audio(dir: &Path, stem: &str) -> Option<PathBuf> {
+    AUDIO_EXTENSIONS
+        .iter()
+        .map(|ext| dir.join(format!("{stem}.{ext}")))
+        .find(|p| p.is_file())
+}
+
 /// A name ending in `.wav` (any case): an unrecognised file is reported by the WAV reader.
 fn path_says_wav(path: &Path) -> bool {
     path.extension()
