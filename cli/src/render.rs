@@ -1,7 +1,10 @@
-//! `pneuma render IN.wav -o DIR`: streams a WAV file through the [`Engine`] in blocks and writes
-//! `DIR/<stem>.wav` (the input with breaths, same rate, channels and sample format),
-//! `DIR/<stem>.controls.csv`, `DIR/<stem>.breaths.csv`, `DIR/<stem>.png` and, with `--bvh`,
-//! `DIR/<stem>.bvh` (contracts in DESIGN.md).
+//! `pneuma render IN -o DIR`: streams an audio file (any format `pneuma-io` reads, or standard
+//! input) through the [`Engine`] in blocks and writes `DIR/<stem>.wav|flac|aiff` (the input
+//! with breaths, same rate, channels and bit depth; see [`output_container`]),
+//! `DIR/<stem>.controls.csv`, `DIR/<stem>.breaths.csv`, `DIR/<stem>.png`, with `--bvh`
+//! `DIR/<stem>.bvh` and with `--markers` the editors' marker files (contracts in DESIGN.md); or,
+//! with `-o -`, only the audio as WAV to standard output. Several inputs go to
+//! [`crate::batch`].
 //!
 //! The engine runs exactly as in the plugin (same lookahead); the lookahead delay is removed
 //! here by dropping the first `latency` output samples and feeding silence at the end (the
