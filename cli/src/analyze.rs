@@ -1,4 +1,4 @@
-//! `pneuma analyze IN.wav -o OUT.csv`: streams a WAV file through the analysis front end and
+//! `pneuma analyze IN -o OUT.csv`: streams an audio file (any format `pneuma-io` reads) through the analysis front end and
 //! writes one CSV row per frame (contract in DESIGN.md). Multichannel input is mixed to mono.
 
 use std::path::{Path, PathBuf};
@@ -47,7 +47,7 @@ pub struct AnalyzeSummary {
     pub voiced_frames: u64,
 }
 
-/// Analyses an opened WAV file into frames, calling `on_frame` for each; returns its format.
+/// Analyses an opened audio input into frames, calling `on_frame` for each; returns its format.
 /// (It takes the opened source because a pipe can be opened only once, and `run` checks the
 /// header before it creates the output.)
 pub fn analyze_source(
@@ -128,7 +128,8 @@ fn same_file(a: &Path, b: &Path) -> bool {
 /// Command-line arguments of `pneuma analyze`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Input WAV (8/16/24/32-bit integer or 32-bit float PCM, any channels, 8–192 kHz).
+    /// Input audio: WAV, FLAC, MP3, M4A/AAC, Ogg Vorbis, AIFF or CAF (any channels, 8–192 kHz);
+    /// `-` reads standard input.
     pub input: PathBuf,
     /// Output CSV path, or `-` for standard output.
     #[arg(short, long)]

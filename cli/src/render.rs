@@ -1,7 +1,10 @@
-//! `pneuma render IN.wav -o DIR`: streams a WAV file through the [`Engine`] in blocks and writes
-//! `DIR/<stem>.wav` (the input with breaths, same rate, channels and sample format),
-//! `DIR/<stem>.controls.csv`, `DIR/<stem>.breaths.csv`, `DIR/<stem>.png` and, with `--bvh`,
-//! `DIR/<stem>.bvh` (contracts in DESIGN.md).
+//! `pneuma render IN -o DIR`: streams an audio file (any format `pneuma-io` reads, or standard
+//! input) through the [`Engine`] in blocks and writes `DIR/<stem>.wav|flac|aiff` (the input
+//! with breaths, same rate, channels and bit depth; see [`output_container`]),
+//! `DIR/<stem>.controls.csv`, `DIR/<stem>.breaths.csv`, `DIR/<stem>.png`, with `--bvh`
+//! `DIR/<stem>.bvh` and with `--markers` the editors' marker files (contracts in DESIGN.md); or,
+//! with `-o -`, only the audio as WAV to standard output. Several inputs go to
+//! [`crate::batch`].
 //!
 //! The engine runs exactly as in the plugin (same lookahead); the lookahead delay is removed
 //! here by dropping the first `latency` output samples and feeding silence at the end (the
@@ -121,7 +124,8 @@ pub struct Args {
     /// Do not insert breaths (controls only; the audio is copied unchanged).
     #[arg(long)]
     pub no_breaths: bool,
-    /// Folder with user breath samples `mouth.wav` and/or `nose.wav` (the same as giving
+    /// Folder with user breath samples `mouth.wav` and/or `nose.wav` (or .flac, .aiff, … any
+    /// input format; the same as giving
     /// them with --breath-mouth and --breath-nose).
     #[arg(long, value_name = "DIR")]
     pub breath_samples: Option<PathBuf>,
@@ -328,24 +332,20 @@ pub fn run(
     if let Some(dir) = &args.breath_samples {
         if !dir.is_dir() {
             return Err(RenderError::Input(format!(
-                "--breath-samples {}: not a folder (it should hold mouth.wav and/or nose.wav)",
+                "--breath-samples {}: not a folder (it should hold mouth.wav and/or nose.wav, or .flac, .aiff, …)",
                 dir.display()
             )));
         }
         let before = sample_names.len();
-        for (slot, name) in [
-            (SampleSlot::Mouth, "mouth.wav"),
-            (SampleSlot::Nose, "nose.wav"),
-        ] {
-            let path = dir.join(name);
-            if path.exists() {
+        for (slot, name) in [(SampleSlot::Mouth, "mouth"), (SampleSlot::Nose, "nose")] {
+            if let Some(path) = pneuma_io::find_audio(dir, name) {
                 engine.set_breath_sample(slot, Some(load_sample(&path, "breath sample")?));
                 sample_names.push(name);
             }
         }
         if sample_names.len() == before {
             return Err(RenderError::Input(format!(
-                "--breath-samples {}: no mouth.wav or nose.wav in it",
+                "--breath-samples {}: no mouth or nose audio file (mouth.wav, nose.flac, …) in it",
                 dir.display()
             )));
         }

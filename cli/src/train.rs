@@ -45,7 +45,7 @@ pub enum TrainCliError {
         /// What is wrong.
         reason: String,
     },
-    /// WAV reading failed.
+    /// Reading an audio file failed.
     #[error(transparent)]
     Audio(#[from] ReadError),
     /// Analysis settings failed.
@@ -125,7 +125,7 @@ pub fn read_head_csv(path: &Path) -> Result<MotionTrack, TrainCliError> {
     Ok(m)
 }
 
-/// Analyses a whole WAV file into feature frames with `config`.
+/// Analyses a whole audio file (any input format) into feature frames with `config`.
 pub fn analyze_wav(
     path: &Path,
     config: &AnalysisConfig,

@@ -524,3 +524,46 @@ fn ctrl_c_leaves_no_partial_file_and_the_old_outputs() {
         "old render"
     );
 }
+
+#[test]
+fn a_breath_sample_folder_may_hold_flac() {
+    if !have_ffmpeg("a_breath_sample_folder_may_hold_flac") {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp");
+    let (wavs, flacs) = (dir.path().join("wavs"), dir.path().join("flacs"));
+    std::fs::create_dir(&wavs).expect("dir");
+    std::fs::create_dir(&flacs).expect("dir");
+    // Half a second of shaped noise as a breath.
+    let mut state = 7u32;
+    let noise: Vec<f32> = (0..22_050)
+        .map(|i| {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let env = (std::f32::consts::PI * i as f32 / 22_050.0).sin();
+            ((state >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 0.2 * env
+        })
+        .collect();
+    support::write_wav(&wavs.join("mouth.wav"), (44_100, 1, 16, false), &noise, 1.0);
+    ffmpeg(&[
+        "-i",
+        wavs.join("mouth.wav").to_str().expect("utf8"),
+        flacs.join("mouth.flac").to_str().expect("utf8"),
+    ]);
+    for (samples_dir, out) in [(&wavs, "a"), (&flacs, "b")] {
+        ok(&render(
+            &voice(),
+            &dir.path().join(out),
+            &[
+                "--no-plot",
+                "--breath-samples",
+                samples_dir.to_str().expect("utf8"),
+            ],
+        ));
+    }
+    let kinds = std::fs::read_to_string(dir.path().join("b/voice.breaths.csv")).expect("csv");
+    assert!(kinds.contains(",sample,"), "{kinds}");
+    assert!(
+        samples(&dir.path().join("a/voice.wav")) == samples(&dir.path().join("b/voice.wav")),
+        "mouth.flac renders as mouth.wav"
+    );
+}
