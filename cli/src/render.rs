@@ -106,8 +106,8 @@ pub struct Args {
     /// Files rendered at once in a batch (1 to 256; default: the number of cores).
     #[arg(short = 'j', long, value_name = "N")]
     pub jobs: Option<usize>,
-    /// Breathing preset: neutral, calm, anxious, tired, excited.
-    #[arg(long, default_value = "neutral")]
+    /// Breathing preset.
+    #[arg(long, default_value = "neutral", value_parser = clap::builder::PossibleValuesParser::new(Preset::NAMES))]
     pub preset: String,
     /// Breath level relative to the speech level, dB (-60 to -6).
     #[arg(long, default_value_t = -22.0, allow_hyphen_values = true, value_parser = crate::options::number)]

@@ -62,8 +62,8 @@ pub struct Args {
     /// speech.breaths.csv and speech.png.
     #[arg(short = 'o', long = "output", alias = "out", value_name = "DIR")]
     pub out_dir: PathBuf,
-    /// Breathing preset: neutral, calm, anxious, tired, excited.
-    #[arg(long, default_value = "neutral")]
+    /// Breathing preset.
+    #[arg(long, default_value = "neutral", value_parser = clap::builder::PossibleValuesParser::new(Preset::NAMES))]
     pub preset: String,
     /// TTS voice (espeak-ng: e.g. `en-us`, `en-gb`; festival: e.g. `kal_diphone`).
     #[arg(long)]

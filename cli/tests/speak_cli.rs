@@ -166,7 +166,7 @@ fn bad_input_gets_clear_errors() {
         (&["speak", "  ...  "], "no text"),
         (
             &["speak", "Hi.", "--preset", "sleepy"],
-            "unknown breathing preset",
+            "[possible values: neutral, calm, anxious, tired, excited]",
         ),
         (
             &["speak", "Hi.", "--rate", "5"],

@@ -543,14 +543,10 @@ impl PneumaParams {
     /// The breathing model's settings: the preset's, or the individual controls with preset
     /// `custom` (the independent settings the plugin does not expose keep their defaults).
     pub fn breathing_params(&self) -> BreathingParams {
-        let preset = match self.preset.value() {
-            PresetChoice::Custom => None,
-            PresetChoice::Neutral => Some(Preset::Neutral),
-            PresetChoice::Calm => Some(Preset::Calm),
-            PresetChoice::Anxious => Some(Preset::Anxious),
-            PresetChoice::Tired => Some(Preset::Tired),
-            PresetChoice::Excited => Some(Preset::Excited),
-        };
+        // `Custom` first, then the core's presets in the order of `Preset::ALL`.
+        let preset = (self.preset.value().to_index())
+            .checked_sub(1)
+            .and_then(|i| Preset::ALL.get(i).copied());
         if let Some(p) = preset {
             return p.params();
         }
@@ -662,6 +658,21 @@ mod tests {
         }
         for preset in Preset::ALL {
             preset.params().validate().unwrap();
+        }
+    }
+
+    #[test]
+    fn preset_choices_map_to_the_core_presets_by_index() {
+        let ids = PresetChoice::ids().expect("ids");
+        assert_eq!(ids.len(), Preset::ALL.len() + 1);
+        let params = PneumaParams::default();
+        for (i, preset) in Preset::ALL.into_iter().enumerate() {
+            assert_eq!(ids[i + 1], preset.name());
+            let choice = PresetChoice::from_index(i + 1);
+            let normalized = params.preset.preview_normalized(choice);
+            // SAFETY: `params` outlives the pointer.
+            unsafe { param(&params, "preset")._internal_set_normalized_value(normalized) };
+            assert_eq!(params.breathing_params(), preset.params(), "{choice:?}");
         }
     }
 
