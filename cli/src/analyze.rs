@@ -9,7 +9,8 @@ use pneuma_core::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
 use thiserror::Error;
 
 use crate::output::Output;
-use crate::wav::{mix_to_mono, WavError, WavInfo, WavSource};
+use crate::wav::WavInfo;
+use pneuma_io::{mix_to_mono, AudioSource, ReadError};
 
 /// Frames read from the file per block.
 const BLOCK_FRAMES: usize = 8192;
@@ -21,7 +22,7 @@ const FLUSH_BYTES: usize = 1 << 16;
 pub enum AnalyzeError {
     /// The input file.
     #[error(transparent)]
-    Wav(#[from] WavError),
+    Audio(#[from] ReadError),
     /// The settings.
     #[error("invalid analysis settings: {0}")]
     Settings(#[from] AnalysisError),
@@ -50,7 +51,7 @@ pub struct AnalyzeSummary {
 /// (It takes the opened source because a pipe can be opened only once, and `run` checks the
 /// header before it creates the output.)
 pub fn analyze_source(
-    mut src: WavSource,
+    mut src: AudioSource,
     config: AnalysisConfig,
     mut on_frame: impl FnMut(&FeatureFrame),
 ) -> Result<WavInfo, AnalyzeError> {
@@ -88,7 +89,7 @@ pub fn run(
     // analysis succeeded, so a broken input never touches an existing output and memory stays
     // bounded on long files. Standard output cannot take back what it printed, so it gets the
     // rows only at the end.
-    let src = WavSource::open(input)?;
+    let src = AudioSource::open(input)?;
     let stream = output.as_os_str() != "-";
     let mut out = Output::create(output).map_err(out_err)?;
     let mut text = String::with_capacity(FLUSH_BYTES + 256);

@@ -28,7 +28,7 @@ use thiserror::Error;
 
 use crate::output::{commit_all, Output, Staged};
 use crate::plot::{draw_png, PlotError};
-use crate::wav::{read_mono, WavError};
+use pneuma_io::{read_mono, ReadError};
 
 /// Silence before the first breath, seconds.
 pub const LEAD_IN_S: f64 = 0.25;
@@ -152,7 +152,7 @@ pub enum SpeakError {
     },
     /// A WAV file (TTS output or breath sample) could not be read.
     #[error(transparent)]
-    Wav(#[from] WavError),
+    Audio(#[from] ReadError),
     /// The TTS changed its sample rate between chunks.
     #[error("the TTS produced {0} Hz and then {1} Hz; use one voice")]
     RateChanged(u32, u32),

@@ -88,6 +88,11 @@ fn set(plugin: &Pneuma, id: &str, normalized: f32) {
 fn the_real_process_never_allocates_after_activate() {
     let mut plugin = Pneuma::default();
     set(&plugin, "osc_enabled", 1.0);
+    // The editor is open: its feed runs inside the guard too.
+    plugin
+        .editor_shared()
+        .open
+        .store(true, std::sync::atomic::Ordering::Relaxed);
     let layout = AudioIOLayout {
         main_input_channels: NonZeroU32::new(2),
         main_output_channels: NonZeroU32::new(2),
@@ -177,6 +182,9 @@ fn the_real_process_never_allocates_after_activate() {
         "the mode change swapped in a live engine and reported its latency"
     );
     assert_eq!(host.restart_requests.get(), 0, "no restart needed");
+    let mut view_frames = 0;
+    plugin.editor_shared().drain(|_| view_frames += 1, |_| {});
+    assert!(view_frames > 100, "the editor got {view_frames} frames");
 }
 
 /// The activation context by value (the trait takes `&mut impl ActivateContext`).

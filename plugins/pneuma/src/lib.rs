@@ -40,6 +40,7 @@
 
 #[cfg(test)]
 mod alloc_test;
+pub mod editor;
 pub mod osc_sender;
 pub mod params;
 pub mod rebuild;
@@ -52,6 +53,7 @@ use nice_plug::prelude::*;
 use pneuma_core::encode::midi_cc::{CcEncoder, CcMessage};
 use pneuma_core::encode::osc::OscFormat;
 
+use editor::feed::{EditorFeed, EditorShared};
 use osc_sender::{OscFeed, OscSettings, OscStats, OscWorker};
 pub use params::{ChangeFlags, PneumaParams, PARAM_IDS};
 use pneuma_core::breathing::BreathSample;
@@ -144,6 +146,9 @@ pub struct Pneuma {
     build_pending_samples: Option<u64>,
     jumps: JumpDetector,
     pre_roll: PreRoll,
+    /// The audio side of the editor's data path ([`editor::feed`]).
+    view: EditorFeed,
+    view_shared: Arc<EditorShared>,
 }
 
 /// Seconds of processed audio after which an unanswered build is asked for again.
@@ -154,6 +159,7 @@ impl Default for Pneuma {
         let params = Arc::new(PneumaParams::default());
         let cc = CcEncoder::new(params.cc_map()).expect("the default CC map is valid");
         let (builder, swap) = EngineBuilder::new(params.clone());
+        let (view, view_shared) = editor::feed::channel();
         Self {
             params,
             engine: None,
@@ -172,6 +178,8 @@ impl Default for Pneuma {
             build_pending_samples: None,
             jumps: JumpDetector::default(),
             pre_roll: PreRoll::default(),
+            view,
+            view_shared,
         }
     }
 }
@@ -180,6 +188,11 @@ impl Pneuma {
     /// OSC counters (sent, failed, dropped), once activated.
     pub fn osc_stats(&self) -> Option<&Arc<OscStats>> {
         self.osc_stats.as_ref()
+    }
+
+    /// The GUI's end of the editor's data path.
+    pub fn editor_shared(&self) -> &Arc<EditorShared> {
+        &self.view_shared
     }
 
     fn reset_streams(&mut self) {
@@ -211,7 +224,11 @@ impl Pneuma {
                     debug_assert!(false, "the parameters' engine settings are valid: {e}");
                 }
             }
-            context.set_latency_samples(self.engine.as_ref().map_or(0, |e| e.latency_samples()));
+            let latency = self.engine.as_ref().map_or(0, |e| e.latency_samples());
+            context.set_latency_samples(latency);
+            // The editor shows the latency the swapped-in engine costs.
+            self.view
+                .activated(self.engine.is_some(), latency, stream.sample_rate_hz as f32);
             self.at_rest = false;
         }
         let retry = (BUILD_RETRY_S * stream.sample_rate_hz) as u64;
@@ -247,11 +264,13 @@ impl Pneuma {
                     Outputs {
                         cc: None,
                         osc: None,
+                        view: Some(&mut self.view),
                     }
                 } else {
                     Outputs {
                         cc: midi_on.then_some(&mut self.cc),
                         osc: if osc_on { self.osc_feed.as_mut() } else { None },
+                        view: Some(&mut self.view),
                     }
                 };
                 run_block(engine, audio, outputs, send_cc);
@@ -272,6 +291,8 @@ pub struct Outputs<'a> {
     pub cc: Option<&'a mut CcEncoder>,
     /// The OSC feed, or `None` when OSC output is off.
     pub osc: Option<&'a mut OscFeed>,
+    /// The editor's feed (frames and inserted breaths), or `None`.
+    pub view: Option<&'a mut EditorFeed>,
 }
 
 /// The audio-thread work of one block: runs the engine in place (then flushes subnormal output
@@ -290,9 +311,16 @@ pub fn run_block(
         if let Some(feed) = outputs.osc.as_deref_mut() {
             feed.push(frame);
         }
+        if let Some(view) = outputs.view.as_deref_mut() {
+            view.push_frame(frame);
+        }
     });
-    // The plugin has no use for the breath list; keep the engine's queue empty.
-    engine.take_breaths(|_| {});
+    // The breaths go to the editor only; keep the engine's queue empty.
+    engine.take_breaths(|b| {
+        if let Some(view) = outputs.view.as_deref_mut() {
+            view.push_breath(b);
+        }
+    });
     // The engine passes the voice bit for bit, subnormal samples included; hosts and validators
     // reject subnormal output, so they become 0 (no other sample changes).
     for channel in audio.iter_mut() {
@@ -312,33 +340,16 @@ pub fn send_rest_pose(outputs: &mut Outputs<'_>, send_cc: &mut dyn FnMut(u32, Cc
     }
 }
 
-/// Reads a breath sample WAV (any channel count, mixed to mono). Empty path: none.
+/// Reads a breath sample (WAV, FLAC, AIFF, … any channel count, mixed to mono). Empty path:
+/// none.
 pub fn load_breath_sample(path: &str) -> Result<Option<BreathSample>, String> {
     if path.trim().is_empty() {
         return Ok(None);
     }
-    let mut reader = hound::WavReader::open(path).map_err(|e| format!("{path}: {e}"))?;
-    let spec = reader.spec();
-    let channels = usize::from(spec.channels.max(1));
-    let interleaved: Vec<f32> = match spec.sample_format {
-        hound::SampleFormat::Float => reader
-            .samples::<f32>()
-            .collect::<Result<_, _>>()
-            .map_err(|e| format!("{path}: {e}"))?,
-        hound::SampleFormat::Int => {
-            let scale = 1.0 / (1u64 << (spec.bits_per_sample.clamp(1, 32) - 1)) as f32;
-            reader
-                .samples::<i32>()
-                .map(|s| s.map(|v| v as f32 * scale))
-                .collect::<Result<_, _>>()
-                .map_err(|e| format!("{path}: {e}"))?
-        }
-    };
-    let mono: Vec<f32> = interleaved
-        .chunks(channels)
-        .map(|f| f.iter().sum::<f32>() / channels as f32)
-        .collect();
-    BreathSample::from_mono(mono, f64::from(spec.sample_rate))
+    // The same reader as the CLI's (pneuma-io): every format and WAV variant it accepts.
+    let (mono, rate_hz) =
+        pneuma_io::read_mono(std::path::Path::new(path)).map_err(|e| e.to_string())?;
+    BreathSample::from_mono(mono, f64::from(rate_hz))
         .map(Some)
         .map_err(|e| format!("{path}: {e}"))
 }
@@ -443,7 +454,10 @@ impl Plugin for Pneuma {
             .unwrap_or_else(|| self.builder.build_boxed(&stream));
         self.engine = built.engine;
         let structural = built.structural;
-        context.set_latency_samples(self.engine.as_ref().map_or(0, |e| e.latency_samples()));
+        let latency = self.engine.as_ref().map_or(0, |e| e.latency_samples());
+        context.set_latency_samples(latency);
+        self.view
+            .activated(self.engine.is_some(), latency, buffer_config.sample_rate);
         self.prepared = Some(structural);
         self.at_rest = false;
         self.mono = MonoSource::new(audio_io_layout);
@@ -529,6 +543,7 @@ impl Plugin for Pneuma {
             }
         };
         self.mono.apply(buffer.as_slice());
+        self.view.begin_block(buffer.as_slice());
         let rest = bypassed || self.engine.is_none();
         if rest && !self.at_rest {
             // Once: every controller to the rest pose, one rest frame to OSC.
@@ -536,6 +551,7 @@ impl Plugin for Pneuma {
             let mut outputs = Outputs {
                 cc: midi_on.then_some(&mut self.cc),
                 osc: if osc_on { self.osc_feed.as_mut() } else { None },
+                view: None,
             };
             send_rest_pose(&mut outputs, &mut send_cc);
         }
@@ -575,6 +591,7 @@ impl Plugin for Pneuma {
                 self.at_rest = false;
             }
         }
+        self.view.end_block(self.osc_stats.as_deref(), cc_lost);
         ProcessStatus::Normal
     }
 }
@@ -704,6 +721,18 @@ mod tests {
         w.finalize().unwrap();
         let err = load_breath_sample(silent.to_str().unwrap()).unwrap_err();
         assert!(err.contains("silent.wav"), "{err}");
+        // The same file as saved from a pipe (ffmpeg/sox write 0xFFFFFFFF as the data size):
+        // the CLI reads it, so the plugin must too (issue 17.5: one reader for both).
+        let mut bytes = std::fs::read(&path).unwrap();
+        let data = bytes.windows(4).position(|w| w == b"data").unwrap();
+        bytes[data + 4..data + 8].copy_from_slice(&u32::MAX.to_le_bytes());
+        let piped = dir.join("piped.wav");
+        std::fs::write(&piped, &bytes).unwrap();
+        let sample = load_breath_sample(piped.to_str().unwrap());
+        assert!(
+            sample.as_ref().is_ok_and(|s| s.is_some()),
+            "a streamed-size WAV loads: {sample:?}"
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 
