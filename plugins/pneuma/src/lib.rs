@@ -28,7 +28,9 @@
 //! - OSC output: [`osc_sender`]: a preallocated `rtrb` queue to a worker thread that sends UDP
 //!   bundles (pneuma or VMC) to a numeric address (no DNS); the target can change while playing;
 //!   network trouble never reaches the audio thread or holds up unloading.
-//! - Parameters and persisted settings: [`params`]. CLAP remote-control pages: "Breathing",
+//! - Parameters and persisted settings: [`params`], filed under units (VST3) / modules (CLAP):
+//!   Breathing, Breaths & timing, Head, Output, CC map, OSC ([`params::unit_of`]). CLAP
+//!   remote-control pages: "Breathing",
 //!   "Breaths & timing", "Head", "Output", "CC map 1", "CC map 2" (every parameter but bypass).
 //!
 //! Real-time: `process()` never allocates, locks, blocks, logs or does I/O. The crate enables
@@ -405,7 +407,8 @@ impl Plugin for Pneuma {
     type BackgroundTask = ();
 
     fn params(&self) -> Arc<dyn Params> {
-        self.params.clone()
+        // Filed under units (VST3) / modules (CLAP) for the hosts' generic views.
+        Arc::new(params::HostParams(self.params.clone()))
     }
 
     fn deactivate(&mut self) {
