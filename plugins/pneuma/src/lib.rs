@@ -64,9 +64,6 @@ use pneuma_core::ControlFrame;
 use rebuild::{BuildWorker, EngineBuilder, StreamSpec, Structural, SwapEnds};
 use transport::{JumpDetector, PreRoll};
 
-/// Stable identifier of the breath level parameter, saved in host projects and presets.
-pub const BREATH_LEVEL_PARAM_ID: &str = "breath_level_db";
-
 impl OscSettings for PneumaParams {
     fn target(&self) -> (String, u16) {
         (
@@ -681,7 +678,8 @@ mod tests {
         let params = PneumaParams::default();
         let map = params.param_map();
         let ids: Vec<&str> = map.iter().map(|(id, _, _)| id.as_str()).collect();
-        assert!(ids.contains(&BREATH_LEVEL_PARAM_ID));
+        // The id saved in host projects (README): a literal, not the code's own constant.
+        assert!(ids.contains(&"breath_level_db"));
 
         let p = &params.breath_level_db;
         assert_eq!(p.default_plain_value(), -22.0);

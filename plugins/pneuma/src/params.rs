@@ -767,7 +767,8 @@ mod tests {
             }
         }
         let cc = &params.cc_lung;
-        assert_eq!(cc.normalized_value_to_string(0.0, true), CC_OFF_TEXT);
+        // What users read and type (README), not the code's own constant.
+        assert_eq!(cc.normalized_value_to_string(0.0, true), "off");
         assert_eq!(cc.string_to_normalized_value(" OFF "), Some(0.0));
         assert_eq!(parse_cc_text("17"), Some(17));
         assert_eq!(parse_cc_text("seventeen"), None);
