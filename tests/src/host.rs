@@ -109,6 +109,8 @@ pub struct ParamDesc {
     pub max: f64,
     /// CLAP default value.
     pub default: f64,
+    /// The module (folder) the plugin files it under; empty at the top.
+    pub module: String,
 }
 
 impl Plugin {
@@ -165,6 +167,7 @@ impl Plugin {
                     min: info.min_value,
                     max: info.max_value,
                     default: info.default_value,
+                    module: String::from_utf8_lossy(info.module).into_owned(),
                 });
             }
         }

@@ -107,6 +107,18 @@ fn parameters_carry_the_promised_ids() {
     assert_eq!(host_ids, want, "parameter ids as the host sees them");
     let names: Vec<&str> = params.iter().map(|p| p.name.as_str()).collect();
     assert!(names.contains(&"Breath level"), "{names:?}");
+    // Filed in modules (folders in the host's generic view), bypass at the top.
+    let module = |id: &str| {
+        params
+            .iter()
+            .find(|p| p.id == param_hash(id))
+            .map(|p| p.module.as_str())
+            .unwrap()
+    };
+    assert_eq!(module("bypass"), "");
+    assert_eq!(module("mode"), "Breaths & timing");
+    assert_eq!(module("cc_loudness"), "CC map");
+    assert_eq!(module("osc_format"), "OSC");
     assert!(names.contains(&"OSC port"), "{names:?}");
     // A value set through the host reads back.
     plugin.set_param("osc_port", "9001").unwrap();

@@ -28,7 +28,9 @@
 //! - OSC output: [`osc_sender`]: a preallocated `rtrb` queue to a worker thread that sends UDP
 //!   bundles (pneuma or VMC) to a numeric address (no DNS); the target can change while playing;
 //!   network trouble never reaches the audio thread or holds up unloading.
-//! - Parameters and persisted settings: [`params`]. CLAP remote-control pages: "Breathing",
+//! - Parameters and persisted settings: [`params`], filed under units (VST3) / modules (CLAP):
+//!   Breathing, Breaths & timing, Head, Output, CC map, OSC ([`params::unit_of`]). CLAP
+//!   remote-control pages: "Breathing",
 //!   "Breaths & timing", "Head", "Output", "CC map 1", "CC map 2" (every parameter but bypass).
 //!
 //! Real-time: `process()` never allocates, locks, blocks, logs or does I/O. The crate enables
@@ -61,9 +63,6 @@ use pneuma_core::engine::Engine;
 use pneuma_core::ControlFrame;
 use rebuild::{BuildWorker, EngineBuilder, StreamSpec, Structural, SwapEnds};
 use transport::{JumpDetector, PreRoll};
-
-/// Stable identifier of the breath level parameter, saved in host projects and presets.
-pub const BREATH_LEVEL_PARAM_ID: &str = "breath_level_db";
 
 impl OscSettings for PneumaParams {
     fn target(&self) -> (String, u16) {
@@ -145,10 +144,10 @@ pub struct Pneuma {
     /// Samples processed since a background build was asked for (`None`: none pending).
     build_pending_samples: Option<u64>,
     jumps: JumpDetector,
+    pre_roll: PreRoll,
     /// The audio side of the editor's data path ([`editor::feed`]).
     view: EditorFeed,
     view_shared: Arc<EditorShared>,
-    pre_roll: PreRoll,
 }
 
 /// Seconds of processed audio after which an unanswered build is asked for again.
@@ -177,9 +176,9 @@ impl Default for Pneuma {
             stream: None,
             build_pending_samples: None,
             jumps: JumpDetector::default(),
+            pre_roll: PreRoll::default(),
             view,
             view_shared,
-            pre_roll: PreRoll::default(),
         }
     }
 }
@@ -405,7 +404,8 @@ impl Plugin for Pneuma {
     type BackgroundTask = ();
 
     fn params(&self) -> Arc<dyn Params> {
-        self.params.clone()
+        // Filed under units (VST3) / modules (CLAP) for the hosts' generic views.
+        Arc::new(params::HostParams(self.params.clone()))
     }
 
     fn deactivate(&mut self) {
@@ -686,7 +686,8 @@ mod tests {
         let params = PneumaParams::default();
         let map = params.param_map();
         let ids: Vec<&str> = map.iter().map(|(id, _, _)| id.as_str()).collect();
-        assert!(ids.contains(&BREATH_LEVEL_PARAM_ID));
+        // The id saved in host projects (README): a literal, not the code's own constant.
+        assert!(ids.contains(&"breath_level_db"));
 
         let p = &params.breath_level_db;
         assert_eq!(p.default_plain_value(), -22.0);

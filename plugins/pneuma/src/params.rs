@@ -129,6 +129,62 @@ pub const PARAM_IDS: &[&str] = &[
     "osc_format",
 ];
 
+/// The unit (VST3) or module (CLAP) a host files a parameter under, by id: `bypass` at the top,
+/// then contiguous runs in declaration order (so the flat order hosts show stays the same).
+pub fn unit_of(id: &str) -> &'static str {
+    match id {
+        "bypass" => "",
+        "preset"
+        | "thorax_vs_abdomen"
+        | "capacity_lung"
+        | "mouth_vs_nose"
+        | "breath_sound"
+        | "opening"
+        | "speaking_loudness"
+        | "inspiration_length_s"
+        | "neck_amplitude_deg" => "Breathing",
+        "breath_level_db" | "insert_breaths" | "min_pause_s" | "mode" | "lookahead_s" => {
+            "Breaths & timing"
+        }
+        "head_amount" | "head_max_pitch_deg" | "head_max_yaw_deg" | "head_max_roll_deg" => "Head",
+        "frame_rate_hz" | "midi_enabled" | "midi_channel" | "cc_14bit" | "cc_head_range_deg" => {
+            "Output"
+        }
+        "osc_enabled" | "osc_port" | "osc_format" => "OSC",
+        id if id.starts_with("cc_") => "CC map",
+        _ => "",
+    }
+}
+
+/// What the host sees: [`PneumaParams`] with every parameter filed under its [`unit_of`]
+/// (VST3 units, CLAP modules). Values, ids, order and the persisted fields are the inner
+/// struct's.
+pub struct HostParams(pub Arc<PneumaParams>);
+
+// `Params` is an unsafe trait: the pointers must stay valid while this object lives. They are
+// the inner struct's own pointers, and this object holds the inner struct.
+#[allow(unsafe_code)]
+unsafe impl Params for HostParams {
+    fn param_map(&self) -> Vec<(String, ParamPtr, String)> {
+        self.0
+            .param_map()
+            .into_iter()
+            .map(|(id, ptr, _)| {
+                let unit = unit_of(&id).to_owned();
+                (id, ptr, unit)
+            })
+            .collect()
+    }
+
+    fn serialize_fields(&self) -> std::collections::BTreeMap<String, String> {
+        self.0.serialize_fields()
+    }
+
+    fn deserialize_fields(&self, serialized: &std::collections::BTreeMap<String, String>) {
+        self.0.deserialize_fields(serialized)
+    }
+}
+
 /// The plugin's parameters and persisted settings.
 #[derive(Params)]
 pub struct PneumaParams {
@@ -619,6 +675,33 @@ mod tests {
     }
 
     #[test]
+    fn hosts_see_every_parameter_in_a_unit_of_one_contiguous_run() {
+        let host = HostParams(Arc::new(PneumaParams::default()));
+        let map = host.param_map();
+        let ids: Vec<&str> = map.iter().map(|(id, _, _)| id.as_str()).collect();
+        assert_eq!(ids, PARAM_IDS, "same ids in the same order");
+        let units: Vec<&str> = map.iter().map(|(_, _, u)| u.as_str()).collect();
+        assert_eq!(units[0], "", "bypass at the top");
+        assert!(units[1..].iter().all(|u| !u.is_empty()), "{units:?}");
+        let mut runs: Vec<&str> = units[1..].to_vec();
+        runs.dedup();
+        assert_eq!(
+            runs,
+            [
+                "Breathing",
+                "Breaths & timing",
+                "Head",
+                "Output",
+                "CC map",
+                "OSC"
+            ],
+            "each unit one run, in this order"
+        );
+        assert_eq!(unit_of("cc_loudness"), "CC map");
+        assert_eq!(unit_of("mode"), "Breaths & timing");
+    }
+
+    #[test]
     fn default_cc_map_is_the_design_map() {
         let params = PneumaParams::default();
         assert_eq!(params.cc_map(), CcMap::default());
@@ -713,7 +796,8 @@ mod tests {
             }
         }
         let cc = &params.cc_lung;
-        assert_eq!(cc.normalized_value_to_string(0.0, true), CC_OFF_TEXT);
+        // What users read and type (README), not the code's own constant.
+        assert_eq!(cc.normalized_value_to_string(0.0, true), "off");
         assert_eq!(cc.string_to_normalized_value(" OFF "), Some(0.0));
         assert_eq!(parse_cc_text("17"), Some(17));
         assert_eq!(parse_cc_text("seventeen"), None);
