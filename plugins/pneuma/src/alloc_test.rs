@@ -16,10 +16,11 @@ use nice_plug::prelude::*;
 
 use crate::Pneuma;
 
-/// What the host context saw: CC events (preallocated) and restart requests.
+/// What the host context saw: CC events (preallocated), latency changes and restart requests.
 struct Host {
     transport: Transport,
     cc_events: Vec<(u32, u8)>,
+    latency: std::cell::Cell<Option<u32>>,
     restart_requests: std::cell::Cell<u32>,
 }
 
@@ -47,7 +48,9 @@ impl ProcessContext<Pneuma> for Host {
         }
         Ok(())
     }
-    fn set_latency_samples(&self, _samples: u32) {}
+    fn set_latency_samples(&self, samples: u32) {
+        self.latency.set(Some(samples));
+    }
     fn request_restart(&self) {
         self.restart_requests.set(self.restart_requests.get() + 1);
     }
@@ -112,6 +115,7 @@ fn the_real_process_never_allocates_after_activate() {
     let mut host = Host {
         transport: Transport::new(48_000.0),
         cc_events: Vec::with_capacity(1 << 16),
+        latency: None.into(),
         restart_requests: 0.into(),
     };
     host.transport.playing = true;
@@ -157,13 +161,27 @@ fn the_real_process_never_allocates_after_activate() {
         });
         drop(buffer);
         assert!(left[..n].iter().chain(&right[..n]).all(|s| s.is_finite()));
+        // The build thread makes the engine the mode change asked for; the next `process`
+        // swaps it in under the guard.
+        if plugin.build_pending_samples.is_some() {
+            let start = std::time::Instant::now();
+            while plugin.swap.built.slots() == 0 {
+                assert!(start.elapsed().as_secs() < 10, "no engine built in 10 s");
+                std::thread::sleep(std::time::Duration::from_millis(1));
+            }
+        }
     }
     assert!(
         host.cc_events.len() > 20,
         "the path did work: {} CC messages",
         host.cc_events.len()
     );
-    assert_eq!(host.restart_requests.get(), 1, "the mode change asks once");
+    assert_eq!(
+        host.latency.get(),
+        Some(0),
+        "the mode change swapped in a live engine and reported its latency"
+    );
+    assert_eq!(host.restart_requests.get(), 0, "no restart needed");
     let mut view_frames = 0;
     plugin.editor_shared().drain(|_| view_frames += 1, |_| {});
     assert!(view_frames > 100, "the editor got {view_frames} frames");

@@ -6,8 +6,8 @@
 //! the state but not automatable.
 //!
 //! Parameters that change the frame clock or the latency (`mode`, `lookahead_s`,
-//! `frame_rate_hz`) take effect at the next activation; the plugin asks the host for a restart
-//! when they change.
+//! `frame_rate_hz`) need a new engine: the plugin builds one in the background and swaps it in
+//! (`crate::rebuild`), reporting the new latency to the host.
 //!
 //! Change flags: every parameter's callback raises one of the [`ChangeFlags`] (engine settings,
 //! CC map, structure), so the audio thread rebuilds the engine settings or the CC map only after
@@ -173,10 +173,10 @@ pub struct PneumaParams {
     /// Shortest pause that gets a breath, seconds, 0.1..2. Default 0.25.
     #[id = "min_pause_s"]
     pub min_pause_s: FloatParam,
-    /// Lookahead (latency = lookahead) or live (zero latency). Default lookahead. Restart.
+    /// Lookahead (latency = lookahead) or live (zero latency). Default lookahead. New engine.
     #[id = "mode"]
     pub mode: EnumParam<ModeChoice>,
-    /// Lookahead length (= latency), seconds, 0.3..2. Default 0.5. Restart.
+    /// Lookahead length (= latency), seconds, 0.3..2. Default 0.5. New engine.
     #[id = "lookahead_s"]
     pub lookahead_s: FloatParam,
 
@@ -193,7 +193,7 @@ pub struct PneumaParams {
     #[id = "head_max_roll_deg"]
     pub head_max_roll_deg: FloatParam,
 
-    /// Control frame rate, Hz, 30..240. Default 120. Restart.
+    /// Control frame rate, Hz, 30..240. Default 120. New engine.
     #[id = "frame_rate_hz"]
     pub frame_rate_hz: IntParam,
 
