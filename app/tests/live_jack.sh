@@ -62,7 +62,7 @@ python3 "$here/check_live.py" breaths --input "$voice" --output "$out/output.wav
 
 if [ "$mode" = gui ]; then
   import -window root "$out/editor.png"
-  convert "$out/editor.png" "ppm:$out/editor.ppm"
+  convert "$out/editor.png" -depth 8 "ppm:$out/editor.ppm"
   echo "screenshot: $out/editor.png"
   python3 "$here/check_live.py" screenshot --ppm "$out/editor.ppm" --min-breath-pixels 300
 fi
