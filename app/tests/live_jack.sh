@@ -30,7 +30,6 @@ pids+=($!)
 for _ in $(seq 50); do jack_lsp >/dev/null 2>&1 && break; sleep 0.1; done
 jack_lsp >/dev/null 2>&1 || { echo "jackd did not start; see $out/jackd.log" >&2; exit 1; }
 
-args=(--osc-port 0)
 vmc_port="$(python3 -c 'import socket; s=socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')"
 args=(--osc-port "$vmc_port" --osc-format vmc)
 if [ "$mode" = gui ]; then
@@ -63,7 +62,7 @@ python3 "$here/check_live.py" breaths --input "$voice" --output "$out/output.wav
 
 if [ "$mode" = gui ]; then
   import -window root "$out/editor.png"
-  convert "$out/editor.png" "ppm:$out/editor.ppm"
+  convert "$out/editor.png" -depth 8 "ppm:$out/editor.ppm"
   echo "screenshot: $out/editor.png"
   python3 "$here/check_live.py" screenshot --ppm "$out/editor.ppm" --min-breath-pixels 300
 fi
@@ -73,5 +72,9 @@ if ! wait "$vmc_pid"; then
   exit 1
 fi
 echo "VMC received: $(cat "$out/vmc.json")"
+# The app's CPU time (all threads) since it started, for the editor's cost: gui minus headless.
+ticks="$(getconf CLK_TCK)"
+cpu_s="$(awk -v t="$ticks" '{printf "%.2f", ($14 + $15) / t}' "/proc/$app_pid/stat")"
+echo "pneuma-app CPU ($mode): $cpu_s s over the run (25.3 s of voice plus start-up)"
 kill -INT "$app_pid" 2>/dev/null || true
 echo "live test ($mode) passed"
