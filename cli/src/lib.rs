@@ -3,6 +3,7 @@
 
 pub mod analyze;
 pub mod eval;
+pub mod eval_breaths;
 pub mod options;
 pub mod output;
 pub mod plot;
