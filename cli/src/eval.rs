@@ -182,17 +182,17 @@ pub fn targets(evals: &[ClipEval]) -> Vec<(String, bool)> {
 pub fn print_report(evals: &[ClipEval]) -> bool {
     println!(
         "clip,frames,cca_all_gen,cca_all_real,cca_all_other,cca_voiced_gen,cca_voiced_real,cca_voiced_other,\
-sd_roll_gen,sd_roll_real,sd_pitch_gen,sd_pitch_real,sd_yaw_gen,sd_yaw_real,speed_gen,speed_real,speed_ratio,\
-frozen_gen,frozen_real,power_above_3hz_gen,power_above_3hz_real"
+sd_roll_gen,sd_roll_real,sd_pitch_gen,sd_pitch_real,sd_yaw_gen,sd_yaw_real,speed_gen,speed_real,\
+frozen_gen,frozen_real,power_above_3hz_gen,power_above_3hz_real,speed_ratio"
     );
     let row = |name: &str, frames: usize, m: &Means| {
         println!(
-            "{name},{frames},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.1},{:.1},{:.2},{:.3},{:.3},{:.3},{:.3}",
+            "{name},{frames},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{:.1},{:.1},{:.3},{:.3},{:.3},{:.3},{:.2}",
             m.cca_all[0], m.cca_all[1], m.cca_all[2],
             m.cca_voiced[0], m.cca_voiced[1], m.cca_voiced[2],
             m.sd_gen[0], m.sd_real[0], m.sd_gen[1], m.sd_real[1], m.sd_gen[2], m.sd_real[2],
-            m.speed[0], m.speed[1], m.speed[0] / m.speed[1].max(1e-9), m.frozen[0], m.frozen[1],
-            m.power_above_3hz[0], m.power_above_3hz[1]
+            m.speed[0], m.speed[1], m.frozen[0], m.frozen[1],
+            m.power_above_3hz[0], m.power_above_3hz[1], m.speed[0] / m.speed[1].max(1e-9)
         );
     };
     for e in evals {
@@ -280,17 +280,23 @@ fn run_head(args: &HeadArgs) -> Result<bool, String> {
 pub fn main(args: Args) -> ExitCode {
     match args.what {
         What::Breaths(b) => crate::eval_breaths::main(&b),
-        What::Head(h) => match run_head(&h) {
-            Ok(all) if all || !h.check => ExitCode::SUCCESS,
-            Ok(_) => {
-                eprintln!("error: a head-motion target was missed (see above)");
-                ExitCode::FAILURE
-            }
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::FAILURE
-            }
-        },
+        What::Head(h) => exit_code(run_head(&h).map(|all| all || !h.check), "a head-motion"),
+    }
+}
+
+/// The exit code of an evaluation: success when `result` is `Ok(true)`; otherwise the error,
+/// or "`what` target was missed", on stderr.
+pub fn exit_code(result: Result<bool, String>, what: &str) -> ExitCode {
+    match result {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => {
+            eprintln!("error: {what} target was missed (see above)");
+            ExitCode::FAILURE
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
     }
 }
 

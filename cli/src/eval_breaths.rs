@@ -389,17 +389,7 @@ pub fn main(args: &BreathArgs) -> ExitCode {
             return ExitCode::FAILURE;
         }
     }
-    match run(args) {
-        Ok(true) => ExitCode::SUCCESS,
-        Ok(false) => {
-            eprintln!("error: a checked breathing target was missed (see above)");
-            ExitCode::FAILURE
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    crate::eval::exit_code(run(args), "a checked breathing")
 }
 
 #[cfg(test)]
