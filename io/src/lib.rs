@@ -27,6 +27,7 @@ use std::io::{Cursor, Read};
 use std::path::{Path, PathBuf};
 
 use thiserror::Error;
+use wav::read_full;
 
 pub use decode::{DecodeError, DecodedSource};
 pub use wav::{WavError, WavSource};
@@ -198,20 +199,6 @@ pub enum AudioSource {
     Wav(WavSource),
     /// Any other format through symphonia.
     Decoded(Box<DecodedSource>),
-}
-
-/// Reads until `buf` is full or the input ends; returns the bytes read.
-fn read_full(r: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> {
-    let mut n = 0;
-    while n < buf.len() {
-        match r.read(&mut buf[n..]) {
-            Ok(0) => break,
-            Ok(k) => n += k,
-            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-            Err(e) => return Err(e),
-        }
-    }
-    Ok(n)
 }
 
 /// What standard input is called in messages.
