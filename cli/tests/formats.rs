@@ -9,28 +9,15 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 mod support;
-use support::{pneuma, render};
-
-fn voice() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/examples/voice.wav")
-}
+use support::{pneuma, render, tool_or_skip};
 
 /// True when ffmpeg runs; otherwise skips visibly (fails under CI=true).
 fn ffmpeg_or_skip(test: &str) -> bool {
-    let ok = Command::new("ffmpeg")
-        .arg("-version")
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if ok {
-        return true;
-    }
-    let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
-    assert!(
-        !ci,
-        "{test}: ffmpeg is not installed but CI=true: install it (apt-get install ffmpeg)"
-    );
-    eprintln!("SKIPPED {test}: ffmpeg is not installed (apt-get install ffmpeg)");
-    false
+    tool_or_skip("ffmpeg", "-version", test)
+}
+
+fn voice() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/examples/voice.wav")
 }
 
 /// Encodes `input` to `out` with ffmpeg and the codec arguments `codec`.
