@@ -7,14 +7,18 @@
 //! - [`OutputStatus`]: counters and flags the audio thread stores with relaxed atomics once a
 //!   block (OSC bundles sent, failed, dropped; CC messages the host lost; engine running; latency).
 //! - The audio side ([`EditorFeed`]) pushes only while the editor is open
-//!   ([`EditorShared::is_open`]: the egui window's own flag, or [`EditorShared::open`]);
+//!   ([`EditorShared::is_open`]: the egui window's own flag, or [`EditorShared::open`]; without
+//!   the `editor` feature there is no window and only the latter);
 //!   a full ring drops the newest record and counts it (the GUI was not drawing), never waits.
 //! - The GUI side ([`EditorShared::drain`]) takes the consumers behind a mutex that only GUI
 //!   threads touch; the audio side never sees it.
 
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, OnceLock};
+#[cfg(feature = "editor")]
+use std::sync::OnceLock;
+use std::sync::{Arc, Mutex};
 
+#[cfg(feature = "editor")]
 use nice_plug_egui::EguiEditorState;
 
 use pneuma_core::{BreathEvent, ControlFrame};
@@ -63,6 +67,7 @@ pub struct EditorShared {
     /// Forces the feed on without a window (tests, measurements).
     pub open: AtomicBool,
     /// The egui editor's state, once an editor was created: its open flag is read lock-free.
+    #[cfg(feature = "editor")]
     pub window: OnceLock<Arc<EguiEditorState>>,
     /// Output counters and flags.
     pub status: OutputStatus,
@@ -93,6 +98,7 @@ pub fn channel() -> (EditorFeed, Arc<EditorShared>) {
     let (breaths, breath_rx) = rtrb::RingBuffer::new(BREATH_RING);
     let shared = Arc::new(EditorShared {
         open: AtomicBool::new(false),
+        #[cfg(feature = "editor")]
         window: OnceLock::new(),
         status: OutputStatus::default(),
         consumers: Mutex::new(Some(Consumers {
@@ -202,7 +208,11 @@ impl EditorFeed {
 impl EditorShared {
     /// The editor window is open (or the feed is forced on). Lock-free.
     pub fn is_open(&self) -> bool {
-        self.open.load(Ordering::Relaxed) || self.window.get().is_some_and(|w| w.is_open())
+        #[cfg(feature = "editor")]
+        if self.window.get().is_some_and(|w| w.is_open()) {
+            return true;
+        }
+        self.open.load(Ordering::Relaxed)
     }
 
     /// GUI side: hands every waiting frame and breath to the callbacks, oldest first. Returns
