@@ -13,7 +13,7 @@
 //! - The GUI side ([`EditorShared::drain`]) takes the consumers behind a mutex that only GUI
 //!   threads touch; the audio side never sees it.
 
-use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, AtomicU8, Ordering};
 #[cfg(feature = "editor")]
 use std::sync::OnceLock;
 use std::sync::{Arc, Mutex};
@@ -49,6 +49,8 @@ pub struct OutputStatus {
     pub osc_failed: AtomicU64,
     /// OSC frames dropped (queue full or stale).
     pub osc_dropped: AtomicU64,
+    /// Why the last OSC frame failed ([`crate::osc_sender::OscError`] code; 0: none).
+    pub osc_last_error: AtomicU8,
     /// MIDI CC messages the host's event buffer refused.
     pub cc_lost: AtomicU64,
     /// View records dropped because the GUI did not read them in time.
@@ -174,6 +176,9 @@ impl EditorFeed {
             status
                 .osc_failed
                 .store(load(&osc.failed), Ordering::Relaxed);
+            status
+                .osc_last_error
+                .store(osc.last_error.load(Ordering::Relaxed), Ordering::Relaxed);
             status.osc_dropped.store(
                 load(&osc.dropped_full) + load(&osc.dropped_stale),
                 Ordering::Relaxed,
@@ -306,6 +311,25 @@ mod tests {
         assert_eq!(breaths[3].start_s, 150.0 / 120.0);
         assert_eq!(shared.status.osc_sent.load(Ordering::Relaxed), 200);
         assert_eq!(shared.status.view_dropped.load(Ordering::Relaxed), 0);
+    }
+
+    #[test]
+    fn the_osc_counters_and_last_error_reach_the_status() {
+        let (mut feed, shared) = channel();
+        let osc = OscStats::default();
+        osc.sent.store(7, Ordering::Relaxed);
+        osc.failed.store(3, Ordering::Relaxed);
+        osc.last_error.store(
+            crate::osc_sender::OscError::Refused as u8,
+            Ordering::Relaxed,
+        );
+        feed.end_block(Some(&osc), false);
+        let status = &shared.status;
+        assert_eq!(status.osc_sent.load(Ordering::Relaxed), 7);
+        assert_eq!(status.osc_failed.load(Ordering::Relaxed), 3);
+        let error =
+            crate::osc_sender::OscError::from_code(status.osc_last_error.load(Ordering::Relaxed));
+        assert_eq!(error, Some(crate::osc_sender::OscError::Refused));
     }
 
     #[test]
