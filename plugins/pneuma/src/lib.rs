@@ -341,10 +341,15 @@ pub fn run_block(
             view.push_frame(frame);
         }
     });
-    // The breaths go to the editor only; keep the engine's queue empty.
+    // The breaths go to the editor only; keep the engine's queues empty.
     engine.take_breaths(|b| {
         if let Some(view) = outputs.view.as_deref_mut() {
             view.push_breath(b);
+        }
+    });
+    engine.take_existing_breaths(|start_s, end_s| {
+        if let Some(view) = outputs.view.as_deref_mut() {
+            view.push_existing_breath(start_s, end_s);
         }
     });
     // The engine passes the voice bit for bit, subnormal samples included; hosts and validators

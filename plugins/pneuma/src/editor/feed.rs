@@ -2,8 +2,9 @@
 //! on the audio side.
 //!
 //! - [`ViewFrame`]: one small `Copy` record per control frame (the engine's [`ControlFrame`] and
-//!   the input's peak since the frame before), and [`BreathEvent`]s for inserted breaths, each
-//!   through its own preallocated single-producer single-consumer `rtrb` ring.
+//!   the input's peak since the frame before), and [`ViewBreath`]s for inserted breaths and for
+//!   breaths already in the input, each through its own preallocated single-producer
+//!   single-consumer `rtrb` ring.
 //! - [`OutputStatus`]: counters and flags the audio thread stores with relaxed atomics once a
 //!   block (OSC bundles sent, failed, dropped; CC messages the host lost; engine running; latency).
 //! - The audio side ([`EditorFeed`]) pushes only while the editor is open
@@ -28,8 +29,20 @@ use crate::osc_sender::OscStats;
 /// Ring capacity in frames: about 8.5 s at 120 Hz, so a GUI that skips a few repaints loses
 /// nothing.
 pub const FRAME_RING: usize = 1024;
-/// Ring capacity in inserted breaths.
+/// Ring capacity in breaths (inserted and already there).
 pub const BREATH_RING: usize = 64;
+
+/// A breath on the timeline: one Pneuma inserted, or one the speaker took (heard in a pause of
+/// the input, where nothing was inserted).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViewBreath {
+    /// Start, seconds of stream time.
+    pub start_s: f64,
+    /// End, seconds.
+    pub end_s: f64,
+    /// Already in the input (true) or inserted.
+    pub existing: bool,
+}
 
 /// What the editor draws for one control frame.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -79,7 +92,7 @@ pub struct EditorShared {
 #[derive(Debug)]
 struct Consumers {
     frames: rtrb::Consumer<ViewFrame>,
-    breaths: rtrb::Consumer<BreathEvent>,
+    breaths: rtrb::Consumer<ViewBreath>,
 }
 
 /// The audio thread's end. Owned by the plugin; every method is wait-free and allocation-free.
@@ -87,7 +100,7 @@ struct Consumers {
 pub struct EditorFeed {
     shared: Arc<EditorShared>,
     frames: rtrb::Producer<ViewFrame>,
-    breaths: rtrb::Producer<BreathEvent>,
+    breaths: rtrb::Producer<ViewBreath>,
     /// Input peak since the last frame.
     pending_peak: f32,
     /// The editor was open at the start of this block.
@@ -158,7 +171,24 @@ impl EditorFeed {
 
     /// Hands an inserted breath to the GUI.
     pub fn push_breath(&mut self, breath: &BreathEvent) {
-        if self.active && self.breaths.push(*breath).is_err() {
+        self.push_view_breath(ViewBreath {
+            start_s: breath.start_s,
+            end_s: breath.end_s,
+            existing: false,
+        });
+    }
+
+    /// Hands a breath already in the input (start and end, seconds) to the GUI.
+    pub fn push_existing_breath(&mut self, start_s: f64, end_s: f64) {
+        self.push_view_breath(ViewBreath {
+            start_s,
+            end_s,
+            existing: true,
+        });
+    }
+
+    fn push_view_breath(&mut self, breath: ViewBreath) {
+        if self.active && self.breaths.push(breath).is_err() {
             self.shared
                 .status
                 .view_dropped
@@ -226,7 +256,7 @@ impl EditorShared {
     pub fn drain(
         &self,
         mut on_frame: impl FnMut(&ViewFrame),
-        mut on_breath: impl FnMut(&BreathEvent),
+        mut on_breath: impl FnMut(&ViewBreath),
     ) -> bool {
         let Ok(mut guard) = self.consumers.try_lock() else {
             return false;
@@ -275,6 +305,9 @@ mod tests {
                 for i in 0..200u64 {
                     feed.begin_block(&[&mut left[..], &mut right[..]]);
                     feed.push_frame(&frame(i));
+                    if i == 120 {
+                        feed.push_existing_breath(0.9, 1.25);
+                    }
                     if i.is_multiple_of(50) {
                         feed.push_breath(&BreathEvent {
                             start_s: i as f64 / 120.0,
@@ -307,8 +340,17 @@ mod tests {
             .enumerate()
             .all(|(i, f)| f.control == frame(i as u64)));
         assert_eq!(frames[0].input_peak, 0.5, "first channel's peak");
-        assert_eq!(breaths.len(), 4);
-        assert_eq!(breaths[3].start_s, 150.0 / 120.0);
+        assert_eq!(breaths.len(), 5, "four inserted and one already there");
+        assert_eq!(
+            breaths[3],
+            ViewBreath {
+                start_s: 0.9,
+                end_s: 1.25,
+                existing: true
+            }
+        );
+        assert!(!breaths[4].existing);
+        assert_eq!(breaths[4].start_s, 150.0 / 120.0);
         assert_eq!(shared.status.osc_sent.load(Ordering::Relaxed), 200);
         assert_eq!(shared.status.view_dropped.load(Ordering::Relaxed), 0);
     }
