@@ -79,6 +79,7 @@ impl Default for Seen {
                 end_s: 0.0,
                 leading: true,
                 has_breath: false,
+                breath_s: None,
                 last_activity_end_s: None,
             },
             gains: [1.0; MAX_CHANNELS],
@@ -301,21 +302,12 @@ impl Placement {
                 // The inhalation (sound and cycle) starts once the pause has lasted the minimum
                 // pause and `after_offset_s`, unless the input is active then; activity before
                 // then cancels it (`live_activity`), activity while it plays fades it out (the
-                // gate, in the breath track). When the group's air is used up, a catch breath
-                // starts as soon as the phrase end is certain.
-                let catch = self.state.group_spoken_s >= MIN_SPOKEN_BEFORE_CATCH_S
-                    && self.group_left_s() <= MIN_LEFT_S;
-                let (wait_s, length_s) = if catch {
-                    (
-                        p.after_offset_s as f64,
-                        p.catch_breath_max_s as f64,
-                    )
-                } else {
-                    (
-                        (p.min_pause_s as f64).max(p.after_offset_s as f64),
-                        config.breathing.map().length_inspiration_s as f64,
-                    )
-                };
+                // gate, in the breath track). Live mode takes no catch breaths under the
+                // minimum pause: with nothing known of the pause's length, a breath started
+                // earlier would often land on the next word. It plans each group from the
+                // running estimate instead (a deeper breath when groups run long).
+                let wait_s = (p.min_pause_s as f64).max(p.after_offset_s as f64);
+                let length_s = config.breathing.map().length_inspiration_s as f64;
                 let start = ((((offset_s + wait_s) * rate).round() as u64).max(now))
                     .max(self.state.breath_end);
                 let length = (length_s * rate).round() as usize;
@@ -425,9 +417,8 @@ impl Placement {
         let quiet_from_s = pause
             .last_activity_end_s
             .map_or(pause.start_s, |a| a.max(pause.start_s));
-        let earliest_s = ((ctx.now + 1).saturating_sub(self.latency)).max(self.state.breath_end)
-            as f64
-            / rate;
+        let earliest_s =
+            ((ctx.now + 1).saturating_sub(self.latency)).max(self.state.breath_end) as f64 / rate;
         let volume = (coming_s / map.length_utterance_s.max(1e-3)).clamp(MIN_LUNG_VOLUME, 1.0);
         let mut window = None;
         if usable {
