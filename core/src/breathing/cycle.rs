@@ -178,6 +178,18 @@ impl BreathCycle {
         };
     }
 
+    /// The speaker breathed in before the stream began (it starts in speech): the lung is at
+    /// `target_lung` (0..1) at once and held there until the speech starts.
+    pub fn breathed_in(&mut self, target_lung: f32) {
+        if target_lung.is_finite() {
+            self.lung = target_lung.clamp(0.0, 1.0);
+        }
+        self.state = State::Rest {
+            time_s: 0.0,
+            hold_s: HOLD_S,
+        };
+    }
+
     /// A phrase of a breath group starts now with `left_s` seconds of speech left in the group:
     /// the lung falls linearly to [`RESERVE_LUNG`] (or stays where it is when already under it)
     /// at the planned end, then decays slowly.

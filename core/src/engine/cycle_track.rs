@@ -75,6 +75,10 @@ impl CycleTrack {
                     let target = self.cycle.lung_volume_for(group_s);
                     self.cycle.inspire_to(length_s, target);
                 }
+                CycleAction::BreathedIn { group_s } => {
+                    let target = self.cycle.lung_volume_for(group_s);
+                    self.cycle.breathed_in(target);
+                }
                 CycleAction::UtteranceStarts { left_s } => {
                     self.speaking = true;
                     self.cycle.expire_group(left_s);

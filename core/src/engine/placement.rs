@@ -19,6 +19,13 @@
 //! - Every phrase onset tells the cycle how much speech its group has left, so the lung falls
 //!   over the whole group and ends it at the reserve, and a pause inside a group holds the
 //!   breath.
+//! - A breath already in the pause (the phrase tracker's `Pause::breath_s`) is the group's
+//!   breath: the inspiration lies on it, at its time and length, and no sound is inserted.
+//! - A stream that starts in speech starts with the lung filled for the first group (the
+//!   speaker breathed in before it).
+//! - Live mode takes no catch breaths under `min_pause_s` (it cannot know a pause's length
+//!   before the pause is over, and a breath started earlier lands on the next word); it sizes
+//!   each breath for the running estimate of a group instead.
 
 use super::schedule::{BreathAction, CycleAction, Queue, Schedule};
 use super::{EngineConfig, Pending, PlacementMode, MAX_CHANNELS};
@@ -37,7 +44,7 @@ const MIN_SPOKEN_BEFORE_CATCH_S: f32 = 1.0;
 /// How much more known speech than planned air a group tolerates before a catch breath, s.
 const CATCH_SLACK_S: f32 = 0.3;
 /// Margins of a catch breath after the phrase end and before the onset, seconds.
-const CATCH_MARGIN_S: f64 = 0.02;
+const CATCH_MARGIN_S: f64 = 0.01;
 /// Least speech left that an onset plans its expiration over, seconds.
 const MIN_LEFT_S: f32 = 0.5;
 /// Longest breath, in inspiration lengths of the breathing parameters.
@@ -334,7 +341,8 @@ impl Placement {
         if self.mode == PlacementMode::Live {
             return;
         }
-        let out_s = (ctx.now + 1).saturating_sub(self.latency) as f64 / self.sample_rate_hz;
+        // Negative while the output has not started (the delay line is filling).
+        let out_s = ((ctx.now + 1) as f64 - self.latency as f64) / self.sample_rate_hz;
         while let Some(front) = self.seen.front() {
             if out_s + 2.0 * self.hop_s < front.pause.start_s {
                 break;
@@ -421,7 +429,15 @@ impl Placement {
             ((ctx.now + 1).saturating_sub(self.latency)).max(self.state.breath_end) as f64 / rate;
         let volume = (coming_s / map.length_utterance_s.max(1e-3)).clamp(MIN_LUNG_VOLUME, 1.0);
         let mut window = None;
-        if usable {
+        // A breath already in the pause drives the cycle: the inspiration lies on it (and no
+        // sound is inserted, below), whatever the pause's length.
+        if let Some((from_s, to_s)) = pause.breath_s {
+            let start_s = from_s.max(earliest_s);
+            if to_s - start_s >= self.hop_s {
+                window = Some((start_s, to_s));
+            }
+        }
+        if usable && window.is_none() {
             let end_s = onset_s - p.gap_s as f64;
             let after_s = if pause.leading && pause.last_activity_end_s.is_none() {
                 quiet_from_s
@@ -446,13 +462,15 @@ impl Placement {
                 // Speech from the very start of the stream: the speaker breathed before it.
                 let group_s = self.new_group(config, coming_s);
                 let at_s = earliest_s.min(onset_s).max(0.0);
-                schedule.cycle.insert_sorted((
-                    at_s,
+                let action = if onset_s - at_s >= 2.0 * self.hop_s {
                     CycleAction::Inspire {
-                        length_s: (onset_s - at_s).max(self.hop_s) as f32,
+                        length_s: (onset_s - at_s) as f32,
                         group_s,
-                    },
-                ));
+                    }
+                } else {
+                    CycleAction::BreathedIn { group_s }
+                };
+                schedule.cycle.insert_sorted((at_s, action));
             }
         }
         if let Some((start_s, end_s)) = window {

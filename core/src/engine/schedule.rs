@@ -36,6 +36,9 @@ pub(crate) enum BreathAction {
 pub(crate) enum CycleAction {
     /// Breathe in for `length_s`, for a breath group of `group_s` seconds of speech.
     Inspire { length_s: f32, group_s: f32 },
+    /// The stream starts in speech: the speaker breathed in for a group of `group_s` seconds
+    /// of speech before it began (the lung is full at once).
+    BreathedIn { group_s: f32 },
     /// A phrase starts with `left_s` seconds of speech left in its breath group.
     UtteranceStarts { left_s: f32 },
     /// A phrase ended (the breath is held while the pause lasts).
