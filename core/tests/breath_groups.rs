@@ -6,50 +6,13 @@
 use pneuma_core::engine::offline::{self, Rendered};
 use pneuma_core::engine::{Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
-use pneuma_core::test_signals::{self, GlottalVowel, Vowel};
 
-const SR: f64 = 16_000.0;
+mod generated_phrases;
+
+use generated_phrases::{sequence, SR};
+
 /// The lung counts as empty under this volume (as in `pneuma eval breaths`).
 const EMPTY_LUNG: f32 = 0.05;
-
-/// A phrase: a voiced glottal vowel, f0 falling 150 → 110 Hz, with a syllable rhythm that dips
-/// 10 dB but never to silence.
-fn phrase(length_s: f64, seed: u64) -> Vec<f32> {
-    let v = test_signals::glottal_vowel(
-        &GlottalVowel {
-            sample_rate_hz: SR,
-            length_s,
-            vowel: [Vowel::A, Vowel::I, Vowel::U][seed as usize % 3],
-            jitter: 0.01,
-            shimmer: 0.05,
-            peak: 0.4,
-            seed,
-        },
-        |t| 150.0 - 40.0 * t / length_s,
-    );
-    v.iter()
-        .enumerate()
-        .map(|(i, x)| {
-            let t = i as f64 / SR;
-            x * (0.65 + 0.35 * (2.0 * std::f64::consts::PI * 5.0 * t).cos()) as f32
-        })
-        .collect()
-}
-
-/// Lead-in silence, then the phrases with the pauses after them (the last one's pause is
-/// 0.8 s); returns the audio and every phrase's (onset, offset), seconds.
-fn sequence(lead_s: f64, phrases: &[f64], pauses: &[f64]) -> (Vec<f32>, Vec<(f64, f64)>) {
-    let mut audio = vec![0.0f32; (lead_s * SR) as usize];
-    let mut spans = Vec::new();
-    for (i, &p) in phrases.iter().enumerate() {
-        let onset = audio.len() as f64 / SR;
-        audio.extend(phrase(p, i as u64 + 1));
-        spans.push((onset, audio.len() as f64 / SR));
-        let pause = pauses.get(i).copied().unwrap_or(0.8);
-        audio.extend(std::iter::repeat_n(0.0, (pause * SR) as usize));
-    }
-    (audio, spans)
-}
 
 fn render(config: &EngineConfig, audio: &[f32], blocks: &[usize]) -> Rendered {
     let mut engine = Engine::new(config.clone(), HeadModel::default_model().clone()).unwrap();
