@@ -6,18 +6,23 @@
 //! with `-o -`, only the audio as WAV to standard output. Several inputs go to
 //! [`crate::batch`].
 //!
-//! The engine runs exactly as in the plugin (same lookahead); the lookahead delay is removed
-//! here by dropping the first `latency` output samples and feeding silence at the end (the
-//! engine's tail: latency, analysis delay and a frame) until every frame of the file is out. Memory stays bounded: audio is read, processed and written block by block, the
-//! controls stream to their file, and the plot keeps a min/max envelope of at most a few
-//! hundred thousand points. Every output file is written under a temporary name and renamed into
+//! The engine runs exactly as in the plugin (same lookahead), driven by core's one offline loop
+//! ([`offline::stream`]): it removes the lookahead delay by dropping the first `latency` output
+//! samples and feeds silence at the end (the engine's tail) until every frame of the file is
+//! out. The outputs that follow frames are sinks ([`FrameSink`]): the controls CSV and the BVH
+//! as [`TextSink`]s, the plot's frames and the breaths kept in memory. Memory stays bounded:
+//! audio is read, processed and written block by block, the controls stream to their file, and
+//! the plot keeps a min/max envelope of at most a few hundred thousand points. Every output file
+//! is written under a temporary name and renamed into
 //! place only when the whole render succeeded.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use pneuma_core::breathing::{BreathSample, Preset, SampleSlot};
-use pneuma_core::encode::{breaths_csv, bvh, controls_csv};
+use pneuma_core::encode::breaths_csv;
+use pneuma_core::encode::sink::{FrameSink, TextSink};
+use pneuma_core::engine::offline::{self, TailFrames};
 use pneuma_core::engine::{Engine, EngineConfig, EngineError, PlacementMode};
 use pneuma_core::{BreathEvent, ControlFrame};
 use thiserror::Error;
@@ -258,6 +263,38 @@ impl Envelope {
     }
 }
 
+/// What a render keeps of the engine's output besides the files: the number of control frames,
+/// every `every`-th frame for the plot (at most [`PLOT_FRAMES`]) and the inserted breaths.
+struct Kept {
+    every: usize,
+    frames: u64,
+    plot: Vec<ControlFrame>,
+    breaths: Vec<BreathEvent>,
+}
+
+impl Kept {
+    fn new(frames_total: u64) -> Self {
+        Self {
+            every: (frames_total as usize).div_ceil(PLOT_FRAMES).max(1),
+            frames: 0,
+            plot: Vec::new(),
+            breaths: Vec::new(),
+        }
+    }
+}
+
+impl FrameSink for Kept {
+    fn frame(&mut self, frame: &ControlFrame, _at: u64) {
+        if (frame.index as usize).is_multiple_of(self.every) {
+            self.plot.push(*frame);
+        }
+        self.frames += 1;
+    }
+    fn breath(&mut self, breath: &BreathEvent) {
+        self.breaths.push(*breath);
+    }
+}
+
 fn out_err(path: &Path) -> impl Fn(std::io::Error) -> RenderError + '_ {
     move |source| RenderError::Output {
         path: path.to_owned(),
@@ -392,156 +429,105 @@ pub fn run(
         crate::options::refuse_existing(&all).map_err(RenderError::Input)?;
     }
 
-    let mut sink = if to_stdout {
+    let mut audio_out = if to_stdout {
         AudioSink::stdout(info)
     } else {
         AudioSink::create_as(&wav_path, info, container, tags)
     }
     .map_err(out_err(&wav_path))?;
-    // With -o - only the audio is written: no controls, breaths, plot or BVH files.
-    let mut controls = if to_stdout {
-        None
-    } else {
-        let mut o = Output::create(&controls_path).map_err(out_err(&controls_path))?;
-        writeln!(o.writer(), "{}", controls_csv::HEADER).map_err(out_err(&controls_path))?;
-        Some(o)
-    };
 
-    let latency = engine.latency_samples() as u64;
-    let tail = engine.tail_samples();
     let total_in = info.frames;
     let frame_rate = config.analysis.frame_rate_hz;
     let clock = pneuma_core::analysis::FrameClock::new(frame_rate, info.sample_rate_hz as f64);
     let frames_total = clock.frames_in(total_in);
-    let mut envelope = Envelope::new(total_in);
-    let plot_every = (frames_total as usize).div_ceil(PLOT_FRAMES).max(1);
-    let mut plot_frames: Vec<ControlFrame> = Vec::new();
-    // The BVH streams too: its header needs the frame count, known from the WAV header.
-    let mut bvh_out = if args.bvh && !to_stdout {
-        let mut o = Output::create(&bvh_path).map_err(out_err(&bvh_path))?;
-        o.writer()
-            .write_all(bvh::header(frames_total as usize, frame_rate).as_bytes())
-            .map_err(out_err(&bvh_path))?;
-        Some(o)
+    // The outputs that follow the frames. With -o - only the audio is written: no controls,
+    // breaths, plot or BVH files.
+    let controls = if to_stdout {
+        None
+    } else {
+        let o = Output::create(&controls_path).map_err(out_err(&controls_path))?;
+        Some(TextSink::controls_csv(o).map_err(out_err(&controls_path))?)
+    };
+    // The BVH streams too: its header needs the frame count, known from the input's header.
+    let bvh_out = if args.bvh && !to_stdout {
+        let o = Output::create(&bvh_path).map_err(out_err(&bvh_path))?;
+        Some(TextSink::bvh(o, frames_total as usize, frame_rate).map_err(out_err(&bvh_path))?)
     } else {
         None
     };
-    let mut bvh_row = String::new();
-    let mut breaths = Vec::new();
-    let mut row = String::new();
-    let mut frames_written = 0u64;
-    let mut write_error: Option<std::io::Error> = None;
+    let mut sinks = (controls, bvh_out, Kept::new(frames_total));
 
+    let mut envelope = Envelope::new(total_in);
     let mut interleaved = Vec::with_capacity(BLOCK_FRAMES * channels);
-    let mut planar: Vec<Vec<f32>> = vec![vec![0.0; BLOCK_FRAMES]; channels];
     let mut out_interleaved = Vec::with_capacity(BLOCK_FRAMES * channels);
-    let mut fed = 0u64; // sample frames given to the engine
     let mut written = 0u64; // sample frames written to the output
-    let mut input_done = false;
     let mut last_progress = 0.0;
-    loop {
-        // Next block: from the file, then silence to flush the lookahead.
-        let n = if !input_done {
-            let n = src.read_interleaved(BLOCK_FRAMES, &mut interleaved)?;
-            if n == 0 {
-                input_done = true;
-                continue;
-            }
+    offline::stream(
+        &mut engine,
+        channels,
+        &[BLOCK_FRAMES],
+        TailFrames::InputOnly,
+        |planar: &mut [Vec<f32>], max: usize| -> Result<usize, RenderError> {
+            let n = src.read_interleaved(max, &mut interleaved)?;
             for (i, frame) in interleaved.chunks_exact(channels).enumerate() {
                 for (c, &x) in frame.iter().enumerate() {
                     planar[c][i] = x;
                 }
             }
-            n
-        } else {
-            let remaining = (src.frames_read() + tail).saturating_sub(fed);
-            if remaining == 0 {
-                break;
+            Ok(n)
+        },
+        &mut sinks,
+        |(controls, bvh, _), planar, range| {
+            // A failed write of the controls or the BVH stops the render.
+            for (text, path) in [(controls, &controls_path), (bvh, &bvh_path)] {
+                if let Some(text) = text {
+                    text.check().map_err(out_err(path))?;
+                }
             }
-            let n = (remaining as usize).min(BLOCK_FRAMES);
-            planar.iter_mut().for_each(|p| p[..n].fill(0.0));
-            n
-        };
-        let total_now = src.frames_read();
-        let frames_limit = clock.frames_in(total_now);
-        {
-            let mut chans: Vec<&mut [f32]> = planar.iter_mut().map(|p| &mut p[..n]).collect();
-            engine.process(&mut chans, &mut |f: &ControlFrame, _offset| {
-                // Frames past the end of the input (the flush) are not part of the file.
-                if input_done && f.index >= frames_limit {
-                    return;
+            out_interleaved.clear();
+            for i in range.clone() {
+                let mut mono = 0.0;
+                for p in planar {
+                    out_interleaved.push(p[i]);
+                    mono += p[i];
                 }
-                row.clear();
-                controls_csv::write_row(&mut row, f);
-                if let (None, Some(c)) = (&write_error, &mut controls) {
-                    if let Err(e) = c.writer().write_all(row.as_bytes()) {
-                        write_error = Some(e);
-                    }
-                }
-                if (f.index as usize).is_multiple_of(plot_every) {
-                    plot_frames.push(*f);
-                }
-                if let Some(o) = &mut bvh_out {
-                    bvh_row.clear();
-                    bvh::push_control(&mut bvh_row, f);
-                    if write_error.is_none() {
-                        if let Err(e) = o.writer().write_all(bvh_row.as_bytes()) {
-                            write_error = Some(e);
-                        }
-                    }
-                }
-                frames_written += 1;
-            });
-        }
-        if let Some(e) = write_error.take() {
-            return Err(RenderError::Output {
-                path: args.output.clone(),
-                source: e,
-            });
-        }
-        engine.take_breaths(|b| breaths.push(*b));
-        // Drop the first `latency` output samples; never write past the input's length.
-        out_interleaved.clear();
-        for i in 0..n {
-            let t = fed + i as u64;
-            if t < latency || t - latency >= total_now {
-                continue;
+                envelope.push(mono / channels as f32);
             }
-            let mut mono = 0.0;
-            for p in &planar {
-                out_interleaved.push(p[i]);
-                mono += p[i];
+            written += range.len() as u64;
+            audio_out
+                .write_interleaved(&out_interleaved)
+                .map_err(out_err(&wav_path))?;
+            if interrupted() {
+                return Err(RenderError::Interrupted);
             }
-            envelope.push(mono / channels as f32);
-            written += 1;
-        }
-        fed += n as u64;
-        sink.write_interleaved(&out_interleaved)
-            .map_err(out_err(&wav_path))?;
-        if interrupted() {
-            return Err(RenderError::Interrupted);
-        }
-        let done = written as f64 / total_in.max(1) as f64;
-        if done - last_progress >= 0.01 {
-            last_progress = done;
-            progress(done.min(1.0));
-        }
-    }
-    engine.finish();
-    engine.take_breaths(|b| breaths.push(*b));
+            let done = written as f64 / total_in.max(1) as f64;
+            if done - last_progress >= 0.01 {
+                last_progress = done;
+                progress(done.min(1.0));
+            }
+            Ok(())
+        },
+    )?;
+    let (controls, bvh_out, kept) = sinks;
+    let Kept {
+        frames: frames_written,
+        plot: plot_frames,
+        mut breaths,
+        ..
+    } = kept;
     // A breath cut by the end of the file ends with it.
     let duration_s = written as f64 / info.sample_rate_hz as f64;
     breaths.retain(|b| b.start_s < duration_s);
     for b in &mut breaths {
         b.end_s = b.end_s.min(duration_s);
     }
-    let clipped = sink.clipped();
+    let clipped = audio_out.clipped();
     if args.markers.contains(&MarkerKind::Cue) {
-        sink.set_cues(crate::markers::cues(&breaths, info.sample_rate_hz));
+        audio_out.set_cues(crate::markers::cues(&breaths, info.sample_rate_hz));
     }
     let Some(controls) = controls else {
         // Standard output: the audio is all there is.
-        sink.finish().map_err(out_err(&wav_path))?;
+        audio_out.finish().map_err(out_err(&wav_path))?;
         return Ok(RenderSummary {
             info,
             input_format,
@@ -564,10 +550,14 @@ pub fn run(
         breaths_path.clone(),
     ];
     let mut staged = vec![
-        sink.finish()
+        audio_out
+            .finish()
             .map_err(out_err(&wav_path))?
             .ok_or_else(|| out_err(&wav_path)(std::io::Error::other("not a file")))?,
-        staged_file(controls, &controls_path)?,
+        staged_file(
+            controls.into_inner().map_err(out_err(&controls_path))?,
+            &controls_path,
+        )?,
         staged_file(breaths_out, &breaths_path)?,
     ];
     for (kind, path) in &marker_paths {
@@ -579,6 +569,7 @@ pub fn run(
         files.push(path.clone());
     }
     if let Some(o) = bvh_out {
+        let o = o.into_inner().map_err(out_err(&bvh_path))?;
         staged.push(staged_file(o, &bvh_path)?);
         files.push(bvh_path.clone());
     }

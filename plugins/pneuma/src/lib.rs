@@ -58,6 +58,7 @@ use std::sync::Arc;
 use nice_plug::prelude::*;
 use pneuma_core::encode::midi_cc::{CcEncoder, CcMessage};
 use pneuma_core::encode::osc::OscFormat;
+use pneuma_core::encode::sink::{CcSink, FrameSink};
 
 use editor::feed::{EditorFeed, EditorShared};
 use osc_sender::{OscFeed, OscSettings, OscStats, OscWorker};
@@ -310,8 +311,8 @@ impl Pneuma {
     }
 }
 
-/// Where a block's control frames go: the CC encoder (when MIDI is on) and the OSC feed (when OSC
-/// is on).
+/// Where a block's control frames go: the CC encoder (when MIDI is on), the OSC feed (when OSC
+/// is on) and the editor (when open).
 pub struct Outputs<'a> {
     /// The CC encoder, or `None` when MIDI output is off.
     pub cc: Option<&'a mut CcEncoder>,
@@ -322,36 +323,21 @@ pub struct Outputs<'a> {
 }
 
 /// The audio-thread work of one block: runs the engine in place (then flushes subnormal output
-/// samples to 0) and hands every control frame to the outputs; `send_cc(offset, message)` receives each CC message with its sample offset in the
-/// block. Never allocates, locks or blocks.
+/// samples to 0), the outputs being its sinks ([`FrameSink`]): every control frame to the CC
+/// encoder, the OSC feed and the editor, inserted and heard breaths to the editor.
+/// `send_cc(offset, message)` receives each CC message with its sample offset in the block.
+/// Never allocates, locks or blocks.
 pub fn run_block(
     engine: &mut Engine,
     audio: &mut [&mut [f32]],
-    mut outputs: Outputs<'_>,
+    outputs: Outputs<'_>,
     send_cc: &mut dyn FnMut(u32, CcMessage),
 ) {
-    engine.process(audio, &mut |frame, offset| {
-        if let Some(cc) = outputs.cc.as_deref_mut() {
-            cc.encode(frame, |m| send_cc(offset as u32, m));
-        }
-        if let Some(feed) = outputs.osc.as_deref_mut() {
-            feed.push(frame);
-        }
-        if let Some(view) = outputs.view.as_deref_mut() {
-            view.push_frame(frame);
-        }
-    });
-    // The breaths go to the editor only; keep the engine's queues empty.
-    engine.take_breaths(|b| {
-        if let Some(view) = outputs.view.as_deref_mut() {
-            view.push_breath(b);
-        }
-    });
-    engine.take_existing_breaths(|start_s, end_s| {
-        if let Some(view) = outputs.view.as_deref_mut() {
-            view.push_existing_breath(start_s, end_s);
-        }
-    });
+    // Positions from 0: a frame's position is its sample offset in this block.
+    let cc = outputs
+        .cc
+        .map(|encoder| CcSink::new(encoder, |at, m| send_cc(at as u32, m)));
+    engine.process_into(audio, 0, &mut (cc, outputs.osc, outputs.view));
     // The engine passes the voice bit for bit, subnormal samples included; hosts and validators
     // reject subnormal output, so they become 0 (no other sample changes).
     for channel in audio.iter_mut() {
@@ -362,13 +348,11 @@ pub fn run_block(
 /// Sends the rest pose ([`ControlFrame::default`]: head straight, lungs empty, breath at rest)
 /// to the outputs: every controller the CC encoder has not sent at that value, and one OSC frame.
 pub fn send_rest_pose(outputs: &mut Outputs<'_>, send_cc: &mut dyn FnMut(u32, CcMessage)) {
-    let rest = ControlFrame::default();
-    if let Some(cc) = outputs.cc.as_deref_mut() {
-        cc.encode(&rest, |m| send_cc(0, m));
-    }
-    if let Some(feed) = outputs.osc.as_deref_mut() {
-        feed.push(&rest);
-    }
+    let cc = outputs
+        .cc
+        .as_deref_mut()
+        .map(|encoder| CcSink::new(encoder, |_, m| send_cc(0, m)));
+    (cc, outputs.osc.as_deref_mut()).frame(&ControlFrame::default(), 0);
 }
 
 /// Reads a breath sample (WAV, FLAC, AIFF, … any channel count, mixed to mono). Empty path:

@@ -27,6 +27,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use pneuma_core::encode::osc::{encode_frame, OscFormat, TimeTag, MAX_FRAME_PACKET_BYTES};
+use pneuma_core::encode::sink::FrameSink;
 use pneuma_core::ControlFrame;
 
 /// Queue capacity in frames (about 4 s at 120 Hz).
@@ -141,6 +142,14 @@ impl OscFeed {
         if self.producer.push(*frame).is_err() {
             self.stats.dropped_full.fetch_add(1, Ordering::Relaxed);
         }
+    }
+}
+
+/// The OSC output as one of the engine's sinks: every frame is pushed to the worker, which
+/// encodes and sends it off the audio thread.
+impl FrameSink for OscFeed {
+    fn frame(&mut self, frame: &ControlFrame, _at: u64) {
+        self.push(frame);
     }
 }
 
