@@ -224,10 +224,16 @@ struct Envelope {
 }
 
 impl Envelope {
+    /// For `total_frames` samples; 0 (a length not known before the end) starts with
+    /// buckets of two samples and widens them as the input goes on.
     fn new(total_frames: u64) -> Self {
-        let bucket = usize::try_from(total_frames.saturating_mul(2).div_ceil(PLOT_POINTS as u64))
-            .unwrap_or(usize::MAX)
-            .max(1);
+        let bucket = if total_frames == 0 {
+            2
+        } else {
+            usize::try_from(total_frames.saturating_mul(2).div_ceil(PLOT_POINTS as u64))
+                .unwrap_or(usize::MAX)
+                .max(1)
+        };
         Self {
             bucket,
             filled: 0,
@@ -250,6 +256,21 @@ impl Envelope {
             self.filled = 0;
             self.lo = f32::INFINITY;
             self.hi = f32::NEG_INFINITY;
+            if self.points.len() >= 2 * PLOT_POINTS {
+                // Longer than announced (a length not known before): merge neighbouring
+                // buckets, so the envelope stays bounded.
+                let merged: Vec<f32> = self
+                    .points
+                    .chunks(4)
+                    .flat_map(|c| match *c {
+                        [lo1, hi1, lo2, hi2] => [lo1.min(lo2), hi1.max(hi2)],
+                        [lo, hi, ..] => [lo, hi],
+                        _ => unreachable!("points come in pairs"),
+                    })
+                    .collect();
+                self.points = merged;
+                self.bucket *= 2;
+            }
         }
     }
     /// The points, evenly spread over the samples pushed so far (a last partial bucket
@@ -287,6 +308,13 @@ impl FrameSink for Kept {
     fn frame(&mut self, frame: &ControlFrame, _at: u64) {
         if (frame.index as usize).is_multiple_of(self.every) {
             self.plot.push(*frame);
+            if self.plot.len() > 2 * PLOT_FRAMES {
+                // Longer than announced (a length not known before): keep every other one.
+                self.every *= 2;
+                let every = self.every;
+                self.plot
+                    .retain(|f| (f.index as usize).is_multiple_of(every));
+            }
         }
         self.frames += 1;
     }
@@ -351,6 +379,14 @@ pub fn run(
     let channels = info.channels as usize;
     if channels > pneuma_core::engine::MAX_CHANNELS {
         return Err(EngineError::Channels(channels).into());
+    }
+    if args.bvh && !to_stdout && info.frames == 0 {
+        return Err(RenderError::Input(
+            "--bvh needs the input's length before the render (the BVH header holds the frame \
+             count), and this input does not announce it (a pipe, or a stream of unknown \
+             length): save it to a file first, or drop --bvh"
+                .into(),
+        ));
     }
     let model =
         crate::options::load_head_model(args.head_model.as_deref()).map_err(RenderError::Input)?;
@@ -706,5 +742,57 @@ pub fn main(args: Args) -> ExitCode {
             eprintln!("error: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_envelope_of_unknown_length_stays_bounded_and_keeps_the_extremes() {
+        let n = 5 * PLOT_POINTS;
+        let mut e = Envelope::new(0);
+        for i in 0..n {
+            // A ramp with one spike in the middle.
+            e.push(if i == n / 2 { 2.0 } else { i as f32 / n as f32 });
+        }
+        let points = e.finish();
+        assert!(
+            points.len() <= 2 * PLOT_POINTS + 2,
+            "{} points",
+            points.len()
+        );
+        assert!(points.len() >= PLOT_POINTS / 2, "{} points", points.len());
+        let max = points.iter().copied().fold(f32::MIN, f32::max);
+        let min = points.iter().copied().fold(f32::MAX, f32::min);
+        assert_eq!((min, max), (0.0, 2.0));
+        // Pairs stay in time order: the last pair holds the end of the ramp.
+        assert!(points[points.len() - 1] > 0.99);
+    }
+
+    #[test]
+    fn plot_frames_of_unknown_length_stay_bounded_and_evenly_spaced() {
+        let mut kept = Kept::new(0);
+        let n = 5 * PLOT_FRAMES as u64;
+        for index in 0..n {
+            let f = ControlFrame {
+                index,
+                ..Default::default()
+            };
+            kept.frame(&f, 0);
+        }
+        assert_eq!(kept.frames, n);
+        assert!(kept.plot.len() <= 2 * PLOT_FRAMES, "{}", kept.plot.len());
+        let steps: Vec<u64> = kept
+            .plot
+            .windows(2)
+            .map(|w| w[1].index - w[0].index)
+            .collect();
+        assert!(steps.iter().all(|&s| s == kept.every as u64), "uneven");
+        assert!(kept
+            .plot
+            .last()
+            .is_some_and(|f| f.index + kept.every as u64 >= n));
     }
 }

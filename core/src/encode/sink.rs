@@ -31,6 +31,12 @@ use crate::encode::midi_cc::{CcEncoder, CcMessage};
 use crate::encode::osc::{encode_frame, OscError, OscFormat, TimeTag, MAX_FRAME_PACKET_BYTES};
 
 /// Where the engine's control frames and inserted breaths go.
+///
+/// Order: frames come in frame order and breaths in their order, each kind once; between the
+/// two kinds there is no promise (a block's finished breaths follow its frames, so where a
+/// breath lands among the frames depends on the block size). A sink that needs one timeline
+/// orders by time itself (frames carry `time_s`, breaths `start_s`/`end_s`); markers and the
+/// breaths CSV are written from the collected breaths for that reason.
 pub trait FrameSink {
     /// One control frame, due at sample `at` (see the module docs for its origin).
     fn frame(&mut self, frame: &ControlFrame, at: u64);
@@ -156,15 +162,21 @@ impl<W: Write> TextSink<W> {
         Self::new(out, &header, crate::encode::bvh::push_control)
     }
 
-    /// The first write error since the last check, if any (later frames were not written).
-    pub fn check(&mut self) -> std::io::Result<()> {
-        self.error.take().map_or(Ok(()), Err)
+    /// The first write error, if any: it stays (every later check reports it again and no
+    /// later frame is written), so the file is never continued after a gap.
+    pub fn check(&self) -> std::io::Result<()> {
+        match &self.error {
+            None => Ok(()),
+            Some(e) => Err(std::io::Error::new(e.kind(), e.to_string())),
+        }
     }
 
     /// The writer back, or the first write error.
-    pub fn into_inner(mut self) -> std::io::Result<W> {
-        self.check()?;
-        Ok(self.out)
+    pub fn into_inner(self) -> std::io::Result<W> {
+        match self.error {
+            None => Ok(self.out),
+            Some(e) => Err(e),
+        }
     }
 }
 
@@ -357,6 +369,13 @@ mod tests {
         assert_eq!(e.to_string(), "disk full");
         // Header + 2 rows written, the 3rd row failed, nothing tried after it.
         assert_eq!(sink.out.writes, 4);
+        // The error stays: checking again, or writing on, never continues the file.
+        drive(&mut sink, 2);
+        assert!(sink.check().is_err());
+        assert_eq!(sink.out.writes, 4);
+        assert!(sink
+            .into_inner()
+            .is_err_and(|e| e.to_string() == "disk full"));
     }
 
     #[test]

@@ -92,6 +92,9 @@ pub struct Dropped {
     pub scheduled: u64,
     /// Finished breaths pushed out before [`Engine::take_breaths`] collected them.
     pub breaths: u64,
+    /// Breaths heard in the input pushed out before [`Engine::take_existing_breaths`]
+    /// collected them.
+    pub existing_breaths: u64,
     /// Blocks the analysis refused (it is prepared for every block `process` hands it).
     pub analysis_blocks: u64,
 }
@@ -213,6 +216,7 @@ impl Engine {
                 phrase_events: s.lost.phrase_events,
                 scheduled: s.pending.dropped() + s.schedule.dropped(),
                 breaths: s.breaths.dropped(),
+                existing_breaths: s.existing.dropped(),
                 analysis_blocks: s.lost.analysis_blocks,
             })
     }

@@ -97,7 +97,12 @@ pub fn stream<S: FrameSink, E>(
     for &block in blocks.iter().cycle() {
         // Next block: from the input, then silence to flush the tail.
         let n = if !input_done {
-            let n = read(&mut buffers, block)?.min(block);
+            let n = read(&mut buffers, block)?;
+            debug_assert!(
+                n <= block,
+                "the reader gave {n} samples for a block of {block}"
+            );
+            let n = n.min(block);
             if n == 0 {
                 input_done = true;
             }
@@ -200,5 +205,122 @@ pub fn render(engine: &mut Engine, input: &[Vec<f32>], blocks: &[usize]) -> Rend
         breaths: kept.breaths,
         existing_breaths: kept.existing,
         latency_samples: done.latency_samples,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engine::EngineConfig;
+    use crate::head::HeadModel;
+
+    const RATE_HZ: f64 = 16_000.0;
+
+    fn engine() -> Engine {
+        let mut e = Engine::new(EngineConfig::default(), HeadModel::default_model().clone())
+            .expect("default engine");
+        e.prepare(RATE_HZ, 300, 1).expect("prepare");
+        e
+    }
+
+    /// Streams `input` in blocks of `blocks` (cycled); returns the output, what the sink kept
+    /// and what `stream` reported.
+    fn run(input: &[f32], blocks: &[usize], tail: TailFrames) -> (Vec<f32>, Collect, Streamed) {
+        let mut e = engine();
+        let (mut pos, mut out, mut kept) = (0, Vec::new(), Collect::default());
+        let done = stream(
+            &mut e,
+            1,
+            blocks,
+            tail,
+            |b, max| {
+                let n = max.min(input.len() - pos);
+                b[0][..n].copy_from_slice(&input[pos..pos + n]);
+                pos += n;
+                Ok::<_, String>(n)
+            },
+            &mut kept,
+            |_, b, range| {
+                out.extend_from_slice(&b[0][range]);
+                Ok(())
+            },
+        )
+        .expect("no error");
+        (out, kept, done)
+    }
+
+    #[test]
+    fn input_only_hands_exactly_the_input_frames_and_the_output_is_the_input_length() {
+        let input = crate::test_signals::phrases_with_pauses(RATE_HZ, 3.0, 30.0, 3);
+        let clock = FrameClock::new(EngineConfig::default().analysis.frame_rate_hz, RATE_HZ);
+        let (out, kept, done) = run(&input, &[300, 17, 4096], TailFrames::InputOnly);
+        let indices: Vec<u64> = kept.frames.iter().map(|(f, _)| f.index).collect();
+        let want: Vec<u64> = (0..clock.frames_in(input.len() as u64)).collect();
+        assert_eq!(indices, want);
+        assert_eq!(out.len(), input.len());
+        assert_eq!(done.input_samples, input.len() as u64);
+        // The whole-signal form hands the tail's frames too, and the same audio.
+        let all = render(&mut engine(), std::slice::from_ref(&input), &[300]);
+        assert!(all.frames.len() > kept.frames.len());
+        assert!(all.audio[0] == out, "the output differs from render's");
+        // Latency removed: outside the breaths the output is the input, sample for sample.
+        let in_breath = |i: usize| {
+            let t = i as f64 / RATE_HZ;
+            kept.breaths
+                .iter()
+                .any(|b| t >= b.start_s - 0.01 && t <= b.end_s + 0.01)
+        };
+        let same = (0..input.len())
+            .filter(|&i| !in_breath(i))
+            .all(|i| out[i].to_bits() == input[i].to_bits());
+        assert!(same, "the output is not the input outside the breaths");
+        assert!(!kept.breaths.is_empty(), "the phrases get breaths");
+    }
+
+    #[test]
+    fn an_error_of_the_reader_or_the_writer_stops_the_stream_and_is_returned() {
+        let input = vec![0.1f32; 10_000];
+        let mut e = engine();
+        let mut reads = 0;
+        let err = stream(
+            &mut e,
+            1,
+            &[256],
+            TailFrames::All,
+            |b, max| {
+                reads += 1;
+                if reads == 3 {
+                    return Err("damaged at block 3".to_string());
+                }
+                b[0][..max].copy_from_slice(&input[..max]);
+                Ok(max)
+            },
+            &mut Collect::default(),
+            |_, _, _| Ok(()),
+        )
+        .unwrap_err();
+        assert_eq!((err.as_str(), reads), ("damaged at block 3", 3));
+        let mut writes = 0;
+        let err = stream(
+            &mut engine(),
+            1,
+            &[256],
+            TailFrames::All,
+            |b, max| {
+                b[0][..max].fill(0.0);
+                Ok(max)
+            },
+            &mut Collect::default(),
+            |_, _, _| {
+                writes += 1;
+                if writes == 5 {
+                    Err("disk full".to_string())
+                } else {
+                    Ok(())
+                }
+            },
+        )
+        .unwrap_err();
+        assert_eq!((err.as_str(), writes), ("disk full", 5));
     }
 }

@@ -156,6 +156,12 @@ pub struct Pneuma {
     stream: Option<StreamSpec>,
     /// Samples processed since a background build was asked for (`None`: none pending).
     build_pending_samples: Option<u64>,
+    /// The structural settings may differ from the running engine's: a structural parameter
+    /// raised its flag, a build came back or a sample path changed. Compared (and cleared) at
+    /// the next block instead of diffing the settings every block.
+    structure_stale: bool,
+    /// The breath-sample change count last seen.
+    seen_sample_generation: u64,
     jumps: JumpDetector,
     pre_roll: PreRoll,
     /// The audio side of the editor's data path ([`editor::feed`]).
@@ -191,6 +197,8 @@ impl Default for Pneuma {
             held: None,
             stream: None,
             build_pending_samples: None,
+            structure_stale: true,
+            seen_sample_generation: 0,
             jumps: JumpDetector::default(),
             pre_roll: PreRoll::default(),
             view,
@@ -230,6 +238,8 @@ impl Pneuma {
                 continue;
             }
             self.build_pending_samples = None;
+            // The parameters may have moved on while it was built.
+            self.structure_stale = true;
             let latency = built.engine.as_ref().map_or(0, |e| e.latency_samples());
             if self.latency_only_at_activation && latency != self.reported_latency {
                 // CLAP lets a plugin report a new latency only inside `activate`; reporting it
@@ -257,18 +267,30 @@ impl Pneuma {
                 .activated(self.engine.is_some(), latency, stream.sample_rate_hz as f32);
             self.at_rest = false;
         }
+        if ChangeFlags::take(&self.params.changes.structure) {
+            self.structure_stale = true;
+        }
+        let generation = rebuild::sample_generation(&self.params);
+        if generation != self.seen_sample_generation {
+            self.seen_sample_generation = generation;
+            self.structure_stale = true;
+        }
         let retry = (BUILD_RETRY_S * stream.sample_rate_hz) as u64;
         match self.build_pending_samples.as_mut() {
             Some(waited) if *waited < retry => *waited += block as u64,
+            _ if !self.structure_stale => self.build_pending_samples = None,
             _ => {
                 let wanted = Some(Structural::of(&self.params));
                 if self.prepared != wanted && self.held != wanted {
+                    // Stays stale: the built engine is compared again when it comes back, or
+                    // the build is asked for again after the retry time.
                     if let Some(worker) = &self.build_worker {
                         self.build_pending_samples = Some(0);
                         worker.request();
                     }
                 } else {
                     self.build_pending_samples = None;
+                    self.structure_stale = false;
                 }
             }
         }
@@ -486,6 +508,8 @@ impl Plugin for Pneuma {
         self.view
             .activated(self.engine.is_some(), latency, buffer_config.sample_rate);
         self.prepared = Some(structural);
+        // Settings may have moved while it was built.
+        self.structure_stale = true;
         self.at_rest = false;
         self.mono = MonoSource::new(audio_io_layout);
         // One millisecond of tolerance for rounded host positions (at least one sample).
@@ -534,16 +558,20 @@ impl Plugin for Pneuma {
         }
         self.follow_structure(context, buffer.samples());
         let changes = &self.params.changes;
-        // Structural changes are followed above, by comparing settings (a build may be running).
-        ChangeFlags::take(&changes.structure);
         if ChangeFlags::take(&changes.cc_map) {
-            // An invalid map keeps the previous one (see `activate`).
-            let _ = self.cc.set_map(self.params.cc_map());
+            // An invalid map (two signals on one controller, a 14-bit controller over 31) keeps
+            // the previous one; the editor shows why (`editor::view`).
+            if self.cc.set_map(self.params.cc_map()).is_err() {
+                debug_assert!(self.cc.map().validate().is_ok(), "the kept map is valid");
+            }
         }
         if ChangeFlags::take(&changes.engine) {
             if let Some(engine) = self.engine.as_deref_mut() {
-                // An invalid combination keeps the previous settings; ranges make it unlikely.
-                let _ = engine.set_config(&self.params.engine_config());
+                // The live part applies now; a stream part waits for the build that the structure
+                // flag asked for. Every parameter is in range, so the settings are valid.
+                if let Err(e) = engine.set_config(&self.params.engine_config()) {
+                    debug_assert!(false, "the parameters' engine settings are valid: {e}");
+                }
             }
         }
         let midi_on = self.params.midi_enabled.value();
