@@ -69,8 +69,8 @@ pub struct BreathFigures {
     pub breaths: Vec<(f64, f64, f64)>,
 }
 
-/// Median of `v` (NaN when empty).
-fn median(v: &[f64]) -> f64 {
+/// Median of the finite values of `v` (NaN when there are none).
+pub fn median(v: &[f64]) -> f64 {
     let mut s: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
     if s.is_empty() {
         return f64::NAN;

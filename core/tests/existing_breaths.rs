@@ -2,7 +2,7 @@
 //! reported by `Engine::take_existing_breaths` with its time, and no breath is inserted over it;
 //! the same phrases with a quiet pause report none.
 
-use pneuma_core::engine::{Engine, EngineConfig};
+use pneuma_core::engine::{offline, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
 use pneuma_core::test_signals;
 
@@ -43,18 +43,9 @@ fn run(audio: &[f32]) -> (Spans, Spans) {
     let mut engine = Engine::new(EngineConfig::default(), HeadModel::default_model().clone())
         .expect("default engine");
     engine.prepare(RATE_HZ, 256, 1).expect("prepare");
-    let (mut existing, mut inserted) = (Vec::new(), Vec::new());
-    let tail = engine.tail_samples() as usize;
-    let mut input = audio.to_vec();
-    input.resize(audio.len() + tail, 0.0);
-    for block in input.chunks_mut(256) {
-        engine.process(&mut [block], &mut |_, _| {});
-        engine.take_existing_breaths(|a, b| existing.push((a, b)));
-        engine.take_breaths(|b| inserted.push((b.start_s, b.end_s)));
-    }
-    engine.finish();
-    engine.take_breaths(|b| inserted.push((b.start_s, b.end_s)));
-    (existing, inserted)
+    let r = offline::render(&mut engine, &[audio.to_vec()], &[256]);
+    let inserted = r.breaths.iter().map(|b| (b.start_s, b.end_s)).collect();
+    (r.existing_breaths, inserted)
 }
 
 #[test]

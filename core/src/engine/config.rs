@@ -179,12 +179,9 @@ impl EngineConfig {
     /// only takes effect at [`super::Engine::prepare`]: the analysis, the phrase tracker, the
     /// placement mode, the lookahead (and whole-file rendering) and the seed.
     pub fn stream_differs(&self, other: &EngineConfig) -> bool {
-        self.analysis != other.analysis
-            || self.phrase != other.phrase
-            || self.placement.mode != other.placement.mode
-            || self.placement.lookahead_s != other.placement.lookahead_s
-            || self.placement.whole_file != other.placement.whole_file
-            || self.seed != other.seed
+        let mut stream = self.clone();
+        stream.set_stream_part(other);
+        stream != *self
     }
 
     /// True when `other` differs in the live part, which applies while playing: every placement
@@ -202,6 +199,8 @@ impl EngineConfig {
         *self = next;
     }
 
+    /// Takes the stream part from `from`: the one list of the stream part's fields, which
+    /// [`EngineConfig::stream_differs`] and [`EngineConfig::live_differs`] both use.
     fn set_stream_part(&mut self, from: &EngineConfig) {
         self.analysis = from.analysis.clone();
         self.phrase = from.phrase;

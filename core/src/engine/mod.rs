@@ -52,6 +52,7 @@ pub use config::{EngineConfig, EngineError, PlacementConfig, PlacementMode, OFFL
 use crate::analysis::{Analyzer, FeatureFrame};
 use crate::breathing::{BreathSample, BreathVoice, SampleSlot};
 use crate::control::{BreathEvent, ControlFrame, HeadAngles};
+use crate::encode::sink::FrameSink;
 use crate::head::{HeadModel, HeadSynth};
 use crate::phrase::{PhraseEvent, PhraseTracker};
 use breath_track::{Block, BreathTrack};
@@ -91,6 +92,9 @@ pub struct Dropped {
     pub scheduled: u64,
     /// Finished breaths pushed out before [`Engine::take_breaths`] collected them.
     pub breaths: u64,
+    /// Breaths heard in the input pushed out before [`Engine::take_existing_breaths`]
+    /// collected them.
+    pub existing_breaths: u64,
     /// Blocks the analysis refused (it is prepared for every block `process` hands it).
     pub analysis_blocks: u64,
 }
@@ -212,6 +216,7 @@ impl Engine {
                 phrase_events: s.lost.phrase_events,
                 scheduled: s.pending.dropped() + s.schedule.dropped(),
                 breaths: s.breaths.dropped(),
+                existing_breaths: s.existing.dropped(),
                 analysis_blocks: s.lost.analysis_blocks,
             })
     }
@@ -410,6 +415,23 @@ impl Engine {
         if let Some(s) = &mut self.stream {
             s.breaths.close_breath();
         }
+    }
+
+    /// [`Engine::process`] one block into a [`FrameSink`]: every control frame due in it, at
+    /// `origin` + its sample offset in the block, then every inserted breath that finished and
+    /// every breath heard in the input ([`Engine::take_breaths`],
+    /// [`Engine::take_existing_breaths`]). Never allocates itself (the sink decides).
+    pub fn process_into(
+        &mut self,
+        audio: &mut [&mut [f32]],
+        origin: u64,
+        sink: &mut impl FrameSink,
+    ) {
+        self.process(audio, &mut |frame, offset| {
+            sink.frame(frame, origin + offset as u64)
+        });
+        self.take_breaths(|b| sink.breath(b));
+        self.take_existing_breaths(|start_s, end_s| sink.existing_breath(start_s, end_s));
     }
 
     /// Processes one block in place: `audio` holds one slice per channel (as many as prepared or
