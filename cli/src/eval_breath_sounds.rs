@@ -251,8 +251,11 @@ fn clip(path: &Path, labels: &[&Label]) -> Result<ClipResult, String> {
     let (input, rate) =
         pneuma_io::read_mono(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let rate_hz = f64::from(rate);
-    let mut engine = Engine::new(EngineConfig::default(), HeadModel::default_model().clone())
-        .map_err(|e| e.to_string())?;
+    // As `pneuma render` renders a file: the whole-file lookahead.
+    let mut config = EngineConfig::default();
+    config.placement.whole_file = true;
+    let mut engine =
+        Engine::new(config, HeadModel::default_model().clone()).map_err(|e| e.to_string())?;
     engine
         .prepare(rate_hz, 1024, 1)
         .map_err(|e| format!("{}: {e}", path.display()))?;
