@@ -6,7 +6,8 @@
 //! with `-o -`, only the audio as WAV to standard output. Several inputs go to
 //! [`crate::batch`].
 //!
-//! The engine runs exactly as in the plugin (same lookahead), driven by core's one offline loop
+//! The engine runs as in the plugin (with `--lookahead-ms` exactly as the plugin; by default with
+//! the engine's whole-file lookahead of seconds), driven by core's one offline loop
 //! ([`offline::stream`]): it removes the lookahead delay by dropping the first `latency` output
 //! samples and feeds silence at the end (the engine's tail) until every frame of the file is
 //! out. The outputs that follow frames are sinks ([`FrameSink`]): the controls CSV and the BVH
@@ -123,9 +124,10 @@ pub struct Args {
     /// Placement: `lookahead` (breath ends just before the next phrase) or `live` (no delay).
     #[arg(long, default_value = "lookahead")]
     pub mode: String,
-    /// Lookahead of the lookahead mode, ms (300 to 2000; as in the plugin).
-    #[arg(long, default_value_t = 500.0, value_parser = crate::options::number)]
-    pub lookahead_ms: f32,
+    /// Lookahead of the lookahead mode, ms (300 to 2000): renders as the plugin with that
+    /// lookahead. Without it the render looks seconds ahead (the engine's whole-file lookahead).
+    #[arg(long, value_parser = crate::options::number)]
+    pub lookahead_ms: Option<f32>,
     /// Do not insert breaths (controls only; the audio is copied unchanged).
     #[arg(long)]
     pub no_breaths: bool,
@@ -174,9 +176,10 @@ impl Args {
             .map_err(|e| RenderError::Input(format!("--preset: {e}")))?;
         // The options in the user's terms first; the engine checks its own settings again.
         use crate::options::check_range;
+        let lookahead_ms = self.lookahead_ms.unwrap_or(500.0);
         check_range("--breath-level-db", self.breath_level_db, -60.0, -6.0, "dB")
             .and_then(|()| check_range("--min-pause-ms", self.min_pause_ms, 100.0, 5000.0, "ms"))
-            .and_then(|()| check_range("--lookahead-ms", self.lookahead_ms, 300.0, 2000.0, "ms"))
+            .and_then(|()| check_range("--lookahead-ms", lookahead_ms, 300.0, 2000.0, "ms"))
             .and_then(|()| check_range("--frame-rate", self.frame_rate as f32, 10.0, 1000.0, "Hz"))
             .map_err(RenderError::Input)?;
         let mut c = EngineConfig::default();
@@ -184,7 +187,8 @@ impl Args {
         c.placement.mode = PlacementMode::from_name(&self.mode)?;
         c.placement.breath_level_db = self.breath_level_db;
         c.placement.min_pause_s = self.min_pause_ms / 1000.0;
-        c.placement.lookahead_s = self.lookahead_ms / 1000.0;
+        c.placement.lookahead_s = lookahead_ms / 1000.0;
+        c.placement.whole_file = self.lookahead_ms.is_none();
         c.placement.insert_breaths = !self.no_breaths;
         c.breathing = preset.params();
         c.seed = self.seed;

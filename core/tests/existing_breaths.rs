@@ -72,3 +72,37 @@ fn a_quiet_pause_reports_no_breath_already_there() {
         "the quiet pause gets an inserted breath: {inserted:?}"
     );
 }
+
+#[test]
+fn the_breathing_cycle_breathes_in_with_the_breath_already_there() {
+    for whole_file in [false, true] {
+        let mut c = EngineConfig::default();
+        c.placement.whole_file = whole_file;
+        let mut engine = Engine::new(c, HeadModel::default_model().clone()).expect("engine");
+        engine.prepare(RATE_HZ, 256, 1).expect("prepare");
+        let r = pneuma_core::engine::offline::render(&mut engine, &[phrases(true)], &[256]);
+        assert!(
+            r.breaths.iter().all(|b| b.end_s <= 1.6 || b.start_s >= 2.5),
+            "whole file {whole_file}: a second breath in the pause: {:?}",
+            r.breaths
+        );
+        // The inspiration in the pause (1.6–2.5 s) lies on the burst and covers most of it.
+        let inspiring: Vec<f64> = r
+            .frames
+            .iter()
+            .map(|f| &f.0)
+            .filter(|f| f.time_s > 1.6 && f.time_s < 2.5)
+            .filter(|f| f.breathing.phase == pneuma_core::Phase::Inspiration)
+            .map(|f| f.time_s)
+            .collect();
+        let (first, last) = (inspiring.first(), inspiring.last());
+        let covered_s = inspiring.len() as f64 / 120.0;
+        assert!(
+            first.is_some_and(|&t| (t - BURST_S.0).abs() < 0.05)
+                && last.is_some_and(|&t| (t - BURST_S.1).abs() < 0.05)
+                && covered_s >= 0.8 * (BURST_S.1 - BURST_S.0),
+            "whole file {whole_file}: inspiration at {first:?}..{last:?} ({covered_s:.3} s), \
+             the breath at {BURST_S:?}"
+        );
+    }
+}

@@ -47,7 +47,7 @@ mod placement;
 mod schedule;
 mod stereo;
 
-pub use config::{EngineConfig, EngineError, PlacementConfig, PlacementMode};
+pub use config::{EngineConfig, EngineError, PlacementConfig, PlacementMode, OFFLINE_LOOKAHEAD_S};
 
 use crate::analysis::{Analyzer, FeatureFrame};
 use crate::breathing::{BreathSample, BreathVoice, SampleSlot};
@@ -270,7 +270,7 @@ impl Engine {
         let live = mode == PlacementMode::Live;
         let latency = match mode {
             PlacementMode::Lookahead => {
-                (c.placement.lookahead_s as f64 * sample_rate_hz).round() as usize
+                (c.placement.effective_lookahead_s() as f64 * sample_rate_hz).round() as usize
             }
             PlacementMode::Live => 0,
         };
@@ -301,7 +301,7 @@ impl Engine {
             delay: DelayLine::new(channels, latency, max_block),
             stereo: StereoImage::new(sample_rate_hz, channels, max_block),
             gate: InputGate::new(sample_rate_hz, c.phrase.silence_db),
-            placement: Placement::new(mode, latency, sample_rate_hz),
+            placement: Placement::new(mode, latency, sample_rate_hz, frame_rate_hz),
             breaths: BreathTrack::new(voice, sample_rate_hz, latency, live, max_block),
             cycle: CycleTrack::new(&c.breathing.map(), sample_rate_hz, frame_rate_hz, live),
             pending: Queue::with_capacity(max_pending),
@@ -610,6 +610,13 @@ impl Stream {
         });
         debug_assert!(count <= events.len(), "{count} phrase events at one frame");
         self.lost.phrase_events += count.saturating_sub(events.len()) as u64;
+        let ctx = EventContext {
+            config,
+            now,
+            gains: self.stereo.gains(channels),
+            breath_playing: self.breaths.playing(),
+            pending: &self.pending,
+        };
         for e in events.into_iter().flatten() {
             if let PhraseEvent::Start {
                 pause:
@@ -622,14 +629,8 @@ impl Stream {
             {
                 self.existing.push_back(span);
             }
-            let ctx = EventContext {
-                config,
-                now,
-                gains: self.stereo.gains(channels),
-                breath_playing: self.breaths.playing(),
-                pending: &self.pending,
-            };
             self.placement.on_event(&ctx, e, &mut self.schedule);
         }
+        self.placement.decide_due(&ctx, &mut self.schedule);
     }
 }
