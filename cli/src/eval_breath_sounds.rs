@@ -12,7 +12,7 @@
 //!   noise floor removed first (the median band power of the clip's quietest 5 % of frames,
 //!   subtracted in power and never below a tenth of the measured power). An inserted breath is
 //!   exactly what the engine added: output − input over the breath, from an offline render with
-//!   the default settings, as `pneuma render` makes it.
+//!   the default settings and the whole-file lookahead, as `pneuma render` makes it.
 //! - **Log-spectral distance**: the RMS over the bands of the difference of two shapes, dB. The
 //!   report gives it between the mean real and the mean inserted shape, the median over the
 //!   inserted breaths of each one's distance to the real mean, and for scale the median over the
@@ -251,7 +251,7 @@ fn clip(path: &Path, labels: &[&Label]) -> Result<ClipResult, String> {
     let (input, rate) =
         pneuma_io::read_mono(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let rate_hz = f64::from(rate);
-    // As `pneuma render` renders a file: the whole-file lookahead.
+    // As `pneuma render` renders a file: the default settings, the whole-file lookahead.
     let mut config = EngineConfig::default();
     config.placement.whole_file = true;
     let mut engine =

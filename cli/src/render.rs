@@ -6,7 +6,8 @@
 //! with `-o -`, only the audio as WAV to standard output. Several inputs go to
 //! [`crate::batch`].
 //!
-//! The engine runs exactly as in the plugin (same lookahead), driven by core's one offline loop
+//! The engine runs as in the plugin (with `--lookahead-ms` exactly as the plugin; by default with
+//! the engine's whole-file lookahead of seconds), driven by core's one offline loop
 //! ([`offline::stream`]): it removes the lookahead delay by dropping the first `latency` output
 //! samples and feeds silence at the end (the engine's tail) until every frame of the file is
 //! out. The outputs that follow frames are sinks ([`FrameSink`]): the controls CSV and the BVH
