@@ -33,7 +33,7 @@ use pneuma_core::engine::{offline, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
 use realfft::RealFftPlanner;
 
-use crate::eval_breaths::median;
+use crate::eval_breaths::{median, rms_db};
 
 /// Third-octave band centres compared, Hz (250 Hz to 6.3 kHz: where breath noise lies, above
 /// mains hum and below the 16 kHz clips' Nyquist).
@@ -206,12 +206,6 @@ fn noise_floor(x: &[f32], rate_hz: f64) -> [f64; BAND_CENTRES_HZ.len()] {
         let v: Vec<f64> = quiet.iter().map(|f| f[b]).collect();
         median(&v)
     })
-}
-
-/// RMS level of `x`, dBFS.
-fn rms_db(x: &[f32]) -> f64 {
-    let p = x.iter().map(|v| f64::from(*v).powi(2)).sum::<f64>() / x.len().max(1) as f64;
-    10.0 * p.max(1e-12).log10()
 }
 
 /// What one breath measured.
@@ -438,15 +432,9 @@ fn bands_row(v: &[f64], decimals: usize) -> String {
         .join("")
 }
 
-/// Runs `pneuma eval breath-sounds`.
+/// Runs `pneuma eval breath-sounds` (printed only: it has no target to miss).
 pub fn main(args: &BreathSoundArgs) -> ExitCode {
-    match run(args) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
+    crate::eval::exit_code(run(args).map(|()| true), "a breath-sound")
 }
 
 #[cfg(test)]

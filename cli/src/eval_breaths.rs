@@ -127,7 +127,7 @@ pub fn spearman(x: &[f64], y: &[f64]) -> f64 {
 }
 
 /// RMS level in dBFS of `x` (−120 for silence).
-fn rms_db(x: &[f32]) -> f64 {
+pub fn rms_db(x: &[f32]) -> f64 {
     if x.is_empty() {
         return -120.0;
     }
