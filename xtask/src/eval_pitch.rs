@@ -454,21 +454,12 @@ fn praat_track(
         ));
     }
     let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
-    let mut times = Vec::new();
-    let mut f0 = Vec::new();
-    for line in text.lines().filter(|l| !l.trim().is_empty()) {
-        let row = line.split_once(',').and_then(|(t, f)| {
-            Some((t.trim().parse::<f64>().ok()?, f.trim().parse::<f32>().ok()?))
-        });
-        let Some((t, f)) = row else {
-            return Err(format!(
-                "praat wrote an unreadable line for {}: {line:?}",
-                wav.display()
-            ));
-        };
-        times.push(t);
-        f0.push(f);
-    }
+    let (times, f0) = f0_baselines::parse_track(&text).map_err(|line| {
+        format!(
+            "praat wrote an unreadable line for {}: {line:?}",
+            wav.display()
+        )
+    })?;
     // Each Praat frame at its own time.
     Ok(on_grid(
         &times,

@@ -93,18 +93,24 @@ impl Baselines {
             other => return Err(format!("{tracker} on {}: {other}", wav.display())),
         }
         let text = std::fs::read_to_string(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-        let mut times = Vec::new();
-        let mut f0 = Vec::new();
-        for line in text.lines().filter(|l| !l.trim().is_empty()) {
-            let row = line.split_once(',').and_then(|(t, f)| {
-                Some((t.trim().parse::<f64>().ok()?, f.trim().parse::<f32>().ok()?))
-            });
-            let (t, f) = row.ok_or_else(|| format!("{tracker} wrote {line:?}"))?;
-            times.push(t);
-            f0.push(f);
-        }
-        Ok((times, f0))
+        parse_track(&text).map_err(|line| format!("{tracker} wrote {line:?}"))
     }
+}
+
+/// Parses a tracker's `time_s,f0_hz` lines (blank lines skipped) into times and f0; `Err` holds
+/// the first unreadable line.
+pub fn parse_track(text: &str) -> Result<(Vec<f64>, Vec<f32>), String> {
+    let mut times = Vec::new();
+    let mut f0 = Vec::new();
+    for line in text.lines().filter(|l| !l.trim().is_empty()) {
+        let row = line.split_once(',').and_then(|(t, f)| {
+            Some((t.trim().parse::<f64>().ok()?, f.trim().parse::<f32>().ok()?))
+        });
+        let (t, f) = row.ok_or_else(|| line.to_string())?;
+        times.push(t);
+        f0.push(f);
+    }
+    Ok((times, f0))
 }
 
 impl Drop for Baselines {
