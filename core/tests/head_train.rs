@@ -41,6 +41,7 @@ fn clip(name: &str, seconds: f64, seed: u64) -> TrainingClip {
             f0_st: if voiced { f0_st as f32 } else { 0.0 },
             level_db: level_db as f32,
             band_db: (-20.0 + level_db) as f32,
+            bands: Default::default(),
         });
         pose.push([
             2.0 * (0.9 * t + ph[2]).sin(),

@@ -6,6 +6,7 @@
 //! Samples before the start of the stream count as zeros; a frame is emitted as soon as the last
 //! sample of its analysis window has arrived (see [`Analyzer::latency_s`]).
 
+use super::breath_band::BandMeter;
 use super::clock::FrameClock;
 use super::config::{check_sample_rate, AnalysisConfig, AnalysisError};
 use super::decimator::{factor_for, Decimator};
@@ -38,6 +39,7 @@ struct State {
     internal_rate_hz: f64,
     decimator: Decimator,
     highpass: HighPass,
+    bands: BandMeter,
     noise_floor: NoiseFloor,
     noise_margin_db: f32,
     noise_headroom_db: f32,
@@ -99,6 +101,7 @@ impl Analyzer {
             internal_rate_hz,
             decimator: Decimator::new(factor),
             highpass: HighPass::new(c.highpass_hz as f64, internal_rate_hz),
+            bands: BandMeter::new(sample_rate_hz, cap),
             noise_floor: NoiseFloor::new(c.noise_window_s as f64, c.frame_rate_hz),
             noise_margin_db: c.noise_margin_db,
             noise_headroom_db: c.noise_headroom_db,
@@ -221,6 +224,7 @@ impl State {
     fn reset(&mut self) {
         self.decimator.reset();
         self.highpass.reset();
+        self.bands.reset();
         self.noise_floor.reset();
         self.tracker.reset();
         self.speaker.reset();
@@ -259,6 +263,7 @@ impl State {
         };
         self.acc_sum += x as f64;
         self.acc_sq += (x as f64) * (x as f64);
+        self.bands.push(x);
         let Some(y) = self.decimator.push(x) else {
             return;
         };
@@ -266,6 +271,7 @@ impl State {
         self.ring[slot] = self.highpass.process(y);
         self.bin_sum[slot] = self.acc_sum;
         self.bin_sq[slot] = self.acc_sq;
+        self.bands.close_slot(slot);
         self.acc_sum = 0.0;
         self.acc_sq = 0.0;
         self.produced += 1;
@@ -363,6 +369,7 @@ impl State {
             },
             level_db: rms_db - self.speaker.speech_level_db(),
             band_db,
+            bands: self.bands.levels(self.next_bin, self.rms_bins, n as usize),
         }
     }
 }

@@ -6,6 +6,7 @@
 //! same per second of audio whatever the host rate; the level is measured on the full-rate signal.
 
 mod analyzer;
+mod breath_band;
 mod clock;
 mod config;
 mod decimator;
@@ -17,6 +18,7 @@ mod tracking;
 mod voicing;
 
 pub use analyzer::Analyzer;
+pub use breath_band::BandLevels;
 pub use clock::FrameClock;
 pub use config::{AnalysisConfig, AnalysisError, MAX_SAMPLE_RATE_HZ, MIN_SAMPLE_RATE_HZ};
 pub use pitch::{NsdfPitch, PitchEstimate};
@@ -46,6 +48,10 @@ pub struct FeatureFrame {
     /// after the 120 Hz high-pass and the decimation (so up to 4–8 kHz). Rumble (traffic, car,
     /// handling noise) hardly reaches it; the phrase tracker decides speech / pause on it.
     pub band_db: f32,
+    /// Levels in three bands (100–400 Hz, 0.5–2.5 kHz, 2.5–6 kHz) over the same window as
+    /// `rms_db`, dBFS: the spectral shape the phrase tracker uses to tell a breath from a
+    /// sibilant, a decaying tail or room noise (see [`BandLevels`]).
+    pub bands: BandLevels,
 }
 
 /// Converts an RMS amplitude to dBFS with a floor of −120 dBFS.

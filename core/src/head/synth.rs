@@ -375,6 +375,7 @@ mod tests {
             f0_st,
             level_db,
             band_db: -20.0,
+            bands: Default::default(),
         }
     }
 

@@ -413,6 +413,7 @@ impl PhraseTracker {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::analysis::BandLevels;
 
     fn frame(index: u64, rms_db: f32, voiced: bool) -> FeatureFrame {
         FeatureFrame {
@@ -425,6 +426,16 @@ mod tests {
             f0_st: 0.0,
             level_db: rms_db - -20.0,
             band_db: rms_db,
+            bands: breathy(rms_db),
+        }
+    }
+
+    /// Band levels of broadband breath noise at `rms_db`: most energy in the mid band.
+    fn breathy(rms_db: f32) -> BandLevels {
+        BandLevels {
+            low_db: rms_db - 12.0,
+            mid_db: rms_db - 1.5,
+            high_db: rms_db - 6.0,
         }
     }
 

@@ -1,0 +1,227 @@
+//! Band levels of each frame for telling breath noise from other unvoiced sound in a pause.
+//!
+//! An inhalation is broadband noise, flat-ish from 0.5 to 5 kHz with some formant colouring;
+//! /s/ and /sh/ put most of their energy above 2.5–4 kHz; a reverberant tail and room rumble
+//! carry most of theirs under 500 Hz. Three band levels tell these apart:
+//!
+//! | band   | pass band                     |
+//! |--------|-------------------------------|
+//! | low    | 100–400 Hz                    |
+//! | mid    | 500–2500 Hz                   |
+//! | high   | 2500–6000 Hz (at most 0.45 × the host rate) |
+//!
+//! Each band is a fourth-order Linkwitz–Riley high-pass and low-pass (each two second-order
+//! Butterworth sections, RBJ biquads with f64 state; −6 dB at the edges, so adjacent bands sum
+//! flat) run on the host-rate signal before decimation, so the bands are
+//! the same at any host rate from 8 kHz (where the high band ends at 3.6 kHz) to 768 kHz. The
+//! squared outputs are summed per decimated slot into a ring the analyzer indexes exactly like
+//! its RMS bins, so a frame's band levels cover the same window as its `rms_db`. Samples go in
+//! one by one: the levels are bit-identical for any block partition. Allocation happens only
+//! in [`BandMeter::new`].
+
+use super::amplitude_to_db;
+
+/// Lower edge of the low band, Hz.
+const LOW_FROM_HZ: f64 = 100.0;
+/// Upper edge of the low band, Hz.
+const LOW_TO_HZ: f64 = 400.0;
+/// Lower edge of the mid band, Hz.
+const MID_FROM_HZ: f64 = 500.0;
+/// Edge between the mid and the high band, Hz.
+const MID_TO_HZ: f64 = 2500.0;
+/// Upper edge of the high band, Hz (lowered to 0.45 × the host rate when that is lower).
+const HIGH_TO_HZ: f64 = 6000.0;
+
+/// The levels of one frame in three bands, dBFS (floor −120 dBFS), over the frame's RMS window
+/// (see [`crate::analysis::FeatureFrame::rms_db`]). The default (all 0) only fills test frames.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BandLevels {
+    /// Level of 100–400 Hz, dBFS: voice fundamentals, vowel tails, rumble.
+    pub low_db: f32,
+    /// Level of 500–2500 Hz, dBFS: where breath noise carries its formant colouring.
+    pub mid_db: f32,
+    /// Level of 2500–6000 Hz (at most 0.45 × the host rate), dBFS: sibilants.
+    pub high_db: f32,
+}
+
+impl BandLevels {
+    /// The high band over the mid band, dB: about 0 or below for breath noise, well above 0
+    /// for /s/.
+    pub fn high_over_mid_db(&self) -> f32 {
+        self.high_db - self.mid_db
+    }
+
+    /// The low band over the mid band, dB: high for vowel tails, hum and rumble.
+    pub fn low_over_mid_db(&self) -> f32 {
+        self.low_db - self.mid_db
+    }
+}
+
+/// One RBJ biquad section with f64 state.
+#[derive(Debug, Clone, Copy)]
+struct Biquad {
+    b: [f64; 3],
+    a: [f64; 2],
+    x: [f64; 2],
+    y: [f64; 2],
+}
+
+impl Biquad {
+    /// A second-order Butterworth high-pass (`high = true`) or low-pass at `corner_hz`.
+    fn butterworth(corner_hz: f64, rate_hz: f64, high: bool) -> Self {
+        let w0 = 2.0 * std::f64::consts::PI * corner_hz / rate_hz;
+        let alpha = w0.sin() / (2.0 * std::f64::consts::FRAC_1_SQRT_2);
+        let cos = w0.cos();
+        let a0 = 1.0 + alpha;
+        let b = if high {
+            [(1.0 + cos) / 2.0, -(1.0 + cos), (1.0 + cos) / 2.0]
+        } else {
+            [(1.0 - cos) / 2.0, 1.0 - cos, (1.0 - cos) / 2.0]
+        };
+        Self {
+            b: b.map(|v| v / a0),
+            a: [-2.0 * cos / a0, (1.0 - alpha) / a0],
+            x: [0.0; 2],
+            y: [0.0; 2],
+        }
+    }
+
+    fn reset(&mut self) {
+        self.x = [0.0; 2];
+        self.y = [0.0; 2];
+    }
+
+    #[inline]
+    fn process(&mut self, x: f64) -> f64 {
+        let y = self.b[0] * x + self.b[1] * self.x[0] + self.b[2] * self.x[1]
+            - self.a[0] * self.y[0]
+            - self.a[1] * self.y[1];
+        self.x = [x, self.x[0]];
+        self.y = [y, self.y[0]];
+        y
+    }
+}
+
+/// Band filters at the host rate and a ring of per-slot band energies. See the module docs.
+#[derive(Debug, Clone)]
+pub(crate) struct BandMeter {
+    /// Per band: two high-pass and two low-pass sections.
+    filters: [[Biquad; 4]; 3],
+    /// Energy of each band accumulated since the last closed slot.
+    acc: [f64; 3],
+    /// Per decimated slot (indexed like the analyzer's RMS bins): each band's energy.
+    ring: Vec<[f64; 3]>,
+}
+
+impl BandMeter {
+    /// A meter for a stream at `rate_hz` with a ring of `slots` (a power of two, the analyzer's
+    /// ring length). Allocates.
+    pub(crate) fn new(rate_hz: f64, slots: usize) -> Self {
+        let high_to = HIGH_TO_HZ.min(0.45 * rate_hz);
+        let band = |from: f64, to: f64| {
+            let hp = Biquad::butterworth(from, rate_hz, true);
+            let lp = Biquad::butterworth(to, rate_hz, false);
+            [hp, hp, lp, lp]
+        };
+        Self {
+            filters: [
+                band(LOW_FROM_HZ, LOW_TO_HZ),
+                band(MID_FROM_HZ, MID_TO_HZ),
+                band(MID_TO_HZ, high_to),
+            ],
+            acc: [0.0; 3],
+            ring: vec![[0.0; 3]; slots.max(1)],
+        }
+    }
+
+    /// Clears all state (keeps the allocation).
+    pub(crate) fn reset(&mut self) {
+        self.filters.iter_mut().flatten().for_each(Biquad::reset);
+        self.acc = [0.0; 3];
+        self.ring.fill([0.0; 3]);
+    }
+
+    /// Takes one host-rate sample (finite, already clamped).
+    #[inline]
+    pub(crate) fn push(&mut self, x: f32) {
+        for (f, acc) in self.filters.iter_mut().zip(&mut self.acc) {
+            let y = f.iter_mut().fold(x as f64, |v, s| s.process(v));
+            *acc += y * y;
+        }
+    }
+
+    /// Stores the energy accumulated since the last call as decimated slot `slot` (the
+    /// analyzer's ring index) and starts the next slot.
+    #[inline]
+    pub(crate) fn close_slot(&mut self, slot: usize) {
+        let n = self.ring.len();
+        self.ring[slot % n] = self.acc;
+        self.acc = [0.0; 3];
+    }
+
+    /// The band levels over the slots `first..first + slots` (slots before the stream are
+    /// silence), which hold `samples` host-rate samples in all.
+    pub(crate) fn levels(&self, first: i64, slots: usize, samples: usize) -> BandLevels {
+        let n = self.ring.len() as i64;
+        let mut sum = [0.0f64; 3];
+        for b in (first..first + slots as i64).filter(|&b| b >= 0) {
+            let e = self.ring[(b % n) as usize];
+            sum.iter_mut().zip(e).for_each(|(s, e)| *s += e);
+        }
+        let db = |e: f64| amplitude_to_db((e / samples.max(1) as f64).sqrt());
+        BandLevels {
+            low_db: db(sum[0]),
+            mid_db: db(sum[1]),
+            high_db: db(sum[2]),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Band levels of a steady sine at `hz`, measured after a settling second.
+    fn levels_of_tone(hz: f64, rate_hz: f64) -> BandLevels {
+        let slot = 4usize;
+        let mut m = BandMeter::new(rate_hz, 1024);
+        let mut k = 0usize;
+        for i in 0..(rate_hz as usize * 2) {
+            let x = (2.0 * std::f64::consts::PI * hz * i as f64 / rate_hz).sin() as f32;
+            m.push(0.5 * x);
+            if (i + 1) % slot == 0 {
+                m.close_slot(k);
+                k += 1;
+            }
+        }
+        m.levels(k as i64 - 200, 200, 200 * slot)
+    }
+
+    #[test]
+    fn a_tone_lands_in_its_band_at_any_rate() {
+        // 0.5 amplitude: −9.0 dBFS RMS in its own band.
+        for rate in [8_000.0, 16_000.0, 48_000.0, 192_000.0] {
+            let low = levels_of_tone(200.0, rate);
+            let mid = levels_of_tone(1200.0, rate);
+            let high = levels_of_tone(3200.0, rate);
+            assert!((low.low_db + 9.0).abs() < 1.5, "{rate}: {low:?}");
+            assert!(low.mid_db < -30.0 && low.high_db < -50.0, "{rate}: {low:?}");
+            assert!((mid.mid_db + 9.0).abs() < 1.5, "{rate}: {mid:?}");
+            assert!(mid.low_db < -30.0 && mid.high_db < -20.0, "{rate}: {mid:?}");
+            assert!((high.high_db + 9.0).abs() < 3.5, "{rate}: {high:?}");
+            assert!(
+                high.low_db < -40.0 && high.mid_db < -15.0,
+                "{rate}: {high:?}"
+            );
+            let (h, m) = (high.high_over_mid_db(), mid.high_over_mid_db());
+            assert!(h > 6.0 && m < -8.0, "{rate}: {h} {m}");
+        }
+    }
+
+    #[test]
+    fn silence_and_slots_before_the_stream_are_the_floor() {
+        let m = BandMeter::new(16_000.0, 64);
+        let l = m.levels(-10, 5, 20);
+        assert_eq!((l.low_db, l.mid_db, l.high_db), (-120.0, -120.0, -120.0));
+    }
+}
