@@ -55,6 +55,15 @@ pub struct BreathSoundArgs {
     /// The labels: `clip,start_s,end_s,kind` (`breath` or `unsure`).
     #[arg(long, default_value = "assets/labels/styletalk_breaths.csv")]
     pub labels: PathBuf,
+    /// Folder with the Keele clips (`<clip>.wav`), the second labelled set for detection.
+    #[arg(long, default_value = "../shared/data/keele")]
+    pub keele: PathBuf,
+    /// The Keele clips' labels.
+    #[arg(long, default_value = "assets/labels/keele_breaths.csv")]
+    pub keele_labels: PathBuf,
+    /// Exit non-zero when a detection target is missed (see the module docs).
+    #[arg(long)]
+    pub check: bool,
 }
 
 /// How sure a label is.
@@ -334,7 +343,7 @@ fn summary(label: &str, m: &[Measured]) {
 }
 
 /// Runs the evaluation and prints the report.
-pub fn run(args: &BreathSoundArgs) -> Result<(), String> {
+pub fn run(args: &BreathSoundArgs) -> Result<bool, String> {
     let text = std::fs::read_to_string(&args.labels)
         .map_err(|e| format!("cannot read the labels {}: {e}", args.labels.display()))?;
     let labels =
@@ -422,7 +431,10 @@ pub fn run(args: &BreathSoundArgs) -> Result<(), String> {
         heard_true + heard_false,
         pct(heard_true, heard_true + heard_false)
     );
-    Ok(())
+    crate::eval_breath_detect::report(&[
+        (&args.data, &args.labels),
+        (&args.keele, &args.keele_labels),
+    ])
 }
 
 fn bands_row(v: &[f64], decimals: usize) -> String {
@@ -434,7 +446,7 @@ fn bands_row(v: &[f64], decimals: usize) -> String {
 
 /// Runs `pneuma eval breath-sounds` (printed only: it has no target to miss).
 pub fn main(args: &BreathSoundArgs) -> ExitCode {
-    crate::eval::exit_code(run(args).map(|()| true), "a breath-sound")
+    crate::eval::exit_code(run(args).map(|ok| ok || !args.check), "a breath-detection")
 }
 
 #[cfg(test)]

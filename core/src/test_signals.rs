@@ -158,6 +158,29 @@ pub fn white_noise(len: usize, sigma: f64, seed: u64) -> Vec<f32> {
     (0..len).map(|_| (sigma * rng.normal()) as f32).collect()
 }
 
+/// Seeded band-limited noise: white Gaussian noise through fourth-order Linkwitz–Riley
+/// high-pass at `low_hz` and low-pass at `high_hz` (at most 0.45 × the rate), scaled to RMS
+/// `sigma`. Breath noise is about 500–5000 Hz; /s/ about 4000–8000 Hz.
+pub fn band_noise(
+    len: usize,
+    sample_rate_hz: f64,
+    (low_hz, high_hz): (f64, f64),
+    sigma: f64,
+    seed: u64,
+) -> Vec<f32> {
+    use crate::analysis::breath_band::Biquad;
+    let hp = Biquad::butterworth(low_hz, sample_rate_hz, true);
+    let lp = Biquad::butterworth(high_hz.min(0.45 * sample_rate_hz), sample_rate_hz, false);
+    let mut f = [hp, hp, lp, lp];
+    let y: Vec<f64> = white_noise(len, 1.0, seed)
+        .into_iter()
+        .map(|x| f.iter_mut().fold(f64::from(x), |v, s| s.process(v)))
+        .collect();
+    let r = (y.iter().map(|v| v * v).sum::<f64>() / len.max(1) as f64).sqrt();
+    let g = if r > 0.0 { sigma / r } else { 0.0 };
+    y.into_iter().map(|v| (g * v) as f32).collect()
+}
+
 /// A speech-like test signal for benchmarks: a jittered glottal /a/ in 1.5 s phrases separated
 /// by 0.5 s pauses, f0 wandering 100–200 Hz, with white noise `snr_db` under it.
 pub fn phrases_with_pauses(sample_rate_hz: f64, length_s: f64, snr_db: f64, seed: u64) -> Vec<f32> {

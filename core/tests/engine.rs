@@ -208,14 +208,8 @@ fn a_pause_that_already_holds_a_breath_gets_no_second_one() {
     );
     let start = ((spans[1].1 + 0.3) * SR) as usize;
     let len = (0.4 * SR) as usize;
-    let mut noise = test_signals::white_noise(len, 1.0, 11);
-    let mut y = 0.0f32;
-    for n in noise.iter_mut() {
-        // One-pole high-pass-ish shaping: a brighter hiss.
-        let x = *n;
-        *n = x - 0.7 * y;
-        y = x;
-    }
+    // Breath noise is broadband from about 0.5 to 5 kHz (the phrase tracker checks the shape).
+    let noise = test_signals::band_noise(len, SR, (500.0, 5000.0), 1.0, 11);
     let g = (speech_rms / test_signals::rms(&noise) * 10f64.powf(-24.0 / 20.0)) as f32;
     let fade = (0.05 * SR) as usize;
     for (i, n) in noise.iter().enumerate() {

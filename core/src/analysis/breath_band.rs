@@ -57,9 +57,9 @@ impl BandLevels {
     }
 }
 
-/// One RBJ biquad section with f64 state.
+/// One RBJ biquad section with f64 state (also shapes test noise in [`crate::test_signals`]).
 #[derive(Debug, Clone, Copy)]
-struct Biquad {
+pub(crate) struct Biquad {
     b: [f64; 3],
     a: [f64; 2],
     x: [f64; 2],
@@ -68,7 +68,7 @@ struct Biquad {
 
 impl Biquad {
     /// A second-order Butterworth high-pass (`high = true`) or low-pass at `corner_hz`.
-    fn butterworth(corner_hz: f64, rate_hz: f64, high: bool) -> Self {
+    pub(crate) fn butterworth(corner_hz: f64, rate_hz: f64, high: bool) -> Self {
         let w0 = 2.0 * std::f64::consts::PI * corner_hz / rate_hz;
         let alpha = w0.sin() / (2.0 * std::f64::consts::FRAC_1_SQRT_2);
         let cos = w0.cos();
@@ -92,7 +92,7 @@ impl Biquad {
     }
 
     #[inline]
-    fn process(&mut self, x: f64) -> f64 {
+    pub(crate) fn process(&mut self, x: f64) -> f64 {
         let y = self.b[0] * x + self.b[1] * self.x[0] + self.b[2] * self.x[1]
             - self.a[0] * self.y[0]
             - self.a[1] * self.y[1];

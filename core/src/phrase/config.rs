@@ -50,6 +50,21 @@ pub struct PhraseConfig {
     pub breath_min_s: f32,
     /// Frames under this level are silence whatever the floor, dBFS (−140 to −30, default −75).
     pub silence_db: f32,
+    /// Margin over the noise floor a frame of a breath run needs, dB (2–20, default 6).
+    pub breath_margin_db: f32,
+    /// Spectral shape of a breath: the run's mean level of 2.5–6 kHz over 0.5–2.5 kHz, with
+    /// the room's own band levels taken out ([`crate::analysis::BandLevels`]), must not exceed
+    /// this, dB (−40 to 40; 40 = no limit; default 3). Breath noise sits under 0; /s/ and /sh/
+    /// lie well above.
+    pub breath_max_high_over_mid_db: f32,
+    /// Spectral shape of a breath: the run's mean level of 100–400 Hz over 0.5–2.5 kHz, the
+    /// room taken out, must not exceed this, dB (−40 to 40; 40 = no limit; default −3). Vowel
+    /// tails, hum and rumble lie high.
+    ///
+    /// Both defaults are the fit of `pneuma eval breath-sounds` on all hand-labelled speakers
+    /// (styletalk and Keele: the pooled F1 over a 10 × 10 grid); its leave-one-speaker-out
+    /// figures are the honest ones (README, "Breaths already there").
+    pub breath_max_low_over_mid_db: f32,
 }
 
 impl Default for PhraseConfig {
@@ -65,6 +80,9 @@ impl Default for PhraseConfig {
             offset_extend_s: 0.08,
             breath_min_s: 0.12,
             silence_db: -75.0,
+            breath_margin_db: 6.0,
+            breath_max_high_over_mid_db: 3.0,
+            breath_max_low_over_mid_db: -3.0,
         }
     }
 }
@@ -86,6 +104,9 @@ impl PhraseConfig {
             "offset_extend_s" => &mut self.offset_extend_s,
             "breath_min_s" => &mut self.breath_min_s,
             "silence_db" => &mut self.silence_db,
+            "breath_margin_db" => &mut self.breath_margin_db,
+            "breath_max_high_over_mid_db" => &mut self.breath_max_high_over_mid_db,
+            "breath_max_low_over_mid_db" => &mut self.breath_max_low_over_mid_db,
             _ => return Err(format!("unknown phrase setting `{name}`")),
         };
         *field = v;
@@ -94,7 +115,7 @@ impl PhraseConfig {
 
     /// Checks every setting against its range.
     pub fn validate(&self) -> Result<(), PhraseError> {
-        let checks: [(&'static str, f32, f32, f32, &'static str); 10] = [
+        let checks: [(&'static str, f32, f32, f32, &'static str); 13] = [
             ("hangover_s", self.hangover_s, 0.05, 1.0, "0.05–1 s"),
             (
                 "onset_voiced_s",
@@ -128,6 +149,27 @@ impl PhraseConfig {
                 -140.0,
                 -30.0,
                 "−140 to −30 dBFS",
+            ),
+            (
+                "breath_margin_db",
+                self.breath_margin_db,
+                2.0,
+                20.0,
+                "2–20 dB",
+            ),
+            (
+                "breath_max_high_over_mid_db",
+                self.breath_max_high_over_mid_db,
+                -40.0,
+                40.0,
+                "−40 to 40 dB",
+            ),
+            (
+                "breath_max_low_over_mid_db",
+                self.breath_max_low_over_mid_db,
+                -40.0,
+                40.0,
+                "−40 to 40 dB",
             ),
         ];
         for (name, value, lo, hi, range) in checks {

@@ -27,7 +27,7 @@ mod config;
 pub use config::{PhraseConfig, PhraseError};
 
 use crate::analysis::noise_floor::NoiseFloor;
-use crate::analysis::FeatureFrame;
+use crate::analysis::{BandLevels, FeatureFrame};
 
 /// A pause before a phrase, reported with the onset that ends it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -91,11 +91,69 @@ struct FrameFacts {
     voiced: bool,
     /// The voice-band level the decisions use, dBFS.
     level_db: f32,
+    /// Over the floor by `breath_margin_db` (and not silence): loud enough for a breath run.
+    breath_level: bool,
+    /// The frame's high band over its mid band, dB ([`crate::analysis::BandLevels`]).
+    high_over_mid_db: f32,
+    /// The frame's low band over its mid band, dB.
+    low_over_mid_db: f32,
 }
 
 /// How far a breath run's level must rise over its lowest point to be more than a reverberant
 /// tail when it starts at the phrase's offset, dB.
 const BREATH_RISE_DB: f32 = 3.0;
+
+/// A frame within this of the noise floor teaches the room's band levels, dB.
+const FLOOR_BAND_WITHIN_DB: f32 = 3.0;
+/// Time constant of the room's band levels, seconds.
+const FLOOR_BAND_TAU_S: f64 = 1.0;
+
+/// The room's band powers (an exponential average over frames at the noise floor) and the shape
+/// of a frame's band powers above them.
+#[derive(Debug, Clone, Copy, Default)]
+struct FloorBands {
+    /// Mean power of the low, mid and high band at the floor (linear, full scale = 1).
+    power: [f64; 3],
+    /// Frames learnt so far (the first ones set the mean directly).
+    learnt: u32,
+}
+
+impl FloorBands {
+    fn powers(b: &BandLevels) -> [f64; 3] {
+        [b.low_db, b.mid_db, b.high_db].map(|db| {
+            if db.is_finite() {
+                10f64.powf(f64::from(db.clamp(-120.0, 40.0)) / 10.0)
+            } else {
+                0.0
+            }
+        })
+    }
+
+    fn learn(&mut self, b: &BandLevels, weight: f64) {
+        let p = Self::powers(b);
+        self.learnt = self.learnt.saturating_add(1);
+        let w = weight.max(1.0 / f64::from(self.learnt));
+        for (m, v) in self.power.iter_mut().zip(p) {
+            *m += w * (v - *m);
+        }
+    }
+
+    /// (high over mid, low over mid) of the frame's band powers with the room's taken out
+    /// (never below a tenth of the frame's own power), dB, within ±40 dB so one odd frame
+    /// cannot swing a run's mean.
+    fn excess_shape_db(&self, b: &BandLevels) -> (f32, f32) {
+        let p = Self::powers(b);
+        let e: [f64; 3] = std::array::from_fn(|k| (p[k] - self.power[k]).max(0.1 * p[k]));
+        let ratio = |a: f64, m: f64| {
+            if a > 0.0 && m > 0.0 {
+                (10.0 * (a / m).log10()).clamp(-40.0, 40.0) as f32
+            } else {
+                0.0
+            }
+        };
+        (ratio(e[2], e[1]), ratio(e[0], e[1]))
+    }
+}
 
 /// Number of half-second blocks the noise floor looks back over.
 const FLOOR_BLOCKS: usize = 6;
@@ -140,6 +198,13 @@ pub struct PhraseTracker {
     breath_run_min_db: f32,
     /// The run's level rose [`BREATH_RISE_DB`] over its lowest point.
     breath_run_rose: bool,
+    /// Sums over the run of its frames' high-over-mid and low-over-mid band levels, dB.
+    breath_run_high_sum: f32,
+    breath_run_low_sum: f32,
+    /// The room's band levels.
+    floor_bands: FloorBands,
+    /// Weight of one frame in the room's band levels (from [`FLOOR_BAND_TAU_S`]).
+    floor_band_weight: f64,
     /// Frames (start, end) of the last breath run long enough to count, in this pause.
     breath_span: Option<(u64, u64)>,
     breath_seen: bool,
@@ -184,8 +249,12 @@ impl PhraseTracker {
             breath_run_from_tail: false,
             breath_run_min_db: 0.0,
             breath_run_rose: false,
+            breath_run_high_sum: 0.0,
+            breath_run_low_sum: 0.0,
             breath_span: None,
             breath_seen: false,
+            floor_bands: FloorBands::default(),
+            floor_band_weight: 1.0 / (FLOOR_BAND_TAU_S * frame_rate_hz).max(1.0),
         };
         t.reset();
         Ok(t)
@@ -195,6 +264,7 @@ impl PhraseTracker {
     pub fn reset(&mut self) {
         self.floor.reset();
         self.floor_db = f32::NEG_INFINITY;
+        self.floor_bands = FloorBands::default();
         self.history
             .iter_mut()
             .for_each(|f| *f = FrameFacts::default());
@@ -265,6 +335,13 @@ impl PhraseTracker {
             && rms_db > c.silence_db;
         let voiced = frame.voiced && rms_db > c.silence_db;
         let active = voiced || loud;
+        let breath_level = rms_db >= self.floor_db + c.breath_margin_db && rms_db > c.silence_db;
+        // The room's own band levels, learnt on frames at the floor, are taken out of the
+        // frame's band powers: what is left is the shape of the sound over the room.
+        if !voiced && rms_db <= self.floor_db + FLOOR_BAND_WITHIN_DB {
+            self.floor_bands.learn(&frame.bands, self.floor_band_weight);
+        }
+        let (high_over_mid_db, low_over_mid_db) = self.floor_bands.excess_shape_db(&frame.bands);
         let i = self.frames_seen;
         let len = self.history.len() as u64;
         self.history[(i % len) as usize] = FrameFacts {
@@ -272,6 +349,9 @@ impl PhraseTracker {
             over_floor,
             voiced,
             level_db: rms_db,
+            breath_level,
+            high_over_mid_db,
+            low_over_mid_db,
         };
         self.frames_seen += 1;
 
@@ -380,22 +460,33 @@ impl PhraseTracker {
         }
     }
 
-    /// A run of breath-like frames counts as a breath unless it only continues the phrase's
-    /// decay: a reverberant tail falls from the offset on, an inhalation after it rises again.
+    /// A run of breath-like frames counts as a breath when it has a breath's spectral shape
+    /// (mean band balance within the configured limits) and does not only continue the
+    /// phrase's decay: a reverberant tail falls from the offset on, an inhalation after it
+    /// rises again.
     fn breath_run_counts(&self) -> bool {
-        !self.breath_run_from_tail || self.breath_run_rose
+        let n = self.breath_run.max(1) as f32;
+        let c = &self.config;
+        let high = self.breath_run_high_sum / n;
+        let shaped = high <= c.breath_max_high_over_mid_db
+            && self.breath_run_low_sum / n <= c.breath_max_low_over_mid_db;
+        shaped && (!self.breath_run_from_tail || self.breath_run_rose)
     }
 
     fn track_breath(&mut self, index: u64) {
         let f = self.facts(index);
-        if f.over_floor && !f.voiced && !f.active {
+        if f.breath_level && !f.voiced && !f.active {
             if self.breath_run == 0 {
                 self.breath_run_start = index;
                 self.breath_run_from_tail = self.last_offset_index == Some(index);
                 self.breath_run_min_db = f.level_db;
                 self.breath_run_rose = false;
+                self.breath_run_high_sum = 0.0;
+                self.breath_run_low_sum = 0.0;
             }
             self.breath_run += 1;
+            self.breath_run_high_sum += f.high_over_mid_db;
+            self.breath_run_low_sum += f.low_over_mid_db;
             self.breath_run_min_db = self.breath_run_min_db.min(f.level_db);
             if f.level_db >= self.breath_run_min_db + BREATH_RISE_DB {
                 self.breath_run_rose = true;
@@ -413,7 +504,6 @@ impl PhraseTracker {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::BandLevels;
 
     fn frame(index: u64, rms_db: f32, voiced: bool) -> FeatureFrame {
         FeatureFrame {
