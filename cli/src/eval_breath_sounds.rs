@@ -1,5 +1,6 @@
-//! `pneuma eval breath-sounds [--data DIR] [--labels CSV]`: Pneuma's inserted breaths against
-//! real inhalations labelled by hand in real speech, and the engine's detection of the real ones.
+//! `pneuma eval breath-sounds [--data DIR] [--labels CSV] [--keele DIR] [--check]`: Pneuma's
+//! inserted breaths against real inhalations labelled by hand in real speech, and the engine's
+//! detection of the real ones.
 //!
 //! - **Labels** (`assets/labels/styletalk_breaths.csv`, times only, never audio): `clip,start_s,
 //!   end_s,kind` with `kind` `breath` (a clear inhalation: a broadband noise plateau above the
@@ -23,7 +24,12 @@
 //!   labels. A `breath` label is found when a heard breath overlaps it; a heard breath that
 //!   overlaps no label is a false one; one that overlaps only an `unsure` label is not counted.
 //!
-//! Printed only (no targets): the issue asks for the distance to be reported.
+//! - **Detection per speaker** ([`crate::eval_breath_detect`]): the same scores on the
+//!   styletalk and the Keele labels (`--keele`, `--keele-labels`), for the level-only rule, the
+//!   default settings and the breath-shape limits fitted leave-one-speaker-out.
+//!
+//! The spectrum figures are printed only (the issue asks for the distance to be reported);
+//! `--check` checks the detection's held-out targets.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
