@@ -21,7 +21,7 @@
 //!   [`FeatureFrame::bands`] over frames at the floor) taken out of each frame's band powers, the
 //!   run's mean high-over-mid level is at most `breath_max_high_over_mid_db` (not a sibilant)
 //!   and its low-over-mid at most `breath_max_low_over_mid_db` (not a vowel's tail or rumble).
-//!   A run that starts at the phrase's offset must also rise [`BREATH_RISE_DB`] over its lowest
+//!   A run that starts at the phrase's offset must also rise 3 dB over its lowest
 //!   point (a reverberant tail only falls).
 //!
 //! Events are reported when they are certain, with the times they refer to (which lie in the
