@@ -50,7 +50,13 @@ fn add_noise(
     }
 }
 
-/// −25 dB re speech, as an amplitude factor.
+/// Adds stationary room noise (50–4000 Hz) of RMS `level` over the whole of `x`.
+fn add_room_noise(x: &mut [f32], rate_hz: f64, level: f64) {
+    let len_s = x.len() as f64 / rate_hz;
+    add_noise(x, rate_hz, 0.0, len_s, (50.0, 4000.0), level);
+}
+
+/// The RMS `db` under the speech RMS.
 fn under_speech(speech_rms: f64, db: f64) -> f64 {
     speech_rms * 10f64.powf(-db / 20.0)
 }
@@ -77,20 +83,18 @@ fn in_pause(spans: &Spans) -> Spans {
         .collect()
 }
 
+/// The phrases with 0.3 s of `band_hz` noise 25 dB under speech in the pause (at [`SOUND_S`]).
+fn with_sound_in_pause(rate_hz: f64, band_hz: (f64, f64)) -> Vec<f32> {
+    phrases(rate_hz, |x, s| {
+        let len_s = SOUND_S.1 - SOUND_S.0;
+        add_noise(x, rate_hz, SOUND_S.0, len_s, band_hz, under_speech(s, 25.0));
+    })
+}
+
 #[test]
 fn breath_shaped_noise_in_a_pause_is_heard_and_gets_no_second_breath() {
     for rate_hz in [16_000.0, 44_100.0] {
-        let x = phrases(rate_hz, |x, s| {
-            let len = SOUND_S.1 - SOUND_S.0;
-            add_noise(
-                x,
-                rate_hz,
-                SOUND_S.0,
-                len,
-                (500.0, 5000.0),
-                under_speech(s, 25.0),
-            );
-        });
+        let x = with_sound_in_pause(rate_hz, (500.0, 5000.0));
         let (heard, inserted) = render(&x, rate_hz, 512);
         assert_eq!(heard.len(), 1, "{rate_hz} Hz: heard {heard:?}");
         let (a, b) = heard[0];
@@ -123,17 +127,7 @@ fn assert_no_breath_heard(x: &[f32], what: &str) {
 
 #[test]
 fn sibilant_noise_at_a_breaths_level_is_no_breath() {
-    let x = phrases(16_000.0, |x, s| {
-        let len = SOUND_S.1 - SOUND_S.0;
-        add_noise(
-            x,
-            16_000.0,
-            SOUND_S.0,
-            len,
-            (2500.0, 7500.0),
-            under_speech(s, 25.0),
-        );
-    });
+    let x = with_sound_in_pause(16_000.0, (2500.0, 7500.0));
     assert_no_breath_heard(&x, "/s/-like noise 2.5–7.5 kHz");
 }
 
@@ -143,8 +137,7 @@ fn a_decaying_reverberant_tail_is_no_breath() {
     // speech and falling 60 dB per second, into room noise 45 dB under speech.
     let rate_hz = 16_000.0;
     let x = phrases(rate_hz, |x, s| {
-        let len = x.len() as f64 / rate_hz;
-        add_noise(x, rate_hz, 0.0, len, (50.0, 4000.0), under_speech(s, 45.0));
+        add_room_noise(x, rate_hz, under_speech(s, 45.0));
         let a = (PAUSE_S.0 * rate_hz) as usize;
         let n = (0.8 * rate_hz) as usize;
         let tail = test_signals::band_noise(n, rate_hz, (100.0, 700.0), under_speech(s, 18.0), 5);
@@ -161,8 +154,7 @@ fn stationary_room_noise_is_no_breath() {
     // Room noise (50–4000 Hz) 40 dB under speech over the whole signal.
     let rate_hz = 16_000.0;
     let x = phrases(rate_hz, |x, s| {
-        let len = x.len() as f64 / rate_hz;
-        add_noise(x, rate_hz, 0.0, len, (50.0, 4000.0), under_speech(s, 40.0));
+        add_room_noise(x, rate_hz, under_speech(s, 40.0))
     });
     assert_no_breath_heard(&x, "stationary room noise");
 }
@@ -170,17 +162,7 @@ fn stationary_room_noise_is_no_breath() {
 #[test]
 fn heard_breaths_are_the_same_for_any_block_partition() {
     let rate_hz = 16_000.0;
-    let x = phrases(rate_hz, |x, s| {
-        let len = SOUND_S.1 - SOUND_S.0;
-        add_noise(
-            x,
-            rate_hz,
-            SOUND_S.0,
-            len,
-            (500.0, 5000.0),
-            under_speech(s, 25.0),
-        );
-    });
+    let x = with_sound_in_pause(rate_hz, (500.0, 5000.0));
     let want = render(&x, rate_hz, 512);
     assert_eq!(want.0.len(), 1, "{want:?}");
     for block in [1usize, 37, 4096] {
@@ -188,22 +170,19 @@ fn heard_breaths_are_the_same_for_any_block_partition() {
     }
 }
 
-/// Analyses `x` in blocks whose sizes `blocks` gives per call.
-fn analyse_blocks(
-    x: &[f32],
-    rate_hz: f64,
-    blocks: &mut dyn FnMut(usize) -> usize,
-) -> Vec<FeatureFrame> {
+/// The frames of `x` analysed in blocks whose sizes cycle through `sizes`.
+fn frames_in_blocks(x: &[f32], rate_hz: f64, sizes: &[usize]) -> Vec<FeatureFrame> {
     let mut a = Analyzer::new(AnalysisConfig::default()).expect("default config");
     a.prepare(rate_hz, 4096).expect("supported rate");
     let mut frames = Vec::new();
-    let (mut pos, mut call) = (0, 0);
-    while pos < x.len() {
-        let n = blocks(call).clamp(1, x.len() - pos);
-        a.process(&x[pos..pos + n], |f| frames.push(*f))
-            .expect("prepared");
-        pos += n;
-        call += 1;
+    let mut rest = x;
+    for &n in sizes.iter().cycle() {
+        if rest.is_empty() {
+            break;
+        }
+        let (block, after) = rest.split_at(n.min(rest.len()));
+        a.process(block, |f| frames.push(*f)).expect("prepared");
+        rest = after;
     }
     a.finish(|f| frames.push(*f)).expect("prepared");
     frames
@@ -225,20 +204,16 @@ fn band_levels_are_bit_identical_for_any_block_partition() {
                 })
                 .collect()
         };
-        let want = bits(&analyse_blocks(&x, rate_hz, &mut |_| 4096));
+        let want = bits(&frames_in_blocks(&x, rate_hz, &[4096]));
         assert!(want.len() > 50, "{rate_hz}: {} frames", want.len());
         for size in [1usize, 37, 512] {
             assert_eq!(
-                bits(&analyse_blocks(&x, rate_hz, &mut |_| size)),
+                bits(&frames_in_blocks(&x, rate_hz, &[size])),
                 want,
                 "{rate_hz} Hz in blocks of {size}"
             );
         }
-        let mut k = 0usize;
-        let uneven = bits(&analyse_blocks(&x, rate_hz, &mut |_| {
-            k += 1;
-            [1, 300, 7, 2048, 64][k % 5]
-        }));
+        let uneven = bits(&frames_in_blocks(&x, rate_hz, &[1, 300, 7, 2048, 64]));
         assert_eq!(uneven, want, "{rate_hz} Hz in uneven blocks");
     }
 }
