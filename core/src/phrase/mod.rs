@@ -670,6 +670,63 @@ mod tests {
         assert!(b[1].is_some(), "the rise after the tail is a breath: {b:?}");
     }
 
+    /// The pauses' `breath_s` of a script whose unvoiced frames between `from` and `to`
+    /// (frame numbers) carry `bands` instead of breath-like band levels.
+    fn breaths_with_bands(
+        script: &[(usize, f32, bool)],
+        (from, to): (u64, u64),
+        bands: impl Fn(f32) -> BandLevels,
+    ) -> Vec<Option<(f64, f64)>> {
+        let mut t = PhraseTracker::new(PhraseConfig::default(), 100.0).unwrap();
+        let mut out = Vec::new();
+        let mut i = 0u64;
+        for &(n, db, v) in script {
+            for _ in 0..n {
+                let mut f = frame(i, db, v);
+                if (from..to).contains(&i) {
+                    f.bands = bands(db);
+                }
+                t.update(&f, |e| {
+                    if let PhraseEvent::Start { pause, .. } = e {
+                        out.push(pause.breath_s);
+                    }
+                });
+                i += 1;
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_burst_shaped_like_a_sibilant_or_a_vowel_tail_is_no_breath() {
+        // The breath-like burst of frames 240..275 (22 dB under speech) of the test above.
+        let script = [
+            (100, -70.0, false),
+            (100, -20.0, true),
+            (40, -70.0, false),
+            (35, -48.0, false),
+            (30, -70.0, false),
+            (100, -20.0, true),
+            (50, -70.0, false),
+        ];
+        let burst = (240, 275);
+        assert!(breaths_with_bands(&script, burst, breathy)[1].is_some());
+        // /s/: the high band 10 dB over the mid band.
+        let sibilant = |db: f32| BandLevels {
+            low_db: db - 25.0,
+            mid_db: db - 10.0,
+            high_db: db - 0.5,
+        };
+        assert_eq!(breaths_with_bands(&script, burst, sibilant)[1], None);
+        // A vowel's tail or rumble: the low band 8 dB over the mid band.
+        let low = |db: f32| BandLevels {
+            low_db: db - 0.5,
+            mid_db: db - 8.5,
+            high_db: db - 20.0,
+        };
+        assert_eq!(breaths_with_bands(&script, burst, low)[1], None);
+    }
+
     #[test]
     fn a_quiet_initial_consonant_moves_the_onset_back() {
         let ev = run(&[
