@@ -8,18 +8,22 @@
 //! |--------|-------------------------------|
 //! | low    | 100–400 Hz                    |
 //! | mid    | 500–2500 Hz                   |
-//! | high   | 2500–6000 Hz (at most 0.45 × the host rate) |
+//! | high   | 2500–6000 Hz (2500–3600 Hz at an 8 kHz host rate) |
 //!
 //! Each band is a fourth-order Linkwitz–Riley high-pass and low-pass (each two second-order
 //! Butterworth sections, RBJ biquads with f64 state; −6 dB at the edges, so adjacent bands sum
-//! flat) run on the host-rate signal before decimation, so the bands are
-//! the same at any host rate from 8 kHz (where the high band ends at 3.6 kHz) to 768 kHz. The
-//! squared outputs are summed per decimated slot into a ring the analyzer indexes exactly like
-//! its RMS bins, so a frame's band levels cover the same window as its `rms_db`. Samples go in
+//! flat). They run on the host signal decimated by an integer factor to 16–32 kHz (the
+//! analysis decimator's low-pass, cut-off 0.4 × that rate ≥ 6.4 kHz; no decimation at 8–32 kHz),
+//! so the bands are the same at any host rate from 8 kHz (where the high band ends at 3.6 kHz)
+//! to 768 kHz and cost about the same per second. The squared outputs, each standing for the
+//! host samples it replaces, are summed per analysis slot into a ring the analyzer indexes
+//! exactly like its RMS bins, so a frame's band levels cover the same window as its `rms_db`
+//! (late by the decimation filter's delay, under 0.5 ms). Samples go in
 //! one by one: the levels are bit-identical for any block partition. Allocation happens only
 //! in [`BandMeter::new`].
 
 use super::amplitude_to_db;
+use super::decimator::Decimator;
 
 /// Lower edge of the low band, Hz.
 const LOW_FROM_HZ: f64 = 100.0;
@@ -29,8 +33,11 @@ const LOW_TO_HZ: f64 = 400.0;
 const MID_FROM_HZ: f64 = 500.0;
 /// Edge between the mid and the high band, Hz.
 const MID_TO_HZ: f64 = 2500.0;
-/// Upper edge of the high band, Hz (lowered to 0.45 × the host rate when that is lower).
+/// Upper edge of the high band, Hz (lowered to 0.45 × the band filters' rate when that is lower).
 const HIGH_TO_HZ: f64 = 6000.0;
+/// The band filters run at the host rate divided by the largest integer keeping it at least
+/// this, Hz.
+const BAND_MIN_RATE_HZ: f64 = 16_000.0;
 
 /// The levels of one frame in three bands, dBFS (floor −120 dBFS), over the frame's RMS window
 /// (see [`crate::analysis::FeatureFrame::rms_db`]). The default (all 0) only fills test frames.
@@ -40,7 +47,7 @@ pub struct BandLevels {
     pub low_db: f32,
     /// Level of 500–2500 Hz, dBFS: where breath noise carries its formant colouring.
     pub mid_db: f32,
-    /// Level of 2500–6000 Hz (at most 0.45 × the host rate), dBFS: sibilants.
+    /// Level of 2500–6000 Hz (at most 3.6 kHz at an 8 kHz host rate), dBFS: sibilants.
     pub high_db: f32,
 }
 
@@ -102,9 +109,13 @@ impl Biquad {
     }
 }
 
-/// Band filters at the host rate and a ring of per-slot band energies. See the module docs.
+/// Decimator, band filters and a ring of per-slot band energies. See the module docs.
 #[derive(Debug, Clone)]
 pub(crate) struct BandMeter {
+    /// Host rate to band filters' rate.
+    decimator: Decimator,
+    /// Host samples per band-filter sample.
+    factor: usize,
     /// Per band: two high-pass and two low-pass sections.
     filters: [[Biquad; 4]; 3],
     /// Energy of each band accumulated since the last closed slot.
@@ -116,7 +127,9 @@ pub(crate) struct BandMeter {
 impl BandMeter {
     /// A meter for a stream at `rate_hz` with a ring of `slots` (a power of two, the analyzer's
     /// ring length). Allocates.
-    pub(crate) fn new(rate_hz: f64, slots: usize) -> Self {
+    pub(crate) fn new(host_rate_hz: f64, slots: usize) -> Self {
+        let factor = ((host_rate_hz / BAND_MIN_RATE_HZ).floor() as usize).max(1);
+        let rate_hz = host_rate_hz / factor as f64;
         let high_to = HIGH_TO_HZ.min(0.45 * rate_hz);
         let band = |from: f64, to: f64| {
             let hp = Biquad::butterworth(from, rate_hz, true);
@@ -124,6 +137,8 @@ impl BandMeter {
             [hp, hp, lp, lp]
         };
         Self {
+            decimator: Decimator::new(factor),
+            factor,
             filters: [
                 band(LOW_FROM_HZ, LOW_TO_HZ),
                 band(MID_FROM_HZ, MID_TO_HZ),
@@ -136,6 +151,7 @@ impl BandMeter {
 
     /// Clears all state (keeps the allocation).
     pub(crate) fn reset(&mut self) {
+        self.decimator.reset();
         self.filters.iter_mut().flatten().for_each(Biquad::reset);
         self.acc = [0.0; 3];
         self.ring.fill([0.0; 3]);
@@ -144,9 +160,13 @@ impl BandMeter {
     /// Takes one host-rate sample (finite, already clamped).
     #[inline]
     pub(crate) fn push(&mut self, x: f32) {
+        let Some(x) = self.decimator.push(x) else {
+            return;
+        };
+        let weight = self.factor as f64;
         for (f, acc) in self.filters.iter_mut().zip(&mut self.acc) {
             let y = f.iter_mut().fold(x as f64, |v, s| s.process(v));
-            *acc += y * y;
+            *acc += weight * y * y;
         }
     }
 
