@@ -19,5 +19,8 @@ pub mod phrase;
 pub mod rng;
 pub mod synth;
 
-pub use analysis::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
+pub use analysis::{
+    AnalysisConfig, AnalysisError, Analyzer, FeatureFrame, VoicingFeatures, VoicingModel,
+    VoicingModelError, N_VOICING_FEATURES, VOICING_FEATURES,
+};
 pub use control::{BreathEvent, BreathKind, BreathingState, ControlFrame, HeadAngles, Phase};

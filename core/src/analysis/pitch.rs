@@ -34,6 +34,13 @@ use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 /// Most key maxima kept per frame.
 pub const MAX_CANDIDATES: usize = 16;
 
+/// The low band (Hz) whose share of the voice band's energy ([`NsdfPitch::low_band`]) tells
+/// voiced sounds (energy in the first formant region) from fricatives and hiss.
+const LOW_BAND_HZ: (f64, f64) = (80.0, 1000.0);
+/// Top of the voice band for that share: the lowest internal rate's Nyquist frequency, so the
+/// share means the same at every host rate.
+const VOICE_BAND_TOP_HZ: f64 = 4000.0;
+
 /// Key maxima of the two windows closer than this lag ratio are the same lobe.
 const SAME_LOBE_RATIO: f64 = 1.04;
 
@@ -57,11 +64,22 @@ struct Nsdf {
     acf: Vec<f32>,
     /// n(τ) for τ = 0..=lag_max+1.
     curve: Vec<f32>,
+    /// Spectrum bins of the low band and of the whole voice band (see `low_band`).
+    low_bins: (usize, usize),
+    band_bins: (usize, usize),
+    /// Share of the last window's voice-band energy in the low band, 0..1.
+    low_band: f32,
 }
 
 impl Nsdf {
-    fn new(planner: &mut RealFftPlanner<f32>, window_len: usize, lag_max: usize) -> Self {
+    fn new(
+        planner: &mut RealFftPlanner<f32>,
+        rate_hz: f64,
+        window_len: usize,
+        lag_max: usize,
+    ) -> Self {
         let fft_len = fft_len_for(window_len + lag_max + 2);
+        let bin = |hz: f64| ((hz * fft_len as f64 / rate_hz).round() as usize).min(fft_len / 2);
         let r2c = planner.plan_fft_forward(fft_len);
         let c2r = planner.plan_fft_inverse(fft_len);
         let scratch_len = r2c.get_scratch_len().max(c2r.get_scratch_len());
@@ -72,6 +90,9 @@ impl Nsdf {
             scratch: vec![Complex::default(); scratch_len],
             acf: c2r.make_output_vec(),
             curve: vec![0.0; lag_max + 2],
+            low_bins: (bin(LOW_BAND_HZ.0), bin(LOW_BAND_HZ.1)),
+            band_bins: (bin(LOW_BAND_HZ.0), bin(VOICE_BAND_TOP_HZ)),
+            low_band: 0.0,
             r2c,
             c2r,
         }
@@ -89,6 +110,7 @@ impl Nsdf {
             energy += (*t as f64) * (*t as f64);
         }
         self.time[w..].fill(0.0);
+        self.low_band = 0.0;
         if energy < 1e-12 * w as f64 {
             self.curve.fill(0.0);
             return false;
@@ -105,6 +127,13 @@ impl Nsdf {
         }
         for c in self.spectrum.iter_mut() {
             *c = Complex::new(c.norm_sqr(), 0.0);
+        }
+        let band_energy = |(a, b): (usize, usize)| -> f64 {
+            self.spectrum[a..b].iter().map(|c| c.re as f64).sum()
+        };
+        let band = band_energy(self.band_bins);
+        if band > 0.0 {
+            self.low_band = (band_energy(self.low_bins) / band) as f32;
         }
         if self
             .c2r
@@ -151,6 +180,11 @@ pub struct NsdfPitch {
     n_candidates: usize,
     short_candidates: [PitchEstimate; MAX_CANDIDATES],
     periodicity: f32,
+    /// The long window's own periodicity (before the short window's say).
+    long_periodicity: f32,
+    /// The centred short window's pick, when it ran, and whether it agreed with the choice.
+    short_pick: PitchEstimate,
+    short_agrees: bool,
 }
 
 impl std::fmt::Debug for NsdfPitch {
@@ -214,11 +248,11 @@ impl NsdfPitch {
             .min(window_len.saturating_sub(2))
             .max(lag_min + 2);
         let mut planner = RealFftPlanner::<f32>::new();
-        let long = Nsdf::new(&mut planner, window_len, lag_max);
+        let long = Nsdf::new(&mut planner, rate_hz, window_len, lag_max);
         let short_lag_max = (short_len / 2).min(lag_max);
         let short = (short_len < window_len && short_lag_max >= lag_min + 2).then(|| {
             (
-                Nsdf::new(&mut planner, short_len, short_lag_max),
+                Nsdf::new(&mut planner, rate_hz, short_len, short_lag_max),
                 short_lag_max,
             )
         });
@@ -234,6 +268,9 @@ impl NsdfPitch {
             n_candidates: 0,
             short_candidates: [PitchEstimate::default(); MAX_CANDIDATES],
             periodicity: 0.0,
+            long_periodicity: 0.0,
+            short_pick: PitchEstimate::default(),
+            short_agrees: false,
         }
     }
 
@@ -253,6 +290,25 @@ impl NsdfPitch {
         self.periodicity
     }
 
+    /// The long window's own periodicity in the last analysed window (its highest key
+    /// maximum, without the short window's confirmation), 0..1.
+    pub fn long_periodicity(&self) -> f32 {
+        self.long_periodicity
+    }
+
+    /// The centred short window's key-maximum pick in the last analysed window (zero when it
+    /// did not run: no pitch, or the period beyond its reach), and whether it is the same lobe
+    /// as the chosen period.
+    pub fn short_window_pick(&self) -> (PitchEstimate, bool) {
+        (self.short_pick, self.short_agrees)
+    }
+
+    /// Share of the last long window's energy between 80 Hz and 1 kHz in its energy between
+    /// 80 Hz and 4 kHz, 0..1 (0 for a silent window): high for vowels, low for fricatives.
+    pub fn low_band(&self) -> f32 {
+        self.long.low_band
+    }
+
     /// The NSDF of the last analysed (long) window, lags 0..=lag_max+1.
     pub fn nsdf(&self) -> &[f32] {
         &self.long.curve
@@ -265,6 +321,9 @@ impl NsdfPitch {
     pub fn analyse(&mut self, window: &[f32]) -> PitchEstimate {
         self.n_candidates = 0;
         self.periodicity = 0.0;
+        self.long_periodicity = 0.0;
+        self.short_pick = PitchEstimate::default();
+        self.short_agrees = false;
         if window.len() != self.long.window_len {
             return PitchEstimate::default();
         }
@@ -289,6 +348,7 @@ impl NsdfPitch {
             .iter()
             .fold(0.0f32, |m, c| m.max(c.clarity));
         self.periodicity = best;
+        self.long_periodicity = best;
         let threshold = self.key_max_ratio * best.max(above_range);
         if above_range > 0.0 && above_range >= threshold {
             // The key-maximum rule would take a period shorter than the range allows: the
@@ -321,7 +381,9 @@ impl NsdfPitch {
                         chosen = *c;
                     }
                 }
+                self.short_pick = short_pick;
                 if same(short_pick.f0_hz, chosen.f0_hz) {
+                    self.short_agrees = true;
                     self.periodicity = self.periodicity.max(short_pick.clarity);
                 }
             }
