@@ -37,8 +37,11 @@ fn bench(c: &mut Criterion) {
     let dir = tempfile::tempdir().expect("tempdir");
     let input = voice_48k(dir.path());
     let args = Args {
-        input,
+        inputs: vec![input.clone()],
         output: dir.path().join("out"),
+        format: None,
+        markers: Vec::new(),
+        jobs: None,
         preset: "neutral".into(),
         breath_level_db: -22.0,
         min_pause_ms: 250.0,
@@ -60,7 +63,7 @@ fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("render_voice_25s_48k_mono");
     group.sample_size(10);
     group.bench_function("with_breaths_controls_plot", |b| {
-        b.iter(|| run(&args, |_| {}).expect("render").breaths.len())
+        b.iter(|| run(&args, &input, |_| {}).expect("render").breaths.len())
     });
     group.finish();
 }

@@ -1,4 +1,4 @@
-//! `pneuma analyze IN.wav -o OUT.csv`: streams a WAV file through the analysis front end and
+//! `pneuma analyze IN -o OUT.csv`: streams an audio file (any format `pneuma-io` reads) through the analysis front end and
 //! writes one CSV row per frame (contract in DESIGN.md). Multichannel input is mixed to mono.
 
 use std::path::{Path, PathBuf};
@@ -9,7 +9,8 @@ use pneuma_core::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
 use thiserror::Error;
 
 use crate::output::Output;
-use crate::wav::{mix_to_mono, WavError, WavInfo, WavSource};
+use crate::wav::WavInfo;
+use pneuma_io::{mix_to_mono, AudioSource, ReadError};
 
 /// Frames read from the file per block.
 const BLOCK_FRAMES: usize = 8192;
@@ -21,7 +22,7 @@ const FLUSH_BYTES: usize = 1 << 16;
 pub enum AnalyzeError {
     /// The input file.
     #[error(transparent)]
-    Wav(#[from] WavError),
+    Audio(#[from] ReadError),
     /// The settings.
     #[error("invalid analysis settings: {0}")]
     Settings(#[from] AnalysisError),
@@ -46,11 +47,11 @@ pub struct AnalyzeSummary {
     pub voiced_frames: u64,
 }
 
-/// Analyses an opened WAV file into frames, calling `on_frame` for each; returns its format.
+/// Analyses an opened audio input into frames, calling `on_frame` for each; returns its format.
 /// (It takes the opened source because a pipe can be opened only once, and `run` checks the
 /// header before it creates the output.)
 pub fn analyze_source(
-    mut src: WavSource,
+    mut src: AudioSource,
     config: AnalysisConfig,
     mut on_frame: impl FnMut(&FeatureFrame),
 ) -> Result<WavInfo, AnalyzeError> {
@@ -88,7 +89,7 @@ pub fn run(
     // analysis succeeded, so a broken input never touches an existing output and memory stays
     // bounded on long files. Standard output cannot take back what it printed, so it gets the
     // rows only at the end.
-    let src = WavSource::open(input)?;
+    let src = AudioSource::open(input)?;
     let stream = output.as_os_str() != "-";
     let mut out = Output::create(output).map_err(out_err)?;
     let mut text = String::with_capacity(FLUSH_BYTES + 256);
@@ -127,7 +128,8 @@ fn same_file(a: &Path, b: &Path) -> bool {
 /// Command-line arguments of `pneuma analyze`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Input WAV (8/16/24/32-bit integer or 32-bit float PCM, any channels, 8–192 kHz).
+    /// Input audio: WAV, FLAC, MP3, M4A/AAC, Ogg Vorbis, AIFF or CAF (any channels, 8–192 kHz);
+    /// `-` reads standard input.
     pub input: PathBuf,
     /// Output CSV path, or `-` for standard output.
     #[arg(short, long)]

@@ -1,13 +1,19 @@
-//! The `pneuma` command's library: WAV input with clear errors, safe output files, and the
+//! The `pneuma` command's library: audio input (the shared `pneuma-io` crate, its WAV reader
+//! re-exported as [`wav`]), safe output files, and the
 //! subcommands. The binary in `main.rs` only parses arguments and reports errors.
 
 pub mod analyze;
+pub mod audio_out;
+pub mod batch;
 pub mod eval;
+pub mod eval_breaths;
+pub mod markers;
 pub mod options;
 pub mod output;
 pub mod plot;
 pub mod render;
 pub mod speak;
 pub mod train;
-pub mod wav;
 pub mod wav_out;
+
+pub use pneuma_io::wav;

@@ -19,14 +19,14 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Analyse a WAV file: f0, voicing and RMS level per frame, as CSV
+    /// Analyse an audio file: f0, voicing and RMS level per frame, as CSV
     /// (time_s,f0_hz,voiced,voicing,rms_db).
     Analyze(analyze::Args),
     /// Put breaths into recorded speech and compute breathing and head-pose controls.
     Render(render::Args),
     /// Speak text with a TTS program, with breaths between breath groups.
     Speak(speak::Args),
-    /// Train a head-pose model from WAV files with head-motion CSVs.
+    /// Train a head-pose model from audio files with head-motion CSVs.
     Train(train::Args),
     /// Evaluate a model against data.
     Eval(eval::Args),

@@ -1,7 +1,10 @@
-//! `pneuma render IN.wav -o DIR`: streams a WAV file through the [`Engine`] in blocks and writes
-//! `DIR/<stem>.wav` (the input with breaths, same rate, channels and sample format),
-//! `DIR/<stem>.controls.csv`, `DIR/<stem>.breaths.csv`, `DIR/<stem>.png` and, with `--bvh`,
-//! `DIR/<stem>.bvh` (contracts in DESIGN.md).
+//! `pneuma render IN -o DIR`: streams an audio file (any format `pneuma-io` reads, or standard
+//! input) through the [`Engine`] in blocks and writes `DIR/<stem>.wav|flac|aiff` (the input
+//! with breaths, same rate, channels and bit depth; see [`output_container`]),
+//! `DIR/<stem>.controls.csv`, `DIR/<stem>.breaths.csv`, `DIR/<stem>.png`, with `--bvh`
+//! `DIR/<stem>.bvh` and with `--markers` the editors' marker files (contracts in DESIGN.md); or,
+//! with `-o -`, only the audio as WAV to standard output. Several inputs go to
+//! [`crate::batch`].
 //!
 //! The engine runs exactly as in the plugin (same lookahead); the lookahead delay is removed
 //! here by dropping the first `latency` output samples and feeding silence at the end (the
@@ -19,9 +22,11 @@ use pneuma_core::engine::{Engine, EngineConfig, EngineError, PlacementMode};
 use pneuma_core::{BreathEvent, ControlFrame};
 use thiserror::Error;
 
+use crate::audio_out::{AudioSink, Container};
+use crate::markers::MarkerKind;
 use crate::output::{commit_all, Output, Staged};
-use crate::wav::{WavError, WavInfo, WavSource};
-use crate::wav_out::WavSink;
+use crate::wav::WavInfo;
+use pneuma_io::{AudioSource, InputFormat, ReadError};
 
 /// Sample frames per block.
 const BLOCK_FRAMES: usize = 4096;
@@ -35,7 +40,7 @@ const PLOT_FRAMES: usize = 200_000;
 pub enum RenderError {
     /// The input file.
     #[error(transparent)]
-    Wav(#[from] WavError),
+    Audio(#[from] ReadError),
     /// The settings.
     #[error("invalid settings: {0}")]
     Settings(#[from] EngineError),
@@ -53,18 +58,56 @@ pub enum RenderError {
     /// The plot.
     #[error(transparent)]
     Plot(#[from] crate::plot::PlotError),
+    /// Ctrl-C.
+    #[error("interrupted (Ctrl-C): nothing was written, existing files are unchanged")]
+    Interrupted,
+}
+
+/// Set by the Ctrl-C handler; a render checks it after every block and stops, leaving no
+/// partial file (its staged files are removed when dropped).
+pub static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+fn interrupted() -> bool {
+    INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// The output container for an input: `asked`, else the input's own when it is lossless and
+/// writable (WAV, FLAC, AIFF), else FLAC (other lossless containers, and lossy input, which is
+/// never encoded lossy a second time).
+pub fn output_container(asked: Option<Container>, format: InputFormat) -> Container {
+    asked.unwrap_or(match format {
+        InputFormat::Wav => Container::Wav,
+        InputFormat::Aiff => Container::Aiff,
+        _ => Container::Flac,
+    })
 }
 
 /// Command-line arguments of `pneuma render`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct Args {
-    /// Input WAV (8/16/24/32-bit integer or 32-bit float PCM, any channels, 8–192 kHz).
-    pub input: PathBuf,
-    /// Output folder (created if missing); the files inside are named after the input.
+    /// Input audio: WAV, FLAC, MP3, M4A/AAC, Ogg Vorbis, AIFF or CAF (any channels, 8–192
+    /// kHz); `-` reads standard input. Several files or folders render them all (a batch, in
+    /// parallel; folders give the audio files directly inside them).
+    #[arg(required = true, value_name = "IN")]
+    pub inputs: Vec<PathBuf>,
+    /// Output folder (created if missing); the files inside are named after the input. `-`
+    /// writes only the audio, as WAV, to standard output (one input).
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
-    /// Breathing preset: neutral, calm, anxious, tired, excited.
-    #[arg(long, default_value = "neutral")]
+    /// Audio format of the output: by default the input's own for WAV, FLAC and AIFF, and FLAC
+    /// for everything else (never a second lossy generation).
+    #[arg(long, value_enum)]
+    pub format: Option<Container>,
+    /// Breath markers for editors, comma-separated: audacity (label track
+    /// `<stem>.breaths.txt`), reaper (region list `<stem>.breaths.reaper.csv`), cue (cue points
+    /// inside the output WAV).
+    #[arg(long, value_enum, value_delimiter = ',', value_name = "KIND")]
+    pub markers: Vec<MarkerKind>,
+    /// Files rendered at once in a batch (1 to 256; default: the number of cores).
+    #[arg(short = 'j', long, value_name = "N")]
+    pub jobs: Option<usize>,
+    /// Breathing preset.
+    #[arg(long, default_value = "neutral", value_parser = clap::builder::PossibleValuesParser::new(Preset::NAMES))]
     pub preset: String,
     /// Breath level relative to the speech level, dB (-60 to -6).
     #[arg(long, default_value_t = -22.0, allow_hyphen_values = true, value_parser = crate::options::number)]
@@ -81,7 +124,8 @@ pub struct Args {
     /// Do not insert breaths (controls only; the audio is copied unchanged).
     #[arg(long)]
     pub no_breaths: bool,
-    /// Folder with user breath samples `mouth.wav` and/or `nose.wav` (the same as giving
+    /// Folder with user breath samples `mouth.wav` and/or `nose.wav` (or .flac, .aiff, … any
+    /// input format; the same as giving
     /// them with --breath-mouth and --breath-nose).
     #[arg(long, value_name = "DIR")]
     pub breath_samples: Option<PathBuf>,
@@ -147,14 +191,20 @@ impl Args {
 /// What a render did.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RenderSummary {
-    /// The input format (also the output format).
+    /// The input format (rate, channels, bits also of the output).
     pub info: WavInfo,
+    /// The input's container and whether it is lossless.
+    pub input_format: (InputFormat, bool),
+    /// The output's container.
+    pub container: Container,
     /// Files written.
     pub files: Vec<PathBuf>,
     /// Breaths inserted.
     pub breaths: Vec<BreathEvent>,
     /// Control frames written.
     pub frames: u64,
+    /// Length of the output audio, seconds.
+    pub length_s: f64,
     /// Output samples clipped to the integer range.
     pub clipped: u64,
 }
@@ -217,15 +267,49 @@ fn out_err(path: &Path) -> impl Fn(std::io::Error) -> RenderError + '_ {
 
 /// Reads the breath sample at `path`; `label` names it in errors.
 fn load_sample(path: &Path, label: &str) -> Result<BreathSample, RenderError> {
-    let (samples, rate) = crate::wav::read_mono(path)?;
+    let (samples, rate) = pneuma_io::read_mono(path)?;
     BreathSample::from_mono(samples, rate as f64)
         .map_err(|e| RenderError::Input(format!("{label} {}: {e}", path.display())))
 }
 
-/// Runs a render; `progress` is called with the fraction done (0..1) now and then.
-pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, RenderError> {
+/// Renders `input` (`-`: standard input) as `args` ask; `progress` is called with the fraction
+/// done (0..1) now and then.
+pub fn run(
+    args: &Args,
+    input: &Path,
+    mut progress: impl FnMut(f64),
+) -> Result<RenderSummary, RenderError> {
     let config = args.engine_config()?;
-    let mut src = WavSource::open(&args.input)?;
+    let to_stdout = args.output.as_os_str() == "-";
+    if to_stdout && !args.markers.is_empty() {
+        return Err(RenderError::Input(
+            "-o - writes only the audio to standard output: drop --markers, or give an output \
+             folder"
+                .into(),
+        ));
+    }
+    if to_stdout && args.format.is_some_and(|f| f != Container::Wav) {
+        return Err(RenderError::Input(
+            "-o - writes WAV (a stream of unknown length): drop --format, or give an output \
+             folder"
+                .into(),
+        ));
+    }
+    let mut src = AudioSource::open(input)?;
+    let container = if to_stdout {
+        Container::Wav
+    } else {
+        output_container(args.format, src.format())
+    };
+    if args.markers.contains(&MarkerKind::Cue) && container != Container::Wav {
+        return Err(RenderError::Input(format!(
+            "--markers cue writes cue points inside a WAV file, but the output is {}: add \
+             --format wav, or use --markers audacity or reaper",
+            container.extension().to_uppercase()
+        )));
+    }
+    let input_format = (src.format(), src.lossless());
+    let tags = src.tags();
     let info = src.info();
     let channels = info.channels as usize;
     if channels > pneuma_core::engine::MAX_CHANNELS {
@@ -248,38 +332,37 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
     if let Some(dir) = &args.breath_samples {
         if !dir.is_dir() {
             return Err(RenderError::Input(format!(
-                "--breath-samples {}: not a folder (it should hold mouth.wav and/or nose.wav)",
+                "--breath-samples {}: not a folder (it should hold mouth.wav and/or nose.wav, or .flac, .aiff, …)",
                 dir.display()
             )));
         }
         let before = sample_names.len();
-        for (slot, name) in [
-            (SampleSlot::Mouth, "mouth.wav"),
-            (SampleSlot::Nose, "nose.wav"),
-        ] {
-            let path = dir.join(name);
-            if path.exists() {
+        for (slot, name) in [(SampleSlot::Mouth, "mouth"), (SampleSlot::Nose, "nose")] {
+            if let Some(path) = pneuma_io::find_audio(dir, name) {
                 engine.set_breath_sample(slot, Some(load_sample(&path, "breath sample")?));
                 sample_names.push(name);
             }
         }
         if sample_names.len() == before {
             return Err(RenderError::Input(format!(
-                "--breath-samples {}: no mouth.wav or nose.wav in it",
+                "--breath-samples {}: no mouth or nose audio file (mouth.wav, nose.flac, …) in it",
                 dir.display()
             )));
         }
     }
 
-    crate::options::check_output_folder("-o", &args.output).map_err(RenderError::Input)?;
-    std::fs::create_dir_all(&args.output).map_err(out_err(&args.output))?;
-    let stem = args
-        .input
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "render".into());
-    let wav_path = args.output.join(format!("{stem}.wav"));
-    if same_file(&args.input, &wav_path) {
+    if !to_stdout {
+        crate::options::check_output_folder("-o", &args.output).map_err(RenderError::Input)?;
+        std::fs::create_dir_all(&args.output).map_err(out_err(&args.output))?;
+    }
+    let stem = output_stem(input);
+    let wav_path = if to_stdout {
+        PathBuf::from("-")
+    } else {
+        args.output
+            .join(format!("{stem}.{}", container.extension()))
+    };
+    if same_file(input, &wav_path) {
         return Err(RenderError::Output {
             path: wav_path,
             source: std::io::Error::other("it is the input file; choose another output folder"),
@@ -289,7 +372,15 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
     let breaths_path = args.output.join(format!("{stem}.breaths.csv"));
     let plot_path = args.output.join(format!("{stem}.png"));
     let bvh_path = args.output.join(format!("{stem}.bvh"));
-    if args.no_overwrite {
+    let marker_paths: Vec<(MarkerKind, PathBuf)> = args
+        .markers
+        .iter()
+        .filter_map(|&k| {
+            k.suffix()
+                .map(|s| (k, args.output.join(format!("{stem}.{s}"))))
+        })
+        .collect();
+    if args.no_overwrite && !to_stdout {
         let mut all = vec![
             wav_path.clone(),
             controls_path.clone(),
@@ -297,12 +388,24 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
         ];
         all.extend((!args.no_plot).then(|| plot_path.clone()));
         all.extend(args.bvh.then(|| bvh_path.clone()));
+        all.extend(marker_paths.iter().map(|(_, p)| p.clone()));
         crate::options::refuse_existing(&all).map_err(RenderError::Input)?;
     }
 
-    let mut sink = WavSink::create(&wav_path, info).map_err(out_err(&wav_path))?;
-    let mut controls = Output::create(&controls_path).map_err(out_err(&controls_path))?;
-    writeln!(controls.writer(), "{}", controls_csv::HEADER).map_err(out_err(&controls_path))?;
+    let mut sink = if to_stdout {
+        AudioSink::stdout(info)
+    } else {
+        AudioSink::create_as(&wav_path, info, container, tags)
+    }
+    .map_err(out_err(&wav_path))?;
+    // With -o - only the audio is written: no controls, breaths, plot or BVH files.
+    let mut controls = if to_stdout {
+        None
+    } else {
+        let mut o = Output::create(&controls_path).map_err(out_err(&controls_path))?;
+        writeln!(o.writer(), "{}", controls_csv::HEADER).map_err(out_err(&controls_path))?;
+        Some(o)
+    };
 
     let latency = engine.latency_samples() as u64;
     let tail = engine.tail_samples();
@@ -314,7 +417,7 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
     let plot_every = (frames_total as usize).div_ceil(PLOT_FRAMES).max(1);
     let mut plot_frames: Vec<ControlFrame> = Vec::new();
     // The BVH streams too: its header needs the frame count, known from the WAV header.
-    let mut bvh_out = if args.bvh {
+    let mut bvh_out = if args.bvh && !to_stdout {
         let mut o = Output::create(&bvh_path).map_err(out_err(&bvh_path))?;
         o.writer()
             .write_all(bvh::header(frames_total as usize, frame_rate).as_bytes())
@@ -370,8 +473,8 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
                 }
                 row.clear();
                 controls_csv::write_row(&mut row, f);
-                if write_error.is_none() {
-                    if let Err(e) = controls.writer().write_all(row.as_bytes()) {
+                if let (None, Some(c)) = (&write_error, &mut controls) {
+                    if let Err(e) = c.writer().write_all(row.as_bytes()) {
                         write_error = Some(e);
                     }
                 }
@@ -415,6 +518,9 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
         fed += n as u64;
         sink.write_interleaved(&out_interleaved)
             .map_err(out_err(&wav_path))?;
+        if interrupted() {
+            return Err(RenderError::Interrupted);
+        }
         let done = written as f64 / total_in.max(1) as f64;
         if done - last_progress >= 0.01 {
             last_progress = done;
@@ -430,6 +536,23 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
         b.end_s = b.end_s.min(duration_s);
     }
     let clipped = sink.clipped();
+    if args.markers.contains(&MarkerKind::Cue) {
+        sink.set_cues(crate::markers::cues(&breaths, info.sample_rate_hz));
+    }
+    let Some(controls) = controls else {
+        // Standard output: the audio is all there is.
+        sink.finish().map_err(out_err(&wav_path))?;
+        return Ok(RenderSummary {
+            info,
+            input_format,
+            container,
+            files: vec![wav_path],
+            breaths,
+            frames: frames_written,
+            length_s: duration_s,
+            clipped,
+        });
+    };
 
     let mut breaths_out = Output::create(&breaths_path).map_err(out_err(&breaths_path))?;
     breaths_csv::write_all(&mut breaths_out.writer(), &breaths).map_err(out_err(&breaths_path))?;
@@ -441,10 +564,20 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
         breaths_path.clone(),
     ];
     let mut staged = vec![
-        sink.finish().map_err(out_err(&wav_path))?,
+        sink.finish()
+            .map_err(out_err(&wav_path))?
+            .ok_or_else(|| out_err(&wav_path)(std::io::Error::other("not a file")))?,
         staged_file(controls, &controls_path)?,
         staged_file(breaths_out, &breaths_path)?,
     ];
+    for (kind, path) in &marker_paths {
+        let mut o = Output::create(path).map_err(out_err(path))?;
+        o.writer()
+            .write_all(kind.file_text(&breaths).as_bytes())
+            .map_err(out_err(path))?;
+        staged.push(staged_file(o, path)?);
+        files.push(path.clone());
+    }
     if let Some(o) = bvh_out {
         staged.push(staged_file(o, &bvh_path)?);
         files.push(bvh_path.clone());
@@ -463,12 +596,18 @@ pub fn run(args: &Args, mut progress: impl FnMut(f64)) -> Result<RenderSummary, 
         files.push(plot_path.clone());
     }
     // ... then all are moved into place together, or none.
+    if interrupted() {
+        return Err(RenderError::Interrupted);
+    }
     commit_all(staged).map_err(|(path, source)| RenderError::Output { path, source })?;
     Ok(RenderSummary {
         info,
+        input_format,
+        container,
         files,
         breaths,
         frames: frames_written,
+        length_s: duration_s,
         clipped,
     })
 }
@@ -480,6 +619,17 @@ fn staged_file(out: Output, path: &Path) -> Result<Staged, RenderError> {
         .ok_or_else(|| out_err(path)(std::io::Error::other("not a file")))
 }
 
+/// The name the outputs of `input` are named after: its file stem, `stdin` for `-`.
+fn output_stem(input: &Path) -> String {
+    if input.as_os_str() == "-" {
+        return "stdin".into();
+    }
+    input
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "render".into())
+}
+
 fn same_file(a: &Path, b: &Path) -> bool {
     match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
         (Ok(x), Ok(y)) => x == y,
@@ -487,18 +637,57 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// Runs `pneuma render` from parsed arguments, with a progress bar when a terminal is attached
-/// and the job takes more than a second.
+/// What a lossy input became, for the summary: `" (MP3 input written as FLAC: …)"`.
+pub fn lossy_note(s: &RenderSummary) -> String {
+    let (format, lossless) = s.input_format;
+    if lossless || s.container == Container::Wav && format == InputFormat::Wav {
+        return String::new();
+    }
+    format!(
+        "; {} input written as {} (no second lossy generation; --format wav for WAV)",
+        format.name(),
+        s.container.extension().to_uppercase()
+    )
+}
+
+/// Exit code of an interrupted run (128 + SIGINT), as shells expect.
+pub const EXIT_INTERRUPTED: u8 = 130;
+
+/// Installs the Ctrl-C handler: the first Ctrl-C sets [`INTERRUPTED`] (the render stops after
+/// its current block and removes its temporary files), a second one exits at once.
+pub fn install_interrupt_handler() {
+    let _ = ctrlc::set_handler(|| {
+        if INTERRUPTED.swap(true, std::sync::atomic::Ordering::Relaxed) {
+            std::process::exit(i32::from(EXIT_INTERRUPTED));
+        }
+    });
+}
+
+/// Runs `pneuma render` from parsed arguments: one input with a progress bar when a terminal
+/// is attached and the job takes more than a second, or a batch (several inputs or a folder).
 pub fn main(args: Args) -> ExitCode {
+    install_interrupt_handler();
+    let inputs = match crate::batch::expand_inputs(&args.inputs) {
+        Ok(v) => v,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    if args.inputs.len() > 1 || args.inputs[0].is_dir() {
+        return crate::batch::main(&args, &inputs);
+    }
+    let input = &inputs[0];
     let mut bar = crate::options::Progress::new("rendering", !args.quiet && !args.no_progress);
-    let result = run(&args, |f| bar.set(f));
+    let result = run(&args, input, |f| bar.set(f));
     bar.finish();
     match result {
         Ok(s) => {
             if !args.quiet {
                 eprintln!(
-                    "rendered {} ({} Hz, {} ch, {}-bit{}): {} breaths, {} control frames{}",
-                    args.input.display(),
+                    "rendered {} ({}, {} Hz, {} ch, {}-bit{}): {} breaths, {} control frames{}{}",
+                    input.display(),
+                    s.input_format.0.name(),
                     s.info.sample_rate_hz,
                     s.info.channels,
                     s.info.bits,
@@ -509,13 +698,18 @@ pub fn main(args: Args) -> ExitCode {
                         format!(", {} samples clipped", s.clipped)
                     } else {
                         String::new()
-                    }
+                    },
+                    lossy_note(&s)
                 );
                 for f in &s.files {
                     eprintln!("  {}", f.display());
                 }
             }
             ExitCode::SUCCESS
+        }
+        Err(RenderError::Interrupted) => {
+            eprintln!("error: {}", RenderError::Interrupted);
+            ExitCode::from(EXIT_INTERRUPTED)
         }
         Err(e) => {
             eprintln!("error: {e}");

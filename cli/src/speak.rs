@@ -28,7 +28,7 @@ use thiserror::Error;
 
 use crate::output::{commit_all, Output, Staged};
 use crate::plot::{draw_png, PlotError};
-use crate::wav::{read_mono, WavError};
+use pneuma_io::{read_mono, ReadError};
 
 /// Silence before the first breath, seconds.
 pub const LEAD_IN_S: f64 = 0.25;
@@ -62,8 +62,8 @@ pub struct Args {
     /// speech.breaths.csv and speech.png.
     #[arg(short = 'o', long = "output", alias = "out", value_name = "DIR")]
     pub out_dir: PathBuf,
-    /// Breathing preset: neutral, calm, anxious, tired, excited.
-    #[arg(long, default_value = "neutral")]
+    /// Breathing preset.
+    #[arg(long, default_value = "neutral", value_parser = clap::builder::PossibleValuesParser::new(Preset::NAMES))]
     pub preset: String,
     /// TTS voice (espeak-ng: e.g. `en-us`, `en-gb`; festival: e.g. `kal_diphone`).
     #[arg(long)]
@@ -152,7 +152,7 @@ pub enum SpeakError {
     },
     /// A WAV file (TTS output or breath sample) could not be read.
     #[error(transparent)]
-    Wav(#[from] WavError),
+    Audio(#[from] ReadError),
     /// The TTS changed its sample rate between chunks.
     #[error("the TTS produced {0} Hz and then {1} Hz; use one voice")]
     RateChanged(u32, u32),
@@ -377,19 +377,18 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     let in_folder = |name: &str| {
         args.breath_samples
             .as_ref()
-            .map(|d| d.join(name))
-            .filter(|p| p.exists())
+            .and_then(|d| pneuma_io::find_audio(d, name))
     };
     if let Some(d) = &args.breath_samples {
-        if in_folder("mouth.wav").is_none() && in_folder("nose.wav").is_none() {
+        if in_folder("mouth").is_none() && in_folder("nose").is_none() {
             return Err(SpeakError::Option(format!(
-                "--breath-samples {}: no mouth.wav or nose.wav in it",
+                "--breath-samples {}: no mouth or nose audio file (mouth.wav, nose.flac, …) in it",
                 d.display()
             )));
         }
     }
-    let mouth_path = args.breath_mouth.clone().or_else(|| in_folder("mouth.wav"));
-    let nose_path = args.breath_nose.clone().or_else(|| in_folder("nose.wav"));
+    let mouth_path = args.breath_mouth.clone().or_else(|| in_folder("mouth"));
+    let nose_path = args.breath_nose.clone().or_else(|| in_folder("nose"));
     let model =
         crate::options::load_head_model(args.head_model.as_deref()).map_err(SpeakError::Option)?;
     let mouth_sample = mouth_path.as_deref().map(load_sample).transpose()?;

@@ -14,7 +14,7 @@ use pneuma_core::head::{MotionTrack, TrainingClip};
 use pneuma_core::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
 use thiserror::Error;
 
-use crate::wav::{read_mono, WavError};
+use pneuma_io::{read_mono, ReadError};
 
 /// Errors of loading head-motion data and training.
 #[derive(Debug, Error)]
@@ -45,9 +45,9 @@ pub enum TrainCliError {
         /// What is wrong.
         reason: String,
     },
-    /// WAV reading failed.
+    /// Reading an audio file failed.
     #[error(transparent)]
-    Wav(#[from] WavError),
+    Audio(#[from] ReadError),
     /// Analysis settings failed.
     #[error(transparent)]
     Analysis(#[from] AnalysisError),
@@ -125,7 +125,7 @@ pub fn read_head_csv(path: &Path) -> Result<MotionTrack, TrainCliError> {
     Ok(m)
 }
 
-/// Analyses a whole WAV file into feature frames with `config`.
+/// Analyses a whole audio file (any input format) into feature frames with `config`.
 pub fn analyze_wav(
     path: &Path,
     config: &AnalysisConfig,
@@ -157,10 +157,12 @@ pub fn load_clips(dir: &Path, config: &AnalysisConfig) -> Result<Vec<TrainingCli
         .iter()
         .filter_map(|n| n.strip_suffix(".head.csv"))
         .collect();
-    let wavs: Vec<&str> = names
+    // (stem, file name) of every audio file (any format pneuma-io reads).
+    let audio: Vec<(&str, &str)> = names
         .iter()
-        .filter_map(|n| n.strip_suffix(".wav"))
+        .filter_map(|n| pneuma_io::audio_stem(n).map(|s| (s, n.as_str())))
         .collect();
+    let wavs: Vec<&str> = audio.iter().map(|a| a.0).collect();
     let mut stems: Vec<String> = heads
         .iter()
         .filter(|s| wavs.contains(s))
@@ -179,13 +181,20 @@ pub fn load_clips(dir: &Path, config: &AnalysisConfig) -> Result<Vec<TrainingCli
         };
         format!("{}{tail}", shown.join(", "))
     };
-    let lone_wavs: Vec<&&str> = wavs.iter().filter(|s| !heads.contains(s)).collect();
+    let lone_wavs: Vec<&&str> = audio
+        .iter()
+        .filter(|a| !heads.contains(&a.0))
+        .map(|a| &a.1)
+        .collect();
     let lone_heads: Vec<&&str> = heads.iter().filter(|s| !wavs.contains(s)).collect();
     if !lone_wavs.is_empty() {
-        unmatched.push(format!("no .head.csv for {}", list(lone_wavs, ".wav")));
+        unmatched.push(format!("no .head.csv for {}", list(lone_wavs, "")));
     }
     if !lone_heads.is_empty() {
-        unmatched.push(format!("no .wav for {}", list(lone_heads, ".head.csv")));
+        unmatched.push(format!(
+            "no audio file (.wav, .flac, …) for {}",
+            list(lone_heads, ".head.csv")
+        ));
     }
     if stems.is_empty() {
         return Err(TrainCliError::NoClips {
@@ -203,7 +212,8 @@ pub fn load_clips(dir: &Path, config: &AnalysisConfig) -> Result<Vec<TrainingCli
     let mut clips = Vec::with_capacity(stems.len());
     for stem in stems {
         let motion = read_head_csv(&dir.join(format!("{stem}.head.csv")))?;
-        let frames = analyze_wav(&dir.join(format!("{stem}.wav")), config)?;
+        let name = audio.iter().find(|a| a.0 == stem).map_or("", |a| a.1);
+        let frames = analyze_wav(&dir.join(name), config)?;
         clips.push(TrainingClip::from_motion(
             &stem,
             config.frame_rate_hz,

@@ -1,9 +1,9 @@
 //! `pneuma render` of a long generated episode with the plot: every output complete (the WAV
 //! as long as the input, one controls row and one BVH frame per control frame up to the end,
 //! the breaths CSV whole, the PNG a full image). The length defaults to 7 min at 16 kHz mono,
-//! past the 6 min 40 s where the plot used to fail; `.ci/run` runs it on an hour at 48 kHz
-//! stereo with `PNEUMA_LONG_RENDER_S=3600 PNEUMA_LONG_RENDER_RATE=48000
-//! PNEUMA_LONG_RENDER_CHANNELS=2`.
+//! past the 6 min 40 s where the plot used to fail; an hour at 48 kHz stereo is checked by hand
+//! with `PNEUMA_LONG_RENDER_S=3600 PNEUMA_LONG_RENDER_RATE=48000 PNEUMA_LONG_RENDER_CHANNELS=2`
+//! (`.ci/run` renders and times the hour once through the release binary).
 
 use std::path::Path;
 

@@ -4,6 +4,9 @@
 use std::path::Path;
 use std::process::Command;
 
+mod support;
+use support::tool_or_skip;
+
 use pneuma_cli::plot::{write_plot, HEIGHT_PX, WIDTH_PX};
 use pneuma_core::{BreathEvent, BreathKind, BreathingState, ControlFrame, Phase};
 
@@ -11,26 +14,10 @@ fn pneuma() -> Command {
     Command::new(env!("CARGO_BIN_EXE_pneuma"))
 }
 
-fn have(program: &str) -> bool {
-    Command::new(program)
-        .arg("--version")
-        .output()
-        .is_ok_and(|o| o.status.success())
-}
-
 /// Whether espeak-ng is installed. Without it a test skips visibly, except under `CI=true`
 /// (`.ci/run` installs it), where it fails.
 fn espeak_or_skip(test: &str) -> bool {
-    if have("espeak-ng") {
-        return true;
-    }
-    let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
-    assert!(
-        !ci,
-        "{test}: espeak-ng is not installed but CI=true: install it (apt-get install espeak-ng)"
-    );
-    eprintln!("SKIPPED {test}: espeak-ng is not installed (apt-get install espeak-ng)");
-    false
+    tool_or_skip("espeak-ng", "--version", test)
 }
 
 fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
@@ -166,7 +153,7 @@ fn bad_input_gets_clear_errors() {
         (&["speak", "  ...  "], "no text"),
         (
             &["speak", "Hi.", "--preset", "sleepy"],
-            "unknown breathing preset",
+            "[possible values: neutral, calm, anxious, tired, excited]",
         ),
         (
             &["speak", "Hi.", "--rate", "5"],

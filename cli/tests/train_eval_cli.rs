@@ -167,7 +167,8 @@ fn clear_errors_for_bad_data_and_models() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{err}");
     assert!(
-        err.contains("no .head.csv for solo.wav") && err.contains("no .wav for other.head.csv"),
+        err.contains("no .head.csv for solo.wav")
+            && err.contains("no audio file (.wav, .flac, …) for other.head.csv"),
         "{err}"
     );
     std::fs::remove_file(data.join("solo.wav")).unwrap();

@@ -721,8 +721,10 @@ fn bad_headers_fail_with_their_reason() {
         ),
         (
             "flac",
+            // Named .wav but FLAC inside: read as FLAC (pneuma-io goes by content), and this
+            // one is cut inside its header.
             b"fLaC\0\0\0\x22 and more bytes".to_vec(),
-            vec!["not a readable WAV file", "FLAC"],
+            vec!["ends inside its FLAC header"],
         ),
         (
             "text",

@@ -4,7 +4,7 @@
 //! breathing controls.
 
 use pneuma_core::engine::offline::{self, Rendered};
-use pneuma_core::engine::{Engine, EngineConfig, PlacementMode};
+use pneuma_core::engine::{ConfigChange, Dropped, Engine, EngineConfig, PlacementMode};
 use pneuma_core::head::HeadModel;
 use pneuma_core::rng::SeededRng;
 use pneuma_core::synth::{self, GlottalVowel, Vowel};
@@ -325,6 +325,14 @@ fn a_word_too_short_to_confirm_is_never_covered_by_a_breath() {
     audio[at..at + word.len()].copy_from_slice(&word);
     let (w0, w1) = (at as f64 / SR, (at + word.len()) as f64 / SR);
     let r = render(&config(), std::slice::from_ref(&audio), &[512]);
+    // The pause still gets its breath, after the word.
+    assert!(
+        r.breaths
+            .iter()
+            .any(|b| b.start_s >= w1 && b.end_s <= spans[1].0),
+        "no breath between the word and the next phrase: {:?}",
+        r.breaths
+    );
     for b in &r.breaths {
         assert!(
             b.end_s <= w0 || b.start_s >= w1,
@@ -404,8 +412,17 @@ fn every_frame_of_the_stream_comes_out_in_both_modes() {
         let mut c = config();
         c.placement.mode = mode;
         let r = render(&c, std::slice::from_ref(&audio), &[256]);
-        let inside = r.frames.iter().filter(|f| f.0.index < expected).count() as u64;
-        assert_eq!(inside, expected, "{mode:?}");
+        // In order, none twice, none missing, the whole stream (the tail flush may add more).
+        let indices: Vec<u64> = r.frames.iter().map(|f| f.0.index).collect();
+        assert!(
+            indices.len() as u64 >= expected,
+            "{mode:?}: {}",
+            indices.len()
+        );
+        assert!(
+            indices.iter().copied().eq(0..indices.len() as u64),
+            "{mode:?}: frame indices are not 0, 1, 2, …: {indices:?}"
+        );
     }
 }
 
@@ -565,4 +582,82 @@ fn nan_and_infinite_input_never_reach_the_output() {
         .frames
         .iter()
         .all(|f| f.0.rms_db.is_finite() && f.0.breathing.lung.is_finite()));
+}
+
+#[test]
+fn a_stream_change_waits_for_prepare_and_config_reports_what_is_in_effect() {
+    let mut engine = Engine::new(config(), HeadModel::default_model().clone()).unwrap();
+    // Before the first prepare everything applies at once.
+    let mut early = config();
+    early.placement.lookahead_s = 0.6;
+    let change = engine.set_config(&early).unwrap();
+    assert!(!change.needs_prepare && !change.live, "{change:?}");
+    assert_eq!(engine.config().placement.lookahead_s, 0.6);
+    engine.prepare(SR, 256, 1).unwrap();
+    let lookahead = engine.latency_samples();
+    assert_eq!(lookahead, (0.6 * SR).round() as u32);
+    let mut c = early.clone();
+    c.placement.mode = PlacementMode::Live;
+    c.placement.breath_level_db = -30.0;
+    let change = engine.set_config(&c).unwrap();
+    assert_eq!(
+        change,
+        ConfigChange {
+            live: true,
+            needs_prepare: true
+        }
+    );
+    // The live part is in effect, the mode is not yet, and config() says exactly that.
+    assert_eq!(engine.config().placement.breath_level_db, -30.0);
+    assert_eq!(engine.config().placement.mode, PlacementMode::Lookahead);
+    assert_eq!(engine.latency_samples(), lookahead);
+    assert_eq!(engine.pending_config(), Some(&c));
+    engine.prepare(SR, 256, 1).unwrap();
+    assert_eq!(engine.config(), &c);
+    assert_eq!(engine.pending_config(), None);
+    assert_eq!(engine.latency_samples(), 0);
+    // Going back before a prepare cancels the pending change.
+    engine.set_config(&early).unwrap();
+    let change = engine.set_config(&c).unwrap();
+    assert!(!change.needs_prepare, "{change:?}");
+    assert_eq!(engine.pending_config(), None);
+}
+
+#[test]
+fn nothing_is_dropped_on_a_render_and_uncollected_breaths_are_counted() {
+    let pauses = [0.6; 79];
+    let (audio, _) = sequence(0.6, &[0.8; 80], &pauses);
+    let r = {
+        let mut engine = Engine::new(config(), HeadModel::default_model().clone()).unwrap();
+        engine.prepare(SR, 512, 1).unwrap();
+        let r = offline::render(&mut engine, std::slice::from_ref(&audio), &[512]);
+        assert!(engine.dropped().is_none(), "{:?}", engine.dropped());
+        r
+    };
+    assert!(r.breaths.len() > 70, "{} breaths", r.breaths.len());
+    // The same stream without take_breaths: all but the last 64 are pushed out, and counted.
+    let mut engine = Engine::new(config(), HeadModel::default_model().clone()).unwrap();
+    engine.prepare(SR, 512, 1).unwrap();
+    let mut buf = audio.clone();
+    buf.resize(audio.len() + engine.tail_samples() as usize, 0.0);
+    for chunk in buf.chunks_mut(512) {
+        engine.process(&mut [chunk], &mut |_, _| {});
+    }
+    engine.finish();
+    let mut kept = 0;
+    engine.take_breaths(|_| kept += 1);
+    let dropped = engine.dropped();
+    assert_eq!(kept, 64);
+    assert_eq!(
+        dropped.breaths as usize,
+        r.breaths.len() - 64,
+        "{dropped:?}"
+    );
+    assert_eq!(
+        Dropped {
+            breaths: 0,
+            ..dropped
+        },
+        Dropped::default()
+    );
 }

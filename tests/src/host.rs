@@ -11,7 +11,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use clack_extensions::audio_ports_config::PluginAudioPortsConfig;
-use clack_extensions::latency::PluginLatency;
+use clack_extensions::latency::{HostLatency, HostLatencyImpl, PluginLatency};
 use clack_extensions::params::{ParamInfoBuffer, PluginParams};
 use clack_extensions::state::PluginState;
 use clack_host::events::event_types::{MidiEvent, ParamValueEvent, TransportEvent, TransportFlags};
@@ -48,13 +48,32 @@ impl<'a> SharedHandler<'a> for Shared {
     fn request_callback(&self) {}
 }
 
+/// Host callbacks on the main thread.
+#[derive(Default)]
+pub struct MainThread {
+    /// How many times the plugin called the latency extension's `changed`.
+    latency_changed: std::cell::Cell<u32>,
+}
+
+impl MainThreadHandler<'_> for MainThread {}
+
+impl HostLatencyImpl for MainThread {
+    fn changed(&self) {
+        self.latency_changed.set(self.latency_changed.get() + 1);
+    }
+}
+
 /// The host type.
 pub struct TestHost;
 
 impl HostHandlers for TestHost {
     type Shared<'a> = Shared;
-    type MainThread<'a> = ();
+    type MainThread<'a> = MainThread;
     type AudioProcessor<'a> = ();
+
+    fn declare_extensions(builder: &mut HostExtensions<Self>, _shared: &Self::Shared<'_>) {
+        builder.register::<HostLatency>();
+    }
 }
 
 /// nice-plug's CLAP/VST3 parameter id for a string id (`nice_plug::wrapper::util::hash_param_id`).
@@ -90,6 +109,8 @@ pub struct ParamDesc {
     pub max: f64,
     /// CLAP default value.
     pub default: f64,
+    /// The module (folder) the plugin files it under; empty at the top.
+    pub module: String,
 }
 
 impl Plugin {
@@ -108,7 +129,7 @@ impl Plugin {
             |_| Shared {
                 restart_requested: AtomicBool::new(false),
             },
-            |_| (),
+            |_| MainThread::default(),
             &entry,
             &id,
             &host_info,
@@ -146,6 +167,7 @@ impl Plugin {
                     min: info.min_value,
                     max: info.max_value,
                     default: info.default_value,
+                    module: String::from_utf8_lossy(info.module).into_owned(),
                 });
             }
         }
@@ -247,6 +269,11 @@ impl Plugin {
     pub fn restart_requested(&self) -> bool {
         self.instance
             .access_shared_handler(|s| s.restart_requested.load(Ordering::SeqCst))
+    }
+
+    /// How many times the plugin told the host (latency extension) that its latency changed.
+    pub fn latency_changes(&self) -> u32 {
+        self.instance.access_handler(|m| m.latency_changed.get())
     }
 
     /// The latency the plugin reports, samples.

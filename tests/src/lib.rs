@@ -11,7 +11,7 @@
 //!
 //! Test files: `plugin_clap.rs` (parameters, block partitions at 44.1/48 kHz, CC rules, breaths
 //! in the audio, 14-bit/channel settings, state, NaN/silence, latency and restart, transport
-//! jumps, and — once `pneuma render` exists — equality with the CLI render), `osc_udp.rs` (both
+//! jumps, and equality with the CLI render), `osc_udp.rs` (both
 //! OSC formats received on 127.0.0.1, target and format changed while playing, an unresolvable
 //! target), `example_voice.rs` (the shipped voice). `tests/vst3/check_vst3.py` is the VST3 check
 //! in a real host (pedalboard), run by `.ci/run`. `benches/plugin_cpu.rs` measures CPU per

@@ -121,6 +121,18 @@ def main():
 
     # 5. State round trip.
     if hasattr(plugin, "raw_state"):
+        # Printed, not checked: nice-plug 0.4.2 ignores IEditController::setParamNormalized while
+        # the plugin processes, so a state saved before the next block holds the previous value
+        # (README, "State"). pedalboard saves without a block in between.
+        probe = load(args.vst3)
+        probe.breath_level_db = -14.0
+        early = load(args.vst3)
+        early.raw_state = probe.raw_state
+        lag = abs(early.breath_level_db - (-14.0)) > 0.06
+        print(
+            "state saved right after a change, no block in between: breath_level_db "
+            f"{early.breath_level_db} ({'previous value: nice-plug limitation' if lag else 'new value'})"
+        )
         plugin.breath_level_db = -12.0
         plugin.mode = "Live"
         # VST3 hands parameter changes to the processor with the next audio block; the state

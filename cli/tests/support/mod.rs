@@ -5,6 +5,26 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// True when `program` runs (`program version_arg` succeeds). Without it a test skips visibly,
+/// except under `CI=true` (`.ci/run` installs it), where it fails. The Debian package has the
+/// program's name (`espeak-ng`, `ffmpeg`).
+pub fn tool_or_skip(program: &str, version_arg: &str, test: &str) -> bool {
+    if Command::new(program)
+        .arg(version_arg)
+        .output()
+        .is_ok_and(|o| o.status.success())
+    {
+        return true;
+    }
+    let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
+    assert!(
+        !ci,
+        "{test}: {program} is not installed but CI=true: install it (apt-get install {program})"
+    );
+    eprintln!("SKIPPED {test}: {program} is not installed (apt-get install {program})");
+    false
+}
+
 /// Runs the built `pneuma` binary with `args`.
 pub fn pneuma(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_pneuma"))

@@ -10,7 +10,7 @@ mod clock;
 mod config;
 mod decimator;
 mod highpass;
-mod noise_floor;
+pub(crate) mod noise_floor;
 mod pitch;
 mod speaker_norm;
 mod tracking;

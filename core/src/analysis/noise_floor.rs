@@ -21,9 +21,15 @@ impl NoiseFloor {
     pub(crate) fn new(window_s: f64, frame_rate_hz: f64) -> Self {
         let block_frames = ((BLOCK_S * frame_rate_hz).round() as usize).max(1);
         let blocks = ((window_s / BLOCK_S).round() as usize).max(1);
+        Self::with_blocks(block_frames, blocks)
+    }
+
+    /// A tracker whose ring holds `blocks` minima of `block_frames` frames each (both at least
+    /// 1), for callers that count in their own ticks. Allocates.
+    pub(crate) fn with_blocks(block_frames: usize, blocks: usize) -> Self {
         Self {
-            block_frames,
-            ring: vec![f32::INFINITY; blocks],
+            block_frames: block_frames.max(1),
+            ring: vec![f32::INFINITY; blocks.max(1)],
             filled: 0,
             next: 0,
             block_min: f32::INFINITY,

@@ -144,6 +144,19 @@ impl BreathCycle {
         };
     }
 
+    /// Speech (or something that may be speech) came back during an inspiration: the
+    /// inspiration stops where it is and the breath is held ([`HOLD_S`]) until the utterance
+    /// starts. Ignored outside inspiration. Live placement calls it, since it cannot know
+    /// beforehand how long a pause lasts.
+    pub fn interrupt(&mut self) {
+        if let State::Inspiration { .. } = self.state {
+            self.state = State::Rest {
+                time_s: 0.0,
+                hold_s: HOLD_S,
+            };
+        }
+    }
+
     /// Speech ended: the cycle goes to rest (see the module docs). Ignored outside expiration.
     pub fn speech_stopped(&mut self) {
         if let State::Expiration { .. } = self.state {

@@ -44,7 +44,7 @@ pub enum BreathingError {
         max: f32,
     },
     /// No preset has this name.
-    #[error("unknown breathing preset `{0}`; use one of neutral, calm, anxious, tired, excited")]
+    #[error("unknown breathing preset `{0}`; use one of {names}", names = Preset::NAMES.join(", "))]
     UnknownPreset(String),
     /// A breath sample is unusable.
     #[error("breath sample rejected: {0}")]

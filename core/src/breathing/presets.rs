@@ -40,8 +40,20 @@ impl Preset {
         Preset::Excited,
     ];
 
+    /// Every preset's name, in the order of [`Preset::ALL`] (for option parsers, e.g. clap's
+    /// `PossibleValuesParser`, and messages).
+    pub const NAMES: [&'static str; Preset::ALL.len()] = {
+        let mut names = [""; Preset::ALL.len()];
+        let mut i = 0;
+        while i < names.len() {
+            names[i] = Preset::ALL[i].name();
+            i += 1;
+        }
+        names
+    };
+
     /// The lower-case name (`neutral`, `calm`, `anxious`, `tired`, `excited`).
-    pub fn name(self) -> &'static str {
+    pub const fn name(self) -> &'static str {
         match self {
             Preset::Neutral => "neutral",
             Preset::Calm => "calm",
@@ -128,5 +140,24 @@ impl Preset {
 impl std::fmt::Display for Preset {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_name_parses_back_and_the_error_lists_them_all() {
+        assert_eq!(Preset::NAMES.len(), Preset::ALL.len());
+        for (p, name) in Preset::ALL.into_iter().zip(Preset::NAMES) {
+            assert_eq!(p.name(), name);
+            assert_eq!(Preset::from_name(&name.to_uppercase()).unwrap(), p);
+        }
+        let e = Preset::from_name("sleepy").unwrap_err().to_string();
+        assert!(
+            e.ends_with("use one of neutral, calm, anxious, tired, excited"),
+            "{e}"
+        );
     }
 }

@@ -140,6 +140,40 @@ impl Default for EngineConfig {
 }
 
 impl EngineConfig {
+    /// True when `other` differs in the stream part, which sizes and seeds the stream and so
+    /// only takes effect at [`super::Engine::prepare`]: the analysis, the phrase tracker, the
+    /// placement mode, the lookahead and the seed.
+    pub fn stream_differs(&self, other: &EngineConfig) -> bool {
+        self.analysis != other.analysis
+            || self.phrase != other.phrase
+            || self.placement.mode != other.placement.mode
+            || self.placement.lookahead_s != other.placement.lookahead_s
+            || self.seed != other.seed
+    }
+
+    /// True when `other` differs in the live part, which applies while playing: every placement
+    /// setting but the mode and the lookahead, the breathing parameters, the head settings.
+    pub fn live_differs(&self, other: &EngineConfig) -> bool {
+        let mut live = other.clone();
+        live.set_stream_part(self);
+        live != *self
+    }
+
+    /// Takes the live part (see [`EngineConfig::live_differs`]) from `other`.
+    pub fn set_live_part(&mut self, other: &EngineConfig) {
+        let mut next = other.clone();
+        next.set_stream_part(self);
+        *self = next;
+    }
+
+    fn set_stream_part(&mut self, from: &EngineConfig) {
+        self.analysis = from.analysis.clone();
+        self.phrase = from.phrase;
+        self.placement.mode = from.placement.mode;
+        self.placement.lookahead_s = from.placement.lookahead_s;
+        self.seed = from.seed;
+    }
+
     /// Checks every part.
     pub fn validate(&self) -> Result<(), EngineError> {
         self.analysis.validate()?;

@@ -13,138 +13,158 @@
 //!      in it, an inhalation is placed to end `gap_s` before the onset, no earlier than
 //!      `after_offset_s` after the previous phrase and no earlier than the output position, and
 //!      as long as the breathing model's inspiration length allows;
-//!    - live: at a confirmed phrase end (after the tracker's hangover) an inhalation starts at
-//!      once; a new onset fades it out within `live_fade_s`.
+//!    - live (no delay, so the next onset is unknown): once a confirmed phrase end (after the
+//!      tracker's hangover) lies `min_pause_s` (at least `after_offset_s`) in the past, an
+//!      inhalation starts, with the breathing cycle's inspiration, unless the input is active at
+//!      that sample; activity before then cancels it. A sample-level input gate (`gate`) fades
+//!      a playing breath out over `live_fade_s` from the first active sample, and the cycle
+//!      stops inspiring before the first frame that heard it. A breath cut within its first
+//!      60 ms or never above −60 dBFS is an inaudible stub and is not reported.
 //! 4. The output is the delayed input, bit for bit, plus the breath sound where a breath plays,
 //!    spread over the channels in the voice's stereo image.
 //! 5. Control frames are emitted when the output reaches their time, with their sample offset in
 //!    the block: the breathing cycle advances by one frame, driven by the scheduled events.
 //!
+//! ## Parts (each with `new`, `reset` and its step; `prepare` builds them all)
+//! - [`DelayLine`](delay): the per-channel delay (the lookahead).
+//! - [`StereoImage`](stereo): per-channel energies and the voice's channel shares.
+//! - [`InputGate`](gate): live mode's sample-level activity detector.
+//! - [`Placement`](placement): phrase events → scheduled breath and cycle actions (the two
+//!   policies), with the speech level and utterance estimate they use.
+//! - [`BreathTrack`](breath_track): carries out breath actions, renders and records breaths.
+//! - [`CycleTrack`](cycle_track): steps the breathing cycle at each emitted control frame.
+//!
 //! Every decision depends on the sample sequence only, so any block partition gives identical
 //! output and control frames. `process` never allocates.
 
+mod breath_track;
 mod config;
+mod cycle_track;
+mod delay;
+mod gate;
 pub mod offline;
+mod placement;
 mod schedule;
+mod stereo;
 
 pub use config::{EngineConfig, EngineError, PlacementConfig, PlacementMode};
 
 use crate::analysis::{Analyzer, FeatureFrame};
-use crate::breathing::{BreathCycle, BreathSample, BreathVoice, SampleSlot};
-use crate::control::{BreathEvent, BreathKind, ControlFrame, HeadAngles};
+use crate::breathing::{BreathSample, BreathVoice, SampleSlot};
+use crate::control::{BreathEvent, ControlFrame, HeadAngles};
 use crate::head::{HeadModel, HeadSynth};
 use crate::phrase::{PhraseEvent, PhraseTracker};
-use schedule::Queue;
+use breath_track::{Block, BreathTrack};
+use cycle_track::CycleTrack;
+use delay::DelayLine;
+use gate::InputGate;
+use placement::{EventContext, Placement};
+use schedule::{Queue, Schedule};
+use stereo::StereoImage;
 
 /// Most channels a stream may have.
 pub const MAX_CHANNELS: usize = 8;
-/// Shortest inhalation worth inserting, seconds.
-const MIN_BREATH_S: f64 = 0.12;
-/// Prior of the utterance length before any phrase was heard, seconds.
-const PRIOR_UTTERANCE_S: f32 = 2.5;
-/// Weight of the newest phrase in the running utterance-length estimate.
-const UTTERANCE_SMOOTHING: f32 = 0.3;
-
-/// A breath action on the input timeline (sample index).
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum BreathAction {
-    /// Start an inhalation of `length` samples with plateau RMS `gain`, spread over the
-    /// channels with `gains`.
-    Start {
-        length: usize,
-        gain: f32,
-        gains: [f32; MAX_CHANNELS],
-    },
-    /// Fade the playing inhalation out.
-    FadeOut,
-}
-
-/// A breathing-cycle event on the input timeline (seconds).
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum CycleAction {
-    Inspire { length_s: f32, utterance_s: f32 },
-    UtteranceStarts { utterance_s: f32 },
-    SpeechStopped,
-}
 
 /// A feature frame waiting for the output to reach it.
 #[derive(Debug, Clone, Copy, Default)]
-struct Pending {
-    frame: FeatureFrame,
-    head: HeadAngles,
+pub(crate) struct Pending {
+    pub(crate) frame: FeatureFrame,
+    pub(crate) head: HeadAngles,
     /// Output sample index from which it may be emitted.
-    emit_at: u64,
+    pub(crate) emit_at: u64,
 }
 
-/// The breath being rendered, for `breaths.csv`.
-#[derive(Debug, Clone, Copy)]
-struct OpenBreath {
-    start: u64,
-    /// Planned end (input timeline), shortened by a fade-out.
-    end: u64,
-    kind: BreathKind,
-    peak: f32,
+/// What the engine had to drop since the last [`Engine::prepare`], counted so that no loss is
+/// silent. Every count but `breaths` stays 0 unless an internal bound is wrong (debug builds
+/// assert it); `breaths` grows when a caller lets more than 64 finished breaths pile up
+/// without [`Engine::take_breaths`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Dropped {
+    /// Feature frames completed in one block beyond the block's frame buffer.
+    pub frames: u64,
+    /// Phrase events beyond three reported at one frame.
+    pub phrase_events: u64,
+    /// Control frames, breath actions and breathing-cycle actions pushed out of full queues.
+    pub scheduled: u64,
+    /// Finished breaths pushed out before [`Engine::take_breaths`] collected them.
+    pub breaths: u64,
+    /// Blocks the analysis refused (it is prepared for every block `process` hands it).
+    pub analysis_blocks: u64,
 }
 
-/// Everything sized by `prepare`.
+impl Dropped {
+    /// True when nothing was dropped.
+    pub fn is_none(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+/// What [`Engine::set_config`] did with a new configuration.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ConfigChange {
+    /// Settings that apply while playing changed and are in effect now.
+    pub live: bool,
+    /// Settings that size the stream changed (see [`EngineConfig::stream_differs`]); they wait
+    /// for the next [`Engine::prepare`], and [`Engine::config`] keeps reporting the ones in
+    /// effect until then.
+    pub needs_prepare: bool,
+}
+
+/// Everything sized by `prepare`: the parts, the buffers of one block and the stream clock.
 #[derive(Debug)]
 struct Stream {
     sample_rate_hz: f64,
     channels: usize,
     max_block: usize,
-    mode: PlacementMode,
+    live: bool,
     /// Frame rate fixed at `prepare` (a new one takes effect at the next `prepare`).
     frame_rate_hz: f64,
-    latency: usize,
     /// Samples from an input sample to the last frame that depends on it being emitted.
     tail: usize,
     analyzer: Analyzer,
     tracker: PhraseTracker,
     head: HeadSynth,
-    cycle: BreathCycle,
-    voice: BreathVoice,
-    /// Per-channel delay rings (power-of-two length).
-    delay: Vec<Vec<f32>>,
-    delay_mask: usize,
-    breath: Vec<f32>,
+    delay: DelayLine,
+    stereo: StereoImage,
+    gate: InputGate,
+    placement: Placement,
+    breaths: BreathTrack,
+    cycle: CycleTrack,
     pending: Queue<Pending>,
-    breath_actions: Queue<(u64, BreathAction)>,
-    cycle_actions: Queue<(f64, CycleAction)>,
-    finished_breaths: Queue<BreathEvent>,
-    open_breath: Option<OpenBreath>,
-    /// Samples taken in (input timeline) = samples given out (output timeline).
-    position: u64,
-    /// Running mean square per channel over voiced frames, for the stereo image.
-    channel_ms: [f64; MAX_CHANNELS],
-    /// Per-channel mean square smoothed over about 20 ms, sample by sample.
-    short_ms: [f64; MAX_CHANNELS],
-    /// `short_ms` at every sample of the current block, per channel.
-    ms_trace: Vec<Vec<f64>>,
-    energy_smoothing: f64,
+    schedule: Schedule,
     /// Mono mix of the current block.
     mono: Vec<f32>,
+    /// Live mode: whether the input is active at every sample of the current block.
+    input_active: Vec<bool>,
     /// Frames completed in the current block with the index of the completing sample.
     completed: Vec<(FeatureFrame, usize)>,
-    speech_level_db: f32,
-    /// Power sum and count of the voiced frames of the phrase being spoken.
-    phrase_power: f64,
-    phrase_voiced: u32,
-    /// Level of the last complete phrase, dBFS.
-    last_phrase_level_db: Option<f32>,
-    /// Channel gains of the breath playing.
-    breath_gains: [f32; MAX_CHANNELS],
-    utterance_s: f32,
-    speaking: bool,
-    /// Start (s) and expected length (s) of the utterance being spoken.
-    utterance_start_s: f64,
-    utterance_expected_s: f64,
-    breath_end: u64,
+    state: StreamState,
+    lost: Lost,
+}
+
+/// What [`Engine::reset`] clears at the stream level (the parts clear their own).
+#[derive(Debug, Clone, Copy, Default)]
+struct StreamState {
+    /// Samples taken in (input timeline) = samples given out (output timeline).
+    position: u64,
+}
+
+/// Losses [`Dropped`] reports besides the queues' own counts (kept from `prepare` on, through
+/// `reset`).
+#[derive(Debug, Clone, Copy, Default)]
+struct Lost {
+    frames: u64,
+    phrase_events: u64,
+    analysis_blocks: u64,
 }
 
 /// The streaming engine. See the module docs.
 #[derive(Debug)]
 pub struct Engine {
+    /// The settings in effect.
     config: EngineConfig,
+    /// Settings waiting for the next `prepare` (a change of the stream part).
+    pending: Option<EngineConfig>,
     model: HeadModel,
     samples: [Option<BreathSample>; 2],
     stream: Option<Stream>,
@@ -159,15 +179,35 @@ impl Engine {
         HeadSynth::new(head_model.clone(), config.head.clone())?;
         Ok(Self {
             config,
+            pending: None,
             model: head_model,
             samples: [None, None],
             stream: None,
         })
     }
 
-    /// The settings.
+    /// The settings in effect (a stream change given to [`Engine::set_config`] shows here only
+    /// after the next [`Engine::prepare`]; see [`Engine::pending_config`]).
     pub fn config(&self) -> &EngineConfig {
         &self.config
+    }
+
+    /// Settings given to [`Engine::set_config`] that wait for the next [`Engine::prepare`].
+    pub fn pending_config(&self) -> Option<&EngineConfig> {
+        self.pending.as_ref()
+    }
+
+    /// What was dropped since the last [`Engine::prepare`] (all zero before it).
+    pub fn dropped(&self) -> Dropped {
+        self.stream
+            .as_ref()
+            .map_or_else(Dropped::default, |s| Dropped {
+                frames: s.lost.frames,
+                phrase_events: s.lost.phrase_events,
+                scheduled: s.pending.dropped() + s.schedule.dropped(),
+                breaths: s.breaths.dropped(),
+                analysis_blocks: s.lost.analysis_blocks,
+            })
     }
 
     /// Sets a user breath sample (`None`: the procedural sound). Allocates: not for the audio
@@ -179,12 +219,13 @@ impl Engine {
         };
         self.samples[i] = sample.clone();
         if let Some(s) = &mut self.stream {
-            s.voice.set_sample(slot, sample);
+            s.breaths.voice_mut().set_sample(slot, sample);
         }
     }
 
     /// Allocates everything for a stream at `sample_rate_hz` (8–768 kHz) with blocks of at most
-    /// `max_block` samples and `channels` channels (1–8), and resets.
+    /// `max_block` samples and `channels` channels (1–8), takes in settings waiting for it, and
+    /// resets.
     pub fn prepare(
         &mut self,
         sample_rate_hz: f64,
@@ -197,14 +238,15 @@ impl Engine {
         if max_block == 0 || max_block > 65_536 {
             return Err(EngineError::MaxBlock(max_block));
         }
+        if let Some(pending) = self.pending.take() {
+            self.config = pending;
+        }
         let c = &self.config;
         let mut analyzer = Analyzer::new(c.analysis.clone())?;
         analyzer.prepare(sample_rate_hz, max_block)?;
         let frame_rate_hz = c.analysis.frame_rate_hz;
         let tracker = PhraseTracker::new(c.phrase, frame_rate_hz)?;
         let head = HeadSynth::new(self.model.clone(), c.head.clone())?;
-        let low = c.breathing.map();
-        let cycle = BreathCycle::new(&low);
         let mut voice = BreathVoice::new(c.seed);
         voice.prepare(sample_rate_hz, max_block);
         for (slot, sample) in [SampleSlot::Mouth, SampleSlot::Nose]
@@ -213,13 +255,14 @@ impl Engine {
         {
             voice.set_sample(slot, sample.clone());
         }
-        let latency = match c.placement.mode {
+        let mode = c.placement.mode;
+        let live = mode == PlacementMode::Live;
+        let latency = match mode {
             PlacementMode::Lookahead => {
                 (c.placement.lookahead_s as f64 * sample_rate_hz).round() as usize
             }
             PlacementMode::Live => 0,
         };
-        let ring = (latency + max_block + 1).next_power_of_two();
         let frames_per_block =
             (max_block as f64 * frame_rate_hz / sample_rate_hz).ceil() as usize + 4;
         let analysis_latency_s = analyzer.latency_s().unwrap_or(0.05);
@@ -235,9 +278,8 @@ impl Engine {
             sample_rate_hz,
             channels,
             max_block,
-            mode: c.placement.mode,
+            live,
             frame_rate_hz,
-            latency,
             tail: latency
                 + (analysis_latency_s * sample_rate_hz).ceil() as usize
                 + (sample_rate_hz / frame_rate_hz).ceil() as usize
@@ -245,33 +287,19 @@ impl Engine {
             analyzer,
             tracker,
             head,
-            cycle,
-            voice,
-            delay: vec![vec![0.0; ring]; channels],
-            delay_mask: ring - 1,
-            breath: vec![0.0; max_block],
+            delay: DelayLine::new(channels, latency, max_block),
+            stereo: StereoImage::new(sample_rate_hz, channels, max_block),
+            gate: InputGate::new(sample_rate_hz, c.phrase.silence_db),
+            placement: Placement::new(mode, latency, sample_rate_hz),
+            breaths: BreathTrack::new(voice, sample_rate_hz, latency, live, max_block),
+            cycle: CycleTrack::new(&c.breathing.map(), sample_rate_hz, frame_rate_hz, live),
             pending: Queue::with_capacity(max_pending),
-            breath_actions: Queue::with_capacity(max_actions),
-            cycle_actions: Queue::with_capacity(max_actions),
-            finished_breaths: Queue::with_capacity(64),
-            open_breath: None,
-            position: 0,
-            channel_ms: [0.0; MAX_CHANNELS],
-            short_ms: [0.0; MAX_CHANNELS],
-            ms_trace: vec![vec![0.0; max_block]; channels],
+            schedule: Schedule::new(max_actions),
             mono: vec![0.0; max_block],
+            input_active: vec![false; max_block],
             completed: vec![(FeatureFrame::default(), 0); frames_per_block],
-            energy_smoothing: 1.0 - (-1.0 / (0.02 * sample_rate_hz)).exp(),
-            speech_level_db: -26.0,
-            phrase_power: 0.0,
-            phrase_voiced: 0,
-            last_phrase_level_db: None,
-            breath_gains: [1.0; MAX_CHANNELS],
-            utterance_s: PRIOR_UTTERANCE_S,
-            speaking: false,
-            utterance_start_s: 0.0,
-            utterance_expected_s: PRIOR_UTTERANCE_S as f64,
-            breath_end: 0,
+            state: StreamState::default(),
+            lost: Lost::default(),
         });
         self.reset();
         Ok(())
@@ -284,34 +312,23 @@ impl Engine {
             s.analyzer.reset();
             s.tracker.reset();
             s.head.reset();
+            s.delay.reset();
+            s.stereo.reset();
+            s.gate.reset();
+            s.placement.reset();
+            s.breaths.reset();
             s.cycle.reset();
-            s.voice.reset();
-            s.delay.iter_mut().for_each(|d| d.fill(0.0));
             s.pending.clear();
-            s.breath_actions.clear();
-            s.cycle_actions.clear();
-            s.finished_breaths.clear();
-            s.open_breath = None;
-            s.position = 0;
-            s.channel_ms = [0.0; MAX_CHANNELS];
-            s.short_ms = [0.0; MAX_CHANNELS];
-            s.speech_level_db = -26.0;
-            s.phrase_power = 0.0;
-            s.phrase_voiced = 0;
-            s.last_phrase_level_db = None;
-            s.breath_gains = [1.0; MAX_CHANNELS];
-            s.utterance_s = PRIOR_UTTERANCE_S;
-            s.speaking = false;
-            s.utterance_start_s = 0.0;
-            s.utterance_expected_s = PRIOR_UTTERANCE_S as f64;
-            s.breath_end = 0;
+            s.schedule.reset();
+            s.input_active.fill(false);
+            s.state = StreamState::default();
         }
     }
 
     /// The delay the engine adds, in samples: the lookahead in lookahead mode, 0 in live mode
     /// (0 before `prepare`).
     pub fn latency_samples(&self) -> u32 {
-        self.stream.as_ref().map_or(0, |s| s.latency as u32)
+        self.stream.as_ref().map_or(0, |s| s.delay.latency() as u32)
     }
 
     /// Silence to feed after the end of a stream so every frame of it is emitted and every
@@ -327,34 +344,50 @@ impl Engine {
         self.stream.as_ref().map(|s| s.sample_rate_hz)
     }
 
-    /// Changes the settings that can change while playing, without allocating: breath level,
-    /// insertion on/off, minimum pause, gap, breathing parameters, head settings. Changes to the
-    /// mode, the lookahead, the analysis, the phrase tracker or the seed take effect at the next
-    /// [`Engine::prepare`].
-    pub fn set_config(&mut self, config: &EngineConfig) -> Result<(), EngineError> {
+    /// New settings. Before the first [`Engine::prepare`] all of them apply at once. After it,
+    /// the live part (breath level, insertion on/off, minimum pause, gap, live fade, breathing
+    /// parameters, head settings) applies at once, and a change of the stream part (mode,
+    /// lookahead, analysis, phrase tracker, seed) waits for the next `prepare`. Says which
+    /// happened. Never allocates.
+    pub fn set_config(&mut self, config: &EngineConfig) -> Result<ConfigChange, EngineError> {
         config.validate()?;
-        if let Some(s) = &mut self.stream {
+        let Some(s) = &mut self.stream else {
+            let change = ConfigChange {
+                live: config.live_differs(&self.config),
+                needs_prepare: false,
+            };
+            self.config = config.clone();
+            self.pending = None;
+            return Ok(change);
+        };
+        let change = ConfigChange {
+            live: config.live_differs(&self.config),
+            needs_prepare: config.stream_differs(&self.config),
+        };
+        if change.live {
             s.cycle.set_params(&config.breathing.map());
-            s.head.set_config(config.head.clone());
+            if config.head != self.config.head {
+                s.head.set_config(config.head.clone());
+            }
+            self.config.set_live_part(config);
         }
-        self.config = config.clone();
-        Ok(())
+        self.pending = change.needs_prepare.then(|| config.clone());
+        Ok(change)
     }
 
     /// Hands every finished inserted breath to `on_breath` (oldest first) and forgets them. Up
-    /// to 64 are kept between calls.
-    pub fn take_breaths(&mut self, mut on_breath: impl FnMut(&BreathEvent)) {
+    /// to 64 are kept between calls (older ones are dropped and counted in
+    /// [`Engine::dropped`]).
+    pub fn take_breaths(&mut self, on_breath: impl FnMut(&BreathEvent)) {
         if let Some(s) = &mut self.stream {
-            while let Some(b) = s.finished_breaths.pop_front() {
-                on_breath(&b);
-            }
+            s.breaths.take(on_breath);
         }
     }
 
     /// Ends a stream: closes a breath still playing so that [`Engine::take_breaths`] reports it.
     pub fn finish(&mut self) {
         if let Some(s) = &mut self.stream {
-            s.close_breath();
+            s.breaths.close_breath();
         }
     }
 
@@ -378,114 +411,103 @@ impl Engine {
         let mut done = 0;
         while done < len {
             let n = (len - done).min(s.max_block);
-            s.process_piece(&self.config, audio, channels, done, n, on_control);
+            let block = Block {
+                base: s.state.position,
+                start: done,
+                n,
+                channels,
+            };
+            s.process_block(&self.config, audio, block, on_control);
             done += n;
         }
     }
 }
 
 impl Stream {
-    fn process_piece(
+    /// One block of at most `max_block` samples (see the module docs for the steps).
+    fn process_block(
         &mut self,
         config: &EngineConfig,
         audio: &mut [&mut [f32]],
-        channels: usize,
-        start: usize,
-        n: usize,
+        block: Block,
         on_control: &mut dyn FnMut(&ControlFrame, usize),
     ) {
-        let base = self.position;
-        // 1. Per sample: clean input, delay line, energies smoothed over ~20 ms per channel
-        // (kept per sample for step 2), mono mix.
-        let smooth = self.energy_smoothing;
-        let mask = self.delay_mask;
+        let Block {
+            base,
+            start,
+            n,
+            channels,
+        } = block;
+        // 1. Clean input into the delay line and the stereo image; mono mix; live input gate.
+        let clean = |x: &f32| if x.is_finite() { *x } else { 0.0 };
         for (c, chan) in audio.iter().take(channels).enumerate() {
-            let mut ms = self.short_ms[c];
-            let delay = &mut self.delay[c];
-            let trace = &mut self.ms_trace[c];
-            let mono = &mut self.mono;
-            for (i, &x) in chan[start..start + n].iter().enumerate() {
-                let x = if x.is_finite() { x } else { 0.0 };
-                delay[(base as usize + i) & mask] = x;
-                ms += smooth * ((x as f64) * (x as f64) - ms);
-                trace[i] = ms;
+            let input = &chan[start..start + n];
+            self.delay.write(c, base, input.iter().map(clean));
+            self.stereo.track(c, input.iter().map(clean));
+            for (m, x) in self.mono[..n].iter_mut().zip(input.iter().map(clean)) {
                 if c == 0 {
-                    mono[i] = x;
+                    *m = x;
                 } else {
-                    mono[i] += x;
+                    *m += x;
                 }
             }
-            self.short_ms[c] = ms;
         }
         if channels > 1 {
             let inv = 1.0 / channels as f32;
             self.mono[..n].iter_mut().for_each(|m| *m *= inv);
         }
-        // 2. Analysis; each frame goes to the head pose, the phrase tracker and the scheduler
+        if self.live {
+            self.gate
+                .process(&self.mono[..n], &mut self.input_active[..n]);
+        }
+        // 2. Analysis; each frame goes to the head pose, the phrase tracker and the placement
         // as of the sample that completed it, so any partition gives the same decisions.
         let mut count = 0;
+        let mut beyond = 0u64;
         let completed = &mut self.completed;
-        // An analyzer prepared for this block size never fails here.
-        let _ = self.analyzer.process_indexed(&self.mono[..n], |f, i| {
+        let analysed = self.analyzer.process_indexed(&self.mono[..n], |f, i| {
             if count < completed.len() {
                 completed[count] = (*f, i);
                 count += 1;
+            } else {
+                beyond += 1;
             }
         });
+        // The analyzer is prepared for this block size and `completed` holds every frame a
+        // block can complete: neither loss can happen unless a bound is wrong.
+        debug_assert!(analysed.is_ok(), "analysis refused a block: {analysed:?}");
+        debug_assert_eq!(beyond, 0, "frames beyond the block's frame buffer");
+        self.lost.analysis_blocks += u64::from(analysed.is_err());
+        self.lost.frames += beyond;
         for k in 0..count {
             let (f, i) = self.completed[k];
             self.on_frame(config, &f, base + i as u64, i, channels);
         }
-        // 3. Output: the delayed input.
-        for (chan, delay) in audio.iter_mut().zip(&self.delay).take(channels) {
-            let out = &mut chan[start..start + n];
-            for (i, y) in out.iter_mut().enumerate() {
-                *y = delay[(base as usize + i + mask + 1 - self.latency) & mask];
-            }
+        // 3. Output: the delayed input. 4. Breaths.
+        for (c, chan) in audio.iter_mut().take(channels).enumerate() {
+            self.delay.read(c, base, &mut chan[start..start + n]);
         }
-        // 4. Breaths.
-        self.render_breaths(config, audio, channels, start, n);
+        self.breaths.render(
+            config,
+            audio,
+            block,
+            &self.input_active[..n],
+            &mut self.schedule,
+        );
         // 5. Control frames due in this block.
         let end = base + n as u64;
-        let dt_s = (1.0 / self.frame_rate_hz) as f32;
+        let mut checked = 0;
         while let Some(p) = self.pending.front().copied() {
             if p.emit_at >= end {
                 break;
             }
             self.pending.pop_front();
-            while let Some(&(t, action)) = self.cycle_actions.front() {
-                if t > p.frame.time_s + 1e-9 {
-                    break;
-                }
-                self.cycle_actions.pop_front();
-                match action {
-                    CycleAction::Inspire {
-                        length_s,
-                        utterance_s,
-                    } => self.cycle.inspire(length_s, utterance_s),
-                    CycleAction::UtteranceStarts { utterance_s } => {
-                        self.speaking = true;
-                        self.cycle.utterance_starts(utterance_s);
-                        self.utterance_start_s = t;
-                        self.utterance_expected_s = utterance_s as f64;
-                    }
-                    CycleAction::SpeechStopped => {
-                        self.speaking = false;
-                        self.cycle.speech_stopped();
-                    }
-                }
+            let offset = (p.emit_at.max(base) - base) as usize;
+            if self.live && offset >= checked {
+                self.note_activity(base, checked, offset + 1);
+                checked = offset + 1;
             }
-            // A phrase longer than expected: spread the rest of the air over a new estimate, so
-            // the lung keeps falling smoothly instead of sitting empty while speaking.
-            if self.speaking {
-                let spoken_s = p.frame.time_s - self.utterance_start_s;
-                if spoken_s >= 0.9 * self.utterance_expected_s {
-                    let extra_s = (0.5 * self.utterance_expected_s).max(1.0);
-                    self.cycle.utterance_starts(extra_s as f32);
-                    self.utterance_expected_s = spoken_s + extra_s;
-                }
-            }
-            let breathing = self.cycle.advance(dt_s);
+            let breathing = self.cycle.step(&p, &mut self.schedule);
             let f = &p.frame;
             let frame = ControlFrame {
                 index: f.index,
@@ -494,17 +516,27 @@ impl Stream {
                 voiced: f.voiced,
                 rms_db: f.rms_db,
                 level_db: f.level_db,
-                speaking: self.speaking,
+                speaking: self.cycle.speaking(),
                 breathing,
                 head: p.head,
             };
-            let offset = p.emit_at.max(base) - base;
-            on_control(&frame, start + offset as usize);
+            on_control(&frame, start + offset);
         }
-        self.position = end;
+        if self.live {
+            self.note_activity(base, checked, n);
+        }
+        self.state.position = end;
     }
 
-    /// One analysis frame, produced while taking in input sample `now`.
+    /// Live mode: tells the schedule the last active input sample of `input_active[from..to]`
+    /// (block starting at input sample `base`), for the breathing cycle.
+    fn note_activity(&mut self, base: u64, from: usize, to: usize) {
+        if let Some(k) = self.input_active[from..to].iter().rposition(|&a| a) {
+            self.schedule.note_activity(base + (from + k) as u64);
+        }
+    }
+
+    /// One analysis frame, completed by input sample `now` (index `i` in the block).
     fn on_frame(
         &mut self,
         config: &EngineConfig,
@@ -514,342 +546,36 @@ impl Stream {
         channels: usize,
     ) {
         let head = self.head.process(f, self.frame_rate_hz);
-        if f.voiced && f.rms_db.is_finite() && f.level_db.is_finite() {
-            self.speech_level_db = f.rms_db - f.level_db;
-            self.phrase_power += 10f64.powf(f.rms_db as f64 / 10.0);
-            self.phrase_voiced += 1;
-            // The voice's stereo image: the channels' share of the recent energy, averaged over
-            // voiced frames.
-            let total: f64 = (0..channels).map(|c| self.ms_trace[c][i]).sum();
-            if total > 0.0 {
-                for c in 0..channels {
-                    self.channel_ms[c] += 0.05 * (self.ms_trace[c][i] / total - self.channel_ms[c]);
-                }
-            }
+        if self.placement.on_frame(f) {
+            self.stereo.learn(i, channels);
         }
         let frame_pos = (f.time_s * self.sample_rate_hz).round() as u64;
-        let emit_at = (frame_pos + self.latency as u64).max(now);
+        let emit_at = (frame_pos + self.delay.latency() as u64).max(now);
         self.pending.push_back(Pending {
             frame: *f,
             head,
             emit_at,
         });
+        // The tracker reports at most an end, an activity and a start per frame.
         let mut events: [Option<PhraseEvent>; 3] = [None; 3];
         let mut count = 0;
         self.tracker.update(f, |e| {
-            if count < 3 {
+            if count < events.len() {
                 events[count] = Some(e);
             }
             count += 1;
         });
+        debug_assert!(count <= events.len(), "{count} phrase events at one frame");
+        self.lost.phrase_events += count.saturating_sub(events.len()) as u64;
         for e in events.into_iter().flatten() {
-            self.on_phrase_event(config, e, now, channels);
-        }
-    }
-
-    /// Level of the speech around a breath, dBFS: the phrase just spoken (its voiced frames'
-    /// mean power), or, before the first phrase has ended, the loudest voiced frame of the
-    /// upcoming phrase already analysed (lookahead; only its first tens of milliseconds are
-    /// known, still rising, so their loudest frame stands for the phrase), or the running
-    /// speech level.
-    fn local_speech_level_db(&self, onset_s: Option<f64>) -> f32 {
-        if let Some(db) = self.last_phrase_level_db {
-            return db;
-        }
-        if let Some(onset_s) = onset_s {
-            let loudest = self
-                .pending
-                .iter()
-                .filter(|p| {
-                    p.frame.time_s >= onset_s && p.frame.voiced && p.frame.rms_db.is_finite()
-                })
-                .map(|p| p.frame.rms_db)
-                .fold(f32::NEG_INFINITY, f32::max);
-            if loudest.is_finite() {
-                return loudest;
-            }
-        }
-        self.speech_level_db
-    }
-
-    /// Per-channel gains of a breath: the voice's share of energy in each channel, so a
-    /// centred voice gets the breath at full level in every channel. Fixed when the breath is
-    /// scheduled.
-    fn channel_gains(&self, channels: usize) -> [f32; MAX_CHANNELS] {
-        let mut g = [0.0f32; MAX_CHANNELS];
-        let total: f64 = self.channel_ms[..channels].iter().sum();
-        for (c, gc) in g.iter_mut().enumerate().take(channels) {
-            *gc = if channels == 1 || total <= 0.0 {
-                1.0
-            } else {
-                ((self.channel_ms[c] / total) * channels as f64).sqrt() as f32
+            let ctx = EventContext {
+                config,
+                now,
+                gains: self.stereo.gains(channels),
+                breath_playing: self.breaths.playing(),
+                pending: &self.pending,
             };
-        }
-        g
-    }
-
-    fn breath_gain(&self, config: &EngineConfig, speech_level_db: f32) -> f32 {
-        let neutral = crate::breathing::BreathingParams::default()
-            .map()
-            .breath_rms_re_speech();
-        let ours = config.breathing.map().breath_rms_re_speech();
-        let preset_db = if neutral > 0.0 && ours > 0.0 {
-            20.0 * (ours / neutral).log10()
-        } else if ours <= 0.0 {
-            -200.0
-        } else {
-            0.0
-        };
-        let rel_db = (config.placement.breath_level_db + preset_db).min(-6.0);
-        10f32.powf((speech_level_db + rel_db) / 20.0)
-    }
-
-    fn on_phrase_event(
-        &mut self,
-        config: &EngineConfig,
-        e: PhraseEvent,
-        now: u64,
-        channels: usize,
-    ) {
-        let p = &config.placement;
-        let rate = self.sample_rate_hz;
-        let inspiration_s = config.breathing.map().length_inspiration_s as f64;
-        match e {
-            PhraseEvent::Activity { .. } => {
-                // Live: whatever plays into the pause gives way at the first sign of activity.
-                if self.mode == PlacementMode::Live && self.breath_end > now {
-                    self.breath_actions
-                        .insert_sorted((now, BreathAction::FadeOut));
-                    self.breath_end = now;
-                }
-            }
-            PhraseEvent::Start { onset_s, pause } => {
-                let utterance_s = self.utterance_s;
-                self.phrase_power = 0.0;
-                self.phrase_voiced = 0;
-                self.cycle_actions
-                    .insert_sorted((onset_s, CycleAction::UtteranceStarts { utterance_s }));
-                if self.mode == PlacementMode::Live {
-                    if self.breath_end > now {
-                        self.breath_actions
-                            .insert_sorted((now, BreathAction::FadeOut));
-                        self.breath_end = now;
-                    }
-                    return;
-                }
-                if onset_s - pause.start_s < p.min_pause_s as f64 {
-                    return;
-                }
-                let end_s = onset_s - p.gap_s as f64;
-                // Never over activity inside the pause, never in the past (the output has
-                // reached input sample `now - latency`), never before the previous breath ended.
-                let after_s = pause
-                    .last_activity_end_s
-                    .map_or(pause.start_s, |a| a.max(pause.start_s));
-                let after_s = if pause.leading && pause.last_activity_end_s.is_none() {
-                    after_s
-                } else {
-                    after_s + p.after_offset_s as f64
-                };
-                let earliest = ((now + 1).saturating_sub(self.latency as u64)).max(self.breath_end)
-                    as f64
-                    / rate;
-                let start_s = (end_s - inspiration_s).max(after_s).max(earliest);
-                if end_s - start_s < MIN_BREATH_S {
-                    return;
-                }
-                let start = (start_s * rate).round() as u64;
-                let length = ((end_s - start_s) * rate).round() as usize;
-                // The body breathes in whether or not a sound is inserted (a breath already in
-                // the pause, or insertion switched off).
-                self.cycle_actions.insert_sorted((
-                    start_s,
-                    CycleAction::Inspire {
-                        length_s: (end_s - start_s) as f32,
-                        utterance_s,
-                    },
-                ));
-                if !p.insert_breaths || pause.has_breath {
-                    return;
-                }
-                let gain = self.breath_gain(config, self.local_speech_level_db(Some(onset_s)));
-                let gains = self.channel_gains(channels);
-                self.breath_actions.insert_sorted((
-                    start,
-                    BreathAction::Start {
-                        length,
-                        gain,
-                        gains,
-                    },
-                ));
-                self.breath_end = start + length as u64;
-            }
-            PhraseEvent::End { onset_s, offset_s } => {
-                let length_s = (offset_s - onset_s).max(0.0) as f32;
-                self.utterance_s += UTTERANCE_SMOOTHING * (length_s - self.utterance_s);
-                if self.phrase_voiced >= 3 {
-                    self.last_phrase_level_db = Some(
-                        (10.0 * (self.phrase_power / self.phrase_voiced as f64).log10()) as f32,
-                    );
-                }
-                self.cycle_actions
-                    .insert_sorted((offset_s, CycleAction::SpeechStopped));
-                if self.mode == PlacementMode::Live {
-                    let now_s = now as f64 / rate;
-                    self.cycle_actions.insert_sorted((
-                        now_s,
-                        CycleAction::Inspire {
-                            length_s: inspiration_s as f32,
-                            utterance_s: self.utterance_s,
-                        },
-                    ));
-                    if p.insert_breaths {
-                        let length = (inspiration_s * rate).round() as usize;
-                        let gain = self.breath_gain(config, self.local_speech_level_db(None));
-                        let gains = self.channel_gains(channels);
-                        self.breath_actions.insert_sorted((
-                            now,
-                            BreathAction::Start {
-                                length,
-                                gain,
-                                gains,
-                            },
-                        ));
-                        self.breath_end = now + length as u64;
-                    }
-                }
-            }
-        }
-    }
-
-    /// Renders the breath sound for the output block and adds it to the channels.
-    fn render_breaths(
-        &mut self,
-        config: &EngineConfig,
-        audio: &mut [&mut [f32]],
-        channels: usize,
-        start: usize,
-        n: usize,
-    ) {
-        let base = self.position;
-        let end = base + n as u64;
-        // Output sample o plays input sample o - latency.
-        let in_base = base.saturating_sub(self.latency as u64);
-        let warm = (self.latency as u64).saturating_sub(base).min(n as u64) as usize;
-        if !self.voice.is_active()
-            && self
-                .breath_actions
-                .front()
-                .is_none_or(|&(t, _)| t + self.latency as u64 >= end)
-        {
-            return;
-        }
-        // Taken out for the loop (no allocation) and put back at the end.
-        let mut breath = std::mem::take(&mut self.breath);
-        let buf = &mut breath[..n];
-        buf.fill(0.0);
-        let mut pos = warm;
-        let mut active_from = n;
-        let mut active_to = 0;
-        loop {
-            let next = self
-                .breath_actions
-                .front()
-                .map(|&(t, a)| ((t.max(in_base) - in_base) as usize + warm, a))
-                .filter(|&(off, _)| off < n);
-            let stop = next.map_or(n, |(off, _)| off);
-            if self.voice.is_active() && stop > pos {
-                active_from = active_from.min(pos);
-                active_to = stop;
-                self.voice.render_add(&mut buf[pos..stop]);
-            }
-            pos = stop;
-            let Some((_, action)) = next else { break };
-            self.breath_actions.pop_front();
-            match action {
-                BreathAction::Start {
-                    length,
-                    gain,
-                    gains,
-                } => {
-                    // Close the previous breath's record before the new one starts.
-                    if self.open_breath.is_some() {
-                        let peak = buf[active_from.min(pos)..pos]
-                            .iter()
-                            .fold(0.0f32, |m, x| m.max(x.abs()));
-                        let g_max = self.max_channel_gain(channels);
-                        if let Some(b) = &mut self.open_breath {
-                            b.peak = b.peak.max(peak * g_max);
-                        }
-                        self.close_breath();
-                    }
-                    {
-                        let mouth = config.breathing.map().mouth_share();
-                        self.voice.start(mouth, length, gain);
-                        self.breath_gains = gains;
-                        let at = in_base + pos as u64 - warm as u64;
-                        self.open_breath = Some(OpenBreath {
-                            start: at,
-                            end: at + length as u64,
-                            kind: self.voice.kind(),
-                            peak: 0.0,
-                        });
-                        active_from = active_from.min(pos);
-                    }
-                }
-                BreathAction::FadeOut => {
-                    let fade = (config.placement.live_fade_s as f64 * self.sample_rate_hz)
-                        .round()
-                        .max(1.0) as usize;
-                    self.voice.fade_out(fade);
-                    let at = in_base + pos as u64 - warm as u64;
-                    if let Some(b) = &mut self.open_breath {
-                        b.end = b.end.min(at + fade as u64);
-                    }
-                }
-            }
-        }
-        if active_from < active_to {
-            let peak = buf[active_from..active_to]
-                .iter()
-                .fold(0.0f32, |m, x| m.max(x.abs()));
-            let g_max = self.max_channel_gain(channels);
-            if let Some(b) = &mut self.open_breath {
-                b.peak = b.peak.max(peak * g_max);
-            }
-            for (c, chan) in audio.iter_mut().take(channels).enumerate() {
-                let g = self.breath_gains[c];
-                let out = &mut chan[start + active_from..start + active_to];
-                for (y, b) in out.iter_mut().zip(&buf[active_from..active_to]) {
-                    // Only where the breath sounds: adding 0 would turn −0.0 into +0.0.
-                    if *b != 0.0 {
-                        *y += g * b;
-                    }
-                }
-            }
-        }
-        self.breath = breath;
-        if !self.voice.is_active() {
-            self.close_breath();
-        }
-    }
-
-    fn max_channel_gain(&self, channels: usize) -> f32 {
-        self.breath_gains[..channels]
-            .iter()
-            .fold(0.0, |m, g| m.max(*g))
-    }
-
-    /// Files the current breath (if any) as finished, with its planned (or faded) end.
-    fn close_breath(&mut self) {
-        if let Some(b) = self.open_breath.take() {
-            let rate = self.sample_rate_hz;
-            self.finished_breaths.push_back(BreathEvent {
-                start_s: b.start as f64 / rate,
-                end_s: b.end.max(b.start) as f64 / rate,
-                kind: b.kind,
-                peak_db: crate::analysis::amplitude_to_db(b.peak as f64),
-            });
+            self.placement.on_event(&ctx, e, &mut self.schedule);
         }
     }
 }

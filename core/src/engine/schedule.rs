@@ -1,8 +1,81 @@
-//! A fixed-capacity queue for the audio thread: it never grows after `with_capacity`, a push
-//! into a full queue drops the oldest entry (and counts it), and sorted insertion keeps
-//! scheduled actions in time order.
+//! What the placement schedules and the breath track and the breathing cycle carry out: breath
+//! actions on the input timeline (samples), breathing-cycle actions (seconds), both in
+//! [`Queue`]s, a fixed-capacity queue for the audio thread: it never grows after
+//! `with_capacity`, a push into a full queue drops the oldest entry (and counts it), and sorted
+//! insertion keeps scheduled actions in time order.
 
 use std::collections::VecDeque;
+
+use super::MAX_CHANNELS;
+
+/// A breath action on the input timeline (sample index).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum BreathAction {
+    /// Start an inhalation of `length` samples with plateau RMS `gain`, spread over the
+    /// channels with `gains`.
+    Start {
+        length: usize,
+        gain: f32,
+        gains: [f32; MAX_CHANNELS],
+    },
+    /// Live mode: start an inhalation like `Start` unless the input is active at that sample,
+    /// and let the breathing cycle inspire with it (`audible` false: the cycle only).
+    LiveStart {
+        length: usize,
+        gain: f32,
+        gains: [f32; MAX_CHANNELS],
+        audible: bool,
+        utterance_s: f32,
+    },
+    /// Fade the playing inhalation out.
+    FadeOut,
+}
+
+/// A breathing-cycle event on the input timeline (seconds).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum CycleAction {
+    Inspire { length_s: f32, utterance_s: f32 },
+    UtteranceStarts { utterance_s: f32 },
+    SpeechStopped,
+}
+
+/// The actions waiting for the output to reach them.
+#[derive(Debug, Clone)]
+pub(crate) struct Schedule {
+    pub(crate) breath: Queue<(u64, BreathAction)>,
+    pub(crate) cycle: Queue<(f64, CycleAction)>,
+    /// Live mode: the last input sample where activity was seen (input gate or phrase tracker)
+    /// that the breathing cycle has not yet been told about.
+    pub(crate) activity_unseen: Option<u64>,
+}
+
+impl Schedule {
+    /// Queues of `capacity` actions each. Allocates.
+    pub(crate) fn new(capacity: usize) -> Self {
+        Self {
+            breath: Queue::with_capacity(capacity),
+            cycle: Queue::with_capacity(capacity),
+            activity_unseen: None,
+        }
+    }
+
+    /// Nothing scheduled.
+    pub(crate) fn reset(&mut self) {
+        self.breath.clear();
+        self.cycle.clear();
+        self.activity_unseen = None;
+    }
+
+    /// Live mode: activity at input sample `at`.
+    pub(crate) fn note_activity(&mut self, at: u64) {
+        self.activity_unseen = Some(self.activity_unseen.map_or(at, |u| u.max(at)));
+    }
+
+    /// Actions pushed out of full queues.
+    pub(crate) fn dropped(&self) -> u64 {
+        self.breath.dropped() + self.cycle.dropped()
+    }
+}
 
 /// A bounded FIFO that never allocates after construction.
 #[derive(Debug, Clone)]
@@ -39,13 +112,17 @@ impl<T: Copy> Queue<T> {
         self.items.pop_front()
     }
 
+    /// Keeps only the items for which `keep` is true (order kept, no allocation).
+    pub(crate) fn retain(&mut self, keep: impl FnMut(&T) -> bool) {
+        self.items.retain(keep);
+    }
+
     #[allow(dead_code)]
     pub(crate) fn len(&self) -> usize {
         self.items.len()
     }
 
-    /// Items dropped because the queue was full.
-    #[allow(dead_code)]
+    /// Items dropped because the queue was full (since construction; `clear` keeps the count).
     pub(crate) fn dropped(&self) -> u64 {
         self.dropped
     }

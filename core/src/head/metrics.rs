@@ -7,6 +7,9 @@ use glam::{DMat3, DVec3};
 /// A frame counts as frozen when the head's angular speed is below this, degrees per second.
 pub const FROZEN_SPEED_DEG_S: f64 = 1.0;
 
+/// The smoothness figure counts angular-velocity power above this frequency, Hz.
+pub const JERKY_ABOVE_HZ: f64 = 3.0;
+
 /// The canonical correlation between the 3-D head pose and a 1-D signal, which is the multiple
 /// correlation of the signal regressed on the three angles, 0..1. `mask` selects frames (e.g.
 /// voiced ones); 0 when fewer than 10 frames or a constant input.
@@ -59,6 +62,22 @@ pub struct MotionStats {
     pub mean_speed_deg_s: f64,
     /// Share of frames whose speed is below [`FROZEN_SPEED_DEG_S`], 0..1.
     pub frozen_share: f64,
+    /// Share of the angular-velocity power above [`JERKY_ABOVE_HZ`], 0..1 (see
+    /// [`power_share_above`]); lower is smoother.
+    pub power_above_3hz: f64,
+}
+
+/// Mean angular speed |Δθ|·rate of `pose` sampled at `frame_rate_hz`, degrees per second (0
+/// for fewer than two frames).
+pub fn mean_speed(pose: &[[f64; 3]], frame_rate_hz: f64) -> f64 {
+    if pose.len() < 2 {
+        return 0.0;
+    }
+    let sum: f64 = pose
+        .windows(2)
+        .map(|w| (DVec3::from_array(w[1]) - DVec3::from_array(w[0])).length())
+        .sum();
+    sum * frame_rate_hz / (pose.len() - 1) as f64
 }
 
 /// Statistics of `pose` sampled at `frame_rate_hz`.
@@ -93,6 +112,43 @@ pub fn motion_stats(pose: &[[f64; 3]], frame_rate_hz: f64) -> MotionStats {
         sd_deg: sd.map(f64::sqrt),
         mean_speed_deg_s: speed_sum / (n - 1) as f64,
         frozen_share: frozen as f64 / (n - 1) as f64,
+        power_above_3hz: power_share_above(pose, frame_rate_hz, JERKY_ABOVE_HZ),
+    }
+}
+
+/// The share of angular-motion power above `cutoff_hz`: the angular velocity of each axis
+/// (first differences × rate, mean removed) is transformed over the whole track, and the power
+/// of the bins above the cutoff, summed over the three axes, is divided by the power of all
+/// bins above 0 Hz. 0..1; 0 for tracks shorter than 4 frames or without motion.
+pub fn power_share_above(pose: &[[f64; 3]], frame_rate_hz: f64, cutoff_hz: f64) -> f64 {
+    let n = pose.len().saturating_sub(1);
+    if n < 3 {
+        return 0.0;
+    }
+    let fft = realfft::RealFftPlanner::<f64>::new().plan_fft_forward(n);
+    let mut input = fft.make_input_vec();
+    let mut spectrum = fft.make_output_vec();
+    let (mut above, mut all) = (0.0, 0.0);
+    for k in 0..3 {
+        for (x, w) in input.iter_mut().zip(pose.windows(2)) {
+            *x = (w[1][k] - w[0][k]) * frame_rate_hz;
+        }
+        let mean = input.iter().sum::<f64>() / n as f64;
+        input.iter_mut().for_each(|x| *x -= mean);
+        fft.process(&mut input, &mut spectrum)
+            .expect("buffers made by the plan");
+        for (bin, c) in spectrum.iter().enumerate().skip(1) {
+            let p = c.norm_sqr();
+            all += p;
+            if bin as f64 * frame_rate_hz / n as f64 > cutoff_hz {
+                above += p;
+            }
+        }
+    }
+    if all > 0.0 {
+        above / all
+    } else {
+        0.0
     }
 }
 
@@ -125,5 +181,23 @@ mod tests {
         assert_eq!(s.sd_deg[0], 0.0);
         let still = vec![[1.0, 2.0, 3.0]; 50];
         assert_eq!(motion_stats(&still, 30.0).frozen_share, 1.0);
+    }
+
+    #[test]
+    fn power_share_splits_slow_and_fast_sways() {
+        // 1 Hz sway of 4° on roll and a 6 Hz tremor of 0.5° on yaw, 10 s at 120 Hz. Velocity
+        // amplitudes 2π·1·4 and 2π·6·0.5, so the power above 3 Hz is 3² / (4² + 3²) = 0.36.
+        let pose: Vec<[f64; 3]> = (0..1201)
+            .map(|i| {
+                let t = i as f64 / 120.0;
+                let w = std::f64::consts::TAU * t;
+                [4.0 * w.sin(), 0.0, 0.5 * (6.0 * w).sin()]
+            })
+            .collect();
+        let share = power_share_above(&pose, 120.0, 3.0);
+        assert!((share - 0.36).abs() < 0.01, "{share}");
+        let slow: Vec<[f64; 3]> = pose.iter().map(|p| [p[0], 0.0, 0.0]).collect();
+        assert!(power_share_above(&slow, 120.0, 3.0) < 0.01);
+        assert_eq!(power_share_above(&pose[..3], 120.0, 3.0), 0.0);
     }
 }

@@ -17,6 +17,10 @@
 //! - The argmax follows the densities' modes, so it generates far less motion than the data
 //!   (SD about 0.5–1° against 2.6–3.6° real on styletalk). A per-axis output gain, calibrated
 //!   on the training clips so the generated SD matches the real one, restores the amplitude.
+//! - The argmax moves as fast as the voice's f0 swings make its modes move: expressive voices
+//!   got heads two to three times faster than real ones. A speed governor ([`governor`]) scales
+//!   the output toward the real mean speed of the training clips (target and time constant
+//!   calibrated on the training clips only).
 //! - Unvoiced frames do not freeze the head by default: hold, a damped return toward neutral and
 //!   a loudness-only model are compared leave-one-clip-out and the best is stored in the model.
 
@@ -27,6 +31,7 @@ pub mod bfgs;
 pub mod em;
 pub mod features;
 pub mod gmm;
+pub mod governor;
 pub mod metrics;
 pub mod model_file;
 pub mod synth;
@@ -35,6 +40,7 @@ pub mod train;
 pub use em::{EmConfig, EmError, EmFit};
 pub use features::{MotionTrack, TrainingClip};
 pub use gmm::{Gaussian, Gmm, GmmError};
+pub use governor::SpeedGovernor;
 pub use model_file::{
     HeadModel, HeadModelError, Normalisation, Provenance, SynthesisWeights, UnvoicedBehaviour,
 };

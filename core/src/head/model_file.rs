@@ -14,7 +14,8 @@
 //!   "unvoiced": { "behaviour": "hold" | "return" | "loudness_model", "return_time_s": t,
 //!                 "roll": GMM, ... },
 //!   "synthesis": { "pose_weight": 0.2, "velocity_weight": 0.25, "acceleration_weight": 0.0625,
-//!                  "bound_deg": 90, "output_gain": [roll, pitch, yaw] },
+//!                  "bound_deg": 90, "output_gain": [roll, pitch, yaw],
+//!                  "speed_target_deg_s": 18.8, "speed_time_s": 2 },
 //!   "provenance": { ... } }
 //! GMM = { "weights": [..], "means": [[..], ..], "covariances": [[[..]..], ..] }
 //! ```
@@ -152,10 +153,23 @@ pub struct SynthesisWeights {
     /// generated per-axis SD matches the real one (1 = the paper's raw argmax).
     #[serde(default = "unit_gain")]
     pub output_gain: [f64; 3],
+    /// Mean angular speed the speed governor keeps the output near, °/s, 0..500 (0 = no
+    /// governor, as in files written before it existed); calibrated on the training clips so
+    /// the generated mean speed matches the real one (see [`super::governor`]).
+    #[serde(default)]
+    pub speed_target_deg_s: f64,
+    /// Time constant of the governor's running mean speed, seconds, 0.1..60; chosen on the
+    /// training clips.
+    #[serde(default = "default_speed_time")]
+    pub speed_time_s: f64,
 }
 
 fn unit_gain() -> [f64; 3] {
     [1.0; 3]
+}
+
+fn default_speed_time() -> f64 {
+    2.0
 }
 
 impl Default for SynthesisWeights {
@@ -166,6 +180,8 @@ impl Default for SynthesisWeights {
             acceleration_weight: 0.0625,
             bound_deg: 90.0,
             output_gain: unit_gain(),
+            speed_target_deg_s: 0.0,
+            speed_time_s: default_speed_time(),
         }
     }
 }
@@ -502,6 +518,20 @@ impl HeadModel {
         for g in s.output_gain {
             check("synthesis.output_gain", g, 1.0, 10.0, "1..10")?;
         }
+        check(
+            "synthesis.speed_target_deg_s",
+            s.speed_target_deg_s,
+            0.0,
+            500.0,
+            "0..500 degrees per second (0 = no speed governor)",
+        )?;
+        check(
+            "synthesis.speed_time_s",
+            s.speed_time_s,
+            0.1,
+            60.0,
+            "0.1..60 s",
+        )?;
         Ok(Self {
             voiced,
             unvoiced,

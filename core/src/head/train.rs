@@ -9,7 +9,8 @@ use thiserror::Error;
 use super::em::{EmConfig, EmError};
 use super::features::{FeatureRows, TrainingClip};
 use super::gmm::Gmm;
-use super::metrics::{cca_pose_signal, motion_stats, MotionStats};
+use super::governor::govern_track;
+use super::metrics::{cca_pose_signal, mean_speed, motion_stats, MotionStats};
 use super::model_file::{
     HeadModel, HeadModelError, Normalisation, Provenance, SynthesisWeights, UnvoicedBehaviour,
     FEATURE_NAMES,
@@ -143,15 +144,24 @@ pub fn fit_model(
         SynthesisWeights::default(),
         provenance,
     )?;
-    calibrate_gain(&mut model, clips, behaviour)?;
+    calibrate_motion(&mut model, clips, behaviour)?;
     Ok(model)
 }
 
-/// Sets the model's unvoiced behaviour and calibrates its per-axis output gain on `clips`:
-/// gain = mean real SD / mean generated SD per axis (clamped to 1..10), with the motion
-/// generated at gain 1 without limits. The argmax follows the densities' modes and so
-/// generates less motion than the data it was trained on; the gain restores the amplitude.
-pub fn calibrate_gain(
+/// Time constants the speed governor may use, seconds; training keeps the one that brings the
+/// training clips' generated speeds closest to their real ones.
+pub const SPEED_TIME_CANDIDATES_S: [f64; 4] = [0.5, 1.0, 2.0, 4.0];
+
+/// Sets the model's unvoiced behaviour and calibrates its output on `clips` (training clips
+/// only, so held-out figures stay honest):
+/// - the per-axis output gain = mean real SD / mean generated SD per axis (clamped to 1..10),
+///   with the motion generated at gain 1 without limits or governor: the argmax follows the
+///   densities' modes and so generates less motion than the data it was trained on;
+/// - the speed governor: the time constant (one of [`SPEED_TIME_CANDIDATES_S`]) and target
+///   speed (1 % steps) whose worst clip is closest to its real speed, i.e. with the smallest
+///   largest |ln(generated / real mean speed)| over the clips: the target is the speed every
+///   voice should move at, so it is centred between the slowest and the fastest real speaker.
+pub fn calibrate_motion(
     model: &mut HeadModel,
     clips: &[&TrainingClip],
     behaviour: UnvoicedBehaviour,
@@ -159,6 +169,7 @@ pub fn calibrate_gain(
     model.unvoiced_behaviour = behaviour;
     let mut weights = model.synthesis;
     weights.output_gain = [1.0; 3];
+    weights.speed_target_deg_s = 0.0;
     model.set_synthesis(weights)?;
     let free = HeadConfig {
         max_pitch_deg: 90.0,
@@ -170,6 +181,8 @@ pub fn calibrate_gain(
     };
     let mut sd_gen = [0.0; 3];
     let mut sd_real = [0.0; 3];
+    let mut generated = Vec::with_capacity(clips.len());
+    let mut real_speed = Vec::with_capacity(clips.len());
     for c in clips {
         let gen = synthesize_clip(model, &free, c);
         let g = motion_stats(&gen, c.frame_rate_hz);
@@ -178,6 +191,8 @@ pub fn calibrate_gain(
             sd_gen[k] += g.sd_deg[k];
             sd_real[k] += r.sd_deg[k];
         }
+        generated.push(gen);
+        real_speed.push(r.mean_speed_deg_s);
     }
     for k in 0..3 {
         weights.output_gain[k] = if sd_gen[k] > 0.0 {
@@ -185,6 +200,44 @@ pub fn calibrate_gain(
         } else {
             1.0
         };
+    }
+    // The ungoverned output at the calibrated gain.
+    for gen in &mut generated {
+        for p in gen.iter_mut() {
+            for k in 0..3 {
+                p[k] *= weights.output_gain[k];
+            }
+        }
+    }
+    // Each time constant's best target: the one whose worst training clip is closest to its
+    // real speed, searched in 1 % steps from half the slowest to twice the fastest real speed.
+    let lo = real_speed.iter().copied().fold(f64::INFINITY, f64::min) * 0.5;
+    let hi = real_speed.iter().copied().fold(0.0, f64::max) * 2.0;
+    let mut best: Option<(f64, f64, f64)> = None; // (worst |ln ratio|, time, target)
+    if lo > 0.0 && lo.is_finite() {
+        for time_s in SPEED_TIME_CANDIDATES_S {
+            let mut target = lo;
+            while target <= hi.min(500.0) {
+                let worst = generated
+                    .iter()
+                    .zip(clips)
+                    .zip(&real_speed)
+                    .map(|((gen, c), real)| {
+                        let r = c.frame_rate_hz;
+                        let g = mean_speed(&govern_track(gen, r, target, time_s), r);
+                        (g.max(1e-6) / real).ln().abs()
+                    })
+                    .fold(0.0, f64::max);
+                if best.is_none_or(|b| worst < b.0) {
+                    best = Some((worst, time_s, target));
+                }
+                target *= 1.01;
+            }
+        }
+    }
+    if let Some((_, time_s, target)) = best {
+        weights.speed_time_s = time_s;
+        weights.speed_target_deg_s = target;
     }
     model.set_synthesis(weights)?;
     Ok(())
@@ -376,7 +429,7 @@ pub fn cross_validate(
         held_out.push((clip.name.clone(), held_out_log_likelihood(&model, clip)));
         for (b, list) in evals.iter_mut() {
             let mut model = model.clone();
-            calibrate_gain(&mut model, &train, *b)?;
+            calibrate_motion(&mut model, &train, *b)?;
             let c = HeadConfig {
                 unvoiced: Some(*b),
                 ..config.clone()

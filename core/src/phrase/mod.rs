@@ -26,6 +26,7 @@ mod config;
 
 pub use config::{PhraseConfig, PhraseError};
 
+use crate::analysis::noise_floor::NoiseFloor;
 use crate::analysis::FeatureFrame;
 
 /// A pause before a phrase, reported with the onset that ends it.
@@ -89,6 +90,8 @@ struct FrameFacts {
 
 /// Number of half-second blocks the noise floor looks back over.
 const FLOOR_BLOCKS: usize = 6;
+/// Length of one block of the noise floor's minimum ring, seconds.
+const FLOOR_BLOCK_S: f32 = 0.5;
 
 /// The phrase tracker. Feed it every feature frame in order with [`PhraseTracker::update`].
 #[derive(Debug, Clone)]
@@ -102,12 +105,8 @@ pub struct PhraseTracker {
     offset_frames: u64,
     breath_min_frames: u32,
     run_gap_frames: u64,
-    block_frames: u64,
-    // Noise floor (minimum statistics).
-    block_min_db: [f32; FLOOR_BLOCKS],
-    block_fill: usize,
-    current_block_min_db: f32,
-    frames_in_block: u64,
+    /// Noise floor (minimum statistics) and its latest value, dBFS.
+    floor: NoiseFloor,
     floor_db: f32,
     // History ring of the last `history.len()` frames.
     history: Vec<FrameFacts>,
@@ -148,13 +147,9 @@ impl PhraseTracker {
             offset_frames: frames(config.offset_extend_s),
             breath_min_frames: frames(config.breath_min_s) as u32,
             run_gap_frames: frames(config.run_gap_s),
-            block_frames: frames(0.5),
+            floor: NoiseFloor::with_blocks(frames(FLOOR_BLOCK_S) as usize, FLOOR_BLOCKS),
             config,
             frame_rate_hz,
-            block_min_db: [0.0; FLOOR_BLOCKS],
-            block_fill: 0,
-            current_block_min_db: f32::INFINITY,
-            frames_in_block: 0,
             floor_db: f32::NEG_INFINITY,
             history: vec![FrameFacts::default(); history_len],
             frames_seen: 0,
@@ -176,10 +171,7 @@ impl PhraseTracker {
 
     /// Clears all state (start of a new stream).
     pub fn reset(&mut self) {
-        self.block_min_db = [0.0; FLOOR_BLOCKS];
-        self.block_fill = 0;
-        self.current_block_min_db = f32::INFINITY;
-        self.frames_in_block = 0;
+        self.floor.reset();
         self.floor_db = f32::NEG_INFINITY;
         self.history
             .iter_mut()
@@ -227,23 +219,6 @@ impl PhraseTracker {
         self.history[(index % self.history.len() as u64) as usize]
     }
 
-    fn update_floor(&mut self, rms_db: f32) {
-        self.current_block_min_db = self.current_block_min_db.min(rms_db);
-        self.frames_in_block += 1;
-        let mut floor = self.current_block_min_db;
-        for &m in &self.block_min_db[..self.block_fill] {
-            floor = floor.min(m);
-        }
-        if self.frames_in_block >= self.block_frames {
-            self.block_min_db.copy_within(0..FLOOR_BLOCKS - 1, 1);
-            self.block_min_db[0] = self.current_block_min_db;
-            self.block_fill = (self.block_fill + 1).min(FLOOR_BLOCKS);
-            self.current_block_min_db = f32::INFINITY;
-            self.frames_in_block = 0;
-        }
-        self.floor_db = floor;
-    }
-
     /// Feeds one frame (in order). Calls `on_event` for what became certain at this frame: at
     /// most an end, an activity and a start.
     pub fn update(&mut self, frame: &FeatureFrame, mut on_event: impl FnMut(PhraseEvent)) {
@@ -255,7 +230,7 @@ impl PhraseTracker {
         } else {
             -120.0
         };
-        self.update_floor(rms_db);
+        self.floor_db = self.floor.update(Some(rms_db));
         let speech_level_db = if frame.level_db.is_finite() && frame.rms_db.is_finite() {
             frame.rms_db - frame.level_db
         } else {

@@ -16,10 +16,11 @@ use nice_plug::prelude::*;
 
 use crate::Pneuma;
 
-/// What the host context saw: CC events (preallocated) and restart requests.
+/// What the host context saw: CC events (preallocated), latency changes and restart requests.
 struct Host {
     transport: Transport,
     cc_events: Vec<(u32, u8)>,
+    latency: std::cell::Cell<Option<u32>>,
     restart_requests: std::cell::Cell<u32>,
 }
 
@@ -47,7 +48,9 @@ impl ProcessContext<Pneuma> for Host {
         }
         Ok(())
     }
-    fn set_latency_samples(&self, _samples: u32) {}
+    fn set_latency_samples(&self, samples: u32) {
+        self.latency.set(Some(samples));
+    }
     fn request_restart(&self) {
         self.restart_requests.set(self.restart_requests.get() + 1);
     }
@@ -85,6 +88,11 @@ fn set(plugin: &Pneuma, id: &str, normalized: f32) {
 fn the_real_process_never_allocates_after_activate() {
     let mut plugin = Pneuma::default();
     set(&plugin, "osc_enabled", 1.0);
+    // The editor is open: its feed runs inside the guard too.
+    plugin
+        .editor_shared()
+        .open
+        .store(true, std::sync::atomic::Ordering::Relaxed);
     let layout = AudioIOLayout {
         main_input_channels: NonZeroU32::new(2),
         main_output_channels: NonZeroU32::new(2),
@@ -107,6 +115,7 @@ fn the_real_process_never_allocates_after_activate() {
     let mut host = Host {
         transport: Transport::new(48_000.0),
         cc_events: Vec::with_capacity(1 << 16),
+        latency: None.into(),
         restart_requests: 0.into(),
     };
     host.transport.playing = true;
@@ -152,13 +161,30 @@ fn the_real_process_never_allocates_after_activate() {
         });
         drop(buffer);
         assert!(left[..n].iter().chain(&right[..n]).all(|s| s.is_finite()));
+        // The build thread makes the engine the mode change asked for; the next `process`
+        // swaps it in under the guard.
+        if plugin.build_pending_samples.is_some() {
+            let start = std::time::Instant::now();
+            while plugin.swap.built.slots() == 0 {
+                assert!(start.elapsed().as_secs() < 10, "no engine built in 10 s");
+                std::thread::sleep(std::time::Duration::from_millis(1));
+            }
+        }
     }
     assert!(
         host.cc_events.len() > 20,
         "the path did work: {} CC messages",
         host.cc_events.len()
     );
-    assert_eq!(host.restart_requests.get(), 1, "the mode change asks once");
+    assert_eq!(
+        host.latency.get(),
+        Some(0),
+        "the mode change swapped in a live engine and reported its latency"
+    );
+    assert_eq!(host.restart_requests.get(), 0, "no restart needed");
+    let mut view_frames = 0;
+    plugin.editor_shared().drain(|_| view_frames += 1, |_| {});
+    assert!(view_frames > 100, "the editor got {view_frames} frames");
 }
 
 /// The activation context by value (the trait takes `&mut impl ActivateContext`).

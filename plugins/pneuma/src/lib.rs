@@ -4,27 +4,33 @@
 //!   are mixed into the output exactly as `pneuma render` does for the same settings. Non-finite
 //!   input never reaches the output, and subnormal output samples become 0.
 //! - Breath samples: the persisted paths (`breath_sample_mouth`, `breath_sample_nose`) are
-//!   loaded at activation (WAV, mixed to mono); a file that cannot be used is logged and the
-//!   procedural breath stays. A path changed while active (a project or preset loaded) asks the
-//!   host for a restart, which loads the new file.
+//!   loaded when an engine is built (WAV, mixed to mono); a file that cannot be used is logged and
+//!   the procedural breath stays. A path changed while active (a project or preset loaded) builds
+//!   a new engine with the new file ([`rebuild`]).
 //! - Activation never fails, at any sample rate a host uses (1 Hz … 768 kHz, odd rates): where
 //!   the engine cannot run at that rate, the audio passes untouched (latency 0) and the controls
 //!   go to rest once ([`send_rest_pose`]: one CC message per controller, one OSC frame).
 //! - Bypass (the host's switch, parameter `bypass`): the audio still passes through the delay
 //!   line (the latency stays, so the track stays aligned), no breaths, controls at rest.
 //! - Latency: the engine's (`mode` = lookahead: the lookahead delay; live: none), reported at
-//!   activation. Changing `mode`, `lookahead_s` or `frame_rate_hz` asks the host for a restart.
+//!   activation. Changing `mode`, `lookahead_s` or `frame_rate_hz` while active (by hand,
+//!   automation or a restored state) builds a new engine off the audio thread, swaps it in and
+//!   reports the new latency ([`rebuild`]): no re-activation by the host is needed.
 //! - Parameter changes reach the audio thread through [`ChangeFlags`] raised by the parameters'
 //!   callbacks: the engine settings and the CC map are rebuilt only after a change.
-//! - Reset (engine, MIDI CC memory, OSC time anchor) on re-activation, on the host's reset and on
-//!   a transport jump (a position that is not where the previous block ended, while playing).
+//! - Reset (engine, MIDI CC memory, OSC time anchor) on re-activation, on the host's reset, when
+//!   the transport first plays after an activation, and on a transport jump (a position that is
+//!   not where the previous block ended, while playing). So playback and exports start from a
+//!   fresh engine, as `pneuma render` does, whatever ran through the plugin while stopped.
 //! - MIDI output: CC per the DESIGN.md map ([`pneuma_core::encode::midi_cc`]), sent only on change,
 //!   at most once per frame, at the sample offset inside the block where the frame became
 //!   available. No MIDI input (on VST3 it adds ~2 000 hidden parameters).
 //! - OSC output: [`osc_sender`]: a preallocated `rtrb` queue to a worker thread that sends UDP
 //!   bundles (pneuma or VMC) to a numeric address (no DNS); the target can change while playing;
 //!   network trouble never reaches the audio thread or holds up unloading.
-//! - Parameters and persisted settings: [`params`]. CLAP remote-control pages: "Breathing",
+//! - Parameters and persisted settings: [`params`], filed under units (VST3) / modules (CLAP):
+//!   Breathing, Breaths & timing, Head, Output, CC map, OSC ([`params::unit_of`]). CLAP
+//!   remote-control pages: "Breathing",
 //!   "Breaths & timing", "Head", "Output", "CC map 1", "CC map 2" (every parameter but bypass).
 //!
 //! Real-time: `process()` never allocates, locks, blocks, logs or does I/O. The crate enables
@@ -36,8 +42,11 @@
 
 #[cfg(test)]
 mod alloc_test;
+pub mod editor;
 pub mod osc_sender;
 pub mod params;
+pub mod rebuild;
+mod transport;
 
 use std::num::NonZeroU32;
 use std::sync::Arc;
@@ -46,79 +55,14 @@ use nice_plug::prelude::*;
 use pneuma_core::encode::midi_cc::{CcEncoder, CcMessage};
 use pneuma_core::encode::osc::OscFormat;
 
+use editor::feed::{EditorFeed, EditorShared};
 use osc_sender::{OscFeed, OscSettings, OscStats, OscWorker};
 pub use params::{ChangeFlags, PneumaParams, PARAM_IDS};
-use pneuma_core::breathing::{BreathSample, SampleSlot};
-use pneuma_core::engine::{Engine, EngineError};
-use pneuma_core::head::HeadModel;
+use pneuma_core::breathing::BreathSample;
+use pneuma_core::engine::Engine;
 use pneuma_core::ControlFrame;
-
-/// Stable identifier of the breath level parameter, saved in host projects and presets.
-pub const BREATH_LEVEL_PARAM_ID: &str = "breath_level_db";
-
-/// Largest block the engine is prepared for; longer host blocks are processed in pieces.
-const MAX_ENGINE_BLOCK: usize = 8192;
-
-/// Settings that need a new `prepare` (and maybe a new latency) when they change.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Structural {
-    mode: params::ModeChoice,
-    lookahead_s: f32,
-    frame_rate_hz: i32,
-    /// Changes of the breath-sample paths (the files are loaded at activation).
-    sample_generation: u64,
-}
-
-impl Structural {
-    fn of(p: &PneumaParams) -> Self {
-        Self {
-            mode: p.mode.value(),
-            lookahead_s: p.lookahead_s.value(),
-            frame_rate_hz: p.frame_rate_hz.value(),
-            sample_generation: p.breath_sample_mouth.generation()
-                + p.breath_sample_nose.generation(),
-        }
-    }
-}
-
-/// Detects transport jumps: a playing block that does not start where the last one ended (give
-/// or take `tolerance` samples: hosts that derive positions from beats or seconds round them).
-/// A block at the same position as the one before is no jump: hosts that compensate latency
-/// pre-roll with the position held (Ardour at time 0 feeds the region's first samples while it
-/// reports 0), and a reset there would drop the audio already in the delay line.
-#[derive(Debug, Default)]
-struct JumpDetector {
-    expected_pos: Option<i64>,
-    last_pos: Option<i64>,
-    tolerance: i64,
-}
-
-impl JumpDetector {
-    /// A detector that ignores position errors up to `tolerance` samples.
-    fn new(tolerance: i64) -> Self {
-        Self {
-            expected_pos: None,
-            last_pos: None,
-            tolerance,
-        }
-    }
-
-    /// True if this block jumps; remembers where it ends.
-    fn check(&mut self, playing: bool, pos_samples: Option<i64>, block: usize) -> bool {
-        let (true, Some(pos)) = (playing, pos_samples) else {
-            // Stopped or unknown: keep the last end, so a restart elsewhere is a jump.
-            return false;
-        };
-        let held = self.last_pos == Some(pos);
-        let jumped = !held
-            && self
-                .expected_pos
-                .is_some_and(|e| (e - pos).abs() > self.tolerance);
-        self.expected_pos = Some(pos + block as i64);
-        self.last_pos = Some(pos);
-        jumped
-    }
-}
+use rebuild::{BuildWorker, EngineBuilder, StreamSpec, Structural, SwapEnds};
+use transport::{JumpDetector, PreRoll};
 
 impl OscSettings for PneumaParams {
     fn target(&self) -> (String, u16) {
@@ -175,8 +119,9 @@ impl MonoSource {
 pub struct Pneuma {
     params: Arc<PneumaParams>,
     /// `None` before activation and where the engine cannot run at the host's sample rate: the
-    /// audio then passes untouched and the controls rest.
-    engine: Option<Engine>,
+    /// audio then passes untouched and the controls rest. Boxed so that swapping engines on the
+    /// audio thread moves a pointer and frees nothing ([`rebuild`]).
+    engine: Option<Box<Engine>>,
     /// The rest pose went out since the controls stopped following the voice (bypass, or no
     /// engine); the next frames from the engine clear it.
     at_rest: bool,
@@ -186,15 +131,34 @@ pub struct Pneuma {
     osc_feed: Option<OscFeed>,
     osc_worker: Option<OscWorker>,
     osc_stats: Option<Arc<OscStats>>,
+    /// Builds engines: at activation, and on `build_worker` when structural settings change.
+    builder: Arc<EngineBuilder>,
+    /// The build thread (started at the first activation).
+    build_worker: Option<BuildWorker>,
+    /// The audio thread's ends of the engine hand-over.
+    swap: SwapEnds,
+    /// The running engine's structural settings.
     prepared: Option<Structural>,
-    restart_requested: bool,
+    /// The current activation's stream (its epoch tells builds for it from older ones).
+    stream: Option<StreamSpec>,
+    /// Samples processed since a background build was asked for (`None`: none pending).
+    build_pending_samples: Option<u64>,
     jumps: JumpDetector,
+    pre_roll: PreRoll,
+    /// The audio side of the editor's data path ([`editor::feed`]).
+    view: EditorFeed,
+    view_shared: Arc<EditorShared>,
 }
+
+/// Seconds of processed audio after which an unanswered build is asked for again.
+const BUILD_RETRY_S: f64 = 2.0;
 
 impl Default for Pneuma {
     fn default() -> Self {
         let params = Arc::new(PneumaParams::default());
         let cc = CcEncoder::new(params.cc_map()).expect("the default CC map is valid");
+        let (builder, swap) = EngineBuilder::new(params.clone());
+        let (view, view_shared) = editor::feed::channel();
         Self {
             params,
             engine: None,
@@ -205,9 +169,16 @@ impl Default for Pneuma {
             osc_feed: None,
             osc_worker: None,
             osc_stats: None,
+            builder,
+            build_worker: None,
+            swap,
             prepared: None,
-            restart_requested: false,
+            stream: None,
+            build_pending_samples: None,
             jumps: JumpDetector::default(),
+            pre_roll: PreRoll::default(),
+            view,
+            view_shared,
         }
     }
 }
@@ -218,34 +189,9 @@ impl Pneuma {
         self.osc_stats.as_ref()
     }
 
-    /// A new engine for the current parameters and breath samples, prepared for the host's
-    /// stream. Fails where the engine cannot run (a sample rate the analysis does not take).
-    fn prepared_engine(
-        &self,
-        buffer_config: &BufferConfig,
-        channels: usize,
-    ) -> Result<Engine, EngineError> {
-        let mut engine = Engine::new(
-            self.params.engine_config(),
-            HeadModel::default_model().clone(),
-        )?;
-        for (slot, path) in [
-            (SampleSlot::Mouth, &self.params.breath_sample_mouth),
-            (SampleSlot::Nose, &self.params.breath_sample_nose),
-        ] {
-            match load_breath_sample(&path.get()) {
-                Ok(sample) => engine.set_breath_sample(slot, sample),
-                Err(e) => nice_error!("Pneuma: breath sample not used: {e}"),
-            }
-        }
-        engine.prepare(
-            f64::from(buffer_config.sample_rate),
-            // The engine splits longer blocks itself; a host reporting 0 or a huge maximum
-            // must not stop the plugin from activating.
-            (buffer_config.max_buffer_size as usize).clamp(1, MAX_ENGINE_BLOCK),
-            channels,
-        )?;
-        Ok(engine)
+    /// The GUI's end of the editor's data path.
+    pub fn editor_shared(&self) -> &Arc<EditorShared> {
+        &self.view_shared
     }
 
     fn reset_streams(&mut self) {
@@ -253,6 +199,87 @@ impl Pneuma {
             e.reset();
         }
         self.cc.reset();
+    }
+
+    /// Audio thread, start of a block: swaps in an engine the builder finished for this
+    /// activation and reports its latency; asks for a build when the structural settings differ
+    /// from the running engine's. Never allocates, frees or blocks.
+    fn follow_structure(&mut self, context: &mut impl ProcessContext<Self>, block: usize) {
+        let Some(stream) = self.stream else {
+            return;
+        };
+        while let Ok(built) = self.swap.built.pop() {
+            if built.epoch != stream.epoch {
+                self.swap.retire(built.engine);
+                continue;
+            }
+            self.build_pending_samples = None;
+            let old = std::mem::replace(&mut self.engine, built.engine);
+            self.swap.retire(old);
+            self.prepared = Some(built.structural);
+            if let Some(engine) = self.engine.as_deref_mut() {
+                // Live settings that changed while it was built.
+                if let Err(e) = engine.set_config(&self.params.engine_config()) {
+                    debug_assert!(false, "the parameters' engine settings are valid: {e}");
+                }
+            }
+            let latency = self.engine.as_ref().map_or(0, |e| e.latency_samples());
+            context.set_latency_samples(latency);
+            // The editor shows the latency the swapped-in engine costs.
+            self.view
+                .activated(self.engine.is_some(), latency, stream.sample_rate_hz as f32);
+            self.at_rest = false;
+        }
+        let retry = (BUILD_RETRY_S * stream.sample_rate_hz) as u64;
+        match self.build_pending_samples.as_mut() {
+            Some(waited) if *waited < retry => *waited += block as u64,
+            _ => {
+                if self.prepared != Some(Structural::of(&self.params)) {
+                    if let Some(worker) = &self.build_worker {
+                        self.build_pending_samples = Some(0);
+                        worker.request();
+                    }
+                } else {
+                    self.build_pending_samples = None;
+                }
+            }
+        }
+    }
+
+    /// Runs the engine (or the pass-through where there is none) over `audio`, sending its
+    /// control frames to the enabled outputs.
+    fn run_engine(
+        &mut self,
+        audio: &mut [&mut [f32]],
+        midi_on: bool,
+        osc_on: bool,
+        send_cc: &mut dyn FnMut(u32, CcMessage),
+    ) {
+        let bypassed = self.params.bypass.value();
+        match self.engine.as_deref_mut() {
+            Some(engine) => {
+                self.at_rest = bypassed;
+                let outputs = if bypassed {
+                    Outputs {
+                        cc: None,
+                        osc: None,
+                        view: Some(&mut self.view),
+                    }
+                } else {
+                    Outputs {
+                        cc: midi_on.then_some(&mut self.cc),
+                        osc: if osc_on { self.osc_feed.as_mut() } else { None },
+                        view: Some(&mut self.view),
+                    }
+                };
+                run_block(engine, audio, outputs, send_cc);
+            }
+            None => {
+                for channel in audio.iter_mut() {
+                    sanitize_in_place(channel);
+                }
+            }
+        }
     }
 }
 
@@ -263,6 +290,8 @@ pub struct Outputs<'a> {
     pub cc: Option<&'a mut CcEncoder>,
     /// The OSC feed, or `None` when OSC output is off.
     pub osc: Option<&'a mut OscFeed>,
+    /// The editor's feed (frames and inserted breaths), or `None`.
+    pub view: Option<&'a mut EditorFeed>,
 }
 
 /// The audio-thread work of one block: runs the engine in place (then flushes subnormal output
@@ -281,9 +310,16 @@ pub fn run_block(
         if let Some(feed) = outputs.osc.as_deref_mut() {
             feed.push(frame);
         }
+        if let Some(view) = outputs.view.as_deref_mut() {
+            view.push_frame(frame);
+        }
     });
-    // The plugin has no use for the breath list; keep the engine's queue empty.
-    engine.take_breaths(|_| {});
+    // The breaths go to the editor only; keep the engine's queue empty.
+    engine.take_breaths(|b| {
+        if let Some(view) = outputs.view.as_deref_mut() {
+            view.push_breath(b);
+        }
+    });
     // The engine passes the voice bit for bit, subnormal samples included; hosts and validators
     // reject subnormal output, so they become 0 (no other sample changes).
     for channel in audio.iter_mut() {
@@ -303,33 +339,16 @@ pub fn send_rest_pose(outputs: &mut Outputs<'_>, send_cc: &mut dyn FnMut(u32, Cc
     }
 }
 
-/// Reads a breath sample WAV (any channel count, mixed to mono). Empty path: none.
+/// Reads a breath sample (WAV, FLAC, AIFF, … any channel count, mixed to mono). Empty path:
+/// none.
 pub fn load_breath_sample(path: &str) -> Result<Option<BreathSample>, String> {
     if path.trim().is_empty() {
         return Ok(None);
     }
-    let mut reader = hound::WavReader::open(path).map_err(|e| format!("{path}: {e}"))?;
-    let spec = reader.spec();
-    let channels = usize::from(spec.channels.max(1));
-    let interleaved: Vec<f32> = match spec.sample_format {
-        hound::SampleFormat::Float => reader
-            .samples::<f32>()
-            .collect::<Result<_, _>>()
-            .map_err(|e| format!("{path}: {e}"))?,
-        hound::SampleFormat::Int => {
-            let scale = 1.0 / (1u64 << (spec.bits_per_sample.clamp(1, 32) - 1)) as f32;
-            reader
-                .samples::<i32>()
-                .map(|s| s.map(|v| v as f32 * scale))
-                .collect::<Result<_, _>>()
-                .map_err(|e| format!("{path}: {e}"))?
-        }
-    };
-    let mono: Vec<f32> = interleaved
-        .chunks(channels)
-        .map(|f| f.iter().sum::<f32>() / channels as f32)
-        .collect();
-    BreathSample::from_mono(mono, f64::from(spec.sample_rate))
+    // The same reader as the CLI's (pneuma-io): every format and WAV variant it accepts.
+    let (mono, rate_hz) =
+        pneuma_io::read_mono(std::path::Path::new(path)).map_err(|e| e.to_string())?;
+    BreathSample::from_mono(mono, f64::from(rate_hz))
         .map(Some)
         .map_err(|e| format!("{path}: {e}"))
 }
@@ -380,12 +399,26 @@ impl Plugin for Pneuma {
 
     const SAMPLE_ACCURATE_AUTOMATION: bool = false;
 
-    type Editor = ();
     type SysExMessage = ();
+    type Editor = editor::PneumaEditor;
     type BackgroundTask = ();
 
     fn params(&self) -> Arc<dyn Params> {
-        self.params.clone()
+        // Filed under units (VST3) / modules (CLAP) for the hosts' generic views.
+        Arc::new(params::HostParams(self.params.clone()))
+    }
+
+    fn deactivate(&mut self) {
+        // Off the audio thread: drop what the audio thread handed back.
+        self.builder.drop_retired();
+    }
+
+    fn editor(&mut self, _executor: AsyncExecutor<Self>) -> Option<Self::Editor> {
+        editor::create(
+            self.params.clone(),
+            self.view_shared.clone(),
+            self.params.editor_layout.clone(),
+        )
     }
 
     fn activate(
@@ -396,25 +429,48 @@ impl Plugin for Pneuma {
     ) -> bool {
         // Everything is read afresh here: earlier changes need no action.
         self.params.changes.clear();
-        let structural = Structural::of(&self.params);
         let channels = audio_io_layout
             .main_output_channels
             .map_or(1, NonZeroU32::get) as usize;
-        // Never refuse: a host may use any rate (1 Hz, 768 kHz, 1 234.5678 Hz). Where the engine
-        // cannot run, the audio passes untouched and the controls rest.
-        self.engine = match self.prepared_engine(buffer_config, channels) {
-            Ok(engine) => Some(engine),
-            Err(e) => {
-                nice_error!("Pneuma: audio passes untouched and the controls rest: {e}");
-                None
+        let epoch = self.stream.map_or(0, |s| s.epoch) + 1;
+        let stream = StreamSpec::new(
+            f64::from(buffer_config.sample_rate),
+            buffer_config.max_buffer_size,
+            channels,
+            epoch,
+        );
+        self.stream = Some(stream);
+        self.builder.set_stream(stream);
+        // Engines from builds of earlier activations are dropped here, off the audio thread.
+        while self.swap.built.pop().is_ok() {}
+        self.builder.drop_retired();
+        self.build_pending_samples = None;
+        if self.build_worker.is_none() {
+            match BuildWorker::start(self.builder.clone()) {
+                Ok(worker) => self.build_worker = Some(worker),
+                // Structural changes then wait for the next activation.
+                Err(e) => nice_error!("Pneuma: cannot start the engine build thread: {e}"),
             }
-        };
-        context.set_latency_samples(self.engine.as_ref().map_or(0, Engine::latency_samples));
+        }
+        // Never refuse: a host may use any rate (1 Hz, 768 kHz, 1 234.5678 Hz). Where the engine
+        // cannot run, the audio passes untouched and the controls rest. Built on the build
+        // thread (a known stack), here only if that thread is missing or stuck.
+        let built = self
+            .build_worker
+            .as_ref()
+            .and_then(|w| w.build_and_wait(&mut self.swap, epoch))
+            .unwrap_or_else(|| self.builder.build_boxed(&stream));
+        self.engine = built.engine;
+        let structural = built.structural;
+        let latency = self.engine.as_ref().map_or(0, |e| e.latency_samples());
+        context.set_latency_samples(latency);
+        self.view
+            .activated(self.engine.is_some(), latency, buffer_config.sample_rate);
         self.prepared = Some(structural);
-        self.restart_requested = false;
         self.at_rest = false;
         self.mono = MonoSource::new(audio_io_layout);
         // One millisecond of tolerance for rounded host positions (at least one sample).
+        self.pre_roll = PreRoll::default();
         self.jumps = JumpDetector::new(
             (f64::from(buffer_config.sample_rate) / 1000.0)
                 .ceil()
@@ -449,26 +505,24 @@ impl Plugin for Pneuma {
         context: &mut impl ProcessContext<Self>,
     ) -> ProcessStatus {
         let transport = context.transport();
-        if self
-            .jumps
-            .check(transport.playing, transport.pos_samples(), buffer.samples())
-        {
+        let pos = transport.pos_samples();
+        let playing = transport.playing;
+        let jumped = self.jumps.check(playing, pos, buffer.samples());
+        if jumped {
             self.reset_streams();
+            let latency = self.engine.as_ref().map_or(0, |e| e.latency_samples());
+            self.pre_roll.start(pos, latency);
         }
+        self.follow_structure(context, buffer.samples());
         let changes = &self.params.changes;
-        if ChangeFlags::take(&changes.structure) {
-            self.restart_requested = false;
-        }
-        if !self.restart_requested && self.prepared != Some(Structural::of(&self.params)) {
-            self.restart_requested = true;
-            context.request_restart();
-        }
+        // Structural changes are followed above, by comparing settings (a build may be running).
+        ChangeFlags::take(&changes.structure);
         if ChangeFlags::take(&changes.cc_map) {
             // An invalid map keeps the previous one (see `activate`).
             let _ = self.cc.set_map(self.params.cc_map());
         }
         if ChangeFlags::take(&changes.engine) {
-            if let Some(engine) = self.engine.as_mut() {
+            if let Some(engine) = self.engine.as_deref_mut() {
                 // An invalid combination keeps the previous settings; ranges make it unlikely.
                 let _ = engine.set_config(&self.params.engine_config());
             }
@@ -497,6 +551,7 @@ impl Plugin for Pneuma {
             }
         };
         self.mono.apply(buffer.as_slice());
+        self.view.begin_block(buffer.as_slice());
         let rest = bypassed || self.engine.is_none();
         if rest && !self.at_rest {
             // Once: every controller to the rest pose, one rest frame to OSC.
@@ -504,30 +559,37 @@ impl Plugin for Pneuma {
             let mut outputs = Outputs {
                 cc: midi_on.then_some(&mut self.cc),
                 osc: if osc_on { self.osc_feed.as_mut() } else { None },
+                view: None,
             };
             send_rest_pose(&mut outputs, &mut send_cc);
         }
-        match self.engine.as_mut() {
-            Some(engine) => {
-                self.at_rest = rest;
-                let outputs = if bypassed {
-                    Outputs {
-                        cc: None,
-                        osc: None,
-                    }
-                } else {
-                    Outputs {
-                        cc: midi_on.then_some(&mut self.cc),
-                        osc: if osc_on { self.osc_feed.as_mut() } else { None },
-                    }
-                };
-                run_block(engine, buffer.as_slice(), outputs, &mut send_cc);
-            }
-            None => {
-                for channel in buffer.as_slice().iter_mut() {
-                    sanitize_in_place(channel);
+        let audio = buffer.as_slice();
+        let restart_at = if playing {
+            self.pre_roll.restart_at(pos, audio)
+        } else {
+            self.pre_roll.stop();
+            None
+        };
+        match restart_at {
+            // A silent pre-roll ends in this block: the engine starts afresh with the audio, as
+            // `pneuma render` starts at the file's first sample.
+            Some(at) => {
+                let mut heads: [&mut [f32]; 2] = Default::default();
+                let mut tails: [&mut [f32]; 2] = Default::default();
+                let channels = audio.len().min(2);
+                for (i, channel) in audio.iter_mut().take(2).enumerate() {
+                    let (head, tail) = channel.split_at_mut(at);
+                    heads[i] = head;
+                    tails[i] = tail;
                 }
+                self.run_engine(&mut heads[..channels], midi_on, osc_on, &mut send_cc);
+                self.reset_streams();
+                let offset = at as u32;
+                self.run_engine(&mut tails[..channels], midi_on, osc_on, &mut |o, m| {
+                    send_cc(o + offset, m)
+                });
             }
+            None => self.run_engine(audio, midi_on, osc_on, &mut send_cc),
         }
         if cc_lost {
             // Forget what was sent so every controller is sent again at the next frame: a lost
@@ -537,6 +599,7 @@ impl Plugin for Pneuma {
                 self.at_rest = false;
             }
         }
+        self.view.end_block(self.osc_stats.as_deref(), cc_lost);
         ProcessStatus::Normal
     }
 }
@@ -623,7 +686,8 @@ mod tests {
         let params = PneumaParams::default();
         let map = params.param_map();
         let ids: Vec<&str> = map.iter().map(|(id, _, _)| id.as_str()).collect();
-        assert!(ids.contains(&BREATH_LEVEL_PARAM_ID));
+        // The id saved in host projects (README): a literal, not the code's own constant.
+        assert!(ids.contains(&"breath_level_db"));
 
         let p = &params.breath_level_db;
         assert_eq!(p.default_plain_value(), -22.0);
@@ -666,35 +730,19 @@ mod tests {
         w.finalize().unwrap();
         let err = load_breath_sample(silent.to_str().unwrap()).unwrap_err();
         assert!(err.contains("silent.wav"), "{err}");
+        // The same file as saved from a pipe (ffmpeg/sox write 0xFFFFFFFF as the data size):
+        // the CLI reads it, so the plugin must too (issue 17.5: one reader for both).
+        let mut bytes = std::fs::read(&path).unwrap();
+        let data = bytes.windows(4).position(|w| w == b"data").unwrap();
+        bytes[data + 4..data + 8].copy_from_slice(&u32::MAX.to_le_bytes());
+        let piped = dir.join("piped.wav");
+        std::fs::write(&piped, &bytes).unwrap();
+        let sample = load_breath_sample(piped.to_str().unwrap());
+        assert!(
+            sample.as_ref().is_ok_and(|s| s.is_some()),
+            "a streamed-size WAV loads: {sample:?}"
+        );
         let _ = std::fs::remove_dir_all(&dir);
-    }
-
-    #[test]
-    fn transport_jumps_are_detected_only_while_playing() {
-        let mut d = JumpDetector::new(2);
-        assert!(!d.check(true, Some(0), 64), "first block");
-        assert!(!d.check(true, Some(64), 64), "contiguous");
-        assert!(
-            !d.check(true, Some(129), 63),
-            "one sample of rounding is no jump"
-        );
-        assert!(!d.check(true, Some(192), 872), "back on track");
-        assert!(d.check(true, Some(1000), 64), "jump forward");
-        assert!(!d.check(true, Some(1064), 32));
-        assert!(!d.check(false, Some(5000), 32), "stopped: no reset");
-        assert!(d.check(true, Some(5000), 32), "restart elsewhere is a jump");
-        assert!(!d.check(true, None, 32), "no position: no jump");
-        assert!(!d.check(true, Some(5032), 32));
-        // A held position (latency pre-roll) is no jump, nor is the roll that follows it.
-        let mut d = JumpDetector::new(2);
-        for _ in 0..4 {
-            assert!(!d.check(true, Some(0), 512), "pre-roll held at 0");
-        }
-        assert!(!d.check(true, Some(512), 512), "rolling on");
-        assert!(
-            d.check(true, Some(0), 512),
-            "back to 0 while rolling is a jump"
-        );
     }
 
     fn layout(inputs: u32, outputs: u32) -> AudioIOLayout {

@@ -6,8 +6,8 @@
 //! the state but not automatable.
 //!
 //! Parameters that change the frame clock or the latency (`mode`, `lookahead_s`,
-//! `frame_rate_hz`) take effect at the next activation; the plugin asks the host for a restart
-//! when they change.
+//! `frame_rate_hz`) need a new engine: the plugin builds one in the background and swaps it in
+//! (`crate::rebuild`), reporting the new latency to the host.
 //!
 //! Change flags: every parameter's callback raises one of the [`ChangeFlags`] (engine settings,
 //! CC map, structure), so the audio thread rebuilds the engine settings or the CC map only after
@@ -129,6 +129,62 @@ pub const PARAM_IDS: &[&str] = &[
     "osc_format",
 ];
 
+/// The unit (VST3) or module (CLAP) a host files a parameter under, by id: `bypass` at the top,
+/// then contiguous runs in declaration order (so the flat order hosts show stays the same).
+pub fn unit_of(id: &str) -> &'static str {
+    match id {
+        "bypass" => "",
+        "preset"
+        | "thorax_vs_abdomen"
+        | "capacity_lung"
+        | "mouth_vs_nose"
+        | "breath_sound"
+        | "opening"
+        | "speaking_loudness"
+        | "inspiration_length_s"
+        | "neck_amplitude_deg" => "Breathing",
+        "breath_level_db" | "insert_breaths" | "min_pause_s" | "mode" | "lookahead_s" => {
+            "Breaths & timing"
+        }
+        "head_amount" | "head_max_pitch_deg" | "head_max_yaw_deg" | "head_max_roll_deg" => "Head",
+        "frame_rate_hz" | "midi_enabled" | "midi_channel" | "cc_14bit" | "cc_head_range_deg" => {
+            "Output"
+        }
+        "osc_enabled" | "osc_port" | "osc_format" => "OSC",
+        id if id.starts_with("cc_") => "CC map",
+        _ => "",
+    }
+}
+
+/// What the host sees: [`PneumaParams`] with every parameter filed under its [`unit_of`]
+/// (VST3 units, CLAP modules). Values, ids, order and the persisted fields are the inner
+/// struct's.
+pub struct HostParams(pub Arc<PneumaParams>);
+
+// `Params` is an unsafe trait: the pointers must stay valid while this object lives. They are
+// the inner struct's own pointers, and this object holds the inner struct.
+#[allow(unsafe_code)]
+unsafe impl Params for HostParams {
+    fn param_map(&self) -> Vec<(String, ParamPtr, String)> {
+        self.0
+            .param_map()
+            .into_iter()
+            .map(|(id, ptr, _)| {
+                let unit = unit_of(&id).to_owned();
+                (id, ptr, unit)
+            })
+            .collect()
+    }
+
+    fn serialize_fields(&self) -> std::collections::BTreeMap<String, String> {
+        self.0.serialize_fields()
+    }
+
+    fn deserialize_fields(&self, serialized: &std::collections::BTreeMap<String, String>) {
+        self.0.deserialize_fields(serialized)
+    }
+}
+
 /// The plugin's parameters and persisted settings.
 #[derive(Params)]
 pub struct PneumaParams {
@@ -173,10 +229,10 @@ pub struct PneumaParams {
     /// Shortest pause that gets a breath, seconds, 0.1..2. Default 0.25.
     #[id = "min_pause_s"]
     pub min_pause_s: FloatParam,
-    /// Lookahead (latency = lookahead) or live (zero latency). Default lookahead. Restart.
+    /// Lookahead (latency = lookahead) or live (zero latency). Default lookahead. New engine.
     #[id = "mode"]
     pub mode: EnumParam<ModeChoice>,
-    /// Lookahead length (= latency), seconds, 0.3..2. Default 0.5. Restart.
+    /// Lookahead length (= latency), seconds, 0.3..2. Default 0.5. New engine.
     #[id = "lookahead_s"]
     pub lookahead_s: FloatParam,
 
@@ -193,7 +249,7 @@ pub struct PneumaParams {
     #[id = "head_max_roll_deg"]
     pub head_max_roll_deg: FloatParam,
 
-    /// Control frame rate, Hz, 30..240. Default 120. Restart.
+    /// Control frame rate, Hz, 30..240. Default 120. New engine.
     #[id = "frame_rate_hz"]
     pub frame_rate_hz: IntParam,
 
@@ -263,6 +319,9 @@ pub struct PneumaParams {
     /// Path of a nose breath WAV replacing the procedural nose breath (empty = none).
     #[persist = "breath_sample_nose"]
     pub breath_sample_nose: SamplePath,
+    /// The editor window's size and zoom.
+    #[persist = "editor_layout"]
+    pub editor_layout: Arc<RwLock<crate::editor::EditorLayout>>,
 
     /// Raised by the parameters' callbacks; taken by the audio thread.
     pub changes: Arc<ChangeFlags>,
@@ -416,6 +475,8 @@ fn parse_cc_text(text: &str) -> Option<i32> {
 impl Default for PneumaParams {
     fn default() -> Self {
         let flags = Arc::new(ChangeFlags::default());
+        // A standalone program's defaults (live mode, OSC on); plugin hosts never set them.
+        let app = crate::editor::standalone::app_defaults();
         let engine = |p: FloatParam| p.with_callback(raise(&flags, Raises::Engine));
         let cc_map = |p: FloatParam| p.with_callback(raise(&flags, Raises::CcMap));
         Self {
@@ -436,8 +497,14 @@ impl Default for PneumaParams {
             insert_breaths: BoolParam::new("Insert breaths", true)
                 .with_callback(raise(&flags, Raises::Engine)),
             min_pause_s: engine(linear("Minimum pause", 0.25, 0.1, 2.0, " s", 0.01)),
-            mode: EnumParam::new("Mode", ModeChoice::Lookahead)
-                .with_callback(raise(&flags, Raises::Structure)),
+            mode: EnumParam::new(
+                "Mode",
+                match app {
+                    Some(a) if a.live => ModeChoice::Live,
+                    _ => ModeChoice::Lookahead,
+                },
+            )
+            .with_callback(raise(&flags, Raises::Structure)),
             lookahead_s: linear("Lookahead", 0.5, 0.3, 2.0, " s", 0.01)
                 .with_callback(raise(&flags, Raises::Structure)),
             head_amount: engine(linear("Head motion", 1.0, 0.0, 4.0, "", 0.01)),
@@ -464,16 +531,23 @@ impl Default for PneumaParams {
             cc_neck_pitch: cc_param(CcSignal::NeckPitch, &flags),
             cc_speaking: cc_param(CcSignal::Speaking, &flags),
             cc_loudness: cc_param(CcSignal::Loudness, &flags),
-            osc_enabled: BoolParam::new("OSC out", false),
+            osc_enabled: BoolParam::new("OSC out", app.is_some()),
             osc_port: IntParam::new(
                 "OSC port",
-                DEFAULT_OSC_PORT,
+                app.map_or(DEFAULT_OSC_PORT, |a| i32::from(a.osc_port)),
                 IntRange::Linear { min: 1, max: 65535 },
             ),
-            osc_format: EnumParam::new("OSC format", OscFormatChoice::Pneuma),
-            osc_host: Arc::new(RwLock::new(DEFAULT_OSC_HOST.to_owned())),
+            osc_format: EnumParam::new(
+                "OSC format",
+                app.map_or(OscFormatChoice::Pneuma, |a| a.osc_format),
+            ),
+            osc_host: Arc::new(RwLock::new(
+                app.map_or(DEFAULT_OSC_HOST, |a| a.osc_host.as_str())
+                    .to_owned(),
+            )),
             breath_sample_mouth: SamplePath::default(),
             breath_sample_nose: SamplePath::default(),
+            editor_layout: Arc::default(),
             changes: flags,
         }
     }
@@ -525,14 +599,10 @@ impl PneumaParams {
     /// The breathing model's settings: the preset's, or the individual controls with preset
     /// `custom` (the independent settings the plugin does not expose keep their defaults).
     pub fn breathing_params(&self) -> BreathingParams {
-        let preset = match self.preset.value() {
-            PresetChoice::Custom => None,
-            PresetChoice::Neutral => Some(Preset::Neutral),
-            PresetChoice::Calm => Some(Preset::Calm),
-            PresetChoice::Anxious => Some(Preset::Anxious),
-            PresetChoice::Tired => Some(Preset::Tired),
-            PresetChoice::Excited => Some(Preset::Excited),
-        };
+        // `Custom` first, then the core's presets in the order of `Preset::ALL`.
+        let preset = (self.preset.value().to_index())
+            .checked_sub(1)
+            .and_then(|i| Preset::ALL.get(i).copied());
         if let Some(p) = preset {
             return p.params();
         }
@@ -605,6 +675,33 @@ mod tests {
     }
 
     #[test]
+    fn hosts_see_every_parameter_in_a_unit_of_one_contiguous_run() {
+        let host = HostParams(Arc::new(PneumaParams::default()));
+        let map = host.param_map();
+        let ids: Vec<&str> = map.iter().map(|(id, _, _)| id.as_str()).collect();
+        assert_eq!(ids, PARAM_IDS, "same ids in the same order");
+        let units: Vec<&str> = map.iter().map(|(_, _, u)| u.as_str()).collect();
+        assert_eq!(units[0], "", "bypass at the top");
+        assert!(units[1..].iter().all(|u| !u.is_empty()), "{units:?}");
+        let mut runs: Vec<&str> = units[1..].to_vec();
+        runs.dedup();
+        assert_eq!(
+            runs,
+            [
+                "Breathing",
+                "Breaths & timing",
+                "Head",
+                "Output",
+                "CC map",
+                "OSC"
+            ],
+            "each unit one run, in this order"
+        );
+        assert_eq!(unit_of("cc_loudness"), "CC map");
+        assert_eq!(unit_of("mode"), "Breaths & timing");
+    }
+
+    #[test]
     fn default_cc_map_is_the_design_map() {
         let params = PneumaParams::default();
         assert_eq!(params.cc_map(), CcMap::default());
@@ -648,6 +745,21 @@ mod tests {
     }
 
     #[test]
+    fn preset_choices_map_to_the_core_presets_by_index() {
+        let ids = PresetChoice::ids().expect("ids");
+        assert_eq!(ids.len(), Preset::ALL.len() + 1);
+        let params = PneumaParams::default();
+        for (i, preset) in Preset::ALL.into_iter().enumerate() {
+            assert_eq!(ids[i + 1], preset.name());
+            let choice = PresetChoice::from_index(i + 1);
+            let normalized = params.preset.preview_normalized(choice);
+            // SAFETY: `params` outlives the pointer.
+            unsafe { param(&params, "preset")._internal_set_normalized_value(normalized) };
+            assert_eq!(params.breathing_params(), preset.params(), "{choice:?}");
+        }
+    }
+
+    #[test]
     fn default_parameters_give_the_default_engine() {
         let params = PneumaParams::default();
         assert_eq!(params.engine_config(), EngineConfig::default());
@@ -684,7 +796,8 @@ mod tests {
             }
         }
         let cc = &params.cc_lung;
-        assert_eq!(cc.normalized_value_to_string(0.0, true), CC_OFF_TEXT);
+        // What users read and type (README), not the code's own constant.
+        assert_eq!(cc.normalized_value_to_string(0.0, true), "off");
         assert_eq!(cc.string_to_normalized_value(" OFF "), Some(0.0));
         assert_eq!(parse_cc_text("17"), Some(17));
         assert_eq!(parse_cc_text("seventeen"), None);

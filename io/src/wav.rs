@@ -28,9 +28,16 @@
 
 use std::fs::File;
 use std::io::{BufReader, Read};
+
+/// The byte stream a [`WavSource`] reads: a file, or standard input (with the bytes already
+/// looked at to recognise the format put back in front).
+pub type ByteStream = Box<dyn Read + Send>;
 use std::path::{Path, PathBuf};
 
 use thiserror::Error;
+
+pub use crate::mix_to_mono;
+use crate::AudioInfo;
 
 /// Errors while reading a WAV file.
 #[derive(Debug, Error)]
@@ -87,23 +94,9 @@ pub enum WavError {
     },
 }
 
-/// What a WAV file holds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct WavInfo {
-    /// Sample rate, Hz.
-    pub sample_rate_hz: u32,
-    /// Channel count.
-    pub channels: u16,
-    /// Bits per sample of the container (8, 16, 24 or 32; 32 for float). A
-    /// `WAVE_FORMAT_EXTENSIBLE` file with fewer valid bits (24 in 32) reports the container.
-    pub bits: u16,
-    /// Float (true) or integer PCM.
-    pub float: bool,
-    /// Sample frames the header announces; for a file of unknown length (streamed to a pipe and
-    /// then saved) the whole frames between the data start and the end of the file, and 0 when
-    /// that cannot be known either (the input itself is a pipe).
-    pub frames: u64,
-}
+/// What a WAV file holds (the name the CLI and xtask have used; the same type as
+/// [`AudioInfo`]).
+pub type WavInfo = AudioInfo;
 
 /// How one sample is stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -137,7 +130,7 @@ const TAG_EXTENSIBLE: u16 = 0xfffe;
 /// A WAV file opened for block-wise reading.
 pub struct WavSource {
     path: PathBuf,
-    reader: BufReader<File>,
+    reader: BufReader<ByteStream>,
     info: WavInfo,
     encoding: Encoding,
     /// Bytes per sample frame.
@@ -181,8 +174,9 @@ struct Ds64 {
     data: u64,
 }
 
-/// Reads until `buf` is full or the input ends; returns the bytes read.
-fn read_full(r: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> {
+/// Reads until `buf` is full or the input ends; returns the bytes read (also used by the
+/// format sniffing in `lib.rs`).
+pub(crate) fn read_full(r: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> {
     let mut n = 0;
     while n < buf.len() {
         match r.read(&mut buf[n..]) {
@@ -287,7 +281,17 @@ impl WavSource {
         }
         // The length of a regular file; unknown for a pipe or device.
         let file_len = meta.filter(|m| m.is_file()).map(|m| m.len());
-        Header::parse(path, BufReader::with_capacity(1 << 16, file), file_len)
+        Self::from_stream(path, Box::new(file), file_len)
+    }
+
+    /// Reads a WAV stream: `name` names it in errors (`-` for standard input), `file_len` is
+    /// its length in bytes when known (a regular file), `None` for a pipe.
+    pub fn from_stream(
+        name: &Path,
+        stream: ByteStream,
+        file_len: Option<u64>,
+    ) -> Result<Self, WavError> {
+        Header::parse(name, BufReader::with_capacity(1 << 16, stream), file_len)
     }
 
     /// What the file holds.
@@ -398,7 +402,7 @@ fn decode(encoding: Encoding, bytes: &[u8], scale: f32, out: &mut Vec<f32>) {
 /// Header parsing state.
 struct Header<'a> {
     path: &'a Path,
-    reader: BufReader<File>,
+    reader: BufReader<ByteStream>,
     file_len: Option<u64>,
     /// Bytes consumed so far.
     pos: u64,
@@ -479,11 +483,10 @@ impl<'a> Header<'a> {
                 if n > left {
                     return Err(self.ends_inside(id, size, done + left));
                 }
-                // n ≤ the file length, so it fits an i64.
-                self.reader
-                    .seek_relative(n as i64)
+                // Skipped by reading: header chunks are small, and the stream may be a pipe.
+                let copied = std::io::copy(&mut (&mut self.reader).take(n), &mut std::io::sink())
                     .map_err(|e| self.format(format!("the header cannot be read: {e}")))?;
-                self.pos += n;
+                self.pos += copied;
             }
             None => {
                 let copied = std::io::copy(&mut (&mut self.reader).take(n), &mut std::io::sink())
@@ -499,7 +502,7 @@ impl<'a> Header<'a> {
 
     fn parse(
         path: &'a Path,
-        reader: BufReader<File>,
+        reader: BufReader<ByteStream>,
         file_len: Option<u64>,
     ) -> Result<WavSource, WavError> {
         let mut h = Header {
@@ -788,27 +791,10 @@ impl<'a> Header<'a> {
     }
 }
 
-/// Mixes interleaved frames to mono (mean of the channels) into `mono` (cleared first).
-pub fn mix_to_mono(interleaved: &[f32], channels: usize, mono: &mut Vec<f32>) {
-    mono.clear();
-    let k = 1.0 / channels as f32;
-    mono.extend(
-        interleaved
-            .chunks_exact(channels)
-            .map(|f| f.iter().sum::<f32>() * k),
-    );
-}
-
-/// Reads a whole file mixed to mono (for evaluation of short clips).
+/// Reads a whole WAV file mixed to mono (for evaluation of short clips).
 pub fn read_mono(path: &Path) -> Result<(Vec<f32>, u32), WavError> {
     let mut src = WavSource::open(path)?;
-    let channels = src.info().channels as usize;
-    let mut all = Vec::new();
-    let mut block = Vec::new();
-    let mut mono = Vec::new();
-    while src.read_interleaved(8192, &mut block)? > 0 {
-        mix_to_mono(&block, channels, &mut mono);
-        all.extend_from_slice(&mono);
-    }
-    Ok((all, src.info().sample_rate_hz))
+    let info = src.info();
+    let all = crate::collect_mono(info.channels, |block| src.read_interleaved(8192, block))?;
+    Ok((all, info.sample_rate_hz))
 }

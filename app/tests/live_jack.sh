@@ -1,0 +1,80 @@
+#!/usr/bin/env bash
+# The standalone against a JACK dummy server (no sound card): the example voice is played into
+# its input and its output recorded (app/tests/jack_play.py), VMC is received on UDP by a
+# third-party receiver (app/tests/vmc_receiver.py), and the output must hold inserted breaths
+# (app/tests/check_live.py). Mode `gui`: under Xvfb with the editor window, and a screenshot
+# taken after the voice must show the timeline with breaths. Mode `headless`: `--no-gui`.
+#
+# Usage: app/tests/live_jack.sh gui|headless APP_BINARY PYTHON_WITH_DEPS
+# Needs jackd (jackd2), and for `gui` Xvfb, Mesa and ImageMagick (`.ci/run` installs them).
+# Artefacts (recorded output, screenshot) go to target/live-test/.
+set -euo pipefail
+mode="$1"; app="$2"; py="$3"
+here="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+out="$root/target/live-test/$mode"
+mkdir -p "$out"
+voice="$root/assets/examples/voice.wav"
+server="pneuma-ci-$$"
+export JACK_DEFAULT_SERVER="$server"
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+}
+trap cleanup EXIT
+
+# A dummy JACK server at the voice's rate (16 kHz), 256-sample periods.
+jackd --no-realtime -n "$server" -d dummy -r 16000 -p 256 >"$out/jackd.log" 2>&1 &
+pids+=($!)
+for _ in $(seq 50); do jack_lsp >/dev/null 2>&1 && break; sleep 0.1; done
+jack_lsp >/dev/null 2>&1 || { echo "jackd did not start; see $out/jackd.log" >&2; exit 1; }
+
+vmc_port="$(python3 -c 'import socket; s=socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')"
+args=(--osc-port "$vmc_port" --osc-format vmc)
+if [ "$mode" = gui ]; then
+  display=":$((90 + $$ % 9))"
+  Xvfb "$display" -screen 0 1280x800x24 -nolisten tcp >"$out/xvfb.log" 2>&1 &
+  pids+=($!)
+  export DISPLAY="$display" LIBGL_ALWAYS_SOFTWARE=1
+  for _ in $(seq 50); do xdpyinfo >/dev/null 2>&1 && break; sleep 0.1; done
+else
+  args+=(--no-gui)
+  unset DISPLAY || true
+fi
+
+# The VMC receiver: the voice lasts 25 s; 1000 bundles is about 8 s of it at 120 frames/s.
+"$py" "$here/vmc_receiver.py" --port "$vmc_port" --bundles 1000 --timeout-s 60 \
+  --ready-file "$out/vmc.ready" >"$out/vmc.json" &
+vmc_pid=$!
+for _ in $(seq 100); do [ -f "$out/vmc.ready" ] && break; sleep 0.1; done
+
+"$app" "${args[@]}" >"$out/app.log" 2>&1 &
+app_pid=$!
+pids+=("$app_pid")
+for _ in $(seq 100); do jack_lsp 2>/dev/null | grep -q '^pneuma:input_1$' && break; sleep 0.1; done
+jack_lsp 2>/dev/null | grep -q '^pneuma:input_1$' || {
+  echo "pneuma-app did not register its JACK ports; its log:" >&2; cat "$out/app.log" >&2; exit 1; }
+
+"$py" "$here/jack_play.py" --play "$voice" --record "$out/output.wav" --tail-s 0.5
+echo "recorded output: $out/output.wav"
+python3 "$here/check_live.py" breaths --input "$voice" --output "$out/output.wav" --min-breaths 2
+
+if [ "$mode" = gui ]; then
+  import -window root "$out/editor.png"
+  convert "$out/editor.png" -depth 8 "ppm:$out/editor.ppm"
+  echo "screenshot: $out/editor.png"
+  python3 "$here/check_live.py" screenshot --ppm "$out/editor.ppm" --min-breath-pixels 300
+fi
+
+if ! wait "$vmc_pid"; then
+  echo "VMC receiver refused the app's output: $(cat "$out/vmc.json")" >&2
+  exit 1
+fi
+echo "VMC received: $(cat "$out/vmc.json")"
+# The app's CPU time (all threads) since it started, for the editor's cost: gui minus headless.
+ticks="$(getconf CLK_TCK)"
+cpu_s="$(awk -v t="$ticks" '{printf "%.2f", ($14 + $15) / t}' "/proc/$app_pid/stat")"
+echo "pneuma-app CPU ($mode): $cpu_s s over the run (25.3 s of voice plus start-up)"
+kill -INT "$app_pid" 2>/dev/null || true
+echo "live test ($mode) passed"

@@ -1,0 +1,141 @@
+//! The plugin's editor (egui through nice-plug-egui, OpenGL) and its data path.
+//!
+//! - [`feed`]: the lock-free path from the audio thread to the GUI.
+//! - [`history`]: the GUI's last 10 s of frames and breaths, phrases and pauses.
+//! - [`timeline`]: the scrolling timeline.
+//! - [`standalone`]: defaults a standalone program sets for its plugin instance.
+//! - [`view`]: the window: timeline, head and breathing, controls, breath-sample picker, output
+//!   status and the MIDI CC map.
+//!
+//! The window is resizable and follows the host's scale factor; its size and zoom are saved in
+//! the plugin state ([`EditorLayout`], persisted as `editor_layout`). A standalone program can
+//! run without a window ([`set_headless`]).
+
+pub mod feed;
+pub mod history;
+pub mod standalone;
+pub mod timeline;
+pub mod view;
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, RwLock};
+
+use nice_plug_egui::{create_egui_editor, EguiEditorState, EguiNiceSettings, RepaintNotifier};
+use serde::{Deserialize, Serialize};
+
+use crate::params::PneumaParams;
+use feed::EditorShared;
+
+/// The editor window's size (logical points) and zoom, saved with the plugin state.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct EditorLayout {
+    /// Width, logical points.
+    pub width: u32,
+    /// Height, logical points.
+    pub height: u32,
+    /// The user's zoom on top of the host's scale factor.
+    pub zoom: f32,
+}
+
+/// Smallest window, logical points.
+pub const MIN_SIZE: (u32, u32) = (720, 480);
+
+impl Default for EditorLayout {
+    fn default() -> Self {
+        Self {
+            width: 1000,
+            height: 680,
+            zoom: 1.0,
+        }
+    }
+}
+
+static HEADLESS: AtomicBool = AtomicBool::new(false);
+
+/// Makes every plugin instance of this process come without an editor (a standalone program's
+/// `--no-gui`). Call it before the plugin is created.
+pub fn set_headless(headless: bool) {
+    HEADLESS.store(headless, Ordering::Relaxed);
+}
+
+/// The editor type.
+pub type PneumaEditor = nice_plug_egui::EguiEditor<view::EditorApp>;
+
+/// The editor for a plugin instance (`saved_layout`: the persisted size and zoom, updated as
+/// the window changes), or `None` in a headless process. Hosts ask once, right after creating
+/// the instance (before a saved state is restored): the saved size is applied when the window
+/// opens ([`view::EditorApp`]).
+pub fn create(
+    params: Arc<PneumaParams>,
+    shared: Arc<EditorShared>,
+    saved_layout: Arc<RwLock<EditorLayout>>,
+) -> Option<PneumaEditor> {
+    if HEADLESS.load(Ordering::Relaxed) {
+        return None;
+    }
+    let layout = saved_layout.read().map(|l| *l).unwrap_or_default();
+    let state = shared
+        .window
+        .get_or_init(|| {
+            EguiEditorState::from_size(
+                nice_plug::editor::dpi::LogicalSize::new(
+                    layout.width.max(MIN_SIZE.0) as f64,
+                    layout.height.max(MIN_SIZE.1) as f64,
+                ),
+                if layout.zoom.is_finite() && layout.zoom > 0.0 {
+                    layout.zoom.clamp(0.5, 3.0)
+                } else {
+                    1.0
+                },
+            )
+        })
+        .clone();
+    let settings = EguiNiceSettings::new()
+        .with_tile("Pneuma")
+        .with_resize_hint(
+            nice_plug::editor::ResizeHint::resizable().with_min_logical_size(
+                nice_plug::editor::dpi::LogicalSize::new(MIN_SIZE.0 as f32, MIN_SIZE.1 as f32),
+            ),
+        );
+    let app = view::EditorApp::new(params, shared, saved_layout);
+    create_egui_editor(state, RepaintNotifier::new(), settings, app)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nice_plug::prelude::Params;
+
+    #[test]
+    fn the_window_size_and_zoom_are_saved_with_the_state() {
+        let params = PneumaParams::default();
+        *params.editor_layout.write().unwrap() = EditorLayout {
+            width: 1234,
+            height: 777,
+            zoom: 1.5,
+        };
+        let saved = params.serialize_fields();
+        assert!(saved.contains_key("editor_layout"), "{:?}", saved.keys());
+        let restored = PneumaParams::default();
+        restored.deserialize_fields(&saved);
+        assert_eq!(
+            *restored.editor_layout.read().unwrap(),
+            EditorLayout {
+                width: 1234,
+                height: 777,
+                zoom: 1.5
+            }
+        );
+    }
+
+    #[test]
+    fn a_headless_process_has_no_editor() {
+        set_headless(true);
+        let (_, shared) = feed::channel();
+        let params = Arc::new(PneumaParams::default());
+        let layout = params.editor_layout.clone();
+        assert!(create(params.clone(), shared.clone(), layout.clone()).is_none());
+        set_headless(false);
+        assert!(create(params, shared, layout).is_some());
+    }
+}

@@ -1,0 +1,34 @@
+//! Settings a standalone program (the `pneuma-app` crate) gives every plugin instance of its
+//! process before nice-plug's standalone wrapper creates it: they become the parameters'
+//! defaults (live mode, OSC on to the avatar app). Plugin hosts never set them, so the
+//! plugin's own defaults stay as documented.
+
+use std::sync::OnceLock;
+
+use crate::params::OscFormatChoice;
+
+/// Defaults for the standalone program.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AppDefaults {
+    /// Live mode (zero latency) instead of lookahead.
+    pub live: bool,
+    /// OSC target host (a numeric address or `localhost`).
+    pub osc_host: String,
+    /// OSC target port.
+    pub osc_port: u16,
+    /// OSC address space.
+    pub osc_format: OscFormatChoice,
+}
+
+static APP_DEFAULTS: OnceLock<AppDefaults> = OnceLock::new();
+
+/// Sets the defaults once per process, before the plugin is created. A second call is refused
+/// (returns the defaults already set).
+pub fn set_app_defaults(defaults: AppDefaults) -> Result<(), AppDefaults> {
+    APP_DEFAULTS.set(defaults)
+}
+
+/// The standalone defaults, when a standalone program set them.
+pub fn app_defaults() -> Option<&'static AppDefaults> {
+    APP_DEFAULTS.get()
+}

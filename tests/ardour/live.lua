@@ -1,0 +1,51 @@
+-- Step 3 (after the export): Mode = Live takes effect in the open session (latency 0, no
+-- reload), a session saved right after parameter changes reopens with them, in Live mode.
+-- Appends to $PNEUMA_ARDOUR_OUT/facts.txt.
+dofile(os.getenv("PNEUMA_ARDOUR_SCRIPTS") .. "/common.lua")
+local out_dir = assert(os.getenv("PNEUMA_ARDOUR_OUT"), "PNEUMA_ARDOUR_OUT not set")
+start_engine()
+local facts = io.open(out_dir .. "/facts.txt", "a")
+
+local function change_and_save()
+  open_session()
+  local voice = track("Voice")
+  local pneuma = voice:nth_plugin(0)
+  check(not pneuma:isnil(), "Pneuma is gone from the voice track")
+  local mode = param_index(pneuma, "Mode")
+  local level = param_index(pneuma, "Breath level")
+  sleep_s(0.2)
+  facts:write("reopened_latency_samples=" .. pneuma:signal_latency() .. "\n")
+
+  ARDOUR.LuaAPI.set_processor_param(pneuma, mode, 1)
+  -- The plugin builds the live engine in the background and reports its latency.
+  local t0 = ARDOUR.LuaAPI.monotonic_time()
+  while (pneuma:signal_latency() ~= 0 or voice:signal_latency() ~= 0)
+      and ARDOUR.LuaAPI.monotonic_time() - t0 < 5e6 do
+    sleep_s(0.01)
+  end
+  facts:write("live_latency_samples=" .. pneuma:signal_latency() .. "\n")
+  facts:write("live_after_ms=" .. math.floor((ARDOUR.LuaAPI.monotonic_time() - t0) / 1000) .. "\n")
+  facts:write("live_route_latency_samples=" .. voice:signal_latency() .. "\n")
+  -- Saved at once after a change: the state must hold it.
+  ARDOUR.LuaAPI.set_processor_param(pneuma, level, -10)
+  save()
+end
+
+local function reopen()
+  open_session()
+  local voice = track("Voice")
+  local pneuma = voice:nth_plugin(0)
+  local mode = param_index(pneuma, "Mode")
+  local level = param_index(pneuma, "Breath level")
+  sleep_s(0.5)
+  facts:write("reopened_mode=" .. ARDOUR.LuaAPI.get_processor_param(pneuma, mode) .. "\n")
+  facts:write("reopened_breath_level_db=" .. ARDOUR.LuaAPI.get_processor_param(pneuma, level) .. "\n")
+  facts:write("reopened_live_latency_samples=" .. pneuma:signal_latency() .. "\n")
+end
+
+change_and_save()
+close()
+reopen()
+close()
+facts:close()
+print("DONE")

@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# Ardour end-to-end test: Pneuma.vst3 in Ardour 7 (Debian `ardour`), headless (ardour7-lua,
+# ardour7-export) on the dummy backend. Usage, from the workspace root:
+#
+#     tests/ardour/run.sh [WORK_DIR]
+#
+# Needs target/bundled/Pneuma.vst3 and target/release/pneuma (the .ci/run step builds both).
+# Steps: a session with the example voice (48 kHz) on a mono audio track, Pneuma on it, its
+# MIDI CC recorded on a MIDI track, the session exported; then Mode = Live in the open session,
+# a save right after a change, and the session reopened. The checks (tests/tests/ardour.rs)
+# compare the export with `pneuma render` of the same file, the recorded CC with the plugin's
+# CC in a reference host, and the facts the scripts wrote (latencies, reopened values).
+set -euo pipefail
+root="$(cd "$(dirname "$0")/../.." && pwd)"
+work="${1:-$(mktemp -d)}"
+mkdir -p "$work"
+work="$(cd "$work" && pwd)"
+echo "Ardour test in $work"
+
+# A private Ardour home: the config shows the dummy backend, Pneuma sits in ~/.vst3. (cargo
+# keeps finding its toolchain and registry where they are.)
+export RUSTUP_HOME="${RUSTUP_HOME:-$HOME/.rustup}" CARGO_HOME="${CARGO_HOME:-$HOME/.cargo}"
+export HOME="$work/home" XDG_CONFIG_HOME="$work/home/.config" XDG_CACHE_HOME="$work/home/.cache"
+rm -rf "$HOME"
+mkdir -p "$XDG_CONFIG_HOME/ardour7" "$HOME/.vst3"
+cat > "$XDG_CONFIG_HOME/ardour7/config" <<'XML'
+<?xml version="1.0" encoding="UTF-8"?>
+<Ardour>
+  <Config>
+    <Option name="hide-dummy-backend" value="0"/>
+  </Config>
+</Ardour>
+XML
+cp -r "$root/target/bundled/Pneuma.vst3" "$HOME/.vst3/"
+# Ardour's Lua session never scans plugins itself (and list_plugins() before a session
+# segfaults): index the bundle with Ardour's scanner. Ardour ignores an index older than the
+# module (to the second), so the copy is dated 2 s back.
+touch -d "@$(($(date +%s) - 2))" "$HOME/.vst3/Pneuma.vst3/Contents/x86_64-linux/Pneuma.so"
+LD_LIBRARY_PATH=/usr/lib/ardour7 /usr/lib/ardour7/ardour-vst3-scanner -f -q "$HOME/.vst3/Pneuma.vst3"
+
+export PNEUMA_ARDOUR_SCRIPTS="$root/tests/ardour"
+export PNEUMA_ARDOUR_SESSION="$work/session"
+export PNEUMA_ARDOUR_OUT="$work/out"
+rm -rf "$PNEUMA_ARDOUR_SESSION" "$PNEUMA_ARDOUR_OUT"
+mkdir -p "$PNEUMA_ARDOUR_OUT"
+check() {
+  PNEUMA_ARDOUR_OUT="$PNEUMA_ARDOUR_OUT" cargo test --quiet -p pneuma-tests --test ardour -- \
+    --ignored --exact "$1" --nocapture
+}
+lua() {
+  # ardour7-lua exits 0 after a Lua error: the scripts print a marker, checked here.
+  local log="$PNEUMA_ARDOUR_OUT/$(basename "$1" .lua).log"
+  timeout 300 ardour7-lua "$PNEUMA_ARDOUR_SCRIPTS/$1" > "$log" 2>&1 || true
+  if grep -E "^Error: |ARDOUR CHECK FAILED" "$log" || ! grep -q "^DONE$" "$log"; then
+    echo "ardour7-lua $1 failed; its output:" >&2
+    cat "$log" >&2
+    exit 1
+  fi
+}
+
+# The example voice at 48 kHz (32-bit float) and its CLI render.
+check write_the_voice_for_ardour
+"$root/target/release/pneuma" render "$PNEUMA_ARDOUR_OUT/voice48k.wav" -o "$PNEUMA_ARDOUR_OUT/render" --no-plot --quiet
+
+lua create.lua
+recorded=$(ls "$PNEUMA_ARDOUR_SESSION"/interchange/*/audiofiles/*.wav)
+test "$(echo "$recorded" | wc -l)" = 1
+cp "$PNEUMA_ARDOUR_OUT/voice48k.wav" "$recorded"
+lua record.lua
+timeout 300 ardour7-export -b float -o "$PNEUMA_ARDOUR_OUT/export.wav" "$PNEUMA_ARDOUR_SESSION" pneuma \
+  > "$PNEUMA_ARDOUR_OUT/export.log" 2>&1 || { cat "$PNEUMA_ARDOUR_OUT/export.log" >&2; exit 1; }
+lua live.lua
+check the_ardour_session_matches_the_reference
