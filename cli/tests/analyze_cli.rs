@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use pneuma_core::synth;
+use pneuma_core::test_signals;
 
 mod support;
 use support::{assert_analyze_fails, files_besides, pneuma, pneuma_with_stdin};
@@ -17,7 +17,7 @@ fn write_wav(path: &Path, rate: u32, channels: u16, bits: u16, float: bool, mono
 fn test_signal(rate: u32) -> Vec<f32> {
     let r = rate as f64;
     let mut x = vec![0.0; (0.3 * r) as usize];
-    x.extend(synth::harmonic_tone(
+    x.extend(test_signals::harmonic_tone(
         r,
         0.6,
         0.5,

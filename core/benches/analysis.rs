@@ -4,11 +4,11 @@
 //! audio and samples per second; multiples of real time = 10 s / time.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use pneuma_core::synth;
+use pneuma_core::test_signals;
 use pneuma_core::{AnalysisConfig, Analyzer};
 
 fn speech_like(rate: f64) -> Vec<f32> {
-    synth::phrases_with_pauses(rate, 10.0, 30.0, 1)
+    test_signals::phrases_with_pauses(rate, 10.0, 30.0, 1)
 }
 
 fn bench(c: &mut Criterion) {

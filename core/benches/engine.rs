@@ -6,10 +6,10 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use pneuma_core::engine::{Engine, EngineConfig, PlacementMode};
 use pneuma_core::head::HeadModel;
-use pneuma_core::synth;
+use pneuma_core::test_signals;
 
 fn speech_like(rate: f64) -> Vec<f32> {
-    synth::phrases_with_pauses(rate, 10.0, 40.0, 1)
+    test_signals::phrases_with_pauses(rate, 10.0, 40.0, 1)
 }
 
 fn bench(c: &mut Criterion) {

@@ -26,7 +26,7 @@ use pneuma_core::breathing::{BreathSample, Preset, SampleSlot};
 use pneuma_core::engine::offline::{self, Rendered};
 use pneuma_core::engine::{Engine, EngineConfig, PlacementMode};
 use pneuma_core::head::HeadModel;
-use pneuma_core::synth;
+use pneuma_core::test_signals;
 
 /// FNV-1a, 64 bit.
 struct Fnv(u64);
@@ -68,7 +68,7 @@ fn cases() -> Vec<Case> {
         .take(voice.len())
         .collect();
     let gen_sr = 22_050.0;
-    let generated = synth::phrases_with_pauses(gen_sr, 12.0, 20.0, 7);
+    let generated = test_signals::phrases_with_pauses(gen_sr, 12.0, 20.0, 7);
     let gen_right: Vec<f32> = generated.iter().map(|x| -0.7 * x).collect();
     let case = |name, input, sample_rate_hz, config, breath_sample| Case {
         name,
@@ -135,7 +135,7 @@ fn run(case: &Case) -> Rendered {
     if case.breath_sample {
         // A generated "recording": 0.6 s of noise with a rise and fall.
         let n = (0.6 * case.sample_rate_hz) as usize;
-        let noise = synth::white_noise(n, 0.1, 3);
+        let noise = test_signals::white_noise(n, 0.1, 3);
         let shaped = noise
             .iter()
             .enumerate()

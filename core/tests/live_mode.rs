@@ -9,7 +9,7 @@ use example_voice::example_voice;
 use pneuma_core::engine::offline::{self, Rendered};
 use pneuma_core::engine::{Engine, EngineConfig, PlacementMode};
 use pneuma_core::head::HeadModel;
-use pneuma_core::{synth, Phase};
+use pneuma_core::{test_signals, Phase};
 
 fn render(config: &EngineConfig, audio: &[f32], sample_rate_hz: f64) -> Rendered {
     let mut engine = Engine::new(config.clone(), HeadModel::default_model().clone()).unwrap();
@@ -145,7 +145,7 @@ fn generated_phrases_get_a_live_breath_in_every_pause() {
     // 1.5 s phrases and 0.5 s pauses under white noise 20 dB down (a noisy background the gate
     // must learn, unlike the example voice's digital silence).
     let sr = 22_050.0;
-    let x = synth::phrases_with_pauses(sr, 12.0, 20.0, 7);
+    let x = test_signals::phrases_with_pauses(sr, 12.0, 20.0, 7);
     let reference = render(&config(PlacementMode::Lookahead, 0.25), &x, sr);
     let speech = speech_spans(&reference);
     let pauses: Vec<(f64, f64)> = speech.windows(2).map(|w| (w[0].1, w[1].0)).collect();

@@ -3,7 +3,9 @@
 //! It loads a `.clap` bundle, instantiates the plugin with a given CLAP id, sets parameters by
 //! their nice-plug string id (hashed as nice-plug does) and a value text (so the plugin converts
 //! plain values itself), activates at a sample rate and maximum block size, processes blocks of
-//! any size (all on the test thread: this host has no separate audio thread), collects the
+//! any size (all on the test thread, but its thread-check extension answers "audio thread" inside
+//! `process`, so the plugin's main-thread tasks wait for [`Plugin::run_main_thread_callback`] as
+//! they would in a host with an audio thread), collects the
 //! plugin's MIDI CC output with sample offsets, reads the latency and saves/loads state.
 
 use std::ffi::CString;
@@ -14,6 +16,7 @@ use clack_extensions::audio_ports_config::PluginAudioPortsConfig;
 use clack_extensions::latency::{HostLatency, HostLatencyImpl, PluginLatency};
 use clack_extensions::params::{ParamInfoBuffer, PluginParams};
 use clack_extensions::state::PluginState;
+use clack_extensions::thread_check::{HostThreadCheck, HostThreadCheckImpl};
 use clack_host::events::event_types::{MidiEvent, ParamValueEvent, TransportEvent, TransportFlags};
 use clack_host::events::io::{EventBuffer, InputEvents, OutputEvents};
 use clack_host::events::{EventFlags, EventHeader, Pckn};
@@ -38,6 +41,11 @@ pub struct CcEvent {
 /// Host callbacks shared with the plugin.
 pub struct Shared {
     restart_requested: AtomicBool,
+    /// The plugin asked for its main-thread callback.
+    callback_requested: AtomicBool,
+    /// Inside `process`: the thread-check extension then answers "audio thread", as a host with
+    /// a separate audio thread would, so the plugin defers main-thread work to the callback.
+    processing: AtomicBool,
 }
 
 impl<'a> SharedHandler<'a> for Shared {
@@ -45,7 +53,18 @@ impl<'a> SharedHandler<'a> for Shared {
         self.restart_requested.store(true, Ordering::SeqCst);
     }
     fn request_process(&self) {}
-    fn request_callback(&self) {}
+    fn request_callback(&self) {
+        self.callback_requested.store(true, Ordering::SeqCst);
+    }
+}
+
+impl HostThreadCheckImpl for Shared {
+    fn is_main_thread(&self) -> bool {
+        !self.processing.load(Ordering::SeqCst)
+    }
+    fn is_audio_thread(&self) -> bool {
+        self.processing.load(Ordering::SeqCst)
+    }
 }
 
 /// Host callbacks on the main thread.
@@ -53,6 +72,11 @@ impl<'a> SharedHandler<'a> for Shared {
 pub struct MainThread {
     /// How many times the plugin called the latency extension's `changed`.
     latency_changed: std::cell::Cell<u32>,
+    /// Calls of `changed` outside `clap_plugin::activate` (the CLAP latency extension allows
+    /// it only there; clap-validator fails a plugin for it).
+    latency_changed_outside_activate: std::cell::Cell<u32>,
+    /// The host is inside `clap_plugin::activate`.
+    activating: std::cell::Cell<bool>,
 }
 
 impl MainThreadHandler<'_> for MainThread {}
@@ -60,6 +84,10 @@ impl MainThreadHandler<'_> for MainThread {}
 impl HostLatencyImpl for MainThread {
     fn changed(&self) {
         self.latency_changed.set(self.latency_changed.get() + 1);
+        if !self.activating.get() {
+            let outside = &self.latency_changed_outside_activate;
+            outside.set(outside.get() + 1);
+        }
     }
 }
 
@@ -73,6 +101,7 @@ impl HostHandlers for TestHost {
 
     fn declare_extensions(builder: &mut HostExtensions<Self>, _shared: &Self::Shared<'_>) {
         builder.register::<HostLatency>();
+        builder.register::<HostThreadCheck>();
     }
 }
 
@@ -128,6 +157,8 @@ impl Plugin {
         let instance = PluginInstance::<TestHost>::new(
             |_| Shared {
                 restart_requested: AtomicBool::new(false),
+                callback_requested: AtomicBool::new(false),
+                processing: AtomicBool::new(false),
             },
             |_| MainThread::default(),
             &entry,
@@ -241,10 +272,11 @@ impl Plugin {
             min_frames_count: 1,
             max_frames_count: max_block as u32,
         };
-        let stopped = self
-            .instance
-            .activate(|_, _| (), config)
-            .map_err(|e| format!("activation at {sample_rate} Hz failed: {e:?}"))?;
+        self.instance.access_handler(|m| m.activating.set(true));
+        let stopped = self.instance.activate(|_, _| (), config);
+        self.instance.access_handler(|m| m.activating.set(false));
+        let stopped =
+            stopped.map_err(|e| format!("activation at {sample_rate} Hz failed: {e:?}"))?;
         let started = stopped
             .start_processing()
             .map_err(|e| format!("start_processing failed: {e:?}"))?;
@@ -274,6 +306,26 @@ impl Plugin {
     /// How many times the plugin told the host (latency extension) that its latency changed.
     pub fn latency_changes(&self) -> u32 {
         self.instance.access_handler(|m| m.latency_changed.get())
+    }
+
+    /// How many of those calls came outside `clap_plugin::activate` (a CLAP rule violation).
+    pub fn latency_changes_outside_activate(&self) -> u32 {
+        self.instance
+            .access_handler(|m| m.latency_changed_outside_activate.get())
+    }
+
+    /// Runs the plugin's main-thread callback, as a host does after `request_callback` (the
+    /// plugin's queued main-thread tasks run there).
+    pub fn run_main_thread_callback(&mut self) {
+        self.instance
+            .access_shared_handler(|s| s.callback_requested.store(false, Ordering::SeqCst));
+        self.instance.call_on_main_thread_callback();
+    }
+
+    /// Whether the plugin asked for its main-thread callback since it last ran.
+    pub fn callback_requested(&self) -> bool {
+        self.instance
+            .access_shared_handler(|s| s.callback_requested.load(Ordering::SeqCst))
     }
 
     /// The latency the plugin reports, samples.
@@ -383,16 +435,19 @@ impl Plugin {
             ),
         }]);
         self.output_events.clear();
-        processor
-            .process(
-                &input_audio,
-                &mut output_audio,
-                &InputEvents::from_buffer(&self.pending),
-                &mut OutputEvents::from_buffer(&mut self.output_events),
-                Some(self.samples_done),
-                transport.as_ref(),
-            )
-            .expect("process succeeds");
+        self.instance
+            .access_shared_handler(|s| s.processing.store(true, Ordering::SeqCst));
+        let processed = processor.process(
+            &input_audio,
+            &mut output_audio,
+            &InputEvents::from_buffer(&self.pending),
+            &mut OutputEvents::from_buffer(&mut self.output_events),
+            Some(self.samples_done),
+            transport.as_ref(),
+        );
+        self.instance
+            .access_shared_handler(|s| s.processing.store(false, Ordering::SeqCst));
+        processed.expect("process succeeds");
         self.pending.clear();
         let start = self.samples_done;
         self.samples_done += n as u64;

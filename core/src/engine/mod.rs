@@ -74,6 +74,9 @@ pub(crate) struct Pending {
     pub(crate) emit_at: u64,
 }
 
+/// Breaths already in the input kept for [`Engine::take_existing_breaths`].
+const EXISTING_BREATHS_KEPT: usize = 16;
+
 /// What the engine had to drop since the last [`Engine::prepare`], counted so that no loss is
 /// silent. Every count but `breaths` stays 0 unless an internal bound is wrong (debug builds
 /// assert it); `breaths` grows when a caller lets more than 64 finished breaths pile up
@@ -131,6 +134,9 @@ struct Stream {
     breaths: BreathTrack,
     cycle: CycleTrack,
     pending: Queue<Pending>,
+    /// Breaths already in the input (start, end in input seconds), heard in pauses and not yet
+    /// collected by [`Engine::take_existing_breaths`].
+    existing: Queue<(f64, f64)>,
     schedule: Schedule,
     /// Mono mix of the current block.
     mono: Vec<f32>,
@@ -294,6 +300,7 @@ impl Engine {
             breaths: BreathTrack::new(voice, sample_rate_hz, latency, live, max_block),
             cycle: CycleTrack::new(&c.breathing.map(), sample_rate_hz, frame_rate_hz, live),
             pending: Queue::with_capacity(max_pending),
+            existing: Queue::with_capacity(EXISTING_BREATHS_KEPT),
             schedule: Schedule::new(max_actions),
             mono: vec![0.0; max_block],
             input_active: vec![false; max_block],
@@ -319,6 +326,7 @@ impl Engine {
             s.breaths.reset();
             s.cycle.reset();
             s.pending.clear();
+            s.existing.clear();
             s.schedule.reset();
             s.input_active.fill(false);
             s.state = StreamState::default();
@@ -381,6 +389,19 @@ impl Engine {
     pub fn take_breaths(&mut self, on_breath: impl FnMut(&BreathEvent)) {
         if let Some(s) = &mut self.stream {
             s.breaths.take(on_breath);
+        }
+    }
+
+    /// Hands every breath heard in the input's pauses since the last call (start and end,
+    /// seconds of input time: the time of the control frames) to `on_breath`, oldest first, and
+    /// forgets them. These are the breaths no sound was inserted over. Up to
+    /// `EXISTING_BREATHS_KEPT` (16) are kept between calls; older ones are dropped. Never
+    /// allocates.
+    pub fn take_existing_breaths(&mut self, mut on_breath: impl FnMut(f64, f64)) {
+        if let Some(s) = &mut self.stream {
+            while let Some((start_s, end_s)) = s.existing.pop_front() {
+                on_breath(start_s, end_s);
+            }
         }
     }
 
@@ -568,6 +589,17 @@ impl Stream {
         debug_assert!(count <= events.len(), "{count} phrase events at one frame");
         self.lost.phrase_events += count.saturating_sub(events.len()) as u64;
         for e in events.into_iter().flatten() {
+            if let PhraseEvent::Start {
+                pause:
+                    crate::phrase::Pause {
+                        breath_s: Some(span),
+                        ..
+                    },
+                ..
+            } = e
+            {
+                self.existing.push_back(span);
+            }
             let ctx = EventContext {
                 config,
                 now,

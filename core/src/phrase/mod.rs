@@ -42,6 +42,9 @@ pub struct Pause {
     pub leading: bool,
     /// True when a breath-like noise burst was heard inside the pause.
     pub has_breath: bool,
+    /// The last breath-like burst heard inside the pause (start, end), seconds; `Some` exactly
+    /// when `has_breath`.
+    pub breath_s: Option<(f64, f64)>,
     /// End of the last activity inside the pause that did not become a phrase (a noise burst, a
     /// word too short to confirm), seconds; `None` when the pause was quiet. Nothing should be
     /// placed over it.
@@ -124,6 +127,8 @@ pub struct PhraseTracker {
     // Breath detection inside the current pause.
     breath_run: u32,
     breath_run_start: u64,
+    /// Frames (start, end) of the last breath run long enough to count, in this pause.
+    breath_span: Option<(u64, u64)>,
     breath_seen: bool,
 }
 
@@ -163,6 +168,7 @@ impl PhraseTracker {
             pause_last_active: None,
             breath_run: 0,
             breath_run_start: 0,
+            breath_span: None,
             breath_seen: false,
         };
         t.reset();
@@ -187,6 +193,7 @@ impl PhraseTracker {
         self.pause_last_active = None;
         self.breath_run = 0;
         self.breath_seen = false;
+        self.breath_span = None;
     }
 
     /// The settings.
@@ -271,6 +278,7 @@ impl PhraseTracker {
                 // Breath detection restarts from the offset (frames since are in the ring).
                 self.breath_run = 0;
                 self.breath_seen = false;
+                self.breath_span = None;
                 for k in offset..=i {
                     self.track_breath(k);
                 }
@@ -321,15 +329,24 @@ impl PhraseTracker {
                     onset -= 1;
                 }
                 // A breath run still going counts only with the part before the onset.
-                let has_breath = self.breath_seen
-                    || (self.breath_run > 0
-                        && onset.saturating_sub(self.breath_run_start)
-                            >= self.breath_min_frames as u64);
+                let running = self.breath_run > 0
+                    && onset.saturating_sub(self.breath_run_start) >= self.breath_min_frames as u64;
+                let has_breath = self.breath_seen || running;
+                let span = if running {
+                    Some((self.breath_run_start, onset))
+                } else {
+                    self.breath_span
+                };
+                let breath_s = span
+                    .filter(|_| has_breath)
+                    .map(|(a, b)| (self.time_s(a), self.time_s(b)));
+                debug_assert_eq!(breath_s.is_some(), has_breath, "a breath has its span");
                 let pause = Pause {
                     start_s: self.time_s(self.last_offset_index.unwrap_or(0)),
                     end_s: self.time_s(onset),
                     leading: self.last_offset_index.is_none(),
                     has_breath,
+                    breath_s,
                     last_activity_end_s: self.pause_last_active.map(|k| self.time_s(k + 1)),
                 };
                 self.in_phrase = true;
@@ -355,6 +372,7 @@ impl PhraseTracker {
         } else {
             if self.breath_run >= self.breath_min_frames {
                 self.breath_seen = true;
+                self.breath_span = Some((self.breath_run_start, index));
             }
             self.breath_run = 0;
         }
@@ -427,6 +445,7 @@ mod tests {
                 assert!((p.start_s - 2.5).abs() < 0.011, "{p:?}");
                 assert!((p.length_s() - 0.6).abs() < 0.021, "{p:?}");
                 assert!(!p.has_breath);
+                assert_eq!(p.breath_s, None);
             }
             _ => panic!("{ev:?}"),
         }
@@ -464,6 +483,16 @@ mod tests {
             .collect();
         assert_eq!(starts.len(), 2, "{ev:?}");
         assert!(starts[1].has_breath, "{ev:?}");
+        // Its span: the burst's frames 240..275.
+        let (start_s, end_s) = starts[1].breath_s.expect("the breath's span");
+        assert!(
+            (start_s - 2.40).abs() < 0.021 && (end_s - 2.75).abs() < 0.021,
+            "breath at {start_s}..{end_s} s, want 2.40..2.75"
+        );
+        assert_eq!(
+            starts[0].breath_s, None,
+            "no breath before the first phrase"
+        );
     }
 
     #[test]

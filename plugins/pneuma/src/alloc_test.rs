@@ -18,6 +18,7 @@ use crate::Pneuma;
 
 /// What the host context saw: CC events (preallocated), latency changes and restart requests.
 struct Host {
+    api: PluginApi,
     transport: Transport,
     cc_events: Vec<(u32, u8)>,
     latency: std::cell::Cell<Option<u32>>,
@@ -26,7 +27,7 @@ struct Host {
 
 impl ProcessContext<Pneuma> for Host {
     fn plugin_api(&self) -> PluginApi {
-        PluginApi::Clap
+        self.api
     }
     fn execute_background(&self, _task: ()) {}
     fn execute_gui(&self, _task: ()) {}
@@ -58,12 +59,13 @@ impl ProcessContext<Pneuma> for Host {
 }
 
 struct Activation {
+    api: PluginApi,
     latency: std::cell::Cell<u32>,
 }
 
 impl ActivateContext<Pneuma> for Activation {
     fn plugin_api(&self) -> PluginApi {
-        PluginApi::Clap
+        self.api
     }
     fn execute(&self, _task: ()) {}
     fn set_latency_samples(&self, samples: u32) {
@@ -85,7 +87,18 @@ fn set(plugin: &Pneuma, id: &str, normalized: f32) {
 }
 
 #[test]
-fn the_real_process_never_allocates_after_activate() {
+fn the_real_process_never_allocates_after_activate_as_vst3() {
+    real_process_never_allocates(PluginApi::Vst3);
+}
+
+#[test]
+fn the_real_process_never_allocates_after_activate_as_clap() {
+    real_process_never_allocates(PluginApi::Clap);
+}
+
+/// Runs the real `process` under the guard through automation, bypass and a mode change, as
+/// `api` (which decides how the mode change's latency reaches the host).
+fn real_process_never_allocates(api: PluginApi) {
     let mut plugin = Pneuma::default();
     set(&plugin, "osc_enabled", 1.0);
     // The editor is open: its feed runs inside the guard too.
@@ -104,7 +117,10 @@ fn the_real_process_never_allocates_after_activate() {
         max_buffer_size: 512,
         process_mode: ProcessMode::Realtime,
     };
-    let activation = Activation { latency: 0.into() };
+    let activation = Activation {
+        api,
+        latency: 0.into(),
+    };
     assert!(plugin.activate(&layout, &config, &mut activation_ctx(&activation)));
     assert_eq!(
         activation.latency.get(),
@@ -113,6 +129,7 @@ fn the_real_process_never_allocates_after_activate() {
     );
 
     let mut host = Host {
+        api,
         transport: Transport::new(48_000.0),
         cc_events: Vec::with_capacity(1 << 16),
         latency: None.into(),
@@ -176,12 +193,18 @@ fn the_real_process_never_allocates_after_activate() {
         "the path did work: {} CC messages",
         host.cc_events.len()
     );
-    assert_eq!(
-        host.latency.get(),
-        Some(0),
-        "the mode change swapped in a live engine and reported its latency"
-    );
-    assert_eq!(host.restart_requests.get(), 0, "no restart needed");
+    if api == PluginApi::Clap {
+        // CLAP: a new latency only inside `activate`; the plugin asks for the restart.
+        assert_eq!(host.latency.get(), None, "no latency report from process");
+        assert_eq!(host.restart_requests.get(), 1, "the mode change asked once");
+    } else {
+        assert_eq!(
+            host.latency.get(),
+            Some(0),
+            "the mode change swapped in a live engine and reported its latency"
+        );
+        assert_eq!(host.restart_requests.get(), 0, "no restart needed");
+    }
     let mut view_frames = 0;
     plugin.editor_shared().drain(|_| view_frames += 1, |_| {});
     assert!(view_frames > 100, "the editor got {view_frames} frames");
@@ -196,7 +219,7 @@ struct ActivationRef<'a>(&'a Activation);
 
 impl ActivateContext<Pneuma> for ActivationRef<'_> {
     fn plugin_api(&self) -> PluginApi {
-        PluginApi::Clap
+        self.0.api
     }
     fn execute(&self, _task: ()) {}
     fn set_latency_samples(&self, samples: u32) {

@@ -14,8 +14,12 @@
 //!   line (the latency stays, so the track stays aligned), no breaths, controls at rest.
 //! - Latency: the engine's (`mode` = lookahead: the lookahead delay; live: none), reported at
 //!   activation. Changing `mode`, `lookahead_s` or `frame_rate_hz` while active (by hand,
-//!   automation or a restored state) builds a new engine off the audio thread, swaps it in and
-//!   reports the new latency ([`rebuild`]): no re-activation by the host is needed.
+//!   automation or a restored state) builds a new engine off the audio thread and swaps it in
+//!   ([`rebuild`]). As VST3 (and standalone), the new latency is reported from the audio thread:
+//!   no re-activation by the host is needed. As CLAP, whose hosts may hear of a latency change
+//!   only inside `activate`, an engine that would change the latency is not swapped in: the
+//!   plugin asks the host for a restart (the running engine keeps going until then) and the
+//!   re-activation builds from the new settings; latency-neutral changes swap in at once.
 //! - Parameter changes reach the audio thread through [`ChangeFlags`] raised by the parameters'
 //!   callbacks: the engine settings and the CC map are rebuilt only after a change.
 //! - Reset (engine, MIDI CC memory, OSC time anchor) on re-activation, on the host's reset, when
@@ -139,6 +143,14 @@ pub struct Pneuma {
     swap: SwapEnds,
     /// The running engine's structural settings.
     prepared: Option<Structural>,
+    /// The latency last reported to the host, samples.
+    reported_latency: u32,
+    /// The host hears of a latency change only while activating (CLAP): a built engine whose
+    /// latency differs from the reported one then waits for the next activation.
+    latency_only_at_activation: bool,
+    /// Structural settings whose engine was built but held back for a latency change; not built
+    /// again until the settings move on or the plugin is re-activated.
+    held: Option<Structural>,
     /// The current activation's stream (its epoch tells builds for it from older ones).
     stream: Option<StreamSpec>,
     /// Samples processed since a background build was asked for (`None`: none pending).
@@ -173,6 +185,9 @@ impl Default for Pneuma {
             build_worker: None,
             swap,
             prepared: None,
+            reported_latency: 0,
+            latency_only_at_activation: false,
+            held: None,
             stream: None,
             build_pending_samples: None,
             jumps: JumpDetector::default(),
@@ -214,6 +229,17 @@ impl Pneuma {
                 continue;
             }
             self.build_pending_samples = None;
+            let latency = built.engine.as_ref().map_or(0, |e| e.latency_samples());
+            if self.latency_only_at_activation && latency != self.reported_latency {
+                // CLAP lets a plugin report a new latency only inside `activate`; reporting it
+                // from here races the host's deactivation (nice-plug then tells the host outside
+                // `activate`). Ask for the restart instead: the settings take effect at that
+                // activation, which builds its engine from them and reports its latency.
+                self.held = Some(built.structural);
+                self.swap.retire(built.engine);
+                context.request_restart();
+                continue;
+            }
             let old = std::mem::replace(&mut self.engine, built.engine);
             self.swap.retire(old);
             self.prepared = Some(built.structural);
@@ -223,8 +249,8 @@ impl Pneuma {
                     debug_assert!(false, "the parameters' engine settings are valid: {e}");
                 }
             }
-            let latency = self.engine.as_ref().map_or(0, |e| e.latency_samples());
             context.set_latency_samples(latency);
+            self.reported_latency = latency;
             // The editor shows the latency the swapped-in engine costs.
             self.view
                 .activated(self.engine.is_some(), latency, stream.sample_rate_hz as f32);
@@ -234,7 +260,8 @@ impl Pneuma {
         match self.build_pending_samples.as_mut() {
             Some(waited) if *waited < retry => *waited += block as u64,
             _ => {
-                if self.prepared != Some(Structural::of(&self.params)) {
+                let wanted = Some(Structural::of(&self.params));
+                if self.prepared != wanted && self.held != wanted {
                     if let Some(worker) = &self.build_worker {
                         self.build_pending_samples = Some(0);
                         worker.request();
@@ -314,10 +341,15 @@ pub fn run_block(
             view.push_frame(frame);
         }
     });
-    // The breaths go to the editor only; keep the engine's queue empty.
+    // The breaths go to the editor only; keep the engine's queues empty.
     engine.take_breaths(|b| {
         if let Some(view) = outputs.view.as_deref_mut() {
             view.push_breath(b);
+        }
+    });
+    engine.take_existing_breaths(|start_s, end_s| {
+        if let Some(view) = outputs.view.as_deref_mut() {
+            view.push_existing_breath(start_s, end_s);
         }
     });
     // The engine passes the voice bit for bit, subnormal samples included; hosts and validators
@@ -464,6 +496,9 @@ impl Plugin for Pneuma {
         let structural = built.structural;
         let latency = self.engine.as_ref().map_or(0, |e| e.latency_samples());
         context.set_latency_samples(latency);
+        self.reported_latency = latency;
+        self.latency_only_at_activation = context.plugin_api() == PluginApi::Clap;
+        self.held = None;
         self.view
             .activated(self.engine.is_some(), latency, buffer_config.sample_rate);
         self.prepared = Some(structural);

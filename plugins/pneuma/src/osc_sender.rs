@@ -21,7 +21,7 @@
 //!   ahead of the wall clock, as the audio time says.
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr, UdpSocket};
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
@@ -59,6 +59,73 @@ pub struct OscStats {
     pub sent: AtomicU64,
     /// Frames not sent: unresolvable target, encoding or send error.
     pub failed: AtomicU64,
+    /// Why the last frame that failed was not sent ([`OscError`] as its code; 0: none yet).
+    pub last_error: AtomicU8,
+}
+
+/// Why a frame was not sent, kept as a small code so that the audio thread can copy it and the
+/// editor turns it into text ([`OscError::text`]) on its own thread: nothing allocates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum OscError {
+    /// The host is not a numeric IP address or `localhost` (names are never looked up).
+    NotAnAddress = 1,
+    /// No UDP socket could be opened (no network stack, or no free port).
+    NoSocket = 2,
+    /// The frame did not fit a packet (should not happen: report it).
+    Encoding = 3,
+    /// The OS found no route to the host (network down, wrong address).
+    Unreachable = 4,
+    /// The receiver's port is closed (nothing listens there).
+    Refused = 5,
+    /// The OS refused to send (a firewall, or a broadcast address).
+    PermissionDenied = 6,
+    /// Any other send error.
+    Other = 7,
+}
+
+impl OscError {
+    /// The error for a code stored in [`OscStats::last_error`] (`None` for 0 or an unknown code).
+    pub fn from_code(code: u8) -> Option<Self> {
+        [
+            Self::NotAnAddress,
+            Self::NoSocket,
+            Self::Encoding,
+            Self::Unreachable,
+            Self::Refused,
+            Self::PermissionDenied,
+            Self::Other,
+        ]
+        .into_iter()
+        .find(|e| *e as u8 == code)
+    }
+
+    /// What went wrong and what to do, for the editor.
+    pub fn text(self) -> &'static str {
+        match self {
+            Self::NotAnAddress => {
+                "the host is not an IP address: enter a numeric address (e.g. 192.168.1.20) or localhost"
+            }
+            Self::NoSocket => "no UDP socket could be opened: check the network settings",
+            Self::Encoding => "a frame did not fit an OSC packet (a bug: please report it)",
+            Self::Unreachable => "no route to the host: check the address and that the network is up",
+            Self::Refused => "nothing listens on that port: start the receiver or check the port",
+            Self::PermissionDenied => "the system refused to send: check the firewall and the address",
+            Self::Other => "sending failed: check the host and port",
+        }
+    }
+
+    fn of_send(e: &std::io::Error) -> Self {
+        use std::io::ErrorKind;
+        match e.kind() {
+            ErrorKind::ConnectionRefused => Self::Refused,
+            ErrorKind::PermissionDenied => Self::PermissionDenied,
+            ErrorKind::HostUnreachable | ErrorKind::NetworkUnreachable | ErrorKind::NetworkDown => {
+                Self::Unreachable
+            }
+            _ => Self::Other,
+        }
+    }
 }
 
 /// The audio-thread end: push frames, never blocks.
@@ -231,11 +298,21 @@ fn run<S: OscSettings>(
             anchor = Some((base, frame.index));
             let tag = TimeTag::from_unix_seconds(base + frame.time_s);
             let sent = match (addr, &socket, encode_frame(format, &frame, tag, &mut buf)) {
-                (Some(addr), Some(socket), Ok(n)) => socket.send_to(&buf[..n], addr).is_ok(),
-                _ => false,
+                (None, _, _) => Err(OscError::NotAnAddress),
+                (Some(_), None, _) => Err(OscError::NoSocket),
+                (Some(_), Some(_), Err(_)) => Err(OscError::Encoding),
+                (Some(addr), Some(socket), Ok(n)) => socket
+                    .send_to(&buf[..n], addr)
+                    .map(|_| ())
+                    .map_err(|e| OscError::of_send(&e)),
             };
-            let counter = if sent { &stats.sent } else { &stats.failed };
-            counter.fetch_add(1, Ordering::Relaxed);
+            match sent {
+                Ok(()) => stats.sent.fetch_add(1, Ordering::Relaxed),
+                Err(e) => {
+                    stats.last_error.store(e as u8, Ordering::Relaxed);
+                    stats.failed.fetch_add(1, Ordering::Relaxed)
+                }
+            };
         }
     }
 }
@@ -327,6 +404,22 @@ mod tests {
         drop(worker);
         assert!(stats.sent.load(Ordering::Relaxed) >= 2);
         assert_eq!(stats.failed.load(Ordering::Relaxed), 0);
+        assert_eq!(stats.last_error.load(Ordering::Relaxed), 0, "no error");
+    }
+
+    #[test]
+    fn every_error_code_maps_back_and_has_advice() {
+        assert_eq!(OscError::from_code(0), None, "0 is no error");
+        assert_eq!(OscError::from_code(200), None);
+        let mut seen = 0;
+        for code in 1..=u8::MAX {
+            if let Some(e) = OscError::from_code(code) {
+                assert_eq!(e as u8, code);
+                assert!(e.text().contains(':'), "{e:?} says what to do");
+                seen += 1;
+            }
+        }
+        assert_eq!(seen, 7, "each kind has its own code");
     }
 
     #[test]
@@ -359,6 +452,11 @@ mod tests {
         drop(worker);
         assert_eq!(accounted(), pushed, "every frame sent, failed or dropped");
         assert_eq!(stats.sent.load(Ordering::Relaxed), 0);
+        assert_eq!(
+            OscError::from_code(stats.last_error.load(Ordering::Relaxed)),
+            Some(OscError::NotAnAddress),
+            "the reason is kept for the editor"
+        );
         assert!(
             stats.dropped_stale.load(Ordering::Relaxed) > 0,
             "the oldest were skipped"

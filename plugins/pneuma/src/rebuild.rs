@@ -48,6 +48,12 @@ pub const MAX_ENGINE_BLOCK: usize = 8192;
 const QUEUE_ENGINES: usize = 8;
 
 /// Settings that need a new engine (and maybe a new latency) when they change.
+///
+/// Core's [`pneuma_core::engine::EngineConfig::stream_differs`] is the source of truth for
+/// which engine settings need `prepare`; this is the audio thread's lock-free, allocation-free
+/// view of it (building an `EngineConfig` there would allocate), plus what `prepare` takes
+/// besides the config (the frame rate) and the breath-sample files. A test holds it to core's
+/// rule: every parameter change core calls a stream change changes this too.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Structural {
     /// Lookahead or live placement.
@@ -318,5 +324,53 @@ impl Drop for BuildWorker {
                 nice_error!("Pneuma: the engine build thread panicked");
             }
         }
+    }
+}
+
+#[cfg(test)]
+// nice-plug's `ParamPtr` setters are `unsafe`: the parameters outlive every call.
+#[allow(unsafe_code)]
+mod tests {
+    use super::*;
+    use nice_plug::prelude::Params;
+
+    /// Every parameter, set to several values: where core says the engine config's stream part
+    /// changed, the plugin's structural settings changed too (else the plugin would keep an
+    /// engine prepared for old settings).
+    #[test]
+    fn every_stream_change_core_knows_is_a_structural_change() {
+        let mut checked_stream_changes = 0;
+        for value in [0.0f32, 0.37, 1.0] {
+            let reference = PneumaParams::default();
+            let ids: Vec<String> = reference
+                .param_map()
+                .into_iter()
+                .map(|(id, _, _)| id)
+                .collect();
+            for id in ids {
+                let params = PneumaParams::default();
+                let before = (params.engine_config(), Structural::of(&params));
+                let ptr = params
+                    .param_map()
+                    .into_iter()
+                    .find(|(pid, _, _)| *pid == id)
+                    .map(|(_, ptr, _)| ptr)
+                    .expect("the id is listed");
+                // SAFETY: `params` outlives the call.
+                unsafe { ptr._internal_set_normalized_value(value) };
+                let after = (params.engine_config(), Structural::of(&params));
+                if before.0.stream_differs(&after.0) {
+                    checked_stream_changes += 1;
+                    assert_ne!(
+                        before.1, after.1,
+                        "{id} = {value} changes the engine's stream part but not Structural"
+                    );
+                }
+            }
+        }
+        assert!(
+            checked_stream_changes >= 2,
+            "mode and lookahead change the stream part ({checked_stream_changes} changes seen)"
+        );
     }
 }

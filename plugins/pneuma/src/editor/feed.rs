@@ -2,19 +2,24 @@
 //! on the audio side.
 //!
 //! - [`ViewFrame`]: one small `Copy` record per control frame (the engine's [`ControlFrame`] and
-//!   the input's peak since the frame before), and [`BreathEvent`]s for inserted breaths, each
-//!   through its own preallocated single-producer single-consumer `rtrb` ring.
+//!   the input's peak since the frame before), and [`ViewBreath`]s for inserted breaths and for
+//!   breaths already in the input, each through its own preallocated single-producer
+//!   single-consumer `rtrb` ring.
 //! - [`OutputStatus`]: counters and flags the audio thread stores with relaxed atomics once a
 //!   block (OSC bundles sent, failed, dropped; CC messages the host lost; engine running; latency).
 //! - The audio side ([`EditorFeed`]) pushes only while the editor is open
-//!   ([`EditorShared::is_open`]: the egui window's own flag, or [`EditorShared::open`]);
+//!   ([`EditorShared::is_open`]: the egui window's own flag, or [`EditorShared::open`]; without
+//!   the `editor` feature there is no window and only the latter);
 //!   a full ring drops the newest record and counts it (the GUI was not drawing), never waits.
 //! - The GUI side ([`EditorShared::drain`]) takes the consumers behind a mutex that only GUI
 //!   threads touch; the audio side never sees it.
 
-use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, AtomicU8, Ordering};
+#[cfg(feature = "editor")]
+use std::sync::OnceLock;
+use std::sync::{Arc, Mutex};
 
+#[cfg(feature = "editor")]
 use nice_plug_egui::EguiEditorState;
 
 use pneuma_core::{BreathEvent, ControlFrame};
@@ -24,8 +29,20 @@ use crate::osc_sender::OscStats;
 /// Ring capacity in frames: about 8.5 s at 120 Hz, so a GUI that skips a few repaints loses
 /// nothing.
 pub const FRAME_RING: usize = 1024;
-/// Ring capacity in inserted breaths.
+/// Ring capacity in breaths (inserted and already there).
 pub const BREATH_RING: usize = 64;
+
+/// A breath on the timeline: one Pneuma inserted, or one the speaker took (heard in a pause of
+/// the input, where nothing was inserted).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViewBreath {
+    /// Start, seconds of stream time.
+    pub start_s: f64,
+    /// End, seconds.
+    pub end_s: f64,
+    /// Already in the input (true) or inserted.
+    pub existing: bool,
+}
 
 /// What the editor draws for one control frame.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -45,6 +62,8 @@ pub struct OutputStatus {
     pub osc_failed: AtomicU64,
     /// OSC frames dropped (queue full or stale).
     pub osc_dropped: AtomicU64,
+    /// Why the last OSC frame failed ([`crate::osc_sender::OscError`] code; 0: none).
+    pub osc_last_error: AtomicU8,
     /// MIDI CC messages the host's event buffer refused.
     pub cc_lost: AtomicU64,
     /// View records dropped because the GUI did not read them in time.
@@ -63,6 +82,7 @@ pub struct EditorShared {
     /// Forces the feed on without a window (tests, measurements).
     pub open: AtomicBool,
     /// The egui editor's state, once an editor was created: its open flag is read lock-free.
+    #[cfg(feature = "editor")]
     pub window: OnceLock<Arc<EguiEditorState>>,
     /// Output counters and flags.
     pub status: OutputStatus,
@@ -72,7 +92,7 @@ pub struct EditorShared {
 #[derive(Debug)]
 struct Consumers {
     frames: rtrb::Consumer<ViewFrame>,
-    breaths: rtrb::Consumer<BreathEvent>,
+    breaths: rtrb::Consumer<ViewBreath>,
 }
 
 /// The audio thread's end. Owned by the plugin; every method is wait-free and allocation-free.
@@ -80,7 +100,7 @@ struct Consumers {
 pub struct EditorFeed {
     shared: Arc<EditorShared>,
     frames: rtrb::Producer<ViewFrame>,
-    breaths: rtrb::Producer<BreathEvent>,
+    breaths: rtrb::Producer<ViewBreath>,
     /// Input peak since the last frame.
     pending_peak: f32,
     /// The editor was open at the start of this block.
@@ -93,6 +113,7 @@ pub fn channel() -> (EditorFeed, Arc<EditorShared>) {
     let (breaths, breath_rx) = rtrb::RingBuffer::new(BREATH_RING);
     let shared = Arc::new(EditorShared {
         open: AtomicBool::new(false),
+        #[cfg(feature = "editor")]
         window: OnceLock::new(),
         status: OutputStatus::default(),
         consumers: Mutex::new(Some(Consumers {
@@ -150,7 +171,24 @@ impl EditorFeed {
 
     /// Hands an inserted breath to the GUI.
     pub fn push_breath(&mut self, breath: &BreathEvent) {
-        if self.active && self.breaths.push(*breath).is_err() {
+        self.push_view_breath(ViewBreath {
+            start_s: breath.start_s,
+            end_s: breath.end_s,
+            existing: false,
+        });
+    }
+
+    /// Hands a breath already in the input (start and end, seconds) to the GUI.
+    pub fn push_existing_breath(&mut self, start_s: f64, end_s: f64) {
+        self.push_view_breath(ViewBreath {
+            start_s,
+            end_s,
+            existing: true,
+        });
+    }
+
+    fn push_view_breath(&mut self, breath: ViewBreath) {
+        if self.active && self.breaths.push(breath).is_err() {
             self.shared
                 .status
                 .view_dropped
@@ -168,6 +206,9 @@ impl EditorFeed {
             status
                 .osc_failed
                 .store(load(&osc.failed), Ordering::Relaxed);
+            status
+                .osc_last_error
+                .store(osc.last_error.load(Ordering::Relaxed), Ordering::Relaxed);
             status.osc_dropped.store(
                 load(&osc.dropped_full) + load(&osc.dropped_stale),
                 Ordering::Relaxed,
@@ -202,7 +243,11 @@ impl EditorFeed {
 impl EditorShared {
     /// The editor window is open (or the feed is forced on). Lock-free.
     pub fn is_open(&self) -> bool {
-        self.open.load(Ordering::Relaxed) || self.window.get().is_some_and(|w| w.is_open())
+        #[cfg(feature = "editor")]
+        if self.window.get().is_some_and(|w| w.is_open()) {
+            return true;
+        }
+        self.open.load(Ordering::Relaxed)
     }
 
     /// GUI side: hands every waiting frame and breath to the callbacks, oldest first. Returns
@@ -211,7 +256,7 @@ impl EditorShared {
     pub fn drain(
         &self,
         mut on_frame: impl FnMut(&ViewFrame),
-        mut on_breath: impl FnMut(&BreathEvent),
+        mut on_breath: impl FnMut(&ViewBreath),
     ) -> bool {
         let Ok(mut guard) = self.consumers.try_lock() else {
             return false;
@@ -260,6 +305,9 @@ mod tests {
                 for i in 0..200u64 {
                     feed.begin_block(&[&mut left[..], &mut right[..]]);
                     feed.push_frame(&frame(i));
+                    if i == 120 {
+                        feed.push_existing_breath(0.9, 1.25);
+                    }
                     if i.is_multiple_of(50) {
                         feed.push_breath(&BreathEvent {
                             start_s: i as f64 / 120.0,
@@ -292,10 +340,38 @@ mod tests {
             .enumerate()
             .all(|(i, f)| f.control == frame(i as u64)));
         assert_eq!(frames[0].input_peak, 0.5, "first channel's peak");
-        assert_eq!(breaths.len(), 4);
-        assert_eq!(breaths[3].start_s, 150.0 / 120.0);
+        assert_eq!(breaths.len(), 5, "four inserted and one already there");
+        assert_eq!(
+            breaths[3],
+            ViewBreath {
+                start_s: 0.9,
+                end_s: 1.25,
+                existing: true
+            }
+        );
+        assert!(!breaths[4].existing);
+        assert_eq!(breaths[4].start_s, 150.0 / 120.0);
         assert_eq!(shared.status.osc_sent.load(Ordering::Relaxed), 200);
         assert_eq!(shared.status.view_dropped.load(Ordering::Relaxed), 0);
+    }
+
+    #[test]
+    fn the_osc_counters_and_last_error_reach_the_status() {
+        let (mut feed, shared) = channel();
+        let osc = OscStats::default();
+        osc.sent.store(7, Ordering::Relaxed);
+        osc.failed.store(3, Ordering::Relaxed);
+        osc.last_error.store(
+            crate::osc_sender::OscError::Refused as u8,
+            Ordering::Relaxed,
+        );
+        feed.end_block(Some(&osc), false);
+        let status = &shared.status;
+        assert_eq!(status.osc_sent.load(Ordering::Relaxed), 7);
+        assert_eq!(status.osc_failed.load(Ordering::Relaxed), 3);
+        let error =
+            crate::osc_sender::OscError::from_code(status.osc_last_error.load(Ordering::Relaxed));
+        assert_eq!(error, Some(crate::osc_sender::OscError::Refused));
     }
 
     #[test]

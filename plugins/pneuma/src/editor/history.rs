@@ -1,11 +1,9 @@
-//! The GUI's memory of the last seconds: view frames and inserted breaths, trimmed to a time
+//! The GUI's memory of the last seconds: view frames and breaths (inserted or already there), trimmed to a time
 //! span, and the phrases and pauses read from the speaking gate. GUI thread only (allocates).
 
 use std::collections::VecDeque;
 
-use pneuma_core::BreathEvent;
-
-use super::feed::ViewFrame;
+use super::feed::{ViewBreath, ViewFrame};
 
 /// How much the timeline shows, seconds.
 pub const SPAN_S: f64 = 10.0;
@@ -25,7 +23,7 @@ pub struct Segment {
 #[derive(Debug, Default)]
 pub struct History {
     frames: VecDeque<ViewFrame>,
-    breaths: VecDeque<BreathEvent>,
+    breaths: VecDeque<ViewBreath>,
 }
 
 impl History {
@@ -54,8 +52,8 @@ impl History {
         }
     }
 
-    /// Adds an inserted breath.
-    pub fn push_breath(&mut self, breath: &BreathEvent) {
+    /// Adds a breath (inserted or already there).
+    pub fn push_breath(&mut self, breath: &ViewBreath) {
         self.breaths.push_back(*breath);
     }
 
@@ -64,8 +62,8 @@ impl History {
         &self.frames
     }
 
-    /// The inserted breaths, oldest first.
-    pub fn breaths(&self) -> &VecDeque<BreathEvent> {
+    /// The breaths, oldest first.
+    pub fn breaths(&self) -> &VecDeque<ViewBreath> {
         &self.breaths
     }
 
@@ -97,7 +95,7 @@ impl History {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use pneuma_core::{BreathKind, ControlFrame};
+    use pneuma_core::ControlFrame;
 
     fn view(time_s: f64, speaking: bool) -> ViewFrame {
         ViewFrame {
@@ -132,11 +130,10 @@ mod tests {
     #[test]
     fn only_the_last_span_is_kept_and_a_restart_clears() {
         let mut h = History::default();
-        h.push_breath(&BreathEvent {
+        h.push_breath(&ViewBreath {
             start_s: 0.5,
             end_s: 0.8,
-            kind: BreathKind::Mouth,
-            peak_db: -30.0,
+            existing: false,
         });
         for i in 0..=2000 {
             h.push_frame(&view(i as f64 / 100.0, false));

@@ -2,24 +2,30 @@
 //!
 //! - [`feed`]: the lock-free path from the audio thread to the GUI.
 //! - [`history`]: the GUI's last 10 s of frames and breaths, phrases and pauses.
-//! - [`timeline`]: the scrolling timeline.
+//! - `timeline` (feature `editor`): the scrolling timeline.
 //! - [`standalone`]: defaults a standalone program sets for its plugin instance.
-//! - [`view`]: the window: timeline, head and breathing, controls, breath-sample picker, output
-//!   status and the MIDI CC map.
+//! - `view` (feature `editor`): the window: timeline, head and breathing, controls,
+//!   breath-sample picker, output status and the MIDI CC map.
 //!
-//! The window is resizable and follows the host's scale factor; its size and zoom are saved in
-//! the plugin state ([`EditorLayout`], persisted as `editor_layout`). A standalone program can
-//! run without a window ([`set_headless`]).
+//! The window exists only with the crate's `editor` feature (it links X11 and OpenGL); without
+//! it [`create`] returns `None` and hosts show their generic parameter view, while the data path,
+//! the saved layout and the state format stay the same. The window is resizable and follows the
+//! host's scale factor; its size and zoom are saved in the plugin state ([`EditorLayout`],
+//! persisted as `editor_layout`). A standalone program can run without a window
+//! ([`set_headless`]).
 
 pub mod feed;
 pub mod history;
 pub mod standalone;
+#[cfg(feature = "editor")]
 pub mod timeline;
+#[cfg(feature = "editor")]
 pub mod view;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, RwLock};
 
+#[cfg(feature = "editor")]
 use nice_plug_egui::{create_egui_editor, EguiEditorState, EguiNiceSettings, RepaintNotifier};
 use serde::{Deserialize, Serialize};
 
@@ -59,12 +65,27 @@ pub fn set_headless(headless: bool) {
 }
 
 /// The editor type.
+#[cfg(feature = "editor")]
 pub type PneumaEditor = nice_plug_egui::EguiEditor<view::EditorApp>;
+/// No editor window without the `editor` feature.
+#[cfg(not(feature = "editor"))]
+pub type PneumaEditor = ();
+
+/// Built without the `editor` feature: no window (`None`), as in a headless process.
+#[cfg(not(feature = "editor"))]
+pub fn create(
+    _params: Arc<PneumaParams>,
+    _shared: Arc<EditorShared>,
+    _saved_layout: Arc<RwLock<EditorLayout>>,
+) -> Option<PneumaEditor> {
+    None
+}
 
 /// The editor for a plugin instance (`saved_layout`: the persisted size and zoom, updated as
 /// the window changes), or `None` in a headless process. Hosts ask once, right after creating
 /// the instance (before a saved state is restored): the saved size is applied when the window
 /// opens ([`view::EditorApp`]).
+#[cfg(feature = "editor")]
 pub fn create(
     params: Arc<PneumaParams>,
     shared: Arc<EditorShared>,
@@ -128,6 +149,7 @@ mod tests {
         );
     }
 
+    #[cfg(feature = "editor")]
     #[test]
     fn a_headless_process_has_no_editor() {
         set_headless(true);

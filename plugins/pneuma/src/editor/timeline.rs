@@ -1,7 +1,7 @@
 //! The scrolling timeline: the last [`SPAN_S`] seconds in three lanes, newest at the right.
 //!
 //! 1. Voice: input peak envelope (grey), phrases (blue band along the top) and pauses, inserted
-//!    breaths ([`BREATH_COLOUR`] spans).
+//!    breaths ([`BREATH_COLOUR`] spans) and breaths already in the input ([`EXISTING_BREATH_COLOUR`]).
 //! 2. Pitch: f0 trace (log scale 60–500 Hz) and the voiced gate (green strip along the bottom).
 //! 3. Lungs: the lung volume sawtooth, with thorax and abdomen.
 
@@ -11,6 +11,8 @@ use super::history::{History, SPAN_S};
 
 /// Inserted breaths: one colour the screenshot test looks for.
 pub const BREATH_COLOUR: Color32 = Color32::from_rgb(255, 140, 26);
+/// Breaths already in the input (the speaker's own; nothing inserted there).
+pub const EXISTING_BREATH_COLOUR: Color32 = Color32::from_rgb(40, 200, 200);
 /// Phrases (speaking gate on).
 pub const PHRASE_COLOUR: Color32 = Color32::from_rgb(70, 130, 220);
 /// The voiced gate.
@@ -76,7 +78,12 @@ pub fn show(ui: &mut Ui, history: &History, height: f32) {
         if b > a {
             let span =
                 Rect::from_x_y_ranges(a..=b.max(a + 2.0), voice.top() + 7.0..=voice.bottom());
-            painter.rect_filled(span, 2.0, BREATH_COLOUR);
+            let colour = if breath.existing {
+                EXISTING_BREATH_COLOUR
+            } else {
+                BREATH_COLOUR
+            };
+            painter.rect_filled(span, 2.0, colour);
         }
     }
     let mid = voice.center().y + 3.0;
