@@ -5,7 +5,7 @@
 
 use std::cell::Cell;
 
-use pneuma_core::synth::{self, GlottalVowel, Vowel};
+use pneuma_core::test_signals::{self, GlottalVowel, Vowel};
 use pneuma_core::{AnalysisConfig, Analyzer, FeatureFrame};
 
 const RATE: f64 = 48_000.0;
@@ -45,7 +45,7 @@ fn voice(
         peak: 0.3,
         seed: 7,
     };
-    let mut x = synth::glottal_vowel(&cfg, |t| if in_voice(t) { f0_hz(t) } else { 0.0 });
+    let mut x = test_signals::glottal_vowel(&cfg, |t| if in_voice(t) { f0_hz(t) } else { 0.0 });
     for (i, v) in x.iter_mut().enumerate() {
         let t = i as f64 / RATE;
         let start = SEGMENTS_S
@@ -91,7 +91,7 @@ fn voiced_fractions(frames: &[FeatureFrame], settle_s: f64) -> (f64, f64) {
 }
 
 fn quiet_background() -> Vec<f32> {
-    synth::white_noise((LENGTH_S * RATE) as usize, 3e-4, 11)
+    test_signals::white_noise((LENGTH_S * RATE) as usize, 3e-4, 11)
 }
 
 #[test]
@@ -213,9 +213,10 @@ fn breathy_voice_in_strong_noise_is_voiced_and_the_noise_alone_is_not() {
         let clean = voice(Vowel::A, |t| 140.0 + 20.0 * t.sin(), |_| 1.0, &[]);
         let voiced_rms = {
             let seg: Vec<f32> = clean[(0.5 * RATE) as usize..(2.0 * RATE) as usize].to_vec();
-            synth::rms(&seg)
+            test_signals::rms(&seg)
         };
-        let noise = synth::white_noise(clean.len(), voiced_rms / 10f64.powf(snr_db / 20.0), 23);
+        let noise =
+            test_signals::white_noise(clean.len(), voiced_rms / 10f64.powf(snr_db / 20.0), 23);
         let x: Vec<f32> = clean.iter().zip(&noise).map(|(a, b)| a + b).collect();
         let (voiced, pauses) = voiced_fractions(&analyse(&x), 0.05);
         assert!(
