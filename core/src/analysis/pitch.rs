@@ -22,7 +22,8 @@
 //! period is taken (the long window's choice was a fraction of the period); otherwise it is
 //! ignored, so the short window never introduces a period the long window did not see.
 //! [`NsdfPitch::edge_clarity`] runs the same short window at either end of the long one for the
-//! voicing decision at phrase edges.
+//! voicing decision at phrase edges (for periods too long for it, the NSDF at the chosen period
+//! over the two periods at that end).
 //!
 //! Plans and buffers are made in [`NsdfPitch::new`]; [`NsdfPitch::analyse`] never allocates.
 
@@ -309,6 +310,24 @@ impl NsdfPitch {
         self.long.low_band
     }
 
+    /// The last long window's NSDF at half the period of `chosen` (linear interpolation),
+    /// clamped to 0..1; 0 without a period. Near the chosen clarity when the chosen period is
+    /// twice the true one (an octave-down pick), low (the curve is negative there) for a true
+    /// period.
+    pub fn half_period_clarity(&self, chosen: PitchEstimate) -> f32 {
+        if chosen.f0_hz <= 0.0 {
+            return 0.0;
+        }
+        let lag = self.rate_hz / chosen.f0_hz as f64 / 2.0;
+        let curve = &self.long.curve;
+        let i = lag.floor() as usize;
+        if i + 1 >= curve.len() {
+            return 0.0;
+        }
+        let frac = (lag - i as f64) as f32;
+        (curve[i] + (curve[i + 1] - curve[i]) * frac).clamp(0.0, 1.0)
+    }
+
     /// The NSDF of the last analysed (long) window, lags 0..=lag_max+1.
     pub fn nsdf(&self) -> &[f32] {
         &self.long.curve
@@ -393,8 +412,11 @@ impl NsdfPitch {
 
     /// Clarity of `chosen` on a short window at one end of `window` (the newest samples when
     /// `newest`, else the oldest), if that window's own key-maximum choice is the same lobe;
-    /// `None` without a short window or when the period is beyond its reach. For the voicing
-    /// decision at phrase edges, where the voice fills only one end of the window.
+    /// `None` without a short window. A period beyond the short window's reach (f0 under about
+    /// 100 Hz) is judged on the last (first) two periods instead ([`two_period_clarity`]),
+    /// scaled down by the NSDF at half the period (an octave-down pick), so low voices have
+    /// edge cues too. For the voicing decision at phrase edges, where the voice
+    /// fills only one end of the window.
     pub fn edge_clarity(
         &mut self,
         window: &[f32],
@@ -403,11 +425,15 @@ impl NsdfPitch {
     ) -> Option<f32> {
         let (short, last) = self.short.as_ref()?;
         let (len, reach) = (short.window_len, *last as f64 * SAME_LOBE_RATIO);
-        if window.len() != self.long.window_len
-            || chosen.f0_hz <= 0.0
-            || self.rate_hz / chosen.f0_hz as f64 > reach
-        {
+        if window.len() != self.long.window_len || chosen.f0_hz <= 0.0 {
             return None;
+        }
+        let period = self.rate_hz / chosen.f0_hz as f64;
+        if period > reach {
+            // An octave-down pick of a higher voice is periodic over two of its periods too:
+            // the NSDF at half the period tells it from a true low voice.
+            let octave_down = self.half_period_clarity(chosen);
+            return Some(two_period_clarity(window, period, newest) * (1.0 - octave_down));
         }
         let start = if newest { window.len() - len } else { 0 };
         let p = self.short_pick_at(window, start)?;
@@ -443,6 +469,32 @@ impl NsdfPitch {
             .copied()
             .find(|c| c.clarity >= threshold && c.clarity > 0.0)
     }
+}
+
+/// The NSDF at the lag nearest `period` (samples; the best of that lag and its two
+/// neighbours) over the last two periods of `window` (`newest`) or its first two: the edge cue
+/// of a period too long for the short window (a low voice, 60–100 Hz, whose onsets and creaky
+/// endings fill only one end of the long window). Time domain, O(period); 0 when the window
+/// holds no two periods or the segment is silent.
+fn two_period_clarity(window: &[f32], period: f64, newest: bool) -> f32 {
+    let centre = period.round() as usize;
+    let mut best = 0.0f32;
+    for lag in centre.saturating_sub(1)..=centre + 1 {
+        if lag < 2 || 2 * lag > window.len() {
+            continue;
+        }
+        let start = if newest { window.len() - 2 * lag } else { 0 };
+        let (older, newer) = window[start..start + 2 * lag].split_at(lag);
+        let (mut cross, mut energy) = (0.0f64, 0.0f64);
+        for (&a, &b) in older.iter().zip(newer) {
+            cross += f64::from(a) * f64::from(b);
+            energy += f64::from(a) * f64::from(a) + f64::from(b) * f64::from(b);
+        }
+        if energy > 0.0 {
+            best = best.max((2.0 * cross / energy) as f32);
+        }
+    }
+    best.clamp(0.0, 1.0)
 }
 
 /// Key maxima of one NSDF curve up to lag `last`, shortest lag first, into `out`
@@ -708,6 +760,40 @@ mod tests {
         let b = p.analyse(&quiet);
         assert!((a.f0_hz - b.f0_hz).abs() < 0.05);
         assert!((a.clarity - b.clarity).abs() < 1e-3);
+    }
+
+    #[test]
+    fn a_low_voice_has_edge_cues_at_its_onset() {
+        // A 70 Hz voice (period 14.3 ms, beyond the 20 ms short window's reach) filling only
+        // the newest 29 ms of a 40 ms window: the newest end is clearly periodic, the oldest
+        // (mostly silence with a little noise) much less.
+        let (rate, n) = (8_000.0, 320);
+        let mut p = NsdfPitch::with_short_window(rate, n, 160, 50.0, 600.0, 0.88);
+        let voice = tone(70.0, rate, n, &[1.0, 0.6, 0.4, 0.3]);
+        let mut s = 99u32;
+        let window: Vec<f32> = voice
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| {
+                s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                let noise = ((s >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 0.01;
+                if i >= 88 {
+                    v + noise
+                } else {
+                    noise
+                }
+            })
+            .collect();
+        let chosen = p.analyse(&window);
+        assert!((chosen.f0_hz - 70.0).abs() < 2.0, "{chosen:?}");
+        let newest = p.edge_clarity(&window, chosen, true).unwrap();
+        let oldest = p.edge_clarity(&window, chosen, false).unwrap();
+        assert!(newest > 0.95, "newest end {newest}");
+        // The oldest two periods hold 3 ms of the voice's 14 ms period in the older one.
+        assert!(
+            oldest < newest - 0.25,
+            "oldest end {oldest}, newest {newest}"
+        );
     }
 
     #[test]
