@@ -46,7 +46,7 @@ fn bench(c: &mut Criterion) {
         breath_level_db: -22.0,
         min_pause_ms: 250.0,
         mode: "lookahead".into(),
-        lookahead_ms: 500.0,
+        lookahead_ms: Some(500.0),
         no_breaths: false,
         breath_samples: None,
         breath_mouth: None,

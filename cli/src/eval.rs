@@ -37,6 +37,9 @@ pub enum What {
     Head(HeadArgs),
     /// Breathing of offline renders: empty lung during speech, breath durations and levels.
     Breaths(crate::eval_breaths::BreathArgs),
+    /// Inserted breaths against real ones labelled by hand: spectrum, level, duration, and the
+    /// engine's detection of the real ones.
+    BreathSounds(crate::eval_breath_sounds::BreathSoundArgs),
 }
 
 /// Arguments of `pneuma eval head`.
@@ -280,6 +283,7 @@ fn run_head(args: &HeadArgs) -> Result<bool, String> {
 pub fn main(args: Args) -> ExitCode {
     match args.what {
         What::Breaths(b) => crate::eval_breaths::main(&b),
+        What::BreathSounds(b) => crate::eval_breath_sounds::main(&b),
         What::Head(h) => exit_code(run_head(&h).map(|all| all || !h.check), "a head-motion"),
     }
 }

@@ -3,6 +3,9 @@
 //! measures the body the breathing gives them, per file and over all files:
 //!
 //! - `empty_voiced`: the share of voiced frames inside phrases with the lung empty (< 0.05);
+//! - `reserve_voiced` (printed, not a target): the share with the lung under the reserve a
+//!   planned breath group ends at (`RESERVE_LUNG`, 0.12): speech past the plan, drawing on the
+//!   reserve;
 //! - `empty_starts`: phrases longer than 1 s that start with an empty lung (count / phrases);
 //! - breath duration median and range (seconds, from the inserted breaths);
 //! - `rank_corr`: Spearman rank correlation of breath duration with the length of the pause
@@ -18,6 +21,7 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use pneuma_core::breathing::RESERVE_LUNG;
 use pneuma_core::engine::{offline, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
 use pneuma_core::ControlFrame;
@@ -42,6 +46,10 @@ pub struct BreathArgs {
     /// `empty_starts`, `duration`, `rank_corr`, `level`, or `all`.
     #[arg(long, value_delimiter = ',')]
     pub check: Vec<String>,
+    /// Render as the plugin with this lookahead, ms (300 to 2000), instead of the offline
+    /// render's whole-file lookahead.
+    #[arg(long, value_parser = crate::options::number)]
+    pub lookahead_ms: Option<f32>,
 }
 
 /// Figures of one rendered file.
@@ -51,6 +59,8 @@ pub struct BreathFigures {
     pub voiced_frames: usize,
     /// Of those, frames with the lung empty.
     pub empty_voiced_frames: usize,
+    /// Of those, frames with the lung under the reserve ([`RESERVE_LUNG`]).
+    pub reserve_voiced_frames: usize,
     /// Phrases longer than [`LONG_PHRASE_S`].
     pub long_phrases: usize,
     /// Of those, phrases that start with the lung empty.
@@ -59,8 +69,8 @@ pub struct BreathFigures {
     pub breaths: Vec<(f64, f64, f64)>,
 }
 
-/// Median of `v` (NaN when empty).
-fn median(v: &[f64]) -> f64 {
+/// Median of the finite values of `v` (NaN when there are none).
+pub fn median(v: &[f64]) -> f64 {
     let mut s: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
     if s.is_empty() {
         return f64::NAN;
@@ -117,7 +127,7 @@ pub fn spearman(x: &[f64], y: &[f64]) -> f64 {
 }
 
 /// RMS level in dBFS of `x` (−120 for silence).
-fn rms_db(x: &[f32]) -> f64 {
+pub fn rms_db(x: &[f32]) -> f64 {
     if x.is_empty() {
         return -120.0;
     }
@@ -145,6 +155,9 @@ pub fn measure(
         fig.voiced_frames += 1;
         if f.breathing.lung < EMPTY_LUNG {
             fig.empty_voiced_frames += 1;
+        }
+        if f.breathing.lung < RESERVE_LUNG - 1e-3 {
+            fig.reserve_voiced_frames += 1;
         }
     }
     // Phrases: runs of speaking frames.
@@ -197,11 +210,17 @@ pub fn measure(
     fig
 }
 
-/// Renders `path` offline with the default settings and measures it.
-pub fn render_and_measure(path: &Path) -> Result<BreathFigures, String> {
+/// Renders `path` offline with the default settings and `lookahead_ms` (`None`: the offline
+/// render's whole-file lookahead, as `pneuma render` without `--lookahead-ms`) and measures it.
+pub fn render_and_measure(path: &Path, lookahead_ms: Option<f32>) -> Result<BreathFigures, String> {
+    let mut config = EngineConfig::default();
+    config.placement.whole_file = lookahead_ms.is_none();
+    if let Some(ms) = lookahead_ms {
+        config.placement.lookahead_s = ms / 1000.0;
+    }
     let (input, rate) = read_mono(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut engine = Engine::new(EngineConfig::default(), HeadModel::default_model().clone())
-        .map_err(|e| e.to_string())?;
+    let mut engine =
+        Engine::new(config, HeadModel::default_model().clone()).map_err(|e| e.to_string())?;
     engine
         .prepare(rate as f64, 1024, 1)
         .map_err(|e| format!("{}: {e}", path.display()))?;
@@ -222,6 +241,8 @@ pub fn render_and_measure(path: &Path) -> Result<BreathFigures, String> {
 pub struct Summary {
     /// Share of voiced phrase frames with the lung empty, 0..1.
     pub empty_voiced: f64,
+    /// Share of voiced phrase frames with the lung under the reserve, 0..1.
+    pub reserve_voiced: f64,
     /// Long phrases starting empty / long phrases.
     pub empty_starts: (usize, usize),
     /// Breaths inserted.
@@ -238,16 +259,21 @@ pub struct Summary {
 pub fn summarise(figs: &[&BreathFigures]) -> Summary {
     let voiced: usize = figs.iter().map(|f| f.voiced_frames).sum();
     let empty: usize = figs.iter().map(|f| f.empty_voiced_frames).sum();
+    let reserve: usize = figs.iter().map(|f| f.reserve_voiced_frames).sum();
+    let share = |n: usize| {
+        if voiced > 0 {
+            n as f64 / voiced as f64
+        } else {
+            0.0
+        }
+    };
     let all: Vec<(f64, f64, f64)> = figs.iter().flat_map(|f| f.breaths.clone()).collect();
     let d: Vec<f64> = all.iter().map(|b| b.0).collect();
     let p: Vec<f64> = all.iter().map(|b| b.1).collect();
     let l: Vec<f64> = all.iter().map(|b| b.2).collect();
     Summary {
-        empty_voiced: if voiced > 0 {
-            empty as f64 / voiced as f64
-        } else {
-            0.0
-        },
+        empty_voiced: share(empty),
+        reserve_voiced: share(reserve),
         empty_starts: (
             figs.iter().map(|f| f.empty_starts).sum(),
             figs.iter().map(|f| f.long_phrases).sum(),
@@ -311,8 +337,9 @@ pub fn targets(per_file: &[(String, Summary)], all: &Summary) -> Vec<(&'static s
 
 fn row(name: &str, s: &Summary) {
     println!(
-        "{name},{:.2},{},{},{},{:.3},{:.3},{:.3},{:.2},{:.1}",
+        "{name},{:.2},{:.2},{},{},{},{:.3},{:.3},{:.3},{:.2},{:.1}",
         100.0 * s.empty_voiced,
+        100.0 * s.reserve_voiced,
         s.empty_starts.0,
         s.empty_starts.1,
         s.breaths,
@@ -344,11 +371,18 @@ pub fn run(args: &BreathArgs) -> Result<bool, String> {
         }
         files.extend(wavs);
     }
-    println!("offline renders, default settings (lookahead mode, neutral preset)");
-    println!("file,empty_voiced_pct,empty_starts,long_phrases,breaths,duration_median_s,duration_min_s,duration_max_s,rank_corr,level_re_speech_db");
+    match args.lookahead_ms {
+        None => println!(
+            "offline renders, default settings (lookahead mode, whole-file lookahead, neutral preset)"
+        ),
+        Some(ms) => println!(
+            "renders as the plugin, default settings (lookahead mode, {ms} ms lookahead, neutral preset)"
+        ),
+    }
+    println!("file,empty_voiced_pct,reserve_voiced_pct,empty_starts,long_phrases,breaths,duration_median_s,duration_min_s,duration_max_s,rank_corr,level_re_speech_db");
     let mut figs = Vec::new();
     for f in &files {
-        let fig = render_and_measure(f)?;
+        let fig = render_and_measure(f, args.lookahead_ms)?;
         let name = f
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
@@ -445,10 +479,19 @@ mod tests {
         let fig = measure(&frames, &input, &output, rate, &[(2.4, 2.8)]);
         assert_eq!(fig.voiced_frames, 530);
         assert_eq!(fig.empty_voiced_frames, 100 + 130);
+        // Under the 0.12 reserve: the same frames (the others hold 0.5 and 0.8).
+        assert_eq!(fig.reserve_voiced_frames, 100 + 130);
         assert_eq!((fig.empty_starts, fig.long_phrases), (1, 3));
         assert_eq!(fig.breaths.len(), 1);
         let (d, p, l) = fig.breaths[0];
         assert!((d - 0.4).abs() < 1e-9 && (p - 0.99).abs() < 1e-9, "{d} {p}");
         assert!((l + 20.0).abs() < 0.01, "{l}");
+        // A lung at 0.1 is drawing on the reserve, not empty.
+        let low: Vec<ControlFrame> = (0..10u64).map(|i| frame(i, true, 0.1)).collect();
+        let fig = measure(&low, &[0.0; 100], &[0.0; 100], 1000.0, &[]);
+        assert_eq!(
+            (fig.empty_voiced_frames, fig.reserve_voiced_frames),
+            (0, 10)
+        );
     }
 }

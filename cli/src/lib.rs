@@ -6,6 +6,7 @@ pub mod analyze;
 pub mod audio_out;
 pub mod batch;
 pub mod eval;
+pub mod eval_breath_sounds;
 pub mod eval_breaths;
 pub mod markers;
 pub mod options;

@@ -248,6 +248,17 @@ impl Output {
     }
 }
 
+/// Writes through [`Output::writer`], so an output can be owned by a writer of frames
+/// ([`pneuma_core::encode::sink::TextSink`]).
+impl Write for Output {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.writer().write(buf)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.writer().flush()
+    }
+}
+
 /// A unique temporary file name for `target`: `.<name>.<pid>.<n>.partial.<extension>`.
 fn temp_name(target: &Path) -> String {
     static COUNTER: AtomicUsize = AtomicUsize::new(0);

@@ -6,18 +6,24 @@
 //! with `-o -`, only the audio as WAV to standard output. Several inputs go to
 //! [`crate::batch`].
 //!
-//! The engine runs exactly as in the plugin (same lookahead); the lookahead delay is removed
-//! here by dropping the first `latency` output samples and feeding silence at the end (the
-//! engine's tail: latency, analysis delay and a frame) until every frame of the file is out. Memory stays bounded: audio is read, processed and written block by block, the
-//! controls stream to their file, and the plot keeps a min/max envelope of at most a few
-//! hundred thousand points. Every output file is written under a temporary name and renamed into
+//! The engine runs as in the plugin (with `--lookahead-ms` exactly as the plugin; by default with
+//! the engine's whole-file lookahead of seconds), driven by core's one offline loop
+//! ([`offline::stream`]): it removes the lookahead delay by dropping the first `latency` output
+//! samples and feeds silence at the end (the engine's tail) until every frame of the file is
+//! out. The outputs that follow frames are sinks ([`FrameSink`]): the controls CSV and the BVH
+//! as [`TextSink`]s, the plot's frames and the breaths kept in memory. Memory stays bounded:
+//! audio is read, processed and written block by block, the controls stream to their file, and
+//! the plot keeps a min/max envelope of at most a few hundred thousand points. Every output file
+//! is written under a temporary name and renamed into
 //! place only when the whole render succeeded.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use pneuma_core::breathing::{BreathSample, Preset, SampleSlot};
-use pneuma_core::encode::{breaths_csv, bvh, controls_csv};
+use pneuma_core::encode::breaths_csv;
+use pneuma_core::encode::sink::{FrameSink, TextSink};
+use pneuma_core::engine::offline::{self, TailFrames};
 use pneuma_core::engine::{Engine, EngineConfig, EngineError, PlacementMode};
 use pneuma_core::{BreathEvent, ControlFrame};
 use thiserror::Error;
@@ -118,9 +124,10 @@ pub struct Args {
     /// Placement: `lookahead` (breath ends just before the next phrase) or `live` (no delay).
     #[arg(long, default_value = "lookahead")]
     pub mode: String,
-    /// Lookahead of the lookahead mode, ms (300 to 2000; as in the plugin).
-    #[arg(long, default_value_t = 500.0, value_parser = crate::options::number)]
-    pub lookahead_ms: f32,
+    /// Lookahead of the lookahead mode, ms (300 to 2000): renders as the plugin with that
+    /// lookahead. Without it the render looks seconds ahead (the engine's whole-file lookahead).
+    #[arg(long, value_parser = crate::options::number)]
+    pub lookahead_ms: Option<f32>,
     /// Do not insert breaths (controls only; the audio is copied unchanged).
     #[arg(long)]
     pub no_breaths: bool,
@@ -169,9 +176,10 @@ impl Args {
             .map_err(|e| RenderError::Input(format!("--preset: {e}")))?;
         // The options in the user's terms first; the engine checks its own settings again.
         use crate::options::check_range;
+        let lookahead_ms = self.lookahead_ms.unwrap_or(500.0);
         check_range("--breath-level-db", self.breath_level_db, -60.0, -6.0, "dB")
             .and_then(|()| check_range("--min-pause-ms", self.min_pause_ms, 100.0, 5000.0, "ms"))
-            .and_then(|()| check_range("--lookahead-ms", self.lookahead_ms, 300.0, 2000.0, "ms"))
+            .and_then(|()| check_range("--lookahead-ms", lookahead_ms, 300.0, 2000.0, "ms"))
             .and_then(|()| check_range("--frame-rate", self.frame_rate as f32, 10.0, 1000.0, "Hz"))
             .map_err(RenderError::Input)?;
         let mut c = EngineConfig::default();
@@ -179,7 +187,8 @@ impl Args {
         c.placement.mode = PlacementMode::from_name(&self.mode)?;
         c.placement.breath_level_db = self.breath_level_db;
         c.placement.min_pause_s = self.min_pause_ms / 1000.0;
-        c.placement.lookahead_s = self.lookahead_ms / 1000.0;
+        c.placement.lookahead_s = lookahead_ms / 1000.0;
+        c.placement.whole_file = self.lookahead_ms.is_none();
         c.placement.insert_breaths = !self.no_breaths;
         c.breathing = preset.params();
         c.seed = self.seed;
@@ -219,10 +228,16 @@ struct Envelope {
 }
 
 impl Envelope {
+    /// For `total_frames` samples; 0 (a length not known before the end) starts with
+    /// buckets of two samples and widens them as the input goes on.
     fn new(total_frames: u64) -> Self {
-        let bucket = usize::try_from(total_frames.saturating_mul(2).div_ceil(PLOT_POINTS as u64))
-            .unwrap_or(usize::MAX)
-            .max(1);
+        let bucket = if total_frames == 0 {
+            2
+        } else {
+            usize::try_from(total_frames.saturating_mul(2).div_ceil(PLOT_POINTS as u64))
+                .unwrap_or(usize::MAX)
+                .max(1)
+        };
         Self {
             bucket,
             filled: 0,
@@ -245,6 +260,21 @@ impl Envelope {
             self.filled = 0;
             self.lo = f32::INFINITY;
             self.hi = f32::NEG_INFINITY;
+            if self.points.len() >= 2 * PLOT_POINTS {
+                // Longer than announced (a length not known before): merge neighbouring
+                // buckets, so the envelope stays bounded.
+                let merged: Vec<f32> = self
+                    .points
+                    .chunks(4)
+                    .flat_map(|c| match *c {
+                        [lo1, hi1, lo2, hi2] => [lo1.min(lo2), hi1.max(hi2)],
+                        [lo, hi, ..] => [lo, hi],
+                        _ => unreachable!("points come in pairs"),
+                    })
+                    .collect();
+                self.points = merged;
+                self.bucket *= 2;
+            }
         }
     }
     /// The points, evenly spread over the samples pushed so far (a last partial bucket
@@ -255,6 +285,45 @@ impl Envelope {
             self.points.push(self.hi);
         }
         self.points
+    }
+}
+
+/// What a render keeps of the engine's output besides the files: the number of control frames,
+/// every `every`-th frame for the plot (at most [`PLOT_FRAMES`]) and the inserted breaths.
+struct Kept {
+    every: usize,
+    frames: u64,
+    plot: Vec<ControlFrame>,
+    breaths: Vec<BreathEvent>,
+}
+
+impl Kept {
+    fn new(frames_total: u64) -> Self {
+        Self {
+            every: (frames_total as usize).div_ceil(PLOT_FRAMES).max(1),
+            frames: 0,
+            plot: Vec::new(),
+            breaths: Vec::new(),
+        }
+    }
+}
+
+impl FrameSink for Kept {
+    fn frame(&mut self, frame: &ControlFrame, _at: u64) {
+        if (frame.index as usize).is_multiple_of(self.every) {
+            self.plot.push(*frame);
+            if self.plot.len() > 2 * PLOT_FRAMES {
+                // Longer than announced (a length not known before): keep every other one.
+                self.every *= 2;
+                let every = self.every;
+                self.plot
+                    .retain(|f| (f.index as usize).is_multiple_of(every));
+            }
+        }
+        self.frames += 1;
+    }
+    fn breath(&mut self, breath: &BreathEvent) {
+        self.breaths.push(*breath);
     }
 }
 
@@ -314,6 +383,14 @@ pub fn run(
     let channels = info.channels as usize;
     if channels > pneuma_core::engine::MAX_CHANNELS {
         return Err(EngineError::Channels(channels).into());
+    }
+    if args.bvh && !to_stdout && info.frames == 0 {
+        return Err(RenderError::Input(
+            "--bvh needs the input's length before the render (the BVH header holds the frame \
+             count), and this input does not announce it (a pipe, or a stream of unknown \
+             length): save it to a file first, or drop --bvh"
+                .into(),
+        ));
     }
     let model =
         crate::options::load_head_model(args.head_model.as_deref()).map_err(RenderError::Input)?;
@@ -392,156 +469,105 @@ pub fn run(
         crate::options::refuse_existing(&all).map_err(RenderError::Input)?;
     }
 
-    let mut sink = if to_stdout {
+    let mut audio_out = if to_stdout {
         AudioSink::stdout(info)
     } else {
         AudioSink::create_as(&wav_path, info, container, tags)
     }
     .map_err(out_err(&wav_path))?;
-    // With -o - only the audio is written: no controls, breaths, plot or BVH files.
-    let mut controls = if to_stdout {
-        None
-    } else {
-        let mut o = Output::create(&controls_path).map_err(out_err(&controls_path))?;
-        writeln!(o.writer(), "{}", controls_csv::HEADER).map_err(out_err(&controls_path))?;
-        Some(o)
-    };
 
-    let latency = engine.latency_samples() as u64;
-    let tail = engine.tail_samples();
     let total_in = info.frames;
     let frame_rate = config.analysis.frame_rate_hz;
     let clock = pneuma_core::analysis::FrameClock::new(frame_rate, info.sample_rate_hz as f64);
     let frames_total = clock.frames_in(total_in);
-    let mut envelope = Envelope::new(total_in);
-    let plot_every = (frames_total as usize).div_ceil(PLOT_FRAMES).max(1);
-    let mut plot_frames: Vec<ControlFrame> = Vec::new();
-    // The BVH streams too: its header needs the frame count, known from the WAV header.
-    let mut bvh_out = if args.bvh && !to_stdout {
-        let mut o = Output::create(&bvh_path).map_err(out_err(&bvh_path))?;
-        o.writer()
-            .write_all(bvh::header(frames_total as usize, frame_rate).as_bytes())
-            .map_err(out_err(&bvh_path))?;
-        Some(o)
+    // The outputs that follow the frames. With -o - only the audio is written: no controls,
+    // breaths, plot or BVH files.
+    let controls = if to_stdout {
+        None
+    } else {
+        let o = Output::create(&controls_path).map_err(out_err(&controls_path))?;
+        Some(TextSink::controls_csv(o).map_err(out_err(&controls_path))?)
+    };
+    // The BVH streams too: its header needs the frame count, known from the input's header.
+    let bvh_out = if args.bvh && !to_stdout {
+        let o = Output::create(&bvh_path).map_err(out_err(&bvh_path))?;
+        Some(TextSink::bvh(o, frames_total as usize, frame_rate).map_err(out_err(&bvh_path))?)
     } else {
         None
     };
-    let mut bvh_row = String::new();
-    let mut breaths = Vec::new();
-    let mut row = String::new();
-    let mut frames_written = 0u64;
-    let mut write_error: Option<std::io::Error> = None;
+    let mut sinks = (controls, bvh_out, Kept::new(frames_total));
 
+    let mut envelope = Envelope::new(total_in);
     let mut interleaved = Vec::with_capacity(BLOCK_FRAMES * channels);
-    let mut planar: Vec<Vec<f32>> = vec![vec![0.0; BLOCK_FRAMES]; channels];
     let mut out_interleaved = Vec::with_capacity(BLOCK_FRAMES * channels);
-    let mut fed = 0u64; // sample frames given to the engine
     let mut written = 0u64; // sample frames written to the output
-    let mut input_done = false;
     let mut last_progress = 0.0;
-    loop {
-        // Next block: from the file, then silence to flush the lookahead.
-        let n = if !input_done {
-            let n = src.read_interleaved(BLOCK_FRAMES, &mut interleaved)?;
-            if n == 0 {
-                input_done = true;
-                continue;
-            }
+    offline::stream(
+        &mut engine,
+        channels,
+        &[BLOCK_FRAMES],
+        TailFrames::InputOnly,
+        |planar: &mut [Vec<f32>], max: usize| -> Result<usize, RenderError> {
+            let n = src.read_interleaved(max, &mut interleaved)?;
             for (i, frame) in interleaved.chunks_exact(channels).enumerate() {
                 for (c, &x) in frame.iter().enumerate() {
                     planar[c][i] = x;
                 }
             }
-            n
-        } else {
-            let remaining = (src.frames_read() + tail).saturating_sub(fed);
-            if remaining == 0 {
-                break;
+            Ok(n)
+        },
+        &mut sinks,
+        |(controls, bvh, _), planar, range| {
+            // A failed write of the controls or the BVH stops the render.
+            for (text, path) in [(controls, &controls_path), (bvh, &bvh_path)] {
+                if let Some(text) = text {
+                    text.check().map_err(out_err(path))?;
+                }
             }
-            let n = (remaining as usize).min(BLOCK_FRAMES);
-            planar.iter_mut().for_each(|p| p[..n].fill(0.0));
-            n
-        };
-        let total_now = src.frames_read();
-        let frames_limit = clock.frames_in(total_now);
-        {
-            let mut chans: Vec<&mut [f32]> = planar.iter_mut().map(|p| &mut p[..n]).collect();
-            engine.process(&mut chans, &mut |f: &ControlFrame, _offset| {
-                // Frames past the end of the input (the flush) are not part of the file.
-                if input_done && f.index >= frames_limit {
-                    return;
+            out_interleaved.clear();
+            for i in range.clone() {
+                let mut mono = 0.0;
+                for p in planar {
+                    out_interleaved.push(p[i]);
+                    mono += p[i];
                 }
-                row.clear();
-                controls_csv::write_row(&mut row, f);
-                if let (None, Some(c)) = (&write_error, &mut controls) {
-                    if let Err(e) = c.writer().write_all(row.as_bytes()) {
-                        write_error = Some(e);
-                    }
-                }
-                if (f.index as usize).is_multiple_of(plot_every) {
-                    plot_frames.push(*f);
-                }
-                if let Some(o) = &mut bvh_out {
-                    bvh_row.clear();
-                    bvh::push_control(&mut bvh_row, f);
-                    if write_error.is_none() {
-                        if let Err(e) = o.writer().write_all(bvh_row.as_bytes()) {
-                            write_error = Some(e);
-                        }
-                    }
-                }
-                frames_written += 1;
-            });
-        }
-        if let Some(e) = write_error.take() {
-            return Err(RenderError::Output {
-                path: args.output.clone(),
-                source: e,
-            });
-        }
-        engine.take_breaths(|b| breaths.push(*b));
-        // Drop the first `latency` output samples; never write past the input's length.
-        out_interleaved.clear();
-        for i in 0..n {
-            let t = fed + i as u64;
-            if t < latency || t - latency >= total_now {
-                continue;
+                envelope.push(mono / channels as f32);
             }
-            let mut mono = 0.0;
-            for p in &planar {
-                out_interleaved.push(p[i]);
-                mono += p[i];
+            written += range.len() as u64;
+            audio_out
+                .write_interleaved(&out_interleaved)
+                .map_err(out_err(&wav_path))?;
+            if interrupted() {
+                return Err(RenderError::Interrupted);
             }
-            envelope.push(mono / channels as f32);
-            written += 1;
-        }
-        fed += n as u64;
-        sink.write_interleaved(&out_interleaved)
-            .map_err(out_err(&wav_path))?;
-        if interrupted() {
-            return Err(RenderError::Interrupted);
-        }
-        let done = written as f64 / total_in.max(1) as f64;
-        if done - last_progress >= 0.01 {
-            last_progress = done;
-            progress(done.min(1.0));
-        }
-    }
-    engine.finish();
-    engine.take_breaths(|b| breaths.push(*b));
+            let done = written as f64 / total_in.max(1) as f64;
+            if done - last_progress >= 0.01 {
+                last_progress = done;
+                progress(done.min(1.0));
+            }
+            Ok(())
+        },
+    )?;
+    let (controls, bvh_out, kept) = sinks;
+    let Kept {
+        frames: frames_written,
+        plot: plot_frames,
+        mut breaths,
+        ..
+    } = kept;
     // A breath cut by the end of the file ends with it.
     let duration_s = written as f64 / info.sample_rate_hz as f64;
     breaths.retain(|b| b.start_s < duration_s);
     for b in &mut breaths {
         b.end_s = b.end_s.min(duration_s);
     }
-    let clipped = sink.clipped();
+    let clipped = audio_out.clipped();
     if args.markers.contains(&MarkerKind::Cue) {
-        sink.set_cues(crate::markers::cues(&breaths, info.sample_rate_hz));
+        audio_out.set_cues(crate::markers::cues(&breaths, info.sample_rate_hz));
     }
     let Some(controls) = controls else {
         // Standard output: the audio is all there is.
-        sink.finish().map_err(out_err(&wav_path))?;
+        audio_out.finish().map_err(out_err(&wav_path))?;
         return Ok(RenderSummary {
             info,
             input_format,
@@ -564,10 +590,14 @@ pub fn run(
         breaths_path.clone(),
     ];
     let mut staged = vec![
-        sink.finish()
+        audio_out
+            .finish()
             .map_err(out_err(&wav_path))?
             .ok_or_else(|| out_err(&wav_path)(std::io::Error::other("not a file")))?,
-        staged_file(controls, &controls_path)?,
+        staged_file(
+            controls.into_inner().map_err(out_err(&controls_path))?,
+            &controls_path,
+        )?,
         staged_file(breaths_out, &breaths_path)?,
     ];
     for (kind, path) in &marker_paths {
@@ -579,6 +609,7 @@ pub fn run(
         files.push(path.clone());
     }
     if let Some(o) = bvh_out {
+        let o = o.into_inner().map_err(out_err(&bvh_path))?;
         staged.push(staged_file(o, &bvh_path)?);
         files.push(bvh_path.clone());
     }
@@ -715,5 +746,57 @@ pub fn main(args: Args) -> ExitCode {
             eprintln!("error: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_envelope_of_unknown_length_stays_bounded_and_keeps_the_extremes() {
+        let n = 5 * PLOT_POINTS;
+        let mut e = Envelope::new(0);
+        for i in 0..n {
+            // A ramp with one spike in the middle.
+            e.push(if i == n / 2 { 2.0 } else { i as f32 / n as f32 });
+        }
+        let points = e.finish();
+        assert!(
+            points.len() <= 2 * PLOT_POINTS + 2,
+            "{} points",
+            points.len()
+        );
+        assert!(points.len() >= PLOT_POINTS / 2, "{} points", points.len());
+        let max = points.iter().copied().fold(f32::MIN, f32::max);
+        let min = points.iter().copied().fold(f32::MAX, f32::min);
+        assert_eq!((min, max), (0.0, 2.0));
+        // Pairs stay in time order: the last pair holds the end of the ramp.
+        assert!(points[points.len() - 1] > 0.99);
+    }
+
+    #[test]
+    fn plot_frames_of_unknown_length_stay_bounded_and_evenly_spaced() {
+        let mut kept = Kept::new(0);
+        let n = 5 * PLOT_FRAMES as u64;
+        for index in 0..n {
+            let f = ControlFrame {
+                index,
+                ..Default::default()
+            };
+            kept.frame(&f, 0);
+        }
+        assert_eq!(kept.frames, n);
+        assert!(kept.plot.len() <= 2 * PLOT_FRAMES, "{}", kept.plot.len());
+        let steps: Vec<u64> = kept
+            .plot
+            .windows(2)
+            .map(|w| w[1].index - w[0].index)
+            .collect();
+        assert!(steps.iter().all(|&s| s == kept.every as u64), "uneven");
+        assert!(kept
+            .plot
+            .last()
+            .is_some_and(|f| f.index + kept.every as u64 >= n));
     }
 }

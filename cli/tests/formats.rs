@@ -6,56 +6,15 @@
 //! fail.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 mod support;
-use support::{pneuma, render, tool_or_skip};
-
-/// True when ffmpeg runs; otherwise skips visibly (fails under CI=true).
-fn ffmpeg_or_skip(test: &str) -> bool {
-    tool_or_skip("ffmpeg", "-version", test)
-}
-
-fn voice() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/examples/voice.wav")
-}
-
-/// Encodes `input` to `out` with ffmpeg and the codec arguments `codec`.
-fn encode(input: &Path, out: &Path, codec: &[&str]) {
-    let o = Command::new("ffmpeg")
-        .args(["-hide_banner", "-loglevel", "error", "-y", "-i"])
-        .arg(input)
-        .args(codec)
-        .arg(out)
-        .output()
-        .expect("ffmpeg runs");
-    assert!(
-        o.status.success(),
-        "ffmpeg {codec:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-}
-
-/// Reads an audio file (any format) as interleaved f32 with its rate and channels.
-fn read_audio(path: &Path) -> (Vec<f32>, u32, u16) {
-    let mut src =
-        pneuma_io::AudioSource::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let info = src.info();
-    let mut all = Vec::new();
-    let mut block = Vec::new();
-    while src.read_interleaved(4096, &mut block).expect("read") > 0 {
-        all.extend_from_slice(&block);
-    }
-    (all, info.sample_rate_hz, info.channels)
-}
+use support::{breaths_csv, example_voice, ffmpeg_encode, have_ffmpeg, pneuma, read_audio, render};
 
 /// Breath start times of a `breaths.csv`.
 fn breath_starts(path: &Path) -> Vec<f64> {
-    std::fs::read_to_string(path)
-        .expect("breaths csv")
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').next().expect("start").parse().expect("number"))
+    breaths_csv(path)
+        .into_iter()
+        .map(|(start_s, _)| start_s)
         .collect()
 }
 
@@ -88,11 +47,11 @@ fn render_ok(input: &Path, out: &Path, extra: &[&str]) -> PathBuf {
 
 #[test]
 fn every_lossless_format_renders_bit_for_bit_as_the_wav() {
-    if !ffmpeg_or_skip("every_lossless_format_renders_bit_for_bit_as_the_wav") {
+    if !have_ffmpeg("every_lossless_format_renders_bit_for_bit_as_the_wav") {
         return;
     }
     let dir = tempfile::tempdir().expect("temp");
-    let reference = render_ok(&voice(), &dir.path().join("wav"), &[]);
+    let reference = render_ok(&example_voice(), &dir.path().join("wav"), &[]);
     let (want, rate, channels) = read_audio(&reference);
     let want_breaths = breath_starts(&dir.path().join("wav/voice.breaths.csv"));
     assert!(!want_breaths.is_empty(), "the example voice gets breaths");
@@ -105,7 +64,7 @@ fn every_lossless_format_renders_bit_for_bit_as_the_wav() {
         let sub = dir.path().join(ext);
         std::fs::create_dir_all(&sub).expect("dir");
         let input = sub.join(format!("voice.{ext}"));
-        encode(&voice(), &input, codec);
+        ffmpeg_encode(&example_voice(), &input, codec);
         let out = render_ok(&input, &sub.join("out"), &[]);
         let (got, got_rate, got_channels) = read_audio(&out);
         assert_eq!((got_rate, got_channels), (rate, channels), "{ext}");
@@ -126,13 +85,13 @@ fn every_lossless_format_renders_bit_for_bit_as_the_wav() {
 
 #[test]
 fn lossy_formats_render_with_the_same_breaths() {
-    if !ffmpeg_or_skip("lossy_formats_render_with_the_same_breaths") {
+    if !have_ffmpeg("lossy_formats_render_with_the_same_breaths") {
         return;
     }
     let dir = tempfile::tempdir().expect("temp");
-    render_ok(&voice(), &dir.path().join("wav"), &[]);
+    render_ok(&example_voice(), &dir.path().join("wav"), &[]);
     let want_breaths = breath_starts(&dir.path().join("wav/voice.breaths.csv"));
-    let (voice_audio, _, _) = read_audio(&voice());
+    let (voice_audio, _, _) = read_audio(&example_voice());
     for (ext, codec) in [
         ("mp3", &["-c:a", "libmp3lame", "-b:a", "64k"][..]),
         ("ogg", &["-c:a", "libvorbis", "-q:a", "4"][..]),
@@ -141,7 +100,7 @@ fn lossy_formats_render_with_the_same_breaths() {
         let sub = dir.path().join(ext);
         std::fs::create_dir_all(&sub).expect("dir");
         let input = sub.join(format!("voice.{ext}"));
-        encode(&voice(), &input, codec);
+        ffmpeg_encode(&example_voice(), &input, codec);
         let out = render_ok(&input, &sub.join("out"), &[]);
         let (got, rate, _) = read_audio(&out);
         assert_eq!(rate, 16_000, "{ext}");
@@ -165,7 +124,7 @@ fn lossy_formats_render_with_the_same_breaths() {
 
 #[test]
 fn damaged_and_mislabelled_files_fail_clearly() {
-    if !ffmpeg_or_skip("damaged_and_mislabelled_files_fail_clearly") {
+    if !have_ffmpeg("damaged_and_mislabelled_files_fail_clearly") {
         return;
     }
     let dir = tempfile::tempdir().expect("temp");
@@ -185,7 +144,11 @@ fn damaged_and_mislabelled_files_fail_clearly() {
     };
     // A truncated MP3: the LAME header announces more than is there.
     let mp3 = dir.path().join("voice.mp3");
-    encode(&voice(), &mp3, &["-c:a", "libmp3lame", "-b:a", "64k"]);
+    ffmpeg_encode(
+        &example_voice(),
+        &mp3,
+        &["-c:a", "libmp3lame", "-b:a", "64k"],
+    );
     let bytes = std::fs::read(&mp3).expect("mp3");
     let cut = dir.path().join("cut.mp3");
     std::fs::write(&cut, &bytes[..bytes.len() / 2]).expect("write");
@@ -195,7 +158,7 @@ fn damaged_and_mislabelled_files_fail_clearly() {
     );
     // A FLAC with a flipped byte in its audio: a frame fails its CRC.
     let flac = dir.path().join("voice.flac");
-    encode(&voice(), &flac, &["-c:a", "flac"]);
+    ffmpeg_encode(&example_voice(), &flac, &["-c:a", "flac"]);
     let mut bytes = std::fs::read(&flac).expect("flac");
     let mid = bytes.len() / 2;
     bytes[mid] ^= 0x5a;
@@ -214,7 +177,7 @@ fn damaged_and_mislabelled_files_fail_clearly() {
     );
     // Opus: no decoder, and the command that converts it.
     let opus = dir.path().join("voice.opus");
-    encode(&voice(), &opus, &["-c:a", "libopus"]);
+    ffmpeg_encode(&example_voice(), &opus, &["-c:a", "libopus"]);
     fails(
         &opus,
         &["Opus", "is not supported", "ffmpeg -i IN OUT.flac"],
@@ -223,12 +186,12 @@ fn damaged_and_mislabelled_files_fail_clearly() {
 
 #[test]
 fn analyze_reads_flac_like_the_wav() {
-    if !ffmpeg_or_skip("analyze_reads_flac_like_the_wav") {
+    if !have_ffmpeg("analyze_reads_flac_like_the_wav") {
         return;
     }
     let dir = tempfile::tempdir().expect("temp");
     let flac = dir.path().join("voice.flac");
-    encode(&voice(), &flac, &["-c:a", "flac"]);
+    ffmpeg_encode(&example_voice(), &flac, &["-c:a", "flac"]);
     let run = |input: &Path, out: &Path| {
         let o = pneuma(&[
             "analyze",
@@ -239,7 +202,7 @@ fn analyze_reads_flac_like_the_wav() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         std::fs::read_to_string(out).expect("csv")
     };
-    let a = run(&voice(), &dir.path().join("wav.csv"));
+    let a = run(&example_voice(), &dir.path().join("wav.csv"));
     let b = run(&flac, &dir.path().join("flac.csv"));
     assert!(a.lines().count() > 100);
     assert!(a == b, "the FLAC's analysis CSV differs from the WAV's");

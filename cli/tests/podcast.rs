@@ -2,60 +2,14 @@
 //! editors (Audacity labels, REAPER regions, WAV cue points — each parsed back here), batches
 //! with a broken file, the output format and tags of lossy and lossless input, and Ctrl-C.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 mod support;
-use support::{pneuma, pneuma_with_stdin, render, tool_or_skip};
-
-/// True when ffmpeg runs; otherwise skips visibly (fails under CI=true).
-fn have_ffmpeg(test: &str) -> bool {
-    tool_or_skip("ffmpeg", "-version", test)
-}
-
-fn voice() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/examples/voice.wav")
-}
-
-fn ffmpeg(args: &[&str]) {
-    let o = Command::new("ffmpeg")
-        .args(["-hide_banner", "-loglevel", "error", "-y"])
-        .args(args)
-        .output()
-        .expect("ffmpeg runs");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-}
-
-fn ok(o: &std::process::Output) {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-}
-
-/// Interleaved samples of any audio file pneuma reads.
-fn samples(path: &Path) -> Vec<f32> {
-    let mut src = pneuma_io::AudioSource::open(path).expect("open");
-    let (mut all, mut block) = (Vec::new(), Vec::new());
-    while src.read_interleaved(4096, &mut block).expect("read") > 0 {
-        all.extend_from_slice(&block);
-    }
-    all
-}
-
-/// (start_s, end_s) of every row of a breaths.csv.
-fn breaths(path: &Path) -> Vec<(f64, f64)> {
-    std::fs::read_to_string(path)
-        .expect("breaths.csv")
-        .lines()
-        .skip(1)
-        .map(|l| {
-            let f: Vec<f64> = l
-                .split(',')
-                .take(2)
-                .map(|x| x.parse().expect("num"))
-                .collect();
-            (f[0], f[1])
-        })
-        .collect()
-}
+use support::{
+    assert_ok, breaths_csv, example_voice, ffmpeg_encode, have_ffmpeg, pneuma, pneuma_with_stdin,
+    render, samples,
+};
 
 /// The RIFF chunks of a WAV file: (id, body).
 fn riff_chunks(bytes: &[u8]) -> Vec<([u8; 4], Vec<u8>)> {
@@ -81,11 +35,15 @@ fn u32_at(b: &[u8], at: usize) -> u32 {
 #[test]
 fn standard_input_and_output_carry_the_same_audio_as_files() {
     let dir = tempfile::tempdir().expect("temp");
-    ok(&render(&voice(), &dir.path().join("file"), &["--no-plot"]));
+    assert_ok(&render(
+        &example_voice(),
+        &dir.path().join("file"),
+        &["--no-plot"],
+    ));
     let want = samples(&dir.path().join("file/voice.wav"));
-    let bytes = std::fs::read(voice()).expect("voice");
+    let bytes = std::fs::read(example_voice()).expect("voice");
     let o = pneuma_with_stdin(&["render", "-", "-o", "-", "--quiet"], &bytes);
-    ok(&o);
+    assert_ok(&o);
     // A streamed WAV: sizes unknown (0xFFFFFFFF), read to the end.
     assert_eq!(&o.stdout[..4], b"RIFF");
     assert_eq!(u32_at(&o.stdout, 4), u32::MAX);
@@ -107,11 +65,11 @@ fn standard_input_and_output_carry_the_same_audio_as_files() {
         ],
         &bytes,
     );
-    ok(&o);
+    assert_ok(&o);
     assert!(samples(&dir.path().join("named/stdin.wav")) == want);
     assert_eq!(
-        breaths(&dir.path().join("named/stdin.breaths.csv")),
-        breaths(&dir.path().join("file/voice.breaths.csv"))
+        breaths_csv(&dir.path().join("named/stdin.breaths.csv")),
+        breaths_csv(&dir.path().join("file/voice.breaths.csv"))
     );
     // Markers have nowhere to go with -o -.
     let o = pneuma_with_stdin(&["render", "-", "-o", "-", "--markers", "audacity"], &bytes);
@@ -126,17 +84,17 @@ fn a_flac_through_a_pipe_renders_like_the_file() {
     }
     let dir = tempfile::tempdir().expect("temp");
     let flac = dir.path().join("voice.flac");
-    ffmpeg(&[
-        "-i",
-        voice().to_str().expect("utf8"),
-        flac.to_str().expect("utf8"),
-    ]);
-    ok(&render(&voice(), &dir.path().join("file"), &["--no-plot"]));
+    ffmpeg_encode(&example_voice(), &flac, &[]);
+    assert_ok(&render(
+        &example_voice(),
+        &dir.path().join("file"),
+        &["--no-plot"],
+    ));
     let o = pneuma_with_stdin(
         &["render", "-", "-o", "-", "--quiet"],
         &std::fs::read(&flac).expect("flac"),
     );
-    ok(&o);
+    assert_ok(&o);
     let piped = dir.path().join("piped.wav");
     std::fs::write(&piped, &o.stdout).expect("write");
     assert!(samples(&piped) == samples(&dir.path().join("file/voice.wav")));
@@ -152,12 +110,12 @@ fn minutes(s: &str) -> f64 {
 fn markers_are_parsed_back_as_the_breaths() {
     let dir = tempfile::tempdir().expect("temp");
     let out = dir.path().join("out");
-    ok(&render(
-        &voice(),
+    assert_ok(&render(
+        &example_voice(),
         &out,
         &["--no-plot", "--markers", "audacity,reaper,cue"],
     ));
-    let want = breaths(&out.join("voice.breaths.csv"));
+    let want = breaths_csv(&out.join("voice.breaths.csv"));
     assert!(want.len() >= 3, "the example voice gets breaths: {want:?}");
 
     // Audacity: start<TAB>end<TAB>label.
@@ -246,11 +204,15 @@ fn markers_are_parsed_back_as_the_breaths() {
         );
     }
     // The audio itself is the same as without markers.
-    ok(&render(&voice(), &dir.path().join("plain"), &["--no-plot"]));
+    assert_ok(&render(
+        &example_voice(),
+        &dir.path().join("plain"),
+        &["--no-plot"],
+    ));
     assert!(samples(&out.join("voice.wav")) == samples(&dir.path().join("plain/voice.wav")));
     // Cue points need a WAV output.
     let o = render(
-        &voice(),
+        &example_voice(),
         &dir.path().join("x"),
         &["--markers", "cue", "--format", "flac"],
     );
@@ -266,7 +228,7 @@ fn a_batch_finishes_the_good_files_and_reports_the_broken_one() {
     let inputs = dir.path().join("episodes");
     std::fs::create_dir(&inputs).expect("dir");
     for name in ["ep1.wav", "ep2.wav", "ep3.wav"] {
-        std::fs::copy(voice(), inputs.join(name)).expect("copy");
+        std::fs::copy(example_voice(), inputs.join(name)).expect("copy");
     }
     std::fs::write(inputs.join("broken.mp3"), "not audio at all\n".repeat(10)).expect("write");
     std::fs::write(inputs.join("notes.txt"), "ignored: not audio by name").expect("write");
@@ -319,8 +281,8 @@ fn a_batch_finishes_the_good_files_and_reports_the_broken_one() {
         "--no-plot",
         "-q",
     ]);
-    ok(&o);
-    std::fs::copy(voice(), inputs.join("ep1.aiff")).expect("copy");
+    assert_ok(&o);
+    std::fs::copy(example_voice(), inputs.join("ep1.aiff")).expect("copy");
     let o = pneuma(&[
         "render",
         inputs.to_str().expect("utf8"),
@@ -366,17 +328,18 @@ fn lossy_input_becomes_flac_with_its_tags_and_lossless_keeps_its_format() {
     }
     let dir = tempfile::tempdir().expect("temp");
     let mp3 = dir.path().join("episode.mp3");
-    ffmpeg(&[
-        "-i",
-        voice().to_str().expect("utf8"),
-        "-metadata",
-        "title=Episode 12: Breathing",
-        "-metadata",
-        "artist=The Host",
-        "-c:a",
-        "libmp3lame",
-        mp3.to_str().expect("utf8"),
-    ]);
+    ffmpeg_encode(
+        &example_voice(),
+        &mp3,
+        &[
+            "-metadata",
+            "title=Episode 12: Breathing",
+            "-metadata",
+            "artist=The Host",
+            "-c:a",
+            "libmp3lame",
+        ],
+    );
     let out = dir.path().join("out");
     let o = pneuma(&[
         "render",
@@ -385,7 +348,7 @@ fn lossy_input_becomes_flac_with_its_tags_and_lossless_keeps_its_format() {
         out.to_str().expect("utf8"),
         "--no-plot",
     ]);
-    ok(&o);
+    assert_ok(&o);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
         err.contains("MP3 input written as FLAC (no second lossy generation"),
@@ -412,7 +375,7 @@ fn lossy_input_becomes_flac_with_its_tags_and_lossless_keeps_its_format() {
         "wav",
         "-q",
     ]);
-    ok(&o);
+    assert_ok(&o);
     let chunks = riff_chunks(&std::fs::read(out.join("episode.wav")).expect("wav"));
     let info = &chunks.iter().find(|c| &c.0 == b"LIST").expect("LIST").1;
     let text = String::from_utf8_lossy(info);
@@ -423,25 +386,11 @@ fn lossy_input_becomes_flac_with_its_tags_and_lossless_keeps_its_format() {
     assert!(text.contains("IART") && text.contains("The Host"), "{text}");
     // 24-bit stereo AIFF in, 24-bit stereo AIFF out, the same samples as the WAV route.
     let wav24 = dir.path().join("st.wav");
-    ffmpeg(&[
-        "-i",
-        voice().to_str().expect("utf8"),
-        "-ac",
-        "2",
-        "-c:a",
-        "pcm_s24le",
-        wav24.to_str().expect("utf8"),
-    ]);
+    ffmpeg_encode(&example_voice(), &wav24, &["-ac", "2", "-c:a", "pcm_s24le"]);
     let aiff = dir.path().join("st.aiff");
-    ffmpeg(&[
-        "-i",
-        wav24.to_str().expect("utf8"),
-        "-c:a",
-        "pcm_s24be",
-        aiff.to_str().expect("utf8"),
-    ]);
-    ok(&render(&wav24, &dir.path().join("w"), &["--no-plot"]));
-    ok(&render(&aiff, &dir.path().join("a"), &["--no-plot"]));
+    ffmpeg_encode(&wav24, &aiff, &["-c:a", "pcm_s24be"]);
+    assert_ok(&render(&wav24, &dir.path().join("w"), &["--no-plot"]));
+    assert_ok(&render(&aiff, &dir.path().join("a"), &["--no-plot"]));
     let a = dir.path().join("a/st.aiff");
     let mut src = pneuma_io::AudioSource::open(&a).expect("aiff out");
     assert_eq!(src.format(), pneuma_io::InputFormat::Aiff);
@@ -461,7 +410,7 @@ fn ctrl_c_leaves_no_partial_file_and_the_old_outputs() {
     let long = dir.path().join("long.wav");
     let rate = 48_000u32;
     let one: Vec<f32> = {
-        let (v, r) = pneuma_io::read_mono(&voice()).expect("voice");
+        let (v, r) = pneuma_io::read_mono(&example_voice()).expect("voice");
         assert_eq!(r, 16_000);
         v.iter().flat_map(|&x| [x, x, x]).collect()
     };
@@ -532,14 +481,10 @@ fn a_breath_sample_folder_may_hold_flac() {
         })
         .collect();
     support::write_wav(&wavs.join("mouth.wav"), (44_100, 1, 16, false), &noise, 1.0);
-    ffmpeg(&[
-        "-i",
-        wavs.join("mouth.wav").to_str().expect("utf8"),
-        flacs.join("mouth.flac").to_str().expect("utf8"),
-    ]);
+    ffmpeg_encode(&wavs.join("mouth.wav"), &flacs.join("mouth.flac"), &[]);
     for (samples_dir, out) in [(&wavs, "a"), (&flacs, "b")] {
-        ok(&render(
-            &voice(),
+        assert_ok(&render(
+            &example_voice(),
             &dir.path().join(out),
             &[
                 "--no-plot",

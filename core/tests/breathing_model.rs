@@ -192,3 +192,34 @@ fn channels_open_during_inspiration_only() {
         .iter()
         .all(|s| s.mouth_open == 0.0 && s.nostril_flare == 0.0));
 }
+
+#[test]
+fn a_breath_group_fills_to_its_plan_spends_it_to_the_reserve_and_holds_in_its_pauses() {
+    use pneuma_core::breathing::{RESERVE_DECAY_S, RESERVE_LUNG};
+    let params = LowLevelParams::default();
+    let mut c = BreathCycle::new(&params);
+    let dt = 1.0 / 120.0;
+    // A stream that starts in speech: the lung is at the plan at once.
+    c.breathed_in(0.6);
+    assert!(close(c.lung(), 0.6));
+    // 3 s of speech left in the group: the lung reaches the reserve after 3 s, not before.
+    c.expire_group(3.0);
+    run(&mut c, 1.5, dt);
+    let half = 0.6 - 0.5 * (0.6 - RESERVE_LUNG);
+    assert!((c.lung() - half).abs() < 0.01, "{} vs {half}", c.lung());
+    // A pause inside the group holds the breath.
+    c.pause_in_group();
+    let held = run(&mut c, 0.5, dt);
+    assert!(held.iter().all(|s| (s.lung - half).abs() < 1e-4));
+    c.expire_group(1.5);
+    run(&mut c, 1.5, dt);
+    assert!((c.lung() - RESERVE_LUNG).abs() < 0.01, "{}", c.lung());
+    // Speech past the plan draws the reserve down with its time constant, never to 0 at once.
+    run(&mut c, RESERVE_DECAY_S, dt);
+    let expect = RESERVE_LUNG * (-1.0f32).exp();
+    assert!((c.lung() - expect).abs() < 0.01, "{} vs {expect}", c.lung());
+    // A catch breath tops the lung up to its target.
+    c.inspire_to(0.2, 0.5);
+    run(&mut c, 0.2, dt);
+    assert!((c.lung() - 0.5).abs() < 0.01, "{}", c.lung());
+}

@@ -2,7 +2,7 @@
 //! reported by `Engine::take_existing_breaths` with its time, and no breath is inserted over it;
 //! the same phrases with a quiet pause report none.
 
-use pneuma_core::engine::{Engine, EngineConfig};
+use pneuma_core::engine::{offline, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
 use pneuma_core::test_signals;
 
@@ -43,18 +43,9 @@ fn run(audio: &[f32]) -> (Spans, Spans) {
     let mut engine = Engine::new(EngineConfig::default(), HeadModel::default_model().clone())
         .expect("default engine");
     engine.prepare(RATE_HZ, 256, 1).expect("prepare");
-    let (mut existing, mut inserted) = (Vec::new(), Vec::new());
-    let tail = engine.tail_samples() as usize;
-    let mut input = audio.to_vec();
-    input.resize(audio.len() + tail, 0.0);
-    for block in input.chunks_mut(256) {
-        engine.process(&mut [block], &mut |_, _| {});
-        engine.take_existing_breaths(|a, b| existing.push((a, b)));
-        engine.take_breaths(|b| inserted.push((b.start_s, b.end_s)));
-    }
-    engine.finish();
-    engine.take_breaths(|b| inserted.push((b.start_s, b.end_s)));
-    (existing, inserted)
+    let r = offline::render(&mut engine, &[audio.to_vec()], &[256]);
+    let inserted = r.breaths.iter().map(|b| (b.start_s, b.end_s)).collect();
+    (r.existing_breaths, inserted)
 }
 
 #[test]
@@ -80,4 +71,38 @@ fn a_quiet_pause_reports_no_breath_already_there() {
         inserted.iter().any(|&(a, b)| a >= 1.6 && b <= 2.5),
         "the quiet pause gets an inserted breath: {inserted:?}"
     );
+}
+
+#[test]
+fn the_breathing_cycle_breathes_in_with_the_breath_already_there() {
+    for whole_file in [false, true] {
+        let mut c = EngineConfig::default();
+        c.placement.whole_file = whole_file;
+        let mut engine = Engine::new(c, HeadModel::default_model().clone()).expect("engine");
+        engine.prepare(RATE_HZ, 256, 1).expect("prepare");
+        let r = pneuma_core::engine::offline::render(&mut engine, &[phrases(true)], &[256]);
+        assert!(
+            r.breaths.iter().all(|b| b.end_s <= 1.6 || b.start_s >= 2.5),
+            "whole file {whole_file}: a second breath in the pause: {:?}",
+            r.breaths
+        );
+        // The inspiration in the pause (1.6–2.5 s) lies on the burst and covers most of it.
+        let inspiring: Vec<f64> = r
+            .frames
+            .iter()
+            .map(|f| &f.0)
+            .filter(|f| f.time_s > 1.6 && f.time_s < 2.5)
+            .filter(|f| f.breathing.phase == pneuma_core::Phase::Inspiration)
+            .map(|f| f.time_s)
+            .collect();
+        let (first, last) = (inspiring.first(), inspiring.last());
+        let covered_s = inspiring.len() as f64 / 120.0;
+        assert!(
+            first.is_some_and(|&t| (t - BURST_S.0).abs() < 0.05)
+                && last.is_some_and(|&t| (t - BURST_S.1).abs() < 0.05)
+                && covered_s >= 0.8 * (BURST_S.1 - BURST_S.0),
+            "whole file {whole_file}: inspiration at {first:?}..{last:?} ({covered_s:.3} s), \
+             the breath at {BURST_S:?}"
+        );
+    }
 }

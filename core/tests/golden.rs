@@ -70,64 +70,33 @@ fn cases() -> Vec<Case> {
     let gen_sr = 22_050.0;
     let generated = test_signals::phrases_with_pauses(gen_sr, 12.0, 20.0, 7);
     let gen_right: Vec<f32> = generated.iter().map(|x| -0.7 * x).collect();
-    let case = |name, input, sample_rate_hz, config, breath_sample| Case {
-        name,
-        input,
-        sample_rate_hz,
-        config,
-        breath_sample,
-    };
-    vec![
-        case(
-            "voice_mono_lookahead_neutral",
-            vec![voice.clone()],
-            voice_sr,
-            config(Lookahead, Preset::Neutral),
-            false,
-        ),
-        case(
-            "voice_mono_live_neutral",
-            vec![voice.clone()],
-            voice_sr,
-            config(Live, Preset::Neutral),
-            false,
-        ),
-        case(
-            "voice_stereo_lookahead_calm",
-            vec![voice.clone(), right.clone()],
-            voice_sr,
-            config(Lookahead, Preset::Calm),
-            false,
-        ),
-        case(
-            "voice_stereo_live_excited",
-            vec![voice.clone(), right],
-            voice_sr,
-            config(Live, Preset::Excited),
-            false,
-        ),
-        case(
-            "voice_mono_lookahead_sample",
-            vec![voice],
-            voice_sr,
-            config(Lookahead, Preset::Tired),
-            true,
-        ),
-        case(
-            "generated_mono_live_anxious",
-            vec![generated.clone()],
-            gen_sr,
-            config(Live, Preset::Anxious),
-            false,
-        ),
-        case(
-            "generated_stereo_lookahead_neutral",
-            vec![generated, gen_right],
-            gen_sr,
-            config(Lookahead, Preset::Neutral),
-            true,
-        ),
-    ]
+    let voice_mono = || (vec![voice.clone()], voice_sr);
+    let voice_stereo = || (vec![voice.clone(), right.clone()], voice_sr);
+    let gen_mono = || (vec![generated.clone()], gen_sr);
+    let gen_stereo = || (vec![generated.clone(), gen_right.clone()], gen_sr);
+    // name, input, placement, preset, user breath sample
+    #[rustfmt::skip]
+    let table = [
+        ("voice_mono_lookahead_neutral", voice_mono(), Lookahead, Preset::Neutral, false),
+        ("voice_mono_live_neutral", voice_mono(), Live, Preset::Neutral, false),
+        ("voice_stereo_lookahead_calm", voice_stereo(), Lookahead, Preset::Calm, false),
+        ("voice_stereo_live_excited", voice_stereo(), Live, Preset::Excited, false),
+        ("voice_mono_lookahead_sample", voice_mono(), Lookahead, Preset::Tired, true),
+        ("generated_mono_live_anxious", gen_mono(), Live, Preset::Anxious, false),
+        ("generated_stereo_lookahead_neutral", gen_stereo(), Lookahead, Preset::Neutral, true),
+    ];
+    table
+        .into_iter()
+        .map(
+            |(name, (input, sample_rate_hz), mode, preset, breath_sample)| Case {
+                name,
+                input,
+                sample_rate_hz,
+                config: config(mode, preset),
+                breath_sample,
+            },
+        )
+        .collect()
 }
 
 fn run(case: &Case) -> Rendered {

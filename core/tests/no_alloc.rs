@@ -1,8 +1,28 @@
 //! `process` and `finish` never allocate, at any rate and block size: a counting global
-//! allocator watches the thread while the analyzer runs.
+//! allocator watches the thread while the analyzer runs, and while the engine runs into the
+//! sinks a plugin drives (MIDI CC and OSC encoders).
 
+use pneuma_core::encode::midi_cc::{CcEncoder, CcMap};
+use pneuma_core::encode::osc::{OscFormat, TimeTag};
+use pneuma_core::encode::sink::{CcSink, FrameSink, OscSink};
 use pneuma_core::test_signals;
-use pneuma_core::{AnalysisConfig, Analyzer};
+use pneuma_core::{AnalysisConfig, Analyzer, BreathEvent, ControlFrame};
+
+/// Counts frames and breaths.
+#[derive(Default)]
+struct Count {
+    frames: usize,
+    breaths: usize,
+}
+
+impl FrameSink for Count {
+    fn frame(&mut self, _: &ControlFrame, _: u64) {
+        self.frames += 1;
+    }
+    fn breath(&mut self, _: &BreathEvent) {
+        self.breaths += 1;
+    }
+}
 
 mod support;
 use support::watched;
@@ -71,9 +91,18 @@ fn the_engine_never_allocates_while_processing() {
         let mut engine = Engine::new(config, HeadModel::default_model().clone()).expect("config");
         engine.prepare(rate, 1024, channels).expect("prepare");
         let mut bufs = vec![x.clone(); channels];
-        let mut frames = 0usize;
-        let mut breaths = 0usize;
+        let mut counted = Count::default();
+        let mut encoder = CcEncoder::new(CcMap::default()).expect("default map");
+        let (mut cc_messages, mut osc_bytes) = (0usize, 0usize);
         let ((), n) = watched(|| {
+            // The outputs a plugin drives: MIDI CC and OSC encoders as sinks.
+            let cc = CcSink::new(&mut encoder, |_, _| cc_messages += 1);
+            let osc = OscSink::new(
+                OscFormat::Vmc,
+                |f: &ControlFrame| TimeTag::from_unix_seconds(f.time_s),
+                |_: &ControlFrame, bytes: &[u8]| osc_bytes += bytes.len(),
+            );
+            let mut sinks = (&mut counted, cc, osc);
             let mut pos = 0;
             for size in [1usize, 37, 512, 1024, 3000].iter().cycle() {
                 if pos >= x.len() {
@@ -85,16 +114,18 @@ fn the_engine_never_allocates_while_processing() {
                     Some(r) => [&mut a[0][pos..pos + size], &mut r[pos..pos + size]],
                     None => [&mut a[0][pos..pos + size], &mut []],
                 };
-                engine.process(&mut chans[..channels], &mut |_, _| frames += 1);
-                engine.take_breaths(|_| breaths += 1);
+                engine.process_into(&mut chans[..channels], pos as u64, &mut sinks);
                 pos += size;
             }
             engine.finish();
-            engine.take_breaths(|_| breaths += 1);
+            engine.take_breaths(|b| sinks.breath(b));
             engine.reset();
         });
+        let Count { frames, breaths } = counted;
         assert!(frames > 100, "{frames} frames");
         assert!(breaths >= 1, "no breath inserted at {rate} Hz");
+        assert!(cc_messages > frames, "{cc_messages} CC messages");
+        assert!(osc_bytes > 100 * frames, "{osc_bytes} OSC bytes");
         assert_eq!(
             n, 0,
             "{n} allocations at {rate} Hz, {channels} ch, {mode:?}"

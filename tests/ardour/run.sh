@@ -60,7 +60,7 @@ lua() {
 
 # The example voice at 48 kHz (32-bit float) and its CLI render.
 check write_the_voice_for_ardour
-"$root/target/release/pneuma" render "$PNEUMA_ARDOUR_OUT/voice48k.wav" -o "$PNEUMA_ARDOUR_OUT/render" --no-plot --quiet
+"$root/target/release/pneuma" render "$PNEUMA_ARDOUR_OUT/voice48k.wav" -o "$PNEUMA_ARDOUR_OUT/render" --lookahead-ms 500 --no-plot --quiet
 
 lua create.lua
 recorded=$(ls "$PNEUMA_ARDOUR_SESSION"/interchange/*/audiofiles/*.wav)

@@ -559,7 +559,7 @@ fn live_mode_takes_effect_at_the_restart_the_plugin_asks_for() {
     let (out, _) = run(&mut plugin, &voice, &block_sizes(voice.len(), 128, 0));
     assert_matches_render(&out, &rendered, "live mode after the restart");
     // And it is not the lookahead render.
-    let (_, _, lookahead_render) = cli_render(&[]);
+    let (_, _, lookahead_render) = cli_render(&["--lookahead-ms", "500"]);
     let differ = out
         .iter()
         .zip(&lookahead_render)
@@ -653,7 +653,7 @@ fn a_state_saved_in_live_mode_restores_live_mode_active_or_not() {
 /// from the latency the plugin reports.
 #[test]
 fn the_plugin_output_equals_the_cli_render() {
-    let (voice, rate, rendered) = cli_render(&[]);
+    let (voice, rate, rendered) = cli_render(&["--lookahead-ms", "500"]);
     let mut plugin = load();
     plugin.activate(f64::from(rate), 512, 1).unwrap();
     let latency = plugin.latency() as usize;
@@ -713,7 +713,7 @@ fn the_plugin_output_equals_the_cli_render_when_the_host_pre_rolls_from_time_zer
     // latency: it feeds the plugin the region from its first sample while it pre-rolls the
     // latency, then rolls. Hosts report the pre-roll differently: positions running up to 0
     // from -latency, or the position held at 0 until the roll starts.
-    let (voice, rate, rendered) = cli_render(&[]);
+    let (voice, rate, rendered) = cli_render(&["--lookahead-ms", "500"]);
     let block = 512;
     for held_at_zero in [false, true] {
         let mut plugin = load();

@@ -107,7 +107,7 @@ def main():
         fail("non-finite output")
     if args.cli:
         with tempfile.TemporaryDirectory() as d:
-            subprocess.run([args.cli, "render", args.voice, "-o", d], check=True)
+            subprocess.run([args.cli, "render", args.voice, "-o", d, "--lookahead-ms", "500"], check=True)
             stem = os.path.splitext(os.path.basename(args.voice))[0]
             ref, ref_rate = read(os.path.join(d, f"{stem}.wav"))
         if ref_rate != rate or ref.shape != out.shape:

@@ -43,6 +43,7 @@ use pitch_detection::detector::yin::YINDetector;
 use pitch_detection::detector::PitchDetector;
 use pneuma_core::{AnalysisConfig, Analyzer};
 
+use crate::f0_baselines;
 use crate::train_voicing;
 
 /// The scoring grid: every tracker's f0 at each millisecond is that of its frame nearest in time.
@@ -456,21 +457,12 @@ fn praat_track(
         ));
     }
     let text = std::fs::read_to_string(&out).map_err(|e| e.to_string())?;
-    let mut times = Vec::new();
-    let mut f0 = Vec::new();
-    for line in text.lines().filter(|l| !l.trim().is_empty()) {
-        let row = line.split_once(',').and_then(|(t, f)| {
-            Some((t.trim().parse::<f64>().ok()?, f.trim().parse::<f32>().ok()?))
-        });
-        let Some((t, f)) = row else {
-            return Err(format!(
-                "praat wrote an unreadable line for {}: {line:?}",
-                wav.display()
-            ));
-        };
-        times.push(t);
-        f0.push(f);
-    }
+    let (times, f0) = f0_baselines::parse_track(&text).map_err(|line| {
+        format!(
+            "praat wrote an unreadable line for {}: {line:?}",
+            wav.display()
+        )
+    })?;
     // Each Praat frame at its own time.
     Ok(on_grid(
         &times,
@@ -658,6 +650,13 @@ struct Args {
     /// Write one CSV per clip (reference and every track on the reference grid) here.
     #[arg(long, value_name = "DIR")]
     dump: Option<PathBuf>,
+    /// The Python that runs the swift-f0 and pYIN baselines (`xtask/python/f0_baselines.py`);
+    /// default `target/venv-f0/bin/python` when it exists, else they are left out.
+    #[arg(long, value_name = "PYTHON")]
+    baselines_python: Option<PathBuf>,
+    /// Also run pYIN (librosa; slow: about real time, so best with `--clean-only`).
+    #[arg(long)]
+    pyin: bool,
 }
 
 fn parse_setting(kv: &str) -> Result<(String, String), String> {
@@ -856,8 +855,9 @@ pub(crate) fn load_data_set(
     Ok(sources)
 }
 
-/// The trackers compared, in table order: Pneuma first, Praat last when present.
-fn tracker_names(args: &Args, loso: bool) -> (Vec<&'static str>, bool) {
+/// The trackers compared, in table order: Pneuma (and its held-out column) first, then the
+/// `pitch-detection` baselines, swift-f0 and pYIN when their Python runs, Praat last when present.
+fn tracker_names(args: &Args, loso: bool, python: bool) -> (Vec<&'static str>, bool) {
     let use_praat = !args.no_praat && praat_available();
     if !args.no_praat && !use_praat {
         eprintln!("note: praat not found (Debian package `praat`); comparing without it");
@@ -869,10 +869,48 @@ fn tracker_names(args: &Args, loso: bool) -> (Vec<&'static str>, bool) {
     if !args.no_baselines {
         names.extend(["pd-mcleod", "pd-yin"]);
     }
+    if python {
+        names.push(f0_baselines::SWIFT_F0);
+        if args.pyin {
+            names.push(f0_baselines::PYIN);
+        }
+    }
     if use_praat {
         names.push("praat");
     }
     (names, use_praat)
+}
+
+/// The swift-f0/pYIN worker, when its Python is given or at the default place; a given one
+/// that does not work is an error, a missing default a note.
+fn start_python_baselines(
+    args: &Args,
+    scratch: &Path,
+) -> Result<Option<f0_baselines::Baselines>, String> {
+    let modules: &[&str] = if args.pyin {
+        &["swift_f0", "librosa", "soundfile", "soxr"]
+    } else {
+        &["swift_f0", "soundfile", "soxr"]
+    };
+    match &args.baselines_python {
+        Some(p) => f0_baselines::Baselines::start(p, scratch, modules).map(Some),
+        None => {
+            let p = Path::new(f0_baselines::DEFAULT_PYTHON);
+            match f0_baselines::Baselines::start(p, scratch, modules) {
+                Ok(b) => Ok(Some(b)),
+                Err(e) => {
+                    eprintln!("note: swift-f0/pYIN baselines left out: {e}");
+                    Ok(None)
+                }
+            }
+        }
+    }
+}
+
+/// The trackers run as other programs: Praat, and the Python worker for swift-f0 and pYIN.
+struct External {
+    praat: bool,
+    python: Option<f0_baselines::Baselines>,
 }
 
 /// Runs every tracker on one clip (Pneuma also with `held_out`, the voicing model fitted
@@ -884,7 +922,7 @@ fn evaluate(
     config: &AnalysisConfig,
     held_out: Option<&AnalysisConfig>,
     args: &Args,
-    use_praat: bool,
+    external: &mut External,
     scratch: &Path,
     seconds: &mut [f64],
 ) -> Result<Clip, String> {
@@ -906,13 +944,29 @@ fn evaluate(
             seconds[tracks.len() - 1] += t.elapsed().as_secs_f64();
         }
     }
-    if use_praat {
-        let wav = match &source.wav {
-            Some(w) => w.clone(),
-            None => write_scratch_wav(scratch, &source.audio, source.rate)?,
+    // Praat and the Python baselines read files.
+    let wav = match (&source.wav, external.praat || external.python.is_some()) {
+        (Some(w), _) => Some(w.clone()),
+        (None, true) => Some(write_scratch_wav(scratch, &source.audio, source.rate)?),
+        (None, false) => None,
+    };
+    if let (Some(worker), Some(wav)) = (external.python.as_mut(), &wav) {
+        let names: &[&str] = if args.pyin {
+            &[f0_baselines::SWIFT_F0, f0_baselines::PYIN]
+        } else {
+            &[f0_baselines::SWIFT_F0]
         };
+        for name in names {
+            let t = Instant::now();
+            let (times, f0) = worker.track(name, wav, 1.0 / frame_rate_hz)?;
+            let step_s = times.get(1).zip(times.first()).map_or(0.01, |(b, a)| b - a);
+            tracks.push(on_grid(&times, &f0, step_s, grid_len(duration_s)));
+            seconds[tracks.len() - 1] += t.elapsed().as_secs_f64();
+        }
+    }
+    if let (true, Some(wav)) = (external.praat, &wav) {
         let t = Instant::now();
-        tracks.push(praat_track(&wav, duration_s, frame_rate_hz, scratch)?);
+        tracks.push(praat_track(wav, duration_s, frame_rate_hz, scratch)?);
         seconds[tracks.len() - 1] += t.elapsed().as_secs_f64();
     }
     Ok(Clip {
@@ -961,10 +1015,19 @@ fn total<'a>(
 /// The global offset minimising the summed FFE of all trackers over `clips` (printed).
 fn search_offset(clips: &[&Clip], tracker_names: &[&str]) -> i32 {
     let mut best = (f64::INFINITY, 0);
-    println!("offset search (summed FFE of all trackers, and each tracker's own):");
+    println!(
+        "offset search (summed FFE of all trackers but swift-f0 and pYIN, and each tracker's own):"
+    );
     for &o in &OFFSETS_MS {
         let row = total(clips.iter().copied(), tracker_names.len(), o);
-        let sum: f64 = row.iter().map(Counts::ffe).sum();
+        // The Python baselines are scored at the offset the others choose: adding them leaves
+        // the offset (and so every other figure) unchanged.
+        let sum: f64 = row
+            .iter()
+            .zip(tracker_names)
+            .filter(|(_, n)| ![f0_baselines::SWIFT_F0, f0_baselines::PYIN].contains(n))
+            .map(|(c, _)| c.ffe())
+            .sum();
         println!(
             "  {o:+3} ms: sum {:.4}  {}",
             sum,
@@ -1169,10 +1232,12 @@ fn run(args: &Args) -> Result<i32, String> {
         let (_, models) = train_voicing::fit_all_and_loso(&clips)?;
         Some(models)
     };
-    let (tracker_names, use_praat) = tracker_names(args, loso.is_some());
     let mut unseen = std::collections::BTreeSet::new();
     let scratch = std::env::temp_dir().join(format!("pneuma-eval-pitch-{}", std::process::id()));
     std::fs::create_dir_all(&scratch).map_err(|e| e.to_string())?;
+    let python = start_python_baselines(args, &scratch)?;
+    let (tracker_names, praat) = tracker_names(args, loso.is_some(), python.is_some());
+    let mut external = External { praat, python };
     let mut clips = Vec::new();
     let mut seconds = vec![0.0f64; tracker_names.len()];
     let mut audio_s = 0.0;
@@ -1196,7 +1261,7 @@ fn run(args: &Args) -> Result<i32, String> {
                 &config,
                 held_out.as_ref(),
                 args,
-                use_praat,
+                &mut external,
                 &scratch,
                 &mut seconds,
             )?);
@@ -1253,7 +1318,7 @@ fn run(args: &Args) -> Result<i32, String> {
             .collect::<Vec<_>>()
             .join(", ")
     );
-    let praat = use_praat.then(|| tracker_names.len() - 1);
+    let praat = external.praat.then(|| tracker_names.len() - 1);
     let judged = if args.judge_fitted {
         0
     } else {

@@ -3,6 +3,7 @@
 
 mod eval_pauses;
 mod eval_pitch;
+mod f0_baselines;
 mod train_default;
 mod train_voicing;
 

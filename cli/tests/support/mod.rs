@@ -1,4 +1,5 @@
-//! Shared by the CLI end-to-end tests: running the `pneuma` binary and writing test WAV files.
+//! Shared by the CLI end-to-end tests: running the `pneuma` binary, encoding inputs with
+//! ffmpeg, writing test WAV files and reading outputs back.
 
 #![allow(dead_code)] // each test binary uses its own subset
 
@@ -136,4 +137,70 @@ pub fn assert_analyze_fails(input: &Path, must_mention: &[&str]) {
     assert_eq!(std::fs::read_to_string(&csv).expect("kept"), "precious\n");
     let leftovers = files_besides(dir.path(), &csv);
     assert!(leftovers.is_empty(), "partial files left: {leftovers:?}");
+}
+
+/// The shipped example voice.
+pub fn example_voice() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/examples/voice.wav")
+}
+
+/// Asserts that a run succeeded, showing its standard error when not.
+pub fn assert_ok(o: &Output) {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// True when ffmpeg runs; otherwise skips visibly (fails under CI=true).
+pub fn have_ffmpeg(test: &str) -> bool {
+    tool_or_skip("ffmpeg", "-version", test)
+}
+
+/// Encodes `input` to `out` with ffmpeg and the codec (or metadata, channel…) arguments `codec`.
+pub fn ffmpeg_encode(input: &Path, out: &Path, codec: &[&str]) {
+    let o = Command::new("ffmpeg")
+        .args(["-hide_banner", "-loglevel", "error", "-y", "-i"])
+        .arg(input)
+        .args(codec)
+        .arg(out)
+        .output()
+        .expect("ffmpeg runs");
+    assert!(
+        o.status.success(),
+        "ffmpeg {codec:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// Reads an audio file (any format pneuma reads) as interleaved f32 with its rate and channels.
+pub fn read_audio(path: &Path) -> (Vec<f32>, u32, u16) {
+    let mut src =
+        pneuma_io::AudioSource::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let info = src.info();
+    let mut all = Vec::new();
+    let mut block = Vec::new();
+    while src.read_interleaved(4096, &mut block).expect("read") > 0 {
+        all.extend_from_slice(&block);
+    }
+    (all, info.sample_rate_hz, info.channels)
+}
+
+/// Interleaved samples of any audio file pneuma reads.
+pub fn samples(path: &Path) -> Vec<f32> {
+    read_audio(path).0
+}
+
+/// `(start_s, end_s)` of every row of a `breaths.csv`.
+pub fn breaths_csv(path: &Path) -> Vec<(f64, f64)> {
+    std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<f64> = l
+                .split(',')
+                .take(2)
+                .map(|x| x.parse().expect("a number"))
+                .collect();
+            (f[0], f[1])
+        })
+        .collect()
 }

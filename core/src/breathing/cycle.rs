@@ -9,6 +9,12 @@
 //!   `lung_at_onset / utterance_s`, which is the paper's `volume_lung / length_speech` after a
 //!   complete inspiration from empty lungs, and in every case empties the breath exactly at the
 //!   expected end of the utterance. If speech goes on longer the lung stays at 0.
+//! - **Breath groups** (the engine's planning; [`BreathCycle::inspire_to`],
+//!   [`BreathCycle::expire_group`], [`BreathCycle::pause_in_group`]): an inspiration fills the
+//!   lung up to a target planned for the speech until the next breath, each phrase spends the
+//!   air left over the speech left in the group and ends it at a reserve ([`RESERVE_LUNG`]; a
+//!   speaker never talks the lung empty), speech past the plan draws the reserve down slowly
+//!   ([`RESERVE_DECAY_S`]), and the short pauses inside a group hold the breath.
 //! - **Rest** (documented choice; the paper leaves it open): after speech stops, or after an
 //!   inspiration that no speech followed (the breath is held for [`HOLD_S`] first), the lung
 //!   relaxes (time constant [`REST_RELAX_S`]) onto a gentle tidal breath
@@ -30,6 +36,10 @@ pub const MIN_LUNG_VOLUME: f32 = 0.2;
 pub const HOLD_S: f32 = 1.0;
 /// Time constant of the relaxation into the resting breath, seconds.
 pub const REST_RELAX_S: f32 = 0.6;
+/// Lung volume a planned breath group ends at (the air kept in reserve).
+pub const RESERVE_LUNG: f32 = 0.12;
+/// Time constant with which speech past the plan draws the reserve down, seconds.
+pub const RESERVE_DECAY_S: f32 = 5.0;
 /// Fraction of the inspiration spent opening (and, at the end, closing) nostrils and mouth.
 const CHANNEL_RAMP: f32 = 0.3;
 
@@ -44,8 +54,10 @@ enum State {
         length_s: f32,
         slope_per_s: f32,
     },
+    /// The lung falls with `slope_per_s` down to `floor`, then decays with [`RESERVE_DECAY_S`].
     Expiration {
         slope_per_s: f32,
+        floor: f32,
     },
 }
 
@@ -141,7 +153,69 @@ impl BreathCycle {
         };
         self.state = State::Expiration {
             slope_per_s: self.lung / u,
+            floor: 0.0,
         };
+    }
+
+    /// An inspiration of `length_s` seconds starts now and fills the lung up to `target_lung`
+    /// (0..1; a target under the current lung keeps the lung where it is while the channels
+    /// open).
+    pub fn inspire_to(&mut self, length_s: f32, target_lung: f32) {
+        let length_s = if length_s.is_finite() {
+            length_s.max(1e-3)
+        } else {
+            self.params.length_inspiration_s.max(1e-3)
+        };
+        let target = if target_lung.is_finite() {
+            target_lung.clamp(0.0, 1.0)
+        } else {
+            self.lung
+        };
+        self.state = State::Inspiration {
+            elapsed_s: 0.0,
+            length_s,
+            slope_per_s: (target - self.lung).max(0.0) / length_s,
+        };
+    }
+
+    /// The speaker breathed in before the stream began (it starts in speech): the lung is at
+    /// `target_lung` (0..1) at once and held there until the speech starts.
+    pub fn breathed_in(&mut self, target_lung: f32) {
+        if target_lung.is_finite() {
+            self.lung = target_lung.clamp(0.0, 1.0);
+        }
+        self.state = State::Rest {
+            time_s: 0.0,
+            hold_s: HOLD_S,
+        };
+    }
+
+    /// A phrase of a breath group starts now with `left_s` seconds of speech left in the group:
+    /// the lung falls linearly to [`RESERVE_LUNG`] (or stays where it is when already under it)
+    /// at the planned end, then decays slowly.
+    pub fn expire_group(&mut self, left_s: f32) {
+        let left_s = if left_s.is_finite() {
+            left_s.max(0.05)
+        } else {
+            self.params.length_utterance_s.max(0.05)
+        };
+        let floor = RESERVE_LUNG.min(self.lung);
+        self.state = State::Expiration {
+            slope_per_s: (self.lung - floor) / left_s,
+            floor,
+        };
+    }
+
+    /// Speech paused inside a breath group: the breath is held ([`HOLD_S`]) until the group
+    /// goes on (or an inspiration comes), then the lung relaxes as at rest. Ignored outside
+    /// expiration.
+    pub fn pause_in_group(&mut self) {
+        if let State::Expiration { .. } = self.state {
+            self.state = State::Rest {
+                time_s: 0.0,
+                hold_s: HOLD_S,
+            };
+        }
     }
 
     /// Speech (or something that may be speech) came back during an inspiration: the
@@ -192,8 +266,12 @@ impl BreathCycle {
                     };
                 }
             }
-            State::Expiration { slope_per_s } => {
-                self.lung = (self.lung - *slope_per_s * dt).max(0.0);
+            State::Expiration { slope_per_s, floor } => {
+                if self.lung > *floor {
+                    self.lung = (self.lung - *slope_per_s * dt).max(*floor);
+                } else {
+                    self.lung -= self.lung * (1.0 - (-dt / RESERVE_DECAY_S).exp());
+                }
             }
             State::Rest { time_s, hold_s } => {
                 if *hold_s > 0.0 {

@@ -16,7 +16,7 @@ mod syllables;
 mod voice;
 
 pub use chunker::{chunk_text, Chunk, ChunkBreak, Chunker};
-pub use cycle::{BreathCycle, MIN_LUNG_VOLUME};
+pub use cycle::{BreathCycle, MIN_LUNG_VOLUME, RESERVE_DECAY_S, RESERVE_LUNG};
 pub use params::{
     BreathingParams, LowLevelParams, BASE_SYLLABLE_RATE_HZ, BREATH_RMS_RE_SPEECH_AT_FULL,
     MIN_INSPIRATION_S,

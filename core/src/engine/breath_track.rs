@@ -193,14 +193,14 @@ impl BreathTrack {
                     gain,
                     gains,
                     audible,
-                    utterance_s,
+                    group_s,
                 } => {
                     let rate = self.sample_rate_hz;
                     schedule.cycle.insert_sorted((
                         at as f64 / rate,
                         CycleAction::Inspire {
                             length_s: (length as f64 / rate) as f32,
-                            utterance_s,
+                            group_s,
                         },
                     ));
                     if !audible {

@@ -67,7 +67,22 @@ pub struct PlacementConfig {
     /// Fade applied when speech resumes during a live-mode breath, seconds (0.002–0.1, default
     /// 0.015).
     pub live_fade_s: f32,
+    /// Shortest catch breath, seconds (0.05–0.5, default 0.15): when the air of a breath group
+    /// would run out before its next usable pause, a quick inhalation goes into a shorter pause
+    /// (also under `min_pause_s`) if at least this much fits.
+    pub catch_breath_min_s: f32,
+    /// Longest catch breath, seconds (0.1–1, at least `catch_breath_min_s`, default 0.25).
+    pub catch_breath_max_s: f32,
+    /// Offline render of a whole file (lookahead mode): the engine looks ahead
+    /// [`OFFLINE_LOOKAHEAD_S`] (or `lookahead_s` if longer), so it sees the coming breath group
+    /// and gives long pauses long, deep breaths. A plugin leaves it off and keeps its bounded
+    /// `lookahead_s` (default off).
+    pub whole_file: bool,
 }
+
+/// Lookahead of an offline render ([`PlacementConfig::whole_file`]), seconds: longer than a
+/// breath group and the pause before it.
+pub const OFFLINE_LOOKAHEAD_S: f32 = 8.0;
 
 impl Default for PlacementConfig {
     fn default() -> Self {
@@ -80,20 +95,40 @@ impl Default for PlacementConfig {
             breath_level_db: -22.0,
             insert_breaths: true,
             live_fade_s: 0.015,
+            catch_breath_min_s: 0.15,
+            catch_breath_max_s: 0.25,
+            whole_file: false,
         }
     }
 }
 
 impl PlacementConfig {
+    /// The delay of lookahead mode, seconds: `lookahead_s`, or at least [`OFFLINE_LOOKAHEAD_S`]
+    /// for a whole-file render.
+    pub fn effective_lookahead_s(&self) -> f32 {
+        if self.whole_file {
+            self.lookahead_s.max(OFFLINE_LOOKAHEAD_S)
+        } else {
+            self.lookahead_s
+        }
+    }
+
     /// Checks every setting against its range.
     pub fn validate(&self) -> Result<(), EngineError> {
-        let checks: [(&'static str, f32, f32, f32); 6] = [
+        let checks: [(&'static str, f32, f32, f32); 8] = [
             ("lookahead_s", self.lookahead_s, 0.3, 2.0),
             ("min_pause_s", self.min_pause_s, 0.1, 5.0),
             ("gap_s", self.gap_s, 0.0, 0.3),
             ("after_offset_s", self.after_offset_s, 0.0, 0.5),
             ("breath_level_db", self.breath_level_db, -60.0, -6.0),
             ("live_fade_s", self.live_fade_s, 0.002, 0.1),
+            ("catch_breath_min_s", self.catch_breath_min_s, 0.05, 0.5),
+            (
+                "catch_breath_max_s",
+                self.catch_breath_max_s,
+                self.catch_breath_min_s.clamp(0.1, 1.0),
+                1.0,
+            ),
         ];
         for (name, value, min, max) in checks {
             if !(value.is_finite() && (min..=max).contains(&value)) {
@@ -142,13 +177,11 @@ impl Default for EngineConfig {
 impl EngineConfig {
     /// True when `other` differs in the stream part, which sizes and seeds the stream and so
     /// only takes effect at [`super::Engine::prepare`]: the analysis, the phrase tracker, the
-    /// placement mode, the lookahead and the seed.
+    /// placement mode, the lookahead (and whole-file rendering) and the seed.
     pub fn stream_differs(&self, other: &EngineConfig) -> bool {
-        self.analysis != other.analysis
-            || self.phrase != other.phrase
-            || self.placement.mode != other.placement.mode
-            || self.placement.lookahead_s != other.placement.lookahead_s
-            || self.seed != other.seed
+        let mut stream = self.clone();
+        stream.set_stream_part(other);
+        stream != *self
     }
 
     /// True when `other` differs in the live part, which applies while playing: every placement
@@ -166,11 +199,14 @@ impl EngineConfig {
         *self = next;
     }
 
+    /// Takes the stream part from `from`: the one list of the stream part's fields, which
+    /// [`EngineConfig::stream_differs`] and [`EngineConfig::live_differs`] both use.
     fn set_stream_part(&mut self, from: &EngineConfig) {
         self.analysis = from.analysis.clone();
         self.phrase = from.phrase;
         self.placement.mode = from.placement.mode;
         self.placement.lookahead_s = from.placement.lookahead_s;
+        self.placement.whole_file = from.placement.whole_file;
         self.seed = from.seed;
     }
 

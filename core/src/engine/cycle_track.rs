@@ -1,7 +1,8 @@
 //! The cycle track: drives the [`BreathCycle`] frame by frame from the scheduled cycle actions
-//! as the output reaches each control frame, keeps the speaking flag, re-spreads the air of a
-//! phrase that runs longer than expected, and in live mode stops an inspiration when the input
-//! wakes up.
+//! as the output reaches each control frame, keeps the speaking flag, and in live mode stops an
+//! inspiration when the input wakes up. The actions carry the placement's breath-group plan: an
+//! inspiration fills the lung for its group, each phrase spends the air left over the speech
+//! left in the group, and a pause inside a group holds the breath.
 
 use super::schedule::{CycleAction, Schedule};
 use super::Pending;
@@ -15,16 +16,7 @@ pub(crate) struct CycleTrack {
     sample_rate_hz: f64,
     dt_s: f32,
     live: bool,
-    state: CycleState,
-}
-
-/// What [`CycleTrack::reset`] clears (besides the cycle itself).
-#[derive(Debug, Clone, Copy, Default)]
-struct CycleState {
     speaking: bool,
-    /// Start (s) and expected length (s) of the utterance being spoken.
-    utterance_start_s: f64,
-    utterance_expected_s: f64,
 }
 
 impl CycleTrack {
@@ -40,14 +32,14 @@ impl CycleTrack {
             sample_rate_hz,
             dt_s: (1.0 / frame_rate_hz) as f32,
             live,
-            state: CycleState::default(),
+            speaking: false,
         }
     }
 
     /// Back to rest with empty lungs, not speaking.
     pub(crate) fn reset(&mut self) {
         self.cycle.reset();
-        self.state = CycleState::default();
+        self.speaking = false;
     }
 
     /// New breathing parameters (from the next event; amplitudes at once).
@@ -57,7 +49,7 @@ impl CycleTrack {
 
     /// Whether the frame last stepped lies in an utterance.
     pub(crate) fn speaking(&self) -> bool {
-        self.state.speaking
+        self.speaking
     }
 
     /// Steps the cycle to frame `p`, applying the cycle actions due by its time.
@@ -73,37 +65,28 @@ impl CycleTrack {
                 self.cycle.interrupt();
             }
         }
-        let s = &mut self.state;
         while let Some(&(t, action)) = schedule.cycle.front() {
             if t > p.frame.time_s + 1e-9 {
                 break;
             }
             schedule.cycle.pop_front();
             match action {
-                CycleAction::Inspire {
-                    length_s,
-                    utterance_s,
-                } => self.cycle.inspire(length_s, utterance_s),
-                CycleAction::UtteranceStarts { utterance_s } => {
-                    s.speaking = true;
-                    self.cycle.utterance_starts(utterance_s);
-                    s.utterance_start_s = t;
-                    s.utterance_expected_s = utterance_s as f64;
+                CycleAction::Inspire { length_s, group_s } => {
+                    let target = self.cycle.lung_volume_for(group_s);
+                    self.cycle.inspire_to(length_s, target);
+                }
+                CycleAction::BreathedIn { group_s } => {
+                    let target = self.cycle.lung_volume_for(group_s);
+                    self.cycle.breathed_in(target);
+                }
+                CycleAction::UtteranceStarts { left_s } => {
+                    self.speaking = true;
+                    self.cycle.expire_group(left_s);
                 }
                 CycleAction::SpeechStopped => {
-                    s.speaking = false;
-                    self.cycle.speech_stopped();
+                    self.speaking = false;
+                    self.cycle.pause_in_group();
                 }
-            }
-        }
-        // A phrase longer than expected: spread the rest of the air over a new estimate, so the
-        // lung keeps falling smoothly instead of sitting empty while speaking.
-        if s.speaking {
-            let spoken_s = p.frame.time_s - s.utterance_start_s;
-            if spoken_s >= 0.9 * s.utterance_expected_s {
-                let extra_s = (0.5 * s.utterance_expected_s).max(1.0);
-                self.cycle.utterance_starts(extra_s as f32);
-                s.utterance_expected_s = spoken_s + extra_s;
             }
         }
         self.cycle.advance(self.dt_s)

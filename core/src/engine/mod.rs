@@ -47,11 +47,12 @@ mod placement;
 mod schedule;
 mod stereo;
 
-pub use config::{EngineConfig, EngineError, PlacementConfig, PlacementMode};
+pub use config::{EngineConfig, EngineError, PlacementConfig, PlacementMode, OFFLINE_LOOKAHEAD_S};
 
 use crate::analysis::{Analyzer, FeatureFrame};
 use crate::breathing::{BreathSample, BreathVoice, SampleSlot};
 use crate::control::{BreathEvent, ControlFrame, HeadAngles};
+use crate::encode::sink::FrameSink;
 use crate::head::{HeadModel, HeadSynth};
 use crate::phrase::{PhraseEvent, PhraseTracker};
 use breath_track::{Block, BreathTrack};
@@ -91,6 +92,9 @@ pub struct Dropped {
     pub scheduled: u64,
     /// Finished breaths pushed out before [`Engine::take_breaths`] collected them.
     pub breaths: u64,
+    /// Breaths heard in the input pushed out before [`Engine::take_existing_breaths`]
+    /// collected them.
+    pub existing_breaths: u64,
     /// Blocks the analysis refused (it is prepared for every block `process` hands it).
     pub analysis_blocks: u64,
 }
@@ -212,6 +216,7 @@ impl Engine {
                 phrase_events: s.lost.phrase_events,
                 scheduled: s.pending.dropped() + s.schedule.dropped(),
                 breaths: s.breaths.dropped(),
+                existing_breaths: s.existing.dropped(),
                 analysis_blocks: s.lost.analysis_blocks,
             })
     }
@@ -265,7 +270,7 @@ impl Engine {
         let live = mode == PlacementMode::Live;
         let latency = match mode {
             PlacementMode::Lookahead => {
-                (c.placement.lookahead_s as f64 * sample_rate_hz).round() as usize
+                (c.placement.effective_lookahead_s() as f64 * sample_rate_hz).round() as usize
             }
             PlacementMode::Live => 0,
         };
@@ -296,7 +301,7 @@ impl Engine {
             delay: DelayLine::new(channels, latency, max_block),
             stereo: StereoImage::new(sample_rate_hz, channels, max_block),
             gate: InputGate::new(sample_rate_hz, c.phrase.silence_db),
-            placement: Placement::new(mode, latency, sample_rate_hz),
+            placement: Placement::new(mode, latency, sample_rate_hz, frame_rate_hz),
             breaths: BreathTrack::new(voice, sample_rate_hz, latency, live, max_block),
             cycle: CycleTrack::new(&c.breathing.map(), sample_rate_hz, frame_rate_hz, live),
             pending: Queue::with_capacity(max_pending),
@@ -410,6 +415,23 @@ impl Engine {
         if let Some(s) = &mut self.stream {
             s.breaths.close_breath();
         }
+    }
+
+    /// [`Engine::process`] one block into a [`FrameSink`]: every control frame due in it, at
+    /// `origin` + its sample offset in the block, then every inserted breath that finished and
+    /// every breath heard in the input ([`Engine::take_breaths`],
+    /// [`Engine::take_existing_breaths`]). Never allocates itself (the sink decides).
+    pub fn process_into(
+        &mut self,
+        audio: &mut [&mut [f32]],
+        origin: u64,
+        sink: &mut impl FrameSink,
+    ) {
+        self.process(audio, &mut |frame, offset| {
+            sink.frame(frame, origin + offset as u64)
+        });
+        self.take_breaths(|b| sink.breath(b));
+        self.take_existing_breaths(|start_s, end_s| sink.existing_breath(start_s, end_s));
     }
 
     /// Processes one block in place: `audio` holds one slice per channel (as many as prepared or
@@ -588,6 +610,13 @@ impl Stream {
         });
         debug_assert!(count <= events.len(), "{count} phrase events at one frame");
         self.lost.phrase_events += count.saturating_sub(events.len()) as u64;
+        let ctx = EventContext {
+            config,
+            now,
+            gains: self.stereo.gains(channels),
+            breath_playing: self.breaths.playing(),
+            pending: &self.pending,
+        };
         for e in events.into_iter().flatten() {
             if let PhraseEvent::Start {
                 pause:
@@ -600,14 +629,8 @@ impl Stream {
             {
                 self.existing.push_back(span);
             }
-            let ctx = EventContext {
-                config,
-                now,
-                gains: self.stereo.gains(channels),
-                breath_playing: self.breaths.playing(),
-                pending: &self.pending,
-            };
             self.placement.on_event(&ctx, e, &mut self.schedule);
         }
+        self.placement.decide_due(&ctx, &mut self.schedule);
     }
 }

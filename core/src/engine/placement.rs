@@ -1,19 +1,54 @@
 //! Breath placement: turns phrase events into scheduled breath and breathing-cycle actions, with
 //! the two policies of [`PlacementMode`] (see the engine's module docs for the rules). It also
 //! keeps what the decisions need: the running speech level, the level of the last phrase and
-//! the expected utterance length. Breath-group planning belongs here too.
+//! the breath-group plan.
+//!
+//! ## Breath groups
+//! A breath serves the speech until the next breath (its *group*), not one phrase. In lookahead
+//! mode a pause is decided as late as possible, when the output reaches it, so the decision
+//! sees as much of the coming speech as the lookahead holds (a whole-file render looks 8 s
+//! ahead); live mode decides at once, with the running estimate.
+//! - A *usable* pause (at least `min_pause_s`) gets a breath sized for the coming group: the
+//!   speech until the next usable pause as far as it is known, at least the running estimate of
+//!   a group's speech while its end is not in sight, at most two full breaths' utterance
+//!   (`2 · length_utterance_s`). Its length grows with the pause and the group
+//!   ([`breath_length_s`]).
+//! - A shorter pause gets a *catch breath* (`catch_breath_min_s`–`catch_breath_max_s`, with
+//!   narrower margins) when the air planned for the group would run out: the speech already
+//!   known to follow exceeds the speech the group has left, or the plan is used up.
+//! - Every phrase onset tells the cycle how much speech its group has left, so the lung falls
+//!   over the whole group and ends it at the reserve, and a pause inside a group holds the
+//!   breath.
+//! - A breath already in the pause (the phrase tracker's `Pause::breath_s`) is the group's
+//!   breath: the inspiration lies on it, at its time and length, and no sound is inserted.
+//! - A stream that starts in speech starts with the lung filled for the first group (the
+//!   speaker breathed in before it).
+//! - Live mode takes no catch breaths under `min_pause_s` (it cannot know a pause's length
+//!   before the pause is over, and a breath started earlier lands on the next word); it sizes
+//!   each breath for the running estimate of a group instead.
 
 use super::schedule::{BreathAction, CycleAction, Queue, Schedule};
 use super::{EngineConfig, Pending, PlacementMode, MAX_CHANNELS};
 use crate::analysis::FeatureFrame;
-use crate::phrase::PhraseEvent;
+use crate::breathing::MIN_LUNG_VOLUME;
+use crate::phrase::{Pause, PhraseEvent};
 
 /// Shortest inhalation worth inserting, seconds.
 const MIN_BREATH_S: f64 = 0.12;
-/// Prior of the utterance length before any phrase was heard, seconds.
-pub(crate) const PRIOR_UTTERANCE_S: f32 = 2.5;
-/// Weight of the newest phrase in the running utterance-length estimate.
-const UTTERANCE_SMOOTHING: f32 = 0.3;
+/// Prior of a breath group's speech before any group was heard, seconds.
+pub(crate) const PRIOR_GROUP_S: f32 = 2.5;
+/// Weight of the newest group in the running estimate of a group's speech.
+const GROUP_SMOOTHING: f32 = 0.3;
+/// Speech a group must have spoken before a catch breath may end it, seconds.
+const MIN_SPOKEN_BEFORE_CATCH_S: f32 = 1.0;
+/// How much more known speech than planned air a group tolerates before a catch breath, s.
+const CATCH_SLACK_S: f32 = 0.3;
+/// Margins of a catch breath after the phrase end and before the onset, seconds.
+const CATCH_MARGIN_S: f64 = 0.01;
+/// Least speech left that an onset plans its expiration over, seconds.
+const MIN_LEFT_S: f32 = 0.5;
+/// Longest breath, in inspiration lengths of the breathing parameters.
+const MAX_BREATH_INSPIRATIONS: f64 = 2.5;
 /// Speech level assumed before the first voiced frame, dBFS.
 const PRIOR_SPEECH_LEVEL_DB: f32 = -26.0;
 
@@ -30,12 +65,55 @@ pub(crate) struct EventContext<'a> {
     pub(crate) pending: &'a Queue<Pending>,
 }
 
+/// A phrase the tracker reported whose pause (the one before it) is not decided yet.
+#[derive(Debug, Clone, Copy)]
+struct Seen {
+    onset_s: f64,
+    /// Its offset once its end was reported.
+    offset_s: Option<f64>,
+    pause: Pause,
+    gains: [f32; MAX_CHANNELS],
+    level_db: f32,
+}
+
+impl Default for Seen {
+    fn default() -> Self {
+        Self {
+            onset_s: 0.0,
+            offset_s: None,
+            pause: Pause {
+                start_s: 0.0,
+                end_s: 0.0,
+                leading: true,
+                has_breath: false,
+                breath_s: None,
+                last_activity_end_s: None,
+            },
+            gains: [1.0; MAX_CHANNELS],
+            level_db: PRIOR_SPEECH_LEVEL_DB,
+        }
+    }
+}
+
+/// Length of a full breath, seconds: the breathing parameters' inspiration, longer in longer
+/// pauses and for longer coming groups (`volume` 0..1 of the lung), at most
+/// `MAX_BREATH_INSPIRATIONS` inspirations. Whatever fits in the pause is used of it.
+pub(crate) fn breath_length_s(inspiration_s: f64, pause_s: f64, volume: f64) -> f64 {
+    let v = volume.clamp(0.0, 1.0);
+    (inspiration_s * (0.5 + 0.3 * pause_s.max(0.0)) * (0.75 + 0.25 * v))
+        .min(MAX_BREATH_INSPIRATIONS * inspiration_s)
+}
+
 /// See the module docs.
 #[derive(Debug, Clone)]
 pub(crate) struct Placement {
     mode: PlacementMode,
     latency: u64,
     sample_rate_hz: f64,
+    /// Duration of one analysis frame, seconds.
+    hop_s: f64,
+    /// Phrases whose pause waits for its decision, oldest first.
+    seen: Queue<Seen>,
     state: PlacementState,
 }
 
@@ -48,8 +126,13 @@ struct PlacementState {
     phrase_voiced: u32,
     /// Level of the last complete phrase, dBFS.
     last_phrase_level_db: Option<f32>,
-    /// Running estimate of the utterance length, seconds.
-    utterance_s: f32,
+    /// Running estimate of a breath group's speech, seconds.
+    group_estimate_s: f32,
+    /// Speech planned for the current group and spoken in it so far, seconds.
+    group_planned_s: f32,
+    group_spoken_s: f32,
+    /// Onset of the last phrase decided (its speech counts once the next one is decided).
+    last_onset_s: Option<f64>,
     /// End of the last scheduled breath (input sample).
     breath_end: u64,
 }
@@ -61,25 +144,40 @@ impl Default for PlacementState {
             phrase_power: 0.0,
             phrase_voiced: 0,
             last_phrase_level_db: None,
-            utterance_s: PRIOR_UTTERANCE_S,
+            group_estimate_s: PRIOR_GROUP_S,
+            group_planned_s: 0.0,
+            group_spoken_s: 0.0,
+            last_onset_s: None,
             breath_end: 0,
         }
     }
 }
 
 impl Placement {
-    /// A policy for `mode` with the delay line's `latency` (samples).
-    pub(crate) fn new(mode: PlacementMode, latency: usize, sample_rate_hz: f64) -> Self {
+    /// A policy for `mode` with the delay line's `latency` (samples) and frames at
+    /// `frame_rate_hz`. Allocates.
+    pub(crate) fn new(
+        mode: PlacementMode,
+        latency: usize,
+        sample_rate_hz: f64,
+        frame_rate_hz: f64,
+    ) -> Self {
+        // A phrase and its pause last at least a few frames; room for every one the lookahead
+        // can hold (a full queue decides its oldest pause early).
+        let capacity = (latency as f64 / sample_rate_hz * frame_rate_hz / 8.0).ceil() as usize + 8;
         Self {
             mode,
             latency: latency as u64,
             sample_rate_hz,
+            hop_s: 1.0 / frame_rate_hz,
+            seen: Queue::with_capacity(capacity),
             state: PlacementState::default(),
         }
     }
 
     /// Back to the start of a stream.
     pub(crate) fn reset(&mut self) {
+        self.seen.clear();
         self.state = PlacementState::default();
     }
 
@@ -154,14 +252,14 @@ impl Placement {
         schedule.note_activity(ctx.now);
     }
 
-    /// Schedules what phrase event `e` calls for.
+    /// Schedules what phrase event `e` calls for (lookahead mode: remembers a phrase start for
+    /// [`Placement::decide_due`]).
     pub(crate) fn on_event(&mut self, ctx: &EventContext, e: PhraseEvent, schedule: &mut Schedule) {
         let config = ctx.config;
         let p = &config.placement;
         let rate = self.sample_rate_hz;
         let now = ctx.now;
         let live = self.mode == PlacementMode::Live;
-        let inspiration_s = config.breathing.map().length_inspiration_s as f64;
         match e {
             PhraseEvent::Activity { time_s } => {
                 if live {
@@ -169,67 +267,31 @@ impl Placement {
                 }
             }
             PhraseEvent::Start { onset_s, pause } => {
-                let utterance_s = self.state.utterance_s;
                 self.state.phrase_power = 0.0;
                 self.state.phrase_voiced = 0;
-                schedule
-                    .cycle
-                    .insert_sorted((onset_s, CycleAction::UtteranceStarts { utterance_s }));
                 if live {
+                    let left_s = self.group_left_s();
+                    schedule
+                        .cycle
+                        .insert_sorted((onset_s, CycleAction::UtteranceStarts { left_s }));
                     // The onset may lie before the first active frame (a quiet consonant).
                     self.live_activity(ctx, (onset_s * rate).round() as u64, schedule);
                     return;
                 }
-                if onset_s - pause.start_s < p.min_pause_s as f64 {
-                    return;
-                }
-                let end_s = onset_s - p.gap_s as f64;
-                // Never over activity inside the pause, never in the past (the output has
-                // reached input sample `now - latency`), never before the previous breath ended.
-                let after_s = pause
-                    .last_activity_end_s
-                    .map_or(pause.start_s, |a| a.max(pause.start_s));
-                let after_s = if pause.leading && pause.last_activity_end_s.is_none() {
-                    after_s
-                } else {
-                    after_s + p.after_offset_s as f64
-                };
-                let earliest = ((now + 1).saturating_sub(self.latency)).max(self.state.breath_end)
-                    as f64
-                    / rate;
-                let start_s = (end_s - inspiration_s).max(after_s).max(earliest);
-                if end_s - start_s < MIN_BREATH_S {
-                    return;
-                }
-                let start = (start_s * rate).round() as u64;
-                let length = ((end_s - start_s) * rate).round() as usize;
-                // The body breathes in whether or not a sound is inserted (a breath already in
-                // the pause, or insertion switched off).
-                schedule.cycle.insert_sorted((
-                    start_s,
-                    CycleAction::Inspire {
-                        length_s: (end_s - start_s) as f32,
-                        utterance_s,
-                    },
-                ));
-                if !p.insert_breaths || pause.has_breath {
-                    return;
+                if self.seen.is_full() {
+                    self.decide_front(ctx, schedule);
                 }
                 let level_db = self.local_speech_level_db(ctx.pending, Some(onset_s));
-                schedule.breath.insert_sorted((
-                    start,
-                    BreathAction::Start {
-                        length,
-                        gain: Self::breath_gain(config, level_db),
-                        gains: ctx.gains,
-                    },
-                ));
-                self.state.breath_end = start + length as u64;
+                self.seen.push_back(Seen {
+                    onset_s,
+                    offset_s: None,
+                    pause,
+                    gains: ctx.gains,
+                    level_db,
+                });
             }
             PhraseEvent::End { onset_s, offset_s } => {
                 let s = &mut self.state;
-                let length_s = (offset_s - onset_s).max(0.0) as f32;
-                s.utterance_s += UTTERANCE_SMOOTHING * (length_s - s.utterance_s);
                 if s.phrase_voiced >= 3 {
                     s.last_phrase_level_db =
                         Some((10.0 * (s.phrase_power / s.phrase_voiced as f64).log10()) as f32);
@@ -237,29 +299,208 @@ impl Placement {
                 schedule
                     .cycle
                     .insert_sorted((offset_s, CycleAction::SpeechStopped));
-                if live {
-                    // The inhalation (sound and cycle) starts once the pause has lasted the
-                    // minimum pause and `after_offset_s`, unless the input is active then;
-                    // activity before then cancels it (`live_activity`), activity while it
-                    // plays fades it out (the gate, in the breath track).
-                    let wait_s = (p.min_pause_s as f64).max(p.after_offset_s as f64);
-                    let start = ((((offset_s + wait_s) * rate).round() as u64).max(now))
-                        .max(self.state.breath_end);
-                    let length = (inspiration_s * rate).round() as usize;
-                    let level_db = self.local_speech_level_db(ctx.pending, None);
-                    schedule.breath.insert_sorted((
-                        start,
-                        BreathAction::LiveStart {
-                            length,
-                            gain: Self::breath_gain(config, level_db),
-                            gains: ctx.gains,
-                            audible: p.insert_breaths,
-                            utterance_s: self.state.utterance_s,
-                        },
-                    ));
-                    self.state.breath_end = start + length as u64;
+                if !live {
+                    if let Some(last) = self.seen.back_mut() {
+                        last.offset_s = Some(offset_s);
+                    }
+                    return;
                 }
+                self.state.group_spoken_s += (offset_s - onset_s).max(0.0) as f32;
+                // The inhalation (sound and cycle) starts once the pause has lasted the minimum
+                // pause and `after_offset_s`, unless the input is active then; activity before
+                // then cancels it (`live_activity`), activity while it plays fades it out (the
+                // gate, in the breath track). Live mode takes no catch breaths under the
+                // minimum pause: with nothing known of the pause's length, a breath started
+                // earlier would often land on the next word. It plans each group from the
+                // running estimate instead (a deeper breath when groups run long).
+                let wait_s = (p.min_pause_s as f64).max(p.after_offset_s as f64);
+                let length_s = config.breathing.map().length_inspiration_s as f64;
+                let start = ((((offset_s + wait_s) * rate).round() as u64).max(now))
+                    .max(self.state.breath_end);
+                let length = (length_s * rate).round() as usize;
+                let level_db = self.local_speech_level_db(ctx.pending, None);
+                let group_s = self.new_group(config, self.state.group_estimate_s);
+                schedule.breath.insert_sorted((
+                    start,
+                    BreathAction::LiveStart {
+                        length,
+                        gain: Self::breath_gain(config, level_db),
+                        gains: ctx.gains,
+                        audible: p.insert_breaths,
+                        group_s,
+                    },
+                ));
+                self.state.breath_end = start + length as u64;
             }
         }
+    }
+
+    /// Lookahead mode: decides every pause whose time has come (the output is about to reach
+    /// it), after the events of frame `ctx.now`.
+    pub(crate) fn decide_due(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
+        if self.mode == PlacementMode::Live {
+            return;
+        }
+        // Negative while the output has not started (the delay line is filling).
+        let out_s = ((ctx.now + 1) as f64 - self.latency as f64) / self.sample_rate_hz;
+        while let Some(front) = self.seen.front() {
+            if out_s + 2.0 * self.hop_s < front.pause.start_s {
+                break;
+            }
+            self.decide_front(ctx, schedule);
+        }
+    }
+
+    /// Speech the current group has left, seconds (at least `MIN_LEFT_S`).
+    fn group_left_s(&self) -> f32 {
+        (self.state.group_planned_s - self.state.group_spoken_s).max(MIN_LEFT_S)
+    }
+
+    /// A breath starts a group planned for `coming_s` seconds of speech (at most two full
+    /// breaths' utterance); the group that ends feeds the running estimate. Returns the plan.
+    fn new_group(&mut self, config: &EngineConfig, coming_s: f32) -> f32 {
+        let s = &mut self.state;
+        if s.group_spoken_s > 0.0 {
+            s.group_estimate_s += GROUP_SMOOTHING * (s.group_spoken_s - s.group_estimate_s);
+        }
+        let max_s = 2.0 * config.breathing.map().length_utterance_s.max(0.5);
+        s.group_planned_s = coming_s.clamp(0.0, max_s);
+        s.group_spoken_s = 0.0;
+        s.group_planned_s
+    }
+
+    /// Speech known from the oldest undecided phrase on until the next usable pause, seconds,
+    /// and whether that pause is known (else the speech goes on past what was analysed).
+    fn known_group_s(&self, now_s: f64, min_pause_s: f64) -> (f64, bool) {
+        let mut known = 0.0;
+        let mut last_offset = None;
+        for (k, ph) in self.seen.iter().enumerate() {
+            if k > 0 && ph.onset_s - ph.pause.start_s >= min_pause_s {
+                return (known, true);
+            }
+            match ph.offset_s {
+                Some(off) => {
+                    known += (off - ph.onset_s).max(0.0);
+                    last_offset = Some(off);
+                }
+                None => return (known + (now_s - ph.onset_s).max(0.0), false),
+            }
+        }
+        let ended = last_offset.is_some_and(|off| now_s - off >= min_pause_s);
+        (known, ended)
+    }
+
+    /// Decides the pause of the oldest undecided phrase: a breath, a catch breath or none, and
+    /// the phrase's share of its group.
+    fn decide_front(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
+        let Some(ph) = self.seen.front().copied() else {
+            return;
+        };
+        let config = ctx.config;
+        let p = &config.placement;
+        let rate = self.sample_rate_hz;
+        let map = config.breathing.map();
+        let inspiration_s = map.length_inspiration_s as f64;
+        let now_s = ctx.now as f64 / rate;
+        let (onset_s, pause) = (ph.onset_s, ph.pause);
+        if let Some(prev) = self.state.last_onset_s {
+            self.state.group_spoken_s += (pause.start_s - prev).max(0.0) as f32;
+        }
+        self.state.last_onset_s = Some(onset_s);
+        let (known_s, complete) = self.known_group_s(now_s, p.min_pause_s as f64);
+        self.seen.pop_front();
+        let coming_s = if complete {
+            known_s as f32
+        } else {
+            (known_s as f32).max(self.state.group_estimate_s)
+        };
+        let pause_s = onset_s - pause.start_s;
+        let usable = pause_s >= p.min_pause_s as f64;
+        let air_left_s = self.state.group_planned_s - self.state.group_spoken_s;
+        let short_of_air = pause.leading
+            || (self.state.group_spoken_s >= MIN_SPOKEN_BEFORE_CATCH_S
+                && (known_s as f32 > air_left_s + CATCH_SLACK_S || air_left_s <= MIN_LEFT_S));
+        // Never over activity inside the pause, never in the past (the output has reached
+        // input sample `now - latency`), never before the previous breath ended.
+        let quiet_from_s = pause
+            .last_activity_end_s
+            .map_or(pause.start_s, |a| a.max(pause.start_s));
+        let earliest_s =
+            ((ctx.now + 1).saturating_sub(self.latency)).max(self.state.breath_end) as f64 / rate;
+        let volume = (coming_s / map.length_utterance_s.max(1e-3)).clamp(MIN_LUNG_VOLUME, 1.0);
+        let mut window = None;
+        // A breath already in the pause drives the cycle: the inspiration lies on it (and no
+        // sound is inserted, below), whatever the pause's length.
+        if let Some((from_s, to_s)) = pause.breath_s {
+            let start_s = from_s.max(earliest_s);
+            if to_s - start_s >= self.hop_s {
+                window = Some((start_s, to_s));
+            }
+        }
+        if usable && window.is_none() {
+            let end_s = onset_s - p.gap_s as f64;
+            let after_s = if pause.leading && pause.last_activity_end_s.is_none() {
+                quiet_from_s
+            } else {
+                quiet_from_s + p.after_offset_s as f64
+            };
+            let want_s = breath_length_s(inspiration_s, pause_s, volume as f64);
+            let start_s = (end_s - want_s).max(after_s).max(earliest_s);
+            if end_s - start_s >= MIN_BREATH_S {
+                window = Some((start_s, end_s));
+            }
+        }
+        if window.is_none() && short_of_air {
+            let end_s = onset_s - CATCH_MARGIN_S;
+            let after_s = quiet_from_s + if pause.leading { 0.0 } else { CATCH_MARGIN_S };
+            let start_s = (end_s - p.catch_breath_max_s as f64)
+                .max(after_s)
+                .max(earliest_s);
+            if end_s - start_s >= p.catch_breath_min_s as f64 - 1e-9 {
+                window = Some((start_s, end_s));
+            } else if pause.leading && self.state.group_planned_s <= 0.0 {
+                // Speech from the very start of the stream: the speaker breathed before it.
+                let group_s = self.new_group(config, coming_s);
+                let at_s = earliest_s.min(onset_s).max(0.0);
+                let action = if onset_s - at_s >= 2.0 * self.hop_s {
+                    CycleAction::Inspire {
+                        length_s: (onset_s - at_s) as f32,
+                        group_s,
+                    }
+                } else {
+                    CycleAction::BreathedIn { group_s }
+                };
+                schedule.cycle.insert_sorted((at_s, action));
+            }
+        }
+        if let Some((start_s, end_s)) = window {
+            let group_s = self.new_group(config, coming_s);
+            // The body breathes in whether or not a sound is inserted (a breath already in the
+            // pause, or insertion switched off).
+            schedule.cycle.insert_sorted((
+                start_s,
+                CycleAction::Inspire {
+                    length_s: (end_s - start_s) as f32,
+                    group_s,
+                },
+            ));
+            if p.insert_breaths && !pause.has_breath {
+                let start = (start_s * rate).round() as u64;
+                let length = ((end_s - start_s) * rate).round() as usize;
+                schedule.breath.insert_sorted((
+                    start,
+                    BreathAction::Start {
+                        length,
+                        gain: Self::breath_gain(config, ph.level_db),
+                        gains: ph.gains,
+                    },
+                ));
+                self.state.breath_end = start + length as u64;
+            }
+        }
+        let left_s = self.group_left_s();
+        schedule
+            .cycle
+            .insert_sorted((onset_s, CycleAction::UtteranceStarts { left_s }));
     }
 }

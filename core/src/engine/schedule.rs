@@ -25,7 +25,7 @@ pub(crate) enum BreathAction {
         gain: f32,
         gains: [f32; MAX_CHANNELS],
         audible: bool,
-        utterance_s: f32,
+        group_s: f32,
     },
     /// Fade the playing inhalation out.
     FadeOut,
@@ -34,8 +34,14 @@ pub(crate) enum BreathAction {
 /// A breathing-cycle event on the input timeline (seconds).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum CycleAction {
-    Inspire { length_s: f32, utterance_s: f32 },
-    UtteranceStarts { utterance_s: f32 },
+    /// Breathe in for `length_s`, for a breath group of `group_s` seconds of speech.
+    Inspire { length_s: f32, group_s: f32 },
+    /// The stream starts in speech: the speaker breathed in for a group of `group_s` seconds
+    /// of speech before it began (the lung is full at once).
+    BreathedIn { group_s: f32 },
+    /// A phrase starts with `left_s` seconds of speech left in its breath group.
+    UtteranceStarts { left_s: f32 },
+    /// A phrase ended (the breath is held while the pause lasts).
     SpeechStopped,
 }
 
@@ -106,6 +112,15 @@ impl<T: Copy> Queue<T> {
 
     pub(crate) fn front(&self) -> Option<&T> {
         self.items.front()
+    }
+
+    pub(crate) fn back_mut(&mut self) -> Option<&mut T> {
+        self.items.back_mut()
+    }
+
+    /// True when the next push drops the oldest item.
+    pub(crate) fn is_full(&self) -> bool {
+        self.items.len() >= self.capacity
     }
 
     pub(crate) fn pop_front(&mut self) -> Option<T> {

@@ -89,7 +89,13 @@ struct FrameFacts {
     active: bool,
     over_floor: bool,
     voiced: bool,
+    /// The voice-band level the decisions use, dBFS.
+    level_db: f32,
 }
+
+/// How far a breath run's level must rise over its lowest point to be more than a reverberant
+/// tail when it starts at the phrase's offset, dB.
+const BREATH_RISE_DB: f32 = 3.0;
 
 /// Number of half-second blocks the noise floor looks back over.
 const FLOOR_BLOCKS: usize = 6;
@@ -127,6 +133,13 @@ pub struct PhraseTracker {
     // Breath detection inside the current pause.
     breath_run: u32,
     breath_run_start: u64,
+    /// The run continues the phrase's decay (it starts at the offset): a reverberant tail
+    /// unless its level rises again.
+    breath_run_from_tail: bool,
+    /// Lowest level of the run so far, dBFS.
+    breath_run_min_db: f32,
+    /// The run's level rose [`BREATH_RISE_DB`] over its lowest point.
+    breath_run_rose: bool,
     /// Frames (start, end) of the last breath run long enough to count, in this pause.
     breath_span: Option<(u64, u64)>,
     breath_seen: bool,
@@ -168,6 +181,9 @@ impl PhraseTracker {
             pause_last_active: None,
             breath_run: 0,
             breath_run_start: 0,
+            breath_run_from_tail: false,
+            breath_run_min_db: 0.0,
+            breath_run_rose: false,
             breath_span: None,
             breath_seen: false,
         };
@@ -255,6 +271,7 @@ impl PhraseTracker {
             active,
             over_floor,
             voiced,
+            level_db: rms_db,
         };
         self.frames_seen += 1;
 
@@ -330,6 +347,7 @@ impl PhraseTracker {
                 }
                 // A breath run still going counts only with the part before the onset.
                 let running = self.breath_run > 0
+                    && self.breath_run_counts()
                     && onset.saturating_sub(self.breath_run_start) >= self.breath_min_frames as u64;
                 let has_breath = self.breath_seen || running;
                 let span = if running {
@@ -362,15 +380,28 @@ impl PhraseTracker {
         }
     }
 
+    /// A run of breath-like frames counts as a breath unless it only continues the phrase's
+    /// decay: a reverberant tail falls from the offset on, an inhalation after it rises again.
+    fn breath_run_counts(&self) -> bool {
+        !self.breath_run_from_tail || self.breath_run_rose
+    }
+
     fn track_breath(&mut self, index: u64) {
         let f = self.facts(index);
         if f.over_floor && !f.voiced && !f.active {
             if self.breath_run == 0 {
                 self.breath_run_start = index;
+                self.breath_run_from_tail = self.last_offset_index == Some(index);
+                self.breath_run_min_db = f.level_db;
+                self.breath_run_rose = false;
             }
             self.breath_run += 1;
+            self.breath_run_min_db = self.breath_run_min_db.min(f.level_db);
+            if f.level_db >= self.breath_run_min_db + BREATH_RISE_DB {
+                self.breath_run_rose = true;
+            }
         } else {
-            if self.breath_run >= self.breath_min_frames {
+            if self.breath_run >= self.breath_min_frames && self.breath_run_counts() {
                 self.breath_seen = true;
                 self.breath_span = Some((self.breath_run_start, index));
             }
@@ -493,6 +524,43 @@ mod tests {
             starts[0].breath_s, None,
             "no breath before the first phrase"
         );
+    }
+
+    /// The pauses' `breath_s` of a script's phrase starts.
+    fn breaths_of(script: &[(usize, f32, bool)]) -> Vec<Option<(f64, f64)>> {
+        run(script)
+            .iter()
+            .filter_map(|e| match e {
+                PhraseEvent::Start { pause, .. } => Some(pause.breath_s),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_reverberant_tail_is_not_a_breath_but_a_rise_after_it_is() {
+        // A phrase whose sound decays over 0.6 s (3 dB per 50 ms, unvoiced) into the pause.
+        let tail: Vec<(usize, f32, bool)> =
+            (0..8).map(|k| (5, -42.0 - 3.0 * k as f32, false)).collect();
+        let mut only_tail = vec![(100, -70.0, false), (100, -20.0, true)];
+        only_tail.extend(&tail);
+        only_tail.extend([(40, -70.0, false), (100, -20.0, true), (50, -70.0, false)]);
+        assert_eq!(
+            breaths_of(&only_tail),
+            [None, None],
+            "a tail heard as a breath"
+        );
+        // The same tail, then noise rising again 8 dB before the next phrase: an inhalation.
+        let mut tail_then_breath = vec![(100, -70.0, false), (100, -20.0, true)];
+        tail_then_breath.extend(&tail);
+        tail_then_breath.extend([
+            (25, -55.0, false),
+            (5, -70.0, false),
+            (100, -20.0, true),
+            (50, -70.0, false),
+        ]);
+        let b = breaths_of(&tail_then_breath);
+        assert!(b[1].is_some(), "the rise after the tail is a breath: {b:?}");
     }
 
     #[test]

@@ -58,6 +58,7 @@ use std::sync::Arc;
 use nice_plug::prelude::*;
 use pneuma_core::encode::midi_cc::{CcEncoder, CcMessage};
 use pneuma_core::encode::osc::OscFormat;
+use pneuma_core::encode::sink::{CcSink, FrameSink};
 
 use editor::feed::{EditorFeed, EditorShared};
 use osc_sender::{OscFeed, OscSettings, OscStats, OscWorker};
@@ -155,6 +156,12 @@ pub struct Pneuma {
     stream: Option<StreamSpec>,
     /// Samples processed since a background build was asked for (`None`: none pending).
     build_pending_samples: Option<u64>,
+    /// The structural settings may differ from the running engine's: a structural parameter
+    /// raised its flag, a build came back or a sample path changed. Compared (and cleared) at
+    /// the next block instead of diffing the settings every block.
+    structure_stale: bool,
+    /// The breath-sample change count last seen.
+    seen_sample_generation: u64,
     jumps: JumpDetector,
     pre_roll: PreRoll,
     /// The audio side of the editor's data path ([`editor::feed`]).
@@ -190,6 +197,8 @@ impl Default for Pneuma {
             held: None,
             stream: None,
             build_pending_samples: None,
+            structure_stale: true,
+            seen_sample_generation: 0,
             jumps: JumpDetector::default(),
             pre_roll: PreRoll::default(),
             view,
@@ -229,6 +238,8 @@ impl Pneuma {
                 continue;
             }
             self.build_pending_samples = None;
+            // The parameters may have moved on while it was built.
+            self.structure_stale = true;
             let latency = built.engine.as_ref().map_or(0, |e| e.latency_samples());
             if self.latency_only_at_activation && latency != self.reported_latency {
                 // CLAP lets a plugin report a new latency only inside `activate`; reporting it
@@ -256,18 +267,30 @@ impl Pneuma {
                 .activated(self.engine.is_some(), latency, stream.sample_rate_hz as f32);
             self.at_rest = false;
         }
+        if ChangeFlags::take(&self.params.changes.structure) {
+            self.structure_stale = true;
+        }
+        let generation = rebuild::sample_generation(&self.params);
+        if generation != self.seen_sample_generation {
+            self.seen_sample_generation = generation;
+            self.structure_stale = true;
+        }
         let retry = (BUILD_RETRY_S * stream.sample_rate_hz) as u64;
         match self.build_pending_samples.as_mut() {
             Some(waited) if *waited < retry => *waited += block as u64,
+            _ if !self.structure_stale => self.build_pending_samples = None,
             _ => {
                 let wanted = Some(Structural::of(&self.params));
                 if self.prepared != wanted && self.held != wanted {
+                    // Stays stale: the built engine is compared again when it comes back, or
+                    // the build is asked for again after the retry time.
                     if let Some(worker) = &self.build_worker {
                         self.build_pending_samples = Some(0);
                         worker.request();
                     }
                 } else {
                     self.build_pending_samples = None;
+                    self.structure_stale = false;
                 }
             }
         }
@@ -310,8 +333,8 @@ impl Pneuma {
     }
 }
 
-/// Where a block's control frames go: the CC encoder (when MIDI is on) and the OSC feed (when OSC
-/// is on).
+/// Where a block's control frames go: the CC encoder (when MIDI is on), the OSC feed (when OSC
+/// is on) and the editor (when open).
 pub struct Outputs<'a> {
     /// The CC encoder, or `None` when MIDI output is off.
     pub cc: Option<&'a mut CcEncoder>,
@@ -322,36 +345,21 @@ pub struct Outputs<'a> {
 }
 
 /// The audio-thread work of one block: runs the engine in place (then flushes subnormal output
-/// samples to 0) and hands every control frame to the outputs; `send_cc(offset, message)` receives each CC message with its sample offset in the
-/// block. Never allocates, locks or blocks.
+/// samples to 0), the outputs being its sinks ([`FrameSink`]): every control frame to the CC
+/// encoder, the OSC feed and the editor, inserted and heard breaths to the editor.
+/// `send_cc(offset, message)` receives each CC message with its sample offset in the block.
+/// Never allocates, locks or blocks.
 pub fn run_block(
     engine: &mut Engine,
     audio: &mut [&mut [f32]],
-    mut outputs: Outputs<'_>,
+    outputs: Outputs<'_>,
     send_cc: &mut dyn FnMut(u32, CcMessage),
 ) {
-    engine.process(audio, &mut |frame, offset| {
-        if let Some(cc) = outputs.cc.as_deref_mut() {
-            cc.encode(frame, |m| send_cc(offset as u32, m));
-        }
-        if let Some(feed) = outputs.osc.as_deref_mut() {
-            feed.push(frame);
-        }
-        if let Some(view) = outputs.view.as_deref_mut() {
-            view.push_frame(frame);
-        }
-    });
-    // The breaths go to the editor only; keep the engine's queues empty.
-    engine.take_breaths(|b| {
-        if let Some(view) = outputs.view.as_deref_mut() {
-            view.push_breath(b);
-        }
-    });
-    engine.take_existing_breaths(|start_s, end_s| {
-        if let Some(view) = outputs.view.as_deref_mut() {
-            view.push_existing_breath(start_s, end_s);
-        }
-    });
+    // Positions from 0: a frame's position is its sample offset in this block.
+    let cc = outputs
+        .cc
+        .map(|encoder| CcSink::new(encoder, |at, m| send_cc(at as u32, m)));
+    engine.process_into(audio, 0, &mut (cc, outputs.osc, outputs.view));
     // The engine passes the voice bit for bit, subnormal samples included; hosts and validators
     // reject subnormal output, so they become 0 (no other sample changes).
     for channel in audio.iter_mut() {
@@ -362,13 +370,11 @@ pub fn run_block(
 /// Sends the rest pose ([`ControlFrame::default`]: head straight, lungs empty, breath at rest)
 /// to the outputs: every controller the CC encoder has not sent at that value, and one OSC frame.
 pub fn send_rest_pose(outputs: &mut Outputs<'_>, send_cc: &mut dyn FnMut(u32, CcMessage)) {
-    let rest = ControlFrame::default();
-    if let Some(cc) = outputs.cc.as_deref_mut() {
-        cc.encode(&rest, |m| send_cc(0, m));
-    }
-    if let Some(feed) = outputs.osc.as_deref_mut() {
-        feed.push(&rest);
-    }
+    let cc = outputs
+        .cc
+        .as_deref_mut()
+        .map(|encoder| CcSink::new(encoder, |_, m| send_cc(0, m)));
+    (cc, outputs.osc.as_deref_mut()).frame(&ControlFrame::default(), 0);
 }
 
 /// Reads a breath sample (WAV, FLAC, AIFF, … any channel count, mixed to mono). Empty path:
@@ -502,6 +508,8 @@ impl Plugin for Pneuma {
         self.view
             .activated(self.engine.is_some(), latency, buffer_config.sample_rate);
         self.prepared = Some(structural);
+        // Settings may have moved while it was built.
+        self.structure_stale = true;
         self.at_rest = false;
         self.mono = MonoSource::new(audio_io_layout);
         // One millisecond of tolerance for rounded host positions (at least one sample).
@@ -550,16 +558,20 @@ impl Plugin for Pneuma {
         }
         self.follow_structure(context, buffer.samples());
         let changes = &self.params.changes;
-        // Structural changes are followed above, by comparing settings (a build may be running).
-        ChangeFlags::take(&changes.structure);
         if ChangeFlags::take(&changes.cc_map) {
-            // An invalid map keeps the previous one (see `activate`).
-            let _ = self.cc.set_map(self.params.cc_map());
+            // An invalid map (two signals on one controller, a 14-bit controller over 31) keeps
+            // the previous one; the editor shows why (`editor::view`).
+            if self.cc.set_map(self.params.cc_map()).is_err() {
+                debug_assert!(self.cc.map().validate().is_ok(), "the kept map is valid");
+            }
         }
         if ChangeFlags::take(&changes.engine) {
             if let Some(engine) = self.engine.as_deref_mut() {
-                // An invalid combination keeps the previous settings; ranges make it unlikely.
-                let _ = engine.set_config(&self.params.engine_config());
+                // The live part applies now; a stream part waits for the build that the structure
+                // flag asked for. Every parameter is in range, so the settings are valid.
+                if let Err(e) = engine.set_config(&self.params.engine_config()) {
+                    debug_assert!(false, "the parameters' engine settings are valid: {e}");
+                }
             }
         }
         let midi_on = self.params.midi_enabled.value();

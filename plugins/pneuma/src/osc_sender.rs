@@ -26,7 +26,8 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use pneuma_core::encode::osc::{encode_frame, OscFormat, TimeTag, MAX_FRAME_PACKET_BYTES};
+use pneuma_core::encode::osc::{OscFormat, TimeTag};
+use pneuma_core::encode::sink::{FrameSink, OscSink};
 use pneuma_core::ControlFrame;
 
 /// Queue capacity in frames (about 4 s at 120 Hz).
@@ -144,6 +145,14 @@ impl OscFeed {
     }
 }
 
+/// The OSC output as one of the engine's sinks: every frame is pushed to the worker, which
+/// encodes and sends it off the audio thread.
+impl FrameSink for OscFeed {
+    fn frame(&mut self, frame: &ControlFrame, _at: u64) {
+        self.push(frame);
+    }
+}
+
 /// The worker thread; stops and joins on drop.
 pub struct OscWorker {
     stop: Arc<AtomicBool>,
@@ -235,7 +244,6 @@ fn run<S: OscSettings>(
 ) {
     let mut socket: Option<UdpSocket> = None;
     let mut target: Option<Target> = None;
-    let mut buf = [0u8; MAX_FRAME_PACKET_BYTES];
     // (anchor unix seconds, last frame index)
     let mut anchor: Option<(f64, u64)> = None;
     let mut idle_polls: u32 = 0;
@@ -289,30 +297,46 @@ fn run<S: OscSettings>(
             });
         }
         let addr = target.as_ref().and_then(|t| t.addr);
+        // The frames waiting go through core's OSC sink: each is tagged with its time on the
+        // stream's clock and handed, encoded, to the socket.
+        let mut sink = OscSink::new(
+            format,
+            |frame: &ControlFrame| {
+                let now = now_unix_s();
+                let base = match anchor {
+                    Some((a, last)) if frame.index > last && a + frame.time_s > now - 0.5 => a,
+                    _ => now - frame.time_s,
+                };
+                anchor = Some((base, frame.index));
+                TimeTag::from_unix_seconds(base + frame.time_s)
+            },
+            |_: &ControlFrame, packet: &[u8]| {
+                let sent = match (addr, &socket) {
+                    (None, _) => Err(OscError::NotAnAddress),
+                    (Some(_), None) => Err(OscError::NoSocket),
+                    (Some(addr), Some(socket)) => socket
+                        .send_to(packet, addr)
+                        .map(|_| ())
+                        .map_err(|e| OscError::of_send(&e)),
+                };
+                match sent {
+                    Ok(()) => stats.sent.fetch_add(1, Ordering::Relaxed),
+                    Err(e) => {
+                        stats.last_error.store(e as u8, Ordering::Relaxed);
+                        stats.failed.fetch_add(1, Ordering::Relaxed)
+                    }
+                };
+            },
+        );
         while let Ok(frame) = consumer.pop() {
-            let now = now_unix_s();
-            let base = match anchor {
-                Some((a, last)) if frame.index > last && a + frame.time_s > now - 0.5 => a,
-                _ => now - frame.time_s,
-            };
-            anchor = Some((base, frame.index));
-            let tag = TimeTag::from_unix_seconds(base + frame.time_s);
-            let sent = match (addr, &socket, encode_frame(format, &frame, tag, &mut buf)) {
-                (None, _, _) => Err(OscError::NotAnAddress),
-                (Some(_), None, _) => Err(OscError::NoSocket),
-                (Some(_), Some(_), Err(_)) => Err(OscError::Encoding),
-                (Some(addr), Some(socket), Ok(n)) => socket
-                    .send_to(&buf[..n], addr)
-                    .map(|_| ())
-                    .map_err(|e| OscError::of_send(&e)),
-            };
-            match sent {
-                Ok(()) => stats.sent.fetch_add(1, Ordering::Relaxed),
-                Err(e) => {
-                    stats.last_error.store(e as u8, Ordering::Relaxed);
-                    stats.failed.fetch_add(1, Ordering::Relaxed)
-                }
-            };
+            sink.frame(&frame, 0);
+        }
+        let unencoded = sink.failed();
+        if unencoded > 0 {
+            stats
+                .last_error
+                .store(OscError::Encoding as u8, Ordering::Relaxed);
+            stats.failed.fetch_add(unencoded, Ordering::Relaxed);
         }
     }
 }

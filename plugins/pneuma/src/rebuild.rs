@@ -33,12 +33,12 @@ use std::time::Duration;
 
 use nice_plug::nice_error;
 use pneuma_core::breathing::SampleSlot;
-use pneuma_core::engine::{Engine, EngineError};
+use pneuma_core::engine::{Engine, EngineConfig, EngineError};
 use pneuma_core::head::HeadModel;
 use rtrb::{Consumer, Producer, RingBuffer};
 
 use crate::load_breath_sample;
-use crate::params::{ModeChoice, PneumaParams};
+use crate::params::PneumaParams;
 
 /// Largest block the engine is prepared for; longer host blocks are processed in pieces.
 pub const MAX_ENGINE_BLOCK: usize = 8192;
@@ -47,36 +47,40 @@ pub const MAX_ENGINE_BLOCK: usize = 8192;
 /// time per epoch; the slack covers builds of earlier epochs still finishing after re-activations.
 const QUEUE_ENGINES: usize = 8;
 
-/// Settings that need a new engine (and maybe a new latency) when they change.
-///
-/// Core's [`pneuma_core::engine::EngineConfig::stream_differs`] is the source of truth for
-/// which engine settings need `prepare`; this is the audio thread's lock-free, allocation-free
-/// view of it (building an `EngineConfig` there would allocate), plus what `prepare` takes
-/// besides the config (the frame rate) and the breath-sample files. A test holds it to core's
-/// rule: every parameter change core calls a stream change changes this too.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// What an engine is built from that needs a new engine (and maybe a new latency) when it
+/// changes: the engine settings' stream part (core's
+/// [`pneuma_core::engine::EngineConfig::stream_differs`] decides, the one list of those fields)
+/// and the breath-sample files. Two are equal when neither differs. The audio thread compares
+/// them only when a structural parameter raised its change flag, a build came back, or a
+/// sample path changed (building an `EngineConfig` does not allocate).
+#[derive(Debug, Clone)]
 pub struct Structural {
-    /// Lookahead or live placement.
-    pub mode: ModeChoice,
-    /// Lookahead length, seconds.
-    pub lookahead_s: f32,
-    /// Control frame rate, Hz.
-    pub frame_rate_hz: i32,
+    /// The engine settings (only their stream part counts).
+    pub config: EngineConfig,
     /// Changes of the breath-sample paths (the files are read when an engine is built).
     pub sample_generation: u64,
 }
 
+impl PartialEq for Structural {
+    fn eq(&self, other: &Self) -> bool {
+        self.sample_generation == other.sample_generation
+            && !self.config.stream_differs(&other.config)
+    }
+}
+
 impl Structural {
-    /// The structural settings the parameters hold now (lock-free).
+    /// The structural settings the parameters hold now (lock-free, allocation-free).
     pub fn of(p: &PneumaParams) -> Self {
         Self {
-            mode: p.mode.value(),
-            lookahead_s: p.lookahead_s.value(),
-            frame_rate_hz: p.frame_rate_hz.value(),
-            sample_generation: p.breath_sample_mouth.generation()
-                + p.breath_sample_nose.generation(),
+            config: p.engine_config(),
+            sample_generation: sample_generation(p),
         }
     }
+}
+
+/// The breath-sample paths' change count (lock-free).
+pub fn sample_generation(p: &PneumaParams) -> u64 {
+    p.breath_sample_mouth.generation() + p.breath_sample_nose.generation()
 }
 
 /// The stream the plugin was activated for.
@@ -332,13 +336,15 @@ impl Drop for BuildWorker {
 #[allow(unsafe_code)]
 mod tests {
     use super::*;
+    use crate::params::ChangeFlags;
     use nice_plug::prelude::Params;
 
     /// Every parameter, set to several values: where core says the engine config's stream part
-    /// changed, the plugin's structural settings changed too (else the plugin would keep an
-    /// engine prepared for old settings).
+    /// changed, the parameter raised the structure flag (the audio thread compares structural
+    /// settings only then, so a change without it would keep an engine prepared for old
+    /// settings).
     #[test]
-    fn every_stream_change_core_knows_is_a_structural_change() {
+    fn every_stream_change_core_knows_raises_the_structure_flag() {
         let mut checked_stream_changes = 0;
         for value in [0.0f32, 0.37, 1.0] {
             let reference = PneumaParams::default();
@@ -349,7 +355,8 @@ mod tests {
                 .collect();
             for id in ids {
                 let params = PneumaParams::default();
-                let before = (params.engine_config(), Structural::of(&params));
+                ChangeFlags::take(&params.changes.structure);
+                let before = params.engine_config();
                 let ptr = params
                     .param_map()
                     .into_iter()
@@ -358,19 +365,34 @@ mod tests {
                     .expect("the id is listed");
                 // SAFETY: `params` outlives the call.
                 unsafe { ptr._internal_set_normalized_value(value) };
-                let after = (params.engine_config(), Structural::of(&params));
-                if before.0.stream_differs(&after.0) {
+                if before.stream_differs(&params.engine_config()) {
                     checked_stream_changes += 1;
-                    assert_ne!(
-                        before.1, after.1,
-                        "{id} = {value} changes the engine's stream part but not Structural"
+                    assert!(
+                        ChangeFlags::take(&params.changes.structure),
+                        "{id} = {value} changes the engine's stream part without raising the \
+                         structure flag"
                     );
                 }
             }
         }
         assert!(
-            checked_stream_changes >= 2,
-            "mode and lookahead change the stream part ({checked_stream_changes} changes seen)"
+            checked_stream_changes >= 3,
+            "mode, lookahead and frame rate change the stream part ({checked_stream_changes} \
+             changes seen)"
         );
+    }
+
+    #[test]
+    fn structural_settings_are_equal_unless_the_stream_part_or_a_sample_differs() {
+        let params = PneumaParams::default();
+        let a = Structural::of(&params);
+        let mut b = a.clone();
+        b.config.breathing.capacity_lung += 0.1; // live part
+        assert_eq!(a, b);
+        b.config.placement.lookahead_s += 0.1; // stream part
+        assert_ne!(a, b);
+        let mut c = a.clone();
+        c.sample_generation += 1;
+        assert_ne!(a, c);
     }
 }

@@ -22,6 +22,7 @@ use std::sync::{Arc, Mutex};
 #[cfg(feature = "editor")]
 use nice_plug_egui::EguiEditorState;
 
+use pneuma_core::encode::sink::FrameSink;
 use pneuma_core::{BreathEvent, ControlFrame};
 
 use crate::osc_sender::OscStats;
@@ -237,6 +238,20 @@ impl EditorFeed {
     /// The shared status the audio side writes (relaxed atomics).
     pub fn status(&self) -> &OutputStatus {
         &self.shared.status
+    }
+}
+
+/// The editor as one of the engine's sinks: frames, inserted breaths and breaths heard in the
+/// input go to the GUI's queues.
+impl FrameSink for EditorFeed {
+    fn frame(&mut self, frame: &ControlFrame, _at: u64) {
+        self.push_frame(frame);
+    }
+    fn breath(&mut self, breath: &BreathEvent) {
+        self.push_breath(breath);
+    }
+    fn existing_breath(&mut self, start_s: f64, end_s: f64) {
+        self.push_existing_breath(start_s, end_s);
     }
 }
 

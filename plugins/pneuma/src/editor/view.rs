@@ -292,6 +292,12 @@ impl EditorApp {
             },
             if midi_on { "" } else { " (off)" }
         ));
+        if let Err(e) = map.validate() {
+            ui.colored_label(
+                ERROR_COLOUR,
+                format!("{e}: the previous CC map stays in use until this is fixed"),
+            );
+        }
         let lost = load(&s.cc_lost);
         if lost > 0 {
             ui.colored_label(ERROR_COLOUR, format!("{lost} blocks lost CC messages"));
