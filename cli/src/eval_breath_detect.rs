@@ -412,7 +412,8 @@ pub fn report(sets: &[(&Path, &Path)]) -> Result<bool, String> {
 
 /// Held-out recall the detection must reach (measured 0.82 when the target was set).
 pub const MIN_HELD_OUT_RECALL: f64 = 0.75;
-/// Held-out precision the detection must reach (measured 0.84 when the target was set).
+/// Held-out precision the detection must reach (measured 0.84 when the target was set, 0.85
+/// after merging the learned voicing).
 pub const MIN_HELD_OUT_PRECISION: f64 = 0.75;
 
 #[cfg(test)]

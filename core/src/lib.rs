@@ -21,5 +21,8 @@ pub mod phrase;
 pub mod rng;
 pub mod test_signals;
 
-pub use analysis::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
+pub use analysis::{
+    AnalysisConfig, AnalysisError, Analyzer, FeatureFrame, VoicingFeatures, VoicingModel,
+    VoicingModelError, N_VOICING_FEATURES, VOICING_FEATURES,
+};
 pub use control::{BreathEvent, BreathKind, BreathingState, ControlFrame, HeadAngles, Phase};

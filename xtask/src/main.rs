@@ -5,12 +5,14 @@ mod eval_pauses;
 mod eval_pitch;
 mod f0_baselines;
 mod train_default;
+mod train_voicing;
 
 fn main() -> nice_plug_xtask::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
         Some("eval-pauses") => std::process::exit(eval_pauses::main(&args[1..])),
         Some("eval-pitch") => std::process::exit(eval_pitch::main(&args[1..])),
+        Some("train-voicing") => std::process::exit(train_voicing::main(&args[1..])),
         Some("train-default") => std::process::exit(train_default::main(&args[1..])),
         _ => nice_plug_xtask::main(),
     }

@@ -15,7 +15,7 @@ use super::noise_floor::NoiseFloor;
 use super::pitch::NsdfPitch;
 use super::speaker_norm::SpeakerNorm;
 use super::tracking::Tracker;
-use super::voicing::{VoicingEvidence, VoicingRule};
+use super::voicing::{VoicingEvidence, VoicingFeatures, VoicingRule};
 use super::{amplitude_to_db, FeatureFrame};
 
 /// Input samples beyond this magnitude are clamped for analysis (+60 dBFS).
@@ -41,8 +41,12 @@ struct State {
     highpass: HighPass,
     bands: BandMeter,
     noise_floor: NoiseFloor,
-    noise_margin_db: f32,
-    noise_headroom_db: f32,
+    /// The running level of clearly periodic frames, for the voicing cues (fed from the audio
+    /// alone, never from the decisions, unlike `speaker`).
+    periodic_level: SpeakerNorm,
+    /// The previous frame's chosen f0 (0 = none) and long-window clarity.
+    previous_f0_hz: f32,
+    previous_clarity: f32,
     pitch: NsdfPitch,
     tracker: Tracker,
     speaker: SpeakerNorm,
@@ -52,14 +56,13 @@ struct State {
     bin_sum: Vec<f64>,
     bin_sq: Vec<f64>,
     mask: usize,
+    silence_db: f32,
     /// Decimated samples (and completed bins) so far.
     produced: u64,
     acc_sum: f64,
     acc_sq: f64,
     window: Vec<f32>,
     rms_bins: usize,
-    speech_gate_db: f32,
-    level_weight: f32,
     samples_in: u64,
     next_frame: u64,
     /// Geometry of the next frame, cached: first window sample, first rms bin, ready index.
@@ -103,8 +106,9 @@ impl Analyzer {
             highpass: HighPass::new(c.highpass_hz as f64, internal_rate_hz),
             bands: BandMeter::new(sample_rate_hz, cap),
             noise_floor: NoiseFloor::new(c.noise_window_s as f64, c.frame_rate_hz),
-            noise_margin_db: c.noise_margin_db,
-            noise_headroom_db: c.noise_headroom_db,
+            periodic_level: SpeakerNorm::new(c.speaker.clone(), c.frame_rate_hz),
+            previous_f0_hz: 0.0,
+            previous_clarity: 0.0,
             pitch: NsdfPitch::with_short_window(
                 internal_rate_hz,
                 window_len,
@@ -113,19 +117,18 @@ impl Analyzer {
                 c.f0_max_hz,
                 c.key_max_ratio,
             ),
-            tracker: Tracker::new(VoicingRule::new(c.voicing_on, c.voicing_off, c.silence_db)),
+            tracker: Tracker::new(VoicingRule::new(c.voicing_model.clone(), c.silence_db)),
             speaker: SpeakerNorm::new(c.speaker.clone(), c.frame_rate_hz),
             ring: vec![0.0; cap],
             bin_sum: vec![0.0; cap],
             bin_sq: vec![0.0; cap],
             mask: cap - 1,
+            silence_db: c.silence_db,
             produced: 0,
             acc_sum: 0.0,
             acc_sq: 0.0,
             window: vec![0.0; window_len],
             rms_bins,
-            speech_gate_db: c.speech_gate_db,
-            level_weight: c.level_weight,
             samples_in: 0,
             next_frame: 0,
             next_start: 0,
@@ -183,6 +186,22 @@ impl Analyzer {
     ) -> Result<(), AnalysisError> {
         let s = self.state.as_mut().ok_or(AnalysisError::NotPrepared)?;
         for &x in block {
+            s.push(x, &mut |f: &FeatureFrame, _: &VoicingFeatures| on_frame(f));
+        }
+        s.samples_in += block.len() as u64;
+        Ok(())
+    }
+
+    /// Like [`Analyzer::process`], but also gives `on_frame` each frame's voicing cues (in
+    /// [`crate::analysis::VOICING_FEATURES`] order), for fitting voicing models
+    /// (`cargo xtask train-voicing`). Never allocates.
+    pub fn process_with_features(
+        &mut self,
+        block: &[f32],
+        mut on_frame: impl FnMut(&FeatureFrame, &VoicingFeatures),
+    ) -> Result<(), AnalysisError> {
+        let s = self.state.as_mut().ok_or(AnalysisError::NotPrepared)?;
+        for &x in block {
             s.push(x, &mut on_frame);
         }
         s.samples_in += block.len() as u64;
@@ -198,7 +217,9 @@ impl Analyzer {
     ) -> Result<(), AnalysisError> {
         let s = self.state.as_mut().ok_or(AnalysisError::NotPrepared)?;
         for (i, &x) in block.iter().enumerate() {
-            s.push(x, &mut |f: &FeatureFrame| on_frame(f, i));
+            s.push(x, &mut |f: &FeatureFrame, _: &VoicingFeatures| {
+                on_frame(f, i)
+            });
         }
         s.samples_in += block.len() as u64;
         Ok(())
@@ -207,12 +228,21 @@ impl Analyzer {
     /// Ends the stream: emits the remaining frames whose centres lie inside the audio given so
     /// far (feeding silence past its end). Call [`Analyzer::reset`] before reusing.
     pub fn finish(&mut self, mut on_frame: impl FnMut(&FeatureFrame)) -> Result<(), AnalysisError> {
+        self.finish_with_features(|f, _| on_frame(f))
+    }
+
+    /// Like [`Analyzer::finish`], with each frame's voicing cues as in
+    /// [`Analyzer::process_with_features`].
+    pub fn finish_with_features(
+        &mut self,
+        mut on_frame: impl FnMut(&FeatureFrame, &VoicingFeatures),
+    ) -> Result<(), AnalysisError> {
         let s = self.state.as_mut().ok_or(AnalysisError::NotPrepared)?;
         let total = s.clock.frames_in(s.samples_in);
         while s.next_frame < total {
-            s.push(0.0, &mut |f: &FeatureFrame| {
+            s.push(0.0, &mut |f: &FeatureFrame, v: &VoicingFeatures| {
                 if f.index < total {
-                    on_frame(f)
+                    on_frame(f, v)
                 }
             });
         }
@@ -226,6 +256,9 @@ impl State {
         self.highpass.reset();
         self.bands.reset();
         self.noise_floor.reset();
+        self.periodic_level.reset();
+        self.previous_f0_hz = 0.0;
+        self.previous_clarity = 0.0;
         self.tracker.reset();
         self.speaker.reset();
         self.ring.fill(0.0);
@@ -255,7 +288,7 @@ impl State {
     }
 
     #[inline]
-    fn push(&mut self, x: f32, on_frame: &mut impl FnMut(&FeatureFrame)) {
+    fn push(&mut self, x: f32, on_frame: &mut impl FnMut(&FeatureFrame, &VoicingFeatures)) {
         let x = if x.is_finite() {
             x.clamp(-INPUT_LIMIT, INPUT_LIMIT)
         } else {
@@ -276,14 +309,14 @@ impl State {
         self.acc_sq = 0.0;
         self.produced += 1;
         while self.produced as i64 >= self.next_ready {
-            let frame = self.analyse_next();
-            on_frame(&frame);
+            let (frame, features) = self.analyse_next();
+            on_frame(&frame, &features);
             self.next_frame += 1;
             self.plan_next();
         }
     }
 
-    fn analyse_next(&mut self) -> FeatureFrame {
+    fn analyse_next(&mut self) -> (FeatureFrame, VoicingFeatures) {
         for (i, w) in self.window.iter_mut().enumerate() {
             let j = self.next_start + i as i64;
             *w = if j < 0 {
@@ -305,57 +338,50 @@ impl State {
         let n = (self.rms_bins * self.factor) as f64;
         let mean = sum / n;
         let rms_db = amplitude_to_db((sq / n - mean * mean).max(0.0).sqrt());
-        // The noise gate sits `noise_margin_db` above the floor, but never closer than
-        // `noise_headroom_db` under the speech level: a stream without pauses (a sustained
-        // vowel, a tone) has its "floor" at the voice itself.
         let periodicity = self.pitch.periodicity();
+        let long_clarity = self.pitch.long_periodicity();
         let floor_db = self
             .noise_floor
-            .update((periodicity < FLOOR_MAX_PERIODICITY).then_some(rms_db));
-        let speech_db = self.speaker.speech_level_db();
-        let noise_gate_db = if floor_db.is_finite() {
-            (floor_db + self.noise_margin_db).min(speech_db - self.noise_headroom_db)
-        } else {
-            f32::NEG_INFINITY
-        };
-        let gate_db = (speech_db - self.speech_gate_db).max(noise_gate_db);
-        let level_rel_db = (rms_db - self.speaker.speech_level_db()).clamp(-10.0, 10.0);
-        let level_bonus = self.level_weight * level_rel_db / 10.0;
-        // At a voice onset the voice fills only the newest part of the window, at an offset
-        // only the oldest: when the window's periodicity alone would leave a loud enough frame
-        // unvoiced, the decision also hears the short window at that end (its clarity at the
-        // chosen period, when its own choice agrees), so phrase edges are not clipped by the
-        // long window's dilution. Still no look-ahead beyond the window.
-        let mut evidence = VoicingEvidence {
-            periodicity,
-            edge_periodicity: 0.0,
+            .update((long_clarity < FLOOR_MAX_PERIODICITY).then_some(rms_db));
+        // Every cue comes from the audio alone (never from earlier decisions), so a model can
+        // be fitted on cues gathered once. At a voice onset the voice fills only the newest
+        // part of the window, at an offset only the oldest: the short windows at both ends
+        // hear the phrase edges the long window dilutes. Still no look-ahead beyond the window.
+        let (short, short_agrees) = self.pitch.short_window_pick();
+        let edge_newest = self.pitch.edge_clarity(&self.window, chosen, true);
+        let edge_oldest = self.pitch.edge_clarity(&self.window, chosen, false);
+        let evidence = VoicingEvidence {
+            long_clarity,
+            chosen_clarity: chosen.clarity,
+            short_clarity: short.clarity,
+            short_agrees,
+            edge_newest: edge_newest.unwrap_or(0.0),
+            edge_oldest: edge_oldest.unwrap_or(0.0),
             rms_db,
-            gate_db,
-            level_bonus,
+            speech_db: self.periodic_level.speech_level_db(),
+            floor_db,
+            low_band: self.pitch.low_band(),
+            f0_hz: chosen.f0_hz,
+            previous_f0_hz: self.previous_f0_hz,
+            previous_clarity: self.previous_clarity,
         };
-        if self.tracker.rule().wants_more_evidence(&evidence) {
-            let newest = !self.tracker.rule().is_voiced();
-            evidence.edge_periodicity = self
-                .pitch
-                .edge_clarity(&self.window, chosen, newest)
-                .unwrap_or(0.0);
-        }
-        let t = self
-            .tracker
-            .update(chosen, self.pitch.candidates(), &evidence);
-        // Strongly periodic frames teach the speaker statistics even when the decision (which
-        // leans on the level relative to the speaker's level) said unvoiced: otherwise a voice
-        // far quieter than the prior level would never be voiced and never teach the level.
-        let (learn, learn_f0_hz) = if t.voiced {
-            (true, t.f0_hz)
-        } else {
-            (
-                periodicity >= FLOOR_MAX_PERIODICITY && rms_db >= gate_db,
-                chosen.f0_hz,
-            )
-        };
-        self.speaker.update(learn, learn_f0_hz, rms_db);
-        FeatureFrame {
+        let features = evidence.features();
+        self.periodic_level.update(
+            long_clarity >= FLOOR_MAX_PERIODICITY && rms_db >= self.silence_db,
+            chosen.f0_hz,
+            rms_db,
+        );
+        self.previous_f0_hz = chosen.f0_hz;
+        self.previous_clarity = long_clarity;
+        let t = self.tracker.update(
+            chosen,
+            self.pitch.candidates(),
+            rms_db,
+            &features,
+            periodicity,
+        );
+        self.speaker.update(t.voiced, t.f0_hz, rms_db);
+        let frame = FeatureFrame {
             index: self.next_frame,
             time_s: self.clock.time_s(self.next_frame),
             f0_hz: t.f0_hz,
@@ -370,6 +396,7 @@ impl State {
             level_db: rms_db - self.speaker.speech_level_db(),
             band_db,
             bands: self.bands.levels(self.next_bin, self.rms_bins, n as usize),
-        }
+        };
+        (frame, features)
     }
 }

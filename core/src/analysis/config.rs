@@ -3,6 +3,7 @@
 use thiserror::Error;
 
 use super::speaker_norm::SpeakerNormConfig;
+use super::voicing::VoicingModel;
 
 /// Lowest supported host sample rate in Hz.
 pub const MIN_SAMPLE_RATE_HZ: f64 = 8_000.0;
@@ -79,33 +80,14 @@ pub struct AnalysisConfig {
     /// Key-maximum rule: the first NSDF key maximum at least this fraction of the highest one is
     /// the period, 0.5..1 (default 0.88).
     pub key_max_ratio: f32,
-    /// Clarity (NSDF peak height) a frame needs to become voiced, 0..1 (default 0.85).
-    pub voicing_on: f32,
-    /// Clarity under which a voiced track becomes unvoiced, 0..`voicing_on` (default 0.7).
-    pub voicing_off: f32,
-    /// Loudness helps the voiced decision: the clarity compared with the thresholds is raised by
-    /// this much per 10 dB the frame lies above the speaker's speech level (and lowered below
-    /// it), within −10..+10 dB (default 0.13). Vowels are loud and fricatives quiet, so loud
-    /// frames with slightly irregular periods (creak, fast glides) stay voiced. The bonus lies
-    /// within ±0.13, so a nearly perfectly periodic frame (clarity ≥ 0.98) is voiced however
-    /// far under the speech level it lies, as long as it passes the level gates: a quiet
-    /// talker is voiced before the speech level has adapted. The default was chosen with
-    /// `cargo xtask eval-pitch --set level_weight=…`: FFE at 40 dB stays under Praat's for
-    /// 0.11–0.15, and 0.13, the middle, is lowest there and overall.
-    pub level_weight: f32,
+    /// The voicing decision: a logistic regression over the frame's periodicity, level and
+    /// spectral cues with hysteresis (default: the shipped model, `assets/models/voicing.txt`,
+    /// fitted leave-one-speaker-out by `cargo xtask train-voicing`).
+    pub voicing_model: VoicingModel,
     /// Frames below this RMS level (dBFS) are never voiced (default −60).
     pub silence_db: f32,
-    /// Frames more than this many dB below the speaker's running speech level are never voiced
-    /// (default 30), so hum and noise in pauses do not count as voice.
-    pub speech_gate_db: f32,
-    /// Frames less than this many dB above the running noise floor are never voiced
-    /// (default 6); the floor is the lowest frame level over the last `noise_window_s`.
-    pub noise_margin_db: f32,
-    /// The noise gate never rises closer than this under the running speech level, dB
-    /// (default 2): a stream without pauses (a sustained vowel, a tone) has its "floor" at the
-    /// voice itself.
-    pub noise_headroom_db: f32,
-    /// Window of the noise-floor tracker, seconds (default 3).
+    /// Window of the noise-floor tracker, seconds (default 3): the floor is the lowest level
+    /// of the not clearly periodic frames over that window, one of the voicing cues.
     pub noise_window_s: f32,
     /// High-pass corner applied before the pitch analysis, Hz; 0 = off (default 120). It takes
     /// rumble (traffic, car, handling noise) out of the periodicity measure.
@@ -124,13 +106,8 @@ impl Default for AnalysisConfig {
             short_window_s: 0.02,
             rms_window_s: 0.02,
             key_max_ratio: 0.88,
-            voicing_on: 0.85,
-            voicing_off: 0.7,
-            level_weight: 0.13,
+            voicing_model: VoicingModel::default(),
             silence_db: -60.0,
-            speech_gate_db: 30.0,
-            noise_margin_db: 6.0,
-            noise_headroom_db: 2.0,
             noise_window_s: 3.0,
             highpass_hz: 120.0,
             speaker: SpeakerNormConfig::default(),
@@ -153,15 +130,21 @@ impl AnalysisConfig {
             "short_window_s" => self.short_window_s = v as f32,
             "rms_window_s" => self.rms_window_s = v as f32,
             "key_max_ratio" => self.key_max_ratio = v as f32,
-            "voicing_on" => self.voicing_on = v as f32,
-            "voicing_off" => self.voicing_off = v as f32,
             "silence_db" => self.silence_db = v as f32,
-            "level_weight" => self.level_weight = v as f32,
-            "speech_gate_db" => self.speech_gate_db = v as f32,
-            "noise_margin_db" => self.noise_margin_db = v as f32,
             "noise_window_s" => self.noise_window_s = v as f32,
-            "noise_headroom_db" => self.noise_headroom_db = v as f32,
             "highpass_hz" => self.highpass_hz = v as f32,
+            "voicing_threshold_on" | "voicing_threshold_off" => {
+                let (mut on, mut off) = (
+                    self.voicing_model.threshold(false),
+                    self.voicing_model.threshold(true),
+                );
+                if name == "voicing_threshold_on" {
+                    on = v as f32;
+                } else {
+                    off = v as f32;
+                }
+                self.voicing_model = self.voicing_model.with_thresholds(on, off)?;
+            }
             _ => return Err(format!("unknown analysis setting {name:?}")),
         }
         Ok(())
@@ -205,21 +188,6 @@ impl AnalysisConfig {
             "0.005..0.1 s",
         )?;
         check_range("key_max_ratio", self.key_max_ratio, 0.5, 1.0, "0.5..1")?;
-        check_range("voicing_on", self.voicing_on, 0.0, 1.0, "0..1")?;
-        check_range(
-            "voicing_off",
-            self.voicing_off,
-            0.0,
-            self.voicing_on,
-            "0..voicing_on",
-        )?;
-        check_range(
-            "noise_margin_db",
-            self.noise_margin_db,
-            0.0,
-            40.0,
-            "0..40 dB",
-        )?;
         check_range(
             "noise_window_s",
             self.noise_window_s,
@@ -228,22 +196,7 @@ impl AnalysisConfig {
             "0.5..30 s",
         )?;
         check_range("highpass_hz", self.highpass_hz, 0.0, 400.0, "0..400 Hz")?;
-        check_range(
-            "noise_headroom_db",
-            self.noise_headroom_db,
-            0.0,
-            40.0,
-            "0..40 dB",
-        )?;
-        check_range("level_weight", self.level_weight, 0.0, 0.5, "0..0.5")?;
         check_range("silence_db", self.silence_db, -120.0, 0.0, "-120..0 dBFS")?;
-        check_range(
-            "speech_gate_db",
-            self.speech_gate_db,
-            6.0,
-            120.0,
-            "6..120 dB",
-        )?;
         self.speaker.validate()
     }
 }
@@ -301,17 +254,6 @@ mod tests {
         };
         let err = c.validate().unwrap_err();
         assert!(err.to_string().contains("at least 2 periods"), "{err}");
-        c = AnalysisConfig {
-            voicing_off: 0.9,
-            ..Default::default()
-        };
-        assert!(matches!(
-            c.validate(),
-            Err(AnalysisError::OutOfRange {
-                name: "voicing_off",
-                ..
-            })
-        ));
         c = AnalysisConfig {
             highpass_hz: 6000.0,
             ..Default::default()

@@ -23,6 +23,9 @@ pub use clock::FrameClock;
 pub use config::{AnalysisConfig, AnalysisError, MAX_SAMPLE_RATE_HZ, MIN_SAMPLE_RATE_HZ};
 pub use pitch::{NsdfPitch, PitchEstimate};
 pub use speaker_norm::{SpeakerNorm, SpeakerNormConfig};
+pub use voicing::{
+    VoicingFeatures, VoicingModel, VoicingModelError, N_VOICING_FEATURES, VOICING_FEATURES,
+};
 
 /// The analysis of one frame of the frame clock.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

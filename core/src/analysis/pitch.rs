@@ -22,7 +22,8 @@
 //! period is taken (the long window's choice was a fraction of the period); otherwise it is
 //! ignored, so the short window never introduces a period the long window did not see.
 //! [`NsdfPitch::edge_clarity`] runs the same short window at either end of the long one for the
-//! voicing decision at phrase edges.
+//! voicing decision at phrase edges (for periods too long for it, the NSDF at the chosen period
+//! over the two periods at that end).
 //!
 //! Plans and buffers are made in [`NsdfPitch::new`]; [`NsdfPitch::analyse`] never allocates.
 
@@ -33,6 +34,13 @@ use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 
 /// Most key maxima kept per frame.
 pub const MAX_CANDIDATES: usize = 16;
+
+/// The low band (Hz) whose share of the voice band's energy ([`NsdfPitch::low_band`]) tells
+/// voiced sounds (energy in the first formant region) from fricatives and hiss.
+const LOW_BAND_HZ: (f64, f64) = (80.0, 1000.0);
+/// Top of the voice band for that share: the lowest internal rate's Nyquist frequency, so the
+/// share means the same at every host rate.
+const VOICE_BAND_TOP_HZ: f64 = 4000.0;
 
 /// Key maxima of the two windows closer than this lag ratio are the same lobe.
 const SAME_LOBE_RATIO: f64 = 1.04;
@@ -57,11 +65,22 @@ struct Nsdf {
     acf: Vec<f32>,
     /// n(τ) for τ = 0..=lag_max+1.
     curve: Vec<f32>,
+    /// Spectrum bins of the low band and of the whole voice band (see `low_band`).
+    low_bins: (usize, usize),
+    band_bins: (usize, usize),
+    /// Share of the last window's voice-band energy in the low band, 0..1.
+    low_band: f32,
 }
 
 impl Nsdf {
-    fn new(planner: &mut RealFftPlanner<f32>, window_len: usize, lag_max: usize) -> Self {
+    fn new(
+        planner: &mut RealFftPlanner<f32>,
+        rate_hz: f64,
+        window_len: usize,
+        lag_max: usize,
+    ) -> Self {
         let fft_len = fft_len_for(window_len + lag_max + 2);
+        let bin = |hz: f64| ((hz * fft_len as f64 / rate_hz).round() as usize).min(fft_len / 2);
         let r2c = planner.plan_fft_forward(fft_len);
         let c2r = planner.plan_fft_inverse(fft_len);
         let scratch_len = r2c.get_scratch_len().max(c2r.get_scratch_len());
@@ -72,6 +91,9 @@ impl Nsdf {
             scratch: vec![Complex::default(); scratch_len],
             acf: c2r.make_output_vec(),
             curve: vec![0.0; lag_max + 2],
+            low_bins: (bin(LOW_BAND_HZ.0), bin(LOW_BAND_HZ.1)),
+            band_bins: (bin(LOW_BAND_HZ.0), bin(VOICE_BAND_TOP_HZ)),
+            low_band: 0.0,
             r2c,
             c2r,
         }
@@ -89,6 +111,7 @@ impl Nsdf {
             energy += (*t as f64) * (*t as f64);
         }
         self.time[w..].fill(0.0);
+        self.low_band = 0.0;
         if energy < 1e-12 * w as f64 {
             self.curve.fill(0.0);
             return false;
@@ -105,6 +128,13 @@ impl Nsdf {
         }
         for c in self.spectrum.iter_mut() {
             *c = Complex::new(c.norm_sqr(), 0.0);
+        }
+        let band_energy = |(a, b): (usize, usize)| -> f64 {
+            self.spectrum[a..b].iter().map(|c| c.re as f64).sum()
+        };
+        let band = band_energy(self.band_bins);
+        if band > 0.0 {
+            self.low_band = (band_energy(self.low_bins) / band) as f32;
         }
         if self
             .c2r
@@ -151,6 +181,11 @@ pub struct NsdfPitch {
     n_candidates: usize,
     short_candidates: [PitchEstimate; MAX_CANDIDATES],
     periodicity: f32,
+    /// The long window's own periodicity (before the short window's say).
+    long_periodicity: f32,
+    /// The centred short window's pick, when it ran, and whether it agreed with the choice.
+    short_pick: PitchEstimate,
+    short_agrees: bool,
 }
 
 impl std::fmt::Debug for NsdfPitch {
@@ -214,11 +249,11 @@ impl NsdfPitch {
             .min(window_len.saturating_sub(2))
             .max(lag_min + 2);
         let mut planner = RealFftPlanner::<f32>::new();
-        let long = Nsdf::new(&mut planner, window_len, lag_max);
+        let long = Nsdf::new(&mut planner, rate_hz, window_len, lag_max);
         let short_lag_max = (short_len / 2).min(lag_max);
         let short = (short_len < window_len && short_lag_max >= lag_min + 2).then(|| {
             (
-                Nsdf::new(&mut planner, short_len, short_lag_max),
+                Nsdf::new(&mut planner, rate_hz, short_len, short_lag_max),
                 short_lag_max,
             )
         });
@@ -234,6 +269,9 @@ impl NsdfPitch {
             n_candidates: 0,
             short_candidates: [PitchEstimate::default(); MAX_CANDIDATES],
             periodicity: 0.0,
+            long_periodicity: 0.0,
+            short_pick: PitchEstimate::default(),
+            short_agrees: false,
         }
     }
 
@@ -253,6 +291,43 @@ impl NsdfPitch {
         self.periodicity
     }
 
+    /// The long window's own periodicity in the last analysed window (its highest key
+    /// maximum, without the short window's confirmation), 0..1.
+    pub fn long_periodicity(&self) -> f32 {
+        self.long_periodicity
+    }
+
+    /// The centred short window's key-maximum pick in the last analysed window (zero when it
+    /// did not run: no pitch, or the period beyond its reach), and whether it is the same lobe
+    /// as the chosen period.
+    pub fn short_window_pick(&self) -> (PitchEstimate, bool) {
+        (self.short_pick, self.short_agrees)
+    }
+
+    /// Share of the last long window's energy between 80 Hz and 1 kHz in its energy between
+    /// 80 Hz and 4 kHz, 0..1 (0 for a silent window): high for vowels, low for fricatives.
+    pub fn low_band(&self) -> f32 {
+        self.long.low_band
+    }
+
+    /// The last long window's NSDF at half the period of `chosen` (linear interpolation),
+    /// clamped to 0..1; 0 without a period. Near the chosen clarity when the chosen period is
+    /// twice the true one (an octave-down pick), low (the curve is negative there) for a true
+    /// period.
+    pub fn half_period_clarity(&self, chosen: PitchEstimate) -> f32 {
+        if chosen.f0_hz <= 0.0 {
+            return 0.0;
+        }
+        let lag = self.rate_hz / chosen.f0_hz as f64 / 2.0;
+        let curve = &self.long.curve;
+        let i = lag.floor() as usize;
+        if i + 1 >= curve.len() {
+            return 0.0;
+        }
+        let frac = (lag - i as f64) as f32;
+        (curve[i] + (curve[i + 1] - curve[i]) * frac).clamp(0.0, 1.0)
+    }
+
     /// The NSDF of the last analysed (long) window, lags 0..=lag_max+1.
     pub fn nsdf(&self) -> &[f32] {
         &self.long.curve
@@ -265,6 +340,9 @@ impl NsdfPitch {
     pub fn analyse(&mut self, window: &[f32]) -> PitchEstimate {
         self.n_candidates = 0;
         self.periodicity = 0.0;
+        self.long_periodicity = 0.0;
+        self.short_pick = PitchEstimate::default();
+        self.short_agrees = false;
         if window.len() != self.long.window_len {
             return PitchEstimate::default();
         }
@@ -289,6 +367,7 @@ impl NsdfPitch {
             .iter()
             .fold(0.0f32, |m, c| m.max(c.clarity));
         self.periodicity = best;
+        self.long_periodicity = best;
         let threshold = self.key_max_ratio * best.max(above_range);
         if above_range > 0.0 && above_range >= threshold {
             // The key-maximum rule would take a period shorter than the range allows: the
@@ -321,7 +400,9 @@ impl NsdfPitch {
                         chosen = *c;
                     }
                 }
+                self.short_pick = short_pick;
                 if same(short_pick.f0_hz, chosen.f0_hz) {
+                    self.short_agrees = true;
                     self.periodicity = self.periodicity.max(short_pick.clarity);
                 }
             }
@@ -331,8 +412,11 @@ impl NsdfPitch {
 
     /// Clarity of `chosen` on a short window at one end of `window` (the newest samples when
     /// `newest`, else the oldest), if that window's own key-maximum choice is the same lobe;
-    /// `None` without a short window or when the period is beyond its reach. For the voicing
-    /// decision at phrase edges, where the voice fills only one end of the window.
+    /// `None` without a short window. A period beyond the short window's reach (f0 under about
+    /// 100 Hz) is judged on the last (first) two periods instead ([`two_period_clarity`]),
+    /// scaled down by the NSDF at half the period (an octave-down pick), so low voices have
+    /// edge cues too. For the voicing decision at phrase edges, where the voice
+    /// fills only one end of the window.
     pub fn edge_clarity(
         &mut self,
         window: &[f32],
@@ -341,11 +425,15 @@ impl NsdfPitch {
     ) -> Option<f32> {
         let (short, last) = self.short.as_ref()?;
         let (len, reach) = (short.window_len, *last as f64 * SAME_LOBE_RATIO);
-        if window.len() != self.long.window_len
-            || chosen.f0_hz <= 0.0
-            || self.rate_hz / chosen.f0_hz as f64 > reach
-        {
+        if window.len() != self.long.window_len || chosen.f0_hz <= 0.0 {
             return None;
+        }
+        let period = self.rate_hz / chosen.f0_hz as f64;
+        if period > reach {
+            // An octave-down pick of a higher voice is periodic over two of its periods too:
+            // the NSDF at half the period tells it from a true low voice.
+            let octave_down = self.half_period_clarity(chosen);
+            return Some(two_period_clarity(window, period, newest) * (1.0 - octave_down));
         }
         let start = if newest { window.len() - len } else { 0 };
         let p = self.short_pick_at(window, start)?;
@@ -381,6 +469,32 @@ impl NsdfPitch {
             .copied()
             .find(|c| c.clarity >= threshold && c.clarity > 0.0)
     }
+}
+
+/// The NSDF at the lag nearest `period` (samples; the best of that lag and its two
+/// neighbours) over the last two periods of `window` (`newest`) or its first two: the edge cue
+/// of a period too long for the short window (a low voice, 60–100 Hz, whose onsets and creaky
+/// endings fill only one end of the long window). Time domain, O(period); 0 when the window
+/// holds no two periods or the segment is silent.
+fn two_period_clarity(window: &[f32], period: f64, newest: bool) -> f32 {
+    let centre = period.round() as usize;
+    let mut best = 0.0f32;
+    for lag in centre.saturating_sub(1)..=centre + 1 {
+        if lag < 2 || 2 * lag > window.len() {
+            continue;
+        }
+        let start = if newest { window.len() - 2 * lag } else { 0 };
+        let (older, newer) = window[start..start + 2 * lag].split_at(lag);
+        let (mut cross, mut energy) = (0.0f64, 0.0f64);
+        for (&a, &b) in older.iter().zip(newer) {
+            cross += f64::from(a) * f64::from(b);
+            energy += f64::from(a) * f64::from(a) + f64::from(b) * f64::from(b);
+        }
+        if energy > 0.0 {
+            best = best.max((2.0 * cross / energy) as f32);
+        }
+    }
+    best.clamp(0.0, 1.0)
 }
 
 /// Key maxima of one NSDF curve up to lag `last`, shortest lag first, into `out`
@@ -646,6 +760,40 @@ mod tests {
         let b = p.analyse(&quiet);
         assert!((a.f0_hz - b.f0_hz).abs() < 0.05);
         assert!((a.clarity - b.clarity).abs() < 1e-3);
+    }
+
+    #[test]
+    fn a_low_voice_has_edge_cues_at_its_onset() {
+        // A 70 Hz voice (period 14.3 ms, beyond the 20 ms short window's reach) filling only
+        // the newest 29 ms of a 40 ms window: the newest end is clearly periodic, the oldest
+        // (mostly silence with a little noise) much less.
+        let (rate, n) = (8_000.0, 320);
+        let mut p = NsdfPitch::with_short_window(rate, n, 160, 50.0, 600.0, 0.88);
+        let voice = tone(70.0, rate, n, &[1.0, 0.6, 0.4, 0.3]);
+        let mut s = 99u32;
+        let window: Vec<f32> = voice
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| {
+                s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                let noise = ((s >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 0.01;
+                if i >= 88 {
+                    v + noise
+                } else {
+                    noise
+                }
+            })
+            .collect();
+        let chosen = p.analyse(&window);
+        assert!((chosen.f0_hz - 70.0).abs() < 2.0, "{chosen:?}");
+        let newest = p.edge_clarity(&window, chosen, true).unwrap();
+        let oldest = p.edge_clarity(&window, chosen, false).unwrap();
+        assert!(newest > 0.95, "newest end {newest}");
+        // The oldest two periods hold 3 ms of the voice's 14 ms period in the older one.
+        assert!(
+            oldest < newest - 0.25,
+            "oldest end {oldest}, newest {newest}"
+        );
     }
 
     #[test]

@@ -4,7 +4,7 @@
 //! Nothing here looks ahead: each frame uses only itself and the two frames before it.
 
 use super::pitch::PitchEstimate;
-use super::voicing::{VoicingEvidence, VoicingRule};
+use super::voicing::{VoicingFeatures, VoicingRule};
 
 /// A candidate this close (ratio) to the previous f0 counts as continuing the track.
 const CONTINUITY_RATIO: f32 = 1.18;
@@ -88,30 +88,28 @@ impl Tracker {
         }
     }
 
-    /// The voicing rule (to ask whether more evidence is wanted, and the last decision).
-    pub(crate) fn rule(&self) -> &VoicingRule {
-        &self.rule
-    }
-
     pub(crate) fn reset(&mut self) {
         self.rule.reset();
         self.smoother.reset();
     }
 
-    /// One frame: the chosen period and all key maxima, and the frame's voicing evidence.
+    /// One frame: the chosen period and all key maxima, the frame's level, voicing features
+    /// and periodicity (for the reported confidence).
     pub(crate) fn update(
         &mut self,
         chosen: PitchEstimate,
         candidates: &[PitchEstimate],
-        evidence: &VoicingEvidence,
+        rms_db: f32,
+        features: &VoicingFeatures,
+        periodicity: f32,
     ) -> TrackedPitch {
         let est = self.smoother.continue_track(chosen, candidates);
-        let voiced = self.rule.decide(est.f0_hz > 0.0, evidence);
+        let voiced = self.rule.decide(est.f0_hz > 0.0, rms_db, features);
         let f0_hz = self.smoother.smooth(if voiced { est.f0_hz } else { 0.0 });
         TrackedPitch {
             f0_hz,
             voiced,
-            voicing: self.rule.confidence(evidence),
+            voicing: self.rule.confidence(periodicity, rms_db),
         }
     }
 }
@@ -132,27 +130,31 @@ mod tests {
         PitchEstimate { f0_hz, clarity }
     }
 
+    /// A tracker whose model voices frames whose first feature (the long clarity) reaches
+    /// 0.7, and keeps voicing down to 0.5.
+    fn tracker() -> Tracker {
+        use crate::analysis::voicing::{VoicingModel, N_VOICING_FEATURES};
+        let mut w = [0.0; N_VOICING_FEATURES];
+        w[0] = 1.0;
+        let zero = [0.0; N_VOICING_FEATURES];
+        let model = VoicingModel::new(zero, [1.0; N_VOICING_FEATURES], w, 0.0, 0.7, 0.5).unwrap();
+        Tracker::new(VoicingRule::new(model, -60.0))
+    }
+
     /// `update` with the periodicity the pitch estimator would report: the best clarity.
     fn upd(
         t: &mut Tracker,
         chosen: PitchEstimate,
         candidates: &[PitchEstimate],
         rms_db: f32,
-        gate_db: f32,
-        level_bonus: f32,
     ) -> TrackedPitch {
         let periodicity = candidates
             .iter()
             .map(|c| c.clarity)
             .fold(chosen.clarity, f32::max);
-        let evidence = VoicingEvidence {
-            periodicity,
-            edge_periodicity: 0.0,
-            rms_db,
-            gate_db,
-            level_bonus,
-        };
-        t.update(chosen, candidates, &evidence)
+        let mut features = [0.0; crate::analysis::voicing::N_VOICING_FEATURES];
+        features[0] = periodicity;
+        t.update(chosen, candidates, rms_db, &features, periodicity)
     }
 
     #[test]
@@ -163,58 +165,27 @@ mod tests {
     }
 
     #[test]
-    fn hysteresis_and_silence_gate() {
-        let mut t = Tracker::new(VoicingRule::new(0.7, 0.5, -60.0));
-        assert!(!upd(&mut t, est(200.0, 0.6), &[], -20.0, -120.0, 0.0).voiced);
-        assert!(upd(&mut t, est(200.0, 0.8), &[], -20.0, -120.0, 0.0).voiced);
-        assert!(upd(&mut t, est(200.0, 0.6), &[], -20.0, -120.0, 0.0).voiced);
-        assert!(!upd(&mut t, est(200.0, 0.4), &[], -20.0, -120.0, 0.0).voiced);
-        let quiet = upd(&mut t, est(200.0, 0.99), &[], -65.0, -120.0, 0.0);
-        assert!(!quiet.voiced);
-        assert!((quiet.voicing - 0.99 * 0.5).abs() < 1e-6);
-    }
-
-    #[test]
     fn continuity_prefers_the_candidate_near_the_track() {
-        let mut t = Tracker::new(VoicingRule::new(0.7, 0.5, -60.0));
-        upd(
-            &mut t,
-            est(150.0, 0.9),
-            &[est(150.0, 0.9)],
-            -20.0,
-            -120.0,
-            0.0,
-        );
+        let mut t = tracker();
+        upd(&mut t, est(150.0, 0.9), &[est(150.0, 0.9)], -20.0);
         // The key-maximum rule jumped an octave up, but a nearly as clear candidate continues.
         let cands = [est(301.0, 0.9), est(151.0, 0.88)];
-        let r = upd(&mut t, cands[0], &cands, -20.0, -120.0, 0.0);
+        let r = upd(&mut t, cands[0], &cands, -20.0);
         assert_eq!(r.f0_hz, 151.0);
         // A clearly better new candidate is kept: a real jump, which the outlier filter lets
         // through one frame later.
         let cands = [est(200.0, 0.95), est(151.0, 0.5)];
-        assert_eq!(
-            upd(&mut t, cands[0], &cands, -20.0, -120.0, 0.0).f0_hz,
-            151.0
-        );
-        assert_eq!(
-            upd(&mut t, cands[0], &cands, -20.0, -120.0, 0.0).f0_hz,
-            200.0
-        );
+        assert_eq!(upd(&mut t, cands[0], &cands, -20.0).f0_hz, 151.0);
+        assert_eq!(upd(&mut t, cands[0], &cands, -20.0).f0_hz, 200.0);
     }
 
     #[test]
     fn single_outliers_are_replaced_by_the_median() {
-        let mut t = Tracker::new(VoicingRule::new(0.7, 0.5, -60.0));
-        upd(&mut t, est(150.0, 0.9), &[], -20.0, -120.0, 0.0);
-        upd(&mut t, est(152.0, 0.9), &[], -20.0, -120.0, 0.0);
-        assert_eq!(
-            upd(&mut t, est(300.0, 0.9), &[], -20.0, -120.0, 0.0).f0_hz,
-            152.0
-        );
+        let mut t = tracker();
+        upd(&mut t, est(150.0, 0.9), &[], -20.0);
+        upd(&mut t, est(152.0, 0.9), &[], -20.0);
+        assert_eq!(upd(&mut t, est(300.0, 0.9), &[], -20.0).f0_hz, 152.0);
         // A lasting jump comes through one frame later.
-        assert_eq!(
-            upd(&mut t, est(300.0, 0.9), &[], -20.0, -120.0, 0.0).f0_hz,
-            300.0
-        );
+        assert_eq!(upd(&mut t, est(300.0, 0.9), &[], -20.0).f0_hz, 300.0);
     }
 }

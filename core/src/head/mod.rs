@@ -21,6 +21,10 @@
 //!   got heads two to three times faster than real ones. A speed governor ([`governor`]) scales
 //!   the output toward the real mean speed of the training clips (target and time constant
 //!   calibrated on the training clips only).
+//! - Before the governor, a one-pole [`smoother`] takes the busy syllable-rate part out of the
+//!   argmax's motion (much speed, little amplitude), so the governor need not shrink the
+//!   amplitude to half of real to reach a real speed; its time constant (0–0.25 s) is chosen on
+//!   the training clips too.
 //! - Unvoiced frames do not freeze the head by default: hold, a damped return toward neutral and
 //!   a loudness-only model are compared leave-one-clip-out and the best is stored in the model.
 
@@ -34,6 +38,7 @@ pub mod gmm;
 pub mod governor;
 pub mod metrics;
 pub mod model_file;
+pub mod smoother;
 pub mod synth;
 pub mod train;
 

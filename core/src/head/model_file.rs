@@ -15,7 +15,7 @@
 //!                 "roll": GMM, ... },
 //!   "synthesis": { "pose_weight": 0.2, "velocity_weight": 0.25, "acceleration_weight": 0.0625,
 //!                  "bound_deg": 90, "output_gain": [roll, pitch, yaw],
-//!                  "speed_target_deg_s": 18.8, "speed_time_s": 2 },
+//!                  "speed_target_deg_s": 18.8, "speed_time_s": 2, "smoothing_s": 0.1 },
 //!   "provenance": { ... } }
 //! GMM = { "weights": [..], "means": [[..], ..], "covariances": [[[..]..], ..] }
 //! ```
@@ -162,6 +162,11 @@ pub struct SynthesisWeights {
     /// training clips.
     #[serde(default = "default_speed_time")]
     pub speed_time_s: f64,
+    /// Time constant of the pose smoother before the governor, seconds, 0..0.25 (0 = none, as
+    /// in files written before it existed); chosen on the training clips (see
+    /// [`super::smoother`]).
+    #[serde(default)]
+    pub smoothing_s: f64,
 }
 
 fn unit_gain() -> [f64; 3] {
@@ -182,6 +187,7 @@ impl Default for SynthesisWeights {
             output_gain: unit_gain(),
             speed_target_deg_s: 0.0,
             speed_time_s: default_speed_time(),
+            smoothing_s: 0.0,
         }
     }
 }
@@ -532,6 +538,13 @@ impl HeadModel {
             60.0,
             "0.1..60 s",
         )?;
+        check(
+            "synthesis.smoothing_s",
+            s.smoothing_s,
+            0.0,
+            super::smoother::MAX_TIME_S,
+            "0..0.25 s (0 = no smoothing)",
+        )?;
         Ok(Self {
             voiced,
             unvoiced,
@@ -668,5 +681,29 @@ mod tests {
             HeadModel::default_model(),
             HeadModel::default_model()
         ));
+    }
+
+    #[test]
+    fn smoothing_is_off_in_older_files_and_checked_in_new_ones() {
+        let text = HeadModel::default_model_json();
+        let shipped = HeadModel::default_model().synthesis.smoothing_s;
+        assert!(shipped > 0.0, "the shipped model smooths ({shipped})");
+        let key = text
+            .find("\"smoothing_s\":")
+            .expect("the shipped model has smoothing_s");
+        let line_end = key + text[key..].find('\n').unwrap();
+        // An older file: the field (the last of its object) and the comma before it dropped.
+        let comma = text[..key].rfind(',').unwrap();
+        let older = format!("{}{}", &text[..comma], &text[line_end..]);
+        let m = HeadModel::from_json(&older).unwrap();
+        assert_eq!(m.synthesis.smoothing_s, 0.0);
+        // Out of range: a clear message naming the field and its range.
+        let wrong = format!("{}\"smoothing_s\": 2.5{}", &text[..key], &text[line_end..]);
+        let err = HeadModel::from_json(&wrong).unwrap_err();
+        let msg = err.to_string();
+        assert!(
+            msg.contains("synthesis.smoothing_s") && msg.contains("0..0.25"),
+            "{msg}"
+        );
     }
 }

@@ -8,8 +8,8 @@
 //! `v = r·|θ − θ₋₁|` (°/s), `a = r²·|θ − 2θ₋₁ + θ₋₂|` (°/s²). Each p(·|f0,E) is the 1-D
 //! conditional of the model's joint GMM, computed once per frame.
 //!
-//! Output = [`SpeedGovernor`](super::governor)(pose × the model's per-axis gain) × amount, plus
-//! the optional liveliness offset, clamped to the limits.
+//! Output = [`SpeedGovernor`](super::governor)([`PoseSmoother`](super::smoother)(pose × the
+//! model's per-axis gain)) × amount, plus the optional liveliness offset, clamped to the limits.
 
 use glam::{DVec3, Quat};
 
@@ -17,6 +17,7 @@ use super::bfgs::{minimize, BfgsConfig};
 use super::gmm::{Conditioner, Mixture1};
 use super::governor::SpeedGovernor;
 use super::model_file::{HeadModel, HeadModelError, UnvoicedBehaviour};
+use super::smoother::PoseSmoother;
 use crate::analysis::FeatureFrame;
 use crate::control::HeadAngles;
 use crate::rng::SeededRng;
@@ -146,6 +147,7 @@ pub struct HeadSynth {
     prev2: DVec3,
     rng: SeededRng,
     live: DVec3,
+    smoother: PoseSmoother,
     governor: SpeedGovernor,
     /// Governed output of the last frame before liveliness and limits, degrees.
     prev_out: DVec3,
@@ -167,6 +169,7 @@ impl HeadSynth {
         let voiced = [0, 1, 2, 3, 4].map(|k| model.voiced()[k].conditioner());
         let unvoiced = [0, 1, 2, 3, 4].map(|k| model.unvoiced()[k].conditioner());
         let rng = SeededRng::new(config.seed);
+        let smoother = PoseSmoother::new(model.synthesis.smoothing_s);
         let governor = SpeedGovernor::new(
             model.synthesis.speed_target_deg_s,
             model.synthesis.speed_time_s,
@@ -182,6 +185,7 @@ impl HeadSynth {
             prev2: DVec3::ZERO,
             rng,
             live: DVec3::ZERO,
+            smoother,
             governor,
             prev_out: DVec3::ZERO,
         })
@@ -193,6 +197,7 @@ impl HeadSynth {
         self.prev2 = DVec3::ZERO;
         self.rng = SeededRng::new(self.config.seed);
         self.live = DVec3::ZERO;
+        self.smoother.reset();
         self.governor.reset();
         self.prev_out = DVec3::ZERO;
     }
@@ -241,7 +246,7 @@ impl HeadSynth {
         };
         let cfg = &self.config;
         let amount = cfg.amount as f64;
-        // Output = governed (internal pose × gain per axis, from the model) × amount.
+        // Output = governed (smoothed (internal pose × gain per axis, from the model)) × amount.
         let model_gain = DVec3::from_array(self.model.synthesis.output_gain);
         let gain = model_gain * amount;
         let limits = DVec3::new(
@@ -294,7 +299,8 @@ impl HeadSynth {
         self.prev2 = self.prev1;
         self.prev1 = next;
 
-        let mut out = self.governor.apply(next * model_gain, rate) * amount;
+        let smooth = self.smoother.apply(next * model_gain, rate);
+        let mut out = self.governor.apply(smooth, rate) * amount;
         // The speed limit again on the governed output (the governor may scale up to ×2).
         let out_step = out - self.prev_out;
         let out_max = cfg.max_speed_deg_s as f64 / rate;
@@ -421,6 +427,24 @@ mod tests {
     }
 
     #[test]
+    fn the_model_smoother_slows_the_ungoverned_motion() {
+        let mut raw = HeadModel::default_model().clone();
+        let mut w = raw.synthesis;
+        w.speed_target_deg_s = 0.0;
+        w.smoothing_s = 0.0;
+        raw.set_synthesis(w).unwrap();
+        let mut smoothed = raw.clone();
+        w.smoothing_s = 0.25;
+        smoothed.set_synthesis(w).unwrap();
+        // A fast syllable-rate f0 wobble: busy motion, which the smoother takes out.
+        let (r, s) = (
+            speed_for_voice(&raw, 3.0, 5.0),
+            speed_for_voice(&smoothed, 3.0, 5.0),
+        );
+        assert!(s < 0.6 * r, "smoothed {s:.1} °/s against raw {r:.1} °/s");
+    }
+
+    #[test]
     fn expressive_and_flat_voices_move_at_believable_speeds() {
         let model = HeadModel::default_model().clone();
         let target = model.synthesis.speed_target_deg_s;
@@ -431,9 +455,11 @@ mod tests {
         let mut ungoverned = model.clone();
         let mut w = model.synthesis;
         w.speed_target_deg_s = 0.0;
+        w.smoothing_s = 0.0;
         ungoverned.set_synthesis(w).unwrap();
         let voices = [(9.0, 2.0), (1.5, 0.4)];
-        // Premise: without the governor these voices move far faster than real heads.
+        // Premise: the raw argmax (no smoother, no governor) moves these voices far faster
+        // than real heads.
         let raw = voices.map(|(a, f)| speed_for_voice(&ungoverned, a, f));
         assert!(
             raw.iter().all(|r| r / target > 1.4),

@@ -58,7 +58,7 @@ pub struct PhraseConfig {
     /// lie well above.
     pub breath_max_high_over_mid_db: f32,
     /// Spectral shape of a breath: the run's mean level of 100–400 Hz over 0.5–2.5 kHz, the
-    /// room taken out, must not exceed this, dB (−40 to 40; 40 = no limit; default −3). Vowel
+    /// room taken out, must not exceed this, dB (−40 to 40; 40 = no limit; default 0). Vowel
     /// tails, hum and rumble lie high.
     ///
     /// Both defaults are the fit of `pneuma eval breath-sounds` on all hand-labelled speakers
@@ -82,7 +82,7 @@ impl Default for PhraseConfig {
             silence_db: -75.0,
             breath_margin_db: 6.0,
             breath_max_high_over_mid_db: 3.0,
-            breath_max_low_over_mid_db: -3.0,
+            breath_max_low_over_mid_db: 0.0,
         }
     }
 }

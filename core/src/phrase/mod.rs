@@ -111,6 +111,9 @@ const BREATH_RISE_DB: f32 = 3.0;
 
 /// A frame within this of the noise floor teaches the room's band levels, dB.
 const FLOOR_BAND_WITHIN_DB: f32 = 3.0;
+/// ... and at least this far under the running speech level, dB (at the start of a stream the
+/// floor still sits at the voice).
+const FLOOR_BAND_UNDER_SPEECH_DB: f32 = 20.0;
 /// Time constant of the room's band levels, seconds.
 const FLOOR_BAND_TAU_S: f64 = 1.0;
 
@@ -344,7 +347,10 @@ impl PhraseTracker {
         let breath_level = rms_db >= self.floor_db + c.breath_margin_db && rms_db > c.silence_db;
         // The room's own band levels, learnt on frames at the floor, are taken out of the
         // frame's band powers: what is left is the shape of the sound over the room.
-        if !voiced && rms_db <= self.floor_db + FLOOR_BAND_WITHIN_DB {
+        if !voiced
+            && rms_db <= self.floor_db + FLOOR_BAND_WITHIN_DB
+            && rms_db <= speech_level_db - FLOOR_BAND_UNDER_SPEECH_DB
+        {
             self.floor_bands.learn(&frame.bands, self.floor_band_weight);
         }
         let (high_over_mid_db, low_over_mid_db) = self.floor_bands.excess_shape_db(&frame.bands);

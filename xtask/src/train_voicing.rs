@@ -1,0 +1,509 @@
+//! `cargo xtask train-voicing [--keele DIR] [--ptdb DIR] [--check]`: fits the voicing model
+//! (`assets/models/voicing.txt`, embedded in `pneuma-core`) on all twelve speakers with
+//! references (Keele's ten, clean and with the seeded white and babble noise of `eval-pitch`;
+//! PTDB's two, every noise and SNR), and reports it leave-one-speaker-out: for each speaker, a
+//! model fitted on the other eleven is scored on that speaker's frames (the held-out figure),
+//! next to the shipped model's figure on the same frames (fitted on all twelve).
+//!
+//! Training frames: every Pneuma frame (at 120 and at 200 frames per second) that a reference frame maps to, at each data
+//! set's known reference offset ([`KEELE_OFFSET_MS`], [`PTDB_OFFSET_MS`]: the global offsets
+//! `eval-pitch` finds); label voiced when the reference is voiced and the frame's chosen period
+//! lies within 20 % of it (a voiced frame with a wrong period is an error either way, so it
+//! does not train), unvoiced when the reference is unvoiced; Keele's uncertain frames (−1) and
+//! frames without a period or under the silence gate (the model never sees them) are left out.
+//! The cues are the analyzer's own ([`pneuma_core::VOICING_FEATURES`]), computed from the audio
+//! alone, so they are gathered once whatever model runs.
+//!
+//! Model: logistic regression on standardised cues, Newton's method (iteratively reweighted
+//! least squares) with a small ridge ([`RIDGE`]), [`NEWTON_STEPS`] steps, in f64, in a fixed
+//! order; then the two hysteresis thresholds on its score are chosen on the same training
+//! frames from a fixed grid by simulating the decision clip by clip and counting the voicing
+//! frame errors as FFE counts them. No randomness at all, so the same data and code give the same file bit for bit;
+//! `--check` verifies that instead of writing.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use pneuma_core::{AnalysisConfig, Analyzer, VoicingFeatures, VoicingModel, N_VOICING_FEATURES};
+
+use crate::eval_pitch::{load_data_set, Source};
+
+/// Indices of the cues the training reads, checked against the names at first use.
+const LOG_F0: usize = 13;
+const LEVEL_VS_GATE: usize = 14;
+
+/// Tracker time = reference time + this, per data set (the offsets `eval-pitch` searches).
+pub(crate) const KEELE_OFFSET_MS: i32 = -10;
+pub(crate) const PTDB_OFFSET_MS: i32 = 15;
+/// Frame rates the cues are gathered at (the shipped one and Praat's usual 5 ms step, which
+/// `eval-pitch` also checks): one model serves both, the cues change a little with the rate.
+const FRAME_RATES_HZ: [f64; 2] = [120.0, 200.0];
+/// Ridge on the standardised weights (not the bias), in units of frames.
+const RIDGE: f64 = 1.0;
+const NEWTON_STEPS: usize = 12;
+/// Threshold grid on the score (log-odds): `threshold_on` from −2 to 3 in eighth steps,
+/// `threshold_off` from `threshold_on` down by up to 1 (a wider band keeps voicing through
+/// the noise after a vowel, where the period is lost: measured on PTDB at 0 dB at 200 frames/s).
+const ON_GRID: (f32, f32, f32) = (-2.0, 3.0, 0.125);
+const OFF_BELOW_MAX: f32 = 1.0;
+
+/// One clip's training material: per analyzer frame its cues, whether the model sees it, and
+/// the labelled frames (frame index, voiced).
+pub(crate) struct ClipFrames {
+    pub speaker: String,
+    /// Data set and noise condition (`keele clean`, `ptdb car 10 dB`, ...).
+    condition: String,
+    /// Weight of each of its labelled frames: every condition (data set × noise × SNR) weighs
+    /// the same in all (PTDB's sixteen conditions of two speakers would otherwise be outweighed
+    /// by Keele's ten speakers).
+    weight: f64,
+    features: Vec<VoicingFeatures>,
+    seen: Vec<bool>,
+    labels: Vec<(usize, bool)>,
+    /// Frames whose reference is voiced but whose chosen period is off by more than 20 %:
+    /// voiced or not, each is a frame error (gross or voicing), so they teach the fit nothing,
+    /// but the thresholds are scored as the eval scores them (FFE), where a decision to voice
+    /// one costs the same as missing it.
+    wrong_pitch: Vec<usize>,
+}
+
+/// Gathers the cues and labels of every clip of `sources` (references at `offset_ms`).
+fn gather(
+    set: &str,
+    sources: &[Source],
+    offset_ms: i32,
+    frame_rate_hz: f64,
+    out: &mut Vec<ClipFrames>,
+) -> Result<(), String> {
+    assert_eq!(pneuma_core::VOICING_FEATURES[LOG_F0], "log_f0");
+    assert_eq!(
+        pneuma_core::VOICING_FEATURES[LEVEL_VS_GATE],
+        "level_vs_gate"
+    );
+    let config = AnalysisConfig {
+        frame_rate_hz,
+        ..AnalysisConfig::default()
+    };
+    let silence_db = config.silence_db;
+    for s in sources {
+        let mut a = Analyzer::new(config.clone()).map_err(|e| e.to_string())?;
+        a.prepare(s.rate as f64, 4096).map_err(|e| e.to_string())?;
+        let mut features = Vec::new();
+        let mut seen = Vec::new();
+        let mut keep = |f: &pneuma_core::FeatureFrame, v: &VoicingFeatures| {
+            features.push(*v);
+            // A period was found (its clarity is positive) and the frame passes the silence
+            // and level gates: only such frames reach the model.
+            seen.push(v[1] > 0.0 && f.rms_db >= silence_db && v[LEVEL_VS_GATE] >= 0.0);
+        };
+        for block in s.audio.chunks(4096) {
+            a.process_with_features(block, &mut keep)
+                .map_err(|e| e.to_string())?;
+        }
+        a.finish_with_features(&mut keep)
+            .map_err(|e| e.to_string())?;
+        let mut labels = Vec::new();
+        let mut wrong_pitch = Vec::new();
+        for &(t, f_ref) in &s.reference {
+            if f_ref < 0.0 {
+                continue;
+            }
+            let k = ((t + offset_ms as f64 / 1000.0) * frame_rate_hz).round();
+            if k < 0.0 || k as usize >= features.len() {
+                continue;
+            }
+            let k = k as usize;
+            if !seen[k] {
+                continue;
+            }
+            if f_ref == 0.0 {
+                labels.push((k, false));
+            } else {
+                let f0 = chosen_f0_hz(&features[k]);
+                if (f0 / f_ref - 1.0).abs() <= 0.2 {
+                    labels.push((k, true));
+                } else {
+                    wrong_pitch.push(k);
+                }
+            }
+        }
+        out.push(ClipFrames {
+            speaker: s.speaker.clone(),
+            condition: format!("{set} {}", s.condition_label()),
+            weight: 1.0,
+            features,
+            seen,
+            labels,
+            wrong_pitch,
+        });
+    }
+    Ok(())
+}
+
+/// The chosen f0 back from the `log_f0` cue (exact within 37.5–600 Hz, the searched range).
+fn chosen_f0_hz(f: &VoicingFeatures) -> f32 {
+    150.0 * f[LOG_F0].exp2()
+}
+
+/// Every training clip of the twelve speakers: Keele (clean and with added noise) and PTDB.
+pub(crate) fn training_clips(keele: &Path, ptdb: &Path) -> Result<Vec<ClipFrames>, String> {
+    let mut skipped = Vec::new();
+    let mut clips = Vec::new();
+    for (set, dir, offset) in [
+        ("keele", keele, KEELE_OFFSET_MS),
+        ("ptdb", ptdb, PTDB_OFFSET_MS),
+    ] {
+        let sources = load_data_set(dir, false, &mut skipped)?;
+        for rate in FRAME_RATES_HZ {
+            gather(set, &sources, offset, rate, &mut clips)?;
+        }
+    }
+    let mut per_condition: BTreeMap<&str, usize> = BTreeMap::new();
+    for c in &clips {
+        *per_condition.entry(c.condition.as_str()).or_default() += c.labels.len();
+    }
+    let total: usize = per_condition.values().sum();
+    let weights: Vec<f64> = clips
+        .iter()
+        .map(|c| {
+            total as f64 / (per_condition.len() * per_condition[c.condition.as_str()].max(1)) as f64
+        })
+        .collect();
+    for (c, w) in clips.iter_mut().zip(weights) {
+        c.weight = w;
+    }
+    if !skipped.is_empty() {
+        return Err(format!(
+            "unreadable training clips (the model must be fitted on all of them): {}",
+            skipped.join("; ")
+        ));
+    }
+    Ok(clips)
+}
+
+/// Solves `a·x = b` (symmetric positive definite, row-major `n×n`) by Cholesky.
+fn solve_spd(a: &[f64], b: &[f64], n: usize) -> Option<Vec<f64>> {
+    let mut l = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..=i {
+            let mut s = a[i * n + j];
+            for k in 0..j {
+                s -= l[i * n + k] * l[j * n + k];
+            }
+            if i == j {
+                if s <= 0.0 {
+                    return None;
+                }
+                l[i * n + i] = s.sqrt();
+            } else {
+                l[i * n + j] = s / l[j * n + j];
+            }
+        }
+    }
+    let mut y = vec![0.0; n];
+    for i in 0..n {
+        let mut s = b[i];
+        for k in 0..i {
+            s -= l[i * n + k] * y[k];
+        }
+        y[i] = s / l[i * n + i];
+    }
+    let mut x = vec![0.0; n];
+    for i in (0..n).rev() {
+        let mut s = y[i];
+        for k in i + 1..n {
+            s -= l[k * n + i] * x[k];
+        }
+        x[i] = s / l[i * n + i];
+    }
+    Some(x)
+}
+
+/// Fits the model on the labelled frames of `clips`.
+pub(crate) fn fit(clips: &[&ClipFrames]) -> Result<VoicingModel, String> {
+    const D: usize = N_VOICING_FEATURES;
+    // Standardisation over the labelled frames.
+    let mut n = 0.0f64;
+    let mut sum = [0.0f64; D];
+    let mut sq = [0.0f64; D];
+    let mut count = 0usize;
+    for c in clips {
+        for &(k, _) in &c.labels {
+            n += c.weight;
+            count += 1;
+            for i in 0..D {
+                let v = c.features[k][i] as f64;
+                sum[i] += c.weight * v;
+                sq[i] += c.weight * v * v;
+            }
+        }
+    }
+    if count < 100 {
+        return Err("fewer than 100 labelled training frames: check the data folders".into());
+    }
+    let mut mean = [0.0f32; D];
+    let mut scale = [0.0f32; D];
+    for i in 0..D {
+        let m = sum[i] / n;
+        mean[i] = m as f32;
+        scale[i] = ((sq[i] / n - m * m).max(0.0).sqrt().max(1e-3)) as f32;
+    }
+    // Newton steps on the weights (index 0 = bias, 1.. = standardised cues).
+    const P: usize = D + 1;
+    let mut w = [0.0f64; P];
+    let row = |f: &VoicingFeatures| {
+        let mut x = [0.0f64; P];
+        x[0] = 1.0;
+        for i in 0..D {
+            x[i + 1] = ((f[i] - mean[i]) / scale[i]) as f64;
+        }
+        x
+    };
+    for _ in 0..NEWTON_STEPS {
+        let mut h = vec![0.0f64; P * P];
+        let mut g = vec![0.0f64; P];
+        for c in clips {
+            for &(k, y) in &c.labels {
+                let x = row(&c.features[k]);
+                let z: f64 = x.iter().zip(&w).map(|(a, b)| a * b).sum();
+                let p = 1.0 / (1.0 + (-z).exp());
+                let r = c.weight * (f64::from(u8::from(y)) - p);
+                let s = c.weight * (p * (1.0 - p)).max(1e-9);
+                for i in 0..P {
+                    g[i] += r * x[i];
+                    for j in 0..=i {
+                        h[i * P + j] += s * x[i] * x[j];
+                    }
+                }
+            }
+        }
+        for i in 0..P {
+            for j in 0..i {
+                h[j * P + i] = h[i * P + j];
+            }
+            if i > 0 {
+                h[i * P + i] += RIDGE;
+                g[i] -= RIDGE * w[i];
+            }
+        }
+        let step = solve_spd(&h, &g, P).ok_or("the training frames are degenerate")?;
+        for (wi, si) in w.iter_mut().zip(&step) {
+            *wi += si;
+        }
+    }
+    let mut weight = [0.0f32; D];
+    for i in 0..D {
+        weight[i] = w[i + 1] as f32;
+    }
+    let model = VoicingModel::new(mean, scale, weight, w[0] as f32, 0.0, 0.0)?;
+    let (on, off) = choose_thresholds(&model, clips);
+    model.with_thresholds(on, off)
+}
+
+/// Frame errors of `model` over the scored frames of `clips`, and the scored frames.
+pub(crate) fn voicing_errors(model: &VoicingModel, clips: &[&ClipFrames]) -> (u64, u64) {
+    let (mut errors, mut frames) = (0u64, 0u64);
+    for c in clips {
+        let scores: Vec<f32> = c.features.iter().map(|f| model.score(f)).collect();
+        let decisions = decide(model, &scores, &c.seen);
+        let (e, n) = frame_errors(c, &decisions);
+        errors += e;
+        frames += n;
+    }
+    (errors, frames)
+}
+
+/// Frame errors of one clip's `decisions` as FFE counts them (a wrong decision, or a voiced
+/// decision on a frame whose period is wrong), and the frames scored.
+fn frame_errors(c: &ClipFrames, decisions: &[bool]) -> (u64, u64) {
+    let wrong = c.labels.iter().filter(|&&(k, y)| decisions[k] != y).count() + c.wrong_pitch.len();
+    (wrong as u64, (c.labels.len() + c.wrong_pitch.len()) as u64)
+}
+
+/// The decisions of `model` over one clip (hysteresis as in the analyzer).
+fn decide(model: &VoicingModel, scores: &[f32], seen: &[bool]) -> Vec<bool> {
+    let mut voiced = false;
+    scores
+        .iter()
+        .zip(seen)
+        .map(|(&z, &s)| {
+            voiced = s && z >= model.threshold(voiced);
+            voiced
+        })
+        .collect()
+}
+
+/// The threshold pair of the grid with the fewest (weighted) frame errors on `clips` (ties:
+/// the first).
+fn choose_thresholds(model: &VoicingModel, clips: &[&ClipFrames]) -> (f32, f32) {
+    let scores: Vec<Vec<f32>> = clips
+        .iter()
+        .map(|c| c.features.iter().map(|f| model.score(f)).collect())
+        .collect();
+    let mut best = (f64::INFINITY, 0.0, 0.0);
+    let steps = ((ON_GRID.1 - ON_GRID.0) / ON_GRID.2).round() as i32;
+    let off_steps = (OFF_BELOW_MAX / ON_GRID.2).round() as i32;
+    for i in 0..=steps {
+        let on = ON_GRID.0 + i as f32 * ON_GRID.2;
+        for j in 0..=off_steps {
+            let off = on - j as f32 * ON_GRID.2;
+            let Ok(m) = model.with_thresholds(on, off) else {
+                continue;
+            };
+            let mut errors = 0.0f64;
+            for (c, z) in clips.iter().zip(&scores) {
+                let d = decide(&m, z, &c.seen);
+                errors += c.weight * frame_errors(c, &d).0 as f64;
+            }
+            if errors < best.0 {
+                best = (errors, on, off);
+            }
+        }
+    }
+    (best.1, best.2)
+}
+
+/// The speakers of `clips`, sorted.
+pub(crate) fn speakers(clips: &[ClipFrames]) -> Vec<String> {
+    let mut s: Vec<String> = clips.iter().map(|c| c.speaker.clone()).collect();
+    s.sort();
+    s.dedup();
+    s
+}
+
+/// The shipped model (all speakers) and one model per held-out speaker (fitted without it).
+pub(crate) fn fit_all_and_loso(
+    clips: &[ClipFrames],
+) -> Result<(VoicingModel, BTreeMap<String, VoicingModel>), String> {
+    let all: Vec<&ClipFrames> = clips.iter().collect();
+    let shipped = fit(&all)?;
+    let mut loso = BTreeMap::new();
+    for s in speakers(clips) {
+        let others: Vec<&ClipFrames> = clips.iter().filter(|c| c.speaker != s).collect();
+        loso.insert(s, fit(&others)?);
+    }
+    Ok((shipped, loso))
+}
+
+fn workspace_root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("xtask lives in the workspace")
+        .to_path_buf()
+}
+
+/// The default training folders beside the checkout.
+pub(crate) fn default_data() -> (PathBuf, PathBuf) {
+    let root = workspace_root();
+    (
+        root.join("../shared/data/keele"),
+        root.join("../shared/data/ptdb"),
+    )
+}
+
+/// Runs the chore; returns the process exit code.
+pub fn main(args: &[String]) -> i32 {
+    let (mut keele, mut ptdb) = default_data();
+    let mut check = false;
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--keele" | "--ptdb" => match it.next() {
+                Some(d) if a == "--keele" => keele = PathBuf::from(d),
+                Some(d) => ptdb = PathBuf::from(d),
+                None => {
+                    eprintln!("error: {a} needs a folder");
+                    return 2;
+                }
+            },
+            "--check" => check = true,
+            other => {
+                eprintln!(
+                    "error: unknown argument `{other}` (use --keele DIR, --ptdb DIR, --check)"
+                );
+                return 2;
+            }
+        }
+    }
+    match run(&keele, &ptdb, check) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("train-voicing: {e}");
+            1
+        }
+    }
+}
+
+fn run(keele: &Path, ptdb: &Path, check: bool) -> Result<i32, String> {
+    let clips = training_clips(keele, ptdb)?;
+    let labelled: usize = clips.iter().map(|c| c.labels.len()).sum();
+    println!(
+        "{} training clips, {} labelled frames, {} speakers",
+        clips.len(),
+        labelled,
+        speakers(&clips).len()
+    );
+    let (shipped, loso) = fit_all_and_loso(&clips)?;
+    let mut notes = vec![
+        "Pneuma voicing model: logistic regression over the analyzer's voicing cues, with".into(),
+        "hysteresis thresholds on its score (format: core/src/analysis/voicing.rs).".into(),
+        "Generated by `cargo xtask train-voicing` (deterministic; --check reproduces it bit for bit);".into(),
+        "do not edit by hand. Data: Keele (10 speakers, clean and with seeded white and babble".into(),
+        "noise at 20/10/0 dB) and PTDB-TUG excerpts (2 speakers, 4 noises x 4 SNRs), at 120 and 200".into(),
+        "frames/s, each condition (data set x noise x SNR) weighing the same,".into(),
+        format!(
+            "reference offsets {KEELE_OFFSET_MS:+} ms (Keele) and {PTDB_OFFSET_MS:+} ms (PTDB); {labelled} labelled frames."
+        ),
+        "Voicing error on each speaker's labelled frames: held out (model fitted on the other".into(),
+        "eleven speakers) vs fitted (this model, all twelve):".into(),
+    ];
+    println!(
+        "\nvoicing errors on labelled frames (training frames only; eval-pitch gives FFE/VDE):"
+    );
+    println!(
+        "  {:<10} {:>10} {:>10} {:>8}",
+        "speaker", "held-out%", "fitted%", "frames"
+    );
+    let (mut he, mut fe, mut nn) = (0u64, 0u64, 0u64);
+    for (speaker, model) in &loso {
+        let own: Vec<&ClipFrames> = clips.iter().filter(|c| &c.speaker == speaker).collect();
+        let (h, n) = voicing_errors(model, &own);
+        let (f, _) = voicing_errors(&shipped, &own);
+        he += h;
+        fe += f;
+        nn += n;
+        let pct = |e: u64| e as f64 * 100.0 / n.max(1) as f64;
+        let line = format!("  {speaker:<10} {:>10.2} {:>10.2} {n:>8}", pct(h), pct(f));
+        println!("{line}");
+        notes.push(line.trim_start().to_string());
+    }
+    let pct = |e: u64| e as f64 * 100.0 / nn.max(1) as f64;
+    let line = format!(
+        "  {:<10} {:>10.2} {:>10.2} {nn:>8}",
+        "all",
+        pct(he),
+        pct(fe)
+    );
+    println!("{line}");
+    notes.push(line.trim_start().to_string());
+    let text = shipped.to_text(&notes);
+    let out = workspace_root().join("assets/models/voicing.txt");
+    if check {
+        let current =
+            std::fs::read_to_string(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+        if current == text {
+            println!("\ncheck: {} is reproduced bit for bit", out.display());
+            Ok(0)
+        } else {
+            println!(
+                "\ncheck: {} differs from what the training gives: run `cargo xtask train-voicing` and commit the file",
+                out.display()
+            );
+            Ok(1)
+        }
+    } else {
+        std::fs::write(&out, text).map_err(|e| format!("{}: {e}", out.display()))?;
+        println!("\nwrote {}", out.display());
+        Ok(0)
+    }
+}
