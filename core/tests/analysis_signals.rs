@@ -342,11 +342,16 @@ fn frames_are_timestamped_on_the_clock_and_complete() {
 
 #[test]
 fn a_pitch_change_is_reported_within_the_stated_latency() {
-    // The algorithmic latency the README reports: from a 150 → 250 Hz step in the input to the
-    // input sample at which the first frame reporting 250 Hz is emitted (`--nocapture` prints
-    // it). Half the 40 ms window and the decimation filter (`latency_s`), plus the frame
-    // spacing (the step falls between two frame centres) and the outlier filter's one frame.
-    for rate in [16_000.0, 44_100.0, 48_000.0] {
+    // The latency the README reports and the issue limits to 35 ms: from a 150 → 250 Hz step
+    // in the input to the input sample at which the first frame reporting 250 Hz is emitted
+    // (`--nocapture` prints it), at every rate class from 8 to 192 kHz. Half the 40 ms window
+    // and the decimation filter (`latency_s`) plus up to one frame spacing (the step falls
+    // between two frame centres); the outlier filter adds no frame to a change the newest
+    // samples confirm.
+    const LIMIT_S: f64 = 0.035;
+    for rate in [
+        8_000.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 96_000.0, 192_000.0,
+    ] {
         let frame_s = 1.0 / 120.0;
         let mut worst_s: f64 = 0.0;
         let mut latency_s = 0.0;
@@ -375,7 +380,9 @@ fn a_pitch_change_is_reported_within_the_stated_latency() {
                     break;
                 }
             }
-            let delay_s = reported_at.expect("the new pitch is reported") - step_s;
+            let delay_s = reported_at
+                .unwrap_or_else(|| panic!("{rate} Hz: the new pitch is never reported"))
+                - step_s;
             assert!(delay_s > 0.0, "{rate} Hz: reported before the change");
             worst_s = worst_s.max(delay_s);
         }
@@ -386,8 +393,8 @@ fn a_pitch_change_is_reported_within_the_stated_latency() {
         );
         assert!(latency_s > 0.02 && latency_s < 0.025, "{latency_s}");
         assert!(
-            worst_s <= latency_s + 2.0 * frame_s + 1e-3,
-            "{rate} Hz: {worst_s} s vs {latency_s} s + two frames"
+            worst_s <= LIMIT_S,
+            "{rate} Hz: a pitch change is reported {worst_s} s late, over the {LIMIT_S} s limit"
         );
     }
 }

@@ -379,6 +379,7 @@ impl State {
             rms_db,
             &features,
             periodicity,
+            evidence.edge_newest,
         );
         self.speaker.update(t.voiced, t.f0_hz, rms_db);
         let frame = FeatureFrame {

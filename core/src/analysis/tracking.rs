@@ -14,6 +14,9 @@ const CONTINUITY_CLARITY: f32 = 0.85;
 /// The current f0 is an outlier when it differs from the median of the last three by more than
 /// this fraction.
 const OUTLIER_FRACTION: f32 = 0.15;
+/// A jump is no outlier when the newest end of the window, analysed on its own, picks the same
+/// period with at least this clarity (see [`F0Smoother::smooth`]).
+pub(crate) const JUMP_CONFIRM_CLARITY: f32 = 0.8;
 /// What the tracker says about one frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct TrackedPitch {
@@ -59,10 +62,13 @@ impl F0Smoother {
     }
 
     /// The reported f0 of a frame whose raw f0 is `raw_hz` (0 = unvoiced): a single outlier
-    /// against the last two voiced frames is replaced by their median.
-    pub(crate) fn smooth(&mut self, raw_hz: f32) -> f32 {
+    /// against the last two voiced frames is replaced by their median, unless the newest end of
+    /// the window confirms it (`confirmed`). A real pitch change fills the newest samples
+    /// first, so it passes at once instead of one frame late (the latency limit); an octave
+    /// error of the long window is not the newest end's own pick, so it is still filtered.
+    pub(crate) fn smooth(&mut self, raw_hz: f32, confirmed: bool) -> f32 {
         let mut f0_hz = raw_hz;
-        if raw_hz > 0.0 && self.history[0] > 0.0 && self.history[1] > 0.0 {
+        if raw_hz > 0.0 && !confirmed && self.history[0] > 0.0 && self.history[1] > 0.0 {
             let med = median3(raw_hz, self.history[0], self.history[1]);
             if (raw_hz / med - 1.0).abs() > OUTLIER_FRACTION {
                 f0_hz = med;
@@ -93,8 +99,9 @@ impl Tracker {
         self.smoother.reset();
     }
 
-    /// One frame: the chosen period and all key maxima, the frame's level, voicing features
-    /// and periodicity (for the reported confidence).
+    /// One frame: the chosen period and all key maxima, the frame's level, voicing features,
+    /// periodicity (for the reported confidence) and the clarity of `chosen` on the newest end
+    /// of the window alone (`newest_clarity`, 0 when that end picks another period).
     pub(crate) fn update(
         &mut self,
         chosen: PitchEstimate,
@@ -102,10 +109,15 @@ impl Tracker {
         rms_db: f32,
         features: &VoicingFeatures,
         periodicity: f32,
+        newest_clarity: f32,
     ) -> TrackedPitch {
         let est = self.smoother.continue_track(chosen, candidates);
         let voiced = self.rule.decide(est.f0_hz > 0.0, rms_db, features);
-        let f0_hz = self.smoother.smooth(if voiced { est.f0_hz } else { 0.0 });
+        // Only the long window's own choice was judged on the newest end.
+        let confirmed = est == chosen && newest_clarity >= JUMP_CONFIRM_CLARITY;
+        let f0_hz = self
+            .smoother
+            .smooth(if voiced { est.f0_hz } else { 0.0 }, confirmed);
         TrackedPitch {
             f0_hz,
             voiced,
@@ -154,7 +166,7 @@ mod tests {
             .fold(chosen.clarity, f32::max);
         let mut features = [0.0; crate::analysis::voicing::N_VOICING_FEATURES];
         features[0] = periodicity;
-        t.update(chosen, candidates, rms_db, &features, periodicity)
+        t.update(chosen, candidates, rms_db, &features, periodicity, 0.0)
     }
 
     #[test]
@@ -187,5 +199,24 @@ mod tests {
         assert_eq!(upd(&mut t, est(300.0, 0.9), &[], -20.0).f0_hz, 152.0);
         // A lasting jump comes through one frame later.
         assert_eq!(upd(&mut t, est(300.0, 0.9), &[], -20.0).f0_hz, 300.0);
+    }
+
+    #[test]
+    fn a_jump_the_newest_samples_confirm_passes_at_once() {
+        let mut t = tracker();
+        let features = [0.9; crate::analysis::voicing::N_VOICING_FEATURES];
+        for f0_hz in [150.0, 151.0] {
+            t.update(est(f0_hz, 0.9), &[], -20.0, &features, 0.9, 0.9);
+        }
+        // The newest end picks the new period clearly: a pitch change, reported now.
+        let r = t.update(est(250.0, 0.9), &[], -20.0, &features, 0.9, 0.95);
+        assert_eq!(r.f0_hz, 250.0);
+        // A jump the newest end does not pick (an octave error) is still an outlier.
+        let mut t = tracker();
+        for f0_hz in [150.0, 151.0] {
+            t.update(est(f0_hz, 0.9), &[], -20.0, &features, 0.9, 0.9);
+        }
+        let r = t.update(est(300.0, 0.9), &[], -20.0, &features, 0.9, 0.0);
+        assert_eq!(r.f0_hz, 151.0);
     }
 }
