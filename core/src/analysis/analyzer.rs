@@ -6,11 +6,11 @@
 //! Samples before the start of the stream count as zeros; a frame is emitted as soon as the last
 //! sample of its analysis window has arrived (see [`Analyzer::latency_s`]).
 
+use super::biquad::HighPass;
 use super::breath_band::BandMeter;
 use super::clock::FrameClock;
 use super::config::{check_sample_rate, AnalysisConfig, AnalysisError};
 use super::decimator::{factor_for, Decimator};
-use super::highpass::HighPass;
 use super::noise_floor::NoiseFloor;
 use super::pitch::NsdfPitch;
 use super::speaker_norm::SpeakerNorm;

@@ -23,6 +23,8 @@
 //! in [`BandMeter::new`].
 
 use super::amplitude_to_db;
+/// Re-exported for the test-noise shaping in `crate::test_signals`.
+pub(crate) use super::biquad::Biquad;
 use super::decimator::Decimator;
 
 /// Lower edge of the low band, Hz.
@@ -61,51 +63,6 @@ impl BandLevels {
     /// The low band over the mid band, dB: high for vowel tails, hum and rumble.
     pub fn low_over_mid_db(&self) -> f32 {
         self.low_db - self.mid_db
-    }
-}
-
-/// One RBJ biquad section with f64 state (also shapes test noise in [`crate::test_signals`]).
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Biquad {
-    b: [f64; 3],
-    a: [f64; 2],
-    x: [f64; 2],
-    y: [f64; 2],
-}
-
-impl Biquad {
-    /// A second-order Butterworth high-pass (`high = true`) or low-pass at `corner_hz`.
-    pub(crate) fn butterworth(corner_hz: f64, rate_hz: f64, high: bool) -> Self {
-        let w0 = 2.0 * std::f64::consts::PI * corner_hz / rate_hz;
-        let alpha = w0.sin() / (2.0 * std::f64::consts::FRAC_1_SQRT_2);
-        let cos = w0.cos();
-        let a0 = 1.0 + alpha;
-        let b = if high {
-            [(1.0 + cos) / 2.0, -(1.0 + cos), (1.0 + cos) / 2.0]
-        } else {
-            [(1.0 - cos) / 2.0, 1.0 - cos, (1.0 - cos) / 2.0]
-        };
-        Self {
-            b: b.map(|v| v / a0),
-            a: [-2.0 * cos / a0, (1.0 - alpha) / a0],
-            x: [0.0; 2],
-            y: [0.0; 2],
-        }
-    }
-
-    fn reset(&mut self) {
-        self.x = [0.0; 2];
-        self.y = [0.0; 2];
-    }
-
-    #[inline]
-    pub(crate) fn process(&mut self, x: f64) -> f64 {
-        let y = self.b[0] * x + self.b[1] * self.x[0] + self.b[2] * self.x[1]
-            - self.a[0] * self.y[0]
-            - self.a[1] * self.y[1];
-        self.x = [x, self.x[0]];
-        self.y = [y, self.y[0]];
-        y
     }
 }
 
