@@ -12,7 +12,7 @@ use super::clock::FrameClock;
 use super::config::{check_sample_rate, AnalysisConfig, AnalysisError};
 use super::decimator::{factor_for, Decimator};
 use super::noise_floor::NoiseFloor;
-use super::pitch::NsdfPitch;
+use super::pitch::{FrameAnalysis, NsdfPitch};
 use super::speaker_norm::SpeakerNorm;
 use super::tracking::Tracker;
 use super::voicing::{VoicingEvidence, VoicingFeatures, VoicingRule};
@@ -325,8 +325,12 @@ impl State {
                 self.ring[j as usize & self.mask]
             };
         }
-        let chosen = self.pitch.analyse(&self.window);
-        let band_sq: f64 = self.window.iter().map(|&w| (w as f64) * (w as f64)).sum();
+        let FrameAnalysis {
+            chosen,
+            edge_newest,
+            edge_oldest,
+            square_sum: band_sq,
+        } = self.pitch.analyse_frame(&self.window);
         let band_db = amplitude_to_db((band_sq / self.window.len() as f64).sqrt());
         let (mut sum, mut sq) = (0.0f64, 0.0f64);
         for b in self.next_bin..self.next_bin + self.rms_bins as i64 {
@@ -348,8 +352,6 @@ impl State {
         // part of the window, at an offset only the oldest: the short windows at both ends
         // hear the phrase edges the long window dilutes. Still no look-ahead beyond the window.
         let (short, short_agrees) = self.pitch.short_window_pick();
-        let edge_newest = self.pitch.edge_clarity(&self.window, chosen, true);
-        let edge_oldest = self.pitch.edge_clarity(&self.window, chosen, false);
         let evidence = VoicingEvidence {
             long_clarity,
             chosen_clarity: chosen.clarity,

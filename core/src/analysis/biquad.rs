@@ -32,6 +32,11 @@ impl Biquad {
         }
     }
 
+    /// The coefficients `[b0, b1, b2]` and `[a1, a2]` (normalised, `a0 = 1`).
+    pub(crate) fn coefficients(&self) -> ([f64; 3], [f64; 2]) {
+        (self.b, self.a)
+    }
+
     /// Clears the state.
     pub(crate) fn reset(&mut self) {
         self.x = [0.0; 2];
