@@ -317,14 +317,15 @@ impl State {
     }
 
     fn analyse_next(&mut self) -> (FeatureFrame, VoicingFeatures) {
-        for (i, w) in self.window.iter_mut().enumerate() {
-            let j = self.next_start + i as i64;
-            *w = if j < 0 {
-                0.0
-            } else {
-                self.ring[j as usize & self.mask]
-            };
-        }
+        // Samples before the stream are zeros; the rest is at most two runs of the ring.
+        let lead = (-self.next_start).clamp(0, self.window.len() as i64) as usize;
+        let (zeros, rest) = self.window.split_at_mut(lead);
+        zeros.fill(0.0);
+        let from = (self.next_start.max(0) as usize) & self.mask;
+        let first = rest.len().min(self.ring.len() - from);
+        let (a, b) = rest.split_at_mut(first);
+        a.copy_from_slice(&self.ring[from..from + first]);
+        b.copy_from_slice(&self.ring[..b.len()]);
         let FrameAnalysis {
             chosen,
             edge_newest,
@@ -332,12 +333,13 @@ impl State {
             square_sum: band_sq,
         } = self.pitch.analyse_frame(&self.window);
         let band_db = amplitude_to_db((band_sq / self.window.len() as f64).sqrt());
-        let (mut sum, mut sq) = (0.0f64, 0.0f64);
-        for b in self.next_bin..self.next_bin + self.rms_bins as i64 {
-            if b >= 0 {
-                sum += self.bin_sum[b as usize & self.mask];
-                sq += self.bin_sq[b as usize & self.mask];
-            }
+        // The level and band sums over the same slots, in one loop (independent sums).
+        let (mut sum, mut sq, mut band_energy) = (0.0f64, 0.0f64, [0.0f64; 3]);
+        for b in self.next_bin.max(0)..self.next_bin + self.rms_bins as i64 {
+            let b = b as usize;
+            sum += self.bin_sum[b & self.mask];
+            sq += self.bin_sq[b & self.mask];
+            self.bands.add_slot(&mut band_energy, b);
         }
         let n = (self.rms_bins * self.factor) as f64;
         let mean = sum / n;
@@ -398,7 +400,7 @@ impl State {
             },
             level_db: rms_db - self.speaker.speech_level_db(),
             band_db,
-            bands: self.bands.levels(self.next_bin, self.rms_bins, n as usize),
+            bands: BandMeter::levels_of(band_energy, n as usize),
         };
         (frame, features)
     }

@@ -195,13 +195,24 @@ impl BandMeter {
 
     /// The band levels over the slots `first..first + slots` (slots before the stream are
     /// silence), which hold `samples` host-rate samples in all.
+    #[cfg(test)]
     pub(crate) fn levels(&self, first: i64, slots: usize, samples: usize) -> BandLevels {
-        let n = self.ring.len() as i64;
         let mut sum = [0.0f64; 3];
         for b in (first..first + slots as i64).filter(|&b| b >= 0) {
-            let e = self.ring[(b % n) as usize];
-            sum.iter_mut().zip(e).for_each(|(s, e)| *s += e);
+            self.add_slot(&mut sum, b as usize);
         }
+        Self::levels_of(sum, samples)
+    }
+
+    /// Adds the band energies of slot `slot` (the analyzer's ring index, ≥ 0) to `sum`.
+    #[inline]
+    pub(crate) fn add_slot(&self, sum: &mut [f64; 3], slot: usize) {
+        let e = self.ring[slot % self.ring.len()];
+        sum.iter_mut().zip(e).for_each(|(s, e)| *s += e);
+    }
+
+    /// The band levels of the band energies `sum` of `samples` host-rate samples.
+    pub(crate) fn levels_of(sum: [f64; 3], samples: usize) -> BandLevels {
         let db = |e: f64| amplitude_to_db((e / samples.max(1) as f64).sqrt());
         BandLevels {
             low_db: db(sum[0]),
