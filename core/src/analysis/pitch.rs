@@ -779,6 +779,12 @@ mod tests {
             .collect()
     }
 
+    /// Seeded uniform noise in −0.5..0.5 (a linear congruential generator).
+    fn uniform(state: &mut u32) -> f32 {
+        *state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (*state >> 8) as f32 / (1u32 << 24) as f32 - 0.5
+    }
+
     #[test]
     fn many_lobes_do_not_hide_the_period() {
         // 52 Hz with all energy near 1 kHz: about 19 lobes before the true period.
@@ -953,8 +959,7 @@ mod tests {
             .iter()
             .enumerate()
             .map(|(i, &v)| {
-                s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-                let noise = ((s >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 0.01;
+                let noise = uniform(&mut s) * 0.01;
                 if i >= 88 {
                     v + noise
                 } else {
@@ -995,8 +1000,7 @@ mod tests {
                     .iter()
                     .enumerate()
                     .map(|(i, &v)| {
-                        s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-                        let noise = ((s >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 0.02;
+                        let noise = uniform(&mut s) * 0.02;
                         let on = match k % 3 {
                             0 => i >= n / 3,
                             1 => i < 2 * n / 3,
@@ -1039,12 +1043,7 @@ mod tests {
         let mut p = NsdfPitch::new(8_000.0, 320, 50.0, 600.0, 0.88);
         assert_eq!(p.analyse(&[0.0; 320]), PitchEstimate::default());
         let mut s = 12345u32;
-        let noise: Vec<f32> = (0..320)
-            .map(|_| {
-                s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-                (s >> 8) as f32 / (1u32 << 24) as f32 - 0.5
-            })
-            .collect();
+        let noise: Vec<f32> = (0..320).map(|_| uniform(&mut s)).collect();
         assert!(p.analyse(&noise).clarity < 0.5);
     }
 }
