@@ -6,13 +6,13 @@
 //! Samples before the start of the stream count as zeros; a frame is emitted as soon as the last
 //! sample of its analysis window has arrived (see [`Analyzer::latency_s`]).
 
+use super::biquad::HighPass;
 use super::breath_band::BandMeter;
 use super::clock::FrameClock;
 use super::config::{check_sample_rate, AnalysisConfig, AnalysisError};
 use super::decimator::{factor_for, Decimator};
-use super::highpass::HighPass;
 use super::noise_floor::NoiseFloor;
-use super::pitch::NsdfPitch;
+use super::pitch::{FrameAnalysis, NsdfPitch};
 use super::speaker_norm::SpeakerNorm;
 use super::tracking::Tracker;
 use super::voicing::{VoicingEvidence, VoicingFeatures, VoicingRule};
@@ -317,23 +317,29 @@ impl State {
     }
 
     fn analyse_next(&mut self) -> (FeatureFrame, VoicingFeatures) {
-        for (i, w) in self.window.iter_mut().enumerate() {
-            let j = self.next_start + i as i64;
-            *w = if j < 0 {
-                0.0
-            } else {
-                self.ring[j as usize & self.mask]
-            };
-        }
-        let chosen = self.pitch.analyse(&self.window);
-        let band_sq: f64 = self.window.iter().map(|&w| (w as f64) * (w as f64)).sum();
+        // Samples before the stream are zeros; the rest is at most two runs of the ring.
+        let lead = (-self.next_start).clamp(0, self.window.len() as i64) as usize;
+        let (zeros, rest) = self.window.split_at_mut(lead);
+        zeros.fill(0.0);
+        let from = (self.next_start.max(0) as usize) & self.mask;
+        let first = rest.len().min(self.ring.len() - from);
+        let (a, b) = rest.split_at_mut(first);
+        a.copy_from_slice(&self.ring[from..from + first]);
+        b.copy_from_slice(&self.ring[..b.len()]);
+        let FrameAnalysis {
+            chosen,
+            edge_newest,
+            edge_oldest,
+            square_sum: band_sq,
+        } = self.pitch.analyse_frame(&self.window);
         let band_db = amplitude_to_db((band_sq / self.window.len() as f64).sqrt());
-        let (mut sum, mut sq) = (0.0f64, 0.0f64);
-        for b in self.next_bin..self.next_bin + self.rms_bins as i64 {
-            if b >= 0 {
-                sum += self.bin_sum[b as usize & self.mask];
-                sq += self.bin_sq[b as usize & self.mask];
-            }
+        // The level and band sums over the same slots, in one loop (independent sums).
+        let (mut sum, mut sq, mut band_energy) = (0.0f64, 0.0f64, [0.0f64; 3]);
+        for b in self.next_bin.max(0)..self.next_bin + self.rms_bins as i64 {
+            let b = b as usize;
+            sum += self.bin_sum[b & self.mask];
+            sq += self.bin_sq[b & self.mask];
+            self.bands.add_slot(&mut band_energy, b);
         }
         let n = (self.rms_bins * self.factor) as f64;
         let mean = sum / n;
@@ -348,8 +354,6 @@ impl State {
         // part of the window, at an offset only the oldest: the short windows at both ends
         // hear the phrase edges the long window dilutes. Still no look-ahead beyond the window.
         let (short, short_agrees) = self.pitch.short_window_pick();
-        let edge_newest = self.pitch.edge_clarity(&self.window, chosen, true);
-        let edge_oldest = self.pitch.edge_clarity(&self.window, chosen, false);
         let evidence = VoicingEvidence {
             long_clarity,
             chosen_clarity: chosen.clarity,
@@ -396,7 +400,7 @@ impl State {
             },
             level_db: rms_db - self.speaker.speech_level_db(),
             band_db,
-            bands: self.bands.levels(self.next_bin, self.rms_bins, n as usize),
+            bands: BandMeter::levels_of(band_energy, n as usize),
         };
         (frame, features)
     }

@@ -23,6 +23,8 @@
 //! in [`BandMeter::new`].
 
 use super::amplitude_to_db;
+/// Re-exported for the test-noise shaping in `crate::test_signals`.
+pub(crate) use super::biquad::Biquad;
 use super::decimator::Decimator;
 
 /// Lower edge of the low band, Hz.
@@ -64,48 +66,60 @@ impl BandLevels {
     }
 }
 
-/// One RBJ biquad section with f64 state (also shapes test noise in [`crate::test_signals`]).
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Biquad {
-    b: [f64; 3],
-    a: [f64; 2],
-    x: [f64; 2],
-    y: [f64; 2],
+/// Lanes of [`BandBank`]: the three bands and an idle fourth, so the lanes fill whole SIMD
+/// registers.
+const LANES: usize = 4;
+
+/// The three bands' chains of four [`Biquad`] sections, stored lane by lane (one lane per
+/// band) so each step of a section runs on all bands at once and vectorises. Every lane does
+/// exactly the operations of [`Biquad::process`] in the same order, so the output is
+/// bit-identical to running each band's sections one after the other.
+#[derive(Debug, Clone)]
+struct BandBank {
+    /// Per section: the coefficients `b0 b1 b2 a1 a2` (as in [`Biquad`]), per lane.
+    coef: [[[f64; LANES]; 5]; 4],
+    /// Per section: the inputs and outputs one and two samples back, per lane.
+    state: [[[f64; LANES]; 4]; 4],
 }
 
-impl Biquad {
-    /// A second-order Butterworth high-pass (`high = true`) or low-pass at `corner_hz`.
-    pub(crate) fn butterworth(corner_hz: f64, rate_hz: f64, high: bool) -> Self {
-        let w0 = 2.0 * std::f64::consts::PI * corner_hz / rate_hz;
-        let alpha = w0.sin() / (2.0 * std::f64::consts::FRAC_1_SQRT_2);
-        let cos = w0.cos();
-        let a0 = 1.0 + alpha;
-        let b = if high {
-            [(1.0 + cos) / 2.0, -(1.0 + cos), (1.0 + cos) / 2.0]
-        } else {
-            [(1.0 - cos) / 2.0, 1.0 - cos, (1.0 - cos) / 2.0]
-        };
+impl BandBank {
+    /// The bank of three bands, each four sections applied in order.
+    fn new(bands: [[Biquad; 4]; 3]) -> Self {
+        let mut coef = [[[0.0; LANES]; 5]; 4];
+        for (lane, band) in bands.iter().enumerate() {
+            for (section, biquad) in band.iter().enumerate() {
+                let (b, a) = biquad.coefficients();
+                for (k, v) in b.into_iter().chain(a).enumerate() {
+                    coef[section][k][lane] = v;
+                }
+            }
+        }
         Self {
-            b: b.map(|v| v / a0),
-            a: [-2.0 * cos / a0, (1.0 - alpha) / a0],
-            x: [0.0; 2],
-            y: [0.0; 2],
+            coef,
+            state: [[[0.0; LANES]; 4]; 4],
         }
     }
 
     fn reset(&mut self) {
-        self.x = [0.0; 2];
-        self.y = [0.0; 2];
+        self.state = [[[0.0; LANES]; 4]; 4];
     }
 
+    /// Filters one sample through every band; the band outputs in lanes 0..3.
     #[inline]
-    pub(crate) fn process(&mut self, x: f64) -> f64 {
-        let y = self.b[0] * x + self.b[1] * self.x[0] + self.b[2] * self.x[1]
-            - self.a[0] * self.y[0]
-            - self.a[1] * self.y[1];
-        self.x = [x, self.x[0]];
-        self.y = [y, self.y[0]];
-        y
+    fn process(&mut self, x: f64) -> [f64; LANES] {
+        let mut v = [x; LANES];
+        for (c, st) in self.coef.iter().zip(&mut self.state) {
+            let [x1, x2, y1, y2] = *st;
+            let mut y = [0.0; LANES];
+            for l in 0..LANES {
+                y[l] = c[0][l] * v[l] + c[1][l] * x1[l] + c[2][l] * x2[l]
+                    - c[3][l] * y1[l]
+                    - c[4][l] * y2[l];
+            }
+            *st = [v, x1, y, y1];
+            v = y;
+        }
+        v
     }
 }
 
@@ -116,8 +130,8 @@ pub(crate) struct BandMeter {
     decimator: Decimator,
     /// Host samples per band-filter sample.
     factor: usize,
-    /// Per band: two high-pass and two low-pass sections.
-    filters: [[Biquad; 4]; 3],
+    /// The three bands' filters, run side by side.
+    filters: BandBank,
     /// Energy of each band accumulated since the last closed slot.
     acc: [f64; 3],
     /// Per decimated slot (indexed like the analyzer's RMS bins): each band's energy.
@@ -139,11 +153,11 @@ impl BandMeter {
         Self {
             decimator: Decimator::new(factor),
             factor,
-            filters: [
+            filters: BandBank::new([
                 band(LOW_FROM_HZ, LOW_TO_HZ),
                 band(MID_FROM_HZ, MID_TO_HZ),
                 band(MID_TO_HZ, high_to),
-            ],
+            ]),
             acc: [0.0; 3],
             ring: vec![[0.0; 3]; slots.max(1)],
         }
@@ -152,7 +166,7 @@ impl BandMeter {
     /// Clears all state (keeps the allocation).
     pub(crate) fn reset(&mut self) {
         self.decimator.reset();
-        self.filters.iter_mut().flatten().for_each(Biquad::reset);
+        self.filters.reset();
         self.acc = [0.0; 3];
         self.ring.fill([0.0; 3]);
     }
@@ -164,8 +178,8 @@ impl BandMeter {
             return;
         };
         let weight = self.factor as f64;
-        for (f, acc) in self.filters.iter_mut().zip(&mut self.acc) {
-            let y = f.iter_mut().fold(x as f64, |v, s| s.process(v));
+        let y = self.filters.process(x as f64);
+        for (acc, y) in self.acc.iter_mut().zip(y) {
             *acc += weight * y * y;
         }
     }
@@ -181,13 +195,24 @@ impl BandMeter {
 
     /// The band levels over the slots `first..first + slots` (slots before the stream are
     /// silence), which hold `samples` host-rate samples in all.
+    #[cfg(test)]
     pub(crate) fn levels(&self, first: i64, slots: usize, samples: usize) -> BandLevels {
-        let n = self.ring.len() as i64;
         let mut sum = [0.0f64; 3];
         for b in (first..first + slots as i64).filter(|&b| b >= 0) {
-            let e = self.ring[(b % n) as usize];
-            sum.iter_mut().zip(e).for_each(|(s, e)| *s += e);
+            self.add_slot(&mut sum, b as usize);
         }
+        Self::levels_of(sum, samples)
+    }
+
+    /// Adds the band energies of slot `slot` (the analyzer's ring index, ≥ 0) to `sum`.
+    #[inline]
+    pub(crate) fn add_slot(&self, sum: &mut [f64; 3], slot: usize) {
+        let e = self.ring[slot % self.ring.len()];
+        sum.iter_mut().zip(e).for_each(|(s, e)| *s += e);
+    }
+
+    /// The band levels of the band energies `sum` of `samples` host-rate samples.
+    pub(crate) fn levels_of(sum: [f64; 3], samples: usize) -> BandLevels {
         let db = |e: f64| amplitude_to_db((e / samples.max(1) as f64).sqrt());
         BandLevels {
             low_db: db(sum[0]),
@@ -235,6 +260,32 @@ mod tests {
             );
             let (h, m) = (high.high_over_mid_db(), mid.high_over_mid_db());
             assert!(h > 6.0 && m < -8.0, "{rate}: {h} {m}");
+        }
+    }
+
+    #[test]
+    fn the_bank_is_bit_identical_to_the_sections_one_by_one() {
+        let rate = 22_050.0;
+        let band = |from: f64, to: f64| {
+            let hp = Biquad::butterworth(from, rate, true);
+            let lp = Biquad::butterworth(to, rate, false);
+            [hp, hp, lp, lp]
+        };
+        let mut bands = [
+            band(100.0, 400.0),
+            band(500.0, 2500.0),
+            band(2500.0, 6000.0),
+        ];
+        let mut bank = BandBank::new(bands);
+        let mut s = 7u32;
+        for i in 0..5000 {
+            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let x = (s >> 8) as f64 / (1u32 << 24) as f64 - 0.5 + (i as f64 * 0.01).sin();
+            let y = bank.process(x);
+            for (band, y) in bands.iter_mut().zip(y) {
+                let want = band.iter_mut().fold(x, |v, s| s.process(v));
+                assert_eq!(y.to_bits(), want.to_bits(), "sample {i}");
+            }
         }
     }
 

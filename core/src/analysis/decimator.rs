@@ -16,14 +16,19 @@ pub(crate) fn factor_for(sample_rate_hz: f64) -> usize {
     ((sample_rate_hz / TARGET_MIN_RATE_HZ).floor() as usize).max(1)
 }
 
+/// Input samples the history holds beyond the filter's length: the newest `taps.len()`
+/// samples are one contiguous slice, and once in this many samples the filter's worth is moved
+/// back to the start.
+const HISTORY_SPAN: usize = 2048;
+
 /// Streaming decimator by an integer factor.
 #[derive(Debug, Clone)]
 pub(crate) struct Decimator {
     factor: usize,
     taps: Vec<f32>,
-    /// Doubled history so the newest `taps.len()` samples are always one contiguous slice.
+    /// Linear history; `history[end - taps.len()..end]` are the newest samples, oldest first.
     history: Vec<f32>,
-    write: usize,
+    end: usize,
     phase: usize,
 }
 
@@ -43,8 +48,8 @@ impl Decimator {
         Self {
             factor,
             taps,
-            history: vec![0.0; 2 * len],
-            write: 0,
+            history: vec![0.0; len - 1 + HISTORY_SPAN],
+            end: len - 1,
             phase: 0,
         }
     }
@@ -52,7 +57,7 @@ impl Decimator {
     /// Clears the history.
     pub(crate) fn reset(&mut self) {
         self.history.fill(0.0);
-        self.write = 0;
+        self.end = self.taps.len() - 1;
         self.phase = 0;
     }
 
@@ -63,27 +68,26 @@ impl Decimator {
 
     /// Feeds one input sample; returns an output sample every `factor` inputs (the first on the
     /// `factor`-th input, so output `j` ends at input `(j + 1) * factor - 1`).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn push(&mut self, x: f32) -> Option<f32> {
         if self.factor == 1 {
             return Some(x);
         }
         let len = self.taps.len();
-        self.history[self.write] = x;
-        self.history[self.write + len] = x;
-        self.write += 1;
-        if self.write == len {
-            self.write = 0;
+        if self.end == self.history.len() {
+            // Full: keep the newest len − 1 samples, at the start.
+            self.history.copy_within(self.end + 1 - len.., 0);
+            self.end = len - 1;
         }
+        self.history[self.end] = x;
+        self.end += 1;
         self.phase += 1;
         if self.phase < self.factor {
             return None;
         }
         self.phase = 0;
-        // history[write..write+len] holds the last `len` samples, oldest first; the taps are
-        // symmetric so their order does not matter.
-        let recent = &self.history[self.write..self.write + len];
-        Some(dot(recent, &self.taps))
+        // The taps are symmetric, so their order against the samples does not matter.
+        Some(dot(&self.history[self.end - len..self.end], &self.taps))
     }
 }
 
@@ -91,19 +95,24 @@ impl Decimator {
 /// the same on every call with the same data.
 #[inline]
 fn dot(a: &[f32], b: &[f32]) -> f32 {
-    let mut acc = [0.0f32; 8];
-    let chunks = a.len() / 8;
-    for c in 0..chunks {
-        let (x, y) = (&a[c * 8..c * 8 + 8], &b[c * 8..c * 8 + 8]);
-        for l in 0..8 {
-            acc[l] += x[l] * y[l];
+    // Lanes 0..4 and 4..8 of each chunk of eight, each lane summed in chunk order.
+    let (mut lo, mut hi) = ([0.0f32; 4], [0.0f32; 4]);
+    let (xs, ys) = (a.chunks_exact(8), b.chunks_exact(8));
+    let mut tail = 0.0;
+    for (x, y) in xs.remainder().iter().zip(ys.remainder()) {
+        tail += x * y;
+    }
+    for (x, y) in xs.zip(ys) {
+        let (x, y): (&[f32; 8], &[f32; 8]) = match (x.try_into(), y.try_into()) {
+            (Ok(x), Ok(y)) => (x, y),
+            _ => continue,
+        };
+        for l in 0..4 {
+            lo[l] += x[l] * y[l];
+            hi[l] += x[l + 4] * y[l + 4];
         }
     }
-    let mut tail = 0.0;
-    for i in chunks * 8..a.len() {
-        tail += a[i] * b[i];
-    }
-    ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7])) + tail
+    ((lo[0] + hi[0]) + (lo[1] + hi[1])) + ((lo[2] + hi[2]) + (lo[3] + hi[3])) + tail
 }
 
 /// Kaiser-windowed sinc low-pass of odd length `len`, cut-off `cutoff` in cycles per sample,
@@ -185,6 +194,25 @@ mod tests {
         assert!((gain_at(6, 1_500.0, sr) - 1.0).abs() < 0.02);
         assert!(gain_at(6, 6_000.0, sr) < 0.003);
         assert!(gain_at(6, 4_400.0, sr) < 0.05);
+    }
+
+    #[test]
+    fn outputs_are_the_filter_over_the_newest_samples_across_history_moves() {
+        // Long enough for several moves of the history back to its start.
+        for factor in [2, 5, 24] {
+            let mut d = Decimator::new(factor);
+            let len = d.taps.len();
+            let x: Vec<f32> = (0..5 * HISTORY_SPAN)
+                .map(|i| ((i * 7919) % 1013) as f32 / 1013.0 - 0.5)
+                .collect();
+            let mut padded = vec![0.0f32; len - 1];
+            padded.extend_from_slice(&x);
+            for (i, &v) in x.iter().enumerate() {
+                let got = d.push(v);
+                let want = ((i + 1) % factor == 0).then(|| dot(&padded[i..i + len], &d.taps));
+                assert_eq!(got.map(f32::to_bits), want.map(f32::to_bits), "sample {i}");
+            }
+        }
     }
 
     #[test]

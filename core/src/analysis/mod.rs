@@ -6,11 +6,11 @@
 //! same per second of audio whatever the host rate; the level is measured on the full-rate signal.
 
 mod analyzer;
+mod biquad;
 pub(crate) mod breath_band;
 mod clock;
 mod config;
 mod decimator;
-mod highpass;
 pub(crate) mod noise_floor;
 mod pitch;
 mod speaker_norm;

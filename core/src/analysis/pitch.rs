@@ -54,6 +54,18 @@ pub struct PitchEstimate {
     pub clarity: f32,
 }
 
+/// Everything [`NsdfPitch::analyse_frame`] finds in one window.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct FrameAnalysis {
+    /// As [`NsdfPitch::analyse`] returns it.
+    pub chosen: PitchEstimate,
+    /// [`NsdfPitch::edge_clarity`] of `chosen` at the newest and at the oldest end.
+    pub edge_newest: Option<f32>,
+    pub edge_oldest: Option<f32>,
+    /// Σ x² of the window (summed in f64 in sample order).
+    pub square_sum: f64,
+}
+
 /// The NSDF of one window length, with its FFT plans and buffers.
 struct Nsdf {
     window_len: usize,
@@ -68,8 +80,98 @@ struct Nsdf {
     /// Spectrum bins of the low band and of the whole voice band (see `low_band`).
     low_bins: (usize, usize),
     band_bins: (usize, usize),
-    /// Share of the last window's voice-band energy in the low band, 0..1.
+    /// Share of the last window's voice-band energy in the low band, 0..1 (kept up to date
+    /// only when `measure_low_band`: the short windows' share is never asked for).
     low_band: f32,
+    measure_low_band: bool,
+}
+
+/// The mean of one window and its energy about the mean.
+#[derive(Debug, Clone, Copy)]
+struct WindowStats {
+    /// Mean of the samples (summed in f64 in sample order, then rounded to f32).
+    mean: f32,
+    /// Σ (x − mean)², each difference rounded to f32 first, summed in f64 in sample order.
+    energy: f64,
+}
+
+impl WindowStats {
+    fn of(window: &[f32]) -> Self {
+        let sum = window.iter().fold(-0.0f64, |s, &x| s + x as f64);
+        let mean = (sum / window.len().max(1) as f64) as f32;
+        let energy = window.iter().fold(0.0f64, |e, &x| {
+            let t = (x - mean) as f64;
+            e + t * t
+        });
+        Self { mean, energy }
+    }
+}
+
+/// The statistics of the long window and of the three short windows inside it (oldest end,
+/// centre, newest end), and the long window's plain sum of squares, in two fused passes: each
+/// sum runs in sample order exactly as [`WindowStats::of`] would run it (so the results are
+/// bit-identical), but the independent sums share one loop, so their additions overlap
+/// instead of each waiting for the one before (the sums are latency-bound serial chains).
+#[derive(Debug, Clone, Copy)]
+struct FrameStats {
+    long: WindowStats,
+    /// Oldest end, centre, newest end.
+    short: [WindowStats; 3],
+    /// Σ x² of the long window, in sample order (for [`FrameAnalysis::square_sum`]).
+    square_sum: f64,
+}
+
+impl FrameStats {
+    /// The short windows start at `0`, `(w − short_len) / 2` and `w − short_len`; requires
+    /// `short_len <= window.len()`.
+    fn of(window: &[f32], short_len: usize) -> Self {
+        let (w, len) = (window.len(), short_len);
+        let starts = [0, (w - len) / 2, w - len];
+        let [centre, newest] = [&window[starts[1]..starts[1] + len], &window[starts[2]..w]];
+        let (mut long, mut square_sum, mut c, mut n) = (-0.0f64, -0.0f64, -0.0f64, -0.0f64);
+        for ((&x, &xc), &xn) in window[..len].iter().zip(centre).zip(newest) {
+            let x = x as f64;
+            long += x;
+            square_sum += x * x;
+            c += xc as f64;
+            n += xn as f64;
+        }
+        // The oldest short window is the first `len` samples: its sum is the long one's so far.
+        let sums = [long, c, n];
+        for &x in &window[len..] {
+            let x = x as f64;
+            long += x;
+            square_sum += x * x;
+        }
+        let mean_long = (long / w.max(1) as f64) as f32;
+        let means = sums.map(|s| (s / len.max(1) as f64) as f32);
+        let sq = |x: f32, mean: f32| {
+            let t = (x - mean) as f64;
+            t * t
+        };
+        let (mut e_long, mut e) = (0.0f64, [0.0f64; 3]);
+        let oldest = &window[..len];
+        for (((&x, &xo), &xc), &xn) in window[..len].iter().zip(oldest).zip(centre).zip(newest) {
+            e_long += sq(x, mean_long);
+            e[0] += sq(xo, means[0]);
+            e[1] += sq(xc, means[1]);
+            e[2] += sq(xn, means[2]);
+        }
+        for &x in &window[len..] {
+            e_long += sq(x, mean_long);
+        }
+        Self {
+            long: WindowStats {
+                mean: mean_long,
+                energy: e_long,
+            },
+            short: [0, 1, 2].map(|k| WindowStats {
+                mean: means[k],
+                energy: e[k],
+            }),
+            square_sum,
+        }
+    }
 }
 
 impl Nsdf {
@@ -78,6 +180,7 @@ impl Nsdf {
         rate_hz: f64,
         window_len: usize,
         lag_max: usize,
+        measure_low_band: bool,
     ) -> Self {
         let fft_len = fft_len_for(window_len + lag_max + 2);
         let bin = |hz: f64| ((hz * fft_len as f64 / rate_hz).round() as usize).min(fft_len / 2);
@@ -94,6 +197,7 @@ impl Nsdf {
             low_bins: (bin(LOW_BAND_HZ.0), bin(LOW_BAND_HZ.1)),
             band_bins: (bin(LOW_BAND_HZ.0), bin(VOICE_BAND_TOP_HZ)),
             low_band: 0.0,
+            measure_low_band,
             r2c,
             c2r,
         }
@@ -102,13 +206,15 @@ impl Nsdf {
     /// Computes the curve of `window` (exactly `window_len` samples, mean removed here); returns
     /// false (curve all zero) for a silent window.
     fn compute(&mut self, window: &[f32]) -> bool {
+        self.compute_with(window, WindowStats::of(window))
+    }
+
+    /// [`Nsdf::compute`] with the window's statistics already known.
+    fn compute_with(&mut self, window: &[f32], stats: WindowStats) -> bool {
         let w = self.window_len;
-        let mean = window.iter().map(|&x| x as f64).sum::<f64>() / w.max(1) as f64;
-        let mean = mean as f32;
-        let mut energy = 0.0f64;
+        let WindowStats { mean, energy } = stats;
         for (t, &x) in self.time.iter_mut().zip(window) {
             *t = x - mean;
-            energy += (*t as f64) * (*t as f64);
         }
         self.time[w..].fill(0.0);
         self.low_band = 0.0;
@@ -126,15 +232,27 @@ impl Nsdf {
             self.curve.fill(0.0);
             return false;
         }
-        for c in self.spectrum.iter_mut() {
-            *c = Complex::new(c.norm_sqr(), 0.0);
-        }
-        let band_energy = |(a, b): (usize, usize)| -> f64 {
-            self.spectrum[a..b].iter().map(|c| c.re as f64).sum()
-        };
-        let band = band_energy(self.band_bins);
-        if band > 0.0 {
-            self.low_band = (band_energy(self.low_bins) / band) as f32;
+        if self.measure_low_band {
+            // The band sums ride along the |X|² pass (bins in ascending order, as before).
+            let ((la, lb), (ba, bb)) = (self.low_bins, self.band_bins);
+            let (mut low, mut band) = (-0.0f64, -0.0f64);
+            for (i, c) in self.spectrum.iter_mut().enumerate() {
+                let p = c.norm_sqr();
+                *c = Complex::new(p, 0.0);
+                if (ba..bb).contains(&i) {
+                    band += p as f64;
+                }
+                if (la..lb).contains(&i) {
+                    low += p as f64;
+                }
+            }
+            if band > 0.0 {
+                self.low_band = (low / band) as f32;
+            }
+        } else {
+            for c in self.spectrum.iter_mut() {
+                *c = Complex::new(c.norm_sqr(), 0.0);
+            }
         }
         if self
             .c2r
@@ -249,11 +367,11 @@ impl NsdfPitch {
             .min(window_len.saturating_sub(2))
             .max(lag_min + 2);
         let mut planner = RealFftPlanner::<f32>::new();
-        let long = Nsdf::new(&mut planner, rate_hz, window_len, lag_max);
+        let long = Nsdf::new(&mut planner, rate_hz, window_len, lag_max, true);
         let short_lag_max = (short_len / 2).min(lag_max);
         let short = (short_len < window_len && short_lag_max >= lag_min + 2).then(|| {
             (
-                Nsdf::new(&mut planner, rate_hz, short_len, short_lag_max),
+                Nsdf::new(&mut planner, rate_hz, short_len, short_lag_max, false),
                 short_lag_max,
             )
         });
@@ -338,6 +456,37 @@ impl NsdfPitch {
     /// matter. Returns the period chosen by the key-maximum rule, or a zero estimate when the
     /// window has no periodic structure in range.
     pub fn analyse(&mut self, window: &[f32]) -> PitchEstimate {
+        self.analyse_with(window, None)
+    }
+
+    /// [`NsdfPitch::analyse`] and both [`NsdfPitch::edge_clarity`] calls on one window at once,
+    /// bit-identical to making those calls one after the other, but faster: the statistics of
+    /// all four windows come from two fused passes ([`FrameStats`]). Also gives the window's
+    /// plain sum of squares.
+    pub(crate) fn analyse_frame(&mut self, window: &[f32]) -> FrameAnalysis {
+        let short_len = self.short.as_ref().map(|(s, _)| s.window_len);
+        let stats = match short_len {
+            Some(len) if window.len() == self.long.window_len => FrameStats::of(window, len),
+            _ => {
+                let chosen = self.analyse(window);
+                return FrameAnalysis {
+                    chosen,
+                    edge_newest: self.edge_clarity(window, chosen, true),
+                    edge_oldest: self.edge_clarity(window, chosen, false),
+                    square_sum: window.iter().map(|&x| (x as f64) * (x as f64)).sum(),
+                };
+            }
+        };
+        let chosen = self.analyse_with(window, Some(&stats));
+        FrameAnalysis {
+            chosen,
+            edge_newest: self.edge_clarity_with(window, chosen, true, Some(&stats)),
+            edge_oldest: self.edge_clarity_with(window, chosen, false, Some(&stats)),
+            square_sum: stats.square_sum,
+        }
+    }
+
+    fn analyse_with(&mut self, window: &[f32], stats: Option<&FrameStats>) -> PitchEstimate {
         self.n_candidates = 0;
         self.periodicity = 0.0;
         self.long_periodicity = 0.0;
@@ -346,7 +495,11 @@ impl NsdfPitch {
         if window.len() != self.long.window_len {
             return PitchEstimate::default();
         }
-        if !self.long.compute(window) {
+        let computed = match stats {
+            Some(st) => self.long.compute_with(window, st.long),
+            None => self.long.compute(window),
+        };
+        if !computed {
             if let Some((short, _)) = &mut self.short {
                 short.curve.fill(0.0);
             }
@@ -386,7 +539,7 @@ impl NsdfPitch {
                 && self.rate_hz / (chosen.f0_hz as f64) <= *last as f64 * SAME_LOBE_RATIO
         });
         if in_reach {
-            if let Some(short_pick) = self.short_pick(window) {
+            if let Some(short_pick) = self.short_pick(window, stats) {
                 let ratio = SAME_LOBE_RATIO as f32;
                 let same = |a: f32, b: f32| a < b * ratio && a * ratio > b;
                 if !same(short_pick.f0_hz, chosen.f0_hz) && short_pick.f0_hz < chosen.f0_hz {
@@ -423,6 +576,16 @@ impl NsdfPitch {
         chosen: PitchEstimate,
         newest: bool,
     ) -> Option<f32> {
+        self.edge_clarity_with(window, chosen, newest, None)
+    }
+
+    fn edge_clarity_with(
+        &mut self,
+        window: &[f32],
+        chosen: PitchEstimate,
+        newest: bool,
+        stats: Option<&FrameStats>,
+    ) -> Option<f32> {
         let (short, last) = self.short.as_ref()?;
         let (len, reach) = (short.window_len, *last as f64 * SAME_LOBE_RATIO);
         if window.len() != self.long.window_len || chosen.f0_hz <= 0.0 {
@@ -436,20 +599,35 @@ impl NsdfPitch {
             return Some(two_period_clarity(window, period, newest) * (1.0 - octave_down));
         }
         let start = if newest { window.len() - len } else { 0 };
-        let p = self.short_pick_at(window, start)?;
+        let p = self.short_pick_at(window, start, stats.map(|st| st.short[2 * newest as usize]))?;
         let ratio = SAME_LOBE_RATIO as f32;
         (p.f0_hz < chosen.f0_hz * ratio && p.f0_hz * ratio > chosen.f0_hz).then_some(p.clarity)
     }
 
     /// The key-maximum choice on the short window (periods it holds twice), if there is one.
-    fn short_pick(&mut self, window: &[f32]) -> Option<PitchEstimate> {
+    fn short_pick(&mut self, window: &[f32], stats: Option<&FrameStats>) -> Option<PitchEstimate> {
         let len = self.short.as_ref()?.0.window_len;
-        self.short_pick_at(window, (window.len() - len) / 2)
+        self.short_pick_at(
+            window,
+            (window.len() - len) / 2,
+            stats.map(|st| st.short[1]),
+        )
     }
 
-    fn short_pick_at(&mut self, window: &[f32], start: usize) -> Option<PitchEstimate> {
+    /// The short window's pick at `start`; `stats` are that window's, when known.
+    fn short_pick_at(
+        &mut self,
+        window: &[f32],
+        start: usize,
+        stats: Option<WindowStats>,
+    ) -> Option<PitchEstimate> {
         let (short, short_last) = self.short.as_mut()?;
-        if !short.compute(&window[start..start + short.window_len]) {
+        let part = &window[start..start + short.window_len];
+        let computed = match stats {
+            Some(st) => short.compute_with(part, st),
+            None => short.compute(part),
+        };
+        if !computed {
             return None;
         }
         let mut k = 0;
@@ -599,6 +777,12 @@ mod tests {
                     * 0.3
             })
             .collect()
+    }
+
+    /// Seeded uniform noise in −0.5..0.5 (a linear congruential generator).
+    fn uniform(state: &mut u32) -> f32 {
+        *state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (*state >> 8) as f32 / (1u32 << 24) as f32 - 0.5
     }
 
     #[test]
@@ -775,8 +959,7 @@ mod tests {
             .iter()
             .enumerate()
             .map(|(i, &v)| {
-                s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-                let noise = ((s >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 0.01;
+                let noise = uniform(&mut s) * 0.01;
                 if i >= 88 {
                     v + noise
                 } else {
@@ -797,16 +980,70 @@ mod tests {
     }
 
     #[test]
+    fn the_fused_frame_analysis_is_bit_identical_to_the_calls_one_by_one() {
+        // Voices from 60 to 400 Hz (beyond and within the short window's reach), with onsets,
+        // offsets, noise, a DC offset and silence, at the internal rates of 8, 44.1 and 48 kHz.
+        for (rate, n, short) in [
+            (8_000.0, 320, 160),
+            (8_820.0, 353, 176),
+            (12_000.0, 480, 240),
+        ] {
+            let mut fused = NsdfPitch::with_short_window(rate, n, short, 50.0, 600.0, 0.88);
+            let mut plain = NsdfPitch::with_short_window(rate, n, short, 50.0, 600.0, 0.88);
+            let mut s = 5u32;
+            for (k, f0) in [60.0f64, 70.0, 95.0, 130.0, 210.0, 400.0, 0.0]
+                .into_iter()
+                .enumerate()
+            {
+                let voice = tone(f0.max(1.0), rate, n, &[1.0, 0.6, 0.4, 0.3]);
+                let window: Vec<f32> = voice
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &v)| {
+                        let noise = uniform(&mut s) * 0.02;
+                        let on = match k % 3 {
+                            0 => i >= n / 3,
+                            1 => i < 2 * n / 3,
+                            _ => true,
+                        };
+                        let v = if on && f0 > 0.0 { v } else { 0.0 };
+                        v + noise + 0.01 * k as f32
+                    })
+                    .collect();
+                for w in [&window[..], &vec![0.0; n][..]] {
+                    let got = fused.analyse_frame(w);
+                    let chosen = plain.analyse(w);
+                    let want = FrameAnalysis {
+                        chosen,
+                        edge_newest: plain.edge_clarity(w, chosen, true),
+                        edge_oldest: plain.edge_clarity(w, chosen, false),
+                        square_sum: w.iter().map(|&x| (x as f64) * (x as f64)).sum(),
+                    };
+                    let bits = |a: &FrameAnalysis| {
+                        (
+                            a.chosen.f0_hz.to_bits(),
+                            a.chosen.clarity.to_bits(),
+                            a.edge_newest.map(f32::to_bits),
+                            a.edge_oldest.map(f32::to_bits),
+                            a.square_sum.to_bits(),
+                        )
+                    };
+                    assert_eq!(bits(&got), bits(&want), "{rate} Hz, f0 {f0}");
+                    assert_eq!(fused.candidates(), plain.candidates());
+                    assert_eq!(fused.short_window_pick(), plain.short_window_pick());
+                    assert_eq!(fused.low_band().to_bits(), plain.low_band().to_bits());
+                    assert_eq!(fused.periodicity().to_bits(), plain.periodicity().to_bits());
+                }
+            }
+        }
+    }
+
+    #[test]
     fn noise_and_silence_have_low_clarity() {
         let mut p = NsdfPitch::new(8_000.0, 320, 50.0, 600.0, 0.88);
         assert_eq!(p.analyse(&[0.0; 320]), PitchEstimate::default());
         let mut s = 12345u32;
-        let noise: Vec<f32> = (0..320)
-            .map(|_| {
-                s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-                (s >> 8) as f32 / (1u32 << 24) as f32 - 0.5
-            })
-            .collect();
+        let noise: Vec<f32> = (0..320).map(|_| uniform(&mut s)).collect();
         assert!(p.analyse(&noise).clarity < 0.5);
     }
 }

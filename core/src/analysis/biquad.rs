@@ -1,0 +1,109 @@
+//! Second-order Butterworth sections (RBJ biquads, f64 state, direct form I): [`Biquad`], the
+//! building block of the breath-band filters and of the test-noise shaping, and [`HighPass`],
+//! the bypassable high-pass in front of the pitch analysis (a corner of 0 Hz makes it a
+//! pass-through).
+
+/// One RBJ biquad section with f64 state.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Biquad {
+    b: [f64; 3],
+    a: [f64; 2],
+    x: [f64; 2],
+    y: [f64; 2],
+}
+
+impl Biquad {
+    /// A second-order Butterworth high-pass (`high = true`) or low-pass at `corner_hz`.
+    pub(crate) fn butterworth(corner_hz: f64, rate_hz: f64, high: bool) -> Self {
+        let w0 = 2.0 * std::f64::consts::PI * corner_hz / rate_hz;
+        let alpha = w0.sin() / (2.0 * std::f64::consts::FRAC_1_SQRT_2);
+        let cos = w0.cos();
+        let a0 = 1.0 + alpha;
+        let b = if high {
+            [(1.0 + cos) / 2.0, -(1.0 + cos), (1.0 + cos) / 2.0]
+        } else {
+            [(1.0 - cos) / 2.0, 1.0 - cos, (1.0 - cos) / 2.0]
+        };
+        Self {
+            b: b.map(|v| v / a0),
+            a: [-2.0 * cos / a0, (1.0 - alpha) / a0],
+            x: [0.0; 2],
+            y: [0.0; 2],
+        }
+    }
+
+    /// The coefficients `[b0, b1, b2]` and `[a1, a2]` (normalised, `a0 = 1`).
+    pub(crate) fn coefficients(&self) -> ([f64; 3], [f64; 2]) {
+        (self.b, self.a)
+    }
+
+    /// Clears the state.
+    pub(crate) fn reset(&mut self) {
+        self.x = [0.0; 2];
+        self.y = [0.0; 2];
+    }
+
+    /// Filters one sample.
+    #[inline]
+    pub(crate) fn process(&mut self, x: f64) -> f64 {
+        let y = self.b[0] * x + self.b[1] * self.x[0] + self.b[2] * self.x[1]
+            - self.a[0] * self.y[0]
+            - self.a[1] * self.y[1];
+        self.x = [x, self.x[0]];
+        self.y = [y, self.y[0]];
+        y
+    }
+}
+
+/// A Butterworth high-pass on f32 samples, or a pass-through (`None`).
+#[derive(Debug, Clone)]
+pub(crate) struct HighPass(Option<Biquad>);
+
+impl HighPass {
+    /// A high-pass at `corner_hz` for a stream at `rate_hz` (0 Hz = pass-through).
+    pub(crate) fn new(corner_hz: f64, rate_hz: f64) -> Self {
+        Self((corner_hz > 0.0).then(|| Biquad::butterworth(corner_hz, rate_hz, true)))
+    }
+
+    /// Clears the state.
+    pub(crate) fn reset(&mut self) {
+        self.0.iter_mut().for_each(Biquad::reset);
+    }
+
+    /// Filters one sample.
+    #[inline]
+    pub(crate) fn process(&mut self, x: f32) -> f32 {
+        match &mut self.0 {
+            Some(section) => section.process(x as f64) as f32,
+            None => x,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn gain(hp: &mut HighPass, f: f64, rate: f64) -> f64 {
+        hp.reset();
+        let n = rate as usize;
+        let mut acc = 0.0;
+        for i in 0..n {
+            let y = hp.process((2.0 * std::f64::consts::PI * f * i as f64 / rate).sin() as f32);
+            if i > n / 2 {
+                acc += (y as f64).powi(2);
+            }
+        }
+        (acc / (n / 2) as f64 * 2.0).sqrt()
+    }
+
+    #[test]
+    fn butterworth_corner_and_bands() {
+        let mut hp = HighPass::new(80.0, 8000.0);
+        assert!((gain(&mut hp, 80.0, 8000.0) - std::f64::consts::FRAC_1_SQRT_2).abs() < 0.01);
+        assert!(gain(&mut hp, 20.0, 8000.0) < 0.07);
+        assert!((gain(&mut hp, 500.0, 8000.0) - 1.0).abs() < 0.02);
+        let mut off = HighPass::new(0.0, 8000.0);
+        assert_eq!(off.process(0.25), 0.25);
+    }
+}
