@@ -236,19 +236,24 @@ impl Default for VoicingModel {
     }
 }
 
-fn check_thresholds(threshold_on: f32, threshold_off: f32) -> Result<(), String> {
-    if !(threshold_on.is_finite() && threshold_off.is_finite()) {
-        return Err("thresholds must be finite".into());
-    }
-    if threshold_off > threshold_on {
-        return Err(format!(
-            "threshold_off {threshold_off} lies above threshold_on {threshold_on}"
-        ));
-    }
-    Ok(())
-}
-
 impl VoicingModel {
+    /// A model from a checked scorer; fails on non-finite thresholds or `off > on`.
+    fn from_scorer(scorer: Scorer, threshold_on: f32, threshold_off: f32) -> Result<Self, String> {
+        if !(threshold_on.is_finite() && threshold_off.is_finite()) {
+            return Err("thresholds must be finite".into());
+        }
+        if threshold_off > threshold_on {
+            return Err(format!(
+                "threshold_off {threshold_off} lies above threshold_on {threshold_on}"
+            ));
+        }
+        Ok(Self {
+            scorer,
+            threshold_on,
+            threshold_off,
+        })
+    }
+
     /// The model shipped in `assets/models/voicing.txt` (embedded; a unit test checks that it
     /// parses).
     pub fn shipped() -> &'static VoicingModel {
@@ -279,17 +284,13 @@ impl VoicingModel {
         if !bias.is_finite() {
             return Err("bias must be finite".into());
         }
-        check_thresholds(threshold_on, threshold_off)?;
-        Ok(Self {
-            scorer: Scorer::Logistic {
-                mean,
-                scale,
-                weight,
-                bias,
-            },
-            threshold_on,
-            threshold_off,
-        })
+        let scorer = Scorer::Logistic {
+            mean,
+            scale,
+            weight,
+            bias,
+        };
+        Self::from_scorer(scorer, threshold_on, threshold_off)
     }
 
     /// A tree-ensemble model: `splits` holds `2^depth − 1` splits per tree (breadth first),
@@ -333,27 +334,18 @@ impl VoicingModel {
         if !(base.is_finite() && leaves.iter().all(|v| v.is_finite())) {
             return Err("base and leaf values must be finite".into());
         }
-        check_thresholds(threshold_on, threshold_off)?;
-        Ok(Self {
-            scorer: Scorer::Trees {
-                depth,
-                base,
-                splits,
-                leaves,
-            },
-            threshold_on,
-            threshold_off,
-        })
+        let scorer = Scorer::Trees {
+            depth,
+            base,
+            splits,
+            leaves,
+        };
+        Self::from_scorer(scorer, threshold_on, threshold_off)
     }
 
     /// The same scorer with other thresholds (`off ≤ on`).
     pub fn with_thresholds(&self, threshold_on: f32, threshold_off: f32) -> Result<Self, String> {
-        check_thresholds(threshold_on, threshold_off)?;
-        Ok(Self {
-            scorer: self.scorer.clone(),
-            threshold_on,
-            threshold_off,
-        })
+        Self::from_scorer(self.scorer.clone(), threshold_on, threshold_off)
     }
 
     /// The same trees, only the first `count` of them (a tree model's earlier stage of
