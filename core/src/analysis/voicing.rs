@@ -16,8 +16,10 @@ use thiserror::Error;
 
 /// The shipped model, embedded.
 const SHIPPED_MODEL: &str = include_str!("../../../assets/models/voicing.txt");
-/// First line of a model file (after comments): format name and version.
-const FORMAT_LINE: &str = "pneuma-voicing-model 1";
+/// First line of a model file (after comments): format name and version (2: trees).
+const FORMAT_LINE: &str = "pneuma-voicing-model 2";
+/// The first line of a version 1 file (logistic regression), still read.
+const FORMAT_LINE_V1: &str = "pneuma-voicing-model 1";
 /// Width of the fade of the voicing confidence below the silence gate, dB.
 const SILENCE_FADE_DB: f32 = 10.0;
 
@@ -159,10 +161,45 @@ pub enum VoicingModelError {
     },
 }
 
-/// A logistic-regression voicing model: score = bias + Σ weight·(feature − mean)/scale; a
-/// frame starts voicing at `threshold_on` and keeps voicing down to `threshold_off`.
+/// The most splits on a tree's path from its root to a leaf (a tree has `2^depth` leaves).
+const MAX_TREE_DEPTH: usize = 4;
+
+/// One split of a tree: frames whose cue `feature` is at most `threshold` go to the lower child.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct TreeSplit {
+    /// Index of the cue in [`VOICING_FEATURES`].
+    feature: usize,
+    /// The split value (finite).
+    threshold: f32,
+}
+
+/// How a model turns the cues into a score (log-odds of voiced).
+#[derive(Debug, Clone, PartialEq)]
+enum Scorer {
+    /// bias + Σ weight·(feature − mean)/scale.
+    Logistic {
+        mean: VoicingFeatures,
+        scale: VoicingFeatures,
+        weight: VoicingFeatures,
+        bias: f32,
+    },
+    /// base + the sum of one leaf of each tree. Every tree has the same `depth`; its splits
+    /// are stored breadth first (`2^depth − 1` per tree) and its leaves left to right
+    /// (`2^depth` per tree), all trees in one flat array each (allocated once, at load).
+    Trees {
+        depth: usize,
+        base: f32,
+        splits: Vec<TreeSplit>,
+        leaves: Vec<f32>,
+    },
+}
+
+/// A voicing model: a score (log-odds of voiced) from the cues, and two thresholds on it; a
+/// frame starts voicing at `threshold_on` and keeps voicing down to `threshold_off`. The score
+/// is a logistic regression (format version 1) or a sum of small regression trees (gradient
+/// boosting, version 2).
 ///
-/// File format (text, UTF-8; `#` lines and blank lines are comments):
+/// File format (text, UTF-8; `#` lines and blank lines are comments). Version 1:
 ///
 /// ```text
 /// pneuma-voicing-model 1
@@ -172,14 +209,23 @@ pub enum VoicingModelError {
 /// threshold_off <off>                               (off ≤ on)
 /// ```
 ///
-/// Every number is a finite decimal (written as the shortest text that reads back as the same
-/// `f32`), every scale positive.
+/// Version 2 (trees):
+///
+/// ```text
+/// pneuma-voicing-model 2
+/// trees <count> depth <d> base <b>                  (1 ≤ d ≤ 4)
+/// tree <name> <t> ... <name> <t> leaves <v> ...     (count lines: 2^d − 1 splits breadth
+///                                                    first, then 2^d leaf values)
+/// threshold_on <on>
+/// threshold_off <off>
+/// ```
+///
+/// A split sends a frame whose cue `<name>` is at most `<t>` to its first child. The score is
+/// `base` plus the leaf each tree reaches. Every number is a finite decimal (written as the
+/// shortest text that reads back as the same `f32`), every scale positive.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VoicingModel {
-    mean: VoicingFeatures,
-    scale: VoicingFeatures,
-    weight: VoicingFeatures,
-    bias: f32,
+    scorer: Scorer,
     threshold_on: f32,
     threshold_off: f32,
 }
@@ -191,6 +237,23 @@ impl Default for VoicingModel {
 }
 
 impl VoicingModel {
+    /// A model from a checked scorer; fails on non-finite thresholds or `off > on`.
+    fn from_scorer(scorer: Scorer, threshold_on: f32, threshold_off: f32) -> Result<Self, String> {
+        if !(threshold_on.is_finite() && threshold_off.is_finite()) {
+            return Err("thresholds must be finite".into());
+        }
+        if threshold_off > threshold_on {
+            return Err(format!(
+                "threshold_off {threshold_off} lies above threshold_on {threshold_on}"
+            ));
+        }
+        Ok(Self {
+            scorer,
+            threshold_on,
+            threshold_off,
+        })
+    }
+
     /// The model shipped in `assets/models/voicing.txt` (embedded; a unit test checks that it
     /// parses).
     pub fn shipped() -> &'static VoicingModel {
@@ -200,8 +263,8 @@ impl VoicingModel {
         })
     }
 
-    /// A model from its parts; fails (naming the part) on a non-finite number, a scale that is
-    /// not positive or `threshold_off > threshold_on`.
+    /// A logistic-regression model from its parts; fails (naming the part) on a non-finite
+    /// number, a scale that is not positive or `threshold_off > threshold_on`.
     pub fn new(
         mean: VoicingFeatures,
         scale: VoicingFeatures,
@@ -218,44 +281,130 @@ impl VoicingModel {
                 return Err(format!("feature {name}: scale must be positive and finite"));
             }
         }
-        if !(bias.is_finite() && threshold_on.is_finite() && threshold_off.is_finite()) {
-            return Err("bias and thresholds must be finite".into());
+        if !bias.is_finite() {
+            return Err("bias must be finite".into());
         }
-        if threshold_off > threshold_on {
-            return Err(format!(
-                "threshold_off {threshold_off} lies above threshold_on {threshold_on}"
-            ));
-        }
-        Ok(Self {
+        let scorer = Scorer::Logistic {
             mean,
             scale,
             weight,
             bias,
-            threshold_on,
-            threshold_off,
-        })
+        };
+        Self::from_scorer(scorer, threshold_on, threshold_off)
     }
 
-    /// The same weights with other thresholds (`off ≤ on`).
-    pub fn with_thresholds(&self, threshold_on: f32, threshold_off: f32) -> Result<Self, String> {
-        Self::new(
-            self.mean,
-            self.scale,
-            self.weight,
-            self.bias,
-            threshold_on,
-            threshold_off,
-        )
-    }
-
-    /// The score of one frame's features (log-odds of voiced).
-    pub fn score(&self, features: &VoicingFeatures) -> f32 {
-        let mut z = self.bias;
-        let terms = features.iter().zip(&self.mean).zip(&self.scale);
-        for (((x, m), s), w) in terms.zip(&self.weight) {
-            z += w * ((x - m) / s);
+    /// A tree-ensemble model: `splits` holds `2^depth − 1` splits per tree (breadth first),
+    /// each (cue index in [`VOICING_FEATURES`], threshold: a frame whose cue is at most the
+    /// threshold goes to the first child), `leaves` `2^depth` values per tree; fails (naming the part) on a depth outside
+    /// 1..=4, arrays of the wrong length, an unknown cue, a non-finite
+    /// number or `threshold_off > threshold_on`.
+    pub fn trees(
+        depth: usize,
+        base: f32,
+        splits: Vec<(usize, f32)>,
+        leaves: Vec<f32>,
+        threshold_on: f32,
+        threshold_off: f32,
+    ) -> Result<Self, String> {
+        let splits: Vec<TreeSplit> = splits
+            .into_iter()
+            .map(|(feature, threshold)| TreeSplit { feature, threshold })
+            .collect();
+        if !(1..=MAX_TREE_DEPTH).contains(&depth) {
+            return Err(format!("depth {depth} is outside 1..={MAX_TREE_DEPTH}"));
         }
-        z
+        let n_leaves = 1 << depth;
+        let n_trees = leaves.len() / n_leaves;
+        if leaves.len() != n_trees * n_leaves || splits.len() != n_trees * (n_leaves - 1) {
+            return Err(format!(
+                "{} splits and {} leaves do not make whole trees of depth {depth}",
+                splits.len(),
+                leaves.len()
+            ));
+        }
+        if let Some(s) = splits
+            .iter()
+            .find(|s| s.feature >= N_VOICING_FEATURES || !s.threshold.is_finite())
+        {
+            return Err(format!(
+                "split on cue {} at {}: the cue must be one of the {N_VOICING_FEATURES} and the threshold finite",
+                s.feature, s.threshold
+            ));
+        }
+        if !(base.is_finite() && leaves.iter().all(|v| v.is_finite())) {
+            return Err("base and leaf values must be finite".into());
+        }
+        let scorer = Scorer::Trees {
+            depth,
+            base,
+            splits,
+            leaves,
+        };
+        Self::from_scorer(scorer, threshold_on, threshold_off)
+    }
+
+    /// The same scorer with other thresholds (`off ≤ on`).
+    pub fn with_thresholds(&self, threshold_on: f32, threshold_off: f32) -> Result<Self, String> {
+        Self::from_scorer(self.scorer.clone(), threshold_on, threshold_off)
+    }
+
+    /// The same trees, only the first `count` of them (a tree model's earlier stage of
+    /// boosting); a logistic model is returned as it is.
+    pub fn first_trees(&self, count: usize) -> Self {
+        let mut m = self.clone();
+        if let Scorer::Trees {
+            depth,
+            splits,
+            leaves,
+            ..
+        } = &mut m.scorer
+        {
+            let n_leaves = 1usize << *depth;
+            let count = count.min(leaves.len() / n_leaves);
+            leaves.truncate(count * n_leaves);
+            splits.truncate(count * (n_leaves - 1));
+        }
+        m
+    }
+
+    /// The score of one frame's features (log-odds of voiced). Never allocates.
+    pub fn score(&self, features: &VoicingFeatures) -> f32 {
+        match &self.scorer {
+            Scorer::Logistic {
+                mean,
+                scale,
+                weight,
+                bias,
+            } => {
+                let mut z = *bias;
+                let terms = features.iter().zip(mean).zip(scale);
+                for (((x, m), s), w) in terms.zip(weight) {
+                    z += w * ((x - m) / s);
+                }
+                z
+            }
+            Scorer::Trees {
+                depth,
+                base,
+                splits,
+                leaves,
+            } => {
+                let n_leaves = 1usize << *depth;
+                let mut z = *base;
+                for (tree_splits, tree_leaves) in splits
+                    .chunks_exact(n_leaves - 1)
+                    .zip(leaves.chunks_exact(n_leaves))
+                {
+                    let mut node = 0;
+                    for _ in 0..*depth {
+                        let s = tree_splits[node];
+                        node = 2 * node + 1 + usize::from(features[s.feature] > s.threshold);
+                    }
+                    z += tree_leaves[node - (n_leaves - 1)];
+                }
+                z
+            }
+        }
     }
 
     /// The score a frame needs: `threshold_on` after an unvoiced frame, `threshold_off` after
@@ -268,84 +417,150 @@ impl VoicingModel {
         }
     }
 
-    /// Reads a model file (see the type's docs); errors name the line.
+    /// Reads a model file of either version (see the type's docs); errors name the line.
     pub fn parse(text: &str) -> Result<Self, VoicingModelError> {
         let mut lines = text
             .lines()
             .enumerate()
             .map(|(i, l)| (i + 1, l.trim()))
             .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-        let mut next = |what: &str| {
-            lines.next().ok_or_else(|| VoicingModelError::Truncated {
-                missing: what.to_string(),
-            })
-        };
         let bad = |line: usize, message: String| VoicingModelError::Line { line, message };
-        let (line, first) = next(&format!("the format line `{FORMAT_LINE}`"))?;
-        if first != FORMAT_LINE {
-            return Err(bad(
-                line,
-                format!("expected `{FORMAT_LINE}`, found `{first}` (not a voicing model, or another version)"),
-            ));
-        }
+        let (line, first) = keyed_line(&mut lines, &format!("the format line `{FORMAT_LINE}`"))?;
+        let version = match first {
+            FORMAT_LINE_V1 => 1,
+            FORMAT_LINE => 2,
+            _ => {
+                return Err(bad(
+                    line,
+                    format!("expected `{FORMAT_LINE}` (or version 1), found `{first}` (not a voicing model, or another version)"),
+                ))
+            }
+        };
         let number = |line: usize, key: &str, text: &str| -> Result<f32, VoicingModelError> {
             text.parse::<f32>()
                 .ok()
                 .filter(|v| v.is_finite())
                 .ok_or_else(|| bad(line, format!("{key} {text:?} is not a finite number")))
         };
-        let (mut mean, mut scale, mut weight) = (
-            [0.0; N_VOICING_FEATURES],
-            [0.0; N_VOICING_FEATURES],
-            [0.0; N_VOICING_FEATURES],
-        );
-        for (i, name) in VOICING_FEATURES.iter().enumerate() {
-            let (line, l) = next(&format!("the line of feature {name}"))?;
+        let model = if version == 1 {
+            let (mut mean, mut scale, mut weight) = (
+                [0.0; N_VOICING_FEATURES],
+                [0.0; N_VOICING_FEATURES],
+                [0.0; N_VOICING_FEATURES],
+            );
+            for (i, name) in VOICING_FEATURES.iter().enumerate() {
+                let (line, l) = keyed_line(&mut lines, &format!("the line of feature {name}"))?;
+                let t: Vec<&str> = l.split_whitespace().collect();
+                let shape = t.len() == 8
+                    && t[0] == "feature"
+                    && t[2] == "mean"
+                    && t[4] == "scale"
+                    && t[6] == "weight";
+                if !shape {
+                    return Err(bad(
+                        line,
+                        format!(
+                            "expected `feature {name} mean <m> scale <s> weight <w>`, found `{l}`"
+                        ),
+                    ));
+                }
+                if t[1] != *name {
+                    return Err(bad(
+                        line,
+                        format!(
+                            "expected feature {name} here (features come in a fixed order), found {}",
+                            t[1]
+                        ),
+                    ));
+                }
+                mean[i] = number(line, "mean", t[3])?;
+                scale[i] = number(line, "scale", t[5])?;
+                weight[i] = number(line, "weight", t[7])?;
+                if scale[i] <= 0.0 {
+                    return Err(bad(line, format!("scale {} must be positive", t[5])));
+                }
+            }
+            let (_, bias) = keyed_number(&mut lines, "bias")?;
+            let (_, on) = keyed_number(&mut lines, "threshold_on")?;
+            let (line_off, off) = keyed_number(&mut lines, "threshold_off")?;
+            Self::new(mean, scale, weight, bias, on, off).map_err(|m| bad(line_off, m))
+        } else {
+            let (line, l) = keyed_line(&mut lines, "the `trees` line")?;
             let t: Vec<&str> = l.split_whitespace().collect();
-            let shape = t.len() == 8
-                && t[0] == "feature"
-                && t[2] == "mean"
-                && t[4] == "scale"
-                && t[6] == "weight";
-            if !shape {
-                return Err(bad(
-                    line,
-                    format!("expected `feature {name} mean <m> scale <s> weight <w>`, found `{l}`"),
-                ));
+            let (count, depth, base) = match t[..] {
+                ["trees", n, "depth", d, "base", b] => {
+                    let count = n.parse::<usize>().map_err(|_| {
+                        bad(line, format!("tree count {n:?} is not a whole number"))
+                    })?;
+                    let depth = d
+                        .parse::<usize>()
+                        .ok()
+                        .filter(|d| (1..=MAX_TREE_DEPTH).contains(d))
+                        .ok_or_else(|| {
+                            bad(
+                                line,
+                                format!(
+                                    "depth {d:?} is not a whole number in 1..={MAX_TREE_DEPTH}"
+                                ),
+                            )
+                        })?;
+                    (count, depth, number(line, "base", b)?)
+                }
+                _ => {
+                    return Err(bad(
+                        line,
+                        format!("expected `trees <count> depth <d> base <b>`, found `{l}`"),
+                    ))
+                }
+            };
+            let n_leaves = 1usize << depth;
+            let mut splits = Vec::with_capacity(count * (n_leaves - 1));
+            let mut leaves = Vec::with_capacity(count * n_leaves);
+            for k in 0..count {
+                let (line, l) = keyed_line(&mut lines, &format!("tree {} of {count}", k + 1))?;
+                let t: Vec<&str> = l.split_whitespace().collect();
+                let expected = 1 + 2 * (n_leaves - 1) + 1 + n_leaves;
+                if t.len() != expected || t[0] != "tree" || t[2 * n_leaves - 1] != "leaves" {
+                    return Err(bad(
+                        line,
+                        format!(
+                            "tree {} of {count}: expected `tree` then {} pairs `<cue> <threshold>`, `leaves` and {n_leaves} numbers (depth {depth}), found `{l}`",
+                            k + 1,
+                            n_leaves - 1
+                        ),
+                    ));
+                }
+                for pair in t[1..2 * n_leaves - 1].chunks_exact(2) {
+                    let feature = VOICING_FEATURES
+                        .iter()
+                        .position(|n| *n == pair[0])
+                        .ok_or_else(|| {
+                            bad(
+                                line,
+                                format!(
+                                    "unknown cue {:?} (the cues are {})",
+                                    pair[0],
+                                    VOICING_FEATURES.join(", ")
+                                ),
+                            )
+                        })?;
+                    splits.push((feature, number(line, "threshold", pair[1])?));
+                }
+                for v in &t[2 * n_leaves..] {
+                    leaves.push(number(line, "leaf", v)?);
+                }
             }
-            if t[1] != *name {
-                return Err(bad(
-                    line,
-                    format!(
-                        "expected feature {name} here (features come in a fixed order), found {}",
-                        t[1]
-                    ),
-                ));
-            }
-            mean[i] = number(line, "mean", t[3])?;
-            scale[i] = number(line, "scale", t[5])?;
-            weight[i] = number(line, "weight", t[7])?;
-            if scale[i] <= 0.0 {
-                return Err(bad(line, format!("scale {} must be positive", t[5])));
-            }
-        }
-        let mut keyed = |key: &str| -> Result<(usize, f32), VoicingModelError> {
-            let (line, l) = next(&format!("the `{key}` line"))?;
-            match l.split_whitespace().collect::<Vec<_>>()[..] {
-                [k, v] if k == key => Ok((line, number(line, key, v)?)),
-                _ => Err(bad(line, format!("expected `{key} <number>`, found `{l}`"))),
-            }
-        };
-        let (_, bias) = keyed("bias")?;
-        let (_, on) = keyed("threshold_on")?;
-        let (line, off) = keyed("threshold_off")?;
+            let (_, on) = keyed_number(&mut lines, "threshold_on")?;
+            let (line_off, off) = keyed_number(&mut lines, "threshold_off")?;
+            Self::trees(depth, base, splits, leaves, on, off).map_err(|m| bad(line_off, m))
+        }?;
         if let Some((line, l)) = lines.next() {
             return Err(bad(
                 line,
                 format!("unexpected line after threshold_off: `{l}`"),
             ));
         }
-        Self::new(mean, scale, weight, bias, on, off).map_err(|m| bad(line, m))
+        Ok(model)
     }
 
     /// The model as a file: `notes` (provenance) as leading comment lines, then the format.
@@ -356,18 +571,85 @@ impl VoicingModel {
         for n in notes {
             let _ = writeln!(s, "# {n}");
         }
-        let _ = writeln!(s, "{FORMAT_LINE}");
-        for (i, name) in VOICING_FEATURES.iter().enumerate() {
-            let _ = writeln!(
-                s,
-                "feature {name} mean {} scale {} weight {}",
-                self.mean[i], self.scale[i], self.weight[i]
-            );
+        match &self.scorer {
+            Scorer::Logistic {
+                mean,
+                scale,
+                weight,
+                bias,
+            } => {
+                let _ = writeln!(s, "{FORMAT_LINE_V1}");
+                for (i, name) in VOICING_FEATURES.iter().enumerate() {
+                    let _ = writeln!(
+                        s,
+                        "feature {name} mean {} scale {} weight {}",
+                        mean[i], scale[i], weight[i]
+                    );
+                }
+                let _ = writeln!(s, "bias {bias}");
+            }
+            Scorer::Trees {
+                depth,
+                base,
+                splits,
+                leaves,
+            } => {
+                let n_leaves = 1usize << *depth;
+                let _ = writeln!(s, "{FORMAT_LINE}");
+                let count = leaves.len() / n_leaves;
+                let _ = writeln!(s, "trees {count} depth {depth} base {base}");
+                for (tree_splits, tree_leaves) in splits
+                    .chunks_exact(n_leaves - 1)
+                    .zip(leaves.chunks_exact(n_leaves))
+                {
+                    s.push_str("tree");
+                    for sp in tree_splits {
+                        let _ = write!(s, " {} {}", VOICING_FEATURES[sp.feature], sp.threshold);
+                    }
+                    s.push_str(" leaves");
+                    for v in tree_leaves {
+                        let _ = write!(s, " {v}");
+                    }
+                    s.push('\n');
+                }
+            }
         }
-        let _ = writeln!(s, "bias {}", self.bias);
         let _ = writeln!(s, "threshold_on {}", self.threshold_on);
         let _ = writeln!(s, "threshold_off {}", self.threshold_off);
         s
+    }
+}
+
+/// The next content line of a model file, or the error naming what is missing.
+fn keyed_line<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+    what: &str,
+) -> Result<(usize, &'a str), VoicingModelError> {
+    lines.next().ok_or_else(|| VoicingModelError::Truncated {
+        missing: what.to_string(),
+    })
+}
+
+/// The next content line, which must read `<key> <number>`.
+fn keyed_number<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+    key: &str,
+) -> Result<(usize, f32), VoicingModelError> {
+    let (line, l) = keyed_line(lines, &format!("the `{key}` line"))?;
+    match l.split_whitespace().collect::<Vec<_>>()[..] {
+        [k, v] if k == key => v
+            .parse::<f32>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .map(|v| (line, v))
+            .ok_or_else(|| VoicingModelError::Line {
+                line,
+                message: format!("{key} {v:?} is not a finite number"),
+            }),
+        _ => Err(VoicingModelError::Line {
+            line,
+            message: format!("expected `{key} <number>`, found `{l}`"),
+        }),
     }
 }
 
@@ -416,6 +698,39 @@ impl VoicingRule {
 mod tests {
     use super::*;
 
+    /// A logistic model with distinct numbers (a version 1 file).
+    fn logistic() -> VoicingModel {
+        let mut mean = [0.0; N_VOICING_FEATURES];
+        let mut weight = [0.0; N_VOICING_FEATURES];
+        for i in 0..N_VOICING_FEATURES {
+            mean[i] = 0.1 * i as f32;
+            weight[i] = 1.0 - 0.05 * i as f32;
+        }
+        VoicingModel::new(mean, [0.5; N_VOICING_FEATURES], weight, -0.25, 0.5, -0.5).unwrap()
+    }
+
+    /// Two trees of depth 2: the first splits on long_clarity at 0.5, then on level_vs_gate
+    /// at 0 (lower child) and period_jump at 0.25 (upper child); the second only on
+    /// low_band at 0.8, the second level's splits sending everything to the first child.
+    fn two_trees() -> VoicingModel {
+        VoicingModel::trees(
+            2,
+            0.5,
+            vec![
+                (0, 0.5),
+                (14, 0.0),
+                (11, 0.25),
+                (10, 0.8),
+                (0, f32::MAX),
+                (0, f32::MAX),
+            ],
+            vec![-2.0, -1.0, 3.0, 1.0, 0.25, 0.0, -0.75, 0.0],
+            1.0,
+            0.0,
+        )
+        .unwrap()
+    }
+
     #[test]
     fn the_shipped_model_parses_and_reads_back_bit_for_bit() {
         let m = VoicingModel::parse(SHIPPED_MODEL).unwrap();
@@ -428,51 +743,132 @@ mod tests {
             .map(|l| format!("{l}\n"))
             .collect();
         assert_eq!(body, text);
+        // Both versions read back bit for bit.
+        for m in [logistic(), two_trees()] {
+            assert_eq!(VoicingModel::parse(&m.to_text(&["n".into()])).unwrap(), m);
+        }
+        assert!(logistic().to_text(&[]).starts_with(FORMAT_LINE_V1));
+        assert!(two_trees().to_text(&[]).starts_with(FORMAT_LINE));
     }
 
     #[test]
-    fn malformed_files_are_rejected_naming_the_line() {
-        let good = VoicingModel::shipped().to_text(&["a note".into()]);
-        let lines: Vec<&str> = good.lines().collect();
-        let with = |i: usize, l: &str| {
-            let mut v = lines.clone();
-            v[i] = l;
-            v.join("\n")
+    fn trees_score_the_leaf_each_tree_reaches() {
+        let m = two_trees();
+        let f = |clarity: f32, gate: f32, jump: f32, low: f32| {
+            let mut f = [0.0; N_VOICING_FEATURES];
+            f[0] = clarity;
+            f[14] = gate;
+            f[11] = jump;
+            f[10] = low;
+            f
         };
-        let line_of = |text: &str| match VoicingModel::parse(text) {
+        // base 0.5 + first tree's leaf + second tree's leaf (0.25 at low_band ≤ 0.8, else
+        // -0.75); a value equal to a threshold goes to the first child.
+        assert_eq!(m.score(&f(0.5, 0.0, 0.0, 0.8)), 0.5 - 2.0 + 0.25);
+        assert_eq!(m.score(&f(0.2, 0.1, 0.0, 0.9)), 0.5 - 1.0 - 0.75);
+        assert_eq!(m.score(&f(0.9, -1.0, 0.25, 0.0)), 0.5 + 3.0 + 0.25);
+        assert_eq!(m.score(&f(0.9, -1.0, 0.5, 1.0)), 0.5 + 1.0 - 0.75);
+        assert_eq!(m.first_trees(1).score(&f(0.9, -1.0, 0.5, 1.0)), 0.5 + 1.0);
+        assert_eq!(m.threshold(false), 1.0);
+        assert_eq!(m.threshold(true), 0.0);
+    }
+
+    /// The 1-based line of a parse error (panics on anything else).
+    fn line_of(text: &str) -> usize {
+        match VoicingModel::parse(text) {
             Err(VoicingModelError::Line { line, .. }) => line,
             other => panic!("expected a line error, got {other:?}"),
-        };
+        }
+    }
+
+    /// `text` with its line `i` (from 0) replaced by `l`.
+    fn with(text: &str, i: usize, l: &str) -> String {
+        let mut v: Vec<&str> = text.lines().collect();
+        v[i] = l;
+        v.join("\n")
+    }
+
+    #[test]
+    fn malformed_version_1_files_are_rejected_naming_the_line() {
+        let good = logistic().to_text(&["a note".into()]);
+        let n = good.lines().count();
         // `with` counts from 0, the messages from 1: line 1 is the note, line 2 the format,
         // 3.. the features.
-        assert_eq!(line_of(&with(1, "pneuma-voicing-model 2")), 2);
+        assert_eq!(line_of(&with(&good, 1, "pneuma-voicing-model 3")), 2);
         assert_eq!(
-            line_of(&with(2, "feature long_clarity mean x scale 1 weight 1")),
+            line_of(&with(
+                &good,
+                2,
+                "feature long_clarity mean x scale 1 weight 1"
+            )),
             3
         );
         // The second feature line naming the first feature: out of order.
         assert_eq!(
-            line_of(&with(3, "feature long_clarity mean 0 scale 1 weight 1")),
+            line_of(&with(
+                &good,
+                3,
+                "feature long_clarity mean 0 scale 1 weight 1"
+            )),
             4
         );
         assert_eq!(
-            line_of(&with(4, "feature short_clarity mean 0 scale 0 weight 1")),
+            line_of(&with(
+                &good,
+                4,
+                "feature short_clarity mean 0 scale 0 weight 1"
+            )),
             5
         );
-        let n = lines.len();
-        assert_eq!(line_of(&with(n - 1, "threshold_off 99")), n);
-        let e = VoicingModel::parse(&with(2, "feature long_clarity mean NaN scale 1 weight 1"))
-            .unwrap_err()
-            .to_string();
+        assert_eq!(line_of(&with(&good, n - 1, "threshold_off 99")), n);
+        let e = VoicingModel::parse(&with(
+            &good,
+            2,
+            "feature long_clarity mean NaN scale 1 weight 1",
+        ))
+        .unwrap_err()
+        .to_string();
         assert!(
             e.contains("line 3") && e.contains("cargo xtask train-voicing"),
             "{e}"
         );
-        let cut = lines[..n - 2].join("\n");
+        let cut: Vec<&str> = good.lines().take(n - 2).collect();
         assert!(matches!(
-            VoicingModel::parse(&cut),
+            VoicingModel::parse(&cut.join("\n")),
             Err(VoicingModelError::Truncated { .. })
         ));
+    }
+
+    #[test]
+    fn malformed_version_2_files_are_rejected_naming_the_line() {
+        let good = two_trees().to_text(&["a note".into()]);
+        let n = good.lines().count();
+        // Line 2 the format, 3 the `trees` line, 4 and 5 the trees, then the thresholds.
+        assert_eq!(line_of(&with(&good, 2, "trees 2 depth 9 base 0")), 3);
+        assert_eq!(line_of(&with(&good, 2, "trees 2 base 0 depth 2")), 3);
+        let tree = good.lines().nth(3).unwrap();
+        assert_eq!(
+            line_of(&with(&good, 3, &tree.replace("long_clarity", "loudness"))),
+            4
+        );
+        assert_eq!(line_of(&with(&good, 4, &format!("{tree} 1"))), 5);
+        assert_eq!(
+            line_of(&with(&good, 4, &tree.replace("leaves", "leafs"))),
+            5
+        );
+        assert_eq!(line_of(&with(&good, 3, &tree.replace("-2", "inf"))), 4);
+        assert_eq!(line_of(&with(&good, n - 1, "threshold_off 2")), n);
+        // A third tree announced but missing: the file ends early.
+        let e = VoicingModel::parse(&with(&good, 2, "trees 3 depth 2 base 0.5")).unwrap_err();
+        assert_eq!(line_of(&with(&good, 2, "trees 3 depth 2 base 0.5")), n - 1);
+        assert!(e.to_string().contains("tree 3 of 3"), "{e}");
+        let cut: Vec<&str> = good.lines().take(4).collect();
+        let e = VoicingModel::parse(&cut.join("\n")).unwrap_err();
+        assert!(
+            matches!(e, VoicingModelError::Truncated { .. })
+                && e.to_string().contains("tree 2 of 2"),
+            "{e}"
+        );
     }
 
     #[test]
