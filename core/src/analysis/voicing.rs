@@ -295,9 +295,9 @@ impl VoicingModel {
 
     /// A tree-ensemble model: `splits` holds `2^depth − 1` splits per tree (breadth first),
     /// each (cue index in [`VOICING_FEATURES`], threshold: a frame whose cue is at most the
-    /// threshold goes to the first child), `leaves` `2^depth` values per tree; fails (naming the part) on a depth outside
-    /// 1..=4, arrays of the wrong length, an unknown cue, a non-finite
-    /// number or `threshold_off > threshold_on`.
+    /// threshold goes to the first child), `leaves` `2^depth` values per tree; fails (naming
+    /// the part) on a depth outside 1..=4, arrays of the wrong length, an unknown cue, a
+    /// non-finite number or `threshold_off > threshold_on`.
     pub fn trees(
         depth: usize,
         base: f32,
