@@ -123,6 +123,14 @@ impl BandBank {
     }
 }
 
+/// One band's sections in order: a fourth-order Linkwitz–Riley high-pass at `from_hz` (two
+/// Butterworth sections) and low-pass at `to_hz`, at `rate_hz`.
+fn linkwitz_riley_band(from_hz: f64, to_hz: f64, rate_hz: f64) -> [Biquad; 4] {
+    let hp = Biquad::butterworth(from_hz, rate_hz, true);
+    let lp = Biquad::butterworth(to_hz, rate_hz, false);
+    [hp, hp, lp, lp]
+}
+
 /// Decimator, band filters and a ring of per-slot band energies. See the module docs.
 #[derive(Debug, Clone)]
 pub(crate) struct BandMeter {
@@ -145,18 +153,13 @@ impl BandMeter {
         let factor = ((host_rate_hz / BAND_MIN_RATE_HZ).floor() as usize).max(1);
         let rate_hz = host_rate_hz / factor as f64;
         let high_to = HIGH_TO_HZ.min(0.45 * rate_hz);
-        let band = |from: f64, to: f64| {
-            let hp = Biquad::butterworth(from, rate_hz, true);
-            let lp = Biquad::butterworth(to, rate_hz, false);
-            [hp, hp, lp, lp]
-        };
         Self {
             decimator: Decimator::new(factor),
             factor,
             filters: BandBank::new([
-                band(LOW_FROM_HZ, LOW_TO_HZ),
-                band(MID_FROM_HZ, MID_TO_HZ),
-                band(MID_TO_HZ, high_to),
+                linkwitz_riley_band(LOW_FROM_HZ, LOW_TO_HZ, rate_hz),
+                linkwitz_riley_band(MID_FROM_HZ, MID_TO_HZ, rate_hz),
+                linkwitz_riley_band(MID_TO_HZ, high_to, rate_hz),
             ]),
             acc: [0.0; 3],
             ring: vec![[0.0; 3]; slots.max(1)],
@@ -266,21 +269,15 @@ mod tests {
     #[test]
     fn the_bank_is_bit_identical_to_the_sections_one_by_one() {
         let rate = 22_050.0;
-        let band = |from: f64, to: f64| {
-            let hp = Biquad::butterworth(from, rate, true);
-            let lp = Biquad::butterworth(to, rate, false);
-            [hp, hp, lp, lp]
-        };
         let mut bands = [
-            band(100.0, 400.0),
-            band(500.0, 2500.0),
-            band(2500.0, 6000.0),
+            linkwitz_riley_band(100.0, 400.0, rate),
+            linkwitz_riley_band(500.0, 2500.0, rate),
+            linkwitz_riley_band(2500.0, 6000.0, rate),
         ];
         let mut bank = BandBank::new(bands);
-        let mut s = 7u32;
+        let mut rng = crate::rng::SeededRng::new(7);
         for i in 0..5000 {
-            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-            let x = (s >> 8) as f64 / (1u32 << 24) as f64 - 0.5 + (i as f64 * 0.01).sin();
+            let x = rng.uniform() - 0.5 + (i as f64 * 0.01).sin();
             let y = bank.process(x);
             for (band, y) in bands.iter_mut().zip(y) {
                 let want = band.iter_mut().fold(x, |v, s| s.process(v));

@@ -764,6 +764,7 @@ fn key_maxima(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::rng::SeededRng;
 
     fn tone(f0: f64, rate: f64, n: usize, harmonics: &[f64]) -> Vec<f32> {
         (0..n)
@@ -779,10 +780,9 @@ mod tests {
             .collect()
     }
 
-    /// Seeded uniform noise in −0.5..0.5 (a linear congruential generator).
-    fn uniform(state: &mut u32) -> f32 {
-        *state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-        (*state >> 8) as f32 / (1u32 << 24) as f32 - 0.5
+    /// Seeded uniform noise in −0.5..0.5.
+    fn uniform(rng: &mut SeededRng) -> f32 {
+        (rng.uniform() - 0.5) as f32
     }
 
     #[test]
@@ -954,7 +954,7 @@ mod tests {
         let (rate, n) = (8_000.0, 320);
         let mut p = NsdfPitch::with_short_window(rate, n, 160, 50.0, 600.0, 0.88);
         let voice = tone(70.0, rate, n, &[1.0, 0.6, 0.4, 0.3]);
-        let mut s = 99u32;
+        let mut s = SeededRng::new(99);
         let window: Vec<f32> = voice
             .iter()
             .enumerate()
@@ -990,7 +990,7 @@ mod tests {
         ] {
             let mut fused = NsdfPitch::with_short_window(rate, n, short, 50.0, 600.0, 0.88);
             let mut plain = NsdfPitch::with_short_window(rate, n, short, 50.0, 600.0, 0.88);
-            let mut s = 5u32;
+            let mut s = SeededRng::new(5);
             for (k, f0) in [60.0f64, 70.0, 95.0, 130.0, 210.0, 400.0, 0.0]
                 .into_iter()
                 .enumerate()
@@ -1042,7 +1042,7 @@ mod tests {
     fn noise_and_silence_have_low_clarity() {
         let mut p = NsdfPitch::new(8_000.0, 320, 50.0, 600.0, 0.88);
         assert_eq!(p.analyse(&[0.0; 320]), PitchEstimate::default());
-        let mut s = 12345u32;
+        let mut s = SeededRng::new(12345);
         let noise: Vec<f32> = (0..320).map(|_| uniform(&mut s)).collect();
         assert!(p.analyse(&noise).clarity < 0.5);
     }
