@@ -14,10 +14,11 @@
 //! The cues are the analyzer's own ([`pneuma_core::VOICING_FEATURES`]), computed from the audio
 //! alone, so they are gathered once whatever model runs.
 //!
-//! Model ([`SHIPPED_KIND`]): gradient-boosted regression trees ([`TREES`]) (module `trees`: logistic loss,
-//! fixed depth, histogram splits on quantile-binned cues, shrinkage, a fixed number of rounds)
-//! or (`eval-pitch --loso-model logistic`, `--search`) the earlier logistic regression on
-//! standardised cues (Newton's method with a small ridge, [`RIDGE`], [`NEWTON_STEPS`] steps).
+//! Model ([`SHIPPED_KIND`], the one written to the file): logistic regression on standardised
+//! cues (Newton's method with a small ridge, [`RIDGE`], [`NEWTON_STEPS`] steps), or (tried, not
+//! shipped: `eval-pitch --loso-model trees`, `--search`) gradient-boosted regression trees
+//! ([`TREES`]; module `trees`: logistic loss, fixed depth, histogram splits on quantile-binned
+//! cues, shrinkage, a fixed number of rounds).
 //! Either way the two hysteresis thresholds on the score are then chosen on the same training
 //! frames from a fixed grid by simulating the decision clip by clip and counting the voicing
 //! frame errors as FFE counts them. Everything runs in f64, single-threaded, in a fixed order,
@@ -264,8 +265,7 @@ pub(crate) fn fit(clips: &[&ClipFrames], kind: ModelKind) -> Result<VoicingModel
         ModelKind::Logistic => fit_logistic(clips)?,
         ModelKind::Trees(params) => fit_trees(&rows(clips), &params)?,
     };
-    let (on, off) = choose_thresholds(&model, clips);
-    model.with_thresholds(on, off)
+    with_chosen_thresholds(&model, clips)
 }
 
 /// The labelled frames of `clips` as training rows.
@@ -388,6 +388,16 @@ fn decide(model: &VoicingModel, scores: &[f32], seen: &[bool]) -> Vec<bool> {
         .collect()
 }
 
+/// `model` with the threshold pair of the grid that makes the fewest (weighted) frame errors
+/// on `clips` (ties: the first).
+fn with_chosen_thresholds(
+    model: &VoicingModel,
+    clips: &[&ClipFrames],
+) -> Result<VoicingModel, String> {
+    let (on, off) = choose_thresholds(model, clips);
+    model.with_thresholds(on, off)
+}
+
 /// The threshold pair of the grid with the fewest (weighted) frame errors on `clips` (ties:
 /// the first).
 fn choose_thresholds(model: &VoicingModel, clips: &[&ClipFrames]) -> (f32, f32) {
@@ -456,8 +466,7 @@ fn search(clips: &[ClipFrames]) -> Result<(), String> {
             let others: Vec<&ClipFrames> = clips.iter().filter(|c| &c.speaker != s).collect();
             let own: Vec<&ClipFrames> = clips.iter().filter(|c| &c.speaker == s).collect();
             for (i, m) in models(&others)?.iter().enumerate() {
-                let (on, off) = choose_thresholds(m, &others);
-                let (e, n) = voicing_errors(&m.with_thresholds(on, off)?, &own);
+                let (e, n) = voicing_errors(&with_chosen_thresholds(m, &others)?, &own);
                 if errors.len() <= i {
                     errors.push((0, 0));
                 }
