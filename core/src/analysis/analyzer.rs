@@ -7,7 +7,6 @@
 //! sample of its analysis window has arrived (see [`Analyzer::latency_s`]).
 
 use super::biquad::HighPass;
-use super::breath_band::BandMeter;
 use super::clock::FrameClock;
 use super::config::{check_sample_rate, AnalysisConfig, AnalysisError};
 use super::decimator::{factor_for, Decimator};
@@ -39,7 +38,6 @@ struct State {
     internal_rate_hz: f64,
     decimator: Decimator,
     highpass: HighPass,
-    bands: BandMeter,
     noise_floor: NoiseFloor,
     /// The running level of clearly periodic frames, for the voicing cues (fed from the audio
     /// alone, never from the decisions, unlike `speaker`).
@@ -104,7 +102,6 @@ impl Analyzer {
             internal_rate_hz,
             decimator: Decimator::new(factor),
             highpass: HighPass::new(c.highpass_hz as f64, internal_rate_hz),
-            bands: BandMeter::new(sample_rate_hz, cap),
             noise_floor: NoiseFloor::new(c.noise_window_s as f64, c.frame_rate_hz),
             periodic_level: SpeakerNorm::new(c.speaker.clone(), c.frame_rate_hz),
             previous_f0_hz: 0.0,
@@ -135,6 +132,10 @@ impl Analyzer {
             next_bin: 0,
             next_ready: 0,
         };
+        let (decimator, highpass) = (&state.decimator, &state.highpass);
+        state.pitch.measure_bands(|f_hz| {
+            decimator.power_gain(f_hz, sample_rate_hz) * highpass.power_gain(f_hz, internal_rate_hz)
+        });
         state.reset();
         self.state = Some(state);
         Ok(())
@@ -254,7 +255,6 @@ impl State {
     fn reset(&mut self) {
         self.decimator.reset();
         self.highpass.reset();
-        self.bands.reset();
         self.noise_floor.reset();
         self.periodic_level.reset();
         self.previous_f0_hz = 0.0;
@@ -296,7 +296,6 @@ impl State {
         };
         self.acc_sum += x as f64;
         self.acc_sq += (x as f64) * (x as f64);
-        self.bands.push(x);
         let Some(y) = self.decimator.push(x) else {
             return;
         };
@@ -304,7 +303,6 @@ impl State {
         self.ring[slot] = self.highpass.process(y);
         self.bin_sum[slot] = self.acc_sum;
         self.bin_sq[slot] = self.acc_sq;
-        self.bands.close_slot(slot);
         self.acc_sum = 0.0;
         self.acc_sq = 0.0;
         self.produced += 1;
@@ -333,13 +331,12 @@ impl State {
             square_sum: band_sq,
         } = self.pitch.analyse_frame(&self.window);
         let band_db = amplitude_to_db((band_sq / self.window.len() as f64).sqrt());
-        // The level and band sums over the same slots, in one loop (independent sums).
-        let (mut sum, mut sq, mut band_energy) = (0.0f64, 0.0f64, [0.0f64; 3]);
+        // The level sums over the frame's slots (two independent sums in one loop).
+        let (mut sum, mut sq) = (0.0f64, 0.0f64);
         for b in self.next_bin.max(0)..self.next_bin + self.rms_bins as i64 {
-            let b = b as usize;
-            sum += self.bin_sum[b & self.mask];
-            sq += self.bin_sq[b & self.mask];
-            self.bands.add_slot(&mut band_energy, b);
+            let b = b as usize & self.mask;
+            sum += self.bin_sum[b];
+            sq += self.bin_sq[b];
         }
         let n = (self.rms_bins * self.factor) as f64;
         let mean = sum / n;
@@ -400,7 +397,7 @@ impl State {
             },
             level_db: rms_db - self.speaker.speech_level_db(),
             band_db,
-            bands: BandMeter::levels_of(band_energy, n as usize),
+            bands: self.pitch.band_levels(),
         };
         (frame, features)
     }

@@ -32,9 +32,16 @@ impl Biquad {
         }
     }
 
-    /// The coefficients `[b0, b1, b2]` and `[a1, a2]` (normalised, `a0 = 1`).
-    pub(crate) fn coefficients(&self) -> ([f64; 3], [f64; 2]) {
-        (self.b, self.a)
+    /// The section's power gain |H|² at `f_hz` for a stream at `rate_hz`.
+    pub(crate) fn power_gain(&self, f_hz: f64, rate_hz: f64) -> f64 {
+        let w = 2.0 * std::f64::consts::PI * f_hz / rate_hz;
+        // H(e^jw) = (b0 + b1 z⁻¹ + b2 z⁻²) / (1 + a1 z⁻¹ + a2 z⁻²), z⁻ᵏ = e^(−jkw).
+        let at = |c: [f64; 3]| {
+            let re = c[0] + c[1] * w.cos() + c[2] * (2.0 * w).cos();
+            let im = -c[1] * w.sin() - c[2] * (2.0 * w).sin();
+            re * re + im * im
+        };
+        at(self.b) / at([1.0, self.a[0], self.a[1]])
     }
 
     /// Clears the state.
@@ -63,6 +70,11 @@ impl HighPass {
     /// A high-pass at `corner_hz` for a stream at `rate_hz` (0 Hz = pass-through).
     pub(crate) fn new(corner_hz: f64, rate_hz: f64) -> Self {
         Self((corner_hz > 0.0).then(|| Biquad::butterworth(corner_hz, rate_hz, true)))
+    }
+
+    /// The power gain |H|² at `f_hz` for a stream at `rate_hz` (1 for the pass-through).
+    pub(crate) fn power_gain(&self, f_hz: f64, rate_hz: f64) -> f64 {
+        self.0.as_ref().map_or(1.0, |s| s.power_gain(f_hz, rate_hz))
     }
 
     /// Clears the state.
@@ -105,5 +117,16 @@ mod tests {
         assert!((gain(&mut hp, 500.0, 8000.0) - 1.0).abs() < 0.02);
         let mut off = HighPass::new(0.0, 8000.0);
         assert_eq!(off.process(0.25), 0.25);
+        assert_eq!(off.power_gain(50.0, 8000.0), 1.0);
+    }
+
+    #[test]
+    fn the_power_gain_is_the_measured_gain_squared() {
+        let mut hp = HighPass::new(120.0, 8820.0);
+        for f in [60.0, 100.0, 120.0, 200.0, 400.0, 3000.0] {
+            let want = gain(&mut hp, f, 8820.0).powi(2);
+            let got = hp.power_gain(f, 8820.0);
+            assert!((got / want - 1.0).abs() < 0.01, "{f} Hz: {got} vs {want}");
+        }
     }
 }

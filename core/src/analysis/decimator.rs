@@ -66,6 +66,20 @@ impl Decimator {
         (self.taps.len() - 1) as f64 / 2.0
     }
 
+    /// The filter's power gain |H|² at `f_hz` for an input at `rate_hz` (1 for factor 1).
+    pub(crate) fn power_gain(&self, f_hz: f64, rate_hz: f64) -> f64 {
+        let w = 2.0 * std::f64::consts::PI * f_hz / rate_hz;
+        let (re, im) = self
+            .taps
+            .iter()
+            .enumerate()
+            .fold((0.0f64, 0.0f64), |(re, im), (n, &h)| {
+                let h = h as f64;
+                (re + h * (w * n as f64).cos(), im - h * (w * n as f64).sin())
+            });
+        re * re + im * im
+    }
+
     /// Feeds one input sample; returns an output sample every `factor` inputs (the first on the
     /// `factor`-th input, so output `j` ends at input `(j + 1) * factor - 1`).
     #[inline(always)]
@@ -194,6 +208,22 @@ mod tests {
         assert!((gain_at(6, 1_500.0, sr) - 1.0).abs() < 0.02);
         assert!(gain_at(6, 6_000.0, sr) < 0.003);
         assert!(gain_at(6, 4_400.0, sr) < 0.05);
+    }
+
+    #[test]
+    fn the_power_gain_is_the_measured_gain_squared() {
+        for (factor, sr) in [(2, 16_000.0), (5, 44_100.0), (6, 48_000.0)] {
+            let d = Decimator::new(factor);
+            for f in [300.0, 2_500.0, 3_200.0, 3_500.0] {
+                let want = gain_at(factor, f, sr).powi(2);
+                let got = d.power_gain(f, sr);
+                assert!(
+                    (got / want - 1.0).abs() < 0.02,
+                    "{sr} {f} Hz: {got} vs {want}"
+                );
+            }
+        }
+        assert_eq!(Decimator::new(1).power_gain(3_000.0, 8_000.0), 1.0);
     }
 
     #[test]

@@ -51,9 +51,10 @@ pub struct FeatureFrame {
     /// after the 120 Hz high-pass and the decimation (so up to 4–8 kHz). Rumble (traffic, car,
     /// handling noise) hardly reaches it; the phrase tracker decides speech / pause on it.
     pub band_db: f32,
-    /// Levels in three bands (100–400 Hz, 0.5–2.5 kHz, 2.5–6 kHz) over the same window as
-    /// `rms_db`, dBFS: the spectral shape the phrase tracker uses to tell a breath from a
-    /// sibilant, a decaying tail or room noise (see [`BandLevels`]).
+    /// Levels in three bands (100–400 Hz, 0.5–2.5 kHz, 2.5–3.5 kHz) over the pitch window
+    /// (about 40 ms centred on `time_s`), dBFS, read from the pitch analysis's spectrum: the
+    /// spectral shape the phrase tracker uses to tell a breath from a sibilant, a decaying tail
+    /// or room noise (see [`BandLevels`]).
     pub bands: BandLevels,
 }
 

@@ -32,6 +32,8 @@ use std::sync::Arc;
 use realfft::num_complex::Complex;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 
+use super::breath_band::{BandLevels, BandSpectrum};
+
 /// Most key maxima kept per frame.
 pub const MAX_CANDIDATES: usize = 16;
 
@@ -84,6 +86,10 @@ struct Nsdf {
     /// only when `measure_low_band`: the short windows' share is never asked for).
     low_band: f32,
     measure_low_band: bool,
+    /// The breath bands read from the spectrum, when asked for ([`NsdfPitch::measure_bands`]),
+    /// and their levels in the last window.
+    bands: Option<BandSpectrum>,
+    band_levels: BandLevels,
 }
 
 /// The mean of one window and its energy about the mean.
@@ -198,6 +204,8 @@ impl Nsdf {
             band_bins: (bin(LOW_BAND_HZ.0), bin(VOICE_BAND_TOP_HZ)),
             low_band: 0.0,
             measure_low_band,
+            bands: None,
+            band_levels: BandLevels::FLOOR,
             r2c,
             c2r,
         }
@@ -218,6 +226,7 @@ impl Nsdf {
         }
         self.time[w..].fill(0.0);
         self.low_band = 0.0;
+        self.band_levels = BandLevels::FLOOR;
         if energy < 1e-12 * w as f64 {
             self.curve.fill(0.0);
             return false;
@@ -248,6 +257,9 @@ impl Nsdf {
             }
             if band > 0.0 {
                 self.low_band = (low / band) as f32;
+            }
+            if let Some(bands) = &self.bands {
+                self.band_levels = bands.levels(&self.spectrum);
             }
         } else {
             for c in self.spectrum.iter_mut() {
@@ -426,6 +438,25 @@ impl NsdfPitch {
     /// 80 Hz and 4 kHz, 0..1 (0 for a silent window): high for vowels, low for fricatives.
     pub fn low_band(&self) -> f32 {
         self.long.low_band
+    }
+
+    /// Makes the analysis also measure the breath bands on the long window's spectrum
+    /// ([`NsdfPitch::band_levels`]); `power_gain(f_hz)` is the power gain of whatever filtered
+    /// the signal before the window. Allocates.
+    pub(crate) fn measure_bands(&mut self, power_gain: impl Fn(f64) -> f64) {
+        let long = &mut self.long;
+        long.bands = Some(BandSpectrum::new(
+            self.rate_hz,
+            long.time.len(),
+            long.window_len,
+            power_gain,
+        ));
+    }
+
+    /// The breath-band levels of the last long window (the −120 dBFS floor when silent or
+    /// when [`NsdfPitch::measure_bands`] was not called).
+    pub(crate) fn band_levels(&self) -> BandLevels {
+        self.long.band_levels
     }
 
     /// The last long window's NSDF at half the period of `chosen` (linear interpolation),

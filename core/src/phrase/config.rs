@@ -52,13 +52,13 @@ pub struct PhraseConfig {
     pub silence_db: f32,
     /// Margin over the noise floor a frame of a breath run needs, dB (2–20, default 6).
     pub breath_margin_db: f32,
-    /// Spectral shape of a breath: the run's mean level of 2.5–6 kHz over 0.5–2.5 kHz, with
+    /// Spectral shape of a breath: the run's mean level of 2.5–3.5 kHz over 0.5–2.5 kHz, with
     /// the room's own band levels taken out ([`crate::analysis::BandLevels`]), must not exceed
-    /// this, dB (−40 to 40; 40 = no limit; default 3). Breath noise sits under 0; /s/ and /sh/
+    /// this, dB (−40 to 40; 40 = no limit; default 0). Breath noise sits under 0; /s/ and /sh/
     /// lie well above.
     pub breath_max_high_over_mid_db: f32,
     /// Spectral shape of a breath: the run's mean level of 100–400 Hz over 0.5–2.5 kHz, the
-    /// room taken out, must not exceed this, dB (−40 to 40; 40 = no limit; default 0). Vowel
+    /// room taken out, must not exceed this, dB (−40 to 40; 40 = no limit; default −1.5). Vowel
     /// tails, hum and rumble lie high.
     ///
     /// Both defaults are the fit of `pneuma eval breath-sounds` on all hand-labelled speakers
@@ -81,8 +81,8 @@ impl Default for PhraseConfig {
             breath_min_s: 0.12,
             silence_db: -75.0,
             breath_margin_db: 6.0,
-            breath_max_high_over_mid_db: 3.0,
-            breath_max_low_over_mid_db: 0.0,
+            breath_max_high_over_mid_db: 0.0,
+            breath_max_low_over_mid_db: -1.5,
         }
     }
 }
