@@ -186,9 +186,9 @@ impl Analyzer {
         mut on_frame: impl FnMut(&FeatureFrame),
     ) -> Result<(), AnalysisError> {
         let s = self.state.as_mut().ok_or(AnalysisError::NotPrepared)?;
-        for &x in block {
-            s.push(x, &mut |f: &FeatureFrame, _: &VoicingFeatures| on_frame(f));
-        }
+        s.push_block(block, &mut |f: &FeatureFrame, _: &VoicingFeatures, _| {
+            on_frame(f)
+        });
         s.samples_in += block.len() as u64;
         Ok(())
     }
@@ -202,9 +202,9 @@ impl Analyzer {
         mut on_frame: impl FnMut(&FeatureFrame, &VoicingFeatures),
     ) -> Result<(), AnalysisError> {
         let s = self.state.as_mut().ok_or(AnalysisError::NotPrepared)?;
-        for &x in block {
-            s.push(x, &mut on_frame);
-        }
+        s.push_block(block, &mut |f: &FeatureFrame, v: &VoicingFeatures, _| {
+            on_frame(f, v)
+        });
         s.samples_in += block.len() as u64;
         Ok(())
     }
@@ -217,11 +217,9 @@ impl Analyzer {
         mut on_frame: impl FnMut(&FeatureFrame, usize),
     ) -> Result<(), AnalysisError> {
         let s = self.state.as_mut().ok_or(AnalysisError::NotPrepared)?;
-        for (i, &x) in block.iter().enumerate() {
-            s.push(x, &mut |f: &FeatureFrame, _: &VoicingFeatures| {
-                on_frame(f, i)
-            });
-        }
+        s.push_block(block, &mut |f: &FeatureFrame, _: &VoicingFeatures, i| {
+            on_frame(f, i)
+        });
         s.samples_in += block.len() as u64;
         Ok(())
     }
@@ -241,7 +239,7 @@ impl Analyzer {
         let s = self.state.as_mut().ok_or(AnalysisError::NotPrepared)?;
         let total = s.clock.frames_in(s.samples_in);
         while s.next_frame < total {
-            s.push(0.0, &mut |f: &FeatureFrame, v: &VoicingFeatures| {
+            s.push_block(&[0.0], &mut |f: &FeatureFrame, v: &VoicingFeatures, _| {
                 if f.index < total {
                     on_frame(f, v)
                 }
@@ -287,18 +285,43 @@ impl State {
             (self.next_start + self.window.len() as i64).max(self.next_bin + self.rms_bins as i64);
     }
 
+    /// Takes `block`; calls `on_frame` with each completed frame and the index in `block` of
+    /// the sample that completed it. Runs up to the decimator's next output go in at once,
+    /// with the level sums on locals: the same sums in the same order as sample by sample.
     #[inline]
-    fn push(&mut self, x: f32, on_frame: &mut impl FnMut(&FeatureFrame, &VoicingFeatures)) {
-        let x = if x.is_finite() {
-            x.clamp(-INPUT_LIMIT, INPUT_LIMIT)
-        } else {
-            0.0
-        };
-        self.acc_sum += x as f64;
-        self.acc_sq += (x as f64) * (x as f64);
-        let Some(y) = self.decimator.push(x) else {
-            return;
-        };
+    fn push_block(
+        &mut self,
+        block: &[f32],
+        on_frame: &mut impl FnMut(&FeatureFrame, &VoicingFeatures, usize),
+    ) {
+        let mut done = 0;
+        while done < block.len() {
+            let n = self.decimator.until_output().min(block.len() - done);
+            let run = &block[done..done + n];
+            done += n;
+            let (mut sum, mut sq) = (self.acc_sum, self.acc_sq);
+            let y = self.decimator.push_run(run, |x| {
+                let x = if x.is_finite() {
+                    x.clamp(-INPUT_LIMIT, INPUT_LIMIT)
+                } else {
+                    0.0
+                };
+                sum += x as f64;
+                sq += (x as f64) * (x as f64);
+                x
+            });
+            self.acc_sum = sum;
+            self.acc_sq = sq;
+            if let Some(y) = y {
+                self.close_slot(y, &mut |f: &FeatureFrame, v: &VoicingFeatures| {
+                    on_frame(f, v, done - 1)
+                });
+            }
+        }
+    }
+
+    /// Stores decimated sample `y` and its level sums, and emits the frames it completes.
+    fn close_slot(&mut self, y: f32, on_frame: &mut impl FnMut(&FeatureFrame, &VoicingFeatures)) {
         let slot = self.produced as usize & self.mask;
         self.ring[slot] = self.highpass.process(y);
         self.bin_sum[slot] = self.acc_sum;

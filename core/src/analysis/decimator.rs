@@ -80,22 +80,43 @@ impl Decimator {
         re * re + im * im
     }
 
+    /// Input samples still to come before the next output (1..=factor).
+    #[inline]
+    pub(crate) fn until_output(&self) -> usize {
+        self.factor - self.phase
+    }
+
     /// Feeds one input sample; returns an output sample every `factor` inputs (the first on the
     /// `factor`-th input, so output `j` ends at input `(j + 1) * factor - 1`).
-    #[inline(always)]
+    #[cfg(test)]
     pub(crate) fn push(&mut self, x: f32) -> Option<f32> {
+        self.push_run(&[x], |x| x)
+    }
+
+    /// Feeds the run `xs`, each sample mapped through `each` on its way in (in order, once);
+    /// `xs` must not be longer than [`Decimator::until_output`] (a longer run is cut there).
+    /// Returns the output sample when the run completes one. The same outputs as feeding the
+    /// samples one by one, for any cutting of the input into runs; the per-sample work runs
+    /// on locals (the history index and the caller's `each`), not on fields in memory.
+    #[inline(always)]
+    pub(crate) fn push_run(&mut self, xs: &[f32], mut each: impl FnMut(f32) -> f32) -> Option<f32> {
+        let xs = &xs[..xs.len().min(self.until_output())];
         if self.factor == 1 {
-            return Some(x);
+            return xs.first().map(|&x| each(x));
         }
         let len = self.taps.len();
-        if self.end == self.history.len() {
-            // Full: keep the newest len − 1 samples, at the start.
-            self.history.copy_within(self.end + 1 - len.., 0);
+        if self.end + xs.len() > self.history.len() {
+            // Full: keep the newest len − 1 samples, at the start (HISTORY_SPAN ≥ factor, so
+            // the run fits after them).
+            self.history.copy_within(self.end + 1 - len..self.end, 0);
             self.end = len - 1;
         }
-        self.history[self.end] = x;
-        self.end += 1;
-        self.phase += 1;
+        let start = self.end;
+        for (h, &x) in self.history[start..start + xs.len()].iter_mut().zip(xs) {
+            *h = each(x);
+        }
+        self.end = start + xs.len();
+        self.phase += xs.len();
         if self.phase < self.factor {
             return None;
         }
@@ -242,6 +263,37 @@ mod tests {
                 let want = ((i + 1) % factor == 0).then(|| dot(&padded[i..i + len], &d.taps));
                 assert_eq!(got.map(f32::to_bits), want.map(f32::to_bits), "sample {i}");
             }
+        }
+    }
+
+    #[test]
+    fn runs_give_the_outputs_of_samples_one_by_one() {
+        for factor in [1, 3, 6] {
+            let x: Vec<f32> = (0..3 * HISTORY_SPAN + 17)
+                .map(|i| ((i * 7919) % 1013) as f32 / 1013.0 - 0.5)
+                .collect();
+            let mut one = Decimator::new(factor);
+            let want: Vec<u32> = x
+                .iter()
+                .filter_map(|&v| one.push(v))
+                .map(f32::to_bits)
+                .collect();
+            let mut runs = Decimator::new(factor);
+            let (mut got, mut rest, mut k) = (Vec::new(), &x[..], 0usize);
+            while !rest.is_empty() {
+                // Runs of 1, 2, 3, ... samples, each cut at the next output.
+                k += 1;
+                let n = (k % 7 + 1).min(runs.until_output()).min(rest.len());
+                let mut seen = 0;
+                got.extend(runs.push_run(&rest[..n], |v| {
+                    seen += 1;
+                    v
+                }));
+                assert_eq!(seen, n);
+                rest = &rest[n..];
+            }
+            let got: Vec<u32> = got.into_iter().map(f32::to_bits).collect();
+            assert_eq!(got, want, "factor {factor}");
         }
     }
 
