@@ -64,7 +64,7 @@ pub(crate) struct FrameAnalysis {
     /// [`NsdfPitch::edge_clarity`] of `chosen` at the newest and at the oldest end.
     pub edge_newest: Option<f32>,
     pub edge_oldest: Option<f32>,
-    /// Σ x² of the window (summed in f64 in sample order).
+    /// Σ x² of the window (summed in f64 in [`Lanes`]).
     pub square_sum: f64,
 }
 
@@ -95,29 +95,83 @@ struct Nsdf {
 /// The mean of one window and its energy about the mean.
 #[derive(Debug, Clone, Copy)]
 struct WindowStats {
-    /// Mean of the samples (summed in f64 in sample order, then rounded to f32).
+    /// Mean of the samples (summed in f64 in [`Lanes`], then rounded to f32).
     mean: f32,
-    /// Σ (x − mean)², each difference rounded to f32 first, summed in f64 in sample order.
+    /// Σ (x − mean)², each difference rounded to f32 first, summed in f64 in [`Lanes`].
     energy: f64,
 }
 
 impl WindowStats {
     fn of(window: &[f32]) -> Self {
-        let sum = window.iter().fold(-0.0f64, |s, &x| s + x as f64);
-        let mean = (sum / window.len().max(1) as f64) as f32;
-        let energy = window.iter().fold(0.0f64, |e, &x| {
-            let t = (x - mean) as f64;
-            e + t * t
-        });
-        Self { mean, energy }
+        let mut sum = Lanes::default();
+        sum.add(window, |x| x as f64);
+        let mean = (sum.total() / window.len().max(1) as f64) as f32;
+        Self {
+            mean,
+            energy: energy_about(window, mean),
+        }
+    }
+}
+
+/// Σ (x − mean)² over `window`, each difference rounded to f32, summed in [`Lanes`].
+#[inline]
+fn energy_about(window: &[f32], mean: f32) -> f64 {
+    let mut e = Lanes::default();
+    e.add(window, |x| {
+        let t = (x - mean) as f64;
+        t * t
+    });
+    e.total()
+}
+
+/// Σ x² of `window` in [`Lanes`].
+fn square_sum(window: &[f32]) -> f64 {
+    let mut s = Lanes::default();
+    s.add(window, |x| (x as f64) * (x as f64));
+    s.total()
+}
+
+/// Lanes of [`Lanes`].
+const LANES: usize = 8;
+
+/// A sum in f64 over a run of samples kept as [`LANES`] partial sums (sample `i` of the run
+/// into lane `i % LANES`, each lane in sample order) and added up at the end in a fixed tree:
+/// independent chains that vectorise and overlap, where one serial sum waits on every
+/// addition. The same run always gives the same bits.
+#[derive(Debug, Clone, Copy, Default)]
+struct Lanes([f64; LANES]);
+
+impl Lanes {
+    /// Adds `f(x)` for every sample of `xs` (the whole run, or its continuation when the run
+    /// so far was a whole number of [`LANES`] long).
+    #[inline(always)]
+    fn add<T: Copy>(&mut self, xs: &[T], f: impl Fn(T) -> f64) {
+        let mut l = self.0;
+        let chunks = xs.chunks_exact(LANES);
+        let tail = chunks.remainder();
+        for c in chunks {
+            for k in 0..LANES {
+                l[k] += f(c[k]);
+            }
+        }
+        for (k, &x) in tail.iter().enumerate() {
+            l[k] += f(x);
+        }
+        self.0 = l;
+    }
+
+    /// The sum: the lanes added pairwise.
+    #[inline]
+    fn total(&self) -> f64 {
+        let l = self.0;
+        ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]))
     }
 }
 
 /// The statistics of the long window and of the three short windows inside it (oldest end,
-/// centre, newest end), and the long window's plain sum of squares, in two fused passes: each
-/// sum runs in sample order exactly as [`WindowStats::of`] would run it (so the results are
-/// bit-identical), but the independent sums share one loop, so their additions overlap
-/// instead of each waiting for the one before (the sums are latency-bound serial chains).
+/// centre, newest end), and the long window's plain sum of squares: each window's sums are
+/// exactly its [`WindowStats::of`] sums (the same lanes in the same order, so the results are
+/// bit-identical), but the oldest short window's sum is shared with the long window's.
 #[derive(Debug, Clone, Copy)]
 struct FrameStats {
     long: WindowStats,
@@ -133,49 +187,32 @@ impl FrameStats {
     fn of(window: &[f32], short_len: usize) -> Self {
         let (w, len) = (window.len(), short_len);
         let starts = [0, (w - len) / 2, w - len];
-        let [centre, newest] = [&window[starts[1]..starts[1] + len], &window[starts[2]..w]];
-        let (mut long, mut square_sum, mut c, mut n) = (-0.0f64, -0.0f64, -0.0f64, -0.0f64);
-        for ((&x, &xc), &xn) in window[..len].iter().zip(centre).zip(newest) {
-            let x = x as f64;
-            long += x;
-            square_sum += x * x;
-            c += xc as f64;
-            n += xn as f64;
+        let shorts = starts.map(|a| &window[a..a + len]);
+        let plain = |x: f32| x as f64;
+        let mut sums = [Lanes::default(); 3];
+        for (s, part) in sums.iter_mut().zip(shorts) {
+            s.add(part, plain);
         }
-        // The oldest short window is the first `len` samples: its sum is the long one's so far.
-        let sums = [long, c, n];
-        for &x in &window[len..] {
-            let x = x as f64;
-            long += x;
-            square_sum += x * x;
+        let mut long = Lanes::default();
+        if len.is_multiple_of(LANES) {
+            // The long window's run so far is the oldest short window's.
+            long = sums[0];
+            long.add(&window[len..], plain);
+        } else {
+            long.add(window, plain);
         }
-        let mean_long = (long / w.max(1) as f64) as f32;
-        let means = sums.map(|s| (s / len.max(1) as f64) as f32);
-        let sq = |x: f32, mean: f32| {
-            let t = (x - mean) as f64;
-            t * t
-        };
-        let (mut e_long, mut e) = (0.0f64, [0.0f64; 3]);
-        let oldest = &window[..len];
-        for (((&x, &xo), &xc), &xn) in window[..len].iter().zip(oldest).zip(centre).zip(newest) {
-            e_long += sq(x, mean_long);
-            e[0] += sq(xo, means[0]);
-            e[1] += sq(xc, means[1]);
-            e[2] += sq(xn, means[2]);
-        }
-        for &x in &window[len..] {
-            e_long += sq(x, mean_long);
-        }
+        let mean_long = (long.total() / w.max(1) as f64) as f32;
+        let means = sums.map(|s| (s.total() / len.max(1) as f64) as f32);
         Self {
             long: WindowStats {
                 mean: mean_long,
-                energy: e_long,
+                energy: energy_about(window, mean_long),
             },
             short: [0, 1, 2].map(|k| WindowStats {
                 mean: means[k],
-                energy: e[k],
+                energy: energy_about(shorts[k], means[k]),
             }),
-            square_sum,
+            square_sum: square_sum(window),
         }
     }
 }
@@ -241,29 +278,21 @@ impl Nsdf {
             self.curve.fill(0.0);
             return false;
         }
+        for c in self.spectrum.iter_mut() {
+            *c = Complex::new(c.norm_sqr(), 0.0);
+        }
         if self.measure_low_band {
-            // The band sums ride along the |X|² pass (bins in ascending order, as before).
             let ((la, lb), (ba, bb)) = (self.low_bins, self.band_bins);
-            let (mut low, mut band) = (-0.0f64, -0.0f64);
-            for (i, c) in self.spectrum.iter_mut().enumerate() {
-                let p = c.norm_sqr();
-                *c = Complex::new(p, 0.0);
-                if (ba..bb).contains(&i) {
-                    band += p as f64;
-                }
-                if (la..lb).contains(&i) {
-                    low += p as f64;
-                }
-            }
+            let power = |c: Complex<f32>| c.re as f64;
+            let (mut low, mut band) = (Lanes::default(), Lanes::default());
+            low.add(&self.spectrum[la..lb], power);
+            band.add(&self.spectrum[ba..bb], power);
+            let (low, band) = (low.total(), band.total());
             if band > 0.0 {
                 self.low_band = (low / band) as f32;
             }
             if let Some(bands) = &self.bands {
                 self.band_levels = bands.levels(&self.spectrum);
-            }
-        } else {
-            for c in self.spectrum.iter_mut() {
-                *c = Complex::new(c.norm_sqr(), 0.0);
             }
         }
         if self
@@ -333,9 +362,10 @@ impl std::fmt::Debug for NsdfPitch {
     }
 }
 
-/// Smallest 5-smooth number (2^a·3^b·5^c) not below `n`: sizes the FFT is fast at.
+/// Smallest even 5-smooth number (2^a·3^b·5^c, a ≥ 1) not below `n`: sizes the real FFT is
+/// fast at (an odd length would cost a full-length complex FFT).
 fn fft_len_for(n: usize) -> usize {
-    let mut m = n.max(2);
+    let mut m = n.max(2).next_multiple_of(2);
     loop {
         let mut k = m;
         for p in [2, 3, 5] {
@@ -346,7 +376,7 @@ fn fft_len_for(n: usize) -> usize {
         if k == 1 {
             return m;
         }
-        m += 1;
+        m += 2;
     }
 }
 
@@ -492,8 +522,8 @@ impl NsdfPitch {
 
     /// [`NsdfPitch::analyse`] and both [`NsdfPitch::edge_clarity`] calls on one window at once,
     /// bit-identical to making those calls one after the other, but faster: the statistics of
-    /// all four windows come from two fused passes ([`FrameStats`]). Also gives the window's
-    /// plain sum of squares.
+    /// all four windows come from one [`FrameStats`] (the oldest short window's sum shared).
+    /// Also gives the window's plain sum of squares.
     pub(crate) fn analyse_frame(&mut self, window: &[f32]) -> FrameAnalysis {
         let short_len = self.short.as_ref().map(|(s, _)| s.window_len);
         let stats = match short_len {
@@ -504,7 +534,7 @@ impl NsdfPitch {
                     chosen,
                     edge_newest: self.edge_clarity(window, chosen, true),
                     edge_oldest: self.edge_clarity(window, chosen, false),
-                    square_sum: window.iter().map(|&x| (x as f64) * (x as f64)).sum(),
+                    square_sum: square_sum(window),
                 };
             }
         };
@@ -944,6 +974,8 @@ mod tests {
         assert_eq!(fft_len_for(483), 486);
         assert_eq!(fft_len_for(512), 512);
         assert_eq!(fft_len_for(532), 540);
+        // The short window at 8 kHz: 243 = 3^5 is 5-smooth but odd.
+        assert_eq!(fft_len_for(242), 250);
     }
 
     #[test]
@@ -1048,7 +1080,7 @@ mod tests {
                         chosen,
                         edge_newest: plain.edge_clarity(w, chosen, true),
                         edge_oldest: plain.edge_clarity(w, chosen, false),
-                        square_sum: w.iter().map(|&x| (x as f64) * (x as f64)).sum(),
+                        square_sum: square_sum(w),
                     };
                     let bits = |a: &FrameAnalysis| {
                         (
