@@ -1,7 +1,7 @@
 //! Second-order Butterworth sections (RBJ biquads, f64 state, direct form I): [`Biquad`], the
-//! building block of the breath-band filters and of the test-noise shaping, and [`HighPass`],
-//! the bypassable high-pass in front of the pitch analysis (a corner of 0 Hz makes it a
-//! pass-through).
+//! building block of the test-noise shaping, and [`HighPass`], the bypassable high-pass in
+//! front of the pitch analysis (a corner of 0 Hz makes it a pass-through). Both give their
+//! power gain at a frequency, which the breath bands divide out of the pitch spectrum.
 
 /// One RBJ biquad section with f64 state.
 #[derive(Debug, Clone, Copy)]
