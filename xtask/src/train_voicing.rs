@@ -48,6 +48,8 @@ pub(crate) enum ModelKind {
     Logistic,
     /// Gradient-boosted trees (format version 2) with these settings.
     Trees(TreeParams),
+    /// The logistic regression plus trees boosted from its score (format version 3).
+    Hybrid(TreeParams),
 }
 
 /// The tree setting of the `--search` grid whose held-out voicing error was lowest when it was
@@ -57,6 +59,16 @@ pub(crate) const TREES: TreeParams = TreeParams {
     depth: 3,
     rounds: 400,
     learning_rate: 0.1,
+    monotone: false,
+};
+
+/// The hybrid's trees (`--search`: the held-out voicing error of the logistic regression plus
+/// trees of each depth and count).
+pub(crate) const HYBRID: TreeParams = TreeParams {
+    depth: 3,
+    rounds: 50,
+    learning_rate: SEARCH_RATE,
+    monotone: true,
 };
 
 /// The kind `train-voicing` writes to `assets/models/voicing.txt`.
@@ -65,8 +77,8 @@ pub(crate) const SHIPPED_KIND: ModelKind = ModelKind::Logistic;
 /// The `--search` grid: depths, learning rates, and the tree counts scored (prefixes of the
 /// largest).
 const SEARCH_DEPTHS: [usize; 2] = [2, 3];
-const SEARCH_RATES: [f64; 2] = [0.1, 0.25];
-const SEARCH_ROUNDS: [usize; 4] = [50, 100, 200, 400];
+const SEARCH_RATE: f64 = 0.1;
+const SEARCH_ROUNDS: [usize; 4] = [10, 25, 50, 100];
 
 /// Indices of the cues the training reads, checked against the names at first use.
 const LOG_F0: usize = 13;
@@ -93,6 +105,8 @@ pub(crate) struct ClipFrames {
     pub speaker: String,
     /// Data set and noise condition (`keele clean`, `ptdb car 10 dB`, ...).
     condition: String,
+    /// Frames per second the cues were gathered at.
+    frame_rate_hz: f64,
     /// Weight of each of its labelled frames: every condition (data set × noise × SNR) weighs
     /// the same in all (PTDB's sixteen conditions of two speakers would otherwise be outweighed
     /// by Keele's ten speakers).
@@ -170,6 +184,7 @@ fn gather(
         out.push(ClipFrames {
             speaker: s.speaker.clone(),
             condition: format!("{set} {}", s.condition_label()),
+            frame_rate_hz,
             weight: 1.0,
             features,
             seen,
@@ -198,20 +213,7 @@ pub(crate) fn training_clips(keele: &Path, ptdb: &Path) -> Result<Vec<ClipFrames
             gather(set, &sources, offset, rate, &mut clips)?;
         }
     }
-    let mut per_condition: BTreeMap<&str, usize> = BTreeMap::new();
-    for c in &clips {
-        *per_condition.entry(c.condition.as_str()).or_default() += c.labels.len();
-    }
-    let total: usize = per_condition.values().sum();
-    let weights: Vec<f64> = clips
-        .iter()
-        .map(|c| {
-            total as f64 / (per_condition.len() * per_condition[c.condition.as_str()].max(1)) as f64
-        })
-        .collect();
-    for (c, w) in clips.iter_mut().zip(weights) {
-        c.weight = w;
-    }
+    set_weights(&mut clips, WEIGHTING);
     if !skipped.is_empty() {
         return Err(format!(
             "unreadable training clips (the model must be fitted on all of them): {}",
@@ -219,6 +221,54 @@ pub(crate) fn training_clips(keele: &Path, ptdb: &Path) -> Result<Vec<ClipFrames
         ));
     }
     Ok(clips)
+}
+
+/// How the labelled frames are weighted.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Weighting {
+    /// Every condition (data set × noise × SNR) weighs the same in all.
+    Condition,
+    /// Every speaker weighs the same, and within a speaker every condition.
+    Speaker,
+}
+
+/// The weighting the shipped model is fitted with.
+pub(crate) const WEIGHTING: Weighting = Weighting::Condition;
+
+/// Sets each clip's frame weight so that every group of `scheme` weighs the same (the mean
+/// frame weight stays 1, so the ridge keeps its meaning).
+fn set_weights(clips: &mut [ClipFrames], scheme: Weighting) {
+    let group = |c: &ClipFrames| match scheme {
+        Weighting::Condition => c.condition.clone(),
+        Weighting::Speaker => format!("{}\t{}", c.speaker, c.condition),
+    };
+    let mut per_group: BTreeMap<String, usize> = BTreeMap::new();
+    let mut groups_of_speaker: BTreeMap<&str, std::collections::BTreeSet<String>> = BTreeMap::new();
+    for c in clips.iter() {
+        *per_group.entry(group(c)).or_default() += c.labels.len();
+        groups_of_speaker
+            .entry(c.speaker.as_str())
+            .or_default()
+            .insert(group(c));
+    }
+    let total: usize = per_group.values().sum();
+    let n_speakers = groups_of_speaker.len();
+    let weights: Vec<f64> = clips
+        .iter()
+        .map(|c| {
+            let frames = per_group[&group(c)].max(1) as f64;
+            match scheme {
+                Weighting::Condition => total as f64 / (per_group.len() as f64 * frames),
+                Weighting::Speaker => {
+                    let k = groups_of_speaker[c.speaker.as_str()].len() as f64;
+                    total as f64 / (n_speakers as f64 * k * frames)
+                }
+            }
+        })
+        .collect();
+    for (c, w) in clips.iter_mut().zip(weights) {
+        c.weight = w;
+    }
 }
 
 /// Solves `a·x = b` (symmetric positive definite, row-major `n×n`) by Cholesky.
@@ -263,7 +313,8 @@ fn solve_spd(a: &[f64], b: &[f64], n: usize) -> Option<Vec<f64>> {
 pub(crate) fn fit(clips: &[&ClipFrames], kind: ModelKind) -> Result<VoicingModel, String> {
     let model = match kind {
         ModelKind::Logistic => fit_logistic(clips)?,
-        ModelKind::Trees(params) => fit_trees(&rows(clips), &params)?,
+        ModelKind::Trees(params) => fit_trees(&rows(clips), &params, None)?,
+        ModelKind::Hybrid(params) => fit_trees(&rows(clips), &params, Some(&fit_logistic(clips)?))?,
     };
     with_chosen_thresholds(&model, clips)
 }
@@ -454,54 +505,118 @@ pub(crate) fn fit_all_and_loso(
 /// Fits models (on the given clips) whose held-out errors `search` adds up, one per entry.
 type FitMany<'a> = dyn Fn(&[&ClipFrames]) -> Result<Vec<VoicingModel>, String> + 'a;
 
-/// `--search`: the held-out voicing error (all speakers' frames, each judged by a model
-/// fitted without its speaker, thresholds chosen on the other eleven) of the logistic model
-/// and of every tree setting of the grid; prints the table and returns nothing to ship (the
-/// choice is [`SHIPPED_KIND`], set by hand from this table).
-fn search(clips: &[ClipFrames]) -> Result<(), String> {
-    let speakers = speakers(clips);
-    let held_out = |models: &FitMany<'_>| {
-        let mut errors: Vec<(u64, u64)> = Vec::new();
-        for s in &speakers {
-            let others: Vec<&ClipFrames> = clips.iter().filter(|c| &c.speaker != s).collect();
-            let own: Vec<&ClipFrames> = clips.iter().filter(|c| &c.speaker == s).collect();
-            for (i, m) in models(&others)?.iter().enumerate() {
-                let (e, n) = voicing_errors(&with_chosen_thresholds(m, &others)?, &own);
-                if errors.len() <= i {
-                    errors.push((0, 0));
-                }
-                errors[i].0 += e;
-                errors[i].1 += n;
+/// Held-out frame errors and frames per clip (`[model][clip]`) of the models `fit_many`
+/// makes: every clip judged by models fitted without its speaker, thresholds chosen on the
+/// other eleven.
+fn held_out_errors(
+    clips: &[ClipFrames],
+    fit_many: &FitMany<'_>,
+) -> Result<Vec<Vec<(u64, u64)>>, String> {
+    let mut errors: Vec<Vec<(u64, u64)>> = Vec::new();
+    for s in speakers(clips) {
+        let others: Vec<&ClipFrames> = clips.iter().filter(|c| c.speaker != s).collect();
+        for (i, m) in fit_many(&others)?.iter().enumerate() {
+            let m = with_chosen_thresholds(m, &others)?;
+            if errors.len() <= i {
+                errors.push(vec![(0, 0); clips.len()]);
             }
-        }
-        Ok::<_, String>(errors)
-    };
-    let pct = |(e, n): (u64, u64)| e as f64 * 100.0 / n.max(1) as f64;
-    println!("\nheld-out voicing error on labelled frames (leave-one-speaker-out):");
-    let logistic = held_out(&|c| Ok(vec![fit_logistic(c)?]))?;
-    println!(
-        "  logistic                          {:>6.2} %",
-        pct(logistic[0])
-    );
-    for depth in SEARCH_DEPTHS {
-        for learning_rate in SEARCH_RATES {
-            let params = TreeParams {
-                depth,
-                rounds: SEARCH_ROUNDS[SEARCH_ROUNDS.len() - 1],
-                learning_rate,
-            };
-            let errors = held_out(&|c| {
-                let m = fit_trees(&rows(c), &params)?;
-                Ok(SEARCH_ROUNDS.iter().map(|&r| m.first_trees(r)).collect())
-            })?;
-            for (r, e) in SEARCH_ROUNDS.iter().zip(errors) {
-                println!(
-                    "  trees depth {depth} rate {learning_rate:<5} rounds {r:<4}   {:>6.2} %",
-                    pct(e)
-                );
+            for (j, c) in clips.iter().enumerate() {
+                if c.speaker == s {
+                    errors[i][j] = voicing_errors(&m, &[c]);
+                }
             }
         }
     }
+    Ok(errors)
+}
+
+/// The groups of clips `--search` reports (all at the shipped frame rate but the first).
+const SEARCH_GROUPS: [(&str, &str); 7] = [
+    ("all", ""),
+    ("k clean", "keele clean"),
+    ("k white", "keele white"),
+    ("k babble", "keele babble"),
+    ("k m1/m4", "m"),
+    ("k f2/f4", "f"),
+    ("ptdb", "ptdb"),
+];
+
+/// Whether `c` belongs to `--search` group `g` (see [`SEARCH_GROUPS`]).
+fn in_group(c: &ClipFrames, g: usize) -> bool {
+    let shipped_rate = c.frame_rate_hz == AnalysisConfig::default().frame_rate_hz;
+    let key = SEARCH_GROUPS[g].1;
+    match g {
+        0 => true,
+        4 | 5 => {
+            let who: [&str; 2] = if g == 4 {
+                ["m1nw0000", "m4nw0000"]
+            } else {
+                ["f2nw0000", "f4nw0000"]
+            };
+            shipped_rate && c.condition == "keele clean" && who.contains(&c.speaker.as_str())
+        }
+        _ => shipped_rate && c.condition.starts_with(key),
+    }
+}
+
+/// `--search`: the held-out voicing error (leave-one-speaker-out, see [`held_out_errors`]) of
+/// the logistic model and of every tree setting of the grid, over all frames and per group
+/// of clips; prints the table and returns nothing to ship (the choice is [`SHIPPED_KIND`],
+/// set by hand from this table).
+fn search(clips: &mut [ClipFrames]) -> Result<(), String> {
+    let pct = |(e, n): (u64, u64)| e as f64 * 100.0 / n.max(1) as f64;
+    println!(
+        "\nheld-out voicing error % on labelled frames (leave-one-speaker-out; groups but `all` at {} frames/s):",
+        AnalysisConfig::default().frame_rate_hz
+    );
+    print!("  {:<44}", "model");
+    for (name, _) in SEARCH_GROUPS {
+        print!(" {name:>8}");
+    }
+    println!();
+    let print = |label: &str, per_clip: &[(u64, u64)], clips: &[ClipFrames]| {
+        print!("  {label:<44}");
+        for g in 0..SEARCH_GROUPS.len() {
+            let mut t = (0, 0);
+            for (c, e) in clips.iter().zip(per_clip) {
+                if in_group(c, g) {
+                    t.0 += e.0;
+                    t.1 += e.1;
+                }
+            }
+            print!(" {:>8.2}", pct(t));
+        }
+        println!();
+    };
+    for weighting in [Weighting::Condition, Weighting::Speaker] {
+        set_weights(clips, weighting);
+        let w = format!("{weighting:?}").to_lowercase();
+        let logistic = held_out_errors(clips, &|c| Ok(vec![fit_logistic(c)?]))?;
+        print(&format!("logistic, {w} weights"), &logistic[0], clips);
+        for monotone in [false, true] {
+            for depth in SEARCH_DEPTHS {
+                let params = TreeParams {
+                    depth,
+                    rounds: SEARCH_ROUNDS[SEARCH_ROUNDS.len() - 1],
+                    learning_rate: SEARCH_RATE,
+                    monotone,
+                };
+                let errors = held_out_errors(clips, &|c| {
+                    let m = fit_trees(&rows(c), &params, Some(&fit_logistic(c)?))?;
+                    Ok(SEARCH_ROUNDS.iter().map(|&r| m.first_trees(r)).collect())
+                })?;
+                let m = if monotone { "monotone " } else { "" };
+                for (r, e) in SEARCH_ROUNDS.iter().zip(&errors) {
+                    print(
+                        &format!("logistic + {r} {m}trees d{depth}, {w} weights"),
+                        e,
+                        clips,
+                    );
+                }
+            }
+        }
+    }
+    set_weights(clips, WEIGHTING);
     Ok(())
 }
 
@@ -548,7 +663,7 @@ pub fn main(args: &[String]) -> i32 {
         }
     }
     if search_grid {
-        let done = training_clips(&keele, &ptdb).and_then(|clips| search(&clips));
+        let done = training_clips(&keele, &ptdb).and_then(|mut clips| search(&mut clips));
         return match done {
             Ok(()) => 0,
             Err(e) => {
@@ -579,6 +694,18 @@ fn kind_notes(kind: ModelKind) -> [String; 2] {
                 p.rounds, p.depth, p.learning_rate
             ),
             "analyzer's voicing cues, with hysteresis thresholds on its score (format: core/src/analysis/voicing.rs).".into(),
+        ],
+        ModelKind::Hybrid(p) => [
+            format!(
+                "Pneuma voicing model: logistic regression over the analyzer's voicing cues plus {} {}trees of depth {}",
+                p.rounds,
+                if p.monotone { "monotone " } else { "" },
+                p.depth
+            ),
+            format!(
+                "boosted from its score (learning rate {}), with hysteresis thresholds (format: core/src/analysis/voicing.rs).",
+                p.learning_rate
+            ),
         ],
     }
 }
