@@ -14,22 +14,32 @@
 //! The cues are the analyzer's own ([`pneuma_core::VOICING_FEATURES`]), computed from the audio
 //! alone, so they are gathered once whatever model runs.
 //!
+//! Weights ([`WEIGHTING`], see [`Weighting`]): every condition (data set × noise × SNR)
+//! weighs the same. Per data set (each half, within it each speaker the same) is better held
+//! out (`--search`: Keele clean 9.68 % voicing error against 10.81 %, held-out Keele clean FFE
+//! 7.95 % against 8.53 %; with condition weights PTDB's sixteen conditions of two speakers make
+//! 70 % of the fit), but the model it gives fails `eval breath-sounds --check` (the shape
+//! rule's held-out F1 0.836 no longer beats the level-only F1, which rises to 0.843 with that
+//! voicing), so it is not shipped until the breath detection is refitted on it.
+//!
 //! Model ([`SHIPPED_KIND`], the one written to the file): logistic regression on standardised
-//! cues (Newton's method with a small ridge, [`RIDGE`], [`NEWTON_STEPS`] steps), or (tried, not
-//! shipped: `eval-pitch --loso-model trees`, `--search`) gradient-boosted regression trees
-//! ([`TREES`]; module `trees`: logistic loss, fixed depth, histogram splits on quantile-binned
-//! cues, shrinkage, a fixed number of rounds).
+//! cues (Newton's method with a small ridge, [`RIDGE`], [`NEWTON_STEPS`] steps). Tried, not
+//! shipped: gradient-boosted regression trees alone ([`TREES`], `eval-pitch --loso-model
+//! trees`), and the logistic regression plus trees boosted from its score ([`HYBRID`],
+//! `--loso-model hybrid`, optionally monotone in the clarity and level cues); module `trees`:
+//! logistic loss, fixed depth, histogram splits on quantile-binned cues, shrinkage, a fixed
+//! number of rounds.
 //! Either way the two hysteresis thresholds on the score are then chosen on the same training
 //! frames from a fixed grid by simulating the decision clip by clip and counting the voicing
 //! frame errors as FFE counts them. Everything runs in f64, single-threaded, in a fixed order,
 //! with no randomness, so the same data and code give the same file bit for bit; `--check`
 //! verifies that instead of writing.
 //!
-//! `--search` prints the held-out (leave-one-speaker-out) voicing error of the logistic model
-//! and of each tree setting of a small grid (depth, learning rate, rounds); the shipped setting
-//! is the grid's best held-out figure, so these settings are the only thing chosen with every
-//! speaker's frames in view (the per-speaker held-out figures still come from models that
-//! never saw the speaker).
+//! `--search` prints the held-out (leave-one-speaker-out) voicing error, over all frames and
+//! per group of clips, of the logistic model and of the hybrid at each depth, tree count and
+//! monotonicity, under each weighting (slow: about 40 minutes). The shipped choice is set by
+//! hand from that table and checked on held-out FFE with `eval-pitch`; the per-speaker
+//! held-out figures still come from models that never saw the speaker.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -62,8 +72,12 @@ pub(crate) const TREES: TreeParams = TreeParams {
     monotone: false,
 };
 
-/// The hybrid's trees (`--search`: the held-out voicing error of the logistic regression plus
-/// trees of each depth and count).
+/// The hybrid's trees (tried, not shipped). `--search`, data-set weights, held-out voicing
+/// error on Keele clean at 120 frames/s: logistic alone 9.68 %, plus 10/25/50/100 monotone
+/// trees of depth 3 9.88/9.85/9.86/9.72 % (non-monotone depth 2 at 100 trees 9.75 %): the trees
+/// help the noisy conditions and the low male voices but not the clean ones; a hybrid without
+/// the monotone constraint (depth 3, 50 trees, condition weights) broke `glides_are_followed`
+/// (a synthetic input outside the recordings).
 pub(crate) const HYBRID: TreeParams = TreeParams {
     depth: 3,
     rounds: 50,
@@ -107,9 +121,7 @@ pub(crate) struct ClipFrames {
     condition: String,
     /// Frames per second the cues were gathered at.
     frame_rate_hz: f64,
-    /// Weight of each of its labelled frames: every condition (data set × noise × SNR) weighs
-    /// the same in all (PTDB's sixteen conditions of two speakers would otherwise be outweighed
-    /// by Keele's ten speakers).
+    /// Weight of each of its labelled frames (see [`WEIGHTING`]).
     weight: f64,
     features: Vec<VoicingFeatures>,
     seen: Vec<bool>,
@@ -230,18 +242,51 @@ pub(crate) enum Weighting {
     Condition,
     /// Every speaker weighs the same, and within a speaker every condition.
     Speaker,
+    /// Every data set weighs the same, within it every speaker, within a speaker every
+    /// condition (best held out; see the module docs for why it is not shipped yet).
+    DataSet,
 }
 
 /// The weighting the shipped model is fitted with.
 pub(crate) const WEIGHTING: Weighting = Weighting::Condition;
+
+/// The model file's note on the weighting (ends the sentence begun by the data's note).
+fn weighting_notes(scheme: Weighting) -> Vec<String> {
+    match scheme {
+        Weighting::Condition => {
+            vec!["frames/s, each condition (data set x noise x SNR) weighing the same,".into()]
+        }
+        Weighting::Speaker => vec![
+            "frames/s; each speaker weighing the same, within a speaker each condition (noise x".into(),
+            "SNR) and frame rate the same;".into(),
+        ],
+        Weighting::DataSet => vec![
+            "frames/s; each data set weighing half, within it each speaker the same, within a speaker".into(),
+            "each condition (noise x SNR) and frame rate the same;".into(),
+        ],
+    }
+}
 
 /// Sets each clip's frame weight so that every group of `scheme` weighs the same (the mean
 /// frame weight stays 1, so the ridge keeps its meaning).
 fn set_weights(clips: &mut [ClipFrames], scheme: Weighting) {
     let group = |c: &ClipFrames| match scheme {
         Weighting::Condition => c.condition.clone(),
-        Weighting::Speaker => format!("{}\t{}", c.speaker, c.condition),
+        Weighting::Speaker | Weighting::DataSet => format!("{}\t{}", c.speaker, c.condition),
     };
+    // The data set is the condition's first word.
+    let set_of = |c: &ClipFrames| c.condition.split(' ').next().unwrap_or("").to_string();
+    let mut speakers_of_set: BTreeMap<String, std::collections::BTreeSet<&str>> = BTreeMap::new();
+    for c in clips.iter() {
+        speakers_of_set
+            .entry(set_of(c))
+            .or_default()
+            .insert(c.speaker.as_str());
+    }
+    let speakers_of_set: BTreeMap<String, usize> = speakers_of_set
+        .into_iter()
+        .map(|(k, v)| (k, v.len()))
+        .collect();
     let mut per_group: BTreeMap<String, usize> = BTreeMap::new();
     let mut groups_of_speaker: BTreeMap<&str, std::collections::BTreeSet<String>> = BTreeMap::new();
     for c in clips.iter() {
@@ -262,6 +307,12 @@ fn set_weights(clips: &mut [ClipFrames], scheme: Weighting) {
                 Weighting::Speaker => {
                     let k = groups_of_speaker[c.speaker.as_str()].len() as f64;
                     total as f64 / (n_speakers as f64 * k * frames)
+                }
+                Weighting::DataSet => {
+                    let k = groups_of_speaker[c.speaker.as_str()].len() as f64;
+                    let speakers = speakers_of_set[&set_of(c)] as f64;
+                    let sets = speakers_of_set.len() as f64;
+                    total as f64 / (sets * speakers * k * frames)
                 }
             }
         })
@@ -588,7 +639,7 @@ fn search(clips: &mut [ClipFrames]) -> Result<(), String> {
         }
         println!();
     };
-    for weighting in [Weighting::Condition, Weighting::Speaker] {
+    for weighting in [Weighting::DataSet, Weighting::Condition, Weighting::Speaker] {
         set_weights(clips, weighting);
         let w = format!("{weighting:?}").to_lowercase();
         let logistic = held_out_errors(clips, &|c| Ok(vec![fit_logistic(c)?]))?;
@@ -725,7 +776,9 @@ fn run(keele: &Path, ptdb: &Path, check: bool) -> Result<i32, String> {
         "Generated by `cargo xtask train-voicing` (deterministic; --check reproduces it bit for bit);".into(),
         "do not edit by hand. Data: Keele (10 speakers, clean and with seeded white and babble".into(),
         "noise at 20/10/0 dB) and PTDB-TUG excerpts (2 speakers, 4 noises x 4 SNRs), at 120 and 200".into(),
-        "frames/s, each condition (data set x noise x SNR) weighing the same,".into(),
+    ]);
+    notes.extend(weighting_notes(WEIGHTING));
+    notes.extend([
         format!(
             "reference offsets {KEELE_OFFSET_MS:+} ms (Keele) and {PTDB_OFFSET_MS:+} ms (PTDB); {labelled} labelled frames."
         ),
@@ -780,5 +833,84 @@ fn run(keele: &Path, ptdb: &Path, check: bool) -> Result<i32, String> {
         std::fs::write(&out, text).map_err(|e| format!("{}: {e}", out.display()))?;
         println!("\nwrote {}", out.display());
         Ok(0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A clip of `speaker` in `condition` with `n` labelled frames.
+    fn clip(speaker: &str, condition: &str, n: usize) -> ClipFrames {
+        ClipFrames {
+            speaker: speaker.into(),
+            condition: condition.into(),
+            frame_rate_hz: 120.0,
+            weight: 0.0,
+            features: vec![[0.0; N_VOICING_FEATURES]; n],
+            seen: vec![true; n],
+            labels: (0..n).map(|k| (k, k % 2 == 0)).collect(),
+            wrong_pitch: Vec::new(),
+        }
+    }
+
+    /// Total weight of the clips `pick` selects.
+    fn total(clips: &[ClipFrames], pick: impl Fn(&ClipFrames) -> bool) -> f64 {
+        clips
+            .iter()
+            .filter(|c| pick(c))
+            .map(|c| c.weight * c.labels.len() as f64)
+            .sum()
+    }
+
+    #[test]
+    fn weightings_balance_their_groups() {
+        // Three Keele speakers with two conditions each, one PTDB speaker with four; frame
+        // counts all different.
+        let mut clips = vec![
+            clip("k1", "keele clean", 100),
+            clip("k1", "keele white 0 dB", 300),
+            clip("k2", "keele clean", 50),
+            clip("k2", "keele white 0 dB", 70),
+            clip("k3", "keele clean", 400),
+            clip("k3", "keele white 0 dB", 10),
+            clip("p1", "ptdb car 0 dB", 30),
+            clip("p1", "ptdb car 40 dB", 60),
+            clip("p1", "ptdb white 0 dB", 90),
+            clip("p1", "ptdb white 40 dB", 20),
+        ];
+        let frames: f64 = clips.iter().map(|c| c.labels.len() as f64).sum();
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-9 * frames;
+        set_weights(&mut clips, Weighting::DataSet);
+        let keele = total(&clips, |c| c.condition.starts_with("keele"));
+        let ptdb = total(&clips, |c| c.condition.starts_with("ptdb"));
+        assert!(
+            close(keele, ptdb) && close(keele + ptdb, frames),
+            "{keele} {ptdb}"
+        );
+        for s in ["k1", "k2", "k3"] {
+            assert!(close(total(&clips, |c| c.speaker == s), keele / 3.0), "{s}");
+            let clean = total(&clips, |c| c.speaker == s && c.condition == "keele clean");
+            assert!(close(clean, keele / 6.0), "{s}");
+        }
+        assert!(close(
+            total(&clips, |c| c.condition == "ptdb car 0 dB"),
+            ptdb / 4.0
+        ));
+        set_weights(&mut clips, Weighting::Speaker);
+        for s in ["k1", "k2", "k3", "p1"] {
+            assert!(
+                close(total(&clips, |c| c.speaker == s), frames / 4.0),
+                "{s}"
+            );
+        }
+        set_weights(&mut clips, Weighting::Condition);
+        // Six conditions: each weighs a sixth.
+        for cond in ["keele clean", "ptdb car 40 dB"] {
+            assert!(
+                close(total(&clips, |c| c.condition == cond), frames / 6.0),
+                "{cond}"
+            );
+        }
     }
 }
