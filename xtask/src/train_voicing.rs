@@ -74,10 +74,11 @@ pub(crate) const TREES: TreeParams = TreeParams {
 
 /// The hybrid's trees (tried, not shipped). `--search`, data-set weights, held-out voicing
 /// error on Keele clean at 120 frames/s: logistic alone 9.68 %, plus 10/25/50/100 monotone
-/// trees of depth 3 9.88/9.85/9.86/9.72 % (non-monotone depth 2 at 100 trees 9.75 %): the trees
-/// help the noisy conditions and the low male voices but not the clean ones; a hybrid without
-/// the monotone constraint (depth 3, 50 trees, condition weights) broke `glides_are_followed`
-/// (a synthetic input outside the recordings).
+/// trees of depth 3 9.88/9.85/9.86/9.72 % (non-monotone depth 2 at 100 trees 9.75 %): under
+/// these weights the trees help the noisy conditions and the low male voices but not the clean
+/// voices; a hybrid without the monotone constraint (depth 3, 50 trees, condition weights)
+/// broke `glides_are_followed` (a synthetic input outside the recordings); the monotone ones
+/// were not run through the synthetic-signal tests.
 pub(crate) const HYBRID: TreeParams = TreeParams {
     depth: 3,
     rounds: 50,

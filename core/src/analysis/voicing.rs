@@ -822,42 +822,27 @@ mod tests {
     /// at 0 (lower child) and period_jump at 0.25 (upper child); the second only on
     /// low_band at 0.8, the second level's splits sending everything to the first child.
     fn two_trees() -> VoicingModel {
-        VoicingModel::trees(
-            2,
-            0.5,
-            vec![
-                (0, 0.5),
-                (14, 0.0),
-                (11, 0.25),
-                (10, 0.8),
-                (0, f32::MAX),
-                (0, f32::MAX),
-            ],
-            vec![-2.0, -1.0, 3.0, 1.0, 0.25, 0.0, -0.75, 0.0],
-            1.0,
-            0.0,
-        )
-        .unwrap()
+        let (splits, leaves) = two_trees_parts();
+        VoicingModel::trees(2, 0.5, splits, leaves, 1.0, 0.0).unwrap()
+    }
+
+    /// The splits and leaves of [`two_trees`].
+    fn two_trees_parts() -> (Vec<(usize, f32)>, Vec<f32>) {
+        let splits = vec![
+            (0, 0.5),
+            (14, 0.0),
+            (11, 0.25),
+            (10, 0.8),
+            (0, f32::MAX),
+            (0, f32::MAX),
+        ];
+        (splits, vec![-2.0, -1.0, 3.0, 1.0, 0.25, 0.0, -0.75, 0.0])
     }
 
     /// [`logistic`] plus the trees of [`two_trees`] (a version 3 file).
     fn hybrid() -> VoicingModel {
-        logistic()
-            .plus_trees(
-                2,
-                vec![
-                    (0, 0.5),
-                    (14, 0.0),
-                    (11, 0.25),
-                    (10, 0.8),
-                    (0, f32::MAX),
-                    (0, f32::MAX),
-                ],
-                vec![-2.0, -1.0, 3.0, 1.0, 0.25, 0.0, -0.75, 0.0],
-                1.5,
-                -0.5,
-            )
-            .unwrap()
+        let (splits, leaves) = two_trees_parts();
+        logistic().plus_trees(2, splits, leaves, 1.5, -0.5).unwrap()
     }
 
     #[test]
