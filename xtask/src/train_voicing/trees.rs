@@ -247,4 +247,37 @@ mod tests {
         assert_eq!(fit_trees(&rows, &params, None).unwrap(), m);
         assert_eq!(VoicingModel::parse(&m.to_text(&[])).unwrap(), m);
     }
+
+    #[test]
+    fn monotone_trees_never_score_a_clearer_frame_lower() {
+        // Labels that fall with chosen_clarity (cue 1) above 0.6 and depend on low_band
+        // (cue 10): unconstrained trees follow the fall, monotone ones must not.
+        let mut feats = Vec::new();
+        for a in 0..50 {
+            for b in 0..4 {
+                let mut f = [0.0f32; N_VOICING_FEATURES];
+                f[1] = a as f32 / 50.0;
+                f[10] = b as f32 / 4.0;
+                feats.push(f);
+            }
+        }
+        let label = |f: &VoicingFeatures| (0.3..0.6).contains(&f[1]) || f[10] > 0.6;
+        let rows: Vec<Row> = feats.iter().map(|f| (f, label(f), 10.0)).collect();
+        let params = |monotone| TreeParams {
+            depth: 2,
+            rounds: 30,
+            learning_rate: 0.3,
+            monotone,
+        };
+        let falls = |m: &VoicingModel| {
+            feats
+                .windows(8)
+                .filter(|w| m.score(&w[4]) < m.score(&w[0]) - 1e-6)
+                .count()
+        };
+        let free = fit_trees(&rows, &params(false), None).unwrap();
+        assert!(falls(&free) > 0, "the data should make free trees fall");
+        let monotone = fit_trees(&rows, &params(true), None).unwrap();
+        assert_eq!(falls(&monotone), 0);
+    }
 }
