@@ -634,10 +634,11 @@ struct Args {
     /// judge the shipped model, fitted on every speaker.
     #[arg(long)]
     no_loso: bool,
-    /// The kind of model the held-out column fits: `logistic` (format version 1) or `trees`
-    /// (boosted trees, version 2), to compare the two on held-out speakers; default the kind
+    /// The kind of model the held-out column fits: `logistic` (format version 1), `trees`
+    /// (boosted trees, version 2) or `hybrid` (the logistic regression plus trees boosted from
+    /// its score, version 3), to compare them on held-out speakers; default the kind
     /// `train-voicing` ships.
-    #[arg(long, value_name = "KIND", value_parser = ["logistic", "trees"])]
+    #[arg(long, value_name = "KIND", value_parser = ["logistic", "trees", "hybrid"])]
     loso_model: Option<String>,
     /// Judge the targets on the shipped model's figure (fitted on every speaker, the evaluated
     /// ones included) instead of the held-out one; both are printed either way.
@@ -1236,7 +1237,8 @@ fn run(args: &Args) -> Result<i32, String> {
         let clips = train_voicing::training_clips(&keele, &ptdb)?;
         let kind = match args.loso_model.as_deref() {
             Some("logistic") => train_voicing::ModelKind::Logistic,
-            Some(_) => train_voicing::ModelKind::Trees(train_voicing::TREES),
+            Some("trees") => train_voicing::ModelKind::Trees(train_voicing::TREES),
+            Some(_) => train_voicing::ModelKind::Hybrid(train_voicing::HYBRID),
             None => train_voicing::SHIPPED_KIND,
         };
         let (_, models) = train_voicing::fit_all_and_loso(&clips, kind)?;

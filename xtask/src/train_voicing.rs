@@ -14,22 +14,32 @@
 //! The cues are the analyzer's own ([`pneuma_core::VOICING_FEATURES`]), computed from the audio
 //! alone, so they are gathered once whatever model runs.
 //!
+//! Weights ([`WEIGHTING`], see [`Weighting`]): every condition (data set × noise × SNR)
+//! weighs the same. Per data set (each half, within it each speaker the same) is better held
+//! out (`--search`: Keele clean 9.68 % voicing error against 10.81 %, held-out Keele clean FFE
+//! 7.95 % against 8.53 %; with condition weights PTDB's sixteen conditions of two speakers make
+//! 70 % of the fit), but the model it gives fails `eval breath-sounds --check` (the shape
+//! rule's held-out F1 0.836 no longer beats the level-only F1, which rises to 0.843 with that
+//! voicing), so it is not shipped until the breath detection is refitted on it.
+//!
 //! Model ([`SHIPPED_KIND`], the one written to the file): logistic regression on standardised
-//! cues (Newton's method with a small ridge, [`RIDGE`], [`NEWTON_STEPS`] steps), or (tried, not
-//! shipped: `eval-pitch --loso-model trees`, `--search`) gradient-boosted regression trees
-//! ([`TREES`]; module `trees`: logistic loss, fixed depth, histogram splits on quantile-binned
-//! cues, shrinkage, a fixed number of rounds).
+//! cues (Newton's method with a small ridge, [`RIDGE`], [`NEWTON_STEPS`] steps). Tried, not
+//! shipped: gradient-boosted regression trees alone ([`TREES`], `eval-pitch --loso-model
+//! trees`), and the logistic regression plus trees boosted from its score ([`HYBRID`],
+//! `--loso-model hybrid`, optionally monotone in the clarity and level cues); module `trees`:
+//! logistic loss, fixed depth, histogram splits on quantile-binned cues, shrinkage, a fixed
+//! number of rounds.
 //! Either way the two hysteresis thresholds on the score are then chosen on the same training
 //! frames from a fixed grid by simulating the decision clip by clip and counting the voicing
 //! frame errors as FFE counts them. Everything runs in f64, single-threaded, in a fixed order,
 //! with no randomness, so the same data and code give the same file bit for bit; `--check`
 //! verifies that instead of writing.
 //!
-//! `--search` prints the held-out (leave-one-speaker-out) voicing error of the logistic model
-//! and of each tree setting of a small grid (depth, learning rate, rounds); the shipped setting
-//! is the grid's best held-out figure, so these settings are the only thing chosen with every
-//! speaker's frames in view (the per-speaker held-out figures still come from models that
-//! never saw the speaker).
+//! `--search` prints the held-out (leave-one-speaker-out) voicing error, over all frames and
+//! per group of clips, of the logistic model and of the hybrid at each depth, tree count and
+//! monotonicity, under each weighting (slow: about 40 minutes). The shipped choice is set by
+//! hand from that table and checked on held-out FFE with `eval-pitch`; the per-speaker
+//! held-out figures still come from models that never saw the speaker.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -48,6 +58,8 @@ pub(crate) enum ModelKind {
     Logistic,
     /// Gradient-boosted trees (format version 2) with these settings.
     Trees(TreeParams),
+    /// The logistic regression plus trees boosted from its score (format version 3).
+    Hybrid(TreeParams),
 }
 
 /// The tree setting of the `--search` grid whose held-out voicing error was lowest when it was
@@ -57,6 +69,22 @@ pub(crate) const TREES: TreeParams = TreeParams {
     depth: 3,
     rounds: 400,
     learning_rate: 0.1,
+    monotone: false,
+};
+
+/// The hybrid's trees (tried, not shipped). `--search`, data-set weights, held-out voicing
+/// error on Keele clean at 120 frames/s: logistic alone 9.68 %, plus 10/25/50/100 monotone
+/// trees of depth 3 9.88/9.85/9.86/9.72 % (non-monotone depth 2 at 100 trees 9.75 %): under
+/// these weights the trees help the noisy conditions and the low male voices but not the clean
+/// voices; a hybrid without the monotone constraint (depth 3, 50 trees, condition weights)
+/// broke `glides_are_followed` (a synthetic input outside the recordings); this setting
+/// (monotone, condition weights) passes the synthetic-signal tests, held-out Keele clean FFE
+/// 8.08 % (README, Measured).
+pub(crate) const HYBRID: TreeParams = TreeParams {
+    depth: 3,
+    rounds: 50,
+    learning_rate: SEARCH_RATE,
+    monotone: true,
 };
 
 /// The kind `train-voicing` writes to `assets/models/voicing.txt`.
@@ -65,8 +93,8 @@ pub(crate) const SHIPPED_KIND: ModelKind = ModelKind::Logistic;
 /// The `--search` grid: depths, learning rates, and the tree counts scored (prefixes of the
 /// largest).
 const SEARCH_DEPTHS: [usize; 2] = [2, 3];
-const SEARCH_RATES: [f64; 2] = [0.1, 0.25];
-const SEARCH_ROUNDS: [usize; 4] = [50, 100, 200, 400];
+const SEARCH_RATE: f64 = 0.1;
+const SEARCH_ROUNDS: [usize; 4] = [10, 25, 50, 100];
 
 /// Indices of the cues the training reads, checked against the names at first use.
 const LOG_F0: usize = 13;
@@ -93,9 +121,9 @@ pub(crate) struct ClipFrames {
     pub speaker: String,
     /// Data set and noise condition (`keele clean`, `ptdb car 10 dB`, ...).
     condition: String,
-    /// Weight of each of its labelled frames: every condition (data set × noise × SNR) weighs
-    /// the same in all (PTDB's sixteen conditions of two speakers would otherwise be outweighed
-    /// by Keele's ten speakers).
+    /// Frames per second the cues were gathered at.
+    frame_rate_hz: f64,
+    /// Weight of each of its labelled frames (see [`WEIGHTING`]).
     weight: f64,
     features: Vec<VoicingFeatures>,
     seen: Vec<bool>,
@@ -170,6 +198,7 @@ fn gather(
         out.push(ClipFrames {
             speaker: s.speaker.clone(),
             condition: format!("{set} {}", s.condition_label()),
+            frame_rate_hz,
             weight: 1.0,
             features,
             seen,
@@ -198,20 +227,7 @@ pub(crate) fn training_clips(keele: &Path, ptdb: &Path) -> Result<Vec<ClipFrames
             gather(set, &sources, offset, rate, &mut clips)?;
         }
     }
-    let mut per_condition: BTreeMap<&str, usize> = BTreeMap::new();
-    for c in &clips {
-        *per_condition.entry(c.condition.as_str()).or_default() += c.labels.len();
-    }
-    let total: usize = per_condition.values().sum();
-    let weights: Vec<f64> = clips
-        .iter()
-        .map(|c| {
-            total as f64 / (per_condition.len() * per_condition[c.condition.as_str()].max(1)) as f64
-        })
-        .collect();
-    for (c, w) in clips.iter_mut().zip(weights) {
-        c.weight = w;
-    }
+    set_weights(&mut clips, WEIGHTING);
     if !skipped.is_empty() {
         return Err(format!(
             "unreadable training clips (the model must be fitted on all of them): {}",
@@ -219,6 +235,93 @@ pub(crate) fn training_clips(keele: &Path, ptdb: &Path) -> Result<Vec<ClipFrames
         ));
     }
     Ok(clips)
+}
+
+/// How the labelled frames are weighted.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Weighting {
+    /// Every condition (data set × noise × SNR) weighs the same in all.
+    Condition,
+    /// Every speaker weighs the same, and within a speaker every condition.
+    Speaker,
+    /// Every data set weighs the same, within it every speaker, within a speaker every
+    /// condition (best held out; see the module docs for why it is not shipped yet).
+    DataSet,
+}
+
+/// The weighting the shipped model is fitted with.
+pub(crate) const WEIGHTING: Weighting = Weighting::Condition;
+
+/// The model file's note on the weighting (ends the sentence begun by the data's note).
+fn weighting_notes(scheme: Weighting) -> Vec<String> {
+    match scheme {
+        Weighting::Condition => {
+            vec!["frames/s, each condition (data set x noise x SNR) weighing the same,".into()]
+        }
+        Weighting::Speaker => vec![
+            "frames/s; each speaker weighing the same, within a speaker each condition (noise x".into(),
+            "SNR) and frame rate the same;".into(),
+        ],
+        Weighting::DataSet => vec![
+            "frames/s; each data set weighing half, within it each speaker the same, within a speaker".into(),
+            "each condition (noise x SNR) and frame rate the same;".into(),
+        ],
+    }
+}
+
+/// Sets each clip's frame weight so that every group of `scheme` weighs the same (the mean
+/// frame weight stays 1, so the ridge keeps its meaning).
+fn set_weights(clips: &mut [ClipFrames], scheme: Weighting) {
+    let group = |c: &ClipFrames| match scheme {
+        Weighting::Condition => c.condition.clone(),
+        Weighting::Speaker | Weighting::DataSet => format!("{}\t{}", c.speaker, c.condition),
+    };
+    // The data set is the condition's first word.
+    let set_of = |c: &ClipFrames| c.condition.split(' ').next().unwrap_or("").to_string();
+    let mut speakers_of_set: BTreeMap<String, std::collections::BTreeSet<&str>> = BTreeMap::new();
+    for c in clips.iter() {
+        speakers_of_set
+            .entry(set_of(c))
+            .or_default()
+            .insert(c.speaker.as_str());
+    }
+    let speakers_of_set: BTreeMap<String, usize> = speakers_of_set
+        .into_iter()
+        .map(|(k, v)| (k, v.len()))
+        .collect();
+    let mut per_group: BTreeMap<String, usize> = BTreeMap::new();
+    let mut groups_of_speaker: BTreeMap<&str, std::collections::BTreeSet<String>> = BTreeMap::new();
+    for c in clips.iter() {
+        *per_group.entry(group(c)).or_default() += c.labels.len();
+        groups_of_speaker
+            .entry(c.speaker.as_str())
+            .or_default()
+            .insert(group(c));
+    }
+    let total: usize = per_group.values().sum();
+    let n_speakers = groups_of_speaker.len();
+    let weights: Vec<f64> = clips
+        .iter()
+        .map(|c| {
+            let frames = per_group[&group(c)].max(1) as f64;
+            match scheme {
+                Weighting::Condition => total as f64 / (per_group.len() as f64 * frames),
+                Weighting::Speaker => {
+                    let k = groups_of_speaker[c.speaker.as_str()].len() as f64;
+                    total as f64 / (n_speakers as f64 * k * frames)
+                }
+                Weighting::DataSet => {
+                    let k = groups_of_speaker[c.speaker.as_str()].len() as f64;
+                    let speakers = speakers_of_set[&set_of(c)] as f64;
+                    let sets = speakers_of_set.len() as f64;
+                    total as f64 / (sets * speakers * k * frames)
+                }
+            }
+        })
+        .collect();
+    for (c, w) in clips.iter_mut().zip(weights) {
+        c.weight = w;
+    }
 }
 
 /// Solves `a·x = b` (symmetric positive definite, row-major `n×n`) by Cholesky.
@@ -263,7 +366,8 @@ fn solve_spd(a: &[f64], b: &[f64], n: usize) -> Option<Vec<f64>> {
 pub(crate) fn fit(clips: &[&ClipFrames], kind: ModelKind) -> Result<VoicingModel, String> {
     let model = match kind {
         ModelKind::Logistic => fit_logistic(clips)?,
-        ModelKind::Trees(params) => fit_trees(&rows(clips), &params)?,
+        ModelKind::Trees(params) => fit_trees(&rows(clips), &params, None)?,
+        ModelKind::Hybrid(params) => fit_trees(&rows(clips), &params, Some(&fit_logistic(clips)?))?,
     };
     with_chosen_thresholds(&model, clips)
 }
@@ -454,54 +558,118 @@ pub(crate) fn fit_all_and_loso(
 /// Fits models (on the given clips) whose held-out errors `search` adds up, one per entry.
 type FitMany<'a> = dyn Fn(&[&ClipFrames]) -> Result<Vec<VoicingModel>, String> + 'a;
 
-/// `--search`: the held-out voicing error (all speakers' frames, each judged by a model
-/// fitted without its speaker, thresholds chosen on the other eleven) of the logistic model
-/// and of every tree setting of the grid; prints the table and returns nothing to ship (the
-/// choice is [`SHIPPED_KIND`], set by hand from this table).
-fn search(clips: &[ClipFrames]) -> Result<(), String> {
-    let speakers = speakers(clips);
-    let held_out = |models: &FitMany<'_>| {
-        let mut errors: Vec<(u64, u64)> = Vec::new();
-        for s in &speakers {
-            let others: Vec<&ClipFrames> = clips.iter().filter(|c| &c.speaker != s).collect();
-            let own: Vec<&ClipFrames> = clips.iter().filter(|c| &c.speaker == s).collect();
-            for (i, m) in models(&others)?.iter().enumerate() {
-                let (e, n) = voicing_errors(&with_chosen_thresholds(m, &others)?, &own);
-                if errors.len() <= i {
-                    errors.push((0, 0));
-                }
-                errors[i].0 += e;
-                errors[i].1 += n;
+/// Held-out frame errors and frames per clip (`[model][clip]`) of the models `fit_many`
+/// makes: every clip judged by models fitted without its speaker, thresholds chosen on the
+/// other eleven.
+fn held_out_errors(
+    clips: &[ClipFrames],
+    fit_many: &FitMany<'_>,
+) -> Result<Vec<Vec<(u64, u64)>>, String> {
+    let mut errors: Vec<Vec<(u64, u64)>> = Vec::new();
+    for s in speakers(clips) {
+        let others: Vec<&ClipFrames> = clips.iter().filter(|c| c.speaker != s).collect();
+        for (i, m) in fit_many(&others)?.iter().enumerate() {
+            let m = with_chosen_thresholds(m, &others)?;
+            if errors.len() <= i {
+                errors.push(vec![(0, 0); clips.len()]);
             }
-        }
-        Ok::<_, String>(errors)
-    };
-    let pct = |(e, n): (u64, u64)| e as f64 * 100.0 / n.max(1) as f64;
-    println!("\nheld-out voicing error on labelled frames (leave-one-speaker-out):");
-    let logistic = held_out(&|c| Ok(vec![fit_logistic(c)?]))?;
-    println!(
-        "  logistic                          {:>6.2} %",
-        pct(logistic[0])
-    );
-    for depth in SEARCH_DEPTHS {
-        for learning_rate in SEARCH_RATES {
-            let params = TreeParams {
-                depth,
-                rounds: SEARCH_ROUNDS[SEARCH_ROUNDS.len() - 1],
-                learning_rate,
-            };
-            let errors = held_out(&|c| {
-                let m = fit_trees(&rows(c), &params)?;
-                Ok(SEARCH_ROUNDS.iter().map(|&r| m.first_trees(r)).collect())
-            })?;
-            for (r, e) in SEARCH_ROUNDS.iter().zip(errors) {
-                println!(
-                    "  trees depth {depth} rate {learning_rate:<5} rounds {r:<4}   {:>6.2} %",
-                    pct(e)
-                );
+            for (j, c) in clips.iter().enumerate() {
+                if c.speaker == s {
+                    errors[i][j] = voicing_errors(&m, &[c]);
+                }
             }
         }
     }
+    Ok(errors)
+}
+
+/// The groups of clips `--search` reports (all at the shipped frame rate but the first).
+const SEARCH_GROUPS: [(&str, &str); 7] = [
+    ("all", ""),
+    ("k clean", "keele clean"),
+    ("k white", "keele white"),
+    ("k babble", "keele babble"),
+    ("k m1/m4", "m"),
+    ("k f2/f4", "f"),
+    ("ptdb", "ptdb"),
+];
+
+/// Whether `c` belongs to `--search` group `g` (see [`SEARCH_GROUPS`]).
+fn in_group(c: &ClipFrames, g: usize) -> bool {
+    let shipped_rate = c.frame_rate_hz == AnalysisConfig::default().frame_rate_hz;
+    let key = SEARCH_GROUPS[g].1;
+    match g {
+        0 => true,
+        4 | 5 => {
+            let who: [&str; 2] = if g == 4 {
+                ["m1nw0000", "m4nw0000"]
+            } else {
+                ["f2nw0000", "f4nw0000"]
+            };
+            shipped_rate && c.condition == "keele clean" && who.contains(&c.speaker.as_str())
+        }
+        _ => shipped_rate && c.condition.starts_with(key),
+    }
+}
+
+/// `--search`: the held-out voicing error (leave-one-speaker-out, see [`held_out_errors`]) of
+/// the logistic model and of every tree setting of the grid, over all frames and per group
+/// of clips; prints the table and returns nothing to ship (the choice is [`SHIPPED_KIND`],
+/// set by hand from this table).
+fn search(clips: &mut [ClipFrames]) -> Result<(), String> {
+    let pct = |(e, n): (u64, u64)| e as f64 * 100.0 / n.max(1) as f64;
+    println!(
+        "\nheld-out voicing error % on labelled frames (leave-one-speaker-out; groups but `all` at {} frames/s):",
+        AnalysisConfig::default().frame_rate_hz
+    );
+    print!("  {:<44}", "model");
+    for (name, _) in SEARCH_GROUPS {
+        print!(" {name:>8}");
+    }
+    println!();
+    let print = |label: &str, per_clip: &[(u64, u64)], clips: &[ClipFrames]| {
+        print!("  {label:<44}");
+        for g in 0..SEARCH_GROUPS.len() {
+            let mut t = (0, 0);
+            for (c, e) in clips.iter().zip(per_clip) {
+                if in_group(c, g) {
+                    t.0 += e.0;
+                    t.1 += e.1;
+                }
+            }
+            print!(" {:>8.2}", pct(t));
+        }
+        println!();
+    };
+    for weighting in [Weighting::DataSet, Weighting::Condition, Weighting::Speaker] {
+        set_weights(clips, weighting);
+        let w = format!("{weighting:?}").to_lowercase();
+        let logistic = held_out_errors(clips, &|c| Ok(vec![fit_logistic(c)?]))?;
+        print(&format!("logistic, {w} weights"), &logistic[0], clips);
+        for monotone in [false, true] {
+            for depth in SEARCH_DEPTHS {
+                let params = TreeParams {
+                    depth,
+                    rounds: SEARCH_ROUNDS[SEARCH_ROUNDS.len() - 1],
+                    learning_rate: SEARCH_RATE,
+                    monotone,
+                };
+                let errors = held_out_errors(clips, &|c| {
+                    let m = fit_trees(&rows(c), &params, Some(&fit_logistic(c)?))?;
+                    Ok(SEARCH_ROUNDS.iter().map(|&r| m.first_trees(r)).collect())
+                })?;
+                let m = if monotone { "monotone " } else { "" };
+                for (r, e) in SEARCH_ROUNDS.iter().zip(&errors) {
+                    print(
+                        &format!("logistic + {r} {m}trees d{depth}, {w} weights"),
+                        e,
+                        clips,
+                    );
+                }
+            }
+        }
+    }
+    set_weights(clips, WEIGHTING);
     Ok(())
 }
 
@@ -548,7 +716,7 @@ pub fn main(args: &[String]) -> i32 {
         }
     }
     if search_grid {
-        let done = training_clips(&keele, &ptdb).and_then(|clips| search(&clips));
+        let done = training_clips(&keele, &ptdb).and_then(|mut clips| search(&mut clips));
         return match done {
             Ok(()) => 0,
             Err(e) => {
@@ -580,6 +748,18 @@ fn kind_notes(kind: ModelKind) -> [String; 2] {
             ),
             "analyzer's voicing cues, with hysteresis thresholds on its score (format: core/src/analysis/voicing.rs).".into(),
         ],
+        ModelKind::Hybrid(p) => [
+            format!(
+                "Pneuma voicing model: logistic regression over the analyzer's voicing cues plus {} {}trees of depth {}",
+                p.rounds,
+                if p.monotone { "monotone " } else { "" },
+                p.depth
+            ),
+            format!(
+                "boosted from its score (learning rate {}), with hysteresis thresholds (format: core/src/analysis/voicing.rs).",
+                p.learning_rate
+            ),
+        ],
     }
 }
 
@@ -598,7 +778,9 @@ fn run(keele: &Path, ptdb: &Path, check: bool) -> Result<i32, String> {
         "Generated by `cargo xtask train-voicing` (deterministic; --check reproduces it bit for bit);".into(),
         "do not edit by hand. Data: Keele (10 speakers, clean and with seeded white and babble".into(),
         "noise at 20/10/0 dB) and PTDB-TUG excerpts (2 speakers, 4 noises x 4 SNRs), at 120 and 200".into(),
-        "frames/s, each condition (data set x noise x SNR) weighing the same,".into(),
+    ]);
+    notes.extend(weighting_notes(WEIGHTING));
+    notes.extend([
         format!(
             "reference offsets {KEELE_OFFSET_MS:+} ms (Keele) and {PTDB_OFFSET_MS:+} ms (PTDB); {labelled} labelled frames."
         ),
@@ -653,5 +835,84 @@ fn run(keele: &Path, ptdb: &Path, check: bool) -> Result<i32, String> {
         std::fs::write(&out, text).map_err(|e| format!("{}: {e}", out.display()))?;
         println!("\nwrote {}", out.display());
         Ok(0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A clip of `speaker` in `condition` with `n` labelled frames.
+    fn clip(speaker: &str, condition: &str, n: usize) -> ClipFrames {
+        ClipFrames {
+            speaker: speaker.into(),
+            condition: condition.into(),
+            frame_rate_hz: 120.0,
+            weight: 0.0,
+            features: vec![[0.0; N_VOICING_FEATURES]; n],
+            seen: vec![true; n],
+            labels: (0..n).map(|k| (k, k % 2 == 0)).collect(),
+            wrong_pitch: Vec::new(),
+        }
+    }
+
+    /// Total weight of the clips `pick` selects.
+    fn total(clips: &[ClipFrames], pick: impl Fn(&ClipFrames) -> bool) -> f64 {
+        clips
+            .iter()
+            .filter(|c| pick(c))
+            .map(|c| c.weight * c.labels.len() as f64)
+            .sum()
+    }
+
+    #[test]
+    fn weightings_balance_their_groups() {
+        // Three Keele speakers with two conditions each, one PTDB speaker with four; frame
+        // counts all different.
+        let mut clips = vec![
+            clip("k1", "keele clean", 100),
+            clip("k1", "keele white 0 dB", 300),
+            clip("k2", "keele clean", 50),
+            clip("k2", "keele white 0 dB", 70),
+            clip("k3", "keele clean", 400),
+            clip("k3", "keele white 0 dB", 10),
+            clip("p1", "ptdb car 0 dB", 30),
+            clip("p1", "ptdb car 40 dB", 60),
+            clip("p1", "ptdb white 0 dB", 90),
+            clip("p1", "ptdb white 40 dB", 20),
+        ];
+        let frames: f64 = clips.iter().map(|c| c.labels.len() as f64).sum();
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-9 * frames;
+        set_weights(&mut clips, Weighting::DataSet);
+        let keele = total(&clips, |c| c.condition.starts_with("keele"));
+        let ptdb = total(&clips, |c| c.condition.starts_with("ptdb"));
+        assert!(
+            close(keele, ptdb) && close(keele + ptdb, frames),
+            "{keele} {ptdb}"
+        );
+        for s in ["k1", "k2", "k3"] {
+            assert!(close(total(&clips, |c| c.speaker == s), keele / 3.0), "{s}");
+            let clean = total(&clips, |c| c.speaker == s && c.condition == "keele clean");
+            assert!(close(clean, keele / 6.0), "{s}");
+        }
+        assert!(close(
+            total(&clips, |c| c.condition == "ptdb car 0 dB"),
+            ptdb / 4.0
+        ));
+        set_weights(&mut clips, Weighting::Speaker);
+        for s in ["k1", "k2", "k3", "p1"] {
+            assert!(
+                close(total(&clips, |c| c.speaker == s), frames / 4.0),
+                "{s}"
+            );
+        }
+        set_weights(&mut clips, Weighting::Condition);
+        // Six conditions: each weighs a sixth.
+        for cond in ["keele clean", "ptdb car 40 dB"] {
+            assert!(
+                close(total(&clips, |c| c.condition == cond), frames / 6.0),
+                "{cond}"
+            );
+        }
     }
 }

@@ -4,7 +4,8 @@
 //! speech level and the noise floor, continuity with the previous frame's period, and the
 //! period itself), all computed causally from the audio alone, never from earlier decisions,
 //! so the same cues can be gathered once and any model fitted on them. [`VoicingModel`] is a
-//! logistic regression over those cues ([`VOICING_FEATURES`]) with two thresholds on its score
+//! score over those cues ([`VOICING_FEATURES`]: a logistic regression, regression trees, or
+//! both added) with two thresholds on its score
 //! (hysteresis: a higher score to start voicing than to keep it), read from a versioned text
 //! file (`assets/models/voicing.txt`, embedded) that `cargo xtask train-voicing` fits
 //! leave-one-speaker-out and regenerates bit for bit. [`VoicingRule`] applies the model with
@@ -16,10 +17,13 @@ use thiserror::Error;
 
 /// The shipped model, embedded.
 const SHIPPED_MODEL: &str = include_str!("../../../assets/models/voicing.txt");
-/// First line of a model file (after comments): format name and version (2: trees).
-const FORMAT_LINE: &str = "pneuma-voicing-model 2";
-/// The first line of a version 1 file (logistic regression), still read.
+/// First line of a model file (after comments): format name and version (3: a logistic
+/// regression plus trees).
+const FORMAT_LINE: &str = "pneuma-voicing-model 3";
+/// The first line of a version 1 file (logistic regression), still read and written.
 const FORMAT_LINE_V1: &str = "pneuma-voicing-model 1";
+/// The first line of a version 2 file (trees alone), still read and written.
+const FORMAT_LINE_V2: &str = "pneuma-voicing-model 2";
 /// Width of the fade of the voicing confidence below the silence gate, dB.
 const SILENCE_FADE_DB: f32 = 10.0;
 
@@ -173,31 +177,147 @@ struct TreeSplit {
     threshold: f32,
 }
 
+/// A logistic regression's score: bias + Σ weight·(feature − mean)/scale.
+#[derive(Debug, Clone, PartialEq)]
+struct Linear {
+    mean: VoicingFeatures,
+    scale: VoicingFeatures,
+    weight: VoicingFeatures,
+    bias: f32,
+}
+
+impl Linear {
+    fn score(&self, features: &VoicingFeatures) -> f32 {
+        let mut z = self.bias;
+        let terms = features.iter().zip(&self.mean).zip(&self.scale);
+        for (((x, m), s), w) in terms.zip(&self.weight) {
+            z += w * ((x - m) / s);
+        }
+        z
+    }
+}
+
+/// Regression trees of one `depth`: splits stored breadth first (`2^depth − 1` per tree),
+/// leaves left to right (`2^depth` per tree), all trees in one flat array each (allocated
+/// once, at load).
+#[derive(Debug, Clone, PartialEq)]
+struct Ensemble {
+    depth: usize,
+    splits: Vec<TreeSplit>,
+    leaves: Vec<f32>,
+}
+
+impl Ensemble {
+    /// Checks the parts (see [`VoicingModel::trees`]).
+    fn new(depth: usize, splits: Vec<(usize, f32)>, leaves: Vec<f32>) -> Result<Self, String> {
+        let splits: Vec<TreeSplit> = splits
+            .into_iter()
+            .map(|(feature, threshold)| TreeSplit { feature, threshold })
+            .collect();
+        if !(1..=MAX_TREE_DEPTH).contains(&depth) {
+            return Err(format!("depth {depth} is outside 1..={MAX_TREE_DEPTH}"));
+        }
+        let n_leaves = 1 << depth;
+        let n_trees = leaves.len() / n_leaves;
+        if leaves.len() != n_trees * n_leaves || splits.len() != n_trees * (n_leaves - 1) {
+            return Err(format!(
+                "{} splits and {} leaves do not make whole trees of depth {depth}",
+                splits.len(),
+                leaves.len()
+            ));
+        }
+        if let Some(s) = splits
+            .iter()
+            .find(|s| s.feature >= N_VOICING_FEATURES || !s.threshold.is_finite())
+        {
+            return Err(format!(
+                "split on cue {} at {}: the cue must be one of the {N_VOICING_FEATURES} and the threshold finite",
+                s.feature, s.threshold
+            ));
+        }
+        if !leaves.iter().all(|v| v.is_finite()) {
+            return Err("leaf values must be finite".into());
+        }
+        Ok(Self {
+            depth,
+            splits,
+            leaves,
+        })
+    }
+
+    fn n_leaves(&self) -> usize {
+        1 << self.depth
+    }
+
+    fn count(&self) -> usize {
+        self.leaves.len() / self.n_leaves()
+    }
+
+    /// Keeps the first `count` trees.
+    fn truncate(&mut self, count: usize) {
+        let n_leaves = self.n_leaves();
+        let count = count.min(self.count());
+        self.leaves.truncate(count * n_leaves);
+        self.splits.truncate(count * (n_leaves - 1));
+    }
+
+    /// The sum of the leaf each tree reaches.
+    fn score(&self, features: &VoicingFeatures) -> f32 {
+        let n_leaves = self.n_leaves();
+        let mut z = 0.0;
+        for (tree_splits, tree_leaves) in self
+            .splits
+            .chunks_exact(n_leaves - 1)
+            .zip(self.leaves.chunks_exact(n_leaves))
+        {
+            let mut node = 0;
+            for _ in 0..self.depth {
+                let s = tree_splits[node];
+                node = 2 * node + 1 + usize::from(features[s.feature] > s.threshold);
+            }
+            z += tree_leaves[node - (n_leaves - 1)];
+        }
+        z
+    }
+
+    /// The `tree` lines of the file format.
+    fn write(&self, s: &mut String) {
+        use std::fmt::Write as _;
+        let n_leaves = self.n_leaves();
+        for (tree_splits, tree_leaves) in self
+            .splits
+            .chunks_exact(n_leaves - 1)
+            .zip(self.leaves.chunks_exact(n_leaves))
+        {
+            s.push_str("tree");
+            for sp in tree_splits {
+                let _ = write!(s, " {} {}", VOICING_FEATURES[sp.feature], sp.threshold);
+            }
+            s.push_str(" leaves");
+            for v in tree_leaves {
+                let _ = write!(s, " {v}");
+            }
+            s.push('\n');
+        }
+    }
+}
+
 /// How a model turns the cues into a score (log-odds of voiced).
 #[derive(Debug, Clone, PartialEq)]
 enum Scorer {
-    /// bias + Σ weight·(feature − mean)/scale.
-    Logistic {
-        mean: VoicingFeatures,
-        scale: VoicingFeatures,
-        weight: VoicingFeatures,
-        bias: f32,
-    },
-    /// base + the sum of one leaf of each tree. Every tree has the same `depth`; its splits
-    /// are stored breadth first (`2^depth − 1` per tree) and its leaves left to right
-    /// (`2^depth` per tree), all trees in one flat array each (allocated once, at load).
-    Trees {
-        depth: usize,
-        base: f32,
-        splits: Vec<TreeSplit>,
-        leaves: Vec<f32>,
-    },
+    /// A logistic regression (version 1).
+    Logistic(Linear),
+    /// `base` + the trees (version 2).
+    Trees { base: f32, trees: Ensemble },
+    /// The logistic regression's score + the trees (version 3: trees boosted from the
+    /// logistic score, which keeps the score rising with clarity where the trees are flat).
+    Hybrid { linear: Linear, trees: Ensemble },
 }
 
 /// A voicing model: a score (log-odds of voiced) from the cues, and two thresholds on it; a
 /// frame starts voicing at `threshold_on` and keeps voicing down to `threshold_off`. The score
-/// is a logistic regression (format version 1) or a sum of small regression trees (gradient
-/// boosting, version 2).
+/// is a logistic regression (format version 1), a sum of small regression trees (gradient
+/// boosting, version 2), or the logistic score plus such trees (version 3).
 ///
 /// File format (text, UTF-8; `#` lines and blank lines are comments). Version 1:
 ///
@@ -220,8 +340,19 @@ enum Scorer {
 /// threshold_off <off>
 /// ```
 ///
+/// Version 3 (hybrid: the logistic regression's score plus trees):
+///
+/// ```text
+/// pneuma-voicing-model 3
+/// feature ... / bias <b>                            (as in version 1)
+/// trees <count> depth <d>                           (then the tree lines of version 2)
+/// tree ...
+/// threshold_on <on>
+/// threshold_off <off>
+/// ```
+///
 /// A split sends a frame whose cue `<name>` is at most `<t>` to its first child. The score is
-/// `base` plus the leaf each tree reaches. Every number is a finite decimal (written as the
+/// `base` (version 2) or the logistic score (version 3) plus the leaf each tree reaches. Every number is a finite decimal (written as the
 /// shortest text that reads back as the same `f32`), every scale positive.
 #[derive(Debug, Clone, PartialEq)]
 pub struct VoicingModel {
@@ -284,12 +415,12 @@ impl VoicingModel {
         if !bias.is_finite() {
             return Err("bias must be finite".into());
         }
-        let scorer = Scorer::Logistic {
+        let scorer = Scorer::Logistic(Linear {
             mean,
             scale,
             weight,
             bias,
-        };
+        });
         Self::from_scorer(scorer, threshold_on, threshold_off)
     }
 
@@ -306,39 +437,31 @@ impl VoicingModel {
         threshold_on: f32,
         threshold_off: f32,
     ) -> Result<Self, String> {
-        let splits: Vec<TreeSplit> = splits
-            .into_iter()
-            .map(|(feature, threshold)| TreeSplit { feature, threshold })
-            .collect();
-        if !(1..=MAX_TREE_DEPTH).contains(&depth) {
-            return Err(format!("depth {depth} is outside 1..={MAX_TREE_DEPTH}"));
+        if !base.is_finite() {
+            return Err("base must be finite".into());
         }
-        let n_leaves = 1 << depth;
-        let n_trees = leaves.len() / n_leaves;
-        if leaves.len() != n_trees * n_leaves || splits.len() != n_trees * (n_leaves - 1) {
-            return Err(format!(
-                "{} splits and {} leaves do not make whole trees of depth {depth}",
-                splits.len(),
-                leaves.len()
-            ));
-        }
-        if let Some(s) = splits
-            .iter()
-            .find(|s| s.feature >= N_VOICING_FEATURES || !s.threshold.is_finite())
-        {
-            return Err(format!(
-                "split on cue {} at {}: the cue must be one of the {N_VOICING_FEATURES} and the threshold finite",
-                s.feature, s.threshold
-            ));
-        }
-        if !(base.is_finite() && leaves.iter().all(|v| v.is_finite())) {
-            return Err("base and leaf values must be finite".into());
-        }
-        let scorer = Scorer::Trees {
-            depth,
-            base,
-            splits,
-            leaves,
+        let trees = Ensemble::new(depth, splits, leaves)?;
+        Self::from_scorer(Scorer::Trees { base, trees }, threshold_on, threshold_off)
+    }
+
+    /// This logistic-regression model's score plus trees (a hybrid, format version 3):
+    /// `depth`, `splits` and `leaves` as for [`VoicingModel::trees`], the thresholds given.
+    /// Fails on a model that is not a logistic regression, or as [`VoicingModel::trees`] does.
+    pub fn plus_trees(
+        &self,
+        depth: usize,
+        splits: Vec<(usize, f32)>,
+        leaves: Vec<f32>,
+        threshold_on: f32,
+        threshold_off: f32,
+    ) -> Result<Self, String> {
+        let Scorer::Logistic(linear) = &self.scorer else {
+            return Err("trees are added to a logistic regression only".into());
+        };
+        let trees = Ensemble::new(depth, splits, leaves)?;
+        let scorer = Scorer::Hybrid {
+            linear: linear.clone(),
+            trees,
         };
         Self::from_scorer(scorer, threshold_on, threshold_off)
     }
@@ -348,21 +471,12 @@ impl VoicingModel {
         Self::from_scorer(self.scorer.clone(), threshold_on, threshold_off)
     }
 
-    /// The same trees, only the first `count` of them (a tree model's earlier stage of
+    /// The same model with only the first `count` of its trees (an earlier stage of
     /// boosting); a logistic model is returned as it is.
     pub fn first_trees(&self, count: usize) -> Self {
         let mut m = self.clone();
-        if let Scorer::Trees {
-            depth,
-            splits,
-            leaves,
-            ..
-        } = &mut m.scorer
-        {
-            let n_leaves = 1usize << *depth;
-            let count = count.min(leaves.len() / n_leaves);
-            leaves.truncate(count * n_leaves);
-            splits.truncate(count * (n_leaves - 1));
+        if let Scorer::Trees { trees, .. } | Scorer::Hybrid { trees, .. } = &mut m.scorer {
+            trees.truncate(count);
         }
         m
     }
@@ -370,40 +484,9 @@ impl VoicingModel {
     /// The score of one frame's features (log-odds of voiced). Never allocates.
     pub fn score(&self, features: &VoicingFeatures) -> f32 {
         match &self.scorer {
-            Scorer::Logistic {
-                mean,
-                scale,
-                weight,
-                bias,
-            } => {
-                let mut z = *bias;
-                let terms = features.iter().zip(mean).zip(scale);
-                for (((x, m), s), w) in terms.zip(weight) {
-                    z += w * ((x - m) / s);
-                }
-                z
-            }
-            Scorer::Trees {
-                depth,
-                base,
-                splits,
-                leaves,
-            } => {
-                let n_leaves = 1usize << *depth;
-                let mut z = *base;
-                for (tree_splits, tree_leaves) in splits
-                    .chunks_exact(n_leaves - 1)
-                    .zip(leaves.chunks_exact(n_leaves))
-                {
-                    let mut node = 0;
-                    for _ in 0..*depth {
-                        let s = tree_splits[node];
-                        node = 2 * node + 1 + usize::from(features[s.feature] > s.threshold);
-                    }
-                    z += tree_leaves[node - (n_leaves - 1)];
-                }
-                z
-            }
+            Scorer::Logistic(linear) => linear.score(features),
+            Scorer::Trees { base, trees } => base + trees.score(features),
+            Scorer::Hybrid { linear, trees } => linear.score(features) + trees.score(features),
         }
     }
 
@@ -417,143 +500,57 @@ impl VoicingModel {
         }
     }
 
-    /// Reads a model file of either version (see the type's docs); errors name the line.
+    /// Reads a model file of any version (see the type's docs); errors name the line.
     pub fn parse(text: &str) -> Result<Self, VoicingModelError> {
         let mut lines = text
             .lines()
             .enumerate()
             .map(|(i, l)| (i + 1, l.trim()))
             .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-        let bad = |line: usize, message: String| VoicingModelError::Line { line, message };
         let (line, first) = keyed_line(&mut lines, &format!("the format line `{FORMAT_LINE}`"))?;
         let version = match first {
             FORMAT_LINE_V1 => 1,
-            FORMAT_LINE => 2,
+            FORMAT_LINE_V2 => 2,
+            FORMAT_LINE => 3,
             _ => {
                 return Err(bad(
                     line,
-                    format!("expected `{FORMAT_LINE}` (or version 1), found `{first}` (not a voicing model, or another version)"),
+                    format!("expected `{FORMAT_LINE}` (or version 1 or 2), found `{first}` (not a voicing model, or another version)"),
                 ))
             }
         };
-        let number = |line: usize, key: &str, text: &str| -> Result<f32, VoicingModelError> {
-            text.parse::<f32>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| bad(line, format!("{key} {text:?} is not a finite number")))
-        };
-        let model = if version == 1 {
-            let (mut mean, mut scale, mut weight) = (
-                [0.0; N_VOICING_FEATURES],
-                [0.0; N_VOICING_FEATURES],
-                [0.0; N_VOICING_FEATURES],
-            );
-            for (i, name) in VOICING_FEATURES.iter().enumerate() {
-                let (line, l) = keyed_line(&mut lines, &format!("the line of feature {name}"))?;
+        let scorer = match version {
+            1 => Scorer::Logistic(parse_linear(&mut lines)?),
+            2 => {
+                let (line, l) = keyed_line(&mut lines, "the `trees` line")?;
                 let t: Vec<&str> = l.split_whitespace().collect();
-                let shape = t.len() == 8
-                    && t[0] == "feature"
-                    && t[2] == "mean"
-                    && t[4] == "scale"
-                    && t[6] == "weight";
-                if !shape {
-                    return Err(bad(
-                        line,
-                        format!(
-                            "expected `feature {name} mean <m> scale <s> weight <w>`, found `{l}`"
-                        ),
-                    ));
-                }
-                if t[1] != *name {
-                    return Err(bad(
-                        line,
-                        format!(
-                            "expected feature {name} here (features come in a fixed order), found {}",
-                            t[1]
-                        ),
-                    ));
-                }
-                mean[i] = number(line, "mean", t[3])?;
-                scale[i] = number(line, "scale", t[5])?;
-                weight[i] = number(line, "weight", t[7])?;
-                if scale[i] <= 0.0 {
-                    return Err(bad(line, format!("scale {} must be positive", t[5])));
-                }
-            }
-            let (_, bias) = keyed_number(&mut lines, "bias")?;
-            let (_, on) = keyed_number(&mut lines, "threshold_on")?;
-            let (line_off, off) = keyed_number(&mut lines, "threshold_off")?;
-            Self::new(mean, scale, weight, bias, on, off).map_err(|m| bad(line_off, m))
-        } else {
-            let (line, l) = keyed_line(&mut lines, "the `trees` line")?;
-            let t: Vec<&str> = l.split_whitespace().collect();
-            let (count, depth, base) = match t[..] {
-                ["trees", n, "depth", d, "base", b] => {
-                    let count = n.parse::<usize>().map_err(|_| {
-                        bad(line, format!("tree count {n:?} is not a whole number"))
-                    })?;
-                    let depth = d
-                        .parse::<usize>()
-                        .ok()
-                        .filter(|d| (1..=MAX_TREE_DEPTH).contains(d))
-                        .ok_or_else(|| {
-                            bad(
-                                line,
-                                format!(
-                                    "depth {d:?} is not a whole number in 1..={MAX_TREE_DEPTH}"
-                                ),
-                            )
-                        })?;
-                    (count, depth, number(line, "base", b)?)
-                }
-                _ => {
+                let ["trees", n, "depth", d, "base", b] = t[..] else {
                     return Err(bad(
                         line,
                         format!("expected `trees <count> depth <d> base <b>`, found `{l}`"),
-                    ))
-                }
-            };
-            let n_leaves = 1usize << depth;
-            let mut splits = Vec::with_capacity(count * (n_leaves - 1));
-            let mut leaves = Vec::with_capacity(count * n_leaves);
-            for k in 0..count {
-                let (line, l) = keyed_line(&mut lines, &format!("tree {} of {count}", k + 1))?;
+                    ));
+                };
+                let base = number(line, "base", b)?;
+                let trees = parse_trees(&mut lines, line, n, d)?;
+                Scorer::Trees { base, trees }
+            }
+            _ => {
+                let linear = parse_linear(&mut lines)?;
+                let (line, l) = keyed_line(&mut lines, "the `trees` line")?;
                 let t: Vec<&str> = l.split_whitespace().collect();
-                let expected = 1 + 2 * (n_leaves - 1) + 1 + n_leaves;
-                if t.len() != expected || t[0] != "tree" || t[2 * n_leaves - 1] != "leaves" {
+                let ["trees", n, "depth", d] = t[..] else {
                     return Err(bad(
                         line,
-                        format!(
-                            "tree {} of {count}: expected `tree` then {} pairs `<cue> <threshold>`, `leaves` and {n_leaves} numbers (depth {depth}), found `{l}`",
-                            k + 1,
-                            n_leaves - 1
-                        ),
+                        format!("expected `trees <count> depth <d>`, found `{l}`"),
                     ));
-                }
-                for pair in t[1..2 * n_leaves - 1].chunks_exact(2) {
-                    let feature = VOICING_FEATURES
-                        .iter()
-                        .position(|n| *n == pair[0])
-                        .ok_or_else(|| {
-                            bad(
-                                line,
-                                format!(
-                                    "unknown cue {:?} (the cues are {})",
-                                    pair[0],
-                                    VOICING_FEATURES.join(", ")
-                                ),
-                            )
-                        })?;
-                    splits.push((feature, number(line, "threshold", pair[1])?));
-                }
-                for v in &t[2 * n_leaves..] {
-                    leaves.push(number(line, "leaf", v)?);
-                }
+                };
+                let trees = parse_trees(&mut lines, line, n, d)?;
+                Scorer::Hybrid { linear, trees }
             }
-            let (_, on) = keyed_number(&mut lines, "threshold_on")?;
-            let (line_off, off) = keyed_number(&mut lines, "threshold_off")?;
-            Self::trees(depth, base, splits, leaves, on, off).map_err(|m| bad(line_off, m))
-        }?;
+        };
+        let (_, on) = keyed_number(&mut lines, "threshold_on")?;
+        let (line_off, off) = keyed_number(&mut lines, "threshold_off")?;
+        let model = Self::from_scorer(scorer, on, off).map_err(|m| bad(line_off, m))?;
         if let Some((line, l)) = lines.next() {
             return Err(bad(
                 line,
@@ -571,53 +568,165 @@ impl VoicingModel {
         for n in notes {
             let _ = writeln!(s, "# {n}");
         }
-        match &self.scorer {
-            Scorer::Logistic {
-                mean,
-                scale,
-                weight,
-                bias,
-            } => {
-                let _ = writeln!(s, "{FORMAT_LINE_V1}");
-                for (i, name) in VOICING_FEATURES.iter().enumerate() {
-                    let _ = writeln!(
-                        s,
-                        "feature {name} mean {} scale {} weight {}",
-                        mean[i], scale[i], weight[i]
-                    );
-                }
-                let _ = writeln!(s, "bias {bias}");
+        let write_linear = |s: &mut String, l: &Linear| {
+            for (i, name) in VOICING_FEATURES.iter().enumerate() {
+                let _ = writeln!(
+                    s,
+                    "feature {name} mean {} scale {} weight {}",
+                    l.mean[i], l.scale[i], l.weight[i]
+                );
             }
-            Scorer::Trees {
-                depth,
-                base,
-                splits,
-                leaves,
-            } => {
-                let n_leaves = 1usize << *depth;
+            let _ = writeln!(s, "bias {}", l.bias);
+        };
+        match &self.scorer {
+            Scorer::Logistic(linear) => {
+                let _ = writeln!(s, "{FORMAT_LINE_V1}");
+                write_linear(&mut s, linear);
+            }
+            Scorer::Trees { base, trees } => {
+                let _ = writeln!(s, "{FORMAT_LINE_V2}");
+                let _ = writeln!(
+                    s,
+                    "trees {} depth {} base {base}",
+                    trees.count(),
+                    trees.depth
+                );
+                trees.write(&mut s);
+            }
+            Scorer::Hybrid { linear, trees } => {
                 let _ = writeln!(s, "{FORMAT_LINE}");
-                let count = leaves.len() / n_leaves;
-                let _ = writeln!(s, "trees {count} depth {depth} base {base}");
-                for (tree_splits, tree_leaves) in splits
-                    .chunks_exact(n_leaves - 1)
-                    .zip(leaves.chunks_exact(n_leaves))
-                {
-                    s.push_str("tree");
-                    for sp in tree_splits {
-                        let _ = write!(s, " {} {}", VOICING_FEATURES[sp.feature], sp.threshold);
-                    }
-                    s.push_str(" leaves");
-                    for v in tree_leaves {
-                        let _ = write!(s, " {v}");
-                    }
-                    s.push('\n');
-                }
+                write_linear(&mut s, linear);
+                let _ = writeln!(s, "trees {} depth {}", trees.count(), trees.depth);
+                trees.write(&mut s);
             }
         }
         let _ = writeln!(s, "threshold_on {}", self.threshold_on);
         let _ = writeln!(s, "threshold_off {}", self.threshold_off);
         s
     }
+}
+
+/// A line error.
+fn bad(line: usize, message: String) -> VoicingModelError {
+    VoicingModelError::Line { line, message }
+}
+
+/// `text` as a finite number, or the error naming `key` and the line.
+fn number(line: usize, key: &str, text: &str) -> Result<f32, VoicingModelError> {
+    text.parse::<f32>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| bad(line, format!("{key} {text:?} is not a finite number")))
+}
+
+/// The `feature` lines and the `bias` line of a logistic regression.
+fn parse_linear<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+) -> Result<Linear, VoicingModelError> {
+    let (mut mean, mut scale, mut weight) = (
+        [0.0; N_VOICING_FEATURES],
+        [0.0; N_VOICING_FEATURES],
+        [0.0; N_VOICING_FEATURES],
+    );
+    for (i, name) in VOICING_FEATURES.iter().enumerate() {
+        let (line, l) = keyed_line(lines, &format!("the line of feature {name}"))?;
+        let t: Vec<&str> = l.split_whitespace().collect();
+        let shape = t.len() == 8
+            && t[0] == "feature"
+            && t[2] == "mean"
+            && t[4] == "scale"
+            && t[6] == "weight";
+        if !shape {
+            return Err(bad(
+                line,
+                format!("expected `feature {name} mean <m> scale <s> weight <w>`, found `{l}`"),
+            ));
+        }
+        if t[1] != *name {
+            return Err(bad(
+                line,
+                format!(
+                    "expected feature {name} here (features come in a fixed order), found {}",
+                    t[1]
+                ),
+            ));
+        }
+        mean[i] = number(line, "mean", t[3])?;
+        scale[i] = number(line, "scale", t[5])?;
+        weight[i] = number(line, "weight", t[7])?;
+        if scale[i] <= 0.0 {
+            return Err(bad(line, format!("scale {} must be positive", t[5])));
+        }
+    }
+    let (_, bias) = keyed_number(lines, "bias")?;
+    Ok(Linear {
+        mean,
+        scale,
+        weight,
+        bias,
+    })
+}
+
+/// The `count` `tree` lines of depth `depth` (both as written on the `trees` line, `line`).
+fn parse_trees<'a>(
+    lines: &mut impl Iterator<Item = (usize, &'a str)>,
+    line: usize,
+    count: &str,
+    depth: &str,
+) -> Result<Ensemble, VoicingModelError> {
+    let count = count
+        .parse::<usize>()
+        .map_err(|_| bad(line, format!("tree count {count:?} is not a whole number")))?;
+    let depth = depth
+        .parse::<usize>()
+        .ok()
+        .filter(|d| (1..=MAX_TREE_DEPTH).contains(d))
+        .ok_or_else(|| {
+            bad(
+                line,
+                format!("depth {depth:?} is not a whole number in 1..={MAX_TREE_DEPTH}"),
+            )
+        })?;
+    let n_leaves = 1usize << depth;
+    let mut splits = Vec::with_capacity(count * (n_leaves - 1));
+    let mut leaves = Vec::with_capacity(count * n_leaves);
+    let mut last = line;
+    for k in 0..count {
+        let (line, l) = keyed_line(lines, &format!("tree {} of {count}", k + 1))?;
+        last = line;
+        let t: Vec<&str> = l.split_whitespace().collect();
+        let expected = 1 + 2 * (n_leaves - 1) + 1 + n_leaves;
+        if t.len() != expected || t[0] != "tree" || t[2 * n_leaves - 1] != "leaves" {
+            return Err(bad(
+                line,
+                format!(
+                    "tree {} of {count}: expected `tree` then {} pairs `<cue> <threshold>`, `leaves` and {n_leaves} numbers (depth {depth}), found `{l}`",
+                    k + 1,
+                    n_leaves - 1
+                ),
+            ));
+        }
+        for pair in t[1..2 * n_leaves - 1].chunks_exact(2) {
+            let feature = VOICING_FEATURES
+                .iter()
+                .position(|n| *n == pair[0])
+                .ok_or_else(|| {
+                    bad(
+                        line,
+                        format!(
+                            "unknown cue {:?} (the cues are {})",
+                            pair[0],
+                            VOICING_FEATURES.join(", ")
+                        ),
+                    )
+                })?;
+            splits.push((feature, number(line, "threshold", pair[1])?));
+        }
+        for v in &t[2 * n_leaves..] {
+            leaves.push(number(line, "leaf", v)?);
+        }
+    }
+    Ensemble::new(depth, splits, leaves).map_err(|m| bad(last, m))
 }
 
 /// The next content line of a model file, or the error naming what is missing.
@@ -713,22 +822,27 @@ mod tests {
     /// at 0 (lower child) and period_jump at 0.25 (upper child); the second only on
     /// low_band at 0.8, the second level's splits sending everything to the first child.
     fn two_trees() -> VoicingModel {
-        VoicingModel::trees(
-            2,
-            0.5,
-            vec![
-                (0, 0.5),
-                (14, 0.0),
-                (11, 0.25),
-                (10, 0.8),
-                (0, f32::MAX),
-                (0, f32::MAX),
-            ],
-            vec![-2.0, -1.0, 3.0, 1.0, 0.25, 0.0, -0.75, 0.0],
-            1.0,
-            0.0,
-        )
-        .unwrap()
+        let (splits, leaves) = two_trees_parts();
+        VoicingModel::trees(2, 0.5, splits, leaves, 1.0, 0.0).unwrap()
+    }
+
+    /// The splits and leaves of [`two_trees`].
+    fn two_trees_parts() -> (Vec<(usize, f32)>, Vec<f32>) {
+        let splits = vec![
+            (0, 0.5),
+            (14, 0.0),
+            (11, 0.25),
+            (10, 0.8),
+            (0, f32::MAX),
+            (0, f32::MAX),
+        ];
+        (splits, vec![-2.0, -1.0, 3.0, 1.0, 0.25, 0.0, -0.75, 0.0])
+    }
+
+    /// [`logistic`] plus the trees of [`two_trees`] (a version 3 file).
+    fn hybrid() -> VoicingModel {
+        let (splits, leaves) = two_trees_parts();
+        logistic().plus_trees(2, splits, leaves, 1.5, -0.5).unwrap()
     }
 
     #[test]
@@ -744,11 +858,12 @@ mod tests {
             .collect();
         assert_eq!(body, text);
         // Both versions read back bit for bit.
-        for m in [logistic(), two_trees()] {
+        for m in [logistic(), two_trees(), hybrid()] {
             assert_eq!(VoicingModel::parse(&m.to_text(&["n".into()])).unwrap(), m);
         }
+        assert!(hybrid().to_text(&[]).starts_with(FORMAT_LINE));
         assert!(logistic().to_text(&[]).starts_with(FORMAT_LINE_V1));
-        assert!(two_trees().to_text(&[]).starts_with(FORMAT_LINE));
+        assert!(two_trees().to_text(&[]).starts_with(FORMAT_LINE_V2));
     }
 
     #[test]
@@ -773,6 +888,46 @@ mod tests {
         assert_eq!(m.threshold(true), 0.0);
     }
 
+    #[test]
+    fn a_hybrid_scores_the_logistic_score_plus_the_trees() {
+        let (l, t, h) = (logistic(), two_trees(), hybrid());
+        for k in 0..50 {
+            let mut f = [0.0; N_VOICING_FEATURES];
+            for (i, v) in f.iter_mut().enumerate() {
+                *v = ((k * 7 + i * 3) % 11) as f32 / 10.0 - 0.2;
+            }
+            // The trees' part is the tree model's score without its base (0.5).
+            assert_eq!(h.score(&f), l.score(&f) + (t.score(&f) - 0.5), "{f:?}");
+        }
+        assert_eq!(
+            h.first_trees(0).score(&[0.3; N_VOICING_FEATURES]),
+            l.score(&[0.3; N_VOICING_FEATURES])
+        );
+        assert!(t
+            .plus_trees(1, vec![(0, 0.5)], vec![0.0, 1.0], 0.0, 0.0)
+            .is_err());
+    }
+
+    #[test]
+    fn malformed_version_3_files_are_rejected_naming_the_line() {
+        let good = hybrid().to_text(&["a note".into()]);
+        let n = good.lines().count();
+        // Line 2 the format, 3..=17 the features, 18 the bias, 19 the `trees` line, 20 and 21
+        // the trees, then the thresholds.
+        assert_eq!(line_of(&with(&good, 18, "trees 2 depth 2 base 0.5")), 19);
+        assert_eq!(line_of(&with(&good, 18, "trees 2 depth 5")), 19);
+        assert_eq!(line_of(&with(&good, 17, "bias x")), 18);
+        let tree = good.lines().nth(19).unwrap();
+        assert_eq!(
+            line_of(&with(&good, 20, &tree.replace("leaves", "leafs"))),
+            21
+        );
+        assert_eq!(line_of(&with(&good, n - 1, "threshold_off 2")), n);
+        // A version 3 file without its trees: the thresholds come where the `trees` line must.
+        let no_trees: Vec<&str> = good.lines().filter(|l| !l.starts_with("tree")).collect();
+        assert_eq!(line_of(&no_trees.join("\n")), 19);
+    }
+
     /// The 1-based line of a parse error (panics on anything else).
     fn line_of(text: &str) -> usize {
         match VoicingModel::parse(text) {
@@ -794,7 +949,7 @@ mod tests {
         let n = good.lines().count();
         // `with` counts from 0, the messages from 1: line 1 is the note, line 2 the format,
         // 3.. the features.
-        assert_eq!(line_of(&with(&good, 1, "pneuma-voicing-model 3")), 2);
+        assert_eq!(line_of(&with(&good, 1, "pneuma-voicing-model 4")), 2);
         assert_eq!(
             line_of(&with(
                 &good,

@@ -23,7 +23,26 @@ pub(crate) struct TreeParams {
     pub rounds: usize,
     /// Shrinkage of each tree's leaf values.
     pub learning_rate: f64,
+    /// Whether the score may only rise with the cues of [`RISING_CUES`] (each split on one
+    /// of them keeps every leaf of its upper child at or above every leaf of its lower one).
+    pub monotone: bool,
 }
+
+/// The cues the score may only rise with under [`TreeParams::monotone`]: the periodicity of
+/// the chosen period (whole, short windows at either end, best of them, the previous frame's)
+/// and the level against the speech level, the noise floor and the gate. A clearer or louder
+/// frame is never less voiced, also outside the recordings (a perfectly periodic low tone).
+pub(crate) const RISING_CUES: [&str; 9] = [
+    "chosen_clarity",
+    "edge_newest",
+    "edge_oldest",
+    "best_clarity",
+    "log_unclarity",
+    "level_vs_speech",
+    "level_vs_floor",
+    "previous_clarity",
+    "level_vs_gate",
+];
 
 /// One labelled training frame: its cues, its label and its weight.
 pub(crate) type Row<'a> = (&'a VoicingFeatures, bool, f64);
@@ -44,10 +63,19 @@ fn bin_edges(rows: &[Row]) -> Vec<Vec<f32>> {
         .collect()
 }
 
-/// Fits `params.rounds` trees on `rows`; the thresholds of the returned model are both 0
-/// (the caller chooses them).
-pub(crate) fn fit_trees(rows: &[Row], params: &TreeParams) -> Result<VoicingModel, String> {
+/// Fits `params.rounds` trees on `rows`, boosted from `start`'s score when given (a logistic
+/// model: the result is it plus the trees) or else from the log prior odds; the thresholds of
+/// the returned model are both 0 (the caller chooses them).
+pub(crate) fn fit_trees(
+    rows: &[Row],
+    params: &TreeParams,
+    start: Option<&VoicingModel>,
+) -> Result<VoicingModel, String> {
     const D: usize = N_VOICING_FEATURES;
+    let rising: Vec<bool> = pneuma_core::VOICING_FEATURES
+        .iter()
+        .map(|n| params.monotone && RISING_CUES.contains(n))
+        .collect();
     let n = rows.len();
     if n == 0 {
         return Err("no labelled training frames".into());
@@ -73,7 +101,10 @@ pub(crate) fn fit_trees(rows: &[Row], params: &TreeParams) -> Result<VoicingMode
         return Err("the training frames hold only one class".into());
     }
     let base = (pos / neg).ln() as f32;
-    let mut score = vec![base as f64; n];
+    let mut score: Vec<f64> = match start {
+        Some(m) => rows.iter().map(|r| f64::from(m.score(r.0))).collect(),
+        None => vec![f64::from(base); n],
+    };
     let depth = params.depth;
     let n_leaves = 1usize << depth;
     let mut splits = Vec::with_capacity(params.rounds * (n_leaves - 1));
@@ -90,6 +121,8 @@ pub(crate) fn fit_trees(rows: &[Row], params: &TreeParams) -> Result<VoicingMode
             node[i] = 0;
         }
         let mut tree_splits = vec![(0usize, f32::MAX); n_leaves - 1];
+        // Bounds on each node's leaf values (before shrinkage), from the rising splits above.
+        let mut bounds = vec![(f64::NEG_INFINITY, f64::INFINITY)];
         for level in 0..depth {
             let n_nodes = 1usize << level;
             let mut hist = vec![0.0f64; n_nodes * D * BINS * 2];
@@ -103,7 +136,11 @@ pub(crate) fn fit_trees(rows: &[Row], params: &TreeParams) -> Result<VoicingMode
             }
             // Per node: the split (cue, last bin of the first child), or none.
             let mut chosen: Vec<Option<(usize, usize)>> = vec![None; n_nodes];
+            let mut child_bounds = Vec::with_capacity(2 * n_nodes);
             for (nd, choice) in chosen.iter_mut().enumerate() {
+                let (lo, hi) = bounds[nd];
+                let value = |g: f64, h: f64| (-g / (h + LAMBDA)).clamp(lo, hi);
+                let mut split_at = None;
                 let h0 = &hist[nd * D * BINS * 2..(nd + 1) * D * BINS * 2];
                 let (mut g_all, mut h_all) = (0.0, 0.0);
                 for b in 0..BINS {
@@ -122,17 +159,27 @@ pub(crate) fn fit_trees(rows: &[Row], params: &TreeParams) -> Result<VoicingMode
                         if hl < MIN_CHILD_HESSIAN || hr < MIN_CHILD_HESSIAN {
                             continue;
                         }
+                        let (wl, wr) = (value(gl, hl), value(gr, hr));
+                        if rising[f] && wl > wr {
+                            continue;
+                        }
                         let gain = gl * gl / (hl + LAMBDA) + gr * gr / (hr + LAMBDA) - parent;
                         if gain > best {
                             best = gain;
                             *choice = Some((f, j));
+                            split_at = Some((wl + wr) / 2.0).filter(|_| rising[f]);
                         }
                     }
                 }
                 if let Some((f, j)) = *choice {
                     tree_splits[n_nodes - 1 + nd] = (f, edges[f][j]);
                 }
+                match split_at {
+                    Some(mid) => child_bounds.extend([(lo, mid), (mid, hi)]),
+                    None => child_bounds.extend([(lo, hi), (lo, hi)]),
+                }
             }
+            bounds = child_bounds;
             for i in 0..n {
                 let right = match chosen[node[i]] {
                     Some((f, j)) => bins[i * D + f] as usize > j,
@@ -148,7 +195,10 @@ pub(crate) fn fit_trees(rows: &[Row], params: &TreeParams) -> Result<VoicingMode
         }
         let values: Vec<f32> = gh
             .iter()
-            .map(|&(g, h)| (-params.learning_rate * g / (h + LAMBDA)) as f32)
+            .zip(&bounds)
+            .map(|(&(g, h), &(lo, hi))| {
+                (params.learning_rate * (-g / (h + LAMBDA)).clamp(lo, hi)) as f32
+            })
             .collect();
         for i in 0..n {
             score[i] += values[node[i]] as f64;
@@ -156,7 +206,10 @@ pub(crate) fn fit_trees(rows: &[Row], params: &TreeParams) -> Result<VoicingMode
         splits.extend(tree_splits);
         leaves.extend(values);
     }
-    VoicingModel::trees(depth, base, splits, leaves, 0.0, 0.0)
+    match start {
+        Some(m) => m.plus_trees(depth, splits, leaves, 0.0, 0.0),
+        None => VoicingModel::trees(depth, base, splits, leaves, 0.0, 0.0),
+    }
 }
 
 #[cfg(test)]
@@ -182,15 +235,49 @@ mod tests {
             depth: 3,
             rounds: 60,
             learning_rate: 0.3,
+            monotone: false,
         };
-        let m = fit_trees(&rows, &params).unwrap();
+        let m = fit_trees(&rows, &params, None).unwrap();
         let wrong = feats
             .iter()
             .filter(|f| (m.score(f) >= 0.0) != label(f))
             .count();
         assert_eq!(wrong, 0, "{wrong} of {} frames misjudged", feats.len());
         // The same rows give the same model, and it survives its file format.
-        assert_eq!(fit_trees(&rows, &params).unwrap(), m);
+        assert_eq!(fit_trees(&rows, &params, None).unwrap(), m);
         assert_eq!(VoicingModel::parse(&m.to_text(&[])).unwrap(), m);
+    }
+
+    #[test]
+    fn monotone_trees_never_score_a_clearer_frame_lower() {
+        // Labels that fall with chosen_clarity (cue 1) above 0.6 and depend on low_band
+        // (cue 10): unconstrained trees follow the fall, monotone ones must not.
+        let mut feats = Vec::new();
+        for a in 0..50 {
+            for b in 0..4 {
+                let mut f = [0.0f32; N_VOICING_FEATURES];
+                f[1] = a as f32 / 50.0;
+                f[10] = b as f32 / 4.0;
+                feats.push(f);
+            }
+        }
+        let label = |f: &VoicingFeatures| (0.3..0.6).contains(&f[1]) || f[10] > 0.6;
+        let rows: Vec<Row> = feats.iter().map(|f| (f, label(f), 10.0)).collect();
+        let params = |monotone| TreeParams {
+            depth: 2,
+            rounds: 30,
+            learning_rate: 0.3,
+            monotone,
+        };
+        let falls = |m: &VoicingModel| {
+            feats
+                .windows(8)
+                .filter(|w| m.score(&w[4]) < m.score(&w[0]) - 1e-6)
+                .count()
+        };
+        let free = fit_trees(&rows, &params(false), None).unwrap();
+        assert!(falls(&free) > 0, "the data should make free trees fall");
+        let monotone = fit_trees(&rows, &params(true), None).unwrap();
+        assert_eq!(falls(&monotone), 0);
     }
 }
