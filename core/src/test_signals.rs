@@ -168,7 +168,7 @@ pub fn band_noise(
     sigma: f64,
     seed: u64,
 ) -> Vec<f32> {
-    use crate::analysis::breath_band::Biquad;
+    use crate::analysis::biquad::Biquad;
     let hp = Biquad::butterworth(low_hz, sample_rate_hz, true);
     let lp = Biquad::butterworth(high_hz.min(0.45 * sample_rate_hz), sample_rate_hz, false);
     let mut f = [hp, hp, lp, lp];

@@ -26,13 +26,13 @@
 use realfft::num_complex::Complex;
 
 use super::amplitude_to_db;
-/// Re-exported for the test-noise shaping in `crate::test_signals`.
-pub(crate) use super::biquad::Biquad;
 
 /// The three bands' edges, Hz: low, mid, high.
 const BANDS_HZ: [(f64, f64); 3] = [(100.0, 400.0), (500.0, 2500.0), (2500.0, 3500.0)];
 /// The front chain's power gain is compensated down to this (−20 dB); bins weaker than that
-/// count with this gain (they do not occur inside the bands at any supported rate).
+/// count with this gain. With the default 120 Hz high-pass they do not occur inside the bands
+/// at any supported rate; with `highpass_hz` above about 316 Hz the low band's lowest bins
+/// fall under it and read low.
 const MIN_POWER_GAIN: f64 = 0.01;
 
 /// The levels of one frame in three bands, dBFS (floor −120 dBFS), over the pitch analysis's

@@ -100,6 +100,10 @@ impl Decimator {
     /// on locals (the history index and the caller's `each`), not on fields in memory.
     #[inline(always)]
     pub(crate) fn push_run(&mut self, xs: &[f32], mut each: impl FnMut(f32) -> f32) -> Option<f32> {
+        debug_assert!(
+            xs.len() <= self.until_output(),
+            "a run longer than until_output() would drop samples"
+        );
         let xs = &xs[..xs.len().min(self.until_output())];
         if self.factor == 1 {
             return xs.first().map(|&x| each(x));

@@ -6,7 +6,7 @@
 //! same per second of audio whatever the host rate; the level is measured on the full-rate signal.
 
 mod analyzer;
-mod biquad;
+pub(crate) mod biquad;
 pub(crate) mod breath_band;
 mod clock;
 mod config;

@@ -177,7 +177,7 @@ struct FrameStats {
     long: WindowStats,
     /// Oldest end, centre, newest end.
     short: [WindowStats; 3],
-    /// Σ x² of the long window, in sample order (for [`FrameAnalysis::square_sum`]).
+    /// Σ x² of the long window, summed in [`Lanes`] (for [`FrameAnalysis::square_sum`]).
     square_sum: f64,
 }
 
@@ -554,6 +554,7 @@ impl NsdfPitch {
         self.short_pick = PitchEstimate::default();
         self.short_agrees = false;
         if window.len() != self.long.window_len {
+            self.long.band_levels = BandLevels::FLOOR;
             return PitchEstimate::default();
         }
         let computed = match stats {

@@ -217,6 +217,17 @@ mod tests {
     use super::*;
 
     #[test]
+    fn every_rising_cue_is_a_cue_of_the_model() {
+        // A misspelt name would silently drop its monotone constraint.
+        for name in RISING_CUES {
+            assert!(
+                pneuma_core::VOICING_FEATURES.contains(&name),
+                "{name} is not one of the model's cues"
+            );
+        }
+    }
+
+    #[test]
     fn trees_separate_what_one_line_cannot() {
         // Voiced inside a band of cue 0 and only when cue 1 is high: an interaction a
         // logistic score over these two cues cannot draw.
