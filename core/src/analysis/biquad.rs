@@ -3,6 +3,23 @@
 //! front of the pitch analysis (a corner of 0 Hz makes it a pass-through). Both give their
 //! power gain at a frequency, which the breath bands divide out of the pitch spectrum.
 
+/// |Σₖ cₖ z⁻ᵏ|² at z = e^(jw), w = 2π·`f_hz`/`rate_hz`: the power gain of an FIR filter with
+/// taps `coeffs`, or of one side of a recursive one.
+pub(crate) fn polynomial_power(
+    coeffs: impl IntoIterator<Item = f64>,
+    f_hz: f64,
+    rate_hz: f64,
+) -> f64 {
+    let w = 2.0 * std::f64::consts::PI * f_hz / rate_hz;
+    let (re, im) = coeffs
+        .into_iter()
+        .enumerate()
+        .fold((0.0f64, 0.0f64), |(re, im), (k, c)| {
+            (re + c * (w * k as f64).cos(), im - c * (w * k as f64).sin())
+        });
+    re * re + im * im
+}
+
 /// One RBJ biquad section with f64 state.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Biquad {
@@ -32,16 +49,11 @@ impl Biquad {
         }
     }
 
-    /// The section's power gain |H|² at `f_hz` for a stream at `rate_hz`.
+    /// The section's power gain |H|² at `f_hz` for a stream at `rate_hz`:
+    /// H(e^jw) = (b0 + b1 z⁻¹ + b2 z⁻²) / (1 + a1 z⁻¹ + a2 z⁻²).
     pub(crate) fn power_gain(&self, f_hz: f64, rate_hz: f64) -> f64 {
-        let w = 2.0 * std::f64::consts::PI * f_hz / rate_hz;
-        // H(e^jw) = (b0 + b1 z⁻¹ + b2 z⁻²) / (1 + a1 z⁻¹ + a2 z⁻²), z⁻ᵏ = e^(−jkw).
-        let at = |c: [f64; 3]| {
-            let re = c[0] + c[1] * w.cos() + c[2] * (2.0 * w).cos();
-            let im = -c[1] * w.sin() - c[2] * (2.0 * w).sin();
-            re * re + im * im
-        };
-        at(self.b) / at([1.0, self.a[0], self.a[1]])
+        polynomial_power(self.b, f_hz, rate_hz)
+            / polynomial_power([1.0, self.a[0], self.a[1]], f_hz, rate_hz)
     }
 
     /// Clears the state.

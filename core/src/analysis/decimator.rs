@@ -2,6 +2,8 @@
 //! between 8 and 16 kHz whatever the host rate. The filter is linear-phase; its group delay is
 //! reported so frame times can be compensated exactly.
 
+use super::biquad::polynomial_power;
+
 /// Taps per output sample (filter length is `TAPS_PER_PHASE * factor + 1`).
 const TAPS_PER_PHASE: usize = 16;
 /// Cut-off (−6 dB) as a fraction of the output rate.
@@ -68,16 +70,7 @@ impl Decimator {
 
     /// The filter's power gain |H|² at `f_hz` for an input at `rate_hz` (1 for factor 1).
     pub(crate) fn power_gain(&self, f_hz: f64, rate_hz: f64) -> f64 {
-        let w = 2.0 * std::f64::consts::PI * f_hz / rate_hz;
-        let (re, im) = self
-            .taps
-            .iter()
-            .enumerate()
-            .fold((0.0f64, 0.0f64), |(re, im), (n, &h)| {
-                let h = h as f64;
-                (re + h * (w * n as f64).cos(), im - h * (w * n as f64).sin())
-            });
-        re * re + im * im
+        polynomial_power(self.taps.iter().map(|&h| h as f64), f_hz, rate_hz)
     }
 
     /// Input samples still to come before the next output (1..=factor).
