@@ -746,19 +746,8 @@ fn keyed_number<'a>(
 ) -> Result<(usize, f32), VoicingModelError> {
     let (line, l) = keyed_line(lines, &format!("the `{key}` line"))?;
     match l.split_whitespace().collect::<Vec<_>>()[..] {
-        [k, v] if k == key => v
-            .parse::<f32>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .map(|v| (line, v))
-            .ok_or_else(|| VoicingModelError::Line {
-                line,
-                message: format!("{key} {v:?} is not a finite number"),
-            }),
-        _ => Err(VoicingModelError::Line {
-            line,
-            message: format!("expected `{key} <number>`, found `{l}`"),
-        }),
+        [k, v] if k == key => number(line, key, v).map(|v| (line, v)),
+        _ => Err(bad(line, format!("expected `{key} <number>`, found `{l}`"))),
     }
 }
 
