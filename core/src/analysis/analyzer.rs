@@ -21,6 +21,15 @@ use super::{amplitude_to_db, FeatureFrame};
 const INPUT_LIMIT: f32 = 1000.0;
 /// Frames at least this periodic are voice, not background: they do not teach the noise floor.
 const FLOOR_MAX_PERIODICITY: f32 = 0.9;
+/// Nor do frames less than this many dB under the running speech level.
+const BACKGROUND_HEADROOM_DB: f32 = 3.0;
+/// Frames whose band level is within this many dB of the band's noise floor teach
+/// [`State::noise_clarity`].
+const NOISE_CLARITY_MARGIN_DB: f32 = 3.0;
+/// Weight of one such frame in that running mean.
+const NOISE_CLARITY_RATE: f32 = 0.05;
+/// The clarity noise alone is taken to give before any noise frame was heard.
+const NOISE_CLARITY_START: f32 = 0.3;
 
 /// The streaming analysis front end. See the module docs.
 #[derive(Debug)]
@@ -39,6 +48,11 @@ struct State {
     decimator: Decimator,
     highpass: HighPass,
     noise_floor: NoiseFloor,
+    /// The noise floor of the pitch window's band level (what the NSDF hears).
+    band_floor: NoiseFloor,
+    /// Running mean of the long-window clarity on frames at the band floor: the clarity the
+    /// background alone gives.
+    noise_clarity: f32,
     /// The running level of clearly periodic frames, for the voicing cues (fed from the audio
     /// alone, never from the decisions, unlike `speaker`).
     periodic_level: SpeakerNorm,
@@ -103,6 +117,8 @@ impl Analyzer {
             decimator: Decimator::new(factor),
             highpass: HighPass::new(c.highpass_hz as f64, internal_rate_hz),
             noise_floor: NoiseFloor::new(c.noise_window_s as f64, c.frame_rate_hz),
+            band_floor: NoiseFloor::new(c.noise_window_s as f64, c.frame_rate_hz),
+            noise_clarity: NOISE_CLARITY_START,
             periodic_level: SpeakerNorm::new(c.speaker.clone(), c.frame_rate_hz),
             previous_f0_hz: 0.0,
             previous_clarity: 0.0,
@@ -254,6 +270,8 @@ impl State {
         self.decimator.reset();
         self.highpass.reset();
         self.noise_floor.reset();
+        self.band_floor.reset();
+        self.noise_clarity = NOISE_CLARITY_START;
         self.periodic_level.reset();
         self.previous_f0_hz = 0.0;
         self.previous_clarity = 0.0;
@@ -366,9 +384,18 @@ impl State {
         let rms_db = amplitude_to_db((sq / n - mean * mean).max(0.0).sqrt());
         let periodicity = self.pitch.periodicity();
         let long_clarity = self.pitch.long_periodicity();
-        let floor_db = self
-            .noise_floor
-            .update((long_clarity < FLOOR_MAX_PERIODICITY).then_some(rms_db));
+        // Background is what is heard in the pauses: frames that are not clearly periodic, not
+        // as loud as the voice (a glide or a change of pitch inside a phrase reads as aperiodic
+        // too), and whose window does not reach back before the stream (its start is not a
+        // pause). A stream without pauses has no floor until one comes.
+        let speech_db = self.periodic_level.speech_level_db();
+        let background =
+            long_clarity < FLOOR_MAX_PERIODICITY && rms_db < speech_db - BACKGROUND_HEADROOM_DB;
+        let floor_db = self.noise_floor.update(background.then_some(rms_db));
+        let band_floor_db = self.band_floor.update(background.then_some(band_db));
+        if band_db <= band_floor_db + NOISE_CLARITY_MARGIN_DB {
+            self.noise_clarity += NOISE_CLARITY_RATE * (long_clarity - self.noise_clarity);
+        }
         // Every cue comes from the audio alone (never from earlier decisions), so a model can
         // be fitted on cues gathered once. At a voice onset the voice fills only the newest
         // part of the window, at an offset only the oldest: the short windows at both ends
@@ -382,8 +409,11 @@ impl State {
             edge_newest: edge_newest.unwrap_or(0.0),
             edge_oldest: edge_oldest.unwrap_or(0.0),
             rms_db,
-            speech_db: self.periodic_level.speech_level_db(),
+            speech_db,
             floor_db,
+            band_db,
+            band_floor_db,
+            noise_clarity: self.noise_clarity,
             low_band: self.pitch.low_band(),
             f0_hz: chosen.f0_hz,
             previous_f0_hz: self.previous_f0_hz,

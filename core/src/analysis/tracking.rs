@@ -51,8 +51,16 @@ impl F0Smoother {
         }
         let mut best: Option<PitchEstimate> = None;
         for c in candidates {
+            // A voice periodic at the chosen period is as periodic over two of them: a track an
+            // octave under the choice holds only while it is the clearer (period doubling), or
+            // an octave-down lock would never let go.
+            let needed = if within(chosen.f0_hz, 2.0 * c.f0_hz, CONTINUITY_RATIO) {
+                chosen.clarity.next_up()
+            } else {
+                CONTINUITY_CLARITY * chosen.clarity
+            };
             if within(c.f0_hz, prev, CONTINUITY_RATIO)
-                && c.clarity >= CONTINUITY_CLARITY * chosen.clarity
+                && c.clarity >= needed
                 && best.is_none_or(|b| c.clarity > b.clarity)
             {
                 best = Some(*c);
@@ -180,8 +188,9 @@ mod tests {
     fn continuity_prefers_the_candidate_near_the_track() {
         let mut t = tracker();
         upd(&mut t, est(150.0, 0.9), &[est(150.0, 0.9)], -20.0);
-        // The key-maximum rule jumped an octave up, but a nearly as clear candidate continues.
-        let cands = [est(301.0, 0.9), est(151.0, 0.88)];
+        // The key-maximum rule jumped an octave down, but a nearly as clear candidate
+        // continues.
+        let cands = [est(75.5, 0.9), est(151.0, 0.88)];
         let r = upd(&mut t, cands[0], &cands, -20.0);
         assert_eq!(r.f0_hz, 151.0);
         // A clearly better new candidate is kept: a real jump, which the outlier filter lets
@@ -189,6 +198,27 @@ mod tests {
         let cands = [est(200.0, 0.95), est(151.0, 0.5)];
         assert_eq!(upd(&mut t, cands[0], &cands, -20.0).f0_hz, 151.0);
         assert_eq!(upd(&mut t, cands[0], &cands, -20.0).f0_hz, 200.0);
+    }
+
+    #[test]
+    fn a_track_an_octave_down_holds_only_while_it_is_the_clearer() {
+        // Locked an octave under a 240 Hz voice (the choice at the voice's onset): the voice's
+        // own period, as clear as its double, takes over (one frame late: the outlier filter).
+        let mut t = tracker();
+        upd(&mut t, est(120.0, 0.95), &[est(120.0, 0.95)], -20.0);
+        upd(&mut t, est(120.0, 0.95), &[est(120.0, 0.95)], -20.0);
+        let cands = [est(240.0, 0.95), est(120.0, 0.94)];
+        assert_eq!(upd(&mut t, cands[0], &cands, -20.0).f0_hz, 120.0);
+        assert_eq!(upd(&mut t, cands[0], &cands, -20.0).f0_hz, 240.0);
+        assert_eq!(upd(&mut t, cands[0], &cands, -20.0).f0_hz, 240.0);
+        // Period doubling (every other pulse alike): the double period is the clearer, and the
+        // track stays on it.
+        let mut t = tracker();
+        upd(&mut t, est(120.0, 0.95), &[est(120.0, 0.95)], -20.0);
+        let cands = [est(240.0, 0.9), est(120.0, 0.97)];
+        for _ in 0..3 {
+            assert_eq!(upd(&mut t, cands[0], &cands, -20.0).f0_hz, 120.0);
+        }
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! The voicing decision in one place. [`VoicingEvidence`] gathers the cues one frame offers
 //! (periodicity of the long window, of a short centred window and of short windows at either
 //! end, their agreement, the low band's share of the energy, the level against the running
-//! speech level and the noise floor, continuity with the previous frame's period, and the
+//! speech level and the noise floors, how noisy the recording is and the long window's clarity
+//! with the background's share taken out, continuity with the previous frame's period, and the
 //! period itself), all computed causally from the audio alone, never from earlier decisions,
 //! so the same cues can be gathered once and any model fitted on them. [`VoicingModel`] is a
 //! score over those cues ([`VOICING_FEATURES`]: a logistic regression, regression trees, or
@@ -11,7 +12,7 @@
 //! leave-one-speaker-out and regenerates bit for bit. [`VoicingRule`] applies the model with
 //! its hysteresis state and a fixed silence gate.
 
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use thiserror::Error;
 
@@ -28,13 +29,13 @@ const FORMAT_LINE_V2: &str = "pneuma-voicing-model 2";
 const SILENCE_FADE_DB: f32 = 10.0;
 
 /// Number of cues the model weighs.
-pub const N_VOICING_FEATURES: usize = 15;
+pub const N_VOICING_FEATURES: usize = 18;
 /// Index of `level_vs_gate` among the cues: a frame under the level gate is never voiced.
 pub(crate) const LEVEL_VS_GATE: usize = 14;
 /// The level gate: frames more than this many dB under the running speech level are never
-/// voiced, nor frames less than [`NOISE_MARGIN_DB`] above the noise floor, though the noise
-/// gate never rises closer than [`NOISE_HEADROOM_DB`] under the speech level (a stream without
-/// pauses has its "floor" at the voice itself).
+/// voiced, nor frames whose band level (what the NSDF hears) is less than [`NOISE_MARGIN_DB`]
+/// above the band's noise floor, unless their level is within [`NOISE_HEADROOM_DB`] of the
+/// speech level (a stream without pauses has its "floor" at the voice itself).
 const SPEECH_GATE_DB: f32 = 30.0;
 const NOISE_MARGIN_DB: f32 = 6.0;
 const NOISE_HEADROOM_DB: f32 = 2.0;
@@ -56,6 +57,9 @@ pub const VOICING_FEATURES: [&str; N_VOICING_FEATURES] = [
     "previous_clarity",
     "log_f0",
     "level_vs_gate",
+    "speech_vs_floor",
+    "unclarity_by_snr",
+    "denoised_clarity",
 ];
 
 /// One frame's cues as a vector, in [`VOICING_FEATURES`] order.
@@ -83,6 +87,11 @@ pub(crate) struct VoicingEvidence {
     pub speech_db: f32,
     /// The running noise floor, dBFS (+∞ before it is known).
     pub floor_db: f32,
+    /// The pitch window's band level and its running noise floor, dB (+∞ before it is known).
+    pub band_db: f32,
+    pub band_floor_db: f32,
+    /// The long-window clarity the background alone gives (running mean at the band floor).
+    pub noise_clarity: f32,
     /// Share of the voice band's energy in its low band (80 Hz–1 kHz of 80 Hz–4 kHz).
     pub low_band: f32,
     /// The chosen f0 of this and of the previous frame, Hz (0 = none).
@@ -105,8 +114,9 @@ impl VoicingEvidence {
             .max(self.edge_newest)
             .max(self.edge_oldest)
             .clamp(0.0, 1.0);
-        let level_vs_floor = if self.floor_db.is_finite() {
-            ((self.rms_db - self.floor_db) / 10.0).clamp(0.0, 6.0)
+        // While no background has been heard, the floor cues read as in a clean recording.
+        let level_vs_floor = if self.band_floor_db.is_finite() {
+            ((self.band_db - self.band_floor_db) / 10.0).clamp(0.0, 6.0)
         } else {
             0.0
         };
@@ -120,12 +130,38 @@ impl VoicingEvidence {
         } else {
             0.0
         };
-        let noise_gate_db = if self.floor_db.is_finite() {
-            (self.floor_db + NOISE_MARGIN_DB).min(self.speech_db - NOISE_HEADROOM_DB)
+        // The gate: at most SPEECH_GATE_DB under the speech level, and either clear of the
+        // noise floor in the pitch window's band (what the NSDF hears: a rumble under the
+        // high-pass does not hide the voice) or near the speech level itself.
+        let over_speech_gate = (self.rms_db - (self.speech_db - SPEECH_GATE_DB)) / 10.0;
+        let over_noise_gate = if self.band_floor_db.is_finite() {
+            ((self.band_db - (self.band_floor_db + NOISE_MARGIN_DB)) / 10.0)
+                .max((self.rms_db - (self.speech_db - NOISE_HEADROOM_DB)) / 10.0)
         } else {
-            f32::NEG_INFINITY
+            f32::INFINITY
         };
-        let gate_db = (self.speech_db - SPEECH_GATE_DB).max(noise_gate_db);
+        // How far the running speech level stands above the noise floor, 0–6 (tens of dB; 6
+        // while the floor is unknown): lets the model trust a middling clarity in a clean
+        // recording that it must doubt in noise, and its product with the unclarity lets the
+        // clarity it asks for move with the noise.
+        let speech_vs_floor = if self.floor_db.is_finite() {
+            ((self.speech_db - self.floor_db) / 10.0).clamp(0.0, 6.0)
+        } else {
+            0.0
+        };
+        let log_unclarity = -(1.001 - best).ln();
+        // The share of the window's band energy the background is taken to make up, and the
+        // long-window clarity with the background's part taken out: noise adds energy to the
+        // NSDF's norm, not to its periodic peak, so a voice in steady noise reads less clear
+        // by about that share.
+        let noise_share = if self.band_floor_db.is_finite() {
+            10f32.powf(-(self.band_db - self.band_floor_db).max(0.0) / 10.0)
+        } else {
+            0.0
+        };
+        let denoised_clarity = ((self.long_clarity - noise_share * self.noise_clarity)
+            / (1.0 - noise_share).max(0.1))
+        .clamp(0.0, 1.0);
         [
             self.long_clarity,
             self.chosen_clarity,
@@ -134,14 +170,17 @@ impl VoicingEvidence {
             self.edge_newest,
             self.edge_oldest,
             best,
-            -(1.001 - best).ln(),
+            log_unclarity,
             ((self.rms_db - self.speech_db) / 10.0).clamp(-4.0, 2.0),
             level_vs_floor,
             self.low_band,
             period_jump,
             self.previous_clarity,
             log_f0,
-            ((self.rms_db - gate_db) / 10.0).clamp(-3.0, 3.0),
+            over_speech_gate.min(over_noise_gate).clamp(-3.0, 3.0),
+            speech_vs_floor,
+            log_unclarity * speech_vs_floor / 6.0,
+            denoised_clarity,
         ]
     }
 }
@@ -199,12 +238,13 @@ impl Linear {
 
 /// Regression trees of one `depth`: splits stored breadth first (`2^depth − 1` per tree),
 /// leaves left to right (`2^depth` per tree), all trees in one flat array each (allocated
-/// once, at load).
+/// once, at load, and shared: a clone of a model, as a host's thread makes when it builds an
+/// analyzer from a copied configuration, never allocates).
 #[derive(Debug, Clone, PartialEq)]
 struct Ensemble {
     depth: usize,
-    splits: Vec<TreeSplit>,
-    leaves: Vec<f32>,
+    splits: Arc<[TreeSplit]>,
+    leaves: Arc<[f32]>,
 }
 
 impl Ensemble {
@@ -240,8 +280,8 @@ impl Ensemble {
         }
         Ok(Self {
             depth,
-            splits,
-            leaves,
+            splits: splits.into(),
+            leaves: leaves.into(),
         })
     }
 
@@ -257,8 +297,8 @@ impl Ensemble {
     fn truncate(&mut self, count: usize) {
         let n_leaves = self.n_leaves();
         let count = count.min(self.count());
-        self.leaves.truncate(count * n_leaves);
-        self.splits.truncate(count * (n_leaves - 1));
+        self.leaves = self.leaves[..count * n_leaves].into();
+        self.splits = self.splits[..count * (n_leaves - 1)].into();
     }
 
     /// The sum of the leaf each tree reaches.
@@ -901,20 +941,24 @@ mod tests {
     fn malformed_version_3_files_are_rejected_naming_the_line() {
         let good = hybrid().to_text(&["a note".into()]);
         let n = good.lines().count();
-        // Line 2 the format, 3..=17 the features, 18 the bias, 19 the `trees` line, 20 and 21
-        // the trees, then the thresholds.
-        assert_eq!(line_of(&with(&good, 18, "trees 2 depth 2 base 0.5")), 19);
-        assert_eq!(line_of(&with(&good, 18, "trees 2 depth 5")), 19);
-        assert_eq!(line_of(&with(&good, 17, "bias x")), 18);
-        let tree = good.lines().nth(19).unwrap();
+        // From 0: line 0 the note, 1 the format, then the features, then (at `b`) the bias,
+        // the `trees` line and the two trees, then the thresholds.
+        let b = 2 + N_VOICING_FEATURES;
         assert_eq!(
-            line_of(&with(&good, 20, &tree.replace("leaves", "leafs"))),
-            21
+            line_of(&with(&good, b + 1, "trees 2 depth 2 base 0.5")),
+            b + 2
+        );
+        assert_eq!(line_of(&with(&good, b + 1, "trees 2 depth 5")), b + 2);
+        assert_eq!(line_of(&with(&good, b, "bias x")), b + 1);
+        let tree = good.lines().nth(b + 2).unwrap();
+        assert_eq!(
+            line_of(&with(&good, b + 3, &tree.replace("leaves", "leafs"))),
+            b + 4
         );
         assert_eq!(line_of(&with(&good, n - 1, "threshold_off 2")), n);
         // A version 3 file without its trees: the thresholds come where the `trees` line must.
         let no_trees: Vec<&str> = good.lines().filter(|l| !l.starts_with("tree")).collect();
-        assert_eq!(line_of(&no_trees.join("\n")), 19);
+        assert_eq!(line_of(&no_trees.join("\n")), b + 2);
     }
 
     /// The 1-based line of a parse error (panics on anything else).
@@ -1034,5 +1078,46 @@ mod tests {
         assert!(!rule.decide(true, -65.0, &f(0.99)));
         assert!(!rule.decide(false, -20.0, &f(0.99)));
         assert!((rule.confidence(0.99, -65.0) - 0.99 * 0.5).abs() < 1e-6);
+    }
+
+    /// Evidence of a frame at `band_over_floor_db` over the band's noise floor, whose long
+    /// window reads `long_clarity` where the background alone reads `noise_clarity`.
+    fn in_noise(long_clarity: f32, band_over_floor_db: f32, noise_clarity: f32) -> VoicingFeatures {
+        VoicingEvidence {
+            long_clarity,
+            chosen_clarity: long_clarity,
+            rms_db: -20.0,
+            speech_db: -20.0,
+            floor_db: -20.0 - band_over_floor_db,
+            band_db: -20.0,
+            band_floor_db: -20.0 - band_over_floor_db,
+            noise_clarity,
+            ..Default::default()
+        }
+        .features()
+    }
+
+    #[test]
+    fn the_background_is_taken_out_of_the_clarity() {
+        let denoised = VOICING_FEATURES
+            .iter()
+            .position(|&n| n == "denoised_clarity")
+            .unwrap();
+        // A perfectly periodic voice (clarity 1) mixed with as much noise (its own clarity
+        // 0.2): the NSDF peak of the mix is the power-weighted mean of the two, 0.6, and the
+        // band level is 3 dB over the floor. Taking the background out finds the voice's 1.
+        let half = 10.0 * 2f32.log10();
+        let f = in_noise(0.5 * 1.0 + 0.5 * 0.2, half, 0.2);
+        assert!((f[denoised] - 1.0).abs() < 1e-3, "{}", f[denoised]);
+        // A voice of clarity 0.8 with a third of the band's power noise of clarity 0.3.
+        let third = 10.0 * 3f32.log10();
+        let f = in_noise(2.0 / 3.0 * 0.8 + 1.0 / 3.0 * 0.3, third, 0.3);
+        assert!((f[denoised] - 0.8).abs() < 1e-3, "{}", f[denoised]);
+        // The background alone (at the floor, as clear as the background) has no voice left,
+        // and far over the floor nothing is taken out.
+        let f = in_noise(0.3, 0.0, 0.3);
+        assert!(f[denoised].abs() < 1e-3, "{}", f[denoised]);
+        let f = in_noise(0.7, 60.0, 0.3);
+        assert!((f[denoised] - 0.7).abs() < 1e-3, "{}", f[denoised]);
     }
 }
