@@ -31,9 +31,10 @@
 //! ([`TREES`], version 2, `--loso-model trees`).
 //! Either way the two hysteresis thresholds on the score are then chosen on the same training
 //! frames from a fixed grid by simulating the decision clip by clip and counting the voicing
-//! frame errors as FFE counts them. Everything runs in f64, single-threaded, in a fixed order,
-//! with no randomness, so the same data and code give the same file bit for bit; `--check`
-//! verifies that instead of writing.
+//! frame errors as FFE counts them. Every fit runs in f64, single-threaded, in a fixed order,
+//! with no randomness (the thirteen fits, all speakers and each held out, run side by side on
+//! the machine's cores, each independent of the others), so the same data and code give the
+//! same file bit for bit; `--check` verifies that instead of writing.
 //!
 //! `--search` prints the held-out (leave-one-speaker-out) voicing error, over all frames and
 //! per group of clips, of the logistic model and of the hybrid at each depth, tree count and
@@ -244,7 +245,7 @@ pub(crate) enum Weighting {
     /// Every speaker weighs the same, and within a speaker every condition.
     Speaker,
     /// Every data set weighs the same, within it every speaker, within a speaker every
-    /// condition (better held out on Keele; the module docs say why it is not shipped).
+    /// condition (shipped: better held out on Keele; the module docs say why).
     DataSet,
     /// This percentage of the [`Weighting::DataSet`] weight of each frame plus the rest of its
     /// [`Weighting::Condition`] weight.
@@ -269,7 +270,7 @@ fn weighting_notes(scheme: Weighting) -> Vec<String> {
             "each condition (noise x SNR) the same, its two frame rates together;".into(),
         ],
         Weighting::Blend(percent) => vec![
-            format!("frames/s, {percent} % data-set weights (each data set half, within it each speaker"),
+            format!("frames/s, {} % data-set weights (each data set half, within it each speaker", percent.min(100)),
             format!("the same, within a speaker each condition the same) and {} % condition weights", 100 - percent.min(100)),
             "(each data set x noise x SNR the same);".into(),
         ],

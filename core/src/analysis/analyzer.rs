@@ -384,16 +384,15 @@ impl State {
         let rms_db = amplitude_to_db((sq / n - mean * mean).max(0.0).sqrt());
         let periodicity = self.pitch.periodicity();
         let long_clarity = self.pitch.long_periodicity();
-        // Background is what is heard in the pauses: frames that are not clearly periodic, not
-        // as loud as the voice (a glide or a change of pitch inside a phrase reads as aperiodic
-        // too), and whose window does not reach back before the stream (its start is not a
-        // pause). A stream without pauses has no floor until one comes.
+        // Background is what is heard in the pauses: frames that are not clearly periodic and
+        // not as loud as the voice (a glide or a change of pitch inside a phrase reads as
+        // aperiodic too). A stream without pauses has no floor until one comes.
         let speech_db = self.periodic_level.speech_level_db();
         let background =
             long_clarity < FLOOR_MAX_PERIODICITY && rms_db < speech_db - BACKGROUND_HEADROOM_DB;
         let floor_db = self.noise_floor.update(background.then_some(rms_db));
         let band_floor_db = self.band_floor.update(background.then_some(band_db));
-        if band_db <= band_floor_db + NOISE_CLARITY_MARGIN_DB {
+        if band_floor_db.is_finite() && band_db <= band_floor_db + NOISE_CLARITY_MARGIN_DB {
             self.noise_clarity += NOISE_CLARITY_RATE * (long_clarity - self.noise_clarity);
         }
         // Every cue comes from the audio alone (never from earlier decisions), so a model can

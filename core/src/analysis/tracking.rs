@@ -9,7 +9,7 @@ use super::voicing::{VoicingFeatures, VoicingRule};
 /// A candidate this close (ratio) to the previous f0 counts as continuing the track.
 const CONTINUITY_RATIO: f32 = 1.18;
 /// A continuing candidate replaces the key-maximum choice if its clarity is at least this
-/// fraction of the chosen one.
+/// fraction of the chosen one (one an octave under the choice only if it is the clearer).
 const CONTINUITY_CLARITY: f32 = 0.85;
 /// The current f0 is an outlier when it differs from the median of the last three by more than
 /// this fraction.
@@ -26,7 +26,8 @@ pub(crate) struct TrackedPitch {
 }
 
 /// The f0 track's smoothing: continuity against octave jumps (a candidate near the previous
-/// f0 replaces a not much clearer jump) and a median-of-three outlier filter.
+/// f0 replaces a not much clearer jump, or a clearer one an octave under the jump) and a
+/// median-of-three outlier filter.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct F0Smoother {
     /// Raw f0 of the previous two frames (0 = unvoiced), newest first.
@@ -39,7 +40,8 @@ impl F0Smoother {
     }
 
     /// The estimate that continues the track: `chosen`, or a candidate near the previous f0
-    /// whose clarity is close to the chosen one's.
+    /// whose clarity is close to the chosen one's (or above it, for a candidate an octave under
+    /// the choice).
     pub(crate) fn continue_track(
         &self,
         chosen: PitchEstimate,
@@ -193,6 +195,9 @@ mod tests {
         let cands = [est(75.5, 0.9), est(151.0, 0.88)];
         let r = upd(&mut t, cands[0], &cands, -20.0);
         assert_eq!(r.f0_hz, 151.0);
+        // Against a jump an octave up, the track holds while it is the clearer.
+        let cands = [est(301.0, 0.9), est(151.0, 0.92)];
+        assert_eq!(upd(&mut t, cands[0], &cands, -20.0).f0_hz, 151.0);
         // A clearly better new candidate is kept: a real jump, which the outlier filter lets
         // through one frame later.
         let cands = [est(200.0, 0.95), est(151.0, 0.5)];

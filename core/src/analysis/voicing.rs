@@ -87,8 +87,9 @@ pub(crate) struct VoicingEvidence {
     pub speech_db: f32,
     /// The running noise floor, dBFS (+∞ before it is known).
     pub floor_db: f32,
-    /// The pitch window's band level and its running noise floor, dB (+∞ before it is known).
+    /// The pitch window's band level, dB.
     pub band_db: f32,
+    /// The running noise floor of that band level, dB (+∞ before it is known).
     pub band_floor_db: f32,
     /// The long-window clarity the background alone gives (running mean at the band floor).
     pub noise_clarity: f32,
@@ -114,7 +115,8 @@ impl VoicingEvidence {
             .max(self.edge_newest)
             .max(self.edge_oldest)
             .clamp(0.0, 1.0);
-        // While no background has been heard, the floor cues read as in a clean recording.
+        // While no background has been heard, the floor cues read 0 (the cautious reading, as
+        // deep in noise), and nothing is taken out of the clarity.
         let level_vs_floor = if self.band_floor_db.is_finite() {
             ((self.band_db - self.band_floor_db) / 10.0).clamp(0.0, 6.0)
         } else {
@@ -140,7 +142,7 @@ impl VoicingEvidence {
         } else {
             f32::INFINITY
         };
-        // How far the running speech level stands above the noise floor, 0–6 (tens of dB; 6
+        // How far the running speech level stands above the noise floor, 0–6 (tens of dB; 0
         // while the floor is unknown): lets the model trust a middling clarity in a clean
         // recording that it must doubt in noise, and its product with the unclarity lets the
         // clarity it asks for move with the noise.
@@ -153,14 +155,15 @@ impl VoicingEvidence {
         // The share of the window's band energy the background is taken to make up, and the
         // long-window clarity with the background's part taken out: noise adds energy to the
         // NSDF's norm, not to its periodic peak, so a voice in steady noise reads less clear
-        // by about that share.
+        // by about that share. The division at most doubles the clarity left, so a noise
+        // frame's chance peak at the floor does not read as a clear voice.
         let noise_share = if self.band_floor_db.is_finite() {
             10f32.powf(-(self.band_db - self.band_floor_db).max(0.0) / 10.0)
         } else {
             0.0
         };
         let denoised_clarity = ((self.long_clarity - noise_share * self.noise_clarity)
-            / (1.0 - noise_share).max(0.1))
+            / (1.0 - noise_share).max(0.5))
         .clamp(0.0, 1.0);
         [
             self.long_clarity,

@@ -233,11 +233,32 @@ mod tests {
     #[test]
     fn every_rising_cue_is_a_cue_of_the_model() {
         // A misspelt name would silently drop its monotone constraint.
-        for name in RISING_CUES {
+        assert_cues_of_the_model(&RISING_CUES);
+    }
+
+    fn assert_cues_of_the_model(names: &[&str]) {
+        for name in names {
             assert!(
-                pneuma_core::VOICING_FEATURES.contains(&name),
+                pneuma_core::VOICING_FEATURES.contains(name),
                 "{name} is not one of the model's cues"
             );
+        }
+    }
+
+    #[test]
+    fn the_shipped_trees_never_split_on_an_unsplit_cue() {
+        // A misspelt name would silently let the trees split on it.
+        assert_cues_of_the_model(&UNSPLIT_CUES);
+        let shipped = include_str!("../../../assets/models/voicing.txt");
+        let trees: Vec<&str> = shipped.lines().filter(|l| l.starts_with("tree ")).collect();
+        assert!(!trees.is_empty(), "the shipped model has no trees");
+        for line in trees {
+            for name in UNSPLIT_CUES {
+                assert!(
+                    !line.split_whitespace().any(|w| w == name),
+                    "a shipped tree splits on {name}: {line}"
+                );
+            }
         }
     }
 
