@@ -277,21 +277,35 @@ fn weighting_notes(scheme: Weighting) -> Vec<String> {
     }
 }
 
-/// Sets each clip's frame weight so that every group of `scheme` weighs the same (the mean
-/// frame weight stays 1, so the ridge keeps its meaning).
+/// Sets each clip's frame weight so that every group of `scheme` weighs the same, or to a mix
+/// of two such weightings for a [`Weighting::Blend`] (the mean frame weight stays 1, so the
+/// ridge keeps its meaning).
 fn set_weights(clips: &mut [ClipFrames], scheme: Weighting) {
-    if let Weighting::Blend(percent) = scheme {
-        let share = f64::from(percent.min(100)) / 100.0;
-        set_weights(clips, Weighting::Condition);
-        let condition: Vec<f64> = clips.iter().map(|c| c.weight).collect();
-        set_weights(clips, Weighting::DataSet);
-        for (c, w) in clips.iter_mut().zip(condition) {
-            c.weight = share * c.weight + (1.0 - share) * w;
+    let weights = match scheme {
+        Weighting::Blend(percent) => {
+            let share = f64::from(percent.min(100)) / 100.0;
+            let condition = group_weights(clips, Weighting::Condition);
+            let data_set = group_weights(clips, Weighting::DataSet);
+            data_set
+                .into_iter()
+                .zip(condition)
+                .map(|(d, c)| share * d + (1.0 - share) * c)
+                .collect()
         }
-        return;
+        _ => group_weights(clips, scheme),
+    };
+    for (c, w) in clips.iter_mut().zip(weights) {
+        c.weight = w;
     }
+}
+
+/// Each clip's frame weight under `scheme`, one of the three that balance groups (a
+/// [`Weighting::Blend`] is mixed from two of them by [`set_weights`]).
+fn group_weights(clips: &[ClipFrames], scheme: Weighting) -> Vec<f64> {
+    const BLEND: &str = "a blend is mixed from two weightings in set_weights";
     let group = |c: &ClipFrames| match scheme {
-        Weighting::Condition | Weighting::Blend(_) => c.condition.clone(),
+        Weighting::Condition => c.condition.clone(),
+        Weighting::Blend(_) => unreachable!("{BLEND}"),
         Weighting::Speaker | Weighting::DataSet => format!("{}\t{}", c.speaker, c.condition),
     };
     // The data set is the condition's first word.
@@ -318,14 +332,13 @@ fn set_weights(clips: &mut [ClipFrames], scheme: Weighting) {
     }
     let total: usize = per_group.values().sum();
     let n_speakers = groups_of_speaker.len();
-    let weights: Vec<f64> = clips
+    clips
         .iter()
         .map(|c| {
             let frames = per_group[&group(c)].max(1) as f64;
             match scheme {
-                Weighting::Condition | Weighting::Blend(_) => {
-                    total as f64 / (per_group.len() as f64 * frames)
-                }
+                Weighting::Condition => total as f64 / (per_group.len() as f64 * frames),
+                Weighting::Blend(_) => unreachable!("{BLEND}"),
                 Weighting::Speaker => {
                     let k = groups_of_speaker[c.speaker.as_str()].len() as f64;
                     total as f64 / (n_speakers as f64 * k * frames)
@@ -338,10 +351,7 @@ fn set_weights(clips: &mut [ClipFrames], scheme: Weighting) {
                 }
             }
         })
-        .collect();
-    for (c, w) in clips.iter_mut().zip(weights) {
-        c.weight = w;
-    }
+        .collect()
 }
 
 /// Solves `a·x = b` (symmetric positive definite, row-major `n×n`) by Cholesky.
@@ -970,6 +980,17 @@ mod tests {
                 close(total(&clips, |c| c.condition == cond), frames / 6.0),
                 "{cond}"
             );
+        }
+        // A blend weighs each frame by the mix of its two weights.
+        let weights = |clips: &mut Vec<ClipFrames>, w| {
+            set_weights(clips, w);
+            clips.iter().map(|c| c.weight).collect::<Vec<f64>>()
+        };
+        let condition = weights(&mut clips, Weighting::Condition);
+        let data_set = weights(&mut clips, Weighting::DataSet);
+        let blend = weights(&mut clips, Weighting::Blend(25));
+        for ((b, c), d) in blend.iter().zip(&condition).zip(&data_set) {
+            assert!((b - (0.75 * c + 0.25 * d)).abs() < 1e-12, "{b} {c} {d}");
         }
     }
 }
