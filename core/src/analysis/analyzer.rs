@@ -6,7 +6,7 @@
 //! Samples before the start of the stream count as zeros; a frame is emitted as soon as the last
 //! sample of its analysis window has arrived (see [`Analyzer::latency_s`]).
 
-use super::biquad::HighPass;
+use super::biquad::{Biquad, HighPass};
 use super::clock::FrameClock;
 use super::config::{check_sample_rate, AnalysisConfig, AnalysisError};
 use super::decimator::{factor_for, Decimator};
@@ -152,6 +152,13 @@ impl Analyzer {
         state.pitch.measure_bands(|f_hz| {
             decimator.power_gain(f_hz, sample_rate_hz) * highpass.power_gain(f_hz, internal_rate_hz)
         });
+        if c.lowpass_hz > 0.0 {
+            state.pitch.low_pass(Biquad::butterworth(
+                c.lowpass_hz as f64,
+                internal_rate_hz,
+                false,
+            ));
+        }
         state.reset();
         self.state = Some(state);
         Ok(())
@@ -369,9 +376,9 @@ impl State {
             chosen,
             edge_newest,
             edge_oldest,
-            square_sum: band_sq,
+            heard_energy,
         } = self.pitch.analyse_frame(&self.window);
-        let band_db = amplitude_to_db((band_sq / self.window.len() as f64).sqrt());
+        let band_db = amplitude_to_db((heard_energy / self.window.len() as f64).sqrt());
         // The level sums over the frame's slots (two independent sums in one loop).
         let (mut sum, mut sq) = (0.0f64, 0.0f64);
         for b in self.next_bin.max(0)..self.next_bin + self.rms_bins as i64 {

@@ -87,7 +87,7 @@ pub(crate) struct VoicingEvidence {
     pub speech_db: f32,
     /// The running noise floor, dBFS (+∞ before it is known).
     pub floor_db: f32,
-    /// The pitch window's band level, dB.
+    /// The pitch window's level as the NSDF hears it (mean removed, behind the low-pass), dB.
     pub band_db: f32,
     /// The running noise floor of that band level, dB (+∞ before it is known).
     pub band_floor_db: f32,
