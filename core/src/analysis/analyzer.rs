@@ -376,9 +376,13 @@ impl State {
             chosen,
             edge_newest,
             edge_oldest,
+            square_sum: band_sq,
             heard_energy,
         } = self.pitch.analyse_frame(&self.window);
-        let band_db = amplitude_to_db((heard_energy / self.window.len() as f64).sqrt());
+        // The band level the phrase tracker reads (the window as it is), and the level the
+        // NSDF hears (behind the low-pass), which the voicing cues and their floor use.
+        let band_db = amplitude_to_db((band_sq / self.window.len() as f64).sqrt());
+        let heard_db = amplitude_to_db((heard_energy / self.window.len() as f64).sqrt());
         // The level sums over the frame's slots (two independent sums in one loop).
         let (mut sum, mut sq) = (0.0f64, 0.0f64);
         for b in self.next_bin.max(0)..self.next_bin + self.rms_bins as i64 {
@@ -398,8 +402,8 @@ impl State {
         let background =
             long_clarity < FLOOR_MAX_PERIODICITY && rms_db < speech_db - BACKGROUND_HEADROOM_DB;
         let floor_db = self.noise_floor.update(background.then_some(rms_db));
-        let band_floor_db = self.band_floor.update(background.then_some(band_db));
-        if band_floor_db.is_finite() && band_db <= band_floor_db + NOISE_CLARITY_MARGIN_DB {
+        let band_floor_db = self.band_floor.update(background.then_some(heard_db));
+        if band_floor_db.is_finite() && heard_db <= band_floor_db + NOISE_CLARITY_MARGIN_DB {
             self.noise_clarity += NOISE_CLARITY_RATE * (long_clarity - self.noise_clarity);
         }
         // Every cue comes from the audio alone (never from earlier decisions), so a model can
@@ -417,7 +421,7 @@ impl State {
             rms_db,
             speech_db,
             floor_db,
-            band_db,
+            band_db: heard_db,
             band_floor_db,
             noise_clarity: self.noise_clarity,
             low_band: self.pitch.low_band(),

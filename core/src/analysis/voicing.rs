@@ -93,7 +93,8 @@ pub(crate) struct VoicingEvidence {
     pub band_floor_db: f32,
     /// The long-window clarity the background alone gives (running mean at the band floor).
     pub noise_clarity: f32,
-    /// Share of the voice band's energy in its low band (80 Hz–1 kHz of 80 Hz–4 kHz).
+    /// Share of the voice band's energy in its low band (80 Hz–1 kHz of 80 Hz–4 kHz), behind
+    /// the low-pass.
     pub low_band: f32,
     /// The chosen f0 of this and of the previous frame, Hz (0 = none).
     pub f0_hz: f32,
