@@ -141,3 +141,53 @@ fn leave_one_clip_out_reports_finite_held_out_likelihoods() {
         frozen(model)
     );
 }
+
+#[test]
+fn the_speed_target_is_centred_between_the_real_speakers_and_reached_on_each() {
+    use pneuma_core::head::metrics::motion_stats;
+    // Three speakers whose heads move at three speeds (the same motion at ×0.6, ×1 and ×1.8).
+    let train: Vec<TrainingClip> = [(0.6, 11), (1.0, 12), (1.8, 13)]
+        .iter()
+        .map(|(gain, seed)| {
+            let mut c = clip(&format!("x{gain}"), 60.0, *seed);
+            for p in &mut c.pose_deg {
+                p.iter_mut().for_each(|a| *a *= gain);
+            }
+            c
+        })
+        .collect();
+    let real: Vec<f64> = train
+        .iter()
+        .map(|c| motion_stats(&c.pose_deg, RATE_HZ).mean_speed_deg_s)
+        .collect();
+    let refs: Vec<&TrainingClip> = train.iter().collect();
+    let model = fit_model(&refs, &cfg(), UnvoicedBehaviour::Return).unwrap();
+    let target = model.synthesis.speed_target_deg_s;
+    let (slowest, fastest) = (real[0], real[2]);
+    assert!(
+        slowest < real[1] && real[1] < fastest,
+        "real speeds {real:?}"
+    );
+    // As far (in ratio) from the slowest as from the fastest speaker.
+    assert!(
+        ((target / slowest).ln() - (fastest / target).ln()).abs() < 0.01,
+        "target {target:.2} °/s between {slowest:.2} and {fastest:.2}"
+    );
+    // Every training voice's generated head moves at that target, within 2 % (the governor
+    // drives its output to its target; its feed-forward scale alone lands these at ×0.965).
+    let free = HeadConfig {
+        max_pitch_deg: 90.0,
+        max_yaw_deg: 90.0,
+        max_roll_deg: 90.0,
+        max_speed_deg_s: 2000.0,
+        ..HeadConfig::default()
+    };
+    for c in &train {
+        let got = motion_stats(&synthesize_clip(&model, &free, c), RATE_HZ).mean_speed_deg_s;
+        assert!(
+            (got / target - 1.0).abs() < 0.02,
+            "{}: generated {got:.2} °/s against the target {target:.2}",
+            c.name
+        );
+    }
+}

@@ -153,13 +153,14 @@ pub struct SynthesisWeights {
     /// generated per-axis SD matches the real one (1 = the paper's raw argmax).
     #[serde(default = "unit_gain")]
     pub output_gain: [f64; 3],
-    /// Mean angular speed the speed governor keeps the output near, °/s, 0..500 (0 = no
-    /// governor, as in files written before it existed); calibrated on the training clips so
-    /// the generated mean speed matches the real one (see [`super::governor`]).
+    /// Mean angular speed the speed governor drives the output to, °/s, 0..500 (0 = no
+    /// governor, as in files written before it existed); training sets it to the geometric
+    /// centre of the slowest and the fastest training clip's real mean speed (see
+    /// [`super::governor`] and [`super::train::calibrate_motion`]).
     #[serde(default)]
     pub speed_target_deg_s: f64,
     /// Time constant of the governor's running mean speed, seconds, 0.1..60; chosen on the
-    /// training clips.
+    /// training clips (the one whose output lands closest to the target).
     #[serde(default = "default_speed_time")]
     pub speed_time_s: f64,
     /// Time constant of the pose smoother before the governor, seconds, 0..0.25 (0 = none, as
