@@ -6,7 +6,7 @@
 //! Samples before the start of the stream count as zeros; a frame is emitted as soon as the last
 //! sample of its analysis window has arrived (see [`Analyzer::latency_s`]).
 
-use super::biquad::HighPass;
+use super::biquad::{Biquad, HighPass};
 use super::clock::FrameClock;
 use super::config::{check_sample_rate, AnalysisConfig, AnalysisError};
 use super::decimator::{factor_for, Decimator};
@@ -152,6 +152,13 @@ impl Analyzer {
         state.pitch.measure_bands(|f_hz| {
             decimator.power_gain(f_hz, sample_rate_hz) * highpass.power_gain(f_hz, internal_rate_hz)
         });
+        if c.lowpass_hz > 0.0 {
+            state.pitch.low_pass(Biquad::butterworth(
+                c.lowpass_hz as f64,
+                internal_rate_hz,
+                false,
+            ));
+        }
         state.reset();
         self.state = Some(state);
         Ok(())
@@ -370,8 +377,12 @@ impl State {
             edge_newest,
             edge_oldest,
             square_sum: band_sq,
+            heard_energy,
         } = self.pitch.analyse_frame(&self.window);
+        // The band level the phrase tracker reads (the window as it is), and the level the
+        // NSDF hears (behind the low-pass), which the voicing cues and their floor use.
         let band_db = amplitude_to_db((band_sq / self.window.len() as f64).sqrt());
+        let heard_db = amplitude_to_db((heard_energy / self.window.len() as f64).sqrt());
         // The level sums over the frame's slots (two independent sums in one loop).
         let (mut sum, mut sq) = (0.0f64, 0.0f64);
         for b in self.next_bin.max(0)..self.next_bin + self.rms_bins as i64 {
@@ -391,8 +402,8 @@ impl State {
         let background =
             long_clarity < FLOOR_MAX_PERIODICITY && rms_db < speech_db - BACKGROUND_HEADROOM_DB;
         let floor_db = self.noise_floor.update(background.then_some(rms_db));
-        let band_floor_db = self.band_floor.update(background.then_some(band_db));
-        if band_floor_db.is_finite() && band_db <= band_floor_db + NOISE_CLARITY_MARGIN_DB {
+        let band_floor_db = self.band_floor.update(background.then_some(heard_db));
+        if band_floor_db.is_finite() && heard_db <= band_floor_db + NOISE_CLARITY_MARGIN_DB {
             self.noise_clarity += NOISE_CLARITY_RATE * (long_clarity - self.noise_clarity);
         }
         // Every cue comes from the audio alone (never from earlier decisions), so a model can
@@ -410,7 +421,7 @@ impl State {
             rms_db,
             speech_db,
             floor_db,
-            band_db,
+            band_db: heard_db,
             band_floor_db,
             noise_clarity: self.noise_clarity,
             low_band: self.pitch.low_band(),

@@ -87,13 +87,14 @@ pub(crate) struct VoicingEvidence {
     pub speech_db: f32,
     /// The running noise floor, dBFS (+∞ before it is known).
     pub floor_db: f32,
-    /// The pitch window's band level, dB.
+    /// The pitch window's level as the NSDF hears it (mean removed, behind the low-pass), dB.
     pub band_db: f32,
     /// The running noise floor of that band level, dB (+∞ before it is known).
     pub band_floor_db: f32,
     /// The long-window clarity the background alone gives (running mean at the band floor).
     pub noise_clarity: f32,
-    /// Share of the voice band's energy in its low band (80 Hz–1 kHz of 80 Hz–4 kHz).
+    /// Share of the voice band's energy in its low band (80 Hz–1 kHz of 80 Hz–4 kHz), behind
+    /// the low-pass.
     pub low_band: f32,
     /// The chosen f0 of this and of the previous frame, Hz (0 = none).
     pub f0_hz: f32,
