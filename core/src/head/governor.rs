@@ -10,18 +10,9 @@
 //! The running mean is a one-pole average of the ungoverned speed with time constant `time_s`,
 //! started from the target with the weight of [`PRIOR_S`] seconds of motion (so the first
 //! seconds neither jump nor stall); frames whose pose did not change (a held head) leave it and
-//! the scale unchanged, so a hold stays a hold.
-//!
-//! That feed-forward scale alone lands the output's mean speed some way off the target, by as
-//! much as the voice's motion is bursty and by how often the scale sits at its clamp (on the
-//! styletalk clips, 0.84 to 1.0 of the target: a different figure for each voice and for each
-//! version of the pitch front end). So the governor also measures its own output's speed (a
-//! one-pole mean over [`OUT_TIME_S`]) and integrates the relative error `1 − mean / target` into
-//! a correction factor (integration time [`CORRECTION_TIME_S`], at most [`MAX_CORRECTION`]
-//! either way), which drives the output's mean speed, not the log of it, to the target.
-//!
-//! Training sets the target and chooses the time constant on the training clips only (see
-//! [`super::train::calibrate_motion`]). Allocation-free; a target of 0 turns the governor off.
+//! the scale unchanged, so a hold stays a hold. Training calibrates the target and chooses the time constant
+//! on the training clips only (see [`super::train::calibrate_motion`]). Allocation-free; a target
+//! of 0 turns the governor off.
 
 use glam::DVec3;
 
@@ -41,19 +32,7 @@ pub struct SpeedGovernor {
     mean_speed_deg_s: f64,
     frames: f64,
     prev: Option<DVec3>,
-    mean_out_deg_s: f64,
-    log_correction: f64,
-    prev_out: Option<DVec3>,
 }
-
-/// Time constant of the running mean of the governed output's speed, seconds.
-pub const OUT_TIME_S: f64 = 1.0;
-/// Integration time of the correction toward the target, seconds: a relative error held for
-/// this long moves the log of the correction by that error. Four times [`OUT_TIME_S`], which
-/// damps the loop (the measured speed lags the correction by about `OUT_TIME_S`).
-pub const CORRECTION_TIME_S: f64 = 4.0;
-/// Largest correction either way (a factor).
-pub const MAX_CORRECTION: f64 = 2.0;
 
 impl SpeedGovernor {
     /// A governor toward `target_deg_s` (°/s; 0 = off) averaging over `time_s` seconds.
@@ -64,9 +43,6 @@ impl SpeedGovernor {
             mean_speed_deg_s: target_deg_s,
             frames: 0.0,
             prev: None,
-            mean_out_deg_s: target_deg_s,
-            log_correction: 0.0,
-            prev_out: None,
         }
     }
 
@@ -80,13 +56,8 @@ impl SpeedGovernor {
         if self.target_deg_s <= 0.0 || !pose.is_finite() {
             return pose;
         }
-        // A held pose stays held exactly: the same output, no update.
-        if self.prev == Some(pose) {
-            if let Some(out) = self.prev_out {
-                return out;
-            }
-        }
-        if let Some(prev) = self.prev {
+        // A held pose stays held exactly: no update, the same scale.
+        if let Some(prev) = self.prev.filter(|p| *p != pose) {
             let speed = (pose - prev).length() * frame_rate_hz;
             let prior = PRIOR_S * frame_rate_hz;
             let a = (-1.0 / (frame_rate_hz * self.time_s))
@@ -96,24 +67,7 @@ impl SpeedGovernor {
             self.frames += 1.0;
         }
         self.prev = Some(pose);
-        let out = pose * self.scale();
-        if let Some(prev_out) = self.prev_out {
-            self.correct((out - prev_out).length() * frame_rate_hz, frame_rate_hz);
-        }
-        self.prev_out = Some(out);
-        out
-    }
-
-    /// Feeds the governed output's latest speed to the correction: its running mean's relative
-    /// error from the target, integrated over [`CORRECTION_TIME_S`], is the log of the
-    /// correction factor.
-    fn correct(&mut self, out_speed_deg_s: f64, frame_rate_hz: f64) {
-        let a = (-1.0 / (frame_rate_hz * OUT_TIME_S)).exp();
-        self.mean_out_deg_s = a * self.mean_out_deg_s + (1.0 - a) * out_speed_deg_s;
-        let error = 1.0 - self.mean_out_deg_s / self.target_deg_s;
-        let limit = MAX_CORRECTION.ln();
-        self.log_correction = (self.log_correction + error / (frame_rate_hz * CORRECTION_TIME_S))
-            .clamp(-limit, limit);
+        pose * self.scale()
     }
 
     /// The scale applied to the latest pose.
@@ -121,8 +75,7 @@ impl SpeedGovernor {
         if self.target_deg_s <= 0.0 {
             return 1.0;
         }
-        (self.log_correction.exp() * self.target_deg_s / self.mean_speed_deg_s.max(1e-9))
-            .clamp(MIN_SCALE, MAX_SCALE)
+        (self.target_deg_s / self.mean_speed_deg_s.max(1e-9)).clamp(MIN_SCALE, MAX_SCALE)
     }
 }
 
@@ -168,42 +121,6 @@ mod tests {
                 (got / expected - 1.0).abs() < 0.1,
                 "amp {amp} f {f}: raw {raw_speed:.1} °/s, governed {got:.1} °/s, expected {expected:.1}"
             );
-        }
-    }
-
-    /// Phrases of a wide sway (`loud_deg`, `phrase_s` long) between pauses of a faint one
-    /// (`quiet_deg`, `pause_s`), 60 s at 120 frames per second.
-    fn phrases(loud_deg: f64, quiet_deg: f64, phrase_s: f64, pause_s: f64) -> Vec<[f64; 3]> {
-        (0..7200)
-            .map(|i| {
-                let t = i as f64 / 120.0;
-                let amp = if t % (phrase_s + pause_s) < phrase_s {
-                    loud_deg
-                } else {
-                    quiet_deg
-                };
-                let w = std::f64::consts::TAU * 1.1 * t;
-                [amp * w.sin(), 0.5 * amp * (1.3 * w).cos(), 0.0]
-            })
-            .collect()
-    }
-
-    #[test]
-    fn bursty_motion_ends_on_the_target_speed_too() {
-        // The feed-forward scale alone lands these at ×0.81–×0.95 of the target (the scale
-        // climbs to its clamp in each pause and the next phrase starts too slow); the
-        // correction brings every one within 4 %.
-        for (loud, quiet, phrase_s, pause_s) in [(6.0, 0.1, 2.0, 2.0), (5.0, 0.5, 4.0, 3.0)] {
-            let raw = phrases(loud, quiet, phrase_s, pause_s);
-            for time_s in [0.5, 1.0] {
-                let out = govern_track(&raw, 120.0, 18.0, time_s);
-                let got = motion_stats(&out, 120.0).mean_speed_deg_s / 18.0;
-                assert!(
-                    (got - 1.0).abs() < 0.04,
-                    "{loud}°/{quiet}° phrases {phrase_s} s, pauses {pause_s} s, time {time_s} s: \
-                     ×{got:.3} of the target"
-                );
-            }
         }
     }
 

@@ -19,9 +19,8 @@
 //!   on the training clips so the generated SD matches the real one, restores the amplitude.
 //! - The argmax moves as fast as the voice's f0 swings make its modes move: expressive voices
 //!   got heads two to three times faster than real ones. A speed governor ([`governor`]) scales
-//!   the output so its mean speed is the target: the geometric centre of the slowest and the
-//!   fastest training clip's real speed (a feed-forward scale plus a correction from the
-//!   output's own measured speed; target and time constant set on the training clips only).
+//!   the output toward a target mean speed: the geometric centre of the slowest and the fastest
+//!   training clip's real speed (target and time constant set on the training clips only).
 //! - Before the governor, a one-pole [`smoother`] takes the busy syllable-rate part out of the
 //!   argmax's motion (much speed, little amplitude), so the governor need not shrink the
 //!   amplitude to half of real to reach a real speed; its time constant (0–0.25 s) is chosen on

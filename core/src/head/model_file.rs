@@ -15,7 +15,7 @@
 //!                 "roll": GMM, ... },
 //!   "synthesis": { "pose_weight": 0.2, "velocity_weight": 0.25, "acceleration_weight": 0.0625,
 //!                  "bound_deg": 90, "output_gain": [roll, pitch, yaw],
-//!                  "speed_target_deg_s": 18.8, "speed_time_s": 2, "smoothing_s": 0.1 },
+//!                  "speed_target_deg_s": 17.7, "speed_time_s": 4, "smoothing_s": 0.1 },
 //!   "provenance": { ... } }
 //! GMM = { "weights": [..], "means": [[..], ..], "covariances": [[[..]..], ..] }
 //! ```
@@ -153,14 +153,14 @@ pub struct SynthesisWeights {
     /// generated per-axis SD matches the real one (1 = the paper's raw argmax).
     #[serde(default = "unit_gain")]
     pub output_gain: [f64; 3],
-    /// Mean angular speed the speed governor drives the output to, °/s, 0..500 (0 = no
+    /// Mean angular speed the speed governor scales the output toward, °/s, 0..500 (0 = no
     /// governor, as in files written before it existed); training sets it to the geometric
     /// centre of the slowest and the fastest training clip's real mean speed (see
     /// [`super::governor`] and [`super::train::calibrate_motion`]).
     #[serde(default)]
     pub speed_target_deg_s: f64,
-    /// Time constant of the governor's running mean speed, seconds, 0.1..60; chosen on the
-    /// training clips (the one whose output lands closest to the target).
+    /// Time constant of the governor's running mean of the ungoverned speed, seconds, 0.1..60;
+    /// chosen on the training clips (the one whose output lands closest to the target).
     #[serde(default = "default_speed_time")]
     pub speed_time_s: f64,
     /// Time constant of the pose smoother before the governor, seconds, 0..0.25 (0 = none, as

@@ -168,10 +168,7 @@ pub const TRAINED_SMOOTHING_S: f64 = 0.1;
 ///   fastest clip's real mean speed (the speed every voice should move at, as far from the
 ///   slowest as from the fastest real speaker); the time constant is the one of
 ///   [`SPEED_TIME_CANDIDATES_S`] whose governed output lands closest to that target on its
-///   worst clip. Until stop 26 the target was searched together with the time constant for the
-///   generated speeds closest to the real ones: with six clips that pair followed chance
-///   agreements (the worst training clip at ×1.09 of real, the held-out clip at ×1.38), and
-///   any change to the front end moved the held-out figure by several percent.
+///   worst clip (the README tells why the target is no longer fitted to the generated speeds).
 pub fn calibrate_motion(
     model: &mut HeadModel,
     clips: &[&TrainingClip],
@@ -242,7 +239,8 @@ struct Governor {
 /// The target is the geometric centre of the slowest and the fastest real speed (from real
 /// motion alone, so it cannot follow chance agreements between the generated and the real
 /// speeds of a few clips); the time constant is the one whose governed output lands closest to
-/// that target on its worst training clip. `None` when no clip moves.
+/// that target on its worst training clip. `None` (no governor) when there are no clips or one
+/// of them does not move at all (no speed can be centred on a still head).
 fn best_governor(
     generated: &[Vec<[f64; 3]>],
     clips: &[&TrainingClip],
@@ -250,7 +248,7 @@ fn best_governor(
 ) -> Option<Governor> {
     let slowest = real_speed.iter().copied().fold(f64::INFINITY, f64::min);
     let fastest = real_speed.iter().copied().fold(0.0, f64::max);
-    if !(slowest > 0.0 && fastest.is_finite()) {
+    if !(slowest > 0.0 && slowest.is_finite() && fastest.is_finite()) {
         return None;
     }
     let target_deg_s = (slowest * fastest).sqrt().min(500.0);
