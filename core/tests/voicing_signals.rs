@@ -6,7 +6,7 @@
 use std::cell::Cell;
 
 use pneuma_core::test_signals::{self, GlottalVowel, Vowel};
-use pneuma_core::{AnalysisConfig, Analyzer, FeatureFrame};
+use pneuma_core::{AnalysisConfig, Analyzer, FeatureFrame, VOICING_FEATURES};
 
 const RATE: f64 = 48_000.0;
 /// Voice from 0.5 s to 2.0 s and from 2.5 s to 4.0 s; silence (plus background) elsewhere.
@@ -245,5 +245,99 @@ fn a_rumble_under_the_high_pass_does_not_gate_the_voice() {
         "voice under rumble: {:.0} % of the voice voiced, {:.0} % of the rumble",
         voiced * 100.0,
         pauses * 100.0
+    );
+}
+
+/// The index of the cue named `name` among the analyzer's voicing cues.
+fn cue(name: &str) -> usize {
+    VOICING_FEATURES
+        .iter()
+        .position(|&n| n == name)
+        .unwrap_or_else(|| panic!("the analyzer offers a {name} cue"))
+}
+
+/// The `log_f0` and `pitch_track` cues (the latter: how long the chosen period has moved
+/// smoothly, 0–1 of its cap) of every frame of `x` centred inside `keep`.
+fn pitch_track_cue(x: &[f32], keep: impl Fn(f64) -> bool) -> Vec<(f32, f32)> {
+    let (log_f0, track) = (cue("log_f0"), cue("pitch_track"));
+    let mut a = Analyzer::new(AnalysisConfig::default()).expect("default config");
+    a.prepare(RATE, 1024).expect("supported rate");
+    let mut values = Vec::new();
+    for block in x.chunks(1024) {
+        a.process_with_features(block, |f, v| {
+            if keep(f.time_s) {
+                values.push((v[log_f0], v[track]));
+            }
+        })
+        .expect("prepared");
+    }
+    values
+}
+
+/// Fraction of `values` at least `at_least`.
+fn share_at_least(values: &[f32], at_least: f32) -> f64 {
+    values.iter().filter(|&&v| v >= at_least).count() as f64 / values.len().max(1) as f64
+}
+
+#[test]
+fn the_pitch_track_cue_holds_through_a_voice_and_not_through_noise() {
+    // Well inside each voice segment (150 ms after its start, where the track has had time to
+    // reach its cap) a gliding voice and a low voice with alternating periods keep one smooth
+    // track; noise alone (its chance periods jump) seldom holds one for long.
+    let inside = |t: f64| {
+        SEGMENTS_S
+            .iter()
+            .any(|&(a, b)| t >= a + 0.15 && t < b - 0.05)
+    };
+    let gliding = voice(
+        Vowel::A,
+        |t| 140.0 + 20.0 * t.sin(),
+        |_| 1.0,
+        &quiet_background(),
+    );
+    let long = Cell::new(false);
+    let alternating = voice(
+        Vowel::U,
+        |_| {
+            long.set(!long.get());
+            if long.get() {
+                80.0 / 1.05
+            } else {
+                80.0 / 0.95
+            }
+        },
+        |_| 1.0,
+        &quiet_background(),
+    );
+    for (name, x) in [("gliding 125-160 Hz", gliding), ("80 Hz ±5 %", alternating)] {
+        let track: Vec<f32> = pitch_track_cue(&x, inside).iter().map(|c| c.1).collect();
+        let held = share_at_least(&track, 0.99);
+        assert!(
+            held >= 0.9,
+            "{name}: the track is held on {:.0} % of the voice's frames",
+            held * 100.0
+        );
+    }
+    // Judged on the noise frames where a period was found (log f0 reads 0 without one, or at
+    // exactly 150 Hz): the track must break because the periods jump, not for want of one.
+    let noise = test_signals::white_noise((LENGTH_S * RATE) as usize, 0.05, 31);
+    let cues = pitch_track_cue(&noise, |t| t >= 0.3);
+    let (frames, values) = (
+        cues.len(),
+        cues.iter()
+            .filter(|c| c.0 != 0.0)
+            .map(|c| c.1)
+            .collect::<Vec<f32>>(),
+    );
+    assert!(
+        values.len() * 2 >= frames,
+        "a period on only {} of {frames} noise frames",
+        values.len()
+    );
+    let held = share_at_least(&values, 0.5);
+    assert!(
+        held <= 0.1,
+        "white noise: a track held over half the cap on {:.0} % of the frames",
+        held * 100.0
     );
 }

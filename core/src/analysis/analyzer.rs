@@ -14,7 +14,7 @@ use super::noise_floor::NoiseFloor;
 use super::pitch::{FrameAnalysis, NsdfPitch};
 use super::speaker_norm::SpeakerNorm;
 use super::tracking::Tracker;
-use super::voicing::{VoicingEvidence, VoicingFeatures, VoicingRule};
+use super::voicing::{VoicingEvidence, VoicingFeatures, VoicingRule, TRACK_CAP_S};
 use super::{amplitude_to_db, FeatureFrame};
 
 /// Input samples beyond this magnitude are clamped for analysis (+60 dBFS).
@@ -30,6 +30,11 @@ const NOISE_CLARITY_MARGIN_DB: f32 = 3.0;
 const NOISE_CLARITY_RATE: f32 = 0.05;
 /// The clarity noise alone is taken to give before any noise frame was heard.
 const NOISE_CLARITY_START: f32 = 0.3;
+/// A frame continues the pitch track when its chosen f0 lies within this many octaves of the
+/// previous frame's (a quarter octave, +19 %/−16 %: a voice glides less than that from one
+/// frame to the next, also a creaky one with its irregular periods; a tenth of an octave lost
+/// the low voice m1 0.5 FFE points held out). Noise's chance periods jump further.
+const TRACK_STEP_OCTAVES: f32 = 0.25;
 
 /// The streaming analysis front end. See the module docs.
 #[derive(Debug)]
@@ -59,6 +64,11 @@ struct State {
     /// The previous frame's chosen f0 (0 = none) and long-window clarity.
     previous_f0_hz: f32,
     previous_clarity: f32,
+    /// How long the chosen period has moved smoothly from frame to frame, s (capped at
+    /// [`TRACK_CAP_S`]; 0 after a jump or a frame without one).
+    track_s: f32,
+    /// Seconds between frames.
+    frame_s: f32,
     pitch: NsdfPitch,
     tracker: Tracker,
     speaker: SpeakerNorm,
@@ -122,6 +132,8 @@ impl Analyzer {
             periodic_level: SpeakerNorm::new(c.speaker.clone(), c.frame_rate_hz),
             previous_f0_hz: 0.0,
             previous_clarity: 0.0,
+            track_s: 0.0,
+            frame_s: (1.0 / c.frame_rate_hz) as f32,
             pitch: NsdfPitch::with_short_window(
                 internal_rate_hz,
                 window_len,
@@ -282,6 +294,7 @@ impl State {
         self.periodic_level.reset();
         self.previous_f0_hz = 0.0;
         self.previous_clarity = 0.0;
+        self.track_s = 0.0;
         self.tracker.reset();
         self.speaker.reset();
         self.ring.fill(0.0);
@@ -411,6 +424,15 @@ impl State {
         // part of the window, at an offset only the oldest: the short windows at both ends
         // hear the phrase edges the long window dilutes. Still no look-ahead beyond the window.
         let (short, short_agrees) = self.pitch.short_window_pick();
+        // A voice holds a smooth pitch track through a vowel; noise's chance periods jump.
+        let continues = chosen.f0_hz > 0.0
+            && self.previous_f0_hz > 0.0
+            && (chosen.f0_hz / self.previous_f0_hz).log2().abs() < TRACK_STEP_OCTAVES;
+        self.track_s = if continues {
+            (self.track_s + self.frame_s).min(TRACK_CAP_S)
+        } else {
+            0.0
+        };
         let evidence = VoicingEvidence {
             long_clarity,
             chosen_clarity: chosen.clarity,
@@ -428,6 +450,7 @@ impl State {
             f0_hz: chosen.f0_hz,
             previous_f0_hz: self.previous_f0_hz,
             previous_clarity: self.previous_clarity,
+            track_s: self.track_s,
         };
         let features = evidence.features();
         self.periodic_level.update(
