@@ -24,8 +24,8 @@
 //!
 //! Model ([`SHIPPED_KIND`], the one written to the file): the logistic regression on
 //! standardised cues (Newton's method with a small ridge, [`RIDGE`], [`NEWTON_STEPS`] steps)
-//! plus [`HYBRID`]'s regression trees boosted from its score, monotone in the clarity and level
-//! cues and never split on log f0 (module `trees`: logistic loss, fixed depth, histogram splits
+//! plus [`HYBRID`]'s regression trees boosted from its score, monotone in the clarity, level
+//! and pitch-track cues and never split on log f0 (module `trees`: logistic loss, fixed depth, histogram splits
 //! on quantile-binned cues, shrinkage, a fixed number of rounds). Also written and read: the
 //! logistic regression alone (format version 1, `--loso-model logistic`) and trees alone
 //! ([`TREES`], version 2, `--loso-model trees`).

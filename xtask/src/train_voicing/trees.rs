@@ -30,10 +30,11 @@ pub(crate) struct TreeParams {
 
 /// The cues the score may only rise with under [`TreeParams::monotone`]: the periodicity of
 /// the chosen period (whole, short windows at either end, best of them, the previous frame's,
-/// the long window's with the background taken out) and the level against the speech level,
-/// the noise floor and the gate. A clearer or louder
-/// frame is never less voiced, also outside the recordings (a perfectly periodic low tone).
-pub(crate) const RISING_CUES: [&str; 10] = [
+/// the long window's with the background taken out), the level against the speech level,
+/// the noise floor and the gate, and how long the pitch track has held. A clearer, louder or
+/// longer-held frame is never less voiced, also outside the recordings (a perfectly periodic
+/// low tone).
+pub(crate) const RISING_CUES: [&str; 11] = [
     "chosen_clarity",
     "edge_newest",
     "edge_oldest",
@@ -44,6 +45,7 @@ pub(crate) const RISING_CUES: [&str; 10] = [
     "previous_clarity",
     "level_vs_gate",
     "denoised_clarity",
+    "pitch_track",
 ];
 
 /// Cues the trees never split on: the period itself. It tells the training speakers apart
