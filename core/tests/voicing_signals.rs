@@ -132,13 +132,13 @@ fn low_voices_from_60_to_100_hz_are_voiced() {
     }
 }
 
-/// A glottal /a/ whose periods alternate `alternation` longer and shorter around `f0` (period
-/// doubling: a subharmonic at half the rate), with the voice's own jitter; returns the
-/// fractions voiced in the voice and in the pauses.
-fn fry(f0: f64, alternation: f64) -> (f64, f64) {
+/// A glottal `vowel` whose periods alternate `alternation` longer and shorter around `f0`
+/// (period doubling: a subharmonic at half the rate), with the voice's own jitter, over the
+/// quiet background.
+fn alternating_voice(vowel: Vowel, f0: f64, alternation: f64) -> Vec<f32> {
     let long = Cell::new(false);
-    let x = voice(
-        Vowel::A,
+    voice(
+        vowel,
         |_| {
             long.set(!long.get());
             if long.get() {
@@ -149,7 +149,12 @@ fn fry(f0: f64, alternation: f64) -> (f64, f64) {
         },
         |_| 1.0,
         &quiet_background(),
-    );
+    )
+}
+
+/// [`alternating_voice`] as an /a/: the fractions voiced in the voice and in the pauses.
+fn fry(f0: f64, alternation: f64) -> (f64, f64) {
+    let x = alternating_voice(Vowel::A, f0, alternation);
     voiced_fractions(&analyse(&x), 0.05)
 }
 
@@ -295,20 +300,7 @@ fn the_pitch_track_cue_holds_through_a_voice_and_not_through_noise() {
         |_| 1.0,
         &quiet_background(),
     );
-    let long = Cell::new(false);
-    let alternating = voice(
-        Vowel::U,
-        |_| {
-            long.set(!long.get());
-            if long.get() {
-                80.0 / 1.05
-            } else {
-                80.0 / 0.95
-            }
-        },
-        |_| 1.0,
-        &quiet_background(),
-    );
+    let alternating = alternating_voice(Vowel::U, 80.0, 0.05);
     for (name, x) in [("gliding 125-160 Hz", gliding), ("80 Hz ±5 %", alternating)] {
         let track: Vec<f32> = pitch_track_cue(&x, inside).iter().map(|c| c.1).collect();
         let held = share_at_least(&track, 0.99);
