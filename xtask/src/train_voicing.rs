@@ -25,10 +25,10 @@
 //! Model ([`SHIPPED_KIND`], the one written to the file): the logistic regression on
 //! standardised cues (Newton's method with a small ridge, [`RIDGE`], [`NEWTON_STEPS`] steps)
 //! plus [`HYBRID`]'s regression trees boosted from its score, monotone in the clarity, level
-//! and pitch-track cues and never split on log f0 (module `trees`: logistic loss, fixed depth, histogram splits
-//! on quantile-binned cues, shrinkage, a fixed number of rounds). Also written and read: the
-//! logistic regression alone (format version 1, `--loso-model logistic`) and trees alone
-//! ([`TREES`], version 2, `--loso-model trees`).
+//! and pitch-track cues and never split on log f0 (module `trees`: logistic loss, fixed depth,
+//! histogram splits on quantile-binned cues, shrinkage, a fixed number of rounds). Also written
+//! and read: the logistic regression alone (format version 1, `--loso-model logistic`) and
+//! trees alone ([`TREES`], version 2, `--loso-model trees`).
 //! Either way the two hysteresis thresholds on the score are then chosen on the same training
 //! frames from a fixed grid by simulating the decision clip by clip and counting the voicing
 //! frame errors as FFE counts them. Every fit runs in f64, single-threaded, in a fixed order,

@@ -14,7 +14,9 @@ use super::noise_floor::NoiseFloor;
 use super::pitch::{FrameAnalysis, NsdfPitch};
 use super::speaker_norm::SpeakerNorm;
 use super::tracking::Tracker;
-use super::voicing::{VoicingEvidence, VoicingFeatures, VoicingRule, TRACK_CAP_S};
+use super::voicing::{
+    period_jump_octaves, VoicingEvidence, VoicingFeatures, VoicingRule, TRACK_CAP_S,
+};
 use super::{amplitude_to_db, FeatureFrame};
 
 /// Input samples beyond this magnitude are clamped for analysis (+60 dBFS).
@@ -68,8 +70,6 @@ struct State {
     /// How long the chosen period has moved smoothly from frame to frame, s (capped at
     /// [`TRACK_CAP_S`]; 0 after a jump or a frame without one).
     track_s: f32,
-    /// Seconds between frames.
-    frame_s: f32,
     pitch: NsdfPitch,
     tracker: Tracker,
     speaker: SpeakerNorm,
@@ -134,7 +134,6 @@ impl Analyzer {
             previous_f0_hz: 0.0,
             previous_clarity: 0.0,
             track_s: 0.0,
-            frame_s: (1.0 / c.frame_rate_hz) as f32,
             pitch: NsdfPitch::with_short_window(
                 internal_rate_hz,
                 window_len,
@@ -426,11 +425,10 @@ impl State {
         // hear the phrase edges the long window dilutes. Still no look-ahead beyond the window.
         let (short, short_agrees) = self.pitch.short_window_pick();
         // A voice holds a smooth pitch track through a vowel; noise's chance periods jump.
-        let continues = chosen.f0_hz > 0.0
-            && self.previous_f0_hz > 0.0
-            && (chosen.f0_hz / self.previous_f0_hz).log2().abs() < TRACK_STEP_OCTAVES;
+        let continues = period_jump_octaves(chosen.f0_hz, self.previous_f0_hz) < TRACK_STEP_OCTAVES;
         self.track_s = if continues {
-            (self.track_s + self.frame_s).min(TRACK_CAP_S)
+            let frame_s = (1.0 / self.clock.frame_rate_hz()) as f32;
+            (self.track_s + frame_s).min(TRACK_CAP_S)
         } else {
             0.0
         };

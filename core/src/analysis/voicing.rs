@@ -69,6 +69,16 @@ pub const VOICING_FEATURES: [&str; N_VOICING_FEATURES] = [
 /// The longest pitch-track continuity the `pitch_track` cue counts, s (it reads 0–1 of this).
 pub(crate) const TRACK_CAP_S: f32 = 0.1;
 
+/// The jump from the previous frame's chosen period to this one's, octaves, at most 1 (1 when
+/// either frame has none): the `period_jump` cue, and what breaks the pitch track.
+pub(crate) fn period_jump_octaves(f0_hz: f32, previous_f0_hz: f32) -> f32 {
+    if f0_hz > 0.0 && previous_f0_hz > 0.0 {
+        (f0_hz / previous_f0_hz).log2().abs().min(1.0)
+    } else {
+        1.0
+    }
+}
+
 /// One frame's cues as a vector, in [`VOICING_FEATURES`] order.
 pub type VoicingFeatures = [f32; N_VOICING_FEATURES];
 
@@ -133,11 +143,7 @@ impl VoicingEvidence {
         } else {
             0.0
         };
-        let period_jump = if self.f0_hz > 0.0 && self.previous_f0_hz > 0.0 {
-            (self.f0_hz / self.previous_f0_hz).log2().abs().min(1.0)
-        } else {
-            1.0
-        };
+        let period_jump = period_jump_octaves(self.f0_hz, self.previous_f0_hz);
         let log_f0 = if self.f0_hz > 0.0 {
             (self.f0_hz / 150.0).log2().clamp(-2.0, 2.0)
         } else {
