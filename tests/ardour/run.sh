@@ -7,7 +7,7 @@
 # Needs target/bundled/Pneuma.vst3 and target/release/pneuma (the .ci/run step builds both).
 # Steps: a session with the example voice (48 kHz) on a mono audio track, Pneuma on it, its
 # MIDI CC recorded on a MIDI track, the session exported; then Mode = Live in the open session,
-# a save right after a change, and the session reopened. The checks (tests/tests/ardour.rs)
+# a save as soon as the changes reached the plugin, and the session reopened. The checks (tests/tests/ardour.rs)
 # compare the export with `pneuma render` of the same file, the recorded CC with the plugin's
 # CC in a reference host, and the facts the scripts wrote (latencies, reopened values).
 set -euo pipefail

@@ -184,7 +184,7 @@ fn the_ardour_session_matches_the_reference() {
     assert_eq!(
         fact("reopened_breath_level_db"),
         -10.0,
-        "saved right after the change"
+        "saved as soon as the change reached the plugin"
     );
     assert_eq!(
         fact("reopened_live_latency_samples"),
