@@ -1236,6 +1236,23 @@ fn run(args: &Args) -> Result<i32, String> {
     if args.check && args.no_baselines {
         return Err("--check compares with the baselines: drop --no-baselines".into());
     }
+    // Every clip is read before the minutes of fitting and tracking, so a `--check` with
+    // nothing to judge fails at once.
+    let mut skipped = Vec::new();
+    let mut sources = Vec::new();
+    for (set, dir) in args.data.iter().enumerate() {
+        for source in load_data_set(dir, args.clean_only, &mut skipped)? {
+            sources.push((set, source));
+        }
+    }
+    if args.check
+        && args.clean_targets.is_empty()
+        && !sources
+            .iter()
+            .any(|(_, s)| is_ptdb_noise(&s.condition.noise))
+    {
+        return Err("--check has nothing to judge: give a PTDB-style data set (clips in cafeteria, car or traffic noise), or name clean-data targets with --clean-targets".into());
+    }
     let loso = if args.no_loso {
         None
     } else {
@@ -1264,31 +1281,28 @@ fn run(args: &Args) -> Result<i32, String> {
     let mut clips = Vec::new();
     let mut seconds = vec![0.0f64; tracker_names.len()];
     let mut audio_s = 0.0;
-    let mut skipped = Vec::new();
-    for (set, dir) in args.data.iter().enumerate() {
-        for source in load_data_set(dir, args.clean_only, &mut skipped)? {
-            audio_s += source.audio.len() as f64 / source.rate as f64;
-            let held_out = loso.as_ref().map(|models| {
-                let mut c = config.clone();
-                match models.get(&source.speaker) {
-                    Some(m) => c.voicing_model = m.clone(),
-                    None => {
-                        unseen.insert(source.speaker.clone());
-                    }
+    for (set, source) in sources {
+        audio_s += source.audio.len() as f64 / source.rate as f64;
+        let held_out = loso.as_ref().map(|models| {
+            let mut c = config.clone();
+            match models.get(&source.speaker) {
+                Some(m) => c.voicing_model = m.clone(),
+                None => {
+                    unseen.insert(source.speaker.clone());
                 }
-                c
-            });
-            clips.push(evaluate(
-                source,
-                set,
-                &config,
-                held_out.as_ref(),
-                args,
-                &mut external,
-                &scratch,
-                &mut seconds,
-            )?);
-        }
+            }
+            c
+        });
+        clips.push(evaluate(
+            source,
+            set,
+            &config,
+            held_out.as_ref(),
+            args,
+            &mut external,
+            &scratch,
+            &mut seconds,
+        )?);
     }
     let _ = std::fs::remove_dir_all(&scratch);
     if !unseen.is_empty() {
@@ -1375,9 +1389,6 @@ fn run(args: &Args) -> Result<i32, String> {
             skipped.len()
         );
     }
-    if args.clean_targets.is_empty() && !results.iter().any(is_ptdb_style) {
-        return Err("--check has nothing to judge: give a PTDB-style data set, or name clean-data targets with --clean-targets".into());
-    }
     for result in results.iter().filter(|r| is_ptdb_style(r)) {
         failures.extend(ptdb_failures(result, &tracker_names, praat, judged));
     }
@@ -1415,9 +1426,12 @@ fn crate_indices(tracker_names: &[&str]) -> Vec<usize> {
 
 /// A data set whose clip names carry their noise and SNR (PTDB's excerpts).
 fn is_ptdb_style(result: &SetResult) -> bool {
-    ["cafeteria", "car", "traffic"]
-        .iter()
-        .any(|n| result.by_condition.keys().any(|c| c.noise == *n))
+    result.by_condition.keys().any(|c| is_ptdb_noise(&c.noise))
+}
+
+/// One of the noises PTDB-style data sets are recorded in (judged by the PTDB targets).
+fn is_ptdb_noise(noise: &str) -> bool {
+    ["cafeteria", "car", "traffic"].contains(&noise)
 }
 
 /// The targets on a clean data set (Keele), judged on column `ours` (the held-out
