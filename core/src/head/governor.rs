@@ -10,7 +10,10 @@
 //! The running mean is a one-pole average of the ungoverned speed with time constant `time_s`,
 //! started from the target with the weight of [`PRIOR_S`] seconds of motion (so the first
 //! seconds neither jump nor stall); frames whose pose did not change (a held head) leave it and
-//! the scale unchanged, so a hold stays a hold. Training calibrates the target and chooses the time constant
+//! the scale unchanged, so a hold stays a hold. So do frames more than [`PAUSE_HOLD_S`] into an
+//! unvoiced stretch: a pause's slow motion (a damped return to neutral, the loudness model
+//! settling) would pull the mean down and the scale up to [`MAX_SCALE`], and the head would
+//! move two to three times too fast for the first seconds after the pause. Training calibrates the target and chooses the time constant
 //! on the training clips only (see [`super::train::calibrate_motion`]). Allocation-free; a target
 //! of 0 turns the governor off.
 
@@ -23,6 +26,9 @@ pub const MIN_SCALE: f64 = 0.25;
 pub const MAX_SCALE: f64 = 2.0;
 /// Weight of the target in the running mean at the start, seconds of motion.
 pub const PRIOR_S: f64 = 1.0;
+/// Unvoiced time after which the running mean (and so the scale) holds until the voice is
+/// back, seconds: longer than the gaps of consonants and short breaks inside a phrase.
+pub const PAUSE_HOLD_S: f64 = 0.25;
 
 /// The governor's state for one stream.
 #[derive(Debug, Clone, PartialEq)]
@@ -32,6 +38,7 @@ pub struct SpeedGovernor {
     mean_speed_deg_s: f64,
     frames: f64,
     prev: Option<DVec3>,
+    unvoiced_s: f64,
 }
 
 impl SpeedGovernor {
@@ -43,6 +50,7 @@ impl SpeedGovernor {
             mean_speed_deg_s: target_deg_s,
             frames: 0.0,
             prev: None,
+            unvoiced_s: 0.0,
         }
     }
 
@@ -51,13 +59,21 @@ impl SpeedGovernor {
         *self = SpeedGovernor::new(self.target_deg_s, self.time_s);
     }
 
-    /// The governed pose for the ungoverned `pose` of the next frame at `frame_rate_hz`.
-    pub fn apply(&mut self, pose: DVec3, frame_rate_hz: f64) -> DVec3 {
+    /// The governed pose for the ungoverned `pose` of the next frame at `frame_rate_hz`,
+    /// `voiced` when the frame is.
+    pub fn apply(&mut self, pose: DVec3, voiced: bool, frame_rate_hz: f64) -> DVec3 {
         if self.target_deg_s <= 0.0 || !pose.is_finite() {
             return pose;
         }
-        // A held pose stays held exactly: no update, the same scale.
-        if let Some(prev) = self.prev.filter(|p| *p != pose) {
+        self.unvoiced_s = if voiced {
+            0.0
+        } else {
+            self.unvoiced_s + 1.0 / frame_rate_hz
+        };
+        let paused = self.unvoiced_s > PAUSE_HOLD_S;
+        // A held pose stays held exactly, and a pause leaves the mean as speech left it: no
+        // update, the same scale.
+        if let Some(prev) = self.prev.filter(|p| *p != pose && !paused) {
             let speed = (pose - prev).length() * frame_rate_hz;
             let prior = PRIOR_S * frame_rate_hz;
             let a = (-1.0 / (frame_rate_hz * self.time_s))
@@ -79,16 +95,20 @@ impl SpeedGovernor {
     }
 }
 
-/// Runs a fresh governor over a whole pose track (roll, pitch, yaw per frame).
+/// Runs a fresh governor over a whole pose track (roll, pitch, yaw per frame) whose frames
+/// are voiced where `voiced` says (as long as `pose`).
 pub fn govern_track(
     pose: &[[f64; 3]],
+    voiced: &[bool],
     frame_rate_hz: f64,
     target_deg_s: f64,
     time_s: f64,
 ) -> Vec<[f64; 3]> {
+    debug_assert_eq!(pose.len(), voiced.len());
     let mut g = SpeedGovernor::new(target_deg_s, time_s);
     pose.iter()
-        .map(|p| g.apply(DVec3::from_array(*p), frame_rate_hz).to_array())
+        .zip(voiced)
+        .map(|(p, v)| g.apply(DVec3::from_array(*p), *v, frame_rate_hz).to_array())
         .collect()
 }
 
@@ -113,7 +133,7 @@ mod tests {
         for (amp, f) in [(6.0, 1.5), (1.0, 0.7), (3.0, 1.0)] {
             let raw = sway(amp, f);
             let raw_speed = motion_stats(&raw, 120.0).mean_speed_deg_s;
-            let out = govern_track(&raw, 120.0, 18.0, 2.0);
+            let out = govern_track(&raw, &[true; 7200], 120.0, 18.0, 2.0);
             // Judge the last 50 s, after the running mean has settled.
             let got = motion_stats(&out[1200..], 120.0).mean_speed_deg_s;
             let expected = (raw_speed * (18.0 / raw_speed).clamp(MIN_SCALE, MAX_SCALE)).max(0.0);
@@ -127,16 +147,16 @@ mod tests {
     #[test]
     fn off_keeps_the_pose_and_reset_restarts() {
         let raw = sway(4.0, 1.0);
-        assert_eq!(govern_track(&raw, 120.0, 0.0, 2.0), raw);
+        assert_eq!(govern_track(&raw, &[true; 7200], 120.0, 0.0, 2.0), raw);
         let mut g = SpeedGovernor::new(18.0, 2.0);
         let first: Vec<DVec3> = raw[..300]
             .iter()
-            .map(|p| g.apply(DVec3::from_array(*p), 120.0))
+            .map(|p| g.apply(DVec3::from_array(*p), true, 120.0))
             .collect();
         g.reset();
         let again: Vec<DVec3> = raw[..300]
             .iter()
-            .map(|p| g.apply(DVec3::from_array(*p), 120.0))
+            .map(|p| g.apply(DVec3::from_array(*p), true, 120.0))
             .collect();
         assert_eq!(first, again);
     }

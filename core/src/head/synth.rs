@@ -238,7 +238,7 @@ impl HeadSynth {
         } else {
             norm.level_db_range[0]
         };
-        let voiced = frame.voiced && frame.f0_st.is_finite() && frame.level_db.is_finite();
+        let voiced = counts_as_voiced(frame);
         let f0 = if voiced {
             (frame.f0_st as f64).clamp(norm.f0_st_range[0], norm.f0_st_range[1])
         } else {
@@ -300,7 +300,7 @@ impl HeadSynth {
         self.prev1 = next;
 
         let smooth = self.smoother.apply(next * model_gain, rate);
-        let mut out = self.governor.apply(smooth, rate) * amount;
+        let mut out = self.governor.apply(smooth, voiced, rate) * amount;
         // The speed limit again on the governed output (the governor may scale up to ×2).
         let out_step = out - self.prev_out;
         let out_max = cfg.max_speed_deg_s as f64 / rate;
@@ -352,6 +352,12 @@ impl HeadSynth {
         };
         minimize(objective, p1, -bound, bound, &self.bfgs).x
     }
+}
+
+/// Whether the synthesis treats `frame` as voiced: the analyzer says so and its f0 and level
+/// are finite (training uses the same rule when it replays the governor).
+pub fn counts_as_voiced(frame: &FeatureFrame) -> bool {
+    frame.voiced && frame.f0_st.is_finite() && frame.level_db.is_finite()
 }
 
 /// The head rotation as a quaternion in a right-handed character frame with x = the
@@ -471,6 +477,59 @@ mod tests {
                 (0.7..=1.4).contains(&(got / target)),
                 "f0 ±{a} st at {f} Hz: {got:.1} °/s against the target {target:.1} °/s (ungoverned {raw:?})"
             );
+        }
+    }
+
+    /// The default model's head with `unvoiced` behaviour over 20 s of voice (f0 ±3 st at
+    /// 1 Hz, level with it), a pause of `pause_s` (unvoiced, quiet) and 20 s of the same voice:
+    /// (mean speed over the last 10 s before the pause, mean speed over the first 3 s after
+    /// it), °/s.
+    fn speeds_around_a_pause(pause_s: f64, unvoiced: UnvoicedBehaviour) -> (f64, f64) {
+        let config = HeadConfig {
+            unvoiced: Some(unvoiced),
+            ..HeadConfig::default()
+        };
+        let mut s = HeadSynth::new(HeadModel::default_model().clone(), config).unwrap();
+        let voice_n = 20 * 120;
+        let pause_n = (pause_s * 120.0) as usize;
+        let pose: Vec<[f64; 3]> = (0..2 * voice_n + pause_n)
+            .map(|i| {
+                let w = std::f32::consts::TAU * i as f32 / 120.0;
+                let frame = if (voice_n..voice_n + pause_n).contains(&i) {
+                    FeatureFrame {
+                        f0_hz: 0.0,
+                        voiced: false,
+                        voicing: 0.0,
+                        rms_db: -60.0,
+                        f0_st: f32::NAN,
+                        level_db: -30.0,
+                        ..voiced(i as u64, 0.0, 0.0)
+                    }
+                } else {
+                    voiced(i as u64, 3.0 * w.sin(), 4.0 * w.cos())
+                };
+                let a = s.process(&frame, 120.0);
+                [a.roll_deg as f64, a.pitch_deg as f64, a.yaw_deg as f64]
+            })
+            .collect();
+        let speed = |a: usize, b: usize| crate::head::metrics::mean_speed(&pose[a..b], 120.0);
+        let resumed = voice_n + pause_n;
+        (
+            speed(voice_n - 1200, voice_n),
+            speed(resumed, resumed + 360),
+        )
+    }
+
+    #[test]
+    fn after_a_long_pause_the_head_resumes_at_its_speaking_speed() {
+        for unvoiced in [UnvoicedBehaviour::Return, UnvoicedBehaviour::LoudnessModel] {
+            for pause_s in [3.0, 8.0] {
+                let (before, after) = speeds_around_a_pause(pause_s, unvoiced);
+                assert!(
+                    (0.7..=1.3).contains(&(after / before)),
+                    "{unvoiced:?}, {pause_s} s pause: {after:.1} °/s in the 3 s after it, {before:.1} °/s before it"
+                );
+            }
         }
     }
 

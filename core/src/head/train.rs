@@ -15,7 +15,7 @@ use super::model_file::{
     HeadModel, HeadModelError, Normalisation, Provenance, SynthesisWeights, UnvoicedBehaviour,
     FEATURE_NAMES,
 };
-use super::synth::{HeadConfig, HeadSynth};
+use super::synth::{counts_as_voiced, HeadConfig, HeadSynth};
 
 /// Errors of training; each message says what to change.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -259,7 +259,8 @@ fn best_governor(
             .zip(clips)
             .map(|(gen, c)| {
                 let r = c.frame_rate_hz;
-                let g = mean_speed(&govern_track(gen, r, target_deg_s, time_s), r);
+                let voiced: Vec<bool> = c.frames.iter().map(counts_as_voiced).collect();
+                let g = mean_speed(&govern_track(gen, &voiced, r, target_deg_s, time_s), r);
                 (g.max(1e-6) / target_deg_s).ln().abs()
             })
             .fold(0.0, f64::max);
