@@ -54,11 +54,20 @@ def main():
             done.set()
 
     with client:
-        try:
-            client.connect(out_port, args.to)
-            client.connect(args.from_port, in_port)
-        except jack.JackError as e:
-            sys.exit(f"cannot connect the test ports ({args.to}, {args.from_port}): {e}")
+        # The app registers its ports before it activates its JACK client, and JACK refuses to
+        # connect a client that is not active yet: retry for a while before giving up.
+        connect_deadline = time.time() + 20
+        while True:
+            try:
+                if not client.get_all_connections(out_port):
+                    client.connect(out_port, args.to)
+                if not client.get_all_connections(in_port):
+                    client.connect(args.from_port, in_port)
+                break
+            except jack.JackError as e:
+                if time.time() > connect_deadline:
+                    sys.exit(f"cannot connect the test ports ({args.to}, {args.from_port}) within 20 s: {e}")
+                time.sleep(0.1)
         deadline = time.time() + total / rate * 3 + 10
         while not done.wait(0.2):
             if time.time() > deadline:

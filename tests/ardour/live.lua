@@ -44,7 +44,11 @@ local function reopen()
   local pneuma = voice:nth_plugin(0)
   local mode = param_index(pneuma, "Mode")
   local level = param_index(pneuma, "Breath level")
-  sleep_s(0.5)
+  -- Restored in Live mode, the plugin builds its live engine in the background as above.
+  local t0 = ARDOUR.LuaAPI.monotonic_time()
+  while pneuma:signal_latency() ~= 0 and ARDOUR.LuaAPI.monotonic_time() - t0 < 5e6 do
+    sleep_s(0.01)
+  end
   facts:write("reopened_mode=" .. ARDOUR.LuaAPI.get_processor_param(pneuma, mode) .. "\n")
   facts:write("reopened_breath_level_db=" .. ARDOUR.LuaAPI.get_processor_param(pneuma, level) .. "\n")
   facts:write("reopened_live_latency_samples=" .. pneuma:signal_latency() .. "\n")

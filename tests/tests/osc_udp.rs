@@ -3,6 +3,8 @@
 //! and that the target and format change while audio runs.
 
 use std::net::UdpSocket;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use pneuma_core::encode::osc::{decode_packet, OscMessage, OscValue};
@@ -28,22 +30,41 @@ fn drain(sock: &UdpSocket) -> Vec<Vec<OscMessage>> {
     out
 }
 
-/// Receives on a thread while the audio runs (the socket's buffer would overflow otherwise):
-/// waits up to 10 s for the first packet, then drains until quiet.
-fn listen(sock: UdpSocket) -> std::thread::JoinHandle<(UdpSocket, Vec<Vec<OscMessage>>)> {
-    std::thread::spawn(move || {
-        let mut buf = [0u8; 4096];
-        sock.set_read_timeout(Some(Duration::from_secs(10)))
-            .unwrap();
-        let mut out = Vec::new();
-        if let Ok(n) = sock.recv(&mut buf) {
-            out.push(decode_packet(&buf[..n]).expect("valid OSC"));
+/// Plays `signal` through `plugin` (see [`play`]) while a thread receives on `sock` (the
+/// socket's buffer would overflow otherwise): it waits up to 10 s for the first packet, then
+/// keeps receiving until the audio has ended and the socket has been quiet for 300 ms, so a
+/// stall of the player or the sender cannot end it early.
+fn play_and_listen(
+    plugin: &mut Plugin,
+    signal: &[f32],
+    sock: UdpSocket,
+) -> (UdpSocket, Vec<Vec<OscMessage>>) {
+    let played = Arc::new(AtomicBool::new(false));
+    let listener = std::thread::spawn({
+        let played = Arc::clone(&played);
+        move || {
+            let mut buf = [0u8; 4096];
+            sock.set_read_timeout(Some(Duration::from_secs(10)))
+                .unwrap();
+            let mut out = Vec::new();
+            if let Ok(n) = sock.recv(&mut buf) {
+                out.push(decode_packet(&buf[..n]).expect("valid OSC"));
+            }
+            sock.set_read_timeout(Some(Duration::from_millis(300)))
+                .unwrap();
+            loop {
+                let done = played.load(Ordering::SeqCst);
+                out.extend(drain(&sock));
+                if done {
+                    break;
+                }
+            }
+            (sock, out)
         }
-        sock.set_read_timeout(Some(Duration::from_millis(300)))
-            .unwrap();
-        out.extend(drain(&sock));
-        (sock, out)
-    })
+    });
+    play(plugin, signal);
+    played.store(true, Ordering::SeqCst);
+    listener.join().unwrap()
 }
 
 /// Processes `signal` in 480-sample blocks (10 ms at 48 kHz), roughly paced at 10× real time
@@ -78,9 +99,7 @@ fn pneuma_then_vmc_bundles_arrive_with_the_documented_addresses_types_and_values
         .unwrap();
     plugin.set_param("osc_format", "pneuma").unwrap();
     plugin.activate(48_000.0, 480, 1).unwrap();
-    let listener = listen(first);
-    play(&mut plugin, &voice[..48_000 * 8]);
-    let (first, bundles) = listener.join().unwrap();
+    let (first, bundles) = play_and_listen(&mut plugin, &voice[..48_000 * 8], first);
     assert!(
         bundles.len() > 300,
         "{} of ~960 frames arrived in 8 s of audio",
@@ -156,9 +175,7 @@ fn pneuma_then_vmc_bundles_arrive_with_the_documented_addresses_types_and_values
         .set_param("osc_port", &second.local_addr().unwrap().port().to_string())
         .unwrap();
     plugin.set_param("osc_format", "VMC").unwrap();
-    let listener = listen(second);
-    play(&mut plugin, &voice[48_000 * 8..48_000 * 12]);
-    let (_, vmc) = listener.join().unwrap();
+    let (_, vmc) = play_and_listen(&mut plugin, &voice[48_000 * 8..48_000 * 12], second);
     assert!(vmc.len() > 150, "{} VMC bundles", vmc.len());
     let stray = drain(&first);
     assert!(
