@@ -41,9 +41,15 @@ def main():
     recorded = array.array("f")
     pos = [0]
     done = threading.Event()
+    # Nothing plays or records until both connections stand (JACK runs the callback from
+    # activation on): the voice starts at the app's input whole.
+    connected = threading.Event()
 
     @client.set_process_callback
     def process(frames):
+        if not connected.is_set():
+            out_port.get_buffer()[:] = bytes(4 * frames)
+            return
         start = pos[0]
         chunk = array.array("f", voice[start:start + frames])
         chunk.extend([0.0] * (frames - len(chunk)))
@@ -56,18 +62,20 @@ def main():
     with client:
         # The app registers its ports before it activates its JACK client, and JACK refuses to
         # connect a client that is not active yet: retry for a while before giving up.
-        connect_deadline = time.time() + 20
+        connect_start = time.time()
         while True:
             try:
-                if not client.get_all_connections(out_port):
+                if args.to not in [p.name for p in client.get_all_connections(out_port)]:
                     client.connect(out_port, args.to)
-                if not client.get_all_connections(in_port):
+                if args.from_port not in [p.name for p in client.get_all_connections(in_port)]:
                     client.connect(args.from_port, in_port)
                 break
             except jack.JackError as e:
-                if time.time() > connect_deadline:
+                if time.time() - connect_start > 20:
                     sys.exit(f"cannot connect the test ports ({args.to}, {args.from_port}) within 20 s: {e}")
                 time.sleep(0.1)
+        print(f"connected after {time.time() - connect_start:.2f} s")
+        connected.set()
         deadline = time.time() + total / rate * 3 + 10
         while not done.wait(0.2):
             if time.time() > deadline:

@@ -13,9 +13,9 @@
 //! the scale unchanged, so a hold stays a hold. So do frames more than [`PAUSE_HOLD_S`] into an
 //! unvoiced stretch: a pause's slow motion (a damped return to neutral, the loudness model
 //! settling) would pull the mean down and the scale up to [`MAX_SCALE`], and the head would
-//! move two to three times too fast for the first seconds after the pause. Training calibrates the target and chooses the time constant
-//! on the training clips only (see [`super::train::calibrate_motion`]). Allocation-free; a target
-//! of 0 turns the governor off.
+//! move two to three times too fast for the first seconds after the pause. Training calibrates
+//! the target and chooses the time constant on the training clips only (see
+//! [`super::train::calibrate_motion`]). Allocation-free; a target of 0 turns the governor off.
 
 use glam::DVec3;
 
@@ -65,10 +65,11 @@ impl SpeedGovernor {
         if self.target_deg_s <= 0.0 || !pose.is_finite() {
             return pose;
         }
+        // Counted up to just past the hold (no growth without end in a long silence).
         self.unvoiced_s = if voiced {
             0.0
         } else {
-            self.unvoiced_s + 1.0 / frame_rate_hz
+            (self.unvoiced_s + 1.0 / frame_rate_hz).min(2.0 * PAUSE_HOLD_S)
         };
         let paused = self.unvoiced_s > PAUSE_HOLD_S;
         // A held pose stays held exactly, and a pause leaves the mean as speech left it: no
@@ -104,7 +105,7 @@ pub fn govern_track(
     target_deg_s: f64,
     time_s: f64,
 ) -> Vec<[f64; 3]> {
-    debug_assert_eq!(pose.len(), voiced.len());
+    assert_eq!(pose.len(), voiced.len(), "one voiced flag per pose");
     let mut g = SpeedGovernor::new(target_deg_s, time_s);
     pose.iter()
         .zip(voiced)
@@ -142,6 +143,46 @@ mod tests {
                 "amp {amp} f {f}: raw {raw_speed:.1} °/s, governed {got:.1} °/s, expected {expected:.1}"
             );
         }
+    }
+
+    #[test]
+    fn a_pause_holds_the_scale_and_a_short_gap_does_not() {
+        let raw = sway(4.0, 1.0);
+        let mut g = SpeedGovernor::new(18.0, 2.0);
+        for p in &raw[..1200] {
+            g.apply(DVec3::from_array(*p), true, 120.0);
+        }
+        // Then 5 s unvoiced: a slow glide toward neutral (1 s time constant).
+        let last = DVec3::from_array(raw[1199]);
+        let glide = |k: usize| last * (-(k as f64) / 120.0).exp();
+        let scales: Vec<f64> = (1..=600)
+            .map(|k| {
+                g.apply(glide(k), false, 120.0);
+                g.scale()
+            })
+            .collect();
+        // Frames 1–25 (under 0.25 s) still count; from frame 35 on the scale holds.
+        assert!(
+            scales[..25].windows(2).all(|w| w[1] > w[0]),
+            "a short unvoiced gap counts: {:?}",
+            &scales[..25]
+        );
+        assert!(
+            scales[34..].iter().all(|s| *s == scales[34]),
+            "the scale holds in a pause: {} … {}",
+            scales[34],
+            scales[599]
+        );
+        // A reset in the pause starts the unvoiced time again: the next frames count.
+        g.reset();
+        let fresh = g.scale();
+        g.apply(glide(601), false, 120.0);
+        g.apply(glide(602), false, 120.0);
+        assert!(
+            g.scale() > fresh,
+            "after a reset, {} against {fresh}",
+            g.scale()
+        );
     }
 
     #[test]

@@ -15,7 +15,7 @@
 //!                 "roll": GMM, ... },
 //!   "synthesis": { "pose_weight": 0.2, "velocity_weight": 0.25, "acceleration_weight": 0.0625,
 //!                  "bound_deg": 90, "output_gain": [roll, pitch, yaw],
-//!                  "speed_target_deg_s": 17.7, "speed_time_s": 4, "smoothing_s": 0.1 },
+//!                  "speed_target_deg_s": 17.7, "speed_time_s": 1, "smoothing_s": 0.1 },
 //!   "provenance": { ... } }
 //! GMM = { "weights": [..], "means": [[..], ..], "covariances": [[[..]..], ..] }
 //! ```
