@@ -51,6 +51,16 @@ function track(name)
   return r:to_track()
 end
 
+-- Waits (up to 10 s) until track `t` holds a region: Ardour's butler thread makes a take's
+-- region after the transport stops, so a fixed wait could read the playlist too early.
+function wait_for_region(t)
+  local t0 = ARDOUR.LuaAPI.monotonic_time()
+  while ARDOUR.LuaAPI.monotonic_time() - t0 < 10e6 do
+    for _ in t:playlist():region_list():iter() do return end
+    sleep_s(0.05)
+  end
+end
+
 function only_region(t)
   local found
   for r in t:playlist():region_list():iter() do

@@ -41,6 +41,7 @@ local function record()
   Session:disable_record(false, false)
   cc:rec_enable_control():set_value(0, PBD.GroupControlDisposition.NoGroup)
   check(only_region(voice):length():samples() == length, "the voice track recorded over the voice")
+  wait_for_region(cc)
   local take = only_region(cc)
   check(take:to_midiregion():do_export(out_dir .. "/cc.mid"), "cannot export the recorded MIDI")
 
