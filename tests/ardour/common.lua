@@ -51,14 +51,23 @@ function track(name)
   return r:to_track()
 end
 
+-- Polls `done()` every 10 ms until it holds or `timeout_s` has passed (the caller checks the
+-- outcome); returns the time waited, microseconds.
+function wait_until(timeout_s, done)
+  local t0 = ARDOUR.LuaAPI.monotonic_time()
+  while not done() and ARDOUR.LuaAPI.monotonic_time() - t0 < timeout_s * 1e6 do
+    sleep_s(0.01)
+  end
+  return ARDOUR.LuaAPI.monotonic_time() - t0
+end
+
 -- Waits (up to 10 s) until track `t` holds a region: Ardour's butler thread makes a take's
 -- region after the transport stops, so a fixed wait could read the playlist too early.
 function wait_for_region(t)
-  local t0 = ARDOUR.LuaAPI.monotonic_time()
-  while ARDOUR.LuaAPI.monotonic_time() - t0 < 10e6 do
-    for _ in t:playlist():region_list():iter() do return end
-    sleep_s(0.05)
-  end
+  wait_until(10, function()
+    for _ in t:playlist():region_list():iter() do return true end
+    return false
+  end)
 end
 
 function only_region(t)

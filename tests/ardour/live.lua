@@ -26,13 +26,11 @@ local function change_and_save()
   ARDOUR.LuaAPI.set_processor_param(pneuma, level, -10)
   ARDOUR.LuaAPI.set_processor_param(pneuma, mode, 1)
   -- The plugin builds the live engine in the background and reports its latency.
-  local t0 = ARDOUR.LuaAPI.monotonic_time()
-  while (pneuma:signal_latency() ~= 0 or voice:signal_latency() ~= 0)
-      and ARDOUR.LuaAPI.monotonic_time() - t0 < 5e6 do
-    sleep_s(0.01)
-  end
+  local waited = wait_until(5, function()
+    return pneuma:signal_latency() == 0 and voice:signal_latency() == 0
+  end)
   facts:write("live_latency_samples=" .. pneuma:signal_latency() .. "\n")
-  facts:write("live_after_ms=" .. math.floor((ARDOUR.LuaAPI.monotonic_time() - t0) / 1000) .. "\n")
+  facts:write("live_after_ms=" .. math.floor(waited / 1000) .. "\n")
   facts:write("live_route_latency_samples=" .. voice:signal_latency() .. "\n")
   -- Saved at once: the state must hold both changes.
   save()
@@ -45,10 +43,7 @@ local function reopen()
   local mode = param_index(pneuma, "Mode")
   local level = param_index(pneuma, "Breath level")
   -- Restored in Live mode, the plugin builds its live engine in the background as above.
-  local t0 = ARDOUR.LuaAPI.monotonic_time()
-  while pneuma:signal_latency() ~= 0 and ARDOUR.LuaAPI.monotonic_time() - t0 < 5e6 do
-    sleep_s(0.01)
-  end
+  wait_until(5, function() return pneuma:signal_latency() == 0 end)
   facts:write("reopened_mode=" .. ARDOUR.LuaAPI.get_processor_param(pneuma, mode) .. "\n")
   facts:write("reopened_breath_level_db=" .. ARDOUR.LuaAPI.get_processor_param(pneuma, level) .. "\n")
   facts:write("reopened_live_latency_samples=" .. pneuma:signal_latency() .. "\n")

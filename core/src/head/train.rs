@@ -252,15 +252,19 @@ fn best_governor(
         return None;
     }
     let target_deg_s = (slowest * fastest).sqrt().min(500.0);
+    let voiced: Vec<Vec<bool>> = clips
+        .iter()
+        .map(|c| c.frames.iter().map(counts_as_voiced).collect())
+        .collect();
     let mut best: Option<Governor> = None;
     for time_s in SPEED_TIME_CANDIDATES_S {
         let worst_target_error = generated
             .iter()
             .zip(clips)
-            .map(|(gen, c)| {
+            .zip(&voiced)
+            .map(|((gen, c), voiced)| {
                 let r = c.frame_rate_hz;
-                let voiced: Vec<bool> = c.frames.iter().map(counts_as_voiced).collect();
-                let g = mean_speed(&govern_track(gen, &voiced, r, target_deg_s, time_s), r);
+                let g = mean_speed(&govern_track(gen, voiced, r, target_deg_s, time_s), r);
                 (g.max(1e-6) / target_deg_s).ln().abs()
             })
             .fold(0.0, f64::max);
