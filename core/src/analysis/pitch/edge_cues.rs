@@ -3,7 +3,9 @@
 //! fills only one end), the two-period cue for periods too long for that window, and the NSDF
 //! at half the period (an octave-down pick).
 
-use super::{FrameStats, NsdfPitch, PitchEstimate, SAME_LOBE_RATIO};
+use super::key_maxima::PitchEstimate;
+use super::sums::FrameStats;
+use super::{NsdfPitch, SAME_LOBE_RATIO};
 
 impl NsdfPitch {
     /// The last long window's NSDF at half the period of `chosen` (linear interpolation),

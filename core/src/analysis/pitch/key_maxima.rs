@@ -1,7 +1,14 @@
 //! Key maxima of an NSDF curve: the highest point of each positive lobe after the first
 //! negative-going zero crossing, refined by a parabola, within the f0 range.
 
-use super::PitchEstimate;
+/// One period candidate: a key maximum of the NSDF.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PitchEstimate {
+    /// Frequency in Hz (0 when there is no candidate).
+    pub f0_hz: f32,
+    /// Interpolated NSDF peak height, 0..1 (periodicity).
+    pub clarity: f32,
+}
 
 /// Key maxima of one NSDF curve up to lag `last`, shortest lag first, into `out`
 /// (count in `n`); a maximum whose refined lag lies outside `lag_range` (the f0 range) is no

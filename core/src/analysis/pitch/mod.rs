@@ -47,6 +47,8 @@ use realfft::RealFftPlanner;
 
 use super::biquad::Biquad;
 use super::breath_band::{BandLevels, BandSpectrum};
+pub use key_maxima::PitchEstimate;
+
 use key_maxima::key_maxima;
 use nsdf::Nsdf;
 use sums::{square_sum, FrameStats, WindowStats};
@@ -56,15 +58,6 @@ pub const MAX_CANDIDATES: usize = 16;
 
 /// Key maxima of the two windows closer than this lag ratio are the same lobe.
 const SAME_LOBE_RATIO: f64 = 1.04;
-
-/// One period candidate: a key maximum of the NSDF.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct PitchEstimate {
-    /// Frequency in Hz (0 when there is no candidate).
-    pub f0_hz: f32,
-    /// Interpolated NSDF peak height, 0..1 (periodicity).
-    pub clarity: f32,
-}
 
 /// Everything [`NsdfPitch::analyse_frame`] finds in one window.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -22,7 +22,7 @@ mod model;
 mod model_file;
 mod rule;
 
-pub(crate) use cues::{period_jump_octaves, VoicingEvidence, LEVEL_VS_GATE, TRACK_CAP_S};
+pub(crate) use cues::{period_jump_octaves, VoicingEvidence, TRACK_CAP_S};
 pub use cues::{VoicingFeatures, N_VOICING_FEATURES, VOICING_FEATURES};
 pub use model::{VoicingModel, VoicingModelError};
 pub(crate) use rule::VoicingRule;

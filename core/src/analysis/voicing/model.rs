@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use thiserror::Error;
 
-use super::{VoicingFeatures, N_VOICING_FEATURES, VOICING_FEATURES};
+use super::cues::{VoicingFeatures, N_VOICING_FEATURES, VOICING_FEATURES};
 
 /// A malformed voicing model file. The message names the line and what to do.
 #[derive(Debug, Error, Clone, PartialEq)]

@@ -4,8 +4,8 @@
 
 use std::sync::OnceLock;
 
-use super::model::{Ensemble, Linear, Scorer, MAX_TREE_DEPTH};
-use super::{VoicingModel, VoicingModelError, N_VOICING_FEATURES, VOICING_FEATURES};
+use super::cues::{N_VOICING_FEATURES, VOICING_FEATURES};
+use super::model::{Ensemble, Linear, Scorer, VoicingModel, VoicingModelError, MAX_TREE_DEPTH};
 
 /// The shipped model, embedded.
 const SHIPPED_MODEL: &str = include_str!("../../../../assets/models/voicing.txt");

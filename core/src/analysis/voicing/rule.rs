@@ -1,7 +1,8 @@
 //! [`VoicingRule`]: the model's decision with its hysteresis state and a fixed silence gate,
 //! and the reported voicing confidence.
 
-use super::{VoicingFeatures, VoicingModel, LEVEL_VS_GATE};
+use super::cues::{VoicingFeatures, LEVEL_VS_GATE};
+use super::model::VoicingModel;
 
 /// Width of the fade of the voicing confidence below the silence gate, dB.
 const SILENCE_FADE_DB: f32 = 10.0;
@@ -49,7 +50,7 @@ impl VoicingRule {
 
 #[cfg(test)]
 mod tests {
-    use super::super::N_VOICING_FEATURES;
+    use super::super::cues::N_VOICING_FEATURES;
     use super::*;
 
     #[test]
