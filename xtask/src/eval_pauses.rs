@@ -238,7 +238,7 @@ fn run(args: &[String]) -> Result<i32, String> {
             "--set" => {
                 let kv = it.next().ok_or("--set needs name=value")?;
                 let (k, v) = kv.split_once('=').ok_or("--set needs name=value")?;
-                phrase.set(k, v)?;
+                phrase.set(k, v).map_err(|e| e.to_string())?;
             }
             other => return Err(format!("unknown argument {other:?}")),
         }

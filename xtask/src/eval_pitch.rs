@@ -322,7 +322,7 @@ fn grid_len(duration_s: f64) -> usize {
 fn pneuma_config(overrides: &[(String, String)]) -> Result<AnalysisConfig, String> {
     let mut config = AnalysisConfig::default();
     for (k, v) in overrides {
-        config.set(k, v)?;
+        config.set(k, v).map_err(|e| e.to_string())?;
     }
     Ok(config)
 }

@@ -486,7 +486,7 @@ fn fit_logistic(clips: &[&ClipFrames]) -> Result<VoicingModel, String> {
     for i in 0..D {
         weight[i] = w[i + 1] as f32;
     }
-    VoicingModel::new(mean, scale, weight, w[0] as f32, 0.0, 0.0)
+    VoicingModel::new(mean, scale, weight, w[0] as f32, 0.0, 0.0).map_err(|e| e.to_string())
 }
 
 /// Frame errors of `model` over the scored frames of `clips`, and the scored frames.
@@ -529,7 +529,7 @@ fn with_chosen_thresholds(
     clips: &[&ClipFrames],
 ) -> Result<VoicingModel, String> {
     let (on, off) = choose_thresholds(model, clips);
-    model.with_thresholds(on, off)
+    model.with_thresholds(on, off).map_err(|e| e.to_string())
 }
 
 /// The threshold pair of the grid with the fewest (weighted) frame errors on `clips` (ties:

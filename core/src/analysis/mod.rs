@@ -30,5 +30,6 @@ pub use level::amplitude_to_db;
 pub use pitch::{NsdfPitch, PitchEstimate};
 pub use speaker_norm::{SpeakerNorm, SpeakerNormConfig};
 pub use voicing::{
-    VoicingFeatures, VoicingModel, VoicingModelError, N_VOICING_FEATURES, VOICING_FEATURES,
+    InvalidVoicingModel, VoicingFeatures, VoicingModel, VoicingModelError, N_VOICING_FEATURES,
+    VOICING_FEATURES,
 };
