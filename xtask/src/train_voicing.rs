@@ -47,7 +47,8 @@ use std::path::{Path, PathBuf};
 
 use pneuma_core::{AnalysisConfig, Analyzer, VoicingFeatures, VoicingModel, N_VOICING_FEATURES};
 
-use crate::eval_pitch::{load_data_set, Source};
+use pneuma_eval::data::shared_data;
+use pneuma_eval::pitch::{load_data_set, Source};
 
 mod trees;
 use trees::{fit_trees, Row, TreeParams};
@@ -740,25 +741,28 @@ fn search(clips: &mut [ClipFrames]) -> Result<(), String> {
     Ok(())
 }
 
-fn workspace_root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("xtask lives in the workspace")
-        .to_path_buf()
-}
-
-/// The default training folders beside the checkout.
-pub(crate) fn default_data() -> (PathBuf, PathBuf) {
-    let root = workspace_root();
-    (
-        root.join("../shared/data/keele"),
-        root.join("../shared/data/ptdb"),
-    )
+/// The held-out models of `eval-pitch`'s `pneuma-loso` column (see
+/// [`pneuma_eval::pitch::FitHeldOut`]): fitted on the training clips of `keele` and `ptdb`,
+/// one per speaker without that speaker, of the kind named (`logistic`, `trees`, `hybrid`;
+/// `None`: [`SHIPPED_KIND`]).
+pub(crate) fn held_out_models(
+    keele: &Path,
+    ptdb: &Path,
+    kind: Option<&str>,
+) -> Result<BTreeMap<String, VoicingModel>, String> {
+    let clips = training_clips(keele, ptdb)?;
+    let kind = match kind {
+        Some("logistic") => ModelKind::Logistic,
+        Some("trees") => ModelKind::Trees(TREES),
+        Some(_) => ModelKind::Hybrid(HYBRID),
+        None => SHIPPED_KIND,
+    };
+    Ok(fit_all_and_loso(&clips, kind)?.1)
 }
 
 /// Runs the chore; returns the process exit code.
 pub fn main(args: &[String]) -> i32 {
-    let (mut keele, mut ptdb) = default_data();
+    let (mut keele, mut ptdb) = (shared_data("keele"), shared_data("ptdb"));
     let mut check = false;
     let mut search_grid = false;
     let mut it = args.iter();
@@ -884,7 +888,7 @@ fn run(keele: &Path, ptdb: &Path, check: bool) -> Result<i32, String> {
     println!("{line}");
     notes.push(line.trim_start().to_string());
     let text = shipped.to_text(&notes);
-    let out = workspace_root().join("assets/models/voicing.txt");
+    let out = pneuma_eval::data::workspace_root().join("assets/models/voicing.txt");
     if check {
         let current =
             std::fs::read_to_string(&out).map_err(|e| format!("{}: {e}", out.display()))?;

@@ -42,10 +42,12 @@ use std::time::Instant;
 use pitch_detection::detector::mcleod::McLeodDetector;
 use pitch_detection::detector::yin::YINDetector;
 use pitch_detection::detector::PitchDetector;
-use pneuma_core::{AnalysisConfig, Analyzer};
+use pneuma_core::{AnalysisConfig, Analyzer, VoicingModel};
 
-use crate::f0_baselines;
-use crate::train_voicing;
+use crate::data::shared_data;
+
+pub mod baselines;
+use baselines as f0_baselines;
 
 /// The scoring grid: every tracker's f0 at each millisecond is that of its frame nearest in time.
 const GRID_S: f64 = 0.001;
@@ -558,7 +560,7 @@ fn dump_tracks(
 
 /// The clips of a PTDB-style folder: every `<clip>` with both `<clip>.wav` and `<clip>.f0.csv`,
 /// sorted; an error when there is none.
-pub(crate) fn list_clips(data: &Path) -> Result<Vec<String>, String> {
+pub fn list_clips(data: &Path) -> Result<Vec<String>, String> {
     let mut names: Vec<String> = std::fs::read_dir(data)
         .map_err(|e| e.to_string())?
         .filter_map(|e| e.ok())
@@ -576,7 +578,9 @@ pub(crate) fn list_clips(data: &Path) -> Result<Vec<String>, String> {
     Ok(names)
 }
 
-pub(crate) fn read_reference(path: &Path) -> Result<Vec<(f64, f32)>, String> {
+/// Reads a reference `<clip>.f0.csv`: a header, then `time_s,f0_hz` rows (0 unvoiced, −1
+/// uncertain).
+pub fn read_reference(path: &Path) -> Result<Vec<(f64, f32)>, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     text.lines()
         .skip(1)
@@ -597,7 +601,8 @@ pub(crate) fn read_reference(path: &Path) -> Result<Vec<(f64, f32)>, String> {
         .collect()
 }
 
-pub(crate) fn split_name(stem: &str) -> Option<(String, u32)> {
+/// The noise and SNR in a PTDB-style clip name (`male1white10` → `white`, 10).
+pub fn split_name(stem: &str) -> Option<(String, u32)> {
     let digits = stem.trim_end_matches(|c: char| !c.is_ascii_digit());
     let snr_start = digits.rfind(|c: char| !c.is_ascii_digit())? + 1;
     let snr: u32 = stem[snr_start..].parse().ok()?;
@@ -680,7 +685,16 @@ fn parse_setting(kv: &str) -> Result<(String, String), String> {
     Ok((k.to_string(), v.to_string()))
 }
 
-pub fn main(args: &[String]) -> i32 {
+/// Fits the voicing models of the held-out column (`pneuma-loso`) on the Keele and PTDB
+/// folders: one per speaker, each fitted without that speaker, of the kind `--loso-model` names
+/// (`None`: the kind `train-voicing` ships). The voicing training (xtask `train-voicing`) gives
+/// it to [`main`].
+pub type FitHeldOut<'a> =
+    dyn Fn(&Path, &Path, Option<&str>) -> Result<BTreeMap<String, VoicingModel>, String> + 'a;
+
+/// Runs `cargo xtask eval-pitch` with `args` (after the command's name), the held-out column
+/// fitted by `fit_held_out`; returns the process exit code.
+pub fn main(args: &[String], fit_held_out: &FitHeldOut<'_>) -> i32 {
     use clap::Parser as _;
     let args = match Args::try_parse_from(
         std::iter::once("eval-pitch".to_string()).chain(args.iter().cloned()),
@@ -691,7 +705,7 @@ pub fn main(args: &[String]) -> i32 {
             return if e.use_stderr() { 2 } else { 0 };
         }
     };
-    match run(&args) {
+    match run(&args, fit_held_out) {
         Ok(code) => code,
         Err(e) => {
             eprintln!("eval-pitch: {e}");
@@ -767,27 +781,31 @@ fn mix_at_snr(speech: &[f32], noise: &[f32], snr_db: u32) -> Vec<f32> {
 }
 
 /// One clip's audio as read or generated, before any tracker ran.
-pub(crate) struct Source {
+pub struct Source {
     name: String,
-    pub(crate) speaker: String,
+    /// The speaker (the clip name without its noise and SNR).
+    pub speaker: String,
     condition: Condition,
-    pub(crate) audio: Vec<f32>,
-    pub(crate) rate: u32,
-    pub(crate) reference: Vec<(f64, f32)>,
+    /// The audio, mono.
+    pub audio: Vec<f32>,
+    /// Its sample rate, Hz.
+    pub rate: u32,
+    /// The reference frames: (time s, f0 Hz).
+    pub reference: Vec<(f64, f32)>,
     /// The file on disk (Praat reads files); None for generated audio until written.
     wav: Option<PathBuf>,
 }
 
 impl Source {
     /// The noise condition, as the tables print it.
-    pub(crate) fn condition_label(&self) -> String {
+    pub fn condition_label(&self) -> String {
         self.condition.label()
     }
 }
 
 /// A data set's clips: every readable file, plus (for clean sets, unless `clean_only`) each
 /// clip with every added noise at every SNR. Unreadable files are listed in `skipped`.
-pub(crate) fn load_data_set(
+pub fn load_data_set(
     dir: &Path,
     clean_only: bool,
     skipped: &mut Vec<String>,
@@ -801,7 +819,7 @@ pub(crate) fn load_data_set(
     let mut sources = Vec::new();
     for name in list_clips(dir)? {
         let wav = dir.join(format!("{name}.wav"));
-        let (audio, rate) = match pneuma_cli::wav::read_mono(&wav) {
+        let (audio, rate) = match pneuma_io::wav::read_mono(&wav) {
             Ok(v) => v,
             Err(e) => {
                 skipped.push(format!("{}: {e}", wav.display()));
@@ -1000,17 +1018,18 @@ fn evaluate(
 /// Writes generated audio (32-bit float) for Praat into the scratch folder.
 fn write_scratch_wav(scratch: &Path, audio: &[f32], rate: u32) -> Result<PathBuf, String> {
     let path = scratch.join("generated.wav");
-    let info = pneuma_cli::wav::WavInfo {
-        sample_rate_hz: rate,
+    let spec = hound::WavSpec {
         channels: 1,
-        bits: 32,
-        float: true,
-        frames: audio.len() as u64,
+        sample_rate: rate,
+        bits_per_sample: 32,
+        sample_format: hound::SampleFormat::Float,
     };
-    let io = |e: std::io::Error| format!("{}: {e}", path.display());
-    let mut sink = pneuma_cli::wav_out::WavSink::create(&path, info).map_err(io)?;
-    sink.write_interleaved(audio).map_err(io)?;
-    sink.commit().map_err(io)?;
+    let err = |e: hound::Error| format!("{}: {e}", path.display());
+    let mut w = hound::WavWriter::create(&path, spec).map_err(err)?;
+    for &x in audio {
+        w.write_sample(x).map_err(err)?;
+    }
+    w.finalize().map_err(err)?;
     Ok(path)
 }
 
@@ -1226,7 +1245,7 @@ fn print_voicing_split(tracker_names: &[&str], row: &[Counts]) {
     );
 }
 
-fn run(args: &Args) -> Result<i32, String> {
+fn run(args: &Args, fit_held_out: &FitHeldOut<'_>) -> Result<i32, String> {
     let config = pneuma_config(&args.set)?;
     let frame_rate_hz = config.frame_rate_hz;
     println!(
@@ -1256,21 +1275,13 @@ fn run(args: &Args) -> Result<i32, String> {
     let loso = if args.no_loso {
         None
     } else {
-        let (keele, ptdb) = train_voicing::default_data();
+        let (keele, ptdb) = (shared_data("keele"), shared_data("ptdb"));
         println!(
             "fitting the voicing model leave-one-speaker-out on {} and {} (the `{LOSO_NAME}` column: each clip judged by a model fitted without its speaker)",
             keele.display(),
             ptdb.display()
         );
-        let clips = train_voicing::training_clips(&keele, &ptdb)?;
-        let kind = match args.loso_model.as_deref() {
-            Some("logistic") => train_voicing::ModelKind::Logistic,
-            Some("trees") => train_voicing::ModelKind::Trees(train_voicing::TREES),
-            Some(_) => train_voicing::ModelKind::Hybrid(train_voicing::HYBRID),
-            None => train_voicing::SHIPPED_KIND,
-        };
-        let (_, models) = train_voicing::fit_all_and_loso(&clips, kind)?;
-        Some(models)
+        Some(fit_held_out(&keele, &ptdb, args.loso_model.as_deref())?)
     };
     let mut unseen = std::collections::BTreeSet::new();
     let scratch = std::env::temp_dir().join(format!("pneuma-eval-pitch-{}", std::process::id()));

@@ -2,7 +2,7 @@
 //! speaker and overall, and the leave-one-speaker-out fit of the breath shape limits.
 //!
 //! - **Clips**: every labelled set (`<clip>.wav` in a folder with a labels file, see
-//!   [`crate::eval_breath_sounds::parse_labels`]). Each clip is analysed once with the default
+//!   [`crate::breath_sounds::parse_labels`]). Each clip is analysed once with the default
 //!   analysis settings; the phrase tracker then runs over its frames with the settings under
 //!   test, exactly as the engine runs it, and its pauses' breath spans are the heard breaths.
 //! - **Speaker**: a Keele clip is one speaker; a styletalk clip's speaker is its name before
@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 use pneuma_core::analysis::{AnalysisConfig, Analyzer, FeatureFrame};
 use pneuma_core::phrase::{PhraseConfig, PhraseEvent, PhraseTracker};
 
-use crate::eval_breath_sounds::{parse_labels, Label, LabelKind};
+use crate::breath_sounds::{parse_labels, Label, LabelKind};
 
 /// One analysed clip with its labels.
 pub struct Clip {

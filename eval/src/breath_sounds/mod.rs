@@ -24,7 +24,7 @@
 //!   labels. A `breath` label is found when a heard breath overlaps it; a heard breath that
 //!   overlaps no label is a false one; one that overlaps only an `unsure` label is not counted.
 //!
-//! - **Detection per speaker** ([`crate::eval_breath_detect`]): the same scores on the
+//! - **Detection per speaker** ([`crate::breath_sounds::detect`]): the same scores on the
 //!   styletalk and the Keele labels (`--keele`, `--keele-labels`), for the level-only rule, the
 //!   default settings and the breath-shape limits fitted leave-one-speaker-out.
 //!
@@ -33,13 +33,14 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 use pneuma_core::engine::{offline, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
 use realfft::RealFftPlanner;
 
-use crate::eval_breaths::{median, rms_db};
+pub mod detect;
+
+use crate::breaths::{median, rms_db};
 
 /// Third-octave band centres compared, Hz (250 Hz to 6.3 kHz: where breath noise lies, above
 /// mains hum and below the 16 kHz clips' Nyquist).
@@ -437,7 +438,7 @@ pub fn run(args: &BreathSoundArgs) -> Result<bool, String> {
         heard_true + heard_false,
         pct(heard_true, heard_true + heard_false)
     );
-    crate::eval_breath_detect::report(&[
+    crate::breath_sounds::detect::report(&[
         (&args.data, &args.labels),
         (&args.keele, &args.keele_labels),
     ])
@@ -448,11 +449,6 @@ fn bands_row(v: &[f64], decimals: usize) -> String {
         .map(|x| format!("{x:>6.decimals$}"))
         .collect::<Vec<_>>()
         .join("")
-}
-
-/// Runs `pneuma eval breath-sounds` (printed only: it has no target to miss).
-pub fn main(args: &BreathSoundArgs) -> ExitCode {
-    crate::eval::exit_code(run(args).map(|ok| ok || !args.check), "a breath-detection")
 }
 
 #[cfg(test)]

@@ -19,14 +19,13 @@
 //! one) is missed.
 
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 use pneuma_core::breathing::RESERVE_LUNG;
 use pneuma_core::engine::{offline, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
 use pneuma_core::ControlFrame;
 
-use crate::wav::read_mono;
+use pneuma_io::wav::read_mono;
 
 /// Lung volume under which the lung counts as empty.
 pub const EMPTY_LUNG: f32 = 0.05;
@@ -48,7 +47,7 @@ pub struct BreathArgs {
     pub check: Vec<String>,
     /// Render as the plugin with this lookahead, ms (300 to 2000), instead of the offline
     /// render's whole-file lookahead.
-    #[arg(long, value_parser = crate::options::number)]
+    #[arg(long)]
     pub lookahead_ms: Option<f32>,
 }
 
@@ -353,6 +352,20 @@ fn row(name: &str, s: &Summary) {
 
 /// Runs `pneuma eval breaths`; returns whether every checked target was met.
 pub fn run(args: &BreathArgs) -> Result<bool, String> {
+    for c in &args.check {
+        if ![
+            "all",
+            "empty_voiced",
+            "empty_starts",
+            "duration",
+            "rank_corr",
+            "level",
+        ]
+        .contains(&c.as_str())
+        {
+            return Err(format!("--check {c} is not a target: use empty_voiced, empty_starts, duration, rank_corr, level or all"));
+        }
+    }
     let mut files = vec![args.voice.clone()];
     if let Some(dir) = &args.data {
         let mut wavs: Vec<PathBuf> = std::fs::read_dir(dir)
@@ -404,26 +417,6 @@ pub fn run(args: &BreathArgs) -> Result<bool, String> {
         ok &= met || !checked;
     }
     Ok(ok)
-}
-
-/// Runs the command and maps the result to an exit code.
-pub fn main(args: &BreathArgs) -> ExitCode {
-    for c in &args.check {
-        if ![
-            "all",
-            "empty_voiced",
-            "empty_starts",
-            "duration",
-            "rank_corr",
-            "level",
-        ]
-        .contains(&c.as_str())
-        {
-            eprintln!("error: --check {c} is not a target: use empty_voiced, empty_starts, duration, rank_corr, level or all");
-            return ExitCode::FAILURE;
-        }
-    }
-    crate::eval::exit_code(run(args), "a checked breathing")
 }
 
 #[cfg(test)]

@@ -25,7 +25,7 @@ use std::time::Instant;
 use pneuma_core::phrase::{PhraseConfig, PhraseEvent, PhraseTracker};
 use pneuma_core::{AnalysisConfig, Analyzer};
 
-use crate::eval_pitch::{list_clips, read_reference, split_name};
+use crate::pitch::{list_clips, read_reference, split_name};
 
 /// Shortest pause evaluated, seconds.
 const MIN_PAUSE_S: f64 = 0.25;
@@ -211,6 +211,8 @@ fn score_runs(runs: &[(f64, f64, bool)], detected: &[(f64, f64)]) -> Counts {
     c
 }
 
+/// Runs `cargo xtask eval-pauses` with `args` (after the command's name); returns the process
+/// exit code.
 pub fn main(args: &[String]) -> i32 {
     match run(args) {
         Ok(code) => code,
@@ -260,7 +262,7 @@ fn run(args: &[String]) -> Result<i32, String> {
     for name in &names {
         let (noise, snr_db) =
             split_name(name).ok_or_else(|| format!("cannot read noise/SNR from {name}"))?;
-        let (audio, rate) = match pneuma_cli::wav::read_mono(&data.join(format!("{name}.wav"))) {
+        let (audio, rate) = match pneuma_io::wav::read_mono(&data.join(format!("{name}.wav"))) {
             Ok(v) => v,
             Err(_) => {
                 skipped += 1;
@@ -300,7 +302,7 @@ fn run(args: &[String]) -> Result<i32, String> {
     // The example voice: exact pauses (runs of digital zeros), with seeded white and brown
     // (low-frequency, traffic-like) noise at each SNR.
     let voice_path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../assets/examples/voice.wav");
-    let (voice, voice_rate) = pneuma_cli::wav::read_mono(&voice_path).map_err(|e| e.to_string())?;
+    let (voice, voice_rate) = pneuma_io::wav::read_mono(&voice_path).map_err(|e| e.to_string())?;
     let voice_ref = zero_runs(&voice, voice_rate);
     let mut per_snr_voice: BTreeMap<u32, Counts> = BTreeMap::new();
     for snr_db in [40u32, 20, 10, 0] {
