@@ -4,7 +4,10 @@
 //! motion ([`head`]), the breathing of offline renders ([`breaths`]), inserted breaths against
 //! real ones labelled by hand and the detection of the real ones ([`breath_sounds`]), pitch and
 //! voicing against laryngograph references ([`pitch`]) and pause detection ([`pauses`]).
-//! Beneath them the rooms they share: reading the corpora ([`data`]).
+//! Beneath them the rooms they share: reading the corpora ([`data`]), seeded noise
+//! ([`noise`]), figures such as medians and rank correlations ([`stats`]) and the hand labels
+//! of real breaths ([`labels`]). An evaluation uses the rooms and never another evaluation's
+//! insides (the breath sounds use the breathing's offline render).
 //!
 //! The doors: `pneuma eval head|breaths|breath-sounds` ([`Args`], [`main`]) and `cargo xtask
 //! eval-pitch|eval-pauses` ([`pitch::main`], [`pauses::main`]). The data lives beside the
@@ -16,8 +19,11 @@ pub mod breath_sounds;
 pub mod breaths;
 pub mod data;
 pub mod head;
+pub mod labels;
+pub mod noise;
 pub mod pauses;
 pub mod pitch;
+pub mod stats;
 
 /// Command-line arguments of `pneuma eval`.
 #[derive(Debug, clap::Args)]

@@ -47,8 +47,8 @@ use std::path::{Path, PathBuf};
 
 use pneuma_core::{AnalysisConfig, Analyzer, VoicingFeatures, VoicingModel, N_VOICING_FEATURES};
 
+use pneuma_eval::data::reference::{load_data_set, Source};
 use pneuma_eval::data::shared_data;
-use pneuma_eval::pitch::{load_data_set, Source};
 
 mod trees;
 use trees::{fit_trees, Row, TreeParams};
@@ -198,7 +198,7 @@ fn gather(
         }
         out.push(ClipFrames {
             speaker: s.speaker.clone(),
-            condition: format!("{set} {}", s.condition_label()),
+            condition: format!("{set} {}", s.condition.label()),
             frame_rate_hz,
             weight: 1.0,
             features,

@@ -5,10 +5,9 @@
 use std::path::Path;
 
 use pneuma_core::head::{MotionTrack, TrainingClip};
-use pneuma_core::{AnalysisConfig, Analyzer, FeatureFrame};
-use pneuma_io::read_mono;
+use pneuma_core::AnalysisConfig;
 
-use super::DataError;
+use super::{analyse_file, DataError};
 
 /// Reads a head-motion CSV (`time_s,pitch_deg,yaw_deg,roll_deg`) into (roll, pitch, yaw).
 pub fn read_head_csv(path: &Path) -> Result<MotionTrack, DataError> {
@@ -71,25 +70,13 @@ pub fn read_head_csv(path: &Path) -> Result<MotionTrack, DataError> {
     Ok(m)
 }
 
-/// Analyses a whole audio file (any input format) into feature frames with `config`.
-pub fn analyze_wav(path: &Path, config: &AnalysisConfig) -> Result<Vec<FeatureFrame>, DataError> {
-    let (samples, rate) = read_mono(path)?;
-    let mut a = Analyzer::new(config.clone())?;
-    a.prepare(rate as f64, 4096)?;
-    let mut frames = Vec::new();
-    for block in samples.chunks(4096) {
-        a.process(block, |f| frames.push(*f))?;
-    }
-    a.finish(|f| frames.push(*f))?;
-    Ok(frames)
-}
-
 /// Finds the `<clip>.wav` + `<clip>.head.csv` pairs in `dir` (sorted by name), analyses the
 /// audio at `config.frame_rate_hz` and pairs it with the resampled motion.
 pub fn load_clips(dir: &Path, config: &AnalysisConfig) -> Result<Vec<TrainingClip>, DataError> {
     let folder = |source| DataError::Folder {
         path: dir.into(),
         source,
+        holds: "<clip>.wav + <clip>.head.csv, e.g. ../shared/data/styletalk",
     };
     let names: Vec<String> = std::fs::read_dir(dir)
         .map_err(folder)?
@@ -156,7 +143,7 @@ pub fn load_clips(dir: &Path, config: &AnalysisConfig) -> Result<Vec<TrainingCli
     for stem in stems {
         let motion = read_head_csv(&dir.join(format!("{stem}.head.csv")))?;
         let name = audio.iter().find(|a| a.0 == stem).map_or("", |a| a.1);
-        let frames = analyze_wav(&dir.join(name), config)?;
+        let frames = analyse_file(&dir.join(name), config)?;
         clips.push(TrainingClip::from_motion(
             &stem,
             config.frame_rate_hz,
