@@ -26,6 +26,8 @@ pub use speaker_norm::{SpeakerNorm, SpeakerNormConfig};
 pub use voicing::{
     VoicingFeatures, VoicingModel, VoicingModelError, N_VOICING_FEATURES, VOICING_FEATURES,
 };
+// The training of the voicing model (`cargo xtask train-voicing`) reads this cue too.
+pub use voicing::LEVEL_VS_GATE;
 
 /// The analysis of one frame of the frame clock.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
