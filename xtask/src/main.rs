@@ -1,7 +1,9 @@
 //! Project chores: `cargo xtask bundle <package> --release` (nice-plug's bundler), the
 //! evaluations of the evaluation crate (`cargo xtask eval-pitch --data ../shared/data/ptdb`,
-//! `eval-pauses`) and the trainings of the shipped models (`train-voicing`, `train-default`).
+//! `eval-pauses`), the trainings of the shipped models (`train-voicing`, `train-default`) and
+//! the structure checks (`check-structure`).
 
+mod structure;
 mod train_default;
 mod train_voicing;
 
@@ -15,6 +17,7 @@ fn main() -> nice_plug_xtask::Result<()> {
         )),
         Some("train-voicing") => std::process::exit(train_voicing::main(&args[1..])),
         Some("train-default") => std::process::exit(train_default::main(&args[1..])),
+        Some("check-structure") => std::process::exit(structure::main(&args[1..])),
         _ => nice_plug_xtask::main(),
     }
 }
