@@ -166,3 +166,27 @@ pub fn analyse_file(path: &Path, config: &AnalysisConfig) -> Result<Vec<FeatureF
     let (samples, rate) = pneuma_io::read_mono(path)?;
     Ok(analyse(&samples, f64::from(rate), config)?)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn missing_folders_and_labels_name_the_file_and_what_to_give() {
+        let e = wav_files(Path::new("no/such/styletalk"), ".wav files, e.g. styletalk")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("cannot read the data folder no/such/styletalk")
+                && e.contains("give a folder of .wav files"),
+            "{e}"
+        );
+        let e = read_labels(Path::new("no/such/labels.csv"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("cannot read the labels no/such/labels.csv"),
+            "{e}"
+        );
+    }
+}

@@ -199,3 +199,32 @@ pub fn load_data_set(
     sources.extend(noisy);
     Ok(sources)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ptdb_names_carry_noise_and_snr_and_keele_names_none() {
+        assert_eq!(split_name("male1white10"), Some(("white".into(), 10)));
+        assert_eq!(
+            split_name("female2cafeteria0"),
+            Some(("cafeteria".into(), 0))
+        );
+        assert_eq!(split_name("f1nw0000"), None);
+    }
+
+    #[test]
+    fn a_missing_data_folder_says_what_it_should_hold_and_where_it_lives() {
+        let missing = Path::new("no/such/shared/data/ptdb");
+        let e = list_clips(missing).unwrap_err().to_string();
+        assert!(e.contains("no/such/shared/data/ptdb"), "{e}");
+        assert!(
+            e.contains("<clip>.f0.csv") && e.contains("beside shared/"),
+            "{e}"
+        );
+        let mut skipped = Vec::new();
+        let loaded = load_data_set(missing, true, &mut skipped);
+        assert!(matches!(loaded, Err(DataError::Folder { .. })));
+    }
+}
