@@ -33,3 +33,5 @@ pub use voicing::{
     InvalidVoicingModel, VoicingFeatures, VoicingModel, VoicingModelError, N_VOICING_FEATURES,
     VOICING_FEATURES,
 };
+// The training of the voicing model (`cargo xtask train-voicing`) reads this cue too.
+pub use voicing::LEVEL_VS_GATE;
