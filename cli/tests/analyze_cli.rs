@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use pneuma_core::test_signals;
+use pneuma_testkit::signals;
 
 mod support;
 use support::{assert_analyze_fails, files_besides, pneuma, pneuma_with_stdin};
@@ -17,7 +17,7 @@ fn write_wav(path: &Path, rate: u32, channels: u16, bits: u16, float: bool, mono
 fn test_signal(rate: u32) -> Vec<f32> {
     let r = rate as f64;
     let mut x = vec![0.0; (0.3 * r) as usize];
-    x.extend(test_signals::harmonic_tone(
+    x.extend(signals::harmonic_tone(
         r,
         0.6,
         0.5,
@@ -267,7 +267,7 @@ fn unwritable_output_is_a_clear_error() {
 
 #[test]
 fn the_example_voice_has_phrases_and_pauses() {
-    let voice = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/examples/voice.wav");
+    let voice = pneuma_testkit::voice::example_voice_path();
     let out = pneuma(&["analyze", voice.to_str().expect("utf8"), "-o", "-"]);
     assert!(
         out.status.success(),

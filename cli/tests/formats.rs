@@ -8,7 +8,8 @@
 use std::path::{Path, PathBuf};
 
 mod support;
-use support::{breaths_csv, example_voice, ffmpeg_encode, have_ffmpeg, pneuma, read_audio, render};
+use pneuma_testkit::voice::example_voice_path;
+use support::{breaths_csv, ffmpeg_encode, have_ffmpeg, pneuma, read_audio, render};
 
 /// Breath start times of a `breaths.csv`.
 fn breath_starts(path: &Path) -> Vec<f64> {
@@ -51,7 +52,7 @@ fn every_lossless_format_renders_bit_for_bit_as_the_wav() {
         return;
     }
     let dir = tempfile::tempdir().expect("temp");
-    let reference = render_ok(&example_voice(), &dir.path().join("wav"), &[]);
+    let reference = render_ok(&example_voice_path(), &dir.path().join("wav"), &[]);
     let (want, rate, channels) = read_audio(&reference);
     let want_breaths = breath_starts(&dir.path().join("wav/voice.breaths.csv"));
     assert!(!want_breaths.is_empty(), "the example voice gets breaths");
@@ -64,7 +65,7 @@ fn every_lossless_format_renders_bit_for_bit_as_the_wav() {
         let sub = dir.path().join(ext);
         std::fs::create_dir_all(&sub).expect("dir");
         let input = sub.join(format!("voice.{ext}"));
-        ffmpeg_encode(&example_voice(), &input, codec);
+        ffmpeg_encode(&example_voice_path(), &input, codec);
         let out = render_ok(&input, &sub.join("out"), &[]);
         let (got, got_rate, got_channels) = read_audio(&out);
         assert_eq!((got_rate, got_channels), (rate, channels), "{ext}");
@@ -89,9 +90,9 @@ fn lossy_formats_render_with_the_same_breaths() {
         return;
     }
     let dir = tempfile::tempdir().expect("temp");
-    render_ok(&example_voice(), &dir.path().join("wav"), &[]);
+    render_ok(&example_voice_path(), &dir.path().join("wav"), &[]);
     let want_breaths = breath_starts(&dir.path().join("wav/voice.breaths.csv"));
-    let (voice_audio, _, _) = read_audio(&example_voice());
+    let (voice_audio, _, _) = read_audio(&example_voice_path());
     for (ext, codec) in [
         ("mp3", &["-c:a", "libmp3lame", "-b:a", "64k"][..]),
         ("ogg", &["-c:a", "libvorbis", "-q:a", "4"][..]),
@@ -100,7 +101,7 @@ fn lossy_formats_render_with_the_same_breaths() {
         let sub = dir.path().join(ext);
         std::fs::create_dir_all(&sub).expect("dir");
         let input = sub.join(format!("voice.{ext}"));
-        ffmpeg_encode(&example_voice(), &input, codec);
+        ffmpeg_encode(&example_voice_path(), &input, codec);
         let out = render_ok(&input, &sub.join("out"), &[]);
         let (got, rate, _) = read_audio(&out);
         assert_eq!(rate, 16_000, "{ext}");
@@ -145,7 +146,7 @@ fn damaged_and_mislabelled_files_fail_clearly() {
     // A truncated MP3: the LAME header announces more than is there.
     let mp3 = dir.path().join("voice.mp3");
     ffmpeg_encode(
-        &example_voice(),
+        &example_voice_path(),
         &mp3,
         &["-c:a", "libmp3lame", "-b:a", "64k"],
     );
@@ -158,7 +159,7 @@ fn damaged_and_mislabelled_files_fail_clearly() {
     );
     // A FLAC with a flipped byte in its audio: a frame fails its CRC.
     let flac = dir.path().join("voice.flac");
-    ffmpeg_encode(&example_voice(), &flac, &["-c:a", "flac"]);
+    ffmpeg_encode(&example_voice_path(), &flac, &["-c:a", "flac"]);
     let mut bytes = std::fs::read(&flac).expect("flac");
     let mid = bytes.len() / 2;
     bytes[mid] ^= 0x5a;
@@ -177,7 +178,7 @@ fn damaged_and_mislabelled_files_fail_clearly() {
     );
     // Opus: no decoder, and the command that converts it.
     let opus = dir.path().join("voice.opus");
-    ffmpeg_encode(&example_voice(), &opus, &["-c:a", "libopus"]);
+    ffmpeg_encode(&example_voice_path(), &opus, &["-c:a", "libopus"]);
     fails(
         &opus,
         &["Opus", "is not supported", "ffmpeg -i IN OUT.flac"],
@@ -191,7 +192,7 @@ fn analyze_reads_flac_like_the_wav() {
     }
     let dir = tempfile::tempdir().expect("temp");
     let flac = dir.path().join("voice.flac");
-    ffmpeg_encode(&example_voice(), &flac, &["-c:a", "flac"]);
+    ffmpeg_encode(&example_voice_path(), &flac, &["-c:a", "flac"]);
     let run = |input: &Path, out: &Path| {
         let o = pneuma(&[
             "analyze",
@@ -202,7 +203,7 @@ fn analyze_reads_flac_like_the_wav() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         std::fs::read_to_string(out).expect("csv")
     };
-    let a = run(&example_voice(), &dir.path().join("wav.csv"));
+    let a = run(&example_voice_path(), &dir.path().join("wav.csv"));
     let b = run(&flac, &dir.path().join("flac.csv"));
     assert!(a.lines().count() > 100);
     assert!(a == b, "the FLAC's analysis CSV differs from the WAV's");

@@ -6,9 +6,9 @@ use std::path::Path;
 use std::process::Command;
 
 mod support;
+use pneuma_testkit::voice::example_voice_path;
 use support::{
-    assert_ok, breaths_csv, example_voice, ffmpeg_encode, have_ffmpeg, pneuma, pneuma_with_stdin,
-    render, samples,
+    assert_ok, breaths_csv, ffmpeg_encode, have_ffmpeg, pneuma, pneuma_with_stdin, render, samples,
 };
 
 /// The RIFF chunks of a WAV file: (id, body).
@@ -36,12 +36,12 @@ fn u32_at(b: &[u8], at: usize) -> u32 {
 fn standard_input_and_output_carry_the_same_audio_as_files() {
     let dir = tempfile::tempdir().expect("temp");
     assert_ok(&render(
-        &example_voice(),
+        &example_voice_path(),
         &dir.path().join("file"),
         &["--no-plot"],
     ));
     let want = samples(&dir.path().join("file/voice.wav"));
-    let bytes = std::fs::read(example_voice()).expect("voice");
+    let bytes = std::fs::read(example_voice_path()).expect("voice");
     let o = pneuma_with_stdin(&["render", "-", "-o", "-", "--quiet"], &bytes);
     assert_ok(&o);
     // A streamed WAV: sizes unknown (0xFFFFFFFF), read to the end.
@@ -84,9 +84,9 @@ fn a_flac_through_a_pipe_renders_like_the_file() {
     }
     let dir = tempfile::tempdir().expect("temp");
     let flac = dir.path().join("voice.flac");
-    ffmpeg_encode(&example_voice(), &flac, &[]);
+    ffmpeg_encode(&example_voice_path(), &flac, &[]);
     assert_ok(&render(
-        &example_voice(),
+        &example_voice_path(),
         &dir.path().join("file"),
         &["--no-plot"],
     ));
@@ -111,7 +111,7 @@ fn markers_are_parsed_back_as_the_breaths() {
     let dir = tempfile::tempdir().expect("temp");
     let out = dir.path().join("out");
     assert_ok(&render(
-        &example_voice(),
+        &example_voice_path(),
         &out,
         &["--no-plot", "--markers", "audacity,reaper,cue"],
     ));
@@ -205,14 +205,14 @@ fn markers_are_parsed_back_as_the_breaths() {
     }
     // The audio itself is the same as without markers.
     assert_ok(&render(
-        &example_voice(),
+        &example_voice_path(),
         &dir.path().join("plain"),
         &["--no-plot"],
     ));
     assert!(samples(&out.join("voice.wav")) == samples(&dir.path().join("plain/voice.wav")));
     // Cue points need a WAV output.
     let o = render(
-        &example_voice(),
+        &example_voice_path(),
         &dir.path().join("x"),
         &["--markers", "cue", "--format", "flac"],
     );
@@ -228,7 +228,7 @@ fn a_batch_finishes_the_good_files_and_reports_the_broken_one() {
     let inputs = dir.path().join("episodes");
     std::fs::create_dir(&inputs).expect("dir");
     for name in ["ep1.wav", "ep2.wav", "ep3.wav"] {
-        std::fs::copy(example_voice(), inputs.join(name)).expect("copy");
+        std::fs::copy(example_voice_path(), inputs.join(name)).expect("copy");
     }
     std::fs::write(inputs.join("broken.mp3"), "not audio at all\n".repeat(10)).expect("write");
     std::fs::write(inputs.join("notes.txt"), "ignored: not audio by name").expect("write");
@@ -282,7 +282,7 @@ fn a_batch_finishes_the_good_files_and_reports_the_broken_one() {
         "-q",
     ]);
     assert_ok(&o);
-    std::fs::copy(example_voice(), inputs.join("ep1.aiff")).expect("copy");
+    std::fs::copy(example_voice_path(), inputs.join("ep1.aiff")).expect("copy");
     let o = pneuma(&[
         "render",
         inputs.to_str().expect("utf8"),
@@ -329,7 +329,7 @@ fn lossy_input_becomes_flac_with_its_tags_and_lossless_keeps_its_format() {
     let dir = tempfile::tempdir().expect("temp");
     let mp3 = dir.path().join("episode.mp3");
     ffmpeg_encode(
-        &example_voice(),
+        &example_voice_path(),
         &mp3,
         &[
             "-metadata",
@@ -386,7 +386,11 @@ fn lossy_input_becomes_flac_with_its_tags_and_lossless_keeps_its_format() {
     assert!(text.contains("IART") && text.contains("The Host"), "{text}");
     // 24-bit stereo AIFF in, 24-bit stereo AIFF out, the same samples as the WAV route.
     let wav24 = dir.path().join("st.wav");
-    ffmpeg_encode(&example_voice(), &wav24, &["-ac", "2", "-c:a", "pcm_s24le"]);
+    ffmpeg_encode(
+        &example_voice_path(),
+        &wav24,
+        &["-ac", "2", "-c:a", "pcm_s24le"],
+    );
     let aiff = dir.path().join("st.aiff");
     ffmpeg_encode(&wav24, &aiff, &["-c:a", "pcm_s24be"]);
     assert_ok(&render(&wav24, &dir.path().join("w"), &["--no-plot"]));
@@ -410,7 +414,7 @@ fn ctrl_c_leaves_no_partial_file_and_the_old_outputs() {
     let long = dir.path().join("long.wav");
     let rate = 48_000u32;
     let one: Vec<f32> = {
-        let (v, r) = pneuma_io::read_mono(&example_voice()).expect("voice");
+        let (v, r) = pneuma_io::read_mono(&example_voice_path()).expect("voice");
         assert_eq!(r, 16_000);
         v.iter().flat_map(|&x| [x, x, x]).collect()
     };
@@ -484,7 +488,7 @@ fn a_breath_sample_folder_may_hold_flac() {
     ffmpeg_encode(&wavs.join("mouth.wav"), &flacs.join("mouth.flac"), &[]);
     for (samples_dir, out) in [(&wavs, "a"), (&flacs, "b")] {
         assert_ok(&render(
-            &example_voice(),
+            &example_voice_path(),
             &dir.path().join(out),
             &[
                 "--no-plot",

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use pneuma_core::test_signals::{self, GlottalVowel, Vowel};
+use pneuma_testkit::signals::{self, GlottalVowel, Vowel};
 
 mod support;
 use support::render;
@@ -22,7 +22,7 @@ fn phrases(rate: u32, lengths: &[f64], pauses: &[f64]) -> (Vec<f32>, Vec<(f64, f
     let mut spans = Vec::new();
     for (i, &len) in lengths.iter().enumerate() {
         let on = x.len() as f64 / r;
-        let v = test_signals::glottal_vowel(
+        let v = signals::glottal_vowel(
             &GlottalVowel {
                 sample_rate_hz: r,
                 length_s: len,

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use pneuma_core::head::HeadModel;
-use pneuma_core::test_signals::{self, GlottalVowel, Vowel};
+use pneuma_testkit::signals::{self, GlottalVowel, Vowel};
 
 mod support;
 use support::pneuma;
@@ -31,8 +31,8 @@ fn write_clip(dir: &Path, name: &str, phase: f64, seed: u64) {
         peak: 0.5,
         seed,
     };
-    let mut x = test_signals::glottal_vowel(&cfg, |t| f0_of(t, phase));
-    test_signals::add_white_noise(&mut x, 40.0, seed + 1);
+    let mut x = signals::glottal_vowel(&cfg, |t| f0_of(t, phase));
+    signals::add_white_noise(&mut x, 40.0, seed + 1);
     let spec = hound::WavSpec {
         channels: 1,
         sample_rate: 16_000,

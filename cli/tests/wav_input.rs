@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use pneuma_cli::wav::{WavError, WavInfo, WavSource};
-use pneuma_core::test_signals::{self, GlottalVowel, Vowel};
+use pneuma_testkit::signals::{self, GlottalVowel, Vowel};
 
 mod support;
 use support::{assert_analyze_fails, pneuma};
@@ -162,7 +162,7 @@ fn scaled16(v: &[i16]) -> Vec<f32> {
 /// 0.3 s silence, 0.6 s of a 200 Hz tone, 0.3 s silence at 16 kHz, as 16-bit samples.
 fn tone16() -> Vec<i16> {
     let mut x = vec![0.0f32; 4800];
-    x.extend(test_signals::harmonic_tone(
+    x.extend(signals::harmonic_tone(
         16_000.0,
         0.6,
         0.5,
@@ -755,7 +755,7 @@ fn phrases_24in32() -> Vec<i32> {
     let r = 22_050.0;
     let mut x = vec![0.0f32; (0.5 * r) as usize];
     for (i, len) in [1.0, 1.0].into_iter().enumerate() {
-        x.extend(test_signals::glottal_vowel(
+        x.extend(signals::glottal_vowel(
             &GlottalVowel {
                 sample_rate_hz: r,
                 length_s: len,

@@ -2,8 +2,9 @@
 //! rate, glottal vowels with jitter, shimmer and noise, octave traps, silence, DC, clipping,
 //! NaN bursts, block partitions and latency.
 
-use pneuma_core::test_signals::{self, GlottalVowel, Vowel};
+use pneuma_core::analysis::rms;
 use pneuma_core::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
+use pneuma_testkit::signals::{self, GlottalVowel, Vowel};
 
 const RATES: [f64; 9] = [
     8_000.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 96_000.0, 192_000.0, 384_000.0, 768_000.0,
@@ -65,7 +66,7 @@ const RICH: [f64; 6] = [1.0, 0.7, 0.5, 0.35, 0.25, 0.15];
 fn steady_tones_at_every_rate() {
     for rate in RATES {
         for f0 in [55.0, 82.0, 110.0, 220.0, 330.0, 440.0, 550.0] {
-            let x = test_signals::harmonic_tone(rate, 0.5, 0.5, &RICH, |_| f0);
+            let x = signals::harmonic_tone(rate, 0.5, 0.5, &RICH, |_| f0);
             let frames = analyse(&x, rate);
             let mid = between(&frames, 0.06, 0.44);
             assert!(!mid.is_empty());
@@ -81,7 +82,7 @@ fn steady_tones_at_every_rate() {
             }
             // The level: frame powers average to the signal's own power (a 20 ms window does
             // not hold whole periods of a low tone, so single frames ripple around it).
-            let want_db = 20.0 * test_signals::rms(&x[x.len() / 4..x.len() * 3 / 4]).log10();
+            let want_db = 20.0 * rms(&x[x.len() / 4..x.len() * 3 / 4]).log10();
             let mean_power = mid
                 .iter()
                 .map(|f| 10f64.powf(f.rms_db as f64 / 10.0))
@@ -104,7 +105,7 @@ fn glides_are_followed() {
     let glides: [(&str, &dyn Fn(f64) -> f64); 2] = [("rising", &up), ("falling", &down)];
     for rate in [16_000.0, 44_100.0, 48_000.0] {
         for (name, contour) in glides {
-            let x = test_signals::harmonic_tone(rate, 2.0, 0.5, &RICH, contour);
+            let x = signals::harmonic_tone(rate, 2.0, 0.5, &RICH, contour);
             let frames = analyse(&x, rate);
             let mid = between(&frames, 0.05, 1.95);
             let bad = mid
@@ -143,8 +144,8 @@ fn glottal_vowels_with_jitter_shimmer_and_noise() {
             };
             let contour =
                 move |t: f64| f0 * (1.0 + 0.05 * (2.0 * std::f64::consts::PI * 3.0 * t).sin());
-            let mut x = test_signals::glottal_vowel(&cfg, contour);
-            test_signals::add_white_noise(&mut x, 20.0, 99);
+            let mut x = signals::glottal_vowel(&cfg, contour);
+            signals::add_white_noise(&mut x, 20.0, 99);
             let frames = analyse(&x, rate);
             let mid = between(&frames, 0.06, 0.94);
             let unvoiced = mid.iter().filter(|f| !f.voiced).count();
@@ -185,7 +186,7 @@ fn octave_traps_give_the_fundamental() {
     // Weak fundamental, strong second harmonic: the period is still 1/f0.
     for rate in [16_000.0, 48_000.0] {
         for f0 in [90.0, 130.0, 200.0, 260.0] {
-            let x = test_signals::harmonic_tone(rate, 0.6, 0.5, &[0.1, 1.0, 0.3, 0.2, 0.1], |_| f0);
+            let x = signals::harmonic_tone(rate, 0.6, 0.5, &[0.1, 1.0, 0.3, 0.2, 0.1], |_| f0);
             let frames = analyse(&x, rate);
             for f in between(&frames, 0.06, 0.54) {
                 assert!(f.voiced, "{f0} Hz: unvoiced");
@@ -214,7 +215,7 @@ fn silence_is_unvoiced_at_the_floor() {
 #[test]
 fn dc_offset_changes_neither_pitch_nor_level() {
     let rate = 44_100.0;
-    let x = test_signals::harmonic_tone(rate, 0.5, 0.3, &RICH, |_| 150.0);
+    let x = signals::harmonic_tone(rate, 0.5, 0.3, &RICH, |_| 150.0);
     let shifted: Vec<f32> = x.iter().map(|v| v + 0.4).collect();
     let a = between(&analyse(&x, rate), 0.06, 0.44);
     let b = between(&analyse(&shifted, rate), 0.06, 0.44);
@@ -234,7 +235,7 @@ fn dc_offset_changes_neither_pitch_nor_level() {
 #[test]
 fn clipped_speech_keeps_its_pitch() {
     let rate = 48_000.0;
-    let x: Vec<f32> = test_signals::harmonic_tone(rate, 0.5, 4.0, &RICH, |_| 180.0)
+    let x: Vec<f32> = signals::harmonic_tone(rate, 0.5, 4.0, &RICH, |_| 180.0)
         .into_iter()
         .map(|v| v.clamp(-1.0, 1.0))
         .collect();
@@ -250,7 +251,7 @@ fn clipped_speech_keeps_its_pitch() {
 #[test]
 fn nan_and_inf_bursts_count_as_silence() {
     let rate = 48_000.0;
-    let mut x = test_signals::harmonic_tone(rate, 1.0, 0.5, &RICH, |_| 200.0);
+    let mut x = signals::harmonic_tone(rate, 1.0, 0.5, &RICH, |_| 200.0);
     for (i, v) in x.iter_mut().enumerate().skip(20_000).take(9_600) {
         *v = match i % 3 {
             0 => f32::NAN,
@@ -290,10 +291,10 @@ fn any_block_partition_gives_bit_identical_frames() {
             peak: 0.6,
             seed: 5,
         };
-        let mut x = test_signals::glottal_vowel(&cfg, |t| 120.0 + 60.0 * t);
+        let mut x = signals::glottal_vowel(&cfg, |t| 120.0 + 60.0 * t);
         let pause = (0.2 * rate) as usize;
         x.extend(std::iter::repeat_n(0.0, pause));
-        x.extend(test_signals::white_noise(pause, 0.05, 3));
+        x.extend(signals::white_noise(pause, 0.05, 3));
         let reference = analyse_blocks(&x, rate, &mut |_| 4096);
         let bits = |v: &[FeatureFrame]| -> Vec<FrameBits> {
             v.iter()
@@ -330,7 +331,7 @@ fn any_block_partition_gives_bit_identical_frames() {
 #[test]
 fn frames_are_timestamped_on_the_clock_and_complete() {
     for rate in [44_100.0, 48_000.0] {
-        let x = test_signals::harmonic_tone(rate, 1.0, 0.5, &RICH, |_| 200.0);
+        let x = signals::harmonic_tone(rate, 1.0, 0.5, &RICH, |_| 200.0);
         let frames = analyse(&x, rate);
         assert_eq!(frames.len(), 120);
         for (k, f) in frames.iter().enumerate() {
@@ -358,7 +359,7 @@ fn a_pitch_change_is_reported_within_the_stated_latency() {
         // Steps at several phases relative to the frame clock.
         for phase in 0..4 {
             let step_s = 0.5 + phase as f64 * frame_s / 4.0;
-            let x = test_signals::harmonic_tone(rate, 1.0, 0.5, &RICH, |t| {
+            let x = signals::harmonic_tone(rate, 1.0, 0.5, &RICH, |t| {
                 if t < step_s {
                     150.0
                 } else {
@@ -402,7 +403,7 @@ fn a_pitch_change_is_reported_within_the_stated_latency() {
 #[test]
 fn speaker_normalisation_centres_on_the_voice() {
     let rate = 16_000.0;
-    let x = test_signals::harmonic_tone(rate, 6.0, 0.2, &RICH, |t| {
+    let x = signals::harmonic_tone(rate, 6.0, 0.2, &RICH, |t| {
         220.0 * (1.0 + 0.03 * (7.0 * t).sin())
     });
     let frames = analyse(&x, rate);
@@ -457,9 +458,7 @@ fn a_vowel_after_a_fricative_is_voiced_from_its_onset() {
             ((seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 0.4
         })
         .collect();
-    x.extend(test_signals::harmonic_tone(rate, 0.3, 0.5, &RICH, |_| {
-        150.0
-    }));
+    x.extend(signals::harmonic_tone(rate, 0.3, 0.5, &RICH, |_| 150.0));
     let run = |short_window_s: f32| {
         let mut a = Analyzer::new(AnalysisConfig {
             short_window_s,
@@ -491,8 +490,8 @@ fn a_quiet_talker_is_voiced_before_the_speech_level_adapts() {
     // at once instead of waiting for the level to learn the talker.
     let rate = 16_000.0;
     let mut x = vec![0.0f32; (0.3 * rate) as usize];
-    let vowel = test_signals::harmonic_tone(rate, 0.6, 1.0, &RICH, |_| 120.0);
-    let gain = (10f64.powf(-46.0 / 20.0) / test_signals::rms(&vowel)) as f32;
+    let vowel = signals::harmonic_tone(rate, 0.6, 1.0, &RICH, |_| 120.0);
+    let gain = (10f64.powf(-46.0 / 20.0) / rms(&vowel)) as f32;
     x.extend(vowel.iter().map(|v| v * gain));
     let frames = analyse(&x, rate);
     let onset_s = first_voiced_after(&frames, 0.2);

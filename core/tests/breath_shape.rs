@@ -4,10 +4,11 @@
 //! /s/-like noise, a decaying reverberant tail or stationary room noise at the same level is
 //! not (and gets an inserted breath).
 
+use pneuma_core::analysis::rms;
 use pneuma_core::analysis::{AnalysisConfig, Analyzer, FeatureFrame};
 use pneuma_core::engine::{offline, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
-use pneuma_core::test_signals;
+use pneuma_testkit::signals;
 
 /// The pause between the two phrases, seconds.
 const PAUSE_S: (f64, f64) = (2.6, 3.5);
@@ -17,9 +18,8 @@ const SOUND_S: (f64, f64) = (3.0, 3.3);
 /// 1 s of silence, a 1.6 s vowel, a 0.9 s pause, a 1.6 s vowel and 0.8 s of silence at
 /// `rate_hz`; `pause` adds its sound to the whole signal given the vowel's RMS.
 fn phrases(rate_hz: f64, pause: impl Fn(&mut [f32], f64)) -> Vec<f32> {
-    let vowel =
-        || test_signals::harmonic_tone(rate_hz, 1.6, 0.3, &[1.0, 0.6, 0.4, 0.3, 0.2], |_| 140.0);
-    let speech_rms = test_signals::rms(&vowel());
+    let vowel = || signals::harmonic_tone(rate_hz, 1.6, 0.3, &[1.0, 0.6, 0.4, 0.3, 0.2], |_| 140.0);
+    let speech_rms = rms(&vowel());
     let samples = |s: f64| vec![0.0; (s * rate_hz).round() as usize];
     let mut x = samples(PAUSE_S.0 - 1.6);
     x.extend(vowel());
@@ -43,7 +43,7 @@ fn add_noise(
     let a = (start_s * rate_hz) as usize;
     let n = (len_s * rate_hz) as usize;
     let fade = 0.03 * rate_hz;
-    let noise = test_signals::band_noise(n, rate_hz, band_hz, level, 21);
+    let noise = signals::band_noise(n, rate_hz, band_hz, level, 21);
     for (i, v) in noise.into_iter().enumerate() {
         let env = ((i.min(n - 1 - i) as f64) / fade).min(1.0) as f32;
         x[a + i] += env * v;
@@ -140,7 +140,7 @@ fn a_decaying_reverberant_tail_is_no_breath() {
         add_room_noise(x, rate_hz, under_speech(s, 45.0));
         let a = (PAUSE_S.0 * rate_hz) as usize;
         let n = (0.8 * rate_hz) as usize;
-        let tail = test_signals::band_noise(n, rate_hz, (100.0, 700.0), under_speech(s, 18.0), 5);
+        let tail = signals::band_noise(n, rate_hz, (100.0, 700.0), under_speech(s, 18.0), 5);
         for (i, v) in tail.into_iter().enumerate() {
             let t = i as f64 / rate_hz;
             x[a + i] += v * 10f64.powf(-60.0 * t / 20.0) as f32;
@@ -191,8 +191,8 @@ fn frames_in_blocks(x: &[f32], rate_hz: f64, sizes: &[usize]) -> Vec<FeatureFram
 #[test]
 fn band_levels_are_bit_identical_for_any_block_partition() {
     for rate_hz in [8_000.0, 20_000.0, 44_100.0, 192_000.0] {
-        let mut x = test_signals::harmonic_tone(rate_hz, 0.4, 0.3, &[1.0, 0.5, 0.3], |_| 150.0);
-        x.extend(test_signals::white_noise((0.3 * rate_hz) as usize, 0.02, 9));
+        let mut x = signals::harmonic_tone(rate_hz, 0.4, 0.3, &[1.0, 0.5, 0.3], |_| 150.0);
+        x.extend(signals::white_noise((0.3 * rate_hz) as usize, 0.02, 9));
         let bits = |v: &[FeatureFrame]| -> Vec<[u32; 3]> {
             v.iter()
                 .map(|f| {

@@ -2,6 +2,7 @@
 //! 200 Hz–8 kHz, plateau RMS = gain, bit-reproducible from the seed, any rate, user samples fitted
 //! without clicks, and no allocation while rendering.
 
+use pneuma_core::analysis::rms;
 use pneuma_core::breathing::{BreathSample, BreathVoice, SampleSlot};
 use pneuma_core::rng::SeededRng;
 use pneuma_core::BreathKind;
@@ -30,10 +31,6 @@ fn breath(rate: f64, mouth: f32, length_s: f64, gain: f32, seed: u64) -> (Vec<f3
     }
     assert!(!v.is_active());
     (out, n)
-}
-
-fn rms(x: &[f32]) -> f64 {
-    (x.iter().map(|&v| (v as f64).powi(2)).sum::<f64>() / x.len() as f64).sqrt()
 }
 
 /// Averaged power spectrum (Hann, 50 % overlap) and the bin width in Hz.

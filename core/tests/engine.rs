@@ -3,12 +3,13 @@
 //! noise at 10 dB SNR, a pause that already holds a breath, live mode, the stereo image and the
 //! breathing controls.
 
+use pneuma_core::analysis::rms;
 use pneuma_core::engine::offline::{self, Rendered};
 use pneuma_core::engine::{ConfigChange, Dropped, Engine, EngineConfig, PlacementMode};
 use pneuma_core::head::HeadModel;
 use pneuma_core::rng::SeededRng;
-use pneuma_core::test_signals;
 use pneuma_core::{ControlFrame, Phase};
+use pneuma_testkit::signals;
 
 mod generated_phrases;
 
@@ -93,13 +94,11 @@ fn breaths_go_into_long_pauses_only_and_end_before_the_next_phrase() {
 #[test]
 fn breaths_are_quieter_than_the_speech_and_follow_the_level_setting() {
     let (audio, _) = sequence(0.6, &[1.5, 1.5, 1.5], &[0.8, 0.8]);
-    let speech_rms = test_signals::rms(
-        &audio
-            .iter()
-            .copied()
-            .filter(|x| *x != 0.0)
-            .collect::<Vec<_>>(),
-    );
+    let speech_rms = rms(&audio
+        .iter()
+        .copied()
+        .filter(|x| *x != 0.0)
+        .collect::<Vec<_>>());
     let mut levels = Vec::new();
     for db in [-30.0f32, -18.0] {
         let mut c = config();
@@ -109,7 +108,7 @@ fn breaths_are_quieter_than_the_speech_and_follow_the_level_setting() {
         let diff: Vec<f32> = audio.iter().zip(&r.audio[0]).map(|(a, b)| b - a).collect();
         let b = r.breaths[1];
         let seg = &diff[(b.start_s * SR) as usize..(b.end_s * SR) as usize];
-        let rel_db = 20.0 * (test_signals::rms(seg) / speech_rms).log10();
+        let rel_db = 20.0 * (rms(seg) / speech_rms).log10();
         assert!(rel_db < -6.0, "breath at {rel_db:.1} dB re speech");
         levels.push(rel_db);
     }
@@ -164,14 +163,12 @@ fn noise_at_10_db_snr_still_gets_breaths_in_the_pauses_and_none_on_speech() {
     let pauses = [0.8, 1.2, 0.6];
     let (mut audio, spans) = sequence(0.8, &[1.5, 1.2, 1.8, 1.0], &pauses);
     let clean = audio.clone();
-    let speech_rms = test_signals::rms(
-        &clean
-            .iter()
-            .copied()
-            .filter(|x| *x != 0.0)
-            .collect::<Vec<_>>(),
-    );
-    let noise = test_signals::white_noise(audio.len(), speech_rms / 10f64.powf(0.5), 3);
+    let speech_rms = rms(&clean
+        .iter()
+        .copied()
+        .filter(|x| *x != 0.0)
+        .collect::<Vec<_>>());
+    let noise = signals::white_noise(audio.len(), speech_rms / 10f64.powf(0.5), 3);
     for (x, n) in audio.iter_mut().zip(&noise) {
         *x += n;
     }
@@ -199,18 +196,16 @@ fn a_pause_that_already_holds_a_breath_gets_no_second_one() {
     let (mut audio, spans) = sequence(0.6, &[1.5, 1.5, 1.5], &[1.0, 1.0]);
     // A real-ish breath in the second pause: band-limited noise, 400 ms, 24 dB under speech,
     // with 50 ms fades.
-    let speech_rms = test_signals::rms(
-        &audio
-            .iter()
-            .copied()
-            .filter(|x| *x != 0.0)
-            .collect::<Vec<_>>(),
-    );
+    let speech_rms = rms(&audio
+        .iter()
+        .copied()
+        .filter(|x| *x != 0.0)
+        .collect::<Vec<_>>());
     let start = ((spans[1].1 + 0.3) * SR) as usize;
     let len = (0.4 * SR) as usize;
     // Breath noise is broadband from about 0.5 to 5 kHz (the phrase tracker checks the shape).
-    let noise = test_signals::band_noise(len, SR, (500.0, 5000.0), 1.0, 11);
-    let g = (speech_rms / test_signals::rms(&noise) * 10f64.powf(-24.0 / 20.0)) as f32;
+    let noise = signals::band_noise(len, SR, (500.0, 5000.0), 1.0, 11);
+    let g = (speech_rms / rms(&noise) * 10f64.powf(-24.0 / 20.0)) as f32;
     let fade = (0.05 * SR) as usize;
     for (i, n) in noise.iter().enumerate() {
         let env = (i.min(len - 1 - i) as f32 / fade as f32).min(1.0);
@@ -296,7 +291,7 @@ fn a_word_too_short_to_confirm_is_never_covered_by_a_breath() {
 fn the_first_breath_follows_the_level_of_quiet_and_loud_speech() {
     let (audio, spans) = sequence(0.8, &[1.5, 1.5], &[0.8]);
     let speech: Vec<f32> = audio.iter().copied().filter(|x| *x != 0.0).collect();
-    let speech_db = 20.0 * test_signals::rms(&speech).log10();
+    let speech_db = 20.0 * rms(&speech).log10();
     // (Speech far under the analysis's −26 dBFS speech-level prior is voiced only once the
     // level has adapted: at −45 dBFS the first onset is found ~0.1 s late and gets no breath.)
     for target_db in [-40.0, -30.0, -17.0] {
@@ -314,7 +309,7 @@ fn the_first_breath_follows_the_level_of_quiet_and_loud_speech() {
         );
         let diff: Vec<f32> = scaled.iter().zip(&r.audio[0]).map(|(a, b)| b - a).collect();
         let seg = &diff[(b.start_s * SR) as usize..(b.end_s * SR) as usize];
-        let rel_db = 20.0 * test_signals::rms(seg).log10() - target_db;
+        let rel_db = 20.0 * rms(seg).log10() - target_db;
         assert!(
             (-30.0..=-16.0).contains(&rel_db),
             "speech at {target_db} dBFS: first breath at {rel_db:.1} dB re speech"
@@ -459,7 +454,7 @@ fn on_stereo_input_the_breath_sits_in_the_voice_image() {
     assert!(!r.breaths.is_empty());
     let dl: Vec<f32> = left.iter().zip(&r.audio[0]).map(|(a, b)| b - a).collect();
     let dr: Vec<f32> = right.iter().zip(&r.audio[1]).map(|(a, b)| b - a).collect();
-    let ratio_db = 20.0 * (test_signals::rms(&dl) / test_signals::rms(&dr)).log10();
+    let ratio_db = 20.0 * (rms(&dl) / rms(&dr)).log10();
     assert!(
         (ratio_db - 12.0).abs() < 2.0,
         "breath L/R {ratio_db:.1} dB, voice 12 dB"

@@ -4,7 +4,7 @@
 
 use pneuma_core::engine::{offline, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
-use pneuma_core::test_signals;
+use pneuma_testkit::signals;
 
 const RATE_HZ: f64 = 16_000.0;
 /// The breath-like burst inside the pause, seconds.
@@ -13,8 +13,7 @@ const BURST_S: (f64, f64) = (2.0, 2.35);
 /// A 1.6 s vowel, a 0.9 s pause (with the burst when `with_burst`), a 1.6 s vowel, 0.8 s of
 /// silence.
 fn phrases(with_burst: bool) -> Vec<f32> {
-    let vowel =
-        || test_signals::harmonic_tone(RATE_HZ, 1.6, 0.3, &[1.0, 0.6, 0.4, 0.3, 0.2], |_| 140.0);
+    let vowel = || signals::harmonic_tone(RATE_HZ, 1.6, 0.3, &[1.0, 0.6, 0.4, 0.3, 0.2], |_| 140.0);
     let mut x = vowel();
     let pause_start = x.len();
     x.extend(vec![0.0; (0.9 * RATE_HZ) as usize]);
@@ -22,7 +21,7 @@ fn phrases(with_burst: bool) -> Vec<f32> {
         // About 26 dB under the vowels' level: breath noise, unvoiced, not a phrase.
         let a = (BURST_S.0 * RATE_HZ) as usize;
         let b = (BURST_S.1 * RATE_HZ) as usize;
-        let noise = test_signals::white_noise(b - a, 0.01, 7);
+        let noise = signals::white_noise(b - a, 0.01, 7);
         for (i, n) in noise.into_iter().enumerate() {
             let ramp = ((i.min(b - a - 1 - i) as f32) / 160.0).min(1.0);
             x[a + i] += n * ramp;

@@ -3,13 +3,12 @@
 //! first `live_fade_s` of an onset, the minimum pause respected, no inspiration while speaking,
 //! no inaudible stubs reported.
 
-mod example_voice;
-
-use example_voice::example_voice;
 use pneuma_core::engine::offline::{self, Rendered};
 use pneuma_core::engine::{Engine, EngineConfig, PlacementMode};
 use pneuma_core::head::HeadModel;
-use pneuma_core::{test_signals, Phase};
+use pneuma_core::Phase;
+use pneuma_testkit::signals;
+use pneuma_testkit::voice::example_voice;
 
 fn render(config: &EngineConfig, audio: &[f32], sample_rate_hz: f64) -> Rendered {
     let mut engine = Engine::new(config.clone(), HeadModel::default_model().clone()).unwrap();
@@ -63,6 +62,7 @@ fn sound_onset_s(x: &[f32], sr: f64, from_s: f64, to_s: f64) -> f64 {
 #[test]
 fn live_breaths_stay_off_speech_and_respect_the_minimum_pause() {
     let (voice, sr) = example_voice();
+    let sr = f64::from(sr);
     let reference = render(&config(PlacementMode::Lookahead, 0.25), &voice, sr);
     let speech = speech_spans(&reference);
     assert!(speech.len() >= 5, "{speech:?}");
@@ -145,7 +145,7 @@ fn generated_phrases_get_a_live_breath_in_every_pause() {
     // 1.5 s phrases and 0.5 s pauses under white noise 20 dB down (a noisy background the gate
     // must learn, unlike the example voice's digital silence).
     let sr = 22_050.0;
-    let x = test_signals::phrases_with_pauses(sr, 12.0, 20.0, 7);
+    let x = signals::phrases_with_pauses(sr, 12.0, 20.0, 7);
     let reference = render(&config(PlacementMode::Lookahead, 0.25), &x, sr);
     let speech = speech_spans(&reference);
     let pauses: Vec<(f64, f64)> = speech.windows(2).map(|w| (w[0].1, w[1].0)).collect();
@@ -168,6 +168,7 @@ fn generated_phrases_get_a_live_breath_in_every_pause() {
 #[test]
 fn a_longer_minimum_pause_means_fewer_live_breaths() {
     let (voice, sr) = example_voice();
+    let sr = f64::from(sr);
     let short = render(&config(PlacementMode::Live, 0.25), &voice, sr);
     let long = render(&config(PlacementMode::Live, 1.0), &voice, sr);
     assert!(!long.breaths.is_empty());

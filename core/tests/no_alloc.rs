@@ -5,8 +5,8 @@
 use pneuma_core::encode::midi_cc::{CcEncoder, CcMap};
 use pneuma_core::encode::osc::{OscFormat, TimeTag};
 use pneuma_core::encode::sink::{CcSink, FrameSink, OscSink};
-use pneuma_core::test_signals;
 use pneuma_core::{AnalysisConfig, Analyzer, BreathEvent, ControlFrame};
+use pneuma_testkit::signals;
 
 /// Counts frames and breaths.
 #[derive(Default)]
@@ -38,8 +38,7 @@ fn process_never_allocates() {
     for rate in [
         8_000.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 96_000.0, 192_000.0,
     ] {
-        let mut x =
-            test_signals::harmonic_tone(rate, 1.0, 0.5, &[1.0, 0.5, 0.3], |t| 100.0 + 200.0 * t);
+        let mut x = signals::harmonic_tone(rate, 1.0, 0.5, &[1.0, 0.5, 0.3], |t| 100.0 + 200.0 * t);
         x[1000] = f32::NAN;
         let mut a = Analyzer::new(AnalysisConfig::default()).expect("config");
         a.prepare(rate, 4096).expect("rate");
@@ -63,7 +62,7 @@ fn process_never_allocates() {
 
 /// Phrases with pauses at `rate`: 0.8 s voiced, 0.6 s silence, repeated.
 fn phrases(rate: f64, seconds: f64) -> Vec<f32> {
-    let mut x = test_signals::harmonic_tone(rate, seconds, 0.4, &[1.0, 0.6, 0.4, 0.2], |t| {
+    let mut x = signals::harmonic_tone(rate, seconds, 0.4, &[1.0, 0.6, 0.4, 0.2], |t| {
         if t % 1.4 < 0.8 {
             120.0 + 30.0 * (2.0 * t).sin()
         } else {

@@ -5,8 +5,9 @@
 
 use std::cell::Cell;
 
-use pneuma_core::test_signals::{self, GlottalVowel, Vowel};
+use pneuma_core::analysis::rms;
 use pneuma_core::{AnalysisConfig, Analyzer, FeatureFrame, VOICING_FEATURES};
+use pneuma_testkit::signals::{self, GlottalVowel, Vowel};
 
 const RATE: f64 = 48_000.0;
 /// Voice from 0.5 s to 2.0 s and from 2.5 s to 4.0 s; silence (plus background) elsewhere.
@@ -45,7 +46,7 @@ fn voice(
         peak: 0.3,
         seed: 7,
     };
-    let mut x = test_signals::glottal_vowel(&cfg, |t| if in_voice(t) { f0_hz(t) } else { 0.0 });
+    let mut x = signals::glottal_vowel(&cfg, |t| if in_voice(t) { f0_hz(t) } else { 0.0 });
     for (i, v) in x.iter_mut().enumerate() {
         let t = i as f64 / RATE;
         let start = SEGMENTS_S
@@ -94,14 +95,14 @@ fn voiced_fractions(frames: &[FeatureFrame], settle_s: f64) -> (f64, f64) {
 /// present in the pauses too.
 fn gliding_voice_with(noise: impl Fn(usize, f64) -> Vec<f32>) -> (f64, f64) {
     let clean = voice(Vowel::A, |t| 140.0 + 20.0 * t.sin(), |_| 1.0, &[]);
-    let voiced_rms = test_signals::rms(&clean[(0.5 * RATE) as usize..(2.0 * RATE) as usize]);
+    let voiced_rms = rms(&clean[(0.5 * RATE) as usize..(2.0 * RATE) as usize]);
     let noise = noise(clean.len(), voiced_rms);
     let x: Vec<f32> = clean.iter().zip(&noise).map(|(a, b)| a + b).collect();
     voiced_fractions(&analyse(&x), 0.05)
 }
 
 fn quiet_background() -> Vec<f32> {
-    test_signals::white_noise((LENGTH_S * RATE) as usize, 3e-4, 11)
+    signals::white_noise((LENGTH_S * RATE) as usize, 3e-4, 11)
 }
 
 #[test]
@@ -226,7 +227,7 @@ fn breathy_voice_in_strong_noise_is_voiced_and_the_noise_alone_is_not() {
     // too: the voice is periodic, the pauses are only noise.
     for snr_db in [0.0, 6.0] {
         let (voiced, pauses) = gliding_voice_with(|len, voiced_rms| {
-            test_signals::white_noise(len, voiced_rms / 10f64.powf(snr_db / 20.0), 23)
+            signals::white_noise(len, voiced_rms / 10f64.powf(snr_db / 20.0), 23)
         });
         assert!(
             voiced >= 0.8 && pauses <= 0.05,
@@ -243,7 +244,7 @@ fn a_rumble_under_the_high_pass_does_not_gate_the_voice() {
     // full-band level rises only 3 dB when the voice comes in, but the band the pitch analysis
     // hears (above the 120 Hz high-pass) holds only the voice.
     let (voiced, pauses) = gliding_voice_with(|len, voiced_rms| {
-        test_signals::band_noise(len, RATE, (20.0, 60.0), voiced_rms, 31)
+        signals::band_noise(len, RATE, (20.0, 60.0), voiced_rms, 31)
     });
     assert!(
         voiced >= 0.9 && pauses <= 0.05,
@@ -312,7 +313,7 @@ fn the_pitch_track_cue_holds_through_a_voice_and_not_through_noise() {
     }
     // Judged on the noise frames where a period was found (log f0 reads 0 without one, or at
     // exactly 150 Hz): the track must break because the periods jump, not for want of one.
-    let noise = test_signals::white_noise((LENGTH_S * RATE) as usize, 0.05, 31);
+    let noise = signals::white_noise((LENGTH_S * RATE) as usize, 0.05, 31);
     let cues = pitch_track_cue(&noise, |t| t >= 0.3);
     let (frames, values) = (
         cues.len(),

@@ -1,8 +1,11 @@
 //! Generated test signals with known f0: harmonic tones with any f0 contour, glottal-pulse
 //! sources through vowel formant filters with jitter and shimmer, and seeded noise at a chosen
 //! SNR. Used by unit tests, end-to-end tests and benchmarks, so they are exact without data files.
+//! The noise comes from core's seeded generator and is shaped by core's Butterworth sections, so
+//! every signal is the same bit for bit on every platform.
 
-use crate::rng::SeededRng;
+use pneuma_core::analysis::{rms, Biquad};
+use pneuma_core::rng::SeededRng;
 use std::f64::consts::PI;
 
 /// A harmonic tone whose f0 follows `f0_hz(t)` (0 = silence at that instant), with harmonic
@@ -138,11 +141,6 @@ pub fn glottal_vowel(cfg: &GlottalVowel, f0_hz: impl Fn(f64) -> f64) -> Vec<f32>
     src.iter().map(|v| (v / peak * cfg.peak) as f32).collect()
 }
 
-/// RMS of a signal.
-pub fn rms(x: &[f32]) -> f64 {
-    (x.iter().map(|&v| v as f64 * v as f64).sum::<f64>() / x.len().max(1) as f64).sqrt()
-}
-
 /// Adds seeded white Gaussian noise at `snr_db` relative to the RMS of `x`.
 pub fn add_white_noise(x: &mut [f32], snr_db: f64, seed: u64) {
     let sigma = rms(x) / 10f64.powf(snr_db / 20.0);
@@ -168,7 +166,6 @@ pub fn band_noise(
     sigma: f64,
     seed: u64,
 ) -> Vec<f32> {
-    use crate::analysis::biquad::Biquad;
     let hp = Biquad::butterworth(low_hz, sample_rate_hz, true);
     let lp = Biquad::butterworth(high_hz.min(0.45 * sample_rate_hz), sample_rate_hz, false);
     let mut f = [hp, hp, lp, lp];

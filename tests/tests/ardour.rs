@@ -13,9 +13,9 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use pneuma_tests::bundle::ensure_clap;
+use pneuma_testkit::voice::{example_voice_at, read_wav as read};
+use pneuma_tests::bundle::plugin_path;
 use pneuma_tests::host::Plugin;
-use pneuma_tests::wav::{example_voice_at, read};
 
 const RATE: u32 = 48_000;
 
@@ -131,7 +131,7 @@ fn read_smf(path: &std::path::Path) -> Vec<Cc> {
 /// mono voice on both sides, as Ardour's mono track gives it), at timeline samples: the
 /// absolute output sample minus the reported latency.
 fn reference_cc(voice: &[f32], blocks: usize) -> (Vec<Cc>, u32) {
-    let mut plugin = Plugin::load(&ensure_clap(), "org.pneuma.pneuma").expect("bundle loads");
+    let mut plugin = Plugin::load(&plugin_path(), "org.pneuma.pneuma").expect("bundle loads");
     plugin.activate(f64::from(RATE), blocks, 2).unwrap();
     let latency = plugin.latency();
     // One second past the end, as Ardour recorded.

@@ -1,18 +1,14 @@
 //! The shipped example voice is what its README and transcript promise: a small mono WAV whose
 //! silent stretches are the planned pauses, several shorter than 250 ms and some over a second.
 
-use std::path::PathBuf;
-
-fn assets() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../assets/examples")
-}
+use pneuma_testkit::voice::{example_voice, example_voice_path};
 
 /// (start_s, length_s) of every run of exact digital silence of at least `min_s`.
-fn silent_runs(samples: &[i16], rate: f64, min_s: f64) -> Vec<(f64, f64)> {
+fn silent_runs(samples: &[f32], rate: f64, min_s: f64) -> Vec<(f64, f64)> {
     let mut runs = Vec::new();
     let mut start = None;
-    for (i, &s) in samples.iter().chain(std::iter::once(&1)).enumerate() {
-        match (s == 0, start) {
+    for (i, &s) in samples.iter().chain(std::iter::once(&1.0)).enumerate() {
+        match (s == 0.0, start) {
             (true, None) => start = Some(i),
             (false, Some(b)) => {
                 let len = (i - b) as f64 / rate;
@@ -29,8 +25,9 @@ fn silent_runs(samples: &[i16], rate: f64, min_s: f64) -> Vec<(f64, f64)> {
 
 #[test]
 fn example_voice_matches_its_transcript() {
-    let dir = assets();
-    let size: u64 = std::fs::read_dir(&dir)
+    let voice_path = example_voice_path();
+    let dir = voice_path.parent().expect("assets/examples");
+    let size: u64 = std::fs::read_dir(dir)
         .expect("assets/examples exists")
         .map(|e| e.expect("entry").metadata().expect("metadata").len())
         .sum();
@@ -39,14 +36,9 @@ fn example_voice_matches_its_transcript() {
         "assets/examples holds {size} bytes; keep it under 1 MB"
     );
 
-    let mut reader = hound::WavReader::open(dir.join("voice.wav")).expect("voice.wav opens");
-    let spec = reader.spec();
-    assert_eq!((spec.channels, spec.bits_per_sample), (1, 16));
-    let rate = spec.sample_rate as f64;
-    let samples: Vec<i16> = reader
-        .samples::<i16>()
-        .map(|s| s.expect("sample"))
-        .collect();
+    // Mono 16-bit (pneuma_testkit::voice checks the format).
+    let (samples, rate) = example_voice();
+    let rate = f64::from(rate);
     let length_s = samples.len() as f64 / rate;
     assert!((20.0..=30.0).contains(&length_s), "{length_s} s");
 
@@ -78,10 +70,6 @@ fn example_voice_matches_its_transcript() {
         );
     }
     // Speech is present and not clipped.
-    let peak = samples
-        .iter()
-        .map(|s| s.unsigned_abs())
-        .max()
-        .expect("samples");
-    assert!(peak > 16_000 && peak < 32_767, "peak {peak}");
+    let peak = samples.iter().fold(0.0f32, |m, s| m.max(s.abs())) * 32_768.0;
+    assert!(peak > 16_000.0 && peak < 32_767.0, "peak {peak}");
 }

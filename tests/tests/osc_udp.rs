@@ -7,10 +7,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use pneuma_core::encode::osc::{decode_packet, OscMessage, OscValue};
-use pneuma_tests::bundle::ensure_clap;
+use pneuma_testkit::osc::{decode, Message, OscType};
+use pneuma_testkit::voice::example_voice_at;
+use pneuma_tests::bundle::plugin_path;
 use pneuma_tests::host::Plugin;
-use pneuma_tests::wav::example_voice_at;
 
 fn socket() -> UdpSocket {
     let s = UdpSocket::bind("127.0.0.1:0").expect("bind a UDP port on loopback");
@@ -20,12 +20,12 @@ fn socket() -> UdpSocket {
 }
 
 /// Every bundle that arrives until the socket stays quiet for the read timeout.
-fn drain(sock: &UdpSocket) -> Vec<Vec<OscMessage>> {
+fn drain(sock: &UdpSocket) -> Vec<Vec<Message>> {
     let mut out = Vec::new();
     let mut buf = [0u8; 4096];
     while let Ok(n) = sock.recv(&mut buf) {
         assert!(&buf[..8] == b"#bundle\0", "every frame comes as a bundle");
-        out.push(decode_packet(&buf[..n]).expect("valid OSC"));
+        out.push(decode(&buf[..n]).expect("valid OSC"));
     }
     out
 }
@@ -38,7 +38,7 @@ fn play_and_listen(
     plugin: &mut Plugin,
     signal: &[f32],
     sock: UdpSocket,
-) -> (UdpSocket, Vec<Vec<OscMessage>>) {
+) -> (UdpSocket, Vec<Vec<Message>>) {
     let played = Arc::new(AtomicBool::new(false));
     let listener = std::thread::spawn({
         let played = Arc::clone(&played);
@@ -48,7 +48,7 @@ fn play_and_listen(
                 .unwrap();
             let mut out = Vec::new();
             if let Ok(n) = sock.recv(&mut buf) {
-                out.push(decode_packet(&buf[..n]).expect("valid OSC"));
+                out.push(decode(&buf[..n]).expect("valid OSC"));
             }
             sock.set_read_timeout(Some(Duration::from_millis(300)))
                 .unwrap();
@@ -80,9 +80,9 @@ fn play(plugin: &mut Plugin, signal: &[f32]) {
     }
 }
 
-fn float(v: &OscValue) -> f32 {
+fn float(v: &OscType) -> f32 {
     match v {
-        OscValue::Float(f) => *f,
+        OscType::Float(f) => *f,
         other => panic!("expected a float, got {other:?}"),
     }
 }
@@ -92,7 +92,7 @@ fn pneuma_then_vmc_bundles_arrive_with_the_documented_addresses_types_and_values
     let voice = example_voice_at(48_000);
     let first = socket();
     let second = socket();
-    let mut plugin = Plugin::load(&ensure_clap(), "org.pneuma.pneuma").unwrap();
+    let mut plugin = Plugin::load(&plugin_path(), "org.pneuma.pneuma").unwrap();
     plugin.set_param("osc_enabled", "On").unwrap();
     plugin
         .set_param("osc_port", &first.local_addr().unwrap().port().to_string())
@@ -133,9 +133,10 @@ fn pneuma_then_vmc_bundles_arrive_with_the_documented_addresses_types_and_values
                 .args
                 .iter()
                 .map(|a| match a {
-                    OscValue::Int(_) => 'i',
-                    OscValue::Float(_) => 'f',
-                    OscValue::Str(_) => 's',
+                    OscType::Int(_) => 'i',
+                    OscType::Float(_) => 'f',
+                    OscType::String(_) => 's',
+                    other => panic!("{address}: {other:?} is not i, f or s"),
                 })
                 .collect();
             assert_eq!(got, types, "types of {address}");
@@ -143,11 +144,11 @@ fn pneuma_then_vmc_bundles_arrive_with_the_documented_addresses_types_and_values
         let time_s = float(&b[0].args[1]);
         assert!(time_s > last_time, "frame times increase");
         last_time = time_s;
-        let tag = b[0].time_tag.unwrap().0;
+        let tag = b[0].time_tag.unwrap();
         assert!(tag > last_tag, "time tags increase");
         last_tag = tag;
         let f0 = float(&b[1].args[0]);
-        let is_voiced = b[2].args[0] == OscValue::Int(1);
+        let is_voiced = b[2].args[0] == OscType::Int(1);
         if is_voiced {
             voiced += 1;
             assert!((50.0..=600.0).contains(&f0), "voiced f0 {f0} Hz");
@@ -160,7 +161,7 @@ fn pneuma_then_vmc_bundles_arrive_with_the_documented_addresses_types_and_values
         assert!(
             ["rest", "inspiration", "expiration"]
                 .iter()
-                .any(|p| *phase == OscValue::Str((*p).into())),
+                .any(|p| *phase == OscType::String((*p).into())),
             "{phase:?}"
         );
         for m in &b[7..12] {
@@ -198,14 +199,14 @@ fn pneuma_then_vmc_bundles_arrive_with_the_documented_addresses_types_and_values
             ]
         );
         for (m, bone) in b[..3].iter().zip(["Chest", "Neck", "Head"]) {
-            assert_eq!(m.args[0], OscValue::Str(bone.into()));
+            assert_eq!(m.args[0], OscType::String(bone.into()));
             assert_eq!(m.args.len(), 8);
             let q: Vec<f32> = m.args[4..].iter().map(float).collect();
             let norm: f32 = q.iter().map(|v| v * v).sum();
             assert!((norm - 1.0).abs() < 1e-4, "{bone} quaternion norm {norm}");
         }
         for (m, name) in b[3..6].iter().zip(["A", "Breath", "NostrilFlare"]) {
-            assert_eq!(m.args[0], OscValue::Str(name.into()));
+            assert_eq!(m.args[0], OscType::String(name.into()));
             let v = float(&m.args[1]);
             assert!((0.0..=1.0).contains(&v), "{name} = {v}");
         }
@@ -217,7 +218,7 @@ fn pneuma_then_vmc_bundles_arrive_with_the_documented_addresses_types_and_values
 fn an_unresolvable_target_does_not_disturb_the_audio() {
     let voice = example_voice_at(48_000);
     let voice = &voice[..48_000 * 3];
-    let mut with_osc = Plugin::load(&ensure_clap(), "org.pneuma.pneuma").unwrap();
+    let mut with_osc = Plugin::load(&plugin_path(), "org.pneuma.pneuma").unwrap();
     // Port 9 (discard) on a host name that never resolves is set through the state.
     with_osc.set_param("osc_enabled", "On").unwrap();
     with_osc.set_param("osc_port", "9").unwrap();
@@ -229,7 +230,7 @@ fn an_unresolvable_target_does_not_disturb_the_audio() {
             "no-such-host.invalid",
         ))
         .unwrap();
-    let mut without = Plugin::load(&ensure_clap(), "org.pneuma.pneuma").unwrap();
+    let mut without = Plugin::load(&plugin_path(), "org.pneuma.pneuma").unwrap();
     with_osc.activate(48_000.0, 64, 1).unwrap();
     without.activate(48_000.0, 64, 1).unwrap();
     for chunk in voice.chunks(64) {

@@ -1,12 +1,12 @@
 //! The built `Pneuma.clap` through a real CLAP host (clack-host): parameters and their stable
 //! ids, any sample rate and block size, MIDI CC output, state, latency, NaN and silence.
 //!
-//! The bundle is built by the test itself (`cargo xtask bundle pneuma-plugin --release`, a no-op
-//! when up to date); see `pneuma_tests::bundle`.
+//! The plugin is the library cargo built for this test run (or `PNEUMA_CLAP`); see
+//! `pneuma_tests::bundle`.
 
-use pneuma_tests::bundle::ensure_clap;
+use pneuma_testkit::voice::example_voice_at;
+use pneuma_tests::bundle::plugin_path;
 use pneuma_tests::host::{param_hash, CcEvent, Plugin};
-use pneuma_tests::wav::example_voice_at;
 
 const CLAP_ID: &str = "org.pneuma.pneuma";
 
@@ -53,7 +53,7 @@ const PARAM_IDS: &[&str] = &[
 ];
 
 fn load() -> Plugin {
-    Plugin::load(&ensure_clap(), CLAP_ID).expect("the bundle loads")
+    Plugin::load(&plugin_path(), CLAP_ID).expect("the bundle loads")
 }
 
 /// Deterministic block sizes: `pattern` 0 = random 1..=512, else a fixed size.
@@ -673,25 +673,30 @@ fn the_plugin_output_equals_the_cli_render() {
 /// The example voice and `pneuma render` of it (mono) with the extra `options`:
 /// `(voice, rate, rendered)`.
 fn cli_render(options: &[&str]) -> (Vec<f32>, u32, Vec<f32>) {
-    let voice_path = pneuma_tests::wav::example_voice_path();
-    let (voice, rate) = pneuma_tests::wav::example_voice();
+    let voice_path = pneuma_testkit::voice::example_voice_path();
+    let (voice, rate) = pneuma_testkit::voice::example_voice();
     let dir = std::env::temp_dir().join(format!(
         "pneuma-render-{}-{:?}",
         std::process::id(),
         std::thread::current().id()
     ));
     std::fs::create_dir_all(&dir).unwrap();
-    let status = std::process::Command::new(pneuma_tests::bundle::ensure_cli())
-        .arg("render")
-        .arg(&voice_path)
-        .arg("-o")
-        .arg(&dir)
-        .arg("--quiet")
-        .args(options)
-        .status()
-        .expect("pneuma runs");
-    assert!(status.success(), "pneuma render failed");
-    let (mut rendered, rendered_rate) = pneuma_tests::wav::read(&dir.join("voice.wav"));
+    // `pneuma render` in process: the command's own arguments and code path (`render::run`).
+    use clap::{Args as _, FromArgMatches as _};
+    let mut argv = vec![
+        "render".into(),
+        voice_path.clone().into_os_string(),
+        "-o".into(),
+        dir.clone().into_os_string(),
+        "--quiet".into(),
+    ];
+    argv.extend(options.iter().map(|o| o.into()));
+    let matches = pneuma_cli::render::Args::augment_args(clap::Command::new("render"))
+        .try_get_matches_from(argv)
+        .expect("valid render options");
+    let args = pneuma_cli::render::Args::from_arg_matches(&matches).expect("render options");
+    pneuma_cli::render::run(&args, &voice_path, |_| {}).expect("pneuma render");
+    let (mut rendered, rendered_rate) = pneuma_testkit::voice::read_wav(&dir.join("voice.wav"));
     let _ = std::fs::remove_dir_all(&dir);
     assert_eq!(rendered_rate, rate);
     let rendered = rendered.swap_remove(0);

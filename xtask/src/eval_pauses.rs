@@ -162,8 +162,8 @@ fn zero_runs(audio: &[f32], rate: u32) -> Vec<(f64, f64, bool)> {
 /// Adds seeded white or brown noise at `snr_db` under the speech power (active samples only).
 fn with_noise(audio: &[f32], snr_db: f64, brown: bool, seed: u64) -> Vec<f32> {
     let active: Vec<f32> = audio.iter().copied().filter(|x| *x != 0.0).collect();
-    let speech = pneuma_core::test_signals::rms(&active);
-    let mut noise = pneuma_core::test_signals::white_noise(audio.len(), 1.0, seed);
+    let speech = pneuma_core::analysis::rms(&active);
+    let mut noise = pneuma_testkit::signals::white_noise(audio.len(), 1.0, seed);
     if brown {
         // Leaky integration: a 1/f² spectrum above ~16 Hz, like road rumble.
         let mut y = 0.0f32;
@@ -172,7 +172,7 @@ fn with_noise(audio: &[f32], snr_db: f64, brown: bool, seed: u64) -> Vec<f32> {
             *n = y;
         }
     }
-    let gain = speech / pneuma_core::test_signals::rms(&noise) / 10f64.powf(snr_db / 20.0);
+    let gain = speech / pneuma_core::analysis::rms(&noise) / 10f64.powf(snr_db / 20.0);
     audio
         .iter()
         .zip(&noise)

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use pneuma_core::test_signals::{self, GlottalVowel, Vowel};
+use pneuma_testkit::signals::{self, GlottalVowel, Vowel};
 
 /// Writes `length_s` seconds of phrases and pauses to a 16-bit WAV at `rate_hz` with
 /// `channels` channels (later channels at 0.7×).
@@ -44,7 +44,7 @@ pub fn write_episode(path: &Path, length_s: f64, rate_hz: u32, channels: u16) {
         }
         let len = 1.5 + 2.5 * next();
         let f0 = 110.0 + 60.0 * next();
-        let v = test_signals::glottal_vowel(
+        let v = signals::glottal_vowel(
             &GlottalVowel {
                 sample_rate_hz: rate_hz as f64,
                 length_s: len,

@@ -139,11 +139,6 @@ pub fn assert_analyze_fails(input: &Path, must_mention: &[&str]) {
     assert!(leftovers.is_empty(), "partial files left: {leftovers:?}");
 }
 
-/// The shipped example voice.
-pub fn example_voice() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/examples/voice.wav")
-}
-
 /// Asserts that a run succeeded, showing its standard error when not.
 pub fn assert_ok(o: &Output) {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

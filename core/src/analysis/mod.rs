@@ -18,6 +18,7 @@ mod tracking;
 mod voicing;
 
 pub use analyzer::Analyzer;
+pub use biquad::Biquad;
 pub use breath_band::BandLevels;
 pub use clock::FrameClock;
 pub use config::{AnalysisConfig, AnalysisError, MAX_SAMPLE_RATE_HZ, MIN_SAMPLE_RATE_HZ};
@@ -56,6 +57,11 @@ pub struct FeatureFrame {
     /// spectral shape the phrase tracker uses to tell a breath from a sibilant, a decaying tail
     /// or room noise (see [`BandLevels`]).
     pub bands: BandLevels,
+}
+
+/// The RMS amplitude of `x` (0 for no samples).
+pub fn rms(x: &[f32]) -> f64 {
+    (x.iter().map(|&v| v as f64 * v as f64).sum::<f64>() / x.len().max(1) as f64).sqrt()
 }
 
 /// Converts an RMS amplitude to dBFS with a floor of −120 dBFS.

@@ -1,7 +1,7 @@
 //! Shared by integration tests: generated speech-like phrases (voiced glottal vowels with a
 //! syllable rhythm) in sequences with known pauses, at 16 kHz.
 
-use pneuma_core::test_signals::{self, GlottalVowel, Vowel};
+use pneuma_testkit::signals::{self, GlottalVowel, Vowel};
 
 pub const SR: f64 = 16_000.0;
 
@@ -15,7 +15,7 @@ pub fn phrase(length_s: f64, seed: u64) -> Vec<f32> {
         let left = length_s - out.len() as f64 / SR;
         let len = syllable_s.min(left);
         let start = out.len() as f64 / SR;
-        let v = test_signals::glottal_vowel(
+        let v = signals::glottal_vowel(
             &GlottalVowel {
                 sample_rate_hz: SR,
                 length_s: len,
