@@ -11,7 +11,7 @@
 //! The example voice, its resampling to the host rates and the OSC decoder come from
 //! `pneuma-testkit`.
 //!
-//! Test files: `plugin_clap.rs` (parameters, block partitions at 44.1/48 kHz, CC rules, breaths
+//! Test modules (one binary, `tests/integration/`): `plugin_clap.rs` (parameters, block partitions at 44.1/48 kHz, CC rules, breaths
 //! in the audio, 14-bit/channel settings, state, NaN/silence, latency and restart, transport
 //! jumps, and equality with the CLI render), `osc_udp.rs` (both
 //! OSC formats received on 127.0.0.1, target and format changed while playing, an unresolvable

@@ -7,9 +7,8 @@ use pneuma_core::engine::offline::{self, Rendered};
 use pneuma_core::engine::{Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
 
-mod generated_phrases;
 
-use generated_phrases::{sequence, SR};
+use crate::generated_phrases::{sequence, SR};
 
 /// The lung counts as empty under this volume (as in `pneuma eval breaths`).
 const EMPTY_LUNG: f32 = 0.05;

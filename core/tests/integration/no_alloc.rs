@@ -24,8 +24,7 @@ impl FrameSink for Count {
     }
 }
 
-mod support;
-use support::watched;
+use crate::support::watched;
 
 #[test]
 fn the_counter_sees_allocations() {

@@ -7,9 +7,8 @@
 
 use std::path::Path;
 
-#[path = "support/episode.rs"]
-mod episode;
-mod support;
+use crate::support;
+use crate::support::episode;
 
 fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
     std::env::var(name)

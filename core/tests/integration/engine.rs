@@ -11,9 +11,8 @@ use pneuma_core::rng::SeededRng;
 use pneuma_core::{ControlFrame, Phase};
 use pneuma_testkit::signals;
 
-mod generated_phrases;
 
-use generated_phrases::{phrase, sequence, SR};
+use crate::generated_phrases::{phrase, sequence, SR};
 
 /// Runs the engine over `input` (one Vec per channel) in the given block sizes (cycled), then
 /// flushes the latency and removes it, as an offline render does.

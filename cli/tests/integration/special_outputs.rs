@@ -9,7 +9,7 @@ use std::os::unix::fs::FileTypeExt;
 use std::path::Path;
 use std::process::{Command, Stdio};
 
-mod support;
+use crate::support;
 use support::pneuma;
 
 /// A voiced-looking test tone: 200 Hz with a slow level wobble, `length_s` long at 16 kHz.

@@ -4,8 +4,8 @@
 
 use pneuma_core::breathing::{count_syllables, count_syllables_text};
 
-const LIST: &str = include_str!("../src/breathing/syllable_words.txt");
-const SOURCE: &str = include_str!("../src/breathing/syllables.rs");
+const LIST: &str = include_str!("../../src/breathing/syllable_words.txt");
+const SOURCE: &str = include_str!("../../src/breathing/syllables.rs");
 
 #[test]
 fn exact_match_accuracy_is_at_least_90_percent() {

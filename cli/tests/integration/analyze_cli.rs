@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use pneuma_testkit::signals;
 
-mod support;
+use crate::support;
 use support::{assert_analyze_fails, files_besides, pneuma, pneuma_with_stdin};
 
 /// Writes `mono` to all channels (the second at 0.5×) in the given format.

@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-mod support;
+use crate::support;
 use pneuma_testkit::voice::example_voice_path;
 use support::{breaths_csv, ffmpeg_encode, have_ffmpeg, pneuma, read_audio, render};
 

@@ -1,7 +1,7 @@
 //! Shared by the CLI end-to-end tests: running the `pneuma` binary, encoding inputs with
 //! ffmpeg, writing test WAV files and reading outputs back.
 
-#![allow(dead_code)] // each test binary uses its own subset
+pub mod episode;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

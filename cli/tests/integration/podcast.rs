@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::process::Command;
 
-mod support;
+use crate::support;
 use pneuma_testkit::voice::example_voice_path;
 use support::{
     assert_ok, breaths_csv, ffmpeg_encode, have_ffmpeg, pneuma, pneuma_with_stdin, render, samples,

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use pneuma_testkit::signals::{self, GlottalVowel, Vowel};
 
-mod support;
+use crate::support;
 use support::render;
 
 /// Writes `mono` to all channels (the second at 0.7×) in the given format.

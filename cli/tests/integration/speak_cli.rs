@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::process::Command;
 
-mod support;
+use crate::support;
 use support::tool_or_skip;
 
 use pneuma_cli::plot::{write_plot, HEIGHT_PX, WIDTH_PX};

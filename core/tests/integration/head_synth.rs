@@ -4,8 +4,7 @@
 use pneuma_core::head::{HeadConfig, HeadModel, HeadSynth, UnvoicedBehaviour};
 use pneuma_core::{FeatureFrame, HeadAngles};
 
-mod support;
-use support::watched;
+use crate::support::watched;
 
 /// A speech-like frame sequence: voiced stretches with a moving f0 and level, short unvoiced
 /// gaps.

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use pneuma_cli::wav::{WavError, WavInfo, WavSource};
 use pneuma_testkit::signals::{self, GlottalVowel, Vowel};
 
-mod support;
+use crate::support;
 use support::{assert_analyze_fails, pneuma};
 
 const PCM: u16 = 0x0001;

@@ -8,8 +8,7 @@ use pneuma_core::rng::SeededRng;
 use pneuma_core::BreathKind;
 use realfft::RealFftPlanner;
 
-mod support;
-use support::watched;
+use crate::support::watched;
 
 const RATES: [f64; 6] = [8_000.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 192_000.0];
 

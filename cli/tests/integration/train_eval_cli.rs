@@ -8,7 +8,7 @@ use std::path::Path;
 use pneuma_core::head::HeadModel;
 use pneuma_testkit::signals::{self, GlottalVowel, Vowel};
 
-mod support;
+use crate::support;
 use support::pneuma;
 
 fn f0_of(t: f64, phase: f64) -> f64 {
