@@ -7,7 +7,6 @@ use pneuma_core::engine::offline::{self, Rendered};
 use pneuma_core::engine::{Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
 
-
 use crate::generated_phrases::{sequence, SR};
 
 /// The lung counts as empty under this volume (as in `pneuma eval breaths`).

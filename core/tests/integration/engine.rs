@@ -11,7 +11,6 @@ use pneuma_core::rng::SeededRng;
 use pneuma_core::{ControlFrame, Phase};
 use pneuma_testkit::signals;
 
-
 use crate::generated_phrases::{phrase, sequence, SR};
 
 /// Runs the engine over `input` (one Vec per channel) in the given block sizes (cycled), then

@@ -1,0 +1,15 @@
+//! The dBFS scale of the levels the analysis reports, with its floor.
+
+/// Converts an RMS amplitude to dBFS with a floor of −120 dBFS.
+pub fn amplitude_to_db(rms: f64) -> f32 {
+    if rms <= 1e-6 {
+        -120.0
+    } else {
+        (20.0 * rms.log10()) as f32
+    }
+}
+
+/// The RMS amplitude of `x` (0 for no samples).
+pub fn rms(x: &[f32]) -> f64 {
+    (x.iter().map(|&v| v as f64 * v as f64).sum::<f64>() / x.len().max(1) as f64).sqrt()
+}
