@@ -4,6 +4,7 @@
 mod eval_pauses;
 mod eval_pitch;
 mod f0_baselines;
+mod silero_weights;
 mod train_default;
 mod train_voicing;
 
@@ -13,6 +14,7 @@ fn main() -> nice_plug_xtask::Result<()> {
         Some("eval-pauses") => std::process::exit(eval_pauses::main(&args[1..])),
         Some("eval-pitch") => std::process::exit(eval_pitch::main(&args[1..])),
         Some("train-voicing") => std::process::exit(train_voicing::main(&args[1..])),
+        Some("silero-weights") => std::process::exit(silero_weights::main(&args[1..])),
         Some("train-default") => std::process::exit(train_default::main(&args[1..])),
         _ => nice_plug_xtask::main(),
     }
