@@ -4,7 +4,6 @@
 
 pub mod analyze;
 pub mod audio_out;
-pub mod batch;
 pub mod eval;
 pub mod eval_breath_detect;
 pub mod eval_breath_sounds;

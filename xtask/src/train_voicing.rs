@@ -806,14 +806,14 @@ fn kind_notes(kind: ModelKind) -> [String; 2] {
     match kind {
         ModelKind::Logistic => [
             "Pneuma voicing model: logistic regression over the analyzer's voicing cues, with".into(),
-            "hysteresis thresholds on its score (format: core/src/analysis/voicing.rs).".into(),
+            "hysteresis thresholds on its score (format: core/src/analysis/voicing/model_file.rs).".into(),
         ],
         ModelKind::Trees(p) => [
             format!(
                 "Pneuma voicing model: {} gradient-boosted trees of depth {} (learning rate {}) over the",
                 p.rounds, p.depth, p.learning_rate
             ),
-            "analyzer's voicing cues, with hysteresis thresholds on its score (format: core/src/analysis/voicing.rs).".into(),
+            "analyzer's voicing cues, with hysteresis thresholds on its score (format: core/src/analysis/voicing/model_file.rs).".into(),
         ],
         ModelKind::Hybrid(p) => [
             format!(
@@ -823,7 +823,7 @@ fn kind_notes(kind: ModelKind) -> [String; 2] {
                 p.depth
             ),
             format!(
-                "boosted from its score (learning rate {}), with hysteresis thresholds (format: core/src/analysis/voicing.rs).",
+                "boosted from its score (learning rate {}), with hysteresis thresholds (format: core/src/analysis/voicing/model_file.rs).",
                 p.learning_rate
             ),
         ],

@@ -8,8 +8,11 @@
 
 use super::biquad::{Biquad, HighPass};
 use super::clock::FrameClock;
-use super::config::{check_sample_rate, AnalysisConfig, AnalysisError};
+use super::config::{check_sample_rate, AnalysisConfig};
 use super::decimator::{factor_for, Decimator};
+use super::error::AnalysisError;
+use super::frame::FeatureFrame;
+use super::level::amplitude_to_db;
 use super::noise_floor::NoiseFloor;
 use super::pitch::{FrameAnalysis, NsdfPitch};
 use super::speaker_norm::SpeakerNorm;
@@ -17,7 +20,6 @@ use super::tracking::Tracker;
 use super::voicing::{
     period_jump_octaves, VoicingEvidence, VoicingFeatures, VoicingRule, TRACK_CAP_S,
 };
-use super::{amplitude_to_db, FeatureFrame};
 
 /// Input samples beyond this magnitude are clamped for analysis (+60 dBFS).
 const INPUT_LIMIT: f32 = 1000.0;
