@@ -4,9 +4,19 @@
 mod eval_pauses;
 mod eval_pitch;
 mod f0_baselines;
+mod podcast;
 mod silero_weights;
 mod train_default;
+mod train_speech;
 mod train_voicing;
+
+/// The workspace's root folder.
+pub fn workspace_root() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("xtask lives in the workspace")
+        .to_path_buf()
+}
 
 fn main() -> nice_plug_xtask::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -15,6 +25,7 @@ fn main() -> nice_plug_xtask::Result<()> {
         Some("eval-pitch") => std::process::exit(eval_pitch::main(&args[1..])),
         Some("train-voicing") => std::process::exit(train_voicing::main(&args[1..])),
         Some("silero-weights") => std::process::exit(silero_weights::main(&args[1..])),
+        Some("train-speech") => std::process::exit(train_speech::main(&args[1..])),
         Some("train-default") => std::process::exit(train_default::main(&args[1..])),
         _ => nice_plug_xtask::main(),
     }

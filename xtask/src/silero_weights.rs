@@ -7,6 +7,7 @@
 //! writing and fails on any difference.
 
 use std::path::{Path, PathBuf};
+
 use std::process::Command;
 
 use pneuma_core::speech::weights::{SileroWeights, TENSORS};
@@ -43,15 +44,8 @@ pub fn main(args: &[String]) -> i32 {
     }
 }
 
-fn workspace_root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("xtask lives in the workspace")
-        .to_path_buf()
-}
-
 fn run(check: bool) -> Result<i32, String> {
-    let root = workspace_root();
+    let root = crate::workspace_root();
     let onnx_path = installed_onnx(&root.join(VENV))?;
     let onnx = std::fs::read(&onnx_path).map_err(|e| format!("{}: {e}", onnx_path.display()))?;
     let weights = weights_from_onnx(&onnx)?;

@@ -8,8 +8,8 @@
 
 use super::cues::Cues;
 use super::model::{silero_logit, SpeechFeatures, SpeechModel};
-use super::resample::ToSileroRate;
-use super::silero::{Silero, CHUNK, SILERO_RATE_HZ};
+use super::resample::{SourceClock, ToSileroRate};
+use super::silero::{Silero, CHUNK};
 
 /// What the decision knows of one analysis frame.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -105,12 +105,9 @@ impl SpeechDetector {
         }
     }
 
-    /// The span of input time chunk `index` covers, seconds from the stream start (its first
-    /// and one past its last 16 kHz sample, as the resampler places them).
-    pub fn chunk_span_s(&self, index: u64, sample_rate_hz: f64) -> (f64, f64) {
-        let first = (index * CHUNK as u64) as f64;
-        let at = |n: f64| self.resampler.source_position(n) / sample_rate_hz;
-        (at(first), at(first + CHUNK as f64))
+    /// Where the 16 kHz samples the chunks are made of lie in the input stream.
+    pub fn clock(&self) -> SourceClock {
+        self.resampler.clock()
     }
 
     /// Seconds of input between the end of a chunk and the moment it completes (the
@@ -119,6 +116,3 @@ impl SpeechDetector {
         self.resampler.latency_s()
     }
 }
-
-/// Length of one chunk, seconds.
-pub const CHUNK_S: f64 = CHUNK as f64 / SILERO_RATE_HZ;

@@ -12,6 +12,10 @@
 //!   and singing Silero takes for speech.
 //! - [`detector`]: the three together, fed the stream's mono samples and its analysis frames:
 //!   a [`SpeechFrame`] per frame.
+//! - [`judge`]: a span of sound (a tracker phrase, a Silero segment) is speech when the mean
+//!   speech probability of its first half second reaches the model's threshold.
+//! - [`segments`]: Silero's segments (the package's hysteresis) judged that way: the frame
+//!   decision the engine reports.
 //!
 //! Everything is causal, allocation-free after `new`, and depends on the sample sequence only
 //! (chunk boundaries count from the stream start), so any block partition gives the same
@@ -19,12 +23,16 @@
 
 pub mod cues;
 pub mod detector;
+pub mod judge;
 pub mod model;
 pub mod resample;
+pub mod segments;
 pub mod silero;
 pub mod weights;
 
 pub use detector::{SpeechDetector, SpeechFrame};
+pub use judge::{RecentSpeech, SpanJudge, JUDGE_WINDOW_S};
+pub use segments::SegmentTrack;
 pub use model::{SpeechFeatures, SpeechModel, SpeechModelError, SPEECH_FEATURES};
 
 use crate::analysis::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};

@@ -105,6 +105,28 @@ impl Fractional {
     }
 }
 
+/// Where the resampler's output samples lie in the input stream.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SourceClock {
+    step: f64,
+    factor: f64,
+    delay_samples: f64,
+    sample_rate_hz: f64,
+}
+
+impl SourceClock {
+    /// The input position (samples from the stream start, fractional) of output sample `n`.
+    pub fn position(&self, n: f64) -> f64 {
+        // Decimator output j is centred on input (j + 1)·D − 1 − its group delay.
+        n * self.step * self.factor + (self.factor - 1.0) - self.delay_samples
+    }
+
+    /// The input time of output sample `n`, seconds from the stream start.
+    pub fn seconds(&self, n: u64) -> f64 {
+        self.position(n as f64) / self.sample_rate_hz
+    }
+}
+
 /// A stream at any rate to 16 kHz. See the module docs.
 #[derive(Debug, Clone)]
 pub struct ToSileroRate {
@@ -140,12 +162,17 @@ impl ToSileroRate {
     /// The position in the input stream (samples from its start, fractional) that 16 kHz
     /// output sample `n` stands for.
     pub fn source_position(&self, n: f64) -> f64 {
-        let stage = match &self.fractional {
-            Some(f) => n * f.step,
-            None => n,
-        };
-        // Decimator output j is centred on input (j + 1)·D − 1 − its group delay.
-        stage * self.factor as f64 + (self.factor - 1) as f64 - self.decimator.delay_samples()
+        self.clock().position(n)
+    }
+
+    /// The map from output samples to input positions, to keep apart from the resampler.
+    pub fn clock(&self) -> SourceClock {
+        SourceClock {
+            step: self.fractional.as_ref().map_or(1.0, |f| f.step),
+            factor: self.factor as f64,
+            delay_samples: self.decimator.delay_samples(),
+            sample_rate_hz: self.sample_rate_hz,
+        }
     }
 
     /// Seconds of input from the moment 16 kHz output sample `n` stands for until it is
@@ -171,6 +198,28 @@ impl ToSileroRate {
             }
         }
     }
+}
+
+/// A whole signal at `sample_rate_hz` to 16 kHz, aligned: output sample `n` stands for input
+/// time `n / 16 kHz` (within half an output sample), `⌊len · 16 kHz / rate⌉` samples long. For
+/// offline tools (allocates).
+pub fn resample_to_16k(x: &[f32], sample_rate_hz: f64) -> Vec<f32> {
+    let mut r = ToSileroRate::new(sample_rate_hz);
+    let ratio = SILERO_RATE_HZ / sample_rate_hz;
+    let want = (x.len() as f64 * ratio).round() as usize;
+    // Output n stands for input source_position(n): skip the outputs before input 0.
+    let skip = (-r.source_position(0.0) * ratio).round().max(0.0) as usize;
+    let flush = vec![
+        0.0;
+        (r.latency_s() * sample_rate_hz).ceil() as usize
+            + 2 * SILERO_RATE_HZ as usize / 1000
+    ];
+    let mut out = Vec::with_capacity(want + skip + 64);
+    r.process(x, |y| out.push(y));
+    r.process(&flush, |y| out.push(y));
+    out.drain(..skip.min(out.len()));
+    out.resize(want, 0.0);
+    out
 }
 
 #[cfg(test)]
@@ -259,6 +308,24 @@ mod tests {
             assert!(
                 (at - k as f64).abs() < 0.05 * rate / 16_000.0 + 0.5,
                 "{rate}: {at} vs {k}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_whole_signal_comes_out_aligned_and_as_long_as_its_duration() {
+        for rate in [8_000.0, 20_000.0, 44_100.0, 48_000.0] {
+            let k = (0.1 * rate) as usize;
+            let mut x = vec![0.0f32; (0.25 * rate) as usize];
+            x[k] = 1.0;
+            let y = resample_to_16k(&x, rate);
+            assert_eq!(y.len(), 4000, "{rate}");
+            let peak = (0..y.len())
+                .max_by(|&a, &b| y[a].abs().total_cmp(&y[b].abs()))
+                .unwrap_or(0);
+            assert!(
+                (peak as f64 - 1600.0).abs() <= 1.0,
+                "{rate}: click at {peak}"
             );
         }
     }
