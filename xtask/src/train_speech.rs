@@ -12,10 +12,10 @@ use std::path::PathBuf;
 
 use pneuma_core::speech::SpeechModel;
 
-use crate::podcast::fit::{fit, THRESHOLD};
-use crate::podcast::recipe::{self, Class, Episode, EPISODES, SEED};
-use crate::podcast::sources::MUSIC;
-use crate::podcast::{self, fit_rows, label_frame, python, Exclusion};
+use pneuma_eval::podcast::fit::{fit, THRESHOLD};
+use pneuma_eval::podcast::recipe::{self, Class, Episode, EPISODES, SEED};
+use pneuma_eval::podcast::sources::MUSIC;
+use pneuma_eval::podcast::{self, fit_rows, label_frame, python, Exclusion};
 
 const OUTPUT: &str = "assets/models/speech.txt";
 

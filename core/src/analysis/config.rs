@@ -84,10 +84,11 @@ impl Default for AnalysisConfig {
 impl AnalysisConfig {
     /// Sets one setting from its name and a text value (for command-line overrides such as
     /// `voicing_on=0.8`).
-    pub fn set(&mut self, name: &str, value: &str) -> Result<(), String> {
-        let v: f64 = value
-            .parse()
-            .map_err(|_| format!("{name}: {value:?} is not a number"))?;
+    pub fn set(&mut self, name: &str, value: &str) -> Result<(), AnalysisError> {
+        let v: f64 = value.parse().map_err(|_| AnalysisError::NotANumber {
+            name: name.to_string(),
+            value: value.to_string(),
+        })?;
         match name {
             "frame_rate_hz" => self.frame_rate_hz = v,
             "f0_min_hz" => self.f0_min_hz = v as f32,
@@ -112,7 +113,7 @@ impl AnalysisConfig {
                 }
                 self.voicing_model = self.voicing_model.with_thresholds(on, off)?;
             }
-            _ => return Err(format!("unknown analysis setting {name:?}")),
+            _ => return Err(AnalysisError::UnknownSetting(name.to_string())),
         }
         Ok(())
     }
@@ -272,5 +273,48 @@ mod tests {
         assert!(check_sample_rate(192_000.0).is_ok());
         assert!(check_sample_rate(768_000.0).is_ok());
         assert!(check_sample_rate(768_001.0).is_err());
+    }
+
+    #[test]
+    fn the_string_setter_names_what_is_wrong() {
+        use crate::analysis::{InvalidVoicingModel, VoicingModelError};
+        let mut c = AnalysisConfig::default();
+        assert_eq!(c.set("f0_min_hz", "60"), Ok(()));
+        assert_eq!(c.f0_min_hz, 60.0);
+        let e = c.set("f0_min_hz", "sixty").unwrap_err();
+        assert_eq!(
+            e,
+            AnalysisError::NotANumber {
+                name: "f0_min_hz".into(),
+                value: "sixty".into()
+            }
+        );
+        assert_eq!(e.to_string(), "f0_min_hz: \"sixty\" is not a number");
+        let e = c.set("f0_minimum", "60").unwrap_err();
+        assert_eq!(e, AnalysisError::UnknownSetting("f0_minimum".into()));
+        assert_eq!(e.to_string(), "unknown analysis setting \"f0_minimum\"");
+        // The thresholds go through the model, which refuses `off` above `on`.
+        c.set("voicing_threshold_on", "1").unwrap();
+        c.set("voicing_threshold_off", "0.5").unwrap();
+        assert_eq!(
+            (
+                c.voicing_model.threshold(false),
+                c.voicing_model.threshold(true)
+            ),
+            (1.0, 0.5)
+        );
+        let e = c.set("voicing_threshold_off", "2").unwrap_err();
+        assert_eq!(
+            e,
+            AnalysisError::VoicingModel(VoicingModelError::Invalid(
+                InvalidVoicingModel::ThresholdOrder { on: 1.0, off: 2.0 }
+            ))
+        );
+        assert_eq!(e.to_string(), "threshold_off 2 lies above threshold_on 1");
+        assert_eq!(
+            c.voicing_model.threshold(true),
+            0.5,
+            "a refused value changes nothing"
+        );
     }
 }

@@ -3,6 +3,8 @@
 
 use thiserror::Error;
 
+use super::voicing::VoicingModelError;
+
 /// Errors of the analysis area; each message says what to change.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum AnalysisError {
@@ -44,6 +46,21 @@ pub enum AnalysisError {
         /// Allowed range, in words.
         range: &'static str,
     },
+    /// A text value given to [`super::AnalysisConfig::set`] that is not a number.
+    #[error("{name}: {value:?} is not a number")]
+    NotANumber {
+        /// Name of the setting.
+        name: String,
+        /// Text given.
+        value: String,
+    },
+    /// A name given to [`super::AnalysisConfig::set`] that is no analysis setting.
+    #[error("unknown analysis setting {0:?}")]
+    UnknownSetting(String),
+    /// Voicing thresholds set that make no model (`voicing_threshold_off` above
+    /// `voicing_threshold_on`, or not finite).
+    #[error(transparent)]
+    VoicingModel(#[from] VoicingModelError),
     /// `process` was called before `prepare`.
     #[error("the analyzer is not prepared: call prepare(sample_rate, max_block) first")]
     NotPrepared,

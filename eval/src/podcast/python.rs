@@ -1,4 +1,4 @@
-//! The Python side of the podcast evaluation: `xtask/python/speech_baselines.py` in one worker
+//! The Python side of the podcast evaluation: `eval/python/speech_baselines.py` in one worker
 //! process (the model loads once), for Silero VAD in onnxruntime (the baseline) and Praat's
 //! pitch through parselmouth (styletalk's reference voicing). It needs the virtual environment
 //! [`VENV_PYTHON`] that `.ci/run` makes (the command is in [`INSTALL`]).
