@@ -181,6 +181,28 @@ pub fn band_noise(
     y.into_iter().map(|v| (g * v) as f32).collect()
 }
 
+/// 1/f (pink) noise from white noise: Paul Kellet's filter, one white sample in, one pink out.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PinkFilter {
+    b: [f64; 7],
+}
+
+impl PinkFilter {
+    /// The next pink sample for white sample `w`.
+    pub fn step(&mut self, w: f64) -> f64 {
+        let b = &mut self.b;
+        b[0] = 0.99886 * b[0] + w * 0.0555179;
+        b[1] = 0.99332 * b[1] + w * 0.0750759;
+        b[2] = 0.96900 * b[2] + w * 0.1538520;
+        b[3] = 0.86650 * b[3] + w * 0.3104856;
+        b[4] = 0.55000 * b[4] + w * 0.5329522;
+        b[5] = -0.7616 * b[5] - w * 0.0168980;
+        let y = b[..6].iter().sum::<f64>() + b[6] + w * 0.5362;
+        b[6] = w * 0.115926;
+        y
+    }
+}
+
 /// A speech-like test signal for benchmarks: a jittered glottal /a/ in 1.5 s phrases separated
 /// by 0.5 s pauses, f0 wandering 100–200 Hz, with white noise `snr_db` under it.
 pub fn phrases_with_pauses(sample_rate_hz: f64, length_s: f64, snr_db: f64, seed: u64) -> Vec<f32> {

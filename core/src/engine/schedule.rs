@@ -110,11 +110,6 @@ impl<T: Copy> Queue<T> {
         self.items.iter()
     }
 
-    /// The items, oldest first, to change in place.
-    pub(crate) fn iter_mut(&mut self) -> impl Iterator<Item = &mut T> {
-        self.items.iter_mut()
-    }
-
     pub(crate) fn front(&self) -> Option<&T> {
         self.items.front()
     }

@@ -32,8 +32,8 @@ pub mod weights;
 
 pub use detector::{SpeechDetector, SpeechFrame};
 pub use judge::{RecentSpeech, SpanJudge, JUDGE_WINDOW_S};
-pub use segments::SegmentTrack;
 pub use model::{SpeechFeatures, SpeechModel, SpeechModelError, SPEECH_FEATURES};
+pub use segments::SegmentTrack;
 
 use crate::analysis::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
 

@@ -55,6 +55,9 @@ pub enum SpeechModelError {
         /// What is wrong.
         message: String,
     },
+    /// A number that is not allowed where it stands.
+    #[error("speech model: {0}; regenerate the file with `cargo xtask train-speech`")]
+    Invalid(String),
     /// The file ended before a required line.
     #[error("speech model: the file ends before {missing}; regenerate the file with `cargo xtask train-speech`")]
     Truncated {
@@ -88,23 +91,24 @@ impl SpeechModel {
         weight: SpeechFeatures,
         bias: f32,
         threshold: f32,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, SpeechModelError> {
+        let invalid = |m: String| Err(SpeechModelError::Invalid(m));
         for (k, name) in SPEECH_FEATURES.iter().enumerate() {
             if !(mean[k].is_finite() && scale[k].is_finite() && weight[k].is_finite()) {
-                return Err(format!("feature {name}: every number must be finite"));
+                return invalid(format!("feature {name}: every number must be finite"));
             }
             if scale[k] <= 0.0 {
-                return Err(format!(
+                return invalid(format!(
                     "feature {name}: scale {} must be positive",
                     scale[k]
                 ));
             }
         }
         if !bias.is_finite() {
-            return Err(format!("bias {bias} must be finite"));
+            return invalid(format!("bias {bias} must be finite"));
         }
         if !(threshold > 0.0 && threshold < 1.0) {
-            return Err(format!("threshold {threshold} must lie between 0 and 1"));
+            return invalid(format!("threshold {threshold} must lie between 0 and 1"));
         }
         Ok(Self {
             mean,
@@ -195,7 +199,10 @@ impl SpeechModel {
         };
         let (_, bias) = keyed("bias")?;
         let (line, threshold) = keyed("threshold")?;
-        let model = Self::new(mean, scale, weight, bias, threshold).map_err(|m| bad(line, m))?;
+        let model = Self::new(mean, scale, weight, bias, threshold).map_err(|e| match e {
+            SpeechModelError::Invalid(m) => bad(line, m),
+            other => other,
+        })?;
         if let Some((line, l)) = lines.next() {
             return Err(bad(line, format!("unexpected line after threshold: `{l}`")));
         }

@@ -94,7 +94,12 @@ pub fn segments(probabilities: &[f32], n_samples: u64) -> Vec<(u64, u64)> {
     let mut h = Hysteresis::default();
     let mut raw = Vec::new();
     for (i, &p) in probabilities.iter().enumerate() {
-        if let Some(Edge::End { start, end, kept: true }) = h.step(i as u64, p) {
+        if let Some(Edge::End {
+            start,
+            end,
+            kept: true,
+        }) = h.step(i as u64, p)
+        {
             raw.push((start, end));
         }
     }
@@ -254,21 +259,33 @@ mod tests {
         p[30..40].fill(0.9);
         let n = 40 * C;
         let pad = samples(PAD_S);
-        assert_eq!(segments(&p, n), vec![(2 * C - pad, 12 * C + pad), (30 * C - pad, n)]);
+        assert_eq!(
+            segments(&p, n),
+            vec![(2 * C - pad, 12 * C + pad), (30 * C - pad, n)]
+        );
         // A quiet of three chunks (96 ms) does not end a segment.
         let mut q = vec![0.9f32; 20];
         q[8..11].fill(0.1);
         assert_eq!(segments(&q, 20 * C), vec![(0, 20 * C)]);
         // Step by step: the end is reported once the quiet has lasted four chunks (128 ms).
         let mut h = Hysteresis::default();
-        let edges: Vec<Edge> = [0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.0, 0.0, 0.0, 0.0, 0.0]
-            .iter()
-            .enumerate()
-            .filter_map(|(i, &p)| h.step(i as u64, p))
-            .collect();
+        let edges: Vec<Edge> = [
+            0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.0, 0.0, 0.0, 0.0, 0.0,
+        ]
+        .iter()
+        .enumerate()
+        .filter_map(|(i, &p)| h.step(i as u64, p))
+        .collect();
         assert_eq!(
             edges,
-            [Edge::Start(0), Edge::End { start: 0, end: 9 * C, kept: true }]
+            [
+                Edge::Start(0),
+                Edge::End {
+                    start: 0,
+                    end: 9 * C,
+                    kept: true
+                }
+            ]
         );
     }
 

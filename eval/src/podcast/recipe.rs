@@ -355,21 +355,8 @@ fn sung_frames(times: &[f64]) -> Vec<bool> {
 
 /// 1/f noise (Paul Kellet's filter of white noise).
 fn pink(rng: &mut SeededRng, n: usize) -> Vec<f32> {
-    let mut b = [0.0f64; 7];
-    (0..n)
-        .map(|_| {
-            let w = rng.normal();
-            b[0] = 0.99886 * b[0] + w * 0.0555179;
-            b[1] = 0.99332 * b[1] + w * 0.0750759;
-            b[2] = 0.96900 * b[2] + w * 0.1538520;
-            b[3] = 0.86650 * b[3] + w * 0.3104856;
-            b[4] = 0.55000 * b[4] + w * 0.5329522;
-            b[5] = -0.7616 * b[5] - w * 0.0168980;
-            let y = b[..6].iter().sum::<f64>() + b[6] + w * 0.5362;
-            b[6] = w * 0.115926;
-            y as f32
-        })
-        .collect()
+    let mut filter = pneuma_core::test_signals::PinkFilter::default();
+    (0..n).map(|_| filter.step(rng.normal()) as f32).collect()
 }
 
 /// A steady harmonic drone.
