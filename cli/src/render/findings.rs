@@ -147,7 +147,7 @@ mod tests {
         assert!(!energy(&x, &silent).antiphase());
         assert!(!energy(&silent, &silent).antiphase());
         let mut mono = ChannelEnergy::default();
-        mono.add(&[x.clone()], x.len());
+        mono.add(std::slice::from_ref(&x), x.len());
         assert!(!mono.antiphase());
     }
 

@@ -38,8 +38,8 @@ pub fn fit(rows: &[Row]) -> Option<SpeechModel> {
     // Standardisation: weighted mean and SD (each class half).
     let mut mean = [0.0f64; N_SPEECH_FEATURES];
     for r in rows {
-        for k in 0..N_SPEECH_FEATURES {
-            mean[k] += weight(r) * f64::from(r.x[k]);
+        for (m, x) in mean.iter_mut().zip(r.x) {
+            *m += weight(r) * f64::from(x);
         }
     }
     let mut var = [0.0f64; N_SPEECH_FEATURES];
@@ -106,8 +106,9 @@ fn solve<const D: usize>(mut a: [[f64; D]; D], mut b: [f64; D]) -> Option<[f64; 
         b.swap(col, pivot);
         for row in col + 1..D {
             let f = a[row][col] / a[col][col];
-            for k in col..D {
-                a[row][k] -= f * a[col][k];
+            let pivot_row = a[col];
+            for (v, p) in a[row][col..].iter_mut().zip(&pivot_row[col..]) {
+                *v -= f * p;
             }
             b[row] -= f * b[col];
         }

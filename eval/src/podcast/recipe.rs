@@ -283,8 +283,8 @@ fn db_gain(db: f64) -> f32 {
 fn fade(x: &mut [f32], in_s: f64, out_s: f64) {
     let (a, b) = ((in_s * RATE_HZ) as usize, (out_s * RATE_HZ) as usize);
     let n = x.len();
-    for i in 0..a.min(n) {
-        x[i] *= i as f32 / (a - 1).max(1) as f32;
+    for (i, v) in x.iter_mut().take(a.min(n)).enumerate() {
+        *v *= i as f32 / (a - 1).max(1) as f32;
     }
     for i in 0..b.min(n) {
         x[n - 1 - i] *= i as f32 / (b - 1).max(1) as f32;
@@ -721,10 +721,7 @@ pub fn speakers(clips: &[SpeechClip]) -> Vec<String> {
 }
 
 /// The library from the shared data folder.
-pub fn library(
-    data: &std::path::Path,
-    praat: &mut dyn FnMut(&[f32]) -> Result<Vec<(f64, f64)>, String>,
-) -> Result<Library, String> {
+pub fn library(data: &std::path::Path, praat: &mut sources::Praat) -> Result<Library, String> {
     let clips = sources::clips()
         .into_iter()
         .map(|c| sources::speech_clip(data, c, praat))
