@@ -6,7 +6,7 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use pneuma_core::speech::silero::{Silero, CHUNK};
 use pneuma_core::speech::{SpeechDetector, SpeechModel};
-use pneuma_core::test_signals;
+use pneuma_testkit::signals as test_signals;
 
 fn bench(c: &mut Criterion) {
     let x16 = test_signals::phrases_with_pauses(16_000.0, 1.0, 30.0, 1);

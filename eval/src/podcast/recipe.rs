@@ -355,7 +355,7 @@ fn sung_frames(times: &[f64]) -> Vec<bool> {
 
 /// 1/f noise (Paul Kellet's filter of white noise).
 fn pink(rng: &mut SeededRng, n: usize) -> Vec<f32> {
-    let mut filter = pneuma_core::test_signals::PinkFilter::default();
+    let mut filter = pneuma_core::rng::PinkFilter::default();
     (0..n).map(|_| filter.step(rng.normal()) as f32).collect()
 }
 
@@ -721,7 +721,7 @@ pub fn speakers(clips: &[SpeechClip]) -> Vec<String> {
 }
 
 /// The library from the shared data folder.
-pub fn library(data: &std::path::Path, praat: &mut sources::Praat) -> Result<Library, String> {
+pub fn library(data: &std::path::Path, praat: &mut sources::Praat<'_>) -> Result<Library, String> {
     let clips = sources::clips()
         .into_iter()
         .map(|c| sources::speech_clip(data, c, praat))

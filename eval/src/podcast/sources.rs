@@ -21,7 +21,7 @@ use std::path::Path;
 use pneuma_core::speech::resample::resample_to_16k;
 
 /// Praat's pitch track of a 16 kHz signal: `(time_s, f0_hz)` frames, f0 0 when unvoiced.
-pub type Praat = dyn FnMut(&[f32]) -> Result<Vec<(f64, f64)>, String>;
+pub type Praat<'a> = dyn FnMut(&[f32]) -> Result<Vec<(f64, f64)>, String> + 'a;
 
 /// The mixing rate, Hz.
 pub const RATE_HZ: f64 = 16_000.0;
@@ -237,7 +237,7 @@ pub fn read_f0_csv(text: &str) -> Vec<(f64, f64)> {
 
 /// Loads clip `name` from `data` (the shared data folder) with its truth; `praat` gives Praat's
 /// `(time_s, f0_hz)` frames of a 16 kHz signal (for styletalk).
-pub fn speech_clip(data: &Path, name: &str, praat: &mut Praat) -> Result<SpeechClip, String> {
+pub fn speech_clip(data: &Path, name: &str, praat: &mut Praat<'_>) -> Result<SpeechClip, String> {
     let set = if KEELE.contains(&name) {
         "keele"
     } else if PTDB.contains(&name) {
