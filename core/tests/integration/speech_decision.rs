@@ -212,7 +212,7 @@ fn speech_like_phrases_over_a_drone_16_db_under_keep_their_breaths() {
         let (on, summary) = render(mode, &audio);
         let mut c = config(mode);
         c.placement.speech_only = false;
-        let (off, _) = render_with(&c, &[audio.clone()], &[512]);
+        let (off, _) = render_with(&c, std::slice::from_ref(&audio), &[512]);
         // The tracker merges the first two phrases over the drone (0.5 s pause): that is the
         // tracker's, with or without the decision. The decision takes no breath away offline
         // and live. With the plugin's lookahead it may take one: the merged first phrase
@@ -268,7 +268,7 @@ fn music_singing_and_noise_get_no_breath_in_any_mode() {
         // With the decision off the same signal gets breaths (what the decision prevents).
         let mut off = config(Mode::Offline);
         off.placement.speech_only = false;
-        let (r, _) = render_with(&off, &[audio.clone()], &[512]);
+        let (r, _) = render_with(&off, std::slice::from_ref(&audio), &[512]);
         assert!(
             !r.breaths.is_empty(),
             "{name}: no breath even without the decision"
@@ -328,14 +328,14 @@ fn any_block_partition_gives_the_same_output_with_the_decision_in_place() {
         .collect();
     for mode in MODES {
         let c = config(mode);
-        let (reference, summary) = render_with(&c, &[audio.clone()], &[4096]);
+        let (reference, summary) = render_with(&c, std::slice::from_ref(&audio), &[4096]);
         assert!(!reference.breaths.is_empty(), "{mode:?}");
         assert!(
             summary.speech_phrases < summary.phrases,
             "{mode:?}: {summary:?}"
         );
         for blocks in [vec![1, 2, 3, 700], vec![37], random.clone()] {
-            let (r, s) = render_with(&c, &[audio.clone()], &blocks);
+            let (r, s) = render_with(&c, std::slice::from_ref(&audio), &blocks);
             assert_eq!(
                 r.audio,
                 reference.audio,
