@@ -729,7 +729,7 @@ fn bad_headers_fail_with_their_reason() {
         (
             "text",
             b"just some text".to_vec(),
-            vec!["not a readable WAV file", "instead of 'RIFF'"],
+            vec!["is not audio: it holds text (\"just some text…\")"],
         ),
         ("tiny", b"RIFF\x04\0".to_vec(), vec!["6 bytes long"]),
         (

@@ -135,9 +135,20 @@ impl Args {
     }
 }
 
-/// The input files of `args`: files as given, folders expanded to the audio files inside
-/// (by extension, see [`pneuma_io::AUDIO_EXTENSIONS`]), sorted by name.
-pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+/// One input of a render: a file to render, or a file found in a folder that is skipped, with
+/// why (not audio, or a format Pneuma does not read; see [`pneuma_io::skip_reason`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Input {
+    /// The file.
+    pub path: PathBuf,
+    /// Why it is not rendered; `None` to render it.
+    pub skip: Option<String>,
+}
+
+/// The inputs of `args`: files as given (each rendered, so a file that is not audio fails with
+/// why), folders expanded to every file directly inside them, sorted by name, hidden files
+/// (`.DS_Store`) left out; a folder's file that is not audio Pneuma reads is listed as skipped.
+pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<Input>, String> {
     let mut out = Vec::new();
     for p in args {
         if p.is_dir() {
@@ -146,22 +157,27 @@ pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
                 .filter_map(|e| e.ok().map(|e| e.path()))
                 .filter(|f| {
                     f.is_file()
-                        && f.file_name().and_then(|n| n.to_str()).is_some_and(|n| {
-                            !n.starts_with('.') && pneuma_io::audio_stem(n).is_some()
-                        })
+                        && f.file_name()
+                            .is_some_and(|n| !n.to_string_lossy().starts_with('.'))
                 })
                 .collect();
             if found.is_empty() {
                 return Err(format!(
-                    "{} holds no audio files (.{}); give files or a folder of them",
+                    "{} holds no files; give audio files (.{}) or a folder of them",
                     p.display(),
                     pneuma_io::AUDIO_EXTENSIONS.join(", .")
                 ));
             }
             found.sort();
-            out.extend(found);
+            out.extend(found.into_iter().map(|path| Input {
+                skip: pneuma_io::skip_reason(&path),
+                path,
+            }));
         } else {
-            out.push(p.clone());
+            out.push(Input {
+                path: p.clone(),
+                skip: None,
+            });
         }
     }
     Ok(out)
