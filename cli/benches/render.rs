@@ -55,6 +55,7 @@ fn bench(c: &mut Criterion) {
         seed: 1,
         frame_rate: 120.0,
         bvh: false,
+        midi: false,
         no_plot: false,
         no_overwrite: false,
         no_progress: true,

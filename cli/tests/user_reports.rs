@@ -222,3 +222,144 @@ fn a_failed_render_leaves_no_folder_it_created() {
     assert!(!o.status.success());
     assert!(dir.path().join("kept").is_dir());
 }
+
+/// The lines of `read_midi.py`: the header line and `(time_s, channel, controller, value)`.
+fn read_midi(python: &Path, file: &Path) -> (String, Vec<(f64, u8, u8, u8)>) {
+    let text = support::python_tool(python, "read_midi.py", &[file]);
+    let mut lines = text.lines();
+    let head = lines.next().expect("header line").to_owned();
+    let ccs = lines
+        .map(|l| {
+            let f: Vec<f64> = l.split(' ').map(|x| x.parse().expect("number")).collect();
+            (f[0], f[1] as u8, f[2] as u8, f[3] as u8)
+        })
+        .collect();
+    (head, ccs)
+}
+
+#[test]
+fn render_midi_is_a_standard_midi_file_of_the_controls() {
+    let Some(python) = support::python_tools("render_midi_is_a_standard_midi_file_of_the_controls")
+    else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("temp");
+    let input = dir.path().join("two.wav");
+    write_wav(&input, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    let out = dir.path().join("out");
+    assert_ok(&render(&input, &out, &["--no-plot", "--midi"]));
+    let (head, ccs) = read_midi(&python, &out.join("two.mid"));
+    assert_eq!(
+        head, "0 960 500000 1",
+        "format 0, 960 ticks, 120 BPM, one track"
+    );
+    // The lung (CC 2) as the controls CSV has it at the same time, 0..1 to 0..127.
+    let csv = std::fs::read_to_string(out.join("two.controls.csv")).expect("csv");
+    let rows: Vec<(f64, f64)> = csv
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (f[0].parse().expect("time"), f[6].parse().expect("lung"))
+        })
+        .collect();
+    let lung: Vec<_> = ccs.iter().filter(|c| c.2 == 2).collect();
+    assert!(lung.len() > 10, "the lung moves: {}", lung.len());
+    for &&(t, channel, _, value) in &lung {
+        assert_eq!(channel, 0);
+        let (_, l) = rows
+            .iter()
+            .find(|(rt, _)| (rt - t).abs() < 0.5 / 120.0)
+            .unwrap_or_else(|| panic!("no controls row at {t} s"));
+        let want = l * 127.0;
+        assert!(
+            (f64::from(value) - want).abs() <= 1.0,
+            "lung {l} at {t} s sent as {value}"
+        );
+    }
+    // Every mapped controller is there, the last message within the audio.
+    let controllers: std::collections::BTreeSet<u8> = ccs.iter().map(|c| c.2).collect();
+    assert_eq!(
+        controllers.into_iter().collect::<Vec<_>>(),
+        vec![2, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25]
+    );
+    let length_s = two_phrases().len() as f64 / 16_000.0;
+    assert!(ccs.last().expect("messages").0 <= length_s);
+}
+
+#[test]
+fn speak_writes_the_midi_file_too() {
+    if !support::tool_or_skip("espeak-ng", "--version", "speak_writes_the_midi_file_too") {
+        return;
+    }
+    let Some(python) = support::python_tools("speak_writes_the_midi_file_too") else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("temp");
+    let o = pneuma(&[
+        "speak",
+        "One breath group. And another one after it.",
+        "-o",
+        dir.path().to_str().expect("utf-8"),
+        "--midi",
+        "--no-plot",
+        "-q",
+    ]);
+    assert_ok(&o);
+    let (head, ccs) = read_midi(&python, &dir.path().join("speech.mid"));
+    assert_eq!(head, "0 960 500000 1");
+    assert!(
+        ccs.iter().any(|c| c.2 == 24 && c.3 == 127),
+        "speaking gate opens"
+    );
+    assert!(
+        ccs.iter().filter(|c| c.2 == 2).count() > 5,
+        "the lung moves"
+    );
+}
+
+#[test]
+fn mu_law_and_a_law_wav_render_as_their_16_bit_twins() {
+    if !support::have_ffmpeg("mu_law_and_a_law_wav_render_as_their_16_bit_twins") {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp");
+    let input = dir.path().join("call.wav");
+    write_wav(&input, (8_000, 1, 16, false), &two_phrases(), 1.0);
+    for codec in ["pcm_mulaw", "pcm_alaw"] {
+        // The phone file, and ffmpeg's own decoding of it to 16-bit PCM.
+        let law = dir.path().join(format!("{codec}.wav"));
+        support::ffmpeg_encode(&input, &law, &["-ar", "8000", "-c:a", codec]);
+        let twin = dir.path().join(format!("{codec}_twin.wav"));
+        support::ffmpeg_encode(&law, &twin, &["-c:a", "pcm_s16le"]);
+        let (got, rate, channels) = support::read_audio(&law);
+        assert_eq!((rate, channels), (8_000, 1));
+        assert_eq!(
+            got,
+            support::samples(&twin),
+            "{codec}: decoded as ffmpeg does"
+        );
+        let out = dir.path().join(codec);
+        let o = pneuma(&[
+            "render",
+            law.to_str().expect("utf-8"),
+            "-o",
+            out.to_str().expect("utf-8"),
+            "--no-plot",
+        ]);
+        assert_ok(&o);
+        assert!(
+            stderr(&o).contains("(WAV, 8000 Hz, 1 ch, 16-bit)"),
+            "{}",
+            stderr(&o)
+        );
+        assert_ok(&render(&twin, &out, &["--no-plot"]));
+        let rendered = support::samples(&out.join(format!("{codec}.wav")));
+        assert_eq!(
+            rendered,
+            support::samples(&out.join(format!("{codec}_twin.wav"))),
+            "{codec}: the render equals the 16-bit twin's"
+        );
+        assert!(!breaths_csv(&out.join(format!("{codec}.breaths.csv"))).is_empty());
+    }
+}

@@ -21,6 +21,7 @@
 //! depend on it (the engine takes samples, not files).
 
 pub mod decode;
+pub mod g711;
 pub mod wav;
 
 use std::io::{Cursor, Read};

@@ -14,6 +14,8 @@ use std::path::{Path, PathBuf};
 
 use pneuma_core::analysis::FrameClock;
 use pneuma_core::encode::breaths_csv;
+use pneuma_core::encode::midi_cc::CcMap;
+use pneuma_core::encode::midi_file::MidiFileSink;
 use pneuma_core::encode::sink::{FrameSink, TextSink};
 use pneuma_core::engine::offline::{self, TailFrames};
 use pneuma_core::{BreathEvent, ControlFrame};
@@ -100,6 +102,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         controls_sink(outputs.files.as_ref())?,
         bvh_sink(outputs.files.as_ref(), frames_total, frame_rate_hz)?,
         Kept::new(frames_total),
+        midi_sink(outputs.files.as_ref())?,
     );
     let channels = info.channels as usize;
     let mut interleaved = Vec::with_capacity(BLOCK_FRAMES * channels);
@@ -113,12 +116,13 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
             read_block(&mut source, &mut interleaved, planar, max)
         },
         &mut sinks,
-        |(controls, bvh, _), planar, range| {
+        |(controls, bvh, _, midi), planar, range| {
             check_text_sinks(controls, bvh, outputs.files.as_ref())?;
+            check_midi(midi, outputs.files.as_ref())?;
             pass.write(planar, range)
         },
     )?;
-    let (controls, bvh, kept) = sinks;
+    let (controls, bvh, kept, midi) = sinks;
     let AudioPass {
         mut audio,
         envelope,
@@ -140,6 +144,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
                 audio,
                 controls,
                 bvh,
+                midi,
                 breaths: &breaths,
                 envelope,
                 plot_frames: &kept.plot,
@@ -188,6 +193,37 @@ fn bvh_sink(
     Ok(Some(
         TextSink::bvh(o, frames_total as usize, frame_rate_hz).map_err(out_err(path))?,
     ))
+}
+
+/// The MIDI file with `--midi`: the plugin's CC map, streaming into its file.
+fn midi_sink(files: Option<&FolderFiles>) -> Result<Option<MidiFileSink<Output>>, RenderError> {
+    let Some(path) = files.and_then(|f| f.midi.as_ref()) else {
+        return Ok(None);
+    };
+    let o = Output::create(path).map_err(out_err(path))?;
+    MidiFileSink::new(o, CcMap::default())
+        .map(Some)
+        .map_err(|e| midi_err(path, e))
+}
+
+/// A MIDI file's error as the render's.
+fn midi_err(path: &Path, e: pneuma_core::encode::midi_file::MidiFileError) -> RenderError {
+    use pneuma_core::encode::midi_file::MidiFileError;
+    match e {
+        MidiFileError::Io(source) => out_err(path)(source),
+        other => out_err(path)(std::io::Error::other(other.to_string())),
+    }
+}
+
+/// A failed write of the MIDI file stops the render.
+fn check_midi(
+    midi: &Option<MidiFileSink<Output>>,
+    files: Option<&FolderFiles>,
+) -> Result<(), RenderError> {
+    if let (Some(m), Some(path)) = (midi, files.and_then(|f| f.midi.as_ref())) {
+        m.check().map_err(out_err(path))?;
+    }
+    Ok(())
 }
 
 /// Reads the next block of `source` into the engine's planar buffers; the frames read.
@@ -296,6 +332,7 @@ struct Finished<'a> {
     audio: AudioSink,
     controls: TextSink<Output>,
     bvh: Option<TextSink<Output>>,
+    midi: Option<MidiFileSink<Output>>,
     breaths: &'a [BreathEvent],
     envelope: Envelope,
     plot_frames: &'a [ControlFrame],
@@ -340,6 +377,11 @@ fn commit_files(
     }
     if let (Some(o), Some(path)) = (done.bvh, &files.bvh) {
         let o = o.into_inner().map_err(out_err(path))?;
+        staged.push(staged_file(o, path)?);
+        written.push(path.clone());
+    }
+    if let (Some(m), Some(path)) = (done.midi, &files.midi) {
+        let o = m.finish().map_err(|e| midi_err(path, e))?;
         staged.push(staged_file(o, path)?);
         written.push(path.clone());
     }

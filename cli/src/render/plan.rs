@@ -87,6 +87,11 @@ pub struct Args {
     /// Also write `<stem>.bvh` (head and neck motion).
     #[arg(long)]
     pub bvh: bool,
+    /// Also write `<stem>.mid`: the MIDI CC lanes the plugin sends (its default map: CC 2 lung,
+    /// 16-18 head, 19-23 body, 24 speaking, 25 loudness; channel 1), as a Standard MIDI File
+    /// at 120 BPM so a DAW places each change at its second.
+    #[arg(long)]
+    pub midi: bool,
     /// Skip the plot.
     #[arg(long)]
     pub no_plot: bool,
@@ -263,6 +268,8 @@ pub struct FolderFiles {
     pub plot: Option<PathBuf>,
     /// `<stem>.bvh` with `--bvh`.
     pub bvh: Option<PathBuf>,
+    /// `<stem>.mid` with `--midi`.
+    pub midi: Option<PathBuf>,
     /// The marker files with `--markers` (cue points are inside the audio).
     pub markers: Vec<(MarkerKind, PathBuf)>,
 }
@@ -274,6 +281,7 @@ impl FolderFiles {
             .into_iter()
             .chain(&self.plot)
             .chain(&self.bvh)
+            .chain(&self.midi)
             .chain(self.markers.iter().map(|(_, p)| p))
     }
 }
@@ -326,6 +334,13 @@ fn check_stdout_options(args: &Args) -> Result<(), RenderError> {
         return Err(RenderError::Input(
             "-o - writes only the audio to standard output: drop --markers, or give an output \
              folder"
+                .into(),
+        ));
+    }
+    if args.to_stdout() && (args.midi || args.bvh) {
+        return Err(RenderError::Input(
+            "-o - writes only the audio to standard output: drop --midi and --bvh, or give an \
+             output folder"
                 .into(),
         ));
     }
@@ -460,6 +475,7 @@ impl OutputPlan {
             breaths: named("breaths.csv"),
             plot: (!args.no_plot).then(|| named("png")),
             bvh: args.bvh.then(|| named("bvh")),
+            midi: args.midi.then(|| named("mid")),
             markers: args
                 .markers
                 .iter()
