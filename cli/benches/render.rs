@@ -56,6 +56,7 @@ fn bench(c: &mut Criterion) {
         frame_rate: 120.0,
         bvh: false,
         midi: false,
+        bvh_fps: None,
         no_plot: false,
         no_overwrite: false,
         no_progress: true,

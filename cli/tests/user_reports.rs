@@ -363,3 +363,57 @@ fn mu_law_and_a_law_wav_render_as_their_16_bit_twins() {
         assert!(!breaths_csv(&out.join(format!("{codec}.breaths.csv"))).is_empty());
     }
 }
+
+#[test]
+fn the_bvh_is_person_sized_in_metres_at_the_asked_frame_rate() {
+    let Some(python) =
+        support::python_tools("the_bvh_is_person_sized_in_metres_at_the_asked_frame_rate")
+    else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("temp");
+    let input = dir.path().join("two.wav");
+    let audio = two_phrases();
+    write_wav(&input, (16_000, 1, 16, false), &audio, 1.0);
+    let length_s = audio.len() as f64 / 16_000.0;
+    for (fps, extra) in [(24.0, &["--bvh-fps", "24"][..]), (120.0, &[][..])] {
+        let out = dir.path().join(format!("fps{fps}"));
+        assert_ok(&render(
+            &input,
+            &out,
+            &[&["--no-plot", "--bvh"], extra].concat(),
+        ));
+        let text = support::python_tool(&python, "read_bvh.py", &[&out.join("two.bvh")]);
+        let first: Vec<f64> = text
+            .lines()
+            .next()
+            .expect("line")
+            .split(' ')
+            .map(|x| x.parse().expect("number"))
+            .collect();
+        let (frames, frame_time_s, height, rows) = (first[0], first[1], first[2], first[3]);
+        assert_eq!(frames, rows, "{fps}: the header's count is the rows'");
+        assert!(
+            (frame_time_s - 1.0 / fps).abs() < 1e-7,
+            "{fps}: {frame_time_s}"
+        );
+        assert!((height - 1.8).abs() < 1e-9, "1.8 m tall: {height}");
+        // Frames × frame time is the audio's duration (within a frame).
+        let duration_s = frames * frame_time_s;
+        assert!(
+            (duration_s - length_s).abs() <= 1.0 / fps + 1.0 / 120.0,
+            "{fps} fps: {duration_s} s of motion for {length_s} s of audio"
+        );
+        assert_eq!(text.lines().nth(1), Some("Hips Chest Neck Head"));
+    }
+    let o = render(
+        &input,
+        &dir.path().join("bad"),
+        &["--bvh", "--bvh-fps", "0"],
+    );
+    assert!(
+        stderr(&o).contains("--bvh-fps 0 fps is out of range: use 1 to 1000 fps"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -84,9 +84,14 @@ pub struct Args {
     /// Control frames per second (10 to 1000).
     #[arg(long, default_value_t = 120.0)]
     pub frame_rate: f64,
-    /// Also write `<stem>.bvh` (head and neck motion).
+    /// Also write `<stem>.bvh` (head and neck motion; a 1.8 m skeleton in metres).
     #[arg(long)]
     pub bvh: bool,
+    /// Frames per second of the BVH (1 to 1000; default: --frame-rate). Blender's importer
+    /// plays one BVH frame per scene frame: give the scene's rate (24 by default) so the motion
+    /// keeps the audio's duration.
+    #[arg(long, value_name = "FPS", value_parser = crate::options::number)]
+    pub bvh_fps: Option<f32>,
     /// Also write `<stem>.mid`: the MIDI CC lanes the plugin sends (its default map: CC 2 lung,
     /// 16-18 head, 19-23 body, 24 speaking, 25 loudness; channel 1), as a Standard MIDI File
     /// at 120 BPM so a DAW places each change at its second.
@@ -119,6 +124,10 @@ impl Args {
             .and_then(|()| check_range("--min-pause-ms", self.min_pause_ms, 100.0, 5000.0, "ms"))
             .and_then(|()| check_range("--lookahead-ms", lookahead_ms, 300.0, 2000.0, "ms"))
             .and_then(|()| check_range("--frame-rate", self.frame_rate as f32, 10.0, 1000.0, "Hz"))
+            .and_then(|()| match self.bvh_fps {
+                Some(fps) => check_range("--bvh-fps", fps, 1.0, 1000.0, "fps"),
+                None => Ok(()),
+            })
             .map_err(RenderError::Input)?;
         let mut c = EngineConfig::default();
         c.analysis.frame_rate_hz = self.frame_rate;
@@ -295,6 +304,8 @@ pub struct OutputPlan {
     pub audio: PathBuf,
     /// Cue points inside the audio (`--markers cue`).
     pub cues: bool,
+    /// The BVH's frame rate when `--bvh-fps` is given (else the control frames').
+    pub bvh_fps: Option<f64>,
     /// The other files, `None` with `-o -` (only the audio, to standard output).
     pub files: Option<FolderFiles>,
 }
@@ -456,6 +467,7 @@ impl OutputPlan {
                 container,
                 audio: PathBuf::from("-"),
                 cues,
+                bvh_fps: None,
                 files: None,
             });
         }
@@ -493,6 +505,7 @@ impl OutputPlan {
             container,
             audio,
             cues,
+            bvh_fps: args.bvh_fps.map(f64::from),
             files: Some(files),
         })
     }
