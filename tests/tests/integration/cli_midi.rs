@@ -1,13 +1,16 @@
 //! `pneuma render --midi` writes the CC lanes the plugin sends: the same controllers, channel and
-//! values at the same times (within one frame). The plugin runs through the CLAP host; the MIDI
+//! values at the same times (within one frame). The plugin library runs through the CLAP host and
+//! the render in process; the MIDI
 //! file is read back by an independent reader (Python's `mido`, in the venv `.ci/run` makes:
 //! `target/cli-venv`, or the Python named by `PNEUMA_PYTHON_TOOLS`).
 
 use std::collections::BTreeMap;
+use std::ffi::OsStr;
 use std::path::PathBuf;
 use std::process::Command;
 
-use pneuma_tests::bundle::{ensure_clap, ensure_cli, workspace_root};
+use pneuma_testkit::voice::workspace_root;
+use pneuma_tests::bundle::plugin_path;
 use pneuma_tests::host::Plugin;
 
 /// A Python with `mido`, or `None` (the test then skips visibly; under CI=true it fails).
@@ -39,24 +42,27 @@ fn the_midi_file_holds_the_plugins_cc_lanes() {
     let Some(python) = python_tools("the_midi_file_holds_the_plugins_cc_lanes") else {
         return;
     };
-    let voice_path = pneuma_tests::wav::example_voice_path();
-    let (voice, rate) = pneuma_tests::wav::example_voice();
+    let voice_path = pneuma_testkit::voice::example_voice_path();
+    let (voice, rate) = pneuma_testkit::voice::example_voice();
     let dir = std::env::temp_dir().join(format!("pneuma-cli-midi-{}", std::process::id()));
-    let status = Command::new(ensure_cli())
-        .arg("render")
-        .arg(&voice_path)
-        .args([
-            "--quiet",
-            "--no-plot",
-            "--midi",
-            "--lookahead-ms",
-            "500",
-            "-o",
-        ])
-        .arg(&dir)
-        .status()
-        .expect("pneuma runs");
-    assert!(status.success());
+    // `pneuma render --midi` in process: the command's own arguments and code path.
+    use clap::{Args as _, FromArgMatches as _};
+    let argv: Vec<&OsStr> = vec![
+        "render".as_ref(),
+        voice_path.as_os_str(),
+        "-o".as_ref(),
+        dir.as_os_str(),
+        "--quiet".as_ref(),
+        "--no-plot".as_ref(),
+        "--midi".as_ref(),
+        "--lookahead-ms".as_ref(),
+        "500".as_ref(),
+    ];
+    let matches = pneuma_cli::render::Args::augment_args(clap::Command::new("render"))
+        .try_get_matches_from(argv)
+        .expect("valid render options");
+    let args = pneuma_cli::render::Args::from_arg_matches(&matches).expect("render options");
+    pneuma_cli::render::run(&args, &voice_path, |_| {}).expect("pneuma render");
     let read = Command::new(&python)
         .arg(workspace_root().join("cli/tests/tools/read_midi.py"))
         .arg(dir.join("voice.mid"))
@@ -78,7 +84,7 @@ fn the_midi_file_holds_the_plugins_cc_lanes() {
         file.entry(f[2] as u8).or_default().push((f[0], f[3] as u8));
     }
 
-    let mut plugin = Plugin::load(&ensure_clap(), "org.pneuma.pneuma").expect("loads");
+    let mut plugin = Plugin::load(&plugin_path(), "org.pneuma.pneuma").expect("loads");
     plugin.activate(f64::from(rate), 512, 1).expect("activates");
     let latency = plugin.latency() as u64;
     let mut input = voice.clone();

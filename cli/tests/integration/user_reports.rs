@@ -6,10 +6,11 @@ use std::io::Read as _;
 use std::path::Path;
 use std::process::{Command, Stdio};
 
-mod support;
-use support::{assert_ok, breaths_csv, example_voice, pneuma, render, write_wav};
+use crate::support;
+use pneuma_testkit::voice::example_voice_path as example_voice;
+use support::{assert_ok, breaths_csv, pneuma, render, write_wav};
 
-use pneuma_core::test_signals::{self, GlottalVowel, Vowel};
+use pneuma_testkit::signals::{self as test_signals, GlottalVowel, Vowel};
 
 /// Two glottal-vowel phrases with one pause between them, 16 kHz mono.
 fn two_phrases() -> Vec<f32> {
