@@ -48,6 +48,8 @@ fn bench(c: &mut Criterion) {
         seed: 1,
         frame_rate: 120.0,
         bvh: false,
+        midi: false,
+        bvh_fps: None,
         no_plot: false,
         no_overwrite: false,
         no_progress: true,

@@ -41,6 +41,8 @@ pub enum AnalyzeError {
 pub struct AnalyzeSummary {
     /// The input format.
     pub info: WavInfo,
+    /// Whether the input is stored losslessly (lossy input has no bit depth to report).
+    pub lossless: bool,
     /// Frames written.
     pub frames: u64,
     /// Voiced frames among them.
@@ -90,6 +92,7 @@ pub fn run(
     // bounded on long files. Standard output cannot take back what it printed, so it gets the
     // rows only at the end.
     let src = AudioSource::open(input)?;
+    let lossless = src.lossless();
     let stream = output.as_os_str() != "-";
     let mut out = Output::create(output).map_err(out_err)?;
     let mut text = String::with_capacity(FLUSH_BYTES + 256);
@@ -113,6 +116,7 @@ pub fn run(
     out.commit().map_err(out_err)?;
     Ok(AnalyzeSummary {
         info,
+        lossless,
         frames,
         voiced_frames,
     })
@@ -164,8 +168,26 @@ fn check_options(args: &Args) -> Result<(), String> {
             1.5 * args.f0_min
         ));
     }
+    check_output_file(&args.input, &args.output)?;
     if args.no_overwrite && args.output.as_os_str() != "-" {
         crate::options::refuse_existing(std::slice::from_ref(&args.output))?;
+    }
+    Ok(())
+}
+
+/// `-o` names the CSV file: a folder (existing, or a name ending in `/`) is refused with a file
+/// name inside it to give instead.
+fn check_output_file(input: &Path, output: &Path) -> Result<(), String> {
+    if crate::options::names_folder(output) {
+        let stem = input
+            .file_stem()
+            .filter(|_| input.as_os_str() != "-")
+            .map_or("analysis".into(), |s| s.to_string_lossy().into_owned());
+        return Err(format!(
+            "-o {} is a folder, but analyze writes one CSV file: give a file name, e.g. -o {}",
+            output.display(),
+            output.join(format!("{stem}.csv")).display()
+        ));
     }
     Ok(())
 }
@@ -188,12 +210,9 @@ pub fn main(args: Args) -> ExitCode {
         Ok(s) => {
             if args.output.as_os_str() != "-" {
                 eprintln!(
-                    "analysed {} ({} Hz, {} ch, {}-bit{}): {} frames, {} voiced -> {}",
+                    "analysed {} ({}): {} frames, {} voiced -> {}",
                     args.input.display(),
-                    s.info.sample_rate_hz,
-                    s.info.channels,
-                    s.info.bits,
-                    if s.info.float { " float" } else { "" },
+                    crate::options::describe_format(&s.info, s.lossless),
                     s.frames,
                     s.voiced_frames,
                     args.output.display()

@@ -42,17 +42,60 @@ pub fn refuse_existing(outputs: &[PathBuf]) -> Result<(), String> {
     }
 }
 
-/// `Err` when `-o` names something that looks like a file (has an extension and is not an
-/// existing folder) where a folder is wanted, instead of silently making a folder of that name.
+/// Whether `path` surely names a folder: it exists as one, or its name ends in `/`.
+pub fn names_folder(path: &Path) -> bool {
+    let text = path.to_string_lossy();
+    text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) || path.is_dir()
+}
+
+/// The extensions of the files the commands write besides audio: names ending so are files,
+/// never folders (as are audio names, read or not, see [`pneuma_io::AUDIO_EXTENSIONS`]). Any
+/// other name (`2024.06.01`, `Season.1`, `renders.v2`) is a folder.
+const FILE_EXTENSIONS: [&str; 7] = ["csv", "png", "bvh", "mid", "midi", "txt", "json"];
+
+/// `Err` when `-o` names a file (an audio extension, or one of the files a render writes, and
+/// not an existing folder) where a folder is wanted, instead of silently making a folder of that
+/// name. A name ending in `/` is always a folder; so is any other dotted name (dates, versions).
 pub fn check_output_folder(option: &str, dir: &Path) -> Result<(), String> {
-    if dir.extension().is_some() && !dir.is_dir() {
+    if names_folder(dir) {
+        return Ok(());
+    }
+    let file_like = dir.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+        pneuma_io::AUDIO_EXTENSIONS
+            .iter()
+            .chain(&FILE_EXTENSIONS)
+            .chain(pneuma_io::UNREAD_AUDIO_EXTENSIONS.iter().map(|(x, _)| x))
+            .any(|x| x.eq_ignore_ascii_case(e))
+    });
+    if file_like {
         return Err(format!(
             "{option} {} looks like a file name, but {option} names the output folder (the \
-             files inside are named after the input); give a folder, e.g. {option} out",
+             files inside are named after the input); give a folder, e.g. {option} out (a name \
+             ending in / is always taken as a folder)",
             dir.display()
         ));
     }
     Ok(())
+}
+
+/// `1 breath`, `2 breaths`: a count with its noun, for summaries.
+pub fn count(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
+/// An input's format for summaries: `48000 Hz, 2 ch, 24-bit`; lossy input (MP3, AAC, …) has
+/// no bit depth, so none is named.
+pub fn describe_format(info: &pneuma_io::AudioInfo, lossless: bool) -> String {
+    let depth = match (lossless, info.float) {
+        (false, _) => String::new(),
+        (true, true) => format!(", {}-bit float", info.bits),
+        (true, false) => format!(", {}-bit", info.bits),
+    };
+    format!("{} Hz, {} ch{depth}", info.sample_rate_hz, info.channels)
 }
 
 /// The head-pose model from `path` (JSON), or the embedded default model when `None`.
@@ -142,12 +185,49 @@ mod tests {
     }
 
     #[test]
+    fn summaries_count_and_name_formats_as_they_are() {
+        assert_eq!(count(1, "breath"), "1 breath");
+        assert_eq!(count(0, "breath"), "0 breaths");
+        assert_eq!(count(2, "breath"), "2 breaths");
+        let info = pneuma_io::AudioInfo {
+            sample_rate_hz: 44_100,
+            channels: 2,
+            bits: 24,
+            float: false,
+            frames: 0,
+        };
+        assert_eq!(describe_format(&info, true), "44100 Hz, 2 ch, 24-bit");
+        assert_eq!(describe_format(&info, false), "44100 Hz, 2 ch");
+        let float = pneuma_io::AudioInfo {
+            bits: 32,
+            float: true,
+            ..info
+        };
+        assert_eq!(
+            describe_format(&float, true),
+            "44100 Hz, 2 ch, 32-bit float"
+        );
+    }
+
+    #[test]
     fn a_file_name_is_not_taken_as_a_folder() {
         let dir = tempfile::tempdir().expect("temp dir");
         assert!(check_output_folder("-o", &dir.path().join("name.wav")).is_err());
         assert!(check_output_folder("-o", &dir.path().join("out")).is_ok());
-        let dotted = dir.path().join("take.2");
+        assert!(check_output_folder("-o", &dir.path().join("controls.CSV")).is_err());
+        let dotted = dir.path().join("take.wav");
         std::fs::create_dir(&dotted).expect("dir");
         assert!(check_output_folder("-o", &dotted).is_ok());
+        // Dated and versioned names are folders, existing or not; a trailing / always is.
+        for name in [
+            "2024.06.01",
+            "Season.1",
+            "renders.v2",
+            "new.v3/",
+            "new.wav/",
+        ] {
+            let p = PathBuf::from(format!("{}/{name}", dir.path().display()));
+            assert!(check_output_folder("-o", &p).is_ok(), "{name}");
+        }
     }
 }

@@ -259,6 +259,20 @@ impl Write for Output {
     }
 }
 
+/// Seeks in a file output (a MIDI file's header is written last, over the first one);
+/// standard output cannot seek.
+impl std::io::Seek for Output {
+    fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
+        match self.inner.as_mut() {
+            Some(Inner::File { writer, .. }) => writer.seek(pos),
+            _ => Err(std::io::Error::new(
+                std::io::ErrorKind::Unsupported,
+                "standard output cannot seek",
+            )),
+        }
+    }
+}
+
 /// A unique temporary file name for `target`: `.<name>.<pid>.<n>.partial.<extension>`.
 fn temp_name(target: &Path) -> String {
     static COUNTER: AtomicUsize = AtomicUsize::new(0);

@@ -104,6 +104,9 @@ pub struct Args {
     /// Also write `speech.bvh` (head, neck and chest motion).
     #[arg(long)]
     pub bvh: bool,
+    /// Also write `speech.mid`: the MIDI CC lanes the plugin sends, as in `render --midi`.
+    #[arg(long)]
+    pub midi: bool,
     /// Skip the plot.
     #[arg(long)]
     pub no_plot: bool,
@@ -399,6 +402,7 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         "speech.breaths.csv",
         "speech.png",
         "speech.bvh",
+        "speech.mid",
     ];
     if args.no_overwrite {
         let paths: Vec<PathBuf> = names.iter().map(|n| out(n)).collect();
@@ -547,6 +551,22 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
                 bvh::push_control(&mut text, f);
             }
             w.write_all(text.as_bytes())
+        })?);
+    }
+    if args.midi {
+        staged.push(write_file(&out("speech.mid"), |w| {
+            use pneuma_core::encode::sink::FrameSink as _;
+            let cursor = std::io::Cursor::new(Vec::new());
+            let mut midi = pneuma_core::encode::midi_file::MidiFileSink::new(
+                cursor,
+                pneuma_core::encode::midi_cc::CcMap::default(),
+            )
+            .map_err(std::io::Error::other)?;
+            for f in &frames {
+                midi.frame(f, 0);
+            }
+            let bytes = midi.finish().map_err(std::io::Error::other)?;
+            w.write_all(&bytes.into_inner())
         })?);
     }
     if !args.no_plot {

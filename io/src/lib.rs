@@ -21,6 +21,7 @@
 //! depend on it (the engine takes samples, not files).
 
 pub mod decode;
+pub mod g711;
 pub mod wav;
 
 use std::io::{Cursor, Read};
@@ -187,6 +188,30 @@ pub enum ReadError {
     /// Any other format.
     #[error(transparent)]
     Decode(#[from] DecodeError),
+    /// Text (notes, a playlist, a CSV) where audio was expected, whatever its name says.
+    #[error("{path} is not audio: it holds text (\"{start}…\"); give an audio file (WAV, FLAC, MP3, M4A/AAC, Ogg Vorbis, AIFF or CAF)")]
+    NotAudio {
+        /// The file.
+        path: PathBuf,
+        /// Its first characters.
+        start: String,
+    },
+}
+
+/// The first characters of `head` when it is text (UTF-8 without control characters but
+/// tab, CR and LF; at least four bytes): such a file is no audio whatever its name says.
+fn text_start(head: &[u8]) -> Option<String> {
+    let valid = match std::str::from_utf8(head) {
+        Ok(t) => t,
+        // A character cut by the end of the bytes looked at still counts as text.
+        Err(e) if e.error_len().is_none() => std::str::from_utf8(&head[..e.valid_up_to()]).ok()?,
+        Err(_) => return None,
+    };
+    let text = valid.len() >= 4
+        && valid
+            .chars()
+            .all(|c| !c.is_control() || matches!(c, '\t' | '\r' | '\n'));
+    text.then(|| valid.chars().take(24).collect::<String>().trim().to_owned())
 }
 
 /// Bytes looked at to recognise a format.
@@ -229,6 +254,7 @@ impl AudioSource {
         let mut head = vec![0u8; SNIFF_BYTES];
         let n = read_full(&mut file, &mut head).map_err(open_err)?;
         head.truncate(n);
+        not_text(path, &head)?;
         let format = match InputFormat::sniff(&head) {
             // Empty and unrecognised `.wav` files go to the WAV reader: it names what it finds.
             InputFormat::Unknown if n < 4 || path_says_wav(path) => InputFormat::Wav,
@@ -256,6 +282,7 @@ impl AudioSource {
             source,
         })?;
         head.truncate(n);
+        not_text(name, &head)?;
         let format = match InputFormat::sniff(&head) {
             InputFormat::Unknown => InputFormat::Wav,
             f => f,
@@ -354,6 +381,63 @@ pub fn audio_stem(name: &str) -> Option<&str> {
         .then_some(stem)
 }
 
+/// Audio formats Pneuma does not read, by file name extension (lower case), with their names
+/// for messages. A folder given to `pneuma render` lists such files as skipped, with the
+/// conversion that makes them readable.
+pub const UNREAD_AUDIO_EXTENSIONS: [(&str, &str); 8] = [
+    ("opus", "Opus"),
+    ("wma", "WMA"),
+    ("wv", "WavPack"),
+    ("ape", "Monkey's Audio"),
+    ("amr", "AMR"),
+    ("ac3", "AC-3"),
+    ("mpc", "Musepack"),
+    ("dsf", "DSD"),
+];
+
+/// The first bytes of an ASF file (WMA, WMV): its header object's GUID.
+const ASF_GUID: [u8; 8] = [0x30, 0x26, 0xb2, 0x75, 0x8e, 0x66, 0xcf, 0x11];
+
+/// Why the file at `path`, found in a folder, is not worth opening as audio: `"not audio"`, or
+/// the unread format with the command that converts it (`"Opus: convert it, e.g. …"`). `None`
+/// when it is (or may be) audio Pneuma reads, and when it cannot be read at all (opening it
+/// then reports why). Looks at the name's extension and the first bytes.
+pub fn skip_reason(path: &Path) -> Option<String> {
+    let mut head = vec![0u8; SNIFF_BYTES];
+    let n = read_full(&mut std::fs::File::open(path).ok()?, &mut head).ok()?;
+    head.truncate(n);
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    let unread = if InputFormat::sniff(&head) == InputFormat::Opus {
+        Some("Opus")
+    } else if head.starts_with(&ASF_GUID) {
+        Some("WMA")
+    } else {
+        UNREAD_AUDIO_EXTENSIONS
+            .iter()
+            .find(|(e, _)| *e == ext)
+            .map(|(_, name)| *name)
+    };
+    if let Some(name) = unread {
+        let file = path
+            .file_name()
+            .map(|f| f.to_string_lossy())
+            .unwrap_or_default();
+        let stem = path
+            .file_stem()
+            .map(|f| f.to_string_lossy())
+            .unwrap_or_default();
+        return Some(format!(
+            "{name}, which Pneuma does not read: convert it, e.g. `ffmpeg -i '{file}' '{stem}.flac'`"
+        ));
+    }
+    let known_ext = AUDIO_EXTENSIONS.contains(&ext.as_str());
+    (InputFormat::sniff(&head) == InputFormat::Unknown && !known_ext).then(|| "not audio".into())
+}
+
 /// The audio file `dir/<stem>.<ext>` for the first extension of [`AUDIO_EXTENSIONS`] that
 /// exists (`mouth.wav`, else `mouth.flac`, …), as breath-sample folders are searched.
 pub fn find_audio(dir: &Path, stem: &str) -> Option<PathBuf> {
@@ -361,6 +445,20 @@ pub fn find_audio(dir: &Path, stem: &str) -> Option<PathBuf> {
         .iter()
         .map(|ext| dir.join(format!("{stem}.{ext}")))
         .find(|p| p.is_file())
+}
+
+/// [`ReadError::NotAudio`] when an input of no known format starts with text.
+fn not_text(path: &Path, head: &[u8]) -> Result<(), ReadError> {
+    if InputFormat::sniff(head) != InputFormat::Unknown {
+        return Ok(());
+    }
+    match text_start(head) {
+        Some(start) => Err(ReadError::NotAudio {
+            path: path.to_owned(),
+            start,
+        }),
+        None => Ok(()),
+    }
 }
 
 /// A name ending in `.wav` (any case): an unrecognised file is reported by the WAV reader.
@@ -430,6 +528,50 @@ mod tests {
         ] {
             assert_eq!(InputFormat::sniff(head), want, "{head:?}");
         }
+    }
+
+    #[test]
+    fn files_in_a_folder_are_skipped_with_the_reason() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let file = |name: &str, bytes: &[u8]| {
+            let p = dir.path().join(name);
+            std::fs::write(&p, bytes).expect("write");
+            p
+        };
+        let mut opus = b"OggS".to_vec();
+        opus.resize(28, 0);
+        opus.extend_from_slice(b"OpusHead");
+        let mut asf = ASF_GUID.to_vec();
+        asf.resize(30, 0);
+        let opus_reason = skip_reason(&file("ep04.opus", &opus)).expect("opus skipped");
+        assert!(opus_reason.starts_with("Opus"), "{opus_reason}");
+        assert!(
+            opus_reason.contains("ffmpeg -i 'ep04.opus' 'ep04.flac'"),
+            "{opus_reason}"
+        );
+        // The same Opus data under another name, and WMA by its header or its name.
+        assert!(skip_reason(&file("ep05.bin", &opus)).is_some_and(|r| r.starts_with("Opus")));
+        assert!(skip_reason(&file("ep06.wma", &asf)).is_some_and(|r| r.starts_with("WMA")));
+        assert!(skip_reason(&file("ep07.wma", b"junk")).is_some_and(|r| r.starts_with("WMA")));
+        assert_eq!(
+            skip_reason(&file("notes.txt", b"show notes")),
+            Some("not audio".into())
+        );
+        // Audio names and audio contents are opened (and fail clearly if they are not audio).
+        assert_eq!(skip_reason(&file("text.wav", b"show notes")), None);
+        assert_eq!(skip_reason(&file("ep.dat", b"RIFF\0\0\0\0WAVE")), None);
+        assert_eq!(skip_reason(&file("ep.flac", b"fLaC")), None);
+    }
+
+    #[test]
+    fn text_is_told_apart_from_binary_data() {
+        assert_eq!(text_start(b"show notes\n"), Some("show notes".into()));
+        assert_eq!(text_start("épisode €".as_bytes()), Some("épisode €".into()));
+        // A character cut by the end of the bytes looked at.
+        assert!(text_start(&"abcd€".as_bytes()[..6]).is_some());
+        assert_eq!(text_start(b"RIFF\0\0"), None);
+        assert_eq!(text_start(&[0xff, 0xfb, 0x90, 0x00]), None);
+        assert_eq!(text_start(b"abc"), None);
     }
 
     #[test]

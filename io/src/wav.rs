@@ -6,7 +6,9 @@
 //!   files over 4 GiB);
 //! - format tag 1 (integer PCM: 8-bit unsigned, 16/24/32-bit signed little-endian), tag 3
 //!   (32-bit IEEE float) and tag `0xFFFE` (`WAVE_FORMAT_EXTENSIBLE`) with the PCM or IEEE-float
-//!   subformat GUID. When the valid bits are fewer than the container's (24 valid bits in a 32-bit
+//!   subformat GUID; tags 7 (G.711 µ-law) and 6 (A-law), plain or in `WAVE_FORMAT_EXTENSIBLE`,
+//!   expanded to 16-bit linear PCM ([`crate::g711`]; [`WavInfo::bits`] is then 16, so a 16-bit
+//!   output keeps the decoded signal exactly). When the valid bits are fewer than the container's (24 valid bits in a 32-bit
 //!   container, 20 in 24), the samples sit in the top bits of the container: the whole container
 //!   is read as a signed integer and scaled by the container width, so [`WavInfo::bits`] is the
 //!   container width and writing that width back (`wav_out`) is lossless;
@@ -59,7 +61,7 @@ pub enum WavError {
         reason: String,
     },
     /// A sample format Pneuma does not read.
-    #[error("{path}: {what} is not supported; Pneuma reads 8/16/24/32-bit integer and 32-bit float PCM WAV: convert it, e.g. `sox IN -b 24 OUT.wav`")]
+    #[error("{path}: {what} is not supported; Pneuma reads 8/16/24/32-bit integer, 32-bit float, µ-law and A-law WAV: convert it, e.g. `sox IN -b 24 OUT.wav`")]
     Unsupported {
         /// The file.
         path: PathBuf,
@@ -111,6 +113,22 @@ enum Encoding {
     I32,
     /// 32-bit IEEE float little-endian.
     F32,
+    /// G.711 µ-law, one byte per sample.
+    MuLaw,
+    /// G.711 A-law, one byte per sample.
+    ALaw,
+}
+
+impl Encoding {
+    /// Bytes one sample takes in the file.
+    fn bytes(self) -> u16 {
+        match self {
+            Self::U8 | Self::MuLaw | Self::ALaw => 1,
+            Self::I16 => 2,
+            Self::I24 => 3,
+            Self::I32 | Self::F32 => 4,
+        }
+    }
 }
 
 /// Largest read of one [`WavSource::read_interleaved`] call, bytes (more frames are returned
@@ -125,6 +143,8 @@ const GUID_TAIL: [u8; 14] = [
 ];
 const TAG_PCM: u16 = 0x0001;
 const TAG_FLOAT: u16 = 0x0003;
+const TAG_ALAW: u16 = 0x0006;
+const TAG_MULAW: u16 = 0x0007;
 const TAG_EXTENSIBLE: u16 = 0xfffe;
 
 /// A WAV file opened for block-wise reading.
@@ -395,6 +415,16 @@ fn decode(encoding: Encoding, bytes: &[u8], scale: f32, out: &mut Vec<f32>) {
             bytes
                 .chunks_exact(4)
                 .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+        ),
+        Encoding::MuLaw => out.extend(
+            bytes
+                .iter()
+                .map(|&b| f32::from(crate::g711::ulaw_to_i16(b)) * scale),
+        ),
+        Encoding::ALaw => out.extend(
+            bytes
+                .iter()
+                .map(|&b| f32::from(crate::g711::alaw_to_i16(b)) * scale),
         ),
     }
 }
@@ -713,6 +743,7 @@ impl<'a> Header<'a> {
             return Err(self.format("the fmt chunk gives a sample rate of 0 Hz"));
         }
         let (float, valid_bits) = match fmt.tag {
+            TAG_ALAW | TAG_MULAW => return self.g711(fmt, fmt.tag),
             TAG_PCM => (false, fmt.bits),
             TAG_FLOAT => (true, fmt.bits),
             TAG_EXTENSIBLE => {
@@ -733,6 +764,7 @@ impl<'a> Header<'a> {
                 match (standard, tag) {
                     (true, TAG_PCM) => (false, valid),
                     (true, TAG_FLOAT) => (true, valid),
+                    (true, TAG_ALAW | TAG_MULAW) => return self.g711(fmt, tag),
                     (true, other) => {
                         return Err(self
                             .unsupported(format!("{} in WAVE_FORMAT_EXTENSIBLE", tag_name(other))))
@@ -772,13 +804,34 @@ impl<'a> Header<'a> {
                 _ => return Err(self.unsupported(format!("{}-bit integer", fmt.bits))),
             }
         };
+        self.check_layout(fmt, encoding)?;
+        Ok((encoding, bits))
+    }
+
+    /// G.711 (`tag` 6 A-law, 7 µ-law): 8 bits a sample, read as 16-bit linear PCM.
+    fn g711(&self, fmt: &Fmt, tag: u16) -> Result<(Encoding, u16), WavError> {
+        if fmt.bits != 8 {
+            return Err(self.unsupported(format!("{} with {} bits", tag_name(tag), fmt.bits)));
+        }
+        let encoding = if tag == TAG_ALAW {
+            Encoding::ALaw
+        } else {
+            Encoding::MuLaw
+        };
+        self.check_layout(fmt, encoding)?;
+        Ok((encoding, 16))
+    }
+
+    /// The rate, and the block alignment for samples of `encoding`.
+    fn check_layout(&self, fmt: &Fmt, encoding: Encoding) -> Result<(), WavError> {
         if !(8_000..=192_000).contains(&fmt.rate) {
             return Err(WavError::Rate {
                 path: self.path.to_owned(),
                 rate_hz: fmt.rate,
             });
         }
-        let need = u32::from(fmt.channels) * u32::from(bits / 8);
+        let bits = encoding.bytes() * 8;
+        let need = u32::from(fmt.channels) * u32::from(encoding.bytes());
         if u32::from(fmt.block_align) != need {
             return Err(self.format(format!(
                 "the fmt chunk gives a block_align of {} per sample frame, but {} of \
@@ -787,7 +840,7 @@ impl<'a> Header<'a> {
                 count(fmt.channels.into(), "channel")
             )));
         }
-        Ok((encoding, bits))
+        Ok(())
     }
 }
 

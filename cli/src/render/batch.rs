@@ -3,9 +3,10 @@
 //! table at the end. A file that fails is reported in the table and the others are finished; the
 //! exit code is non-zero when any failed (130 when interrupted).
 //!
-//! The inputs come expanded and checked from [`super::plan`] (folders give the audio files
-//! directly inside them; two inputs that would write the same output names, `a.wav` and
-//! `a.flac`, are refused before anything runs).
+//! The inputs come expanded and checked from [`super::plan`] (folders give every file directly
+//! inside them; two inputs that would write the same output names, `a.wav` and `a.flac`, are
+//! refused before anything runs). Every file of a folder has a row: rendered, failed (why) or
+//! skipped (why: not audio, or a format Pneuma does not read and the command that converts it).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -15,14 +16,24 @@ use rayon::prelude::*;
 
 use super::error::{RenderError, EXIT_INTERRUPTED, INTERRUPTED};
 use super::pipeline::{lossy_note, run, RenderSummary};
-use super::plan::{check_batch, Args};
+use super::plan::{check_batch, Args, Input};
 
 /// Columns of the summary table.
 const COLUMNS: usize = 6;
 
-/// One row of the summary table.
-fn row(input: &Path, result: &Result<RenderSummary, RenderError>) -> [String; COLUMNS] {
+/// What became of one input of a batch.
+type Outcome = Result<RenderSummary, RenderError>;
+
+/// One row of the summary table: `Err(why)` is why a folder's file was not rendered.
+fn row(input: &Path, result: Result<&Outcome, &str>) -> [String; COLUMNS] {
     let name = input.display().to_string();
+    let result = match result {
+        Ok(r) => r,
+        Err(why) => {
+            let dash = || "-".to_string();
+            return [name, "skipped".into(), dash(), dash(), dash(), why.into()];
+        }
+    };
     match result {
         Ok(s) => [
             name,
@@ -88,9 +99,15 @@ fn print_table(rows: &[[String; COLUMNS]]) {
     }
 }
 
-/// Renders every input; prints the table; the exit code.
-pub fn main(args: &Args, inputs: &[PathBuf]) -> ExitCode {
-    let jobs = match check_batch(args, inputs) {
+/// Renders every input that is not skipped; prints the table (every input, skipped ones
+/// with why); the exit code: failure when one failed or none was rendered.
+pub fn main(args: &Args, all: &[Input]) -> ExitCode {
+    let inputs: Vec<PathBuf> = all
+        .iter()
+        .filter(|i| i.skip.is_none())
+        .map(|i| i.path.clone())
+        .collect();
+    let jobs = match check_batch(args, &inputs) {
         Ok(j) => j,
         Err(e) => {
             eprintln!("error: {e}");
@@ -117,7 +134,7 @@ pub fn main(args: &Args, inputs: &[PathBuf]) -> ExitCode {
             b.set(mean);
         }
     };
-    let results: Vec<Result<RenderSummary, RenderError>> = pool.install(|| {
+    let results: Vec<Outcome> = pool.install(|| {
         inputs
             .par_iter()
             .enumerate()
@@ -135,16 +152,23 @@ pub fn main(args: &Args, inputs: &[PathBuf]) -> ExitCode {
         b.finish();
     }
     let failed = results.iter().filter(|r| r.is_err()).count();
+    let skipped = all.len() - inputs.len();
     if !args.quiet || failed > 0 {
-        let rows: Vec<[String; COLUMNS]> = inputs
+        // Every input in the order given, the rendered ones with their results.
+        let mut rendered = results.iter();
+        let rows: Vec<[String; COLUMNS]> = all
             .iter()
-            .zip(&results)
-            .filter(|(_, r)| !args.quiet || r.is_err())
-            .map(|(p, r)| row(p, r))
+            .filter_map(|i| match &i.skip {
+                Some(why) => (!args.quiet).then(|| row(&i.path, Err(why))),
+                None => rendered
+                    .next()
+                    .filter(|r| !args.quiet || r.is_err())
+                    .map(|r| row(&i.path, Ok(r))),
+            })
             .collect();
         print_table(&rows);
         eprintln!(
-            "{} rendered, {failed} failed, into {}",
+            "{} rendered, {failed} failed, {skipped} skipped, into {}",
             inputs.len() - failed,
             args.output.display()
         );
@@ -154,7 +178,7 @@ pub fn main(args: &Args, inputs: &[PathBuf]) -> ExitCode {
         .any(|r| matches!(r, Err(RenderError::Interrupted)))
     {
         ExitCode::from(EXIT_INTERRUPTED)
-    } else if failed > 0 {
+    } else if failed > 0 || inputs.is_empty() {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS

@@ -45,10 +45,39 @@ pub fn main(args: Args) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    if args.inputs.len() > 1 || args.inputs[0].is_dir() {
-        return batch::main(&args, &inputs);
+    let created = missing_folders(&args.output);
+    let code = if args.inputs.len() > 1 || args.inputs[0].is_dir() {
+        batch::main(&args, &inputs)
+    } else {
+        render_one(&args, &inputs[0].path)
+    };
+    if code != ExitCode::SUCCESS {
+        remove_empty(&created);
     }
-    render_one(&args, &inputs[0])
+    code
+}
+
+/// The folders of `output` (and its parents) that do not exist yet, deepest first: a run that
+/// fails or is interrupted removes those it created and left empty.
+fn missing_folders(output: &Path) -> Vec<std::path::PathBuf> {
+    if output.as_os_str() == "-" {
+        return Vec::new();
+    }
+    output
+        .ancestors()
+        .filter(|p| !p.as_os_str().is_empty())
+        .take_while(|p| !p.exists())
+        .map(Path::to_path_buf)
+        .collect()
+}
+
+/// Removes the `folders` (deepest first) that are empty; stops at the first that is not.
+fn remove_empty(folders: &[std::path::PathBuf]) {
+    for f in folders {
+        if std::fs::remove_dir(f).is_err() {
+            break;
+        }
+    }
 }
 
 /// Renders one input with a progress bar; prints its summary or error; the exit code.
@@ -67,6 +96,13 @@ fn render_one(args: &Args, input: &Path) -> ExitCode {
             eprintln!("error: {}", RenderError::Interrupted);
             ExitCode::from(EXIT_INTERRUPTED)
         }
+        // The reader of standard output went away (`| head`): end quietly, as `analyze` and
+        // Unix tools do.
+        Err(RenderError::Output { ref source, .. })
+            if args.output.as_os_str() == "-" && crate::output::is_broken_pipe(source) =>
+        {
+            ExitCode::SUCCESS
+        }
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::FAILURE
@@ -78,15 +114,12 @@ fn render_one(args: &Args, input: &Path) -> ExitCode {
 /// samples, what a lossy input became, and the files written.
 fn print_summary(input: &Path, s: &RenderSummary) {
     eprintln!(
-        "rendered {} ({}, {} Hz, {} ch, {}-bit{}): {} breaths, {} control frames{}{}",
+        "rendered {} ({}, {}): {}, {}{}{}",
         input.display(),
         s.input_format.0.name(),
-        s.info.sample_rate_hz,
-        s.info.channels,
-        s.info.bits,
-        if s.info.float { " float" } else { "" },
-        s.breaths.len(),
-        s.frames,
+        crate::options::describe_format(&s.info, s.input_format.1),
+        crate::options::count(s.breaths.len(), "breath"),
+        crate::options::count(s.frames as usize, "control frame"),
         if s.clipped > 0 {
             format!(", {} samples clipped", s.clipped)
         } else {

@@ -14,7 +14,9 @@ use std::path::{Path, PathBuf};
 
 use pneuma_core::analysis::FrameClock;
 use pneuma_core::encode::breaths_csv;
-use pneuma_core::encode::sink::{FrameSink, TextSink};
+use pneuma_core::encode::midi_cc::CcMap;
+use pneuma_core::encode::midi_file::MidiFileSink;
+use pneuma_core::encode::sink::{FrameSink, Resample, TextSink};
 use pneuma_core::engine::offline::{self, TailFrames};
 use pneuma_core::{BreathEvent, ControlFrame};
 use pneuma_io::{AudioSource, InputFormat};
@@ -102,8 +104,14 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         FrameClock::new(frame_rate_hz, info.sample_rate_hz as f64).frames_in(info.frames);
     let mut sinks = (
         controls_sink(outputs.files.as_ref())?,
-        bvh_sink(outputs.files.as_ref(), frames_total, frame_rate_hz)?,
+        bvh_sink(
+            outputs.files.as_ref(),
+            frames_total,
+            frame_rate_hz,
+            outputs.bvh_fps.unwrap_or(frame_rate_hz),
+        )?,
         Kept::new(frames_total),
+        midi_sink(outputs.files.as_ref())?,
     );
     let channels = info.channels as usize;
     let mut interleaved = Vec::with_capacity(BLOCK_FRAMES * input_channels.0);
@@ -120,13 +128,14 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
             Ok(n)
         },
         &mut sinks,
-        |(controls, bvh, _), planar, range| {
+        |(controls, bvh, _, midi), planar, range| {
             check_text_sinks(controls, bvh, outputs.files.as_ref())?;
+            check_midi(midi, outputs.files.as_ref())?;
             pass.write(planar, range)
         },
     )?;
     let found = findings(&energy, &engine.speech_summary());
-    let (controls, bvh, kept) = sinks;
+    let (controls, bvh, kept, midi) = sinks;
     let AudioPass {
         mut audio,
         envelope,
@@ -148,6 +157,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
                 audio,
                 controls,
                 bvh,
+                midi,
                 breaths: &breaths,
                 envelope,
                 plot_frames: &kept.plot,
@@ -183,20 +193,55 @@ fn controls_sink(files: Option<&FolderFiles>) -> Result<Option<TextSink<Output>>
     Ok(Some(TextSink::controls_csv(o).map_err(out_err(path))?))
 }
 
-/// The BVH, streaming into its file with `--bvh`: its header needs the frame count, known from
-/// the input's header.
+/// The BVH at `bvh_fps`, streaming into its file with `--bvh`: its header needs the frame
+/// count, known from the input's header.
 fn bvh_sink(
     files: Option<&FolderFiles>,
     frames_total: u64,
     frame_rate_hz: f64,
-) -> Result<Option<TextSink<Output>>, RenderError> {
+    bvh_fps: f64,
+) -> Result<Option<Bvh>, RenderError> {
     let Some(path) = files.and_then(|f| f.bvh.as_ref()) else {
         return Ok(None);
     };
     let o = Output::create(path).map_err(out_err(path))?;
-    Ok(Some(
-        TextSink::bvh(o, frames_total as usize, frame_rate_hz).map_err(out_err(path))?,
-    ))
+    let frames = Resample::<TextSink<Output>>::count(frames_total, frame_rate_hz, bvh_fps);
+    let text = TextSink::bvh(o, frames as usize, bvh_fps).map_err(out_err(path))?;
+    Ok(Some(Resample::new(text, frame_rate_hz, bvh_fps, frames)))
+}
+
+/// The BVH's sink: the control frames at the BVH's rate.
+type Bvh = Resample<TextSink<Output>>;
+
+/// The MIDI file with `--midi`: the plugin's CC map, streaming into its file.
+fn midi_sink(files: Option<&FolderFiles>) -> Result<Option<MidiFileSink<Output>>, RenderError> {
+    let Some(path) = files.and_then(|f| f.midi.as_ref()) else {
+        return Ok(None);
+    };
+    let o = Output::create(path).map_err(out_err(path))?;
+    MidiFileSink::new(o, CcMap::default())
+        .map(Some)
+        .map_err(|e| midi_err(path, e))
+}
+
+/// A MIDI file's error as the render's.
+fn midi_err(path: &Path, e: pneuma_core::encode::midi_file::MidiFileError) -> RenderError {
+    use pneuma_core::encode::midi_file::MidiFileError;
+    match e {
+        MidiFileError::Io(source) => out_err(path)(source),
+        other => out_err(path)(std::io::Error::other(other.to_string())),
+    }
+}
+
+/// A failed write of the MIDI file stops the render.
+fn check_midi(
+    midi: &Option<MidiFileSink<Output>>,
+    files: Option<&FolderFiles>,
+) -> Result<(), RenderError> {
+    if let (Some(m), Some(path)) = (midi, files.and_then(|f| f.midi.as_ref())) {
+        m.check().map_err(out_err(path))?;
+    }
+    Ok(())
 }
 
 /// Reads the next block of `source` into the engine's planar buffers; the frames read.
@@ -224,7 +269,7 @@ fn read_block(
 /// A failed write of the controls or the BVH stops the render.
 fn check_text_sinks(
     controls: &Option<TextSink<Output>>,
-    bvh: &Option<TextSink<Output>>,
+    bvh: &Option<Bvh>,
     files: Option<&FolderFiles>,
 ) -> Result<(), RenderError> {
     let Some(files) = files else {
@@ -233,8 +278,8 @@ fn check_text_sinks(
     if let Some(text) = controls {
         text.check().map_err(out_err(&files.controls))?;
     }
-    if let (Some(text), Some(path)) = (bvh, &files.bvh) {
-        text.check().map_err(out_err(path))?;
+    if let (Some(bvh), Some(path)) = (bvh, &files.bvh) {
+        bvh.inner().check().map_err(out_err(path))?;
     }
     Ok(())
 }
@@ -310,7 +355,8 @@ fn breaths_within(mut breaths: Vec<BreathEvent>, length_s: f64) -> Vec<BreathEve
 struct Finished<'a> {
     audio: AudioSink,
     controls: TextSink<Output>,
-    bvh: Option<TextSink<Output>>,
+    bvh: Option<Bvh>,
+    midi: Option<MidiFileSink<Output>>,
     breaths: &'a [BreathEvent],
     envelope: Envelope,
     plot_frames: &'a [ControlFrame],
@@ -354,7 +400,12 @@ fn commit_files(
         written.push(path.clone());
     }
     if let (Some(o), Some(path)) = (done.bvh, &files.bvh) {
-        let o = o.into_inner().map_err(out_err(path))?;
+        let o = o.into_inner().into_inner().map_err(out_err(path))?;
+        staged.push(staged_file(o, path)?);
+        written.push(path.clone());
+    }
+    if let (Some(m), Some(path)) = (done.midi, &files.midi) {
+        let o = m.finish().map_err(|e| midi_err(path, e))?;
         staged.push(staged_file(o, path)?);
         written.push(path.clone());
     }

@@ -88,9 +88,19 @@ pub struct Args {
     /// Control frames per second (10 to 1000).
     #[arg(long, default_value_t = 120.0)]
     pub frame_rate: f64,
-    /// Also write `<stem>.bvh` (head and neck motion).
+    /// Also write `<stem>.bvh` (head and neck motion; a 1.8 m skeleton in metres).
     #[arg(long)]
     pub bvh: bool,
+    /// Frames per second of the BVH (1 to 1000; default: --frame-rate). Blender's importer
+    /// plays one BVH frame per scene frame: give the scene's rate (24 by default) so the motion
+    /// keeps the audio's duration.
+    #[arg(long, value_name = "FPS", value_parser = crate::options::number)]
+    pub bvh_fps: Option<f32>,
+    /// Also write `<stem>.mid`: the MIDI CC lanes the plugin sends (its default map: CC 2 lung,
+    /// 16-18 head, 19-23 body, 24 speaking, 25 loudness; channel 1), as a Standard MIDI File
+    /// at 120 BPM so a DAW places each change at its second.
+    #[arg(long)]
+    pub midi: bool,
     /// Skip the plot.
     #[arg(long)]
     pub no_plot: bool,
@@ -137,6 +147,10 @@ impl Args {
             .and_then(|()| check_range("--min-pause-ms", self.min_pause_ms, 100.0, 5000.0, "ms"))
             .and_then(|()| check_range("--lookahead-ms", lookahead_ms, 300.0, 2000.0, "ms"))
             .and_then(|()| check_range("--frame-rate", self.frame_rate as f32, 10.0, 1000.0, "Hz"))
+            .and_then(|()| match self.bvh_fps {
+                Some(fps) => check_range("--bvh-fps", fps, 1.0, 1000.0, "fps"),
+                None => Ok(()),
+            })
             .map_err(RenderError::Input)?;
         let mut c = EngineConfig::default();
         c.analysis.frame_rate_hz = self.frame_rate;
@@ -158,9 +172,20 @@ impl Args {
     }
 }
 
-/// The input files of `args`: files as given, folders expanded to the audio files inside
-/// (by extension, see [`pneuma_io::AUDIO_EXTENSIONS`]), sorted by name.
-pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+/// One input of a render: a file to render, or a file found in a folder that is skipped, with
+/// why (not audio, or a format Pneuma does not read; see [`pneuma_io::skip_reason`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Input {
+    /// The file.
+    pub path: PathBuf,
+    /// Why it is not rendered; `None` to render it.
+    pub skip: Option<String>,
+}
+
+/// The inputs of `args`: files as given (each rendered, so a file that is not audio fails with
+/// why), folders expanded to every file directly inside them, sorted by name, hidden files
+/// (`.DS_Store`) left out; a folder's file that is not audio Pneuma reads is listed as skipped.
+pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<Input>, String> {
     let mut out = Vec::new();
     for p in args {
         if p.is_dir() {
@@ -169,22 +194,27 @@ pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
                 .filter_map(|e| e.ok().map(|e| e.path()))
                 .filter(|f| {
                     f.is_file()
-                        && f.file_name().and_then(|n| n.to_str()).is_some_and(|n| {
-                            !n.starts_with('.') && pneuma_io::audio_stem(n).is_some()
-                        })
+                        && f.file_name()
+                            .is_some_and(|n| !n.to_string_lossy().starts_with('.'))
                 })
                 .collect();
             if found.is_empty() {
                 return Err(format!(
-                    "{} holds no audio files (.{}); give files or a folder of them",
+                    "{} holds no files; give audio files (.{}) or a folder of them",
                     p.display(),
                     pneuma_io::AUDIO_EXTENSIONS.join(", .")
                 ));
             }
             found.sort();
-            out.extend(found);
+            out.extend(found.into_iter().map(|path| Input {
+                skip: pneuma_io::skip_reason(&path),
+                path,
+            }));
         } else {
-            out.push(p.clone());
+            out.push(Input {
+                path: p.clone(),
+                skip: None,
+            });
         }
     }
     Ok(out)
@@ -273,6 +303,8 @@ pub struct FolderFiles {
     pub plot: Option<PathBuf>,
     /// `<stem>.bvh` with `--bvh`.
     pub bvh: Option<PathBuf>,
+    /// `<stem>.mid` with `--midi`.
+    pub midi: Option<PathBuf>,
     /// The marker files with `--markers` (cue points are inside the audio).
     pub markers: Vec<(MarkerKind, PathBuf)>,
 }
@@ -284,6 +316,7 @@ impl FolderFiles {
             .into_iter()
             .chain(&self.plot)
             .chain(&self.bvh)
+            .chain(&self.midi)
             .chain(self.markers.iter().map(|(_, p)| p))
     }
 }
@@ -297,6 +330,8 @@ pub struct OutputPlan {
     pub audio: PathBuf,
     /// Cue points inside the audio (`--markers cue`).
     pub cues: bool,
+    /// The BVH's frame rate when `--bvh-fps` is given (else the control frames').
+    pub bvh_fps: Option<f64>,
     /// The other files, `None` with `-o -` (only the audio, to standard output).
     pub files: Option<FolderFiles>,
 }
@@ -349,6 +384,13 @@ fn check_stdout_options(args: &Args) -> Result<(), RenderError> {
         return Err(RenderError::Input(
             "-o - writes only the audio to standard output: drop --markers, or give an output \
              folder"
+                .into(),
+        ));
+    }
+    if args.to_stdout() && (args.midi || args.bvh) {
+        return Err(RenderError::Input(
+            "-o - writes only the audio to standard output: drop --midi and --bvh, or give an \
+             output folder"
                 .into(),
         ));
     }
@@ -464,6 +506,7 @@ impl OutputPlan {
                 container,
                 audio: PathBuf::from("-"),
                 cues,
+                bvh_fps: None,
                 files: None,
             });
         }
@@ -483,6 +526,7 @@ impl OutputPlan {
             breaths: named("breaths.csv"),
             plot: (!args.no_plot).then(|| named("png")),
             bvh: args.bvh.then(|| named("bvh")),
+            midi: args.midi.then(|| named("mid")),
             markers: args
                 .markers
                 .iter()
@@ -500,6 +544,7 @@ impl OutputPlan {
             container,
             audio,
             cues,
+            bvh_fps: args.bvh_fps.map(f64::from),
             files: Some(files),
         })
     }

@@ -144,7 +144,10 @@ fn broken_files_fail_clearly_and_keep_existing_output() {
 
     let text = dir.path().join("text.wav");
     std::fs::write(&text, b"this is not audio at all, just some text in a file").expect("write");
-    assert_analyze_fails(&text, &["not a readable WAV file"]);
+    assert_analyze_fails(
+        &text,
+        &["is not audio: it holds text", "give an audio file"],
+    );
 
     // A real WAV cut in the middle of its data.
     let good = dir.path().join("good.wav");

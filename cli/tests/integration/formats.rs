@@ -172,8 +172,8 @@ fn damaged_and_mislabelled_files_fail_clearly() {
     fails(
         &text,
         &[
-            "notes.mp3 is not an audio file Pneuma can read",
-            "ffmpeg -i IN OUT.flac",
+            "notes.mp3 is not audio: it holds text",
+            "give an audio file",
         ],
     );
     // Opus: no decoder, and the command that converts it.

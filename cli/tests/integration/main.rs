@@ -13,4 +13,5 @@ mod render_cli;
 mod speak_cli;
 mod special_outputs;
 mod train_eval_cli;
+mod user_reports;
 mod wav_input;

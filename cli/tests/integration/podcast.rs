@@ -231,7 +231,7 @@ fn a_batch_finishes_the_good_files_and_reports_the_broken_one() {
         std::fs::copy(example_voice_path(), inputs.join(name)).expect("copy");
     }
     std::fs::write(inputs.join("broken.mp3"), "not audio at all\n".repeat(10)).expect("write");
-    std::fs::write(inputs.join("notes.txt"), "ignored: not audio by name").expect("write");
+    std::fs::write(inputs.join("notes.txt"), "skipped: not audio").expect("write");
     let out = dir.path().join("out");
     let o = pneuma(&[
         "render",
@@ -256,15 +256,14 @@ fn a_batch_finishes_the_good_files_and_reports_the_broken_one() {
             .unwrap_or_else(|| panic!("{name} not in: {err}"))
             .to_string()
     };
-    assert!(
-        row("broken.mp3").contains("FAILED") && row("broken.mp3").contains("not an audio file")
-    );
+    assert!(row("broken.mp3").contains("FAILED") && row("broken.mp3").contains("it holds text"));
+    assert!(row("notes.txt").contains("skipped") && row("notes.txt").contains("not audio"));
     for ep in ["ep1", "ep2", "ep3"] {
         assert!(row(&format!("{ep}.wav")).contains(" ok "), "{}", row(ep));
         assert!(out.join(format!("{ep}.wav")).exists());
         assert!(out.join(format!("{ep}.breaths.csv")).exists());
     }
-    assert!(err.contains("3 rendered, 1 failed"), "{err}");
+    assert!(err.contains("3 rendered, 1 failed, 1 skipped"), "{err}");
     let left: Vec<String> = std::fs::read_dir(&out)
         .expect("out")
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())

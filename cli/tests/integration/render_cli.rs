@@ -222,7 +222,7 @@ fn broken_input_fails_cleanly_and_keeps_existing_output() {
         (
             "text",
             b"hello, this is not audio".to_vec(),
-            "not a readable WAV",
+            "is not audio: it holds text",
         ),
         ("truncated", bytes[..bytes.len() / 2].to_vec(), "damaged"),
     ];

@@ -13,7 +13,7 @@ use support::{assert_analyze_fails, pneuma};
 
 const PCM: u16 = 0x0001;
 const FLOAT: u16 = 0x0003;
-const ALAW: u16 = 0x0006;
+const IMA_ADPCM: u16 = 0x0011;
 const MP3: u16 = 0x0055;
 
 // ---- byte-by-byte WAV construction ----
@@ -639,9 +639,9 @@ fn bad_headers_fail_with_their_reason() {
             vec!["64-bit float is not supported", "sox IN -b 24 OUT.wav"],
         ),
         (
-            "alaw",
-            riff(&[fmt(ALAW, 1, 8_000, 8), chunk(b"data", &[0xd5; 16])]),
-            vec!["A-law", "not supported", "sox IN -b 24 OUT.wav"],
+            "ima_adpcm",
+            riff(&[fmt(IMA_ADPCM, 1, 8_000, 4), chunk(b"data", &[0x00; 16])]),
+            vec!["IMA ADPCM", "not supported", "sox IN -b 24 OUT.wav"],
         ),
         (
             "mp3",
@@ -649,9 +649,9 @@ fn bad_headers_fail_with_their_reason() {
             vec!["MP3", "not supported"],
         ),
         (
-            "alaw_extensible",
-            riff(&[fmt_ext(1, 8_000, 8, 8, guid(ALAW)), data.clone()]),
-            vec!["A-law", "WAVE_FORMAT_EXTENSIBLE", "not supported"],
+            "ima_adpcm_extensible",
+            riff(&[fmt_ext(1, 8_000, 8, 8, guid(IMA_ADPCM)), data.clone()]),
+            vec!["IMA ADPCM", "WAVE_FORMAT_EXTENSIBLE", "not supported"],
         ),
         (
             "unknown_guid",
@@ -729,7 +729,7 @@ fn bad_headers_fail_with_their_reason() {
         (
             "text",
             b"just some text".to_vec(),
-            vec!["not a readable WAV file", "instead of 'RIFF'"],
+            vec!["is not audio: it holds text (\"just some text…\")"],
         ),
         ("tiny", b"RIFF\x04\0".to_vec(), vec!["6 bytes long"]),
         (

@@ -1,9 +1,11 @@
 //! BVH (Biovision hierarchy) encoder: head motion as a small skeleton that animation tools
 //! (Blender, MotionBuilder, Maya) import.
 //!
-//! Skeleton, in centimetres, Y up, the character facing +Z (so +X is the character's left;
-//! right-handed): `Hips` (root, at 100 cm height) → `Chest` → `Neck` → `Head` → end site at the
-//! top of the head. From control frames ([`push_control`]):
+//! Skeleton, in metres (1.8 m to the top of the head, so Blender's importer, which takes BVH
+//! units as metres, shows a person-sized figure at its default scale 1.0), Y up, the character
+//! facing +Z (so +X is the character's left; right-handed): `Hips` (root, at 1 m height) →
+//! `Chest` → `Neck` → `Head` → end site at the top of the head. From control frames
+//! ([`push_control`]):
 //! - `Chest`: the breathing reaches the chest as a small extension of the upper trunk with the
 //!   thorax expansion, [`CHEST_PITCH_DEG_PER_THORAX`] degrees at full expansion (as the VMC
 //!   rig's default `chest_pitch_deg` in `osc.rs`; a chosen
@@ -37,15 +39,15 @@ pub const JOINTS: [&str; 4] = ["Hips", "Chest", "Neck", "Head"];
 pub fn header(frames: usize, frame_rate_hz: f64) -> String {
     let mut s = String::with_capacity(1024);
     s.push_str("HIERARCHY\n");
-    s.push_str("ROOT Hips\n{\n  OFFSET 0.0 100.0 0.0\n");
+    s.push_str("ROOT Hips\n{\n  OFFSET 0.0 1.0 0.0\n");
     s.push_str("  CHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation\n");
-    s.push_str("  JOINT Chest\n  {\n    OFFSET 0.0 25.0 0.0\n");
+    s.push_str("  JOINT Chest\n  {\n    OFFSET 0.0 0.25 0.0\n");
     s.push_str("    CHANNELS 3 Zrotation Yrotation Xrotation\n");
-    s.push_str("    JOINT Neck\n    {\n      OFFSET 0.0 25.0 0.0\n");
+    s.push_str("    JOINT Neck\n    {\n      OFFSET 0.0 0.25 0.0\n");
     s.push_str("      CHANNELS 3 Zrotation Yrotation Xrotation\n");
-    s.push_str("      JOINT Head\n      {\n        OFFSET 0.0 10.0 0.0\n");
+    s.push_str("      JOINT Head\n      {\n        OFFSET 0.0 0.1 0.0\n");
     s.push_str("        CHANNELS 3 Zrotation Yrotation Xrotation\n");
-    s.push_str("        End Site\n        {\n          OFFSET 0.0 20.0 0.0\n        }\n");
+    s.push_str("        End Site\n        {\n          OFFSET 0.0 0.2 0.0\n        }\n");
     s.push_str("      }\n    }\n  }\n}\n");
     let frame_time_s = if frame_rate_hz.is_finite() && frame_rate_hz > 0.0 {
         1.0 / frame_rate_hz

@@ -6,5 +6,6 @@ pub mod bvh;
 pub mod controls_csv;
 pub mod features_csv;
 pub mod midi_cc;
+pub mod midi_file;
 pub mod osc;
 pub mod sink;

@@ -193,6 +193,69 @@ impl<W: Write> FrameSink for TextSink<W> {
     }
 }
 
+/// Frames passed on at another rate: the frame nearest to each instant `k / rate_hz`
+/// (`k = 0, 1, …`) goes to the inner sink (a BVH at an animation's 24 or 30 fps from 120 Hz
+/// frames; at a higher rate than the frames', frames repeat). [`Resample::count`] gives the
+/// number passed on for a stream of known length, as a BVH header needs it.
+pub struct Resample<S: FrameSink> {
+    inner: S,
+    rate_hz: f64,
+    half_frame_s: f64,
+    /// The next instant's index.
+    next: u64,
+    /// Instants to pass on in all (`u64::MAX`: no limit).
+    total: u64,
+}
+
+impl<S: FrameSink> Resample<S> {
+    /// Passes frames of `frame_rate_hz` to `inner` at `rate_hz`, at most `total` of them.
+    pub fn new(inner: S, frame_rate_hz: f64, rate_hz: f64, total: u64) -> Self {
+        Self {
+            inner,
+            rate_hz,
+            half_frame_s: 0.5 / frame_rate_hz,
+            next: 0,
+            total,
+        }
+    }
+
+    /// The instants `k / rate_hz` up to the last of `frames` frames at `frame_rate_hz`.
+    pub fn count(frames: u64, frame_rate_hz: f64, rate_hz: f64) -> u64 {
+        if frames == 0 {
+            return 0;
+        }
+        let last_s = (frames - 1) as f64 / frame_rate_hz;
+        (last_s * rate_hz + 1e-9).floor() as u64 + 1
+    }
+
+    /// The inner sink.
+    pub fn inner(&self) -> &S {
+        &self.inner
+    }
+
+    /// The inner sink back.
+    pub fn into_inner(self) -> S {
+        self.inner
+    }
+}
+
+impl<S: FrameSink> FrameSink for Resample<S> {
+    fn frame(&mut self, frame: &ControlFrame, at: u64) {
+        while self.next < self.total
+            && (self.next as f64 / self.rate_hz) < frame.time_s + self.half_frame_s
+        {
+            self.inner.frame(frame, at);
+            self.next += 1;
+        }
+    }
+    fn breath(&mut self, breath: &BreathEvent) {
+        self.inner.breath(breath);
+    }
+    fn existing_breath(&mut self, start_s: f64, end_s: f64) {
+        self.inner.existing_breath(start_s, end_s);
+    }
+}
+
 /// MIDI CC: the [`CcEncoder`]'s messages for each frame (only changed values), each handed to
 /// `send` with the frame's position. Never allocates.
 pub struct CcSink<'a, F: FnMut(u64, CcMessage)> {
@@ -271,6 +334,40 @@ mod tests {
     use crate::control::BreathKind;
     use crate::encode::midi_cc::{CcMap, CcSignal};
     use pneuma_testkit::osc::{decode, OscType};
+
+    #[test]
+    fn resampled_frames_are_the_nearest_to_each_instant() {
+        // 120 Hz frames over 1 s (121 frames, 0 to 1.0 s) to 24 fps: 25 instants, every fifth
+        // frame; to 50 fps: the nearest of 0, 0.02, 0.04 … (frames 0, 2, 5, 7, 10, …).
+        let frames = |rate_hz: f64| {
+            let mut r = Resample::new(
+                Collect::default(),
+                120.0,
+                rate_hz,
+                Resample::<Collect>::count(121, 120.0, rate_hz),
+            );
+            for i in 0..121u64 {
+                let f = ControlFrame {
+                    index: i,
+                    time_s: i as f64 / 120.0,
+                    ..Default::default()
+                };
+                r.frame(&f, i);
+            }
+            r.into_inner()
+                .frames
+                .iter()
+                .map(|(f, _)| f.index)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(Resample::<Collect>::count(121, 120.0, 24.0), 25);
+        assert_eq!(frames(24.0), (0..=120).step_by(5).collect::<Vec<u64>>());
+        assert_eq!(frames(50.0)[..6], [0, 2, 5, 7, 10, 12]);
+        assert_eq!(frames(50.0).len(), 51);
+        // Faster than the frames: each repeats.
+        assert_eq!(frames(360.0)[..8], [0, 0, 1, 1, 1, 2, 2, 2]);
+        assert_eq!(Resample::<Collect>::count(0, 120.0, 24.0), 0);
+    }
 
     fn frame(index: u64) -> ControlFrame {
         ControlFrame {

@@ -4,6 +4,7 @@
 //! [`ardour`] holds the checks `tests/ardour/run.sh` runs (ignored in `cargo test`).
 
 mod ardour;
+mod cli_midi;
 mod example_voice;
 mod osc_udp;
 mod plugin_clap;

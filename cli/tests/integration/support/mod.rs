@@ -199,3 +199,50 @@ pub fn breaths_csv(path: &Path) -> Vec<(f64, f64)> {
         })
         .collect()
 }
+
+/// A Python with the independent readers the tests use (`mido` for MIDI files, `bvh` for BVH):
+/// `PNEUMA_PYTHON_TOOLS`, else the venv `.ci/run` makes (`target/cli-venv`). `None` skips the
+/// test visibly, except under CI=true, where it fails.
+pub fn python_tools(test: &str) -> Option<PathBuf> {
+    let python = std::env::var_os("PNEUMA_PYTHON_TOOLS")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/cli-venv/bin/python")
+        });
+    let ok = Command::new(&python)
+        .args(["-c", "import mido, bvh"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
+    assert!(
+        ok || !ci,
+        "{test}: {} lacks mido/bvh but CI=true; .ci/run makes target/cli-venv",
+        python.display()
+    );
+    if !ok {
+        eprintln!(
+            "SKIPPED {test}: no Python with mido and bvh (python3 -m venv target/cli-venv && \
+             target/cli-venv/bin/pip install mido==1.3.3 bvh==0.3)"
+        );
+    }
+    ok.then_some(python)
+}
+
+/// Runs `cli/tests/tools/<script>` with `python` and `args`; its standard output.
+pub fn python_tool(python: &Path, script: &str, args: &[&Path]) -> String {
+    let o = Command::new(python)
+        .arg(
+            Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("tests/tools")
+                .join(script),
+        )
+        .args(args)
+        .output()
+        .expect("python runs");
+    assert!(
+        o.status.success(),
+        "{script}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
