@@ -8,6 +8,8 @@ use pneuma_tests::bundle::ensure_clap;
 use pneuma_tests::host::{param_hash, CcEvent, Plugin};
 use pneuma_tests::wav::example_voice_at;
 
+mod plugin_state;
+
 const CLAP_ID: &str = "org.pneuma.pneuma";
 
 /// The promised parameter ids (saved in host projects: they never change).

@@ -46,6 +46,8 @@
 
 #[cfg(test)]
 mod alloc_test;
+#[cfg(test)]
+mod automation_compat;
 pub mod editor;
 pub mod osc_sender;
 pub mod params;
