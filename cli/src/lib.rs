@@ -4,10 +4,6 @@
 
 pub mod analyze;
 pub mod audio_out;
-pub mod eval;
-pub mod eval_breath_detect;
-pub mod eval_breath_sounds;
-pub mod eval_breaths;
 pub mod markers;
 pub mod options;
 pub mod output;

@@ -3,54 +3,24 @@
 //! reports the leave-one-clip-out held-out log-likelihood per GMM and the comparison of the
 //! unvoiced behaviours, and writes the model file.
 //!
-//! The data loading here ([`load_clips`]) is shared with `pneuma eval head` and
-//! `cargo xtask train-default`.
+//! The data loading ([`load_clips`]) is the evaluation crate's, shared with `pneuma eval head`
+//! and `cargo xtask train-default`.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use pneuma_core::head::train::{mismatch_score, train, CrossValidation, TrainConfig};
-use pneuma_core::head::{MotionTrack, TrainingClip};
-use pneuma_core::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
+use pneuma_core::AnalysisConfig;
+use pneuma_eval::data::styletalk::load_clips;
+use pneuma_eval::data::DataError;
 use thiserror::Error;
 
-use pneuma_io::{read_mono, ReadError};
-
-/// Errors of loading head-motion data and training.
+/// Errors of training.
 #[derive(Debug, Error)]
 pub enum TrainCliError {
-    /// The data folder is missing or unreadable.
-    #[error("cannot read the data folder {path}: {source} (give a folder of <clip>.wav + <clip>.head.csv, e.g. ../shared/data/styletalk)")]
-    Folder {
-        /// The folder.
-        path: PathBuf,
-        /// The reason.
-        source: std::io::Error,
-    },
-    /// No clip pairs found.
-    #[error("no <clip>.wav + <clip>.head.csv pairs in {path}: {unmatched}; each clip needs both files with the same name before the extension")]
-    NoClips {
-        /// The folder.
-        path: PathBuf,
-        /// Which files lack their partner, or that the folder has neither kind.
-        unmatched: String,
-    },
-    /// A head CSV is malformed.
-    #[error("{path} line {line}: {reason} (expected header time_s,pitch_deg,yaw_deg,roll_deg and numeric rows)")]
-    Csv {
-        /// The file.
-        path: PathBuf,
-        /// Line number (1-based).
-        line: usize,
-        /// What is wrong.
-        reason: String,
-    },
-    /// Reading an audio file failed.
+    /// Loading the data failed.
     #[error(transparent)]
-    Audio(#[from] ReadError),
-    /// Analysis settings failed.
-    #[error(transparent)]
-    Analysis(#[from] AnalysisError),
+    Data(#[from] DataError),
     /// Training failed.
     #[error(transparent)]
     Train(#[from] pneuma_core::head::TrainError),
@@ -62,166 +32,6 @@ pub enum TrainCliError {
         /// The reason.
         source: std::io::Error,
     },
-}
-
-/// Reads a head-motion CSV (`time_s,pitch_deg,yaw_deg,roll_deg`) into (roll, pitch, yaw).
-pub fn read_head_csv(path: &Path) -> Result<MotionTrack, TrainCliError> {
-    let text = std::fs::read_to_string(path).map_err(|e| TrainCliError::Csv {
-        path: path.into(),
-        line: 0,
-        reason: e.to_string(),
-    })?;
-    let csv_err = |line: usize, reason: String| TrainCliError::Csv {
-        path: path.into(),
-        line,
-        reason,
-    };
-    let mut lines = text.lines();
-    let header = lines.next().unwrap_or("").trim();
-    let cols: Vec<&str> = header.split(',').map(str::trim).collect();
-    let find = |name: &str| {
-        cols.iter()
-            .position(|c| *c == name)
-            .ok_or_else(|| csv_err(1, format!("column `{name}` is missing")))
-    };
-    let (it, ip, iy, ir) = (
-        find("time_s")?,
-        find("pitch_deg")?,
-        find("yaw_deg")?,
-        find("roll_deg")?,
-    );
-    let mut m = MotionTrack::default();
-    for (n, line) in lines.enumerate() {
-        let line_no = n + 2;
-        if line.trim().is_empty() {
-            continue;
-        }
-        let f: Vec<&str> = line.split(',').map(str::trim).collect();
-        let get = |i: usize| -> Result<f64, TrainCliError> {
-            let s = f
-                .get(i)
-                .ok_or_else(|| csv_err(line_no, format!("has {} fields", f.len())))?;
-            let v: f64 = s
-                .parse()
-                .map_err(|_| csv_err(line_no, format!("`{s}` is not a number")))?;
-            if v.is_finite() {
-                Ok(v)
-            } else {
-                Err(csv_err(line_no, format!("`{s}` is not finite")))
-            }
-        };
-        let t = get(it)?;
-        if let Some(&last) = m.time_s.last() {
-            if t <= last {
-                return Err(csv_err(line_no, format!("time {t} does not increase")));
-            }
-        }
-        m.time_s.push(t);
-        m.pose_deg.push([get(ir)?, get(ip)?, get(iy)?]);
-    }
-    if m.time_s.len() < 4 {
-        return Err(csv_err(0, "fewer than 4 rows of motion".into()));
-    }
-    Ok(m)
-}
-
-/// Analyses a whole audio file (any input format) into feature frames with `config`.
-pub fn analyze_wav(
-    path: &Path,
-    config: &AnalysisConfig,
-) -> Result<Vec<FeatureFrame>, TrainCliError> {
-    let (samples, rate) = read_mono(path)?;
-    let mut a = Analyzer::new(config.clone())?;
-    a.prepare(rate as f64, 4096)?;
-    let mut frames = Vec::new();
-    for block in samples.chunks(4096) {
-        a.process(block, |f| frames.push(*f))?;
-    }
-    a.finish(|f| frames.push(*f))?;
-    Ok(frames)
-}
-
-/// Finds the `<clip>.wav` + `<clip>.head.csv` pairs in `dir` (sorted by name), analyses the
-/// audio at `config.frame_rate_hz` and pairs it with the resampled motion.
-pub fn load_clips(dir: &Path, config: &AnalysisConfig) -> Result<Vec<TrainingClip>, TrainCliError> {
-    let folder = |source| TrainCliError::Folder {
-        path: dir.into(),
-        source,
-    };
-    let names: Vec<String> = std::fs::read_dir(dir)
-        .map_err(folder)?
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .collect();
-    let heads: Vec<&str> = names
-        .iter()
-        .filter_map(|n| n.strip_suffix(".head.csv"))
-        .collect();
-    // (stem, file name) of every audio file (any format pneuma-io reads).
-    let audio: Vec<(&str, &str)> = names
-        .iter()
-        .filter_map(|n| pneuma_io::audio_stem(n).map(|s| (s, n.as_str())))
-        .collect();
-    let wavs: Vec<&str> = audio.iter().map(|a| a.0).collect();
-    let mut stems: Vec<String> = heads
-        .iter()
-        .filter(|s| wavs.contains(s))
-        .map(|s| s.to_string())
-        .collect();
-    stems.sort();
-    // Which file of a pair is missing, named (at most five of each kind).
-    let mut unmatched = Vec::new();
-    let list = |v: Vec<&&str>, ext: &str| {
-        let shown: Vec<String> = v.iter().take(5).map(|s| format!("{s}{ext}")).collect();
-        let more = v.len().saturating_sub(5);
-        let tail = if more > 0 {
-            format!(" and {more} more")
-        } else {
-            String::new()
-        };
-        format!("{}{tail}", shown.join(", "))
-    };
-    let lone_wavs: Vec<&&str> = audio
-        .iter()
-        .filter(|a| !heads.contains(&a.0))
-        .map(|a| &a.1)
-        .collect();
-    let lone_heads: Vec<&&str> = heads.iter().filter(|s| !wavs.contains(s)).collect();
-    if !lone_wavs.is_empty() {
-        unmatched.push(format!("no .head.csv for {}", list(lone_wavs, "")));
-    }
-    if !lone_heads.is_empty() {
-        unmatched.push(format!(
-            "no audio file (.wav, .flac, …) for {}",
-            list(lone_heads, ".head.csv")
-        ));
-    }
-    if stems.is_empty() {
-        return Err(TrainCliError::NoClips {
-            path: dir.into(),
-            unmatched: if unmatched.is_empty() {
-                "it holds no .wav and no .head.csv files".into()
-            } else {
-                unmatched.join("; ")
-            },
-        });
-    }
-    if !unmatched.is_empty() {
-        eprintln!("note: {} skipped: {}", dir.display(), unmatched.join("; "));
-    }
-    let mut clips = Vec::with_capacity(stems.len());
-    for stem in stems {
-        let motion = read_head_csv(&dir.join(format!("{stem}.head.csv")))?;
-        let name = audio.iter().find(|a| a.0 == stem).map_or("", |a| a.1);
-        let frames = analyze_wav(&dir.join(name), config)?;
-        clips.push(TrainingClip::from_motion(
-            &stem,
-            config.frame_rate_hz,
-            &frames,
-            &motion,
-        ));
-    }
-    Ok(clips)
 }
 
 /// Command-line arguments of `pneuma train`.

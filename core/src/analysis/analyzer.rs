@@ -470,6 +470,7 @@ impl State {
             evidence.edge_newest,
         );
         self.speaker.update(t.voiced, t.f0_hz, rms_db);
+        let speech_level_db = self.speaker.speech_level_db();
         let frame = FeatureFrame {
             index: self.next_frame,
             time_s: self.clock.time_s(self.next_frame),
@@ -482,7 +483,8 @@ impl State {
             } else {
                 0.0
             },
-            level_db: rms_db - self.speaker.speech_level_db(),
+            level_db: rms_db - speech_level_db,
+            speech_level_db,
             band_db,
             bands: self.pitch.band_levels(),
         };

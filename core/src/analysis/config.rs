@@ -121,12 +121,14 @@ impl AnalysisConfig {
     /// threshold ([`VOICING_THRESHOLD_IDS`]).
     pub fn set(&mut self, id: &str, text: &str) -> Result<(), AnalysisError> {
         if let Some(which) = VOICING_THRESHOLD_IDS.iter().position(|t| *t == id) {
-            // Not a number: NaN, which the model refuses with both thresholds named.
             let v: f32 = text
                 .trim()
                 .replace('\u{2212}', "-")
                 .parse()
-                .unwrap_or(f32::NAN);
+                .map_err(|_| AnalysisError::NotANumber {
+                    name: id.to_string(),
+                    value: text.to_string(),
+                })?;
             let (mut on, mut off) = (
                 self.voicing_model.threshold(false),
                 self.voicing_model.threshold(true),
@@ -136,10 +138,7 @@ impl AnalysisConfig {
             } else {
                 off = v;
             }
-            self.voicing_model = self
-                .voicing_model
-                .with_thresholds(on, off)
-                .map_err(|_| AnalysisError::VoicingThresholds { on, off })?;
+            self.voicing_model = self.voicing_model.with_thresholds(on, off)?;
             return Ok(());
         }
         if let Some(f) = find_field(&FIELDS, id) {
@@ -274,32 +273,63 @@ mod tests {
     }
 
     #[test]
-    fn the_string_setter_takes_table_ids_and_the_voicing_thresholds() {
+    fn the_string_setter_names_what_is_wrong() {
+        use crate::analysis::{InvalidVoicingModel, VoicingModelError};
         let mut c = AnalysisConfig::default();
+        assert_eq!(c.set("f0_min_hz", "60"), Ok(()));
+        assert_eq!(c.f0_min_hz, 60.0);
+        // The table's ids, of the analysis and of the speaker normalisation, in their units.
         c.set("frame_rate_hz", "200").unwrap();
         assert_eq!(c.frame_rate_hz, 200.0);
         c.set("speaker_prior_f0_hz", "210").unwrap();
         assert_eq!(c.speaker.prior_f0_hz, 210.0);
         c.set("silence_db", "\u{2212}50").unwrap();
         assert_eq!(c.silence_db, -50.0);
-        let on = c.voicing_model.threshold(false);
-        c.set("voicing_threshold_off", &(on - 0.5).to_string()).unwrap();
-        assert_eq!(c.voicing_model.threshold(true), on - 0.5);
-        assert!(matches!(
-            c.set("voicing_threshold_off", &(on + 1.0).to_string()),
-            Err(AnalysisError::VoicingThresholds { .. })
-        ));
-        assert!(matches!(
-            c.set("frame_rate_hz", "1000"),
-            Err(AnalysisError::Setting(SettingError::OutOfRange { .. }))
-        ));
-        assert!(matches!(
-            c.set("hangover_s", "1"),
-            Err(AnalysisError::Setting(SettingError::Unknown(_)))
-        ));
-        assert!(matches!(
-            c.set("f0_min_hz", "low"),
-            Err(AnalysisError::Setting(SettingError::NotAValue { .. }))
-        ));
+        let e = c.set("f0_min_hz", "sixty").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "f0_min_hz: `sixty` is not a number: use 30 to 600 Hz"
+        );
+        let e = c.set("frame_rate_hz", "1000").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "frame_rate_hz 1000 Hz is out of range: use 30 to 240 Hz"
+        );
+        assert_eq!(c.frame_rate_hz, 200.0, "a refused value changes nothing");
+        let e = c.set("f0_minimum", "60").unwrap_err();
+        assert!(matches!(e, AnalysisError::Setting(SettingError::Unknown(_))));
+        // A phrase setting is not the analysis's.
+        assert!(c.set("hangover_s", "0.2").is_err());
+        let e = c.set("voicing_threshold_on", "high").unwrap_err();
+        assert_eq!(
+            e,
+            AnalysisError::NotANumber {
+                name: "voicing_threshold_on".into(),
+                value: "high".into()
+            }
+        );
+        // The thresholds go through the model, which refuses `off` above `on`.
+        c.set("voicing_threshold_on", "1").unwrap();
+        c.set("voicing_threshold_off", "0.5").unwrap();
+        assert_eq!(
+            (
+                c.voicing_model.threshold(false),
+                c.voicing_model.threshold(true)
+            ),
+            (1.0, 0.5)
+        );
+        let e = c.set("voicing_threshold_off", "2").unwrap_err();
+        assert_eq!(
+            e,
+            AnalysisError::VoicingModel(VoicingModelError::Invalid(
+                InvalidVoicingModel::ThresholdOrder { on: 1.0, off: 2.0 }
+            ))
+        );
+        assert_eq!(e.to_string(), "threshold_off 2 lies above threshold_on 1");
+        assert_eq!(
+            c.voicing_model.threshold(true),
+            0.5,
+            "a refused value changes nothing"
+        );
     }
 }

@@ -2,6 +2,7 @@
 
 use thiserror::Error;
 
+use super::voicing::VoicingModelError;
 use crate::settings::setting::SettingError;
 
 /// Errors of the analysis area; each message says what to change.
@@ -15,14 +16,19 @@ pub enum AnalysisError {
     /// A setting is out of its range (or of the range another setting leaves it).
     #[error(transparent)]
     Setting(#[from] SettingError),
-    /// The voicing thresholds cannot be used.
-    #[error("voicing thresholds on {on} / off {off} are not usable: give finite numbers with off at most on")]
-    VoicingThresholds {
-        /// Threshold to start voicing.
-        on: f32,
-        /// Threshold to keep voicing.
-        off: f32,
+    /// A voicing threshold given to [`super::AnalysisConfig::set`] that is not a number (the
+    /// table's settings answer with [`SettingError::NotAValue`]).
+    #[error("{name}: {value:?} is not a number")]
+    NotANumber {
+        /// Name of the setting.
+        name: String,
+        /// Text given.
+        value: String,
     },
+    /// Voicing thresholds set that make no model (`voicing_threshold_off` above
+    /// `voicing_threshold_on`, or not finite).
+    #[error(transparent)]
+    VoicingModel(#[from] VoicingModelError),
     /// `process` was called before `prepare`.
     #[error("the analyzer is not prepared: call prepare(sample_rate, max_block) first")]
     NotPrepared,

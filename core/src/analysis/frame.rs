@@ -20,8 +20,13 @@ pub struct FeatureFrame {
     pub rms_db: f32,
     /// f0 in semitones around the speaker's running median f0; 0 when unvoiced.
     pub f0_st: f32,
-    /// Level in dB around the speaker's running speech level (`rms_db` − speech level).
+    /// Level in dB around the speaker's running speech level (`rms_db` − `speech_level_db`).
     pub level_db: f32,
+    /// The speaker's running speech level, dBFS: the mean `rms_db` of the voiced frames so far
+    /// (this one included) from a prior, forgetting with a half-life in seconds of speech
+    /// ([`crate::analysis::SpeakerNormConfig`]). The phrase tracker and the breath placement
+    /// measure against it.
+    pub speech_level_db: f32,
     /// RMS level of the voice band in dBFS: the pitch window (about 40 ms, centred on `time_s`)
     /// after the 120 Hz high-pass and the decimation (so up to 4–8 kHz). Rumble (traffic, car,
     /// handling noise) hardly reaches it; the phrase tracker decides speech / pause on it.

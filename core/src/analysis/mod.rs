@@ -30,5 +30,8 @@ pub use level::amplitude_to_db;
 pub use pitch::{NsdfPitch, PitchEstimate};
 pub use speaker_norm::{SpeakerNorm, SpeakerNormConfig};
 pub use voicing::{
-    VoicingFeatures, VoicingModel, VoicingModelError, N_VOICING_FEATURES, VOICING_FEATURES,
+    InvalidVoicingModel, VoicingFeatures, VoicingModel, VoicingModelError, N_VOICING_FEATURES,
+    VOICING_FEATURES,
 };
+// The training of the voicing model (`cargo xtask train-voicing`) reads this cue too.
+pub use voicing::LEVEL_VS_GATE;

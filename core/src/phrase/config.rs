@@ -116,3 +116,31 @@ impl PhraseConfig {
         Ok(check_fields(self, &FIELDS)?)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_string_setter_names_what_is_wrong() {
+        let mut c = PhraseConfig::default();
+        assert_eq!(c.set("hangover_s", "0.2"), Ok(()));
+        assert_eq!(c.hangover_s, 0.2);
+        let e = c.set("hangover_s", "long").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "hangover_s: `long` is not a number: use 0.05 to 1 s"
+        );
+        let e = c.set("hangover_s", "3").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "hangover_s 3 s is out of range: use 0.05 to 1 s"
+        );
+        // The phrase tracker's silence has its own id (the analysis has a `silence_db` too).
+        c.set("phrase_silence_db", "-80").unwrap();
+        assert_eq!(c.silence_db, -80.0);
+        let e = c.set("hangover", "0.2").unwrap_err();
+        assert_eq!(e, PhraseError::Setting(SettingError::Unknown("hangover".into())));
+        assert_eq!(c.hangover_s, 0.2, "a refused value changes nothing");
+    }
+}

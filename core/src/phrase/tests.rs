@@ -13,6 +13,7 @@ fn frame(index: u64, rms_db: f32, voiced: bool) -> FeatureFrame {
         rms_db,
         f0_st: 0.0,
         level_db: rms_db - -20.0,
+        speech_level_db: -20.0,
         band_db: rms_db,
         bands: breathy(rms_db),
     }
@@ -38,12 +39,22 @@ fn run(script: &[(usize, f32, bool)]) -> Vec<PhraseEvent> {
 
 /// All events, activity included.
 fn run_all(script: &[(usize, f32, bool)]) -> Vec<PhraseEvent> {
+    run_edited(script, |_, _| {})
+}
+
+/// All events of a script whose frames `edit` changes (given the frame number).
+fn run_edited(
+    script: &[(usize, f32, bool)],
+    edit: impl Fn(u64, &mut FeatureFrame),
+) -> Vec<PhraseEvent> {
     let mut t = PhraseTracker::new(PhraseConfig::default(), 100.0).unwrap();
     let mut events = Vec::new();
     let mut i = 0u64;
     for &(n, db, v) in script {
         for _ in 0..n {
-            t.update(&frame(i, db, v), |e| events.push(e));
+            let mut f = frame(i, db, v);
+            edit(i, &mut f);
+            t.update(&f, |e| events.push(e));
             i += 1;
         }
     }
@@ -169,24 +180,17 @@ fn breaths_with_bands(
     (from, to): (u64, u64),
     bands: impl Fn(f32) -> BandLevels,
 ) -> Vec<Option<(f64, f64)>> {
-    let mut t = PhraseTracker::new(PhraseConfig::default(), 100.0).unwrap();
-    let mut out = Vec::new();
-    let mut i = 0u64;
-    for &(n, db, v) in script {
-        for _ in 0..n {
-            let mut f = frame(i, db, v);
-            if (from..to).contains(&i) {
-                f.bands = bands(db);
-            }
-            t.update(&f, |e| {
-                if let PhraseEvent::Start { pause, .. } = e {
-                    out.push(pause.breath_s);
-                }
-            });
-            i += 1;
+    run_edited(script, |i, f| {
+        if (from..to).contains(&i) {
+            f.bands = bands(f.band_db);
         }
-    }
-    out
+    })
+    .into_iter()
+    .filter_map(|e| match e {
+        PhraseEvent::Start { pause, .. } => Some(pause.breath_s),
+        _ => None,
+    })
+    .collect()
 }
 
 #[test]
@@ -287,4 +291,30 @@ fn nan_levels_are_silence() {
         (50, f32::NAN, false),
     ]);
     assert_eq!(ev.len(), 2, "{ev:?}");
+}
+
+#[test]
+fn an_unvoiced_burst_is_speech_only_near_the_speech_level() {
+    // An unvoiced burst at −30 dBFS, 40 dB over the floor, in a pause (at 2.3 s): within
+    // `unvoiced_drop_db` (12 dB) of a −25 dBFS speaker it is activity; 25 dB under a −5 dBFS
+    // speaker it is not. Only the frames' speech level differs (their level_db stays).
+    let script = [
+        (100, -70.0, false),
+        (100, -20.0, true),
+        (30, -70.0, false),
+        (8, -30.0, false),
+        (40, -70.0, false),
+        (100, -20.0, true),
+        (50, -70.0, false),
+    ];
+    for (speech_level_db, heard) in [(-25.0, true), (-5.0, false)] {
+        let ev = run_edited(&script, |_, f| f.speech_level_db = speech_level_db);
+        let activity = ev
+            .iter()
+            .any(|e| matches!(e, PhraseEvent::Activity { time_s } if (time_s - 2.3).abs() < 0.011));
+        assert_eq!(
+            activity, heard,
+            "speech level {speech_level_db} dBFS: {ev:?}"
+        );
+    }
 }

@@ -187,16 +187,16 @@ impl PhraseTracker {
     fn frame_facts(&mut self, frame: &FeatureFrame) -> FrameFacts {
         let c = self.config;
         let s = &mut self.state;
-        // Decisions use the voice-band level (rumble stays out); the speech level comes from
-        // the full-band level and its speaker-relative value.
+        // Decisions use the voice-band level (rumble stays out), against the speaker's
+        // running speech level (full band).
         let rms_db = if frame.band_db.is_finite() {
             frame.band_db
         } else {
             -120.0
         };
         s.floor_db = self.floor.update(Some(rms_db));
-        let speech_level_db = if frame.level_db.is_finite() && frame.rms_db.is_finite() {
-            frame.rms_db - frame.level_db
+        let speech_level_db = if frame.speech_level_db.is_finite() {
+            frame.speech_level_db
         } else {
             rms_db
         };

@@ -5,7 +5,7 @@
 /// Number of cues the model weighs.
 pub const N_VOICING_FEATURES: usize = 19;
 /// Index of `level_vs_gate` among the cues: a frame under the level gate is never voiced.
-pub(crate) const LEVEL_VS_GATE: usize = 14;
+pub const LEVEL_VS_GATE: usize = 14;
 /// The level gate: frames more than this many dB under the running speech level are never
 /// voiced, nor frames whose band level (what the NSDF hears) lies under the band's noise floor
 /// (plus [`NOISE_MARGIN_DB`]), unless their level is within [`NOISE_HEADROOM_DB`] of the

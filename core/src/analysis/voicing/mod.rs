@@ -23,6 +23,6 @@ mod model_file;
 mod rule;
 
 pub(crate) use cues::{period_jump_octaves, VoicingEvidence, TRACK_CAP_S};
-pub use cues::{VoicingFeatures, N_VOICING_FEATURES, VOICING_FEATURES};
-pub use model::{VoicingModel, VoicingModelError};
+pub use cues::{VoicingFeatures, LEVEL_VS_GATE, N_VOICING_FEATURES, VOICING_FEATURES};
+pub use model::{InvalidVoicingModel, VoicingModel, VoicingModelError};
 pub(crate) use rule::VoicingRule;

@@ -24,6 +24,65 @@ pub enum VoicingModelError {
         /// The line that was expected.
         missing: String,
     },
+    /// Parts given to a constructor ([`VoicingModel::new`], [`VoicingModel::trees`],
+    /// [`VoicingModel::plus_trees`], [`VoicingModel::with_thresholds`]) that make no model.
+    #[error(transparent)]
+    Invalid(#[from] InvalidVoicingModel),
+}
+
+/// What is wrong with the parts of a voicing model (the message names the part).
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum InvalidVoicingModel {
+    /// A tree depth outside 1..=[`MAX_TREE_DEPTH`].
+    #[error("depth {0} is outside 1..={MAX_TREE_DEPTH}")]
+    Depth(usize),
+    /// Split and leaf arrays whose lengths make no whole number of trees.
+    #[error("{splits} splits and {leaves} leaves do not make whole trees of depth {depth}")]
+    PartialTrees {
+        /// Splits given.
+        splits: usize,
+        /// Leaves given.
+        leaves: usize,
+        /// Depth given.
+        depth: usize,
+    },
+    /// A split on an unknown cue or at a threshold that is not finite.
+    #[error("split on cue {feature} at {threshold}: the cue must be one of the {N_VOICING_FEATURES} and the threshold finite")]
+    Split {
+        /// Index of the cue given.
+        feature: usize,
+        /// Threshold given.
+        threshold: f32,
+    },
+    /// A leaf value that is not finite.
+    #[error("leaf values must be finite")]
+    Leaf,
+    /// A threshold that is not finite.
+    #[error("thresholds must be finite")]
+    ThresholdNotFinite,
+    /// `threshold_off` above `threshold_on`.
+    #[error("threshold_off {off} lies above threshold_on {on}")]
+    ThresholdOrder {
+        /// `threshold_on` given.
+        on: f32,
+        /// `threshold_off` given.
+        off: f32,
+    },
+    /// A logistic regression's mean or weight of a cue that is not finite.
+    #[error("feature {0}: mean and weight must be finite")]
+    MeanOrWeight(&'static str),
+    /// A scale that is not positive and finite.
+    #[error("feature {0}: scale must be positive and finite")]
+    Scale(&'static str),
+    /// A bias that is not finite.
+    #[error("bias must be finite")]
+    Bias,
+    /// A trees model's base score that is not finite.
+    #[error("base must be finite")]
+    Base,
+    /// Trees added to a model that is not a logistic regression.
+    #[error("trees are added to a logistic regression only")]
+    NotLogistic,
 }
 
 /// The most splits on a tree's path from its root to a leaf (a tree has `2^depth` leaves).
@@ -75,34 +134,34 @@ impl Ensemble {
         depth: usize,
         splits: Vec<(usize, f32)>,
         leaves: Vec<f32>,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, InvalidVoicingModel> {
         let splits: Vec<TreeSplit> = splits
             .into_iter()
             .map(|(feature, threshold)| TreeSplit { feature, threshold })
             .collect();
         if !(1..=MAX_TREE_DEPTH).contains(&depth) {
-            return Err(format!("depth {depth} is outside 1..={MAX_TREE_DEPTH}"));
+            return Err(InvalidVoicingModel::Depth(depth));
         }
         let n_leaves = 1 << depth;
         let n_trees = leaves.len() / n_leaves;
         if leaves.len() != n_trees * n_leaves || splits.len() != n_trees * (n_leaves - 1) {
-            return Err(format!(
-                "{} splits and {} leaves do not make whole trees of depth {depth}",
-                splits.len(),
-                leaves.len()
-            ));
+            return Err(InvalidVoicingModel::PartialTrees {
+                splits: splits.len(),
+                leaves: leaves.len(),
+                depth,
+            });
         }
         if let Some(s) = splits
             .iter()
             .find(|s| s.feature >= N_VOICING_FEATURES || !s.threshold.is_finite())
         {
-            return Err(format!(
-                "split on cue {} at {}: the cue must be one of the {N_VOICING_FEATURES} and the threshold finite",
-                s.feature, s.threshold
-            ));
+            return Err(InvalidVoicingModel::Split {
+                feature: s.feature,
+                threshold: s.threshold,
+            });
         }
         if !leaves.iter().all(|v| v.is_finite()) {
-            return Err("leaf values must be finite".into());
+            return Err(InvalidVoicingModel::Leaf);
         }
         Ok(Self {
             depth,
@@ -184,14 +243,15 @@ impl VoicingModel {
         scorer: Scorer,
         threshold_on: f32,
         threshold_off: f32,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, InvalidVoicingModel> {
         if !(threshold_on.is_finite() && threshold_off.is_finite()) {
-            return Err("thresholds must be finite".into());
+            return Err(InvalidVoicingModel::ThresholdNotFinite);
         }
         if threshold_off > threshold_on {
-            return Err(format!(
-                "threshold_off {threshold_off} lies above threshold_on {threshold_on}"
-            ));
+            return Err(InvalidVoicingModel::ThresholdOrder {
+                on: threshold_on,
+                off: threshold_off,
+            });
         }
         Ok(Self {
             scorer,
@@ -199,6 +259,7 @@ impl VoicingModel {
             threshold_off,
         })
     }
+
     /// A logistic-regression model from its parts; fails (naming the part) on a non-finite
     /// number, a scale that is not positive or `threshold_off > threshold_on`.
     pub fn new(
@@ -208,17 +269,17 @@ impl VoicingModel {
         bias: f32,
         threshold_on: f32,
         threshold_off: f32,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, VoicingModelError> {
         for (i, name) in VOICING_FEATURES.iter().enumerate() {
             if !(mean[i].is_finite() && weight[i].is_finite()) {
-                return Err(format!("feature {name}: mean and weight must be finite"));
+                return Err(InvalidVoicingModel::MeanOrWeight(name).into());
             }
             if !(scale[i].is_finite() && scale[i] > 0.0) {
-                return Err(format!("feature {name}: scale must be positive and finite"));
+                return Err(InvalidVoicingModel::Scale(name).into());
             }
         }
         if !bias.is_finite() {
-            return Err("bias must be finite".into());
+            return Err(InvalidVoicingModel::Bias.into());
         }
         let scorer = Scorer::Logistic(Linear {
             mean,
@@ -226,7 +287,7 @@ impl VoicingModel {
             weight,
             bias,
         });
-        Self::from_scorer(scorer, threshold_on, threshold_off)
+        Ok(Self::from_scorer(scorer, threshold_on, threshold_off)?)
     }
 
     /// A tree-ensemble model: `splits` holds `2^depth − 1` splits per tree (breadth first),
@@ -241,12 +302,16 @@ impl VoicingModel {
         leaves: Vec<f32>,
         threshold_on: f32,
         threshold_off: f32,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, VoicingModelError> {
         if !base.is_finite() {
-            return Err("base must be finite".into());
+            return Err(InvalidVoicingModel::Base.into());
         }
         let trees = Ensemble::new(depth, splits, leaves)?;
-        Self::from_scorer(Scorer::Trees { base, trees }, threshold_on, threshold_off)
+        Ok(Self::from_scorer(
+            Scorer::Trees { base, trees },
+            threshold_on,
+            threshold_off,
+        )?)
     }
 
     /// This logistic-regression model's score plus trees (a hybrid, format version 3):
@@ -259,21 +324,29 @@ impl VoicingModel {
         leaves: Vec<f32>,
         threshold_on: f32,
         threshold_off: f32,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, VoicingModelError> {
         let Scorer::Logistic(linear) = &self.scorer else {
-            return Err("trees are added to a logistic regression only".into());
+            return Err(InvalidVoicingModel::NotLogistic.into());
         };
         let trees = Ensemble::new(depth, splits, leaves)?;
         let scorer = Scorer::Hybrid {
             linear: linear.clone(),
             trees,
         };
-        Self::from_scorer(scorer, threshold_on, threshold_off)
+        Ok(Self::from_scorer(scorer, threshold_on, threshold_off)?)
     }
 
     /// The same scorer with other thresholds (`off ≤ on`).
-    pub fn with_thresholds(&self, threshold_on: f32, threshold_off: f32) -> Result<Self, String> {
-        Self::from_scorer(self.scorer.clone(), threshold_on, threshold_off)
+    pub fn with_thresholds(
+        &self,
+        threshold_on: f32,
+        threshold_off: f32,
+    ) -> Result<Self, VoicingModelError> {
+        Ok(Self::from_scorer(
+            self.scorer.clone(),
+            threshold_on,
+            threshold_off,
+        )?)
     }
 
     /// The same model with only the first `count` of its trees (an earlier stage of
@@ -346,6 +419,44 @@ pub(super) mod tests {
     pub(crate) fn hybrid() -> VoicingModel {
         let (splits, leaves) = two_trees_parts();
         logistic().plus_trees(2, splits, leaves, 1.5, -0.5).unwrap()
+    }
+
+    #[test]
+    fn the_constructors_name_the_part_that_is_wrong() {
+        let invalid = |r: Result<VoicingModel, VoicingModelError>| match r {
+            Err(VoicingModelError::Invalid(e)) => e,
+            other => panic!("expected an invalid model, got {other:?}"),
+        };
+        let e = invalid(VoicingModel::trees(5, 0.0, vec![], vec![], 0.0, 0.0));
+        assert_eq!(e, InvalidVoicingModel::Depth(5));
+        assert_eq!(e.to_string(), "depth 5 is outside 1..=4");
+        let (splits, leaves) = two_trees_parts();
+        let e = invalid(VoicingModel::trees(
+            2,
+            0.0,
+            splits,
+            leaves[1..].to_vec(),
+            0.0,
+            0.0,
+        ));
+        assert_eq!(
+            e.to_string(),
+            "6 splits and 7 leaves do not make whole trees of depth 2"
+        );
+        let e = invalid(logistic().with_thresholds(0.0, 1.0));
+        assert_eq!(e, InvalidVoicingModel::ThresholdOrder { on: 0.0, off: 1.0 });
+        assert_eq!(e.to_string(), "threshold_off 1 lies above threshold_on 0");
+        let mut scale = [1.0; N_VOICING_FEATURES];
+        scale[1] = 0.0;
+        let zero = [0.0; N_VOICING_FEATURES];
+        let e = invalid(VoicingModel::new(zero, scale, zero, 0.0, 0.0, 0.0));
+        assert_eq!(e, InvalidVoicingModel::Scale("chosen_clarity"));
+        assert_eq!(
+            e.to_string(),
+            "feature chosen_clarity: scale must be positive and finite"
+        );
+        let e = invalid(two_trees().plus_trees(1, vec![(0, 0.5)], vec![0.0, 1.0], 0.0, 0.0));
+        assert_eq!(e, InvalidVoicingModel::NotLogistic);
     }
 
     #[test]

@@ -114,7 +114,7 @@ impl VoicingModel {
         };
         let (_, on) = keyed_number(&mut lines, "threshold_on")?;
         let (line_off, off) = keyed_number(&mut lines, "threshold_off")?;
-        let model = Self::from_scorer(scorer, on, off).map_err(|m| bad(line_off, m))?;
+        let model = Self::from_scorer(scorer, on, off).map_err(|e| bad(line_off, e.to_string()))?;
         if let Some((line, l)) = lines.next() {
             return Err(bad(
                 line,
@@ -313,7 +313,7 @@ fn parse_trees<'a>(
             leaves.push(number(line, "leaf", v)?);
         }
     }
-    Ensemble::new(depth, splits, leaves).map_err(|m| bad(last, m))
+    Ensemble::new(depth, splits, leaves).map_err(|e| bad(last, e.to_string()))
 }
 
 /// The next content line of a model file, or the error naming what is missing.

@@ -12,7 +12,6 @@
 //! every clip.
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 use pneuma_core::head::train::{
     cross_validate, evaluate_clip, synthesize_clip, ClipEval, TrainConfig,
@@ -20,27 +19,7 @@ use pneuma_core::head::train::{
 use pneuma_core::head::{HeadConfig, HeadModel, TrainingClip, UnvoicedBehaviour};
 use pneuma_core::AnalysisConfig;
 
-use crate::train::load_clips;
-
-/// Command-line arguments of `pneuma eval`.
-#[derive(Debug, clap::Args)]
-pub struct Args {
-    /// What to evaluate.
-    #[command(subcommand)]
-    pub what: What,
-}
-
-/// The evaluations.
-#[derive(Debug, clap::Subcommand)]
-pub enum What {
-    /// Head motion against real head motion (styletalk format data).
-    Head(HeadArgs),
-    /// Breathing of offline renders: empty lung during speech, breath durations and levels.
-    Breaths(crate::eval_breaths::BreathArgs),
-    /// Inserted breaths against real ones labelled by hand: spectrum, level, duration, and the
-    /// engine's detection of the real ones.
-    BreathSounds(crate::eval_breath_sounds::BreathSoundArgs),
-}
+use crate::data::styletalk::load_clips;
 
 /// Arguments of `pneuma eval head`.
 #[derive(Debug, clap::Args)]
@@ -212,7 +191,8 @@ frozen_gen,frozen_real,power_above_3hz_gen,power_above_3hz_real,speed_ratio"
     all
 }
 
-fn run_head(args: &HeadArgs) -> Result<bool, String> {
+/// Runs `pneuma eval head`; returns whether every target was met.
+pub fn run(args: &HeadArgs) -> Result<bool, String> {
     let config = AnalysisConfig {
         frame_rate_hz: args.frame_rate,
         ..AnalysisConfig::default()
@@ -277,31 +257,6 @@ fn run_head(args: &HeadArgs) -> Result<bool, String> {
             .collect()
     };
     Ok(print_report(&evals))
-}
-
-/// Runs `pneuma eval`.
-pub fn main(args: Args) -> ExitCode {
-    match args.what {
-        What::Breaths(b) => crate::eval_breaths::main(&b),
-        What::BreathSounds(b) => crate::eval_breath_sounds::main(&b),
-        What::Head(h) => exit_code(run_head(&h).map(|all| all || !h.check), "a head-motion"),
-    }
-}
-
-/// The exit code of an evaluation: success when `result` is `Ok(true)`; otherwise the error,
-/// or "`what` target was missed", on stderr.
-pub fn exit_code(result: Result<bool, String>, what: &str) -> ExitCode {
-    match result {
-        Ok(true) => ExitCode::SUCCESS,
-        Ok(false) => {
-            eprintln!("error: {what} target was missed (see above)");
-            ExitCode::FAILURE
-        }
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
-        }
-    }
 }
 
 #[cfg(test)]
