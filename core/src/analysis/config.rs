@@ -121,14 +121,12 @@ impl AnalysisConfig {
     /// threshold ([`VOICING_THRESHOLD_IDS`]).
     pub fn set(&mut self, id: &str, text: &str) -> Result<(), AnalysisError> {
         if let Some(which) = VOICING_THRESHOLD_IDS.iter().position(|t| *t == id) {
-            let v: f32 = text
-                .trim()
-                .replace('\u{2212}', "-")
-                .parse()
-                .map_err(|_| AnalysisError::NotANumber {
+            let v: f32 = text.trim().replace('\u{2212}', "-").parse().map_err(|_| {
+                AnalysisError::NotANumber {
                     name: id.to_string(),
                     value: text.to_string(),
-                })?;
+                }
+            })?;
             let (mut on, mut off) = (
                 self.voicing_model.threshold(false),
                 self.voicing_model.threshold(true),
@@ -230,13 +228,19 @@ mod tests {
         };
         assert_eq!(named(&c), Some("f0_max_hz"));
         let err = c.validate().unwrap_err().to_string();
-        assert!(err.contains("use 450 to 1000 Hz (at least 1.5 times f0_min_hz)"), "{err}");
+        assert!(
+            err.contains("use 450 to 1000 Hz (at least 1.5 times f0_min_hz)"),
+            "{err}"
+        );
         c = AnalysisConfig {
             window_s: 0.02,
             ..Default::default()
         };
         let err = c.validate().unwrap_err();
-        assert!(err.to_string().contains("at least 2 periods of f0_min_hz"), "{err}");
+        assert!(
+            err.to_string().contains("at least 2 periods of f0_min_hz"),
+            "{err}"
+        );
         c = AnalysisConfig {
             highpass_hz: 6000.0,
             ..Default::default()
@@ -297,7 +301,10 @@ mod tests {
         );
         assert_eq!(c.frame_rate_hz, 200.0, "a refused value changes nothing");
         let e = c.set("f0_minimum", "60").unwrap_err();
-        assert!(matches!(e, AnalysisError::Setting(SettingError::Unknown(_))));
+        assert!(matches!(
+            e,
+            AnalysisError::Setting(SettingError::Unknown(_))
+        ));
         // A phrase setting is not the analysis's.
         assert!(c.set("hangover_s", "0.2").is_err());
         let e = c.set("voicing_threshold_on", "high").unwrap_err();

@@ -171,7 +171,13 @@ static FIELDS: [Field<CcMap>; 5] = [
     },
     Field {
         setting: &CC_14BIT,
-        get: |c| if c.resolution == CcResolution::Bits14 { 1.0 } else { 0.0 },
+        get: |c| {
+            if c.resolution == CcResolution::Bits14 {
+                1.0
+            } else {
+                0.0
+            }
+        },
         set: |c, v| {
             c.resolution = if v != 0.0 {
                 CcResolution::Bits14
@@ -551,7 +557,11 @@ mod tests {
         };
         let err = map.validate().unwrap_err();
         assert!(matches!(err, CcMapError::Setting(_)), "{err:?}");
-        assert!(err.to_string().starts_with("midi_channel 17 is out of range: use 1 to 16"), "{err}");
+        assert!(
+            err.to_string()
+                .starts_with("midi_channel 17 is out of range: use 1 to 16"),
+            "{err}"
+        );
         map.channel = 0;
         map.controllers[CcSignal::HeadYaw.index()] = Some(16);
         assert!(matches!(

@@ -8,12 +8,11 @@ use crate::breathing::{BreathingError, BreathingParams};
 use crate::head::{HeadConfig, HeadModelError};
 use crate::phrase::{PhraseConfig, PhraseError};
 use crate::settings::placement::{
-    AFTER_OFFSET_S, BREATH_LEVEL_DB, CATCH_BREATH_MAX_S, CATCH_BREATH_MIN_S, GAP_S,
-    INSERT_BREATHS, LIVE_FADE_S, LOOKAHEAD_S, MIN_PAUSE_S, MODE, WHOLE_FILE,
+    AFTER_OFFSET_S, BREATH_LEVEL_DB, CATCH_BREATH_MAX_S, CATCH_BREATH_MIN_S, GAP_S, INSERT_BREATHS,
+    LIVE_FADE_S, LOOKAHEAD_S, MIN_PAUSE_S, MODE, WHOLE_FILE,
 };
 use crate::settings::setting::{
-    check_fields, copy_scope, field, set_field, Field, Relation, Scope, Setting,
-    SettingError,
+    check_fields, copy_scope, field, set_field, Field, Relation, Scope, Setting, SettingError,
 };
 
 /// How breaths are placed.
@@ -270,7 +269,14 @@ impl EngineConfig {
     pub fn set_value(&mut self, setting: &Setting, value: f64) -> Result<(), SettingError> {
         let id = setting.id;
         set_field(&mut self.analysis, AnalysisConfig::fields(), id, value)
-            .or_else(|| set_field(&mut self.analysis.speaker, SpeakerNormConfig::fields(), id, value))
+            .or_else(|| {
+                set_field(
+                    &mut self.analysis.speaker,
+                    SpeakerNormConfig::fields(),
+                    id,
+                    value,
+                )
+            })
             .or_else(|| set_field(&mut self.phrase, PhraseConfig::fields(), id, value))
             .or_else(|| set_field(&mut self.placement, PlacementConfig::fields(), id, value))
             .or_else(|| set_field(&mut self.breathing, BreathingParams::fields(), id, value))
@@ -295,7 +301,8 @@ impl EngineConfig {
     /// Sets the setting with id `id` from text in its unit (for evaluation tools and `--set
     /// id=value` options).
     pub fn set(&mut self, id: &str, text: &str) -> Result<(), SettingError> {
-        let setting = crate::settings::find(id).ok_or_else(|| SettingError::Unknown(id.to_owned()))?;
+        let setting =
+            crate::settings::find(id).ok_or_else(|| SettingError::Unknown(id.to_owned()))?;
         let value = setting.parse(text)?;
         self.set_value(setting, value)
     }
@@ -380,7 +387,13 @@ mod tests {
             (f.set)(&mut c, other);
             assert_eq!((f.get)(&c), other, "{} reads back", s.id);
             for g in fields.iter().filter(|g| g.setting.id != s.id) {
-                assert_eq!((g.get)(&c), (g.get)(config), "{} left {} alone", s.id, g.setting.id);
+                assert_eq!(
+                    (g.get)(&c),
+                    (g.get)(config),
+                    "{} left {} alone",
+                    s.id,
+                    g.setting.id
+                );
             }
         }
     }
@@ -449,8 +462,14 @@ mod tests {
             "breath_level_db -50 dB is out of range: use -40 to -6 dB"
         );
         let e = c.set("mode", "later").unwrap_err();
-        assert_eq!(e.to_string(), "mode: `later` is not one of lookahead or live");
-        assert!(matches!(c.set("no_such", "1"), Err(SettingError::Unknown(_))));
+        assert_eq!(
+            e.to_string(),
+            "mode: `later` is not one of lookahead or live"
+        );
+        assert!(matches!(
+            c.set("no_such", "1"),
+            Err(SettingError::Unknown(_))
+        ));
         // An output's setting is not the engine's.
         assert!(c.set("osc_port", "9000").is_err());
         assert_eq!(PlacementMode::from_name("live").unwrap().as_str(), "live");

@@ -140,7 +140,10 @@ mod tests {
         c.set("phrase_silence_db", "-80").unwrap();
         assert_eq!(c.silence_db, -80.0);
         let e = c.set("hangover", "0.2").unwrap_err();
-        assert_eq!(e, PhraseError::Setting(SettingError::Unknown("hangover".into())));
+        assert_eq!(
+            e,
+            PhraseError::Setting(SettingError::Unknown("hangover".into()))
+        );
         assert_eq!(c.hangover_s, 0.2, "a refused value changes nothing");
     }
 }

@@ -207,9 +207,9 @@ impl SettingError {
                 let (label, unit) = name(setting);
                 format!("{label}: `{text}` is not {}", setting.expected(unit))
             }
-            SettingError::Unknown(id) => format!(
-                "unknown setting `{id}`: docs/settings.md lists every setting's id"
-            ),
+            SettingError::Unknown(id) => {
+                format!("unknown setting `{id}`: docs/settings.md lists every setting's id")
+            }
         }
     }
 
@@ -273,10 +273,8 @@ impl Setting {
         }
         let whole = !matches!(self.kind, Kind::Number { .. });
         let v = value as f32;
-        let inside = v.is_finite()
-            && v >= min as f32
-            && v <= max as f32
-            && (!whole || value.fract() == 0.0);
+        let inside =
+            v.is_finite() && v >= min as f32 && v <= max as f32 && (!whole || value.fract() == 0.0);
         if inside {
             Ok(())
         } else {
@@ -314,7 +312,10 @@ impl Setting {
                 .position(|n| n.eq_ignore_ascii_case(t))
                 .ok_or_else(not_a_value)? as f64,
             Kind::Number { .. } | Kind::Integer { .. } => {
-                let n: f64 = t.replace('\u{2212}', "-").parse().map_err(|_| not_a_value())?;
+                let n: f64 = t
+                    .replace('\u{2212}', "-")
+                    .parse()
+                    .map_err(|_| not_a_value())?;
                 n * unit.factor_to(self.unit).ok_or_else(not_a_value)?
             }
         };
@@ -419,7 +420,12 @@ pub fn set_field<C>(
     value: f64,
 ) -> Option<Result<(), SettingError>> {
     let field = find_field(fields, id)?;
-    Some(field.setting.check(value).map(|()| (field.set)(config, value)))
+    Some(
+        field
+            .setting
+            .check(value)
+            .map(|()| (field.set)(config, value)),
+    )
 }
 
 /// Sets the setting `id` of `config` from text in the setting's unit.
@@ -517,7 +523,10 @@ mod tests {
             e.to_string(),
             "frame_rate_hz: `fast` is not a number: use 30 to 240 Hz"
         );
-        assert_eq!(LOWPASS_HZ.range_text(Unit::Hertz), "0 (off) or 500 to 3500 Hz");
+        assert_eq!(
+            LOWPASS_HZ.range_text(Unit::Hertz),
+            "0 (off) or 500 to 3500 Hz"
+        );
         assert_eq!(OSC_FORMAT.range_text(Unit::None), "pneuma or vmc");
         assert_eq!(MIN_PAUSE_S.default_text(Unit::Milliseconds), "250 ms");
         assert_eq!(INSERT_BREATHS.default_text(Unit::None), "on");

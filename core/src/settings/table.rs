@@ -122,10 +122,17 @@ mod tests {
             assert!(!s.help.is_empty() && !s.why.is_empty(), "{}", s.id);
             assert!(!s.label.is_empty(), "{}", s.id);
             if let Kind::Number { step, .. } = s.kind {
-                assert!(step > 0.0 && f64::from(step) <= s.max() - s.min(), "{}", s.id);
+                assert!(
+                    step > 0.0 && f64::from(step) <= s.max() - s.min(),
+                    "{}",
+                    s.id
+                );
             }
         }
         assert!(find("breath_level_db").is_some() && find("nothing").is_none());
-        assert_eq!(group_of(find("mode").unwrap()).map(|g| g.id), Some("placement"));
+        assert_eq!(
+            group_of(find("mode").unwrap()).map(|g| g.id),
+            Some("placement")
+        );
     }
 }
