@@ -119,7 +119,8 @@ fn parameters_carry_the_promised_ids() {
     };
     assert_eq!(module("bypass"), "");
     assert_eq!(module("mode"), "Breaths & timing");
-    assert_eq!(module("cc_loudness"), "CC map");
+    assert_eq!(module("cc_loudness"), "MIDI CC");
+    assert_eq!(module("frame_rate_hz"), "Analysis");
     assert_eq!(module("osc_format"), "OSC");
     assert!(names.contains(&"OSC port"), "{names:?}");
     // A value set through the host reads back.
