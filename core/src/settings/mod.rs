@@ -2,18 +2,19 @@
 //! scope (live or stream), help, and why the range is what it is ([`Setting`]), in groups
 //! ([`GROUPS`]). Core's validation and string setters walk it through [`Field`] bindings; the
 //! doors derive from it the CLI's options and their messages, the plugin's parameters, their
-//! groups and remote-control pages, the editor's controls, `pneuma-app`'s options, and the
-//! README's and `docs/settings.md`'s tables (`cargo xtask settings-doc --check` holds them to
-//! it).
+//! groups, `pneuma-app`'s OSC options, and `docs/settings.md` ([`doc`]; a test holds the file
+//! to the table).
 //!
 //! - [`setting`]: the types ([`Setting`], [`Unit`], [`Kind`], [`Scope`], [`SettingError`],
 //!   [`Field`]) and the checks and text conversions;
 //! - [`table`]: the groups in documentation order, [`all`], [`find`];
+//! - [`doc`]: the table as Markdown (`docs/settings.md`);
 //! - one file per group: [`breathing`], [`placement`], [`head`], [`analysis`] (with the
 //!   speaker normalisation), [`phrase`], [`output`] (MIDI CC and OSC).
 
 pub mod analysis;
 pub mod breathing;
+pub mod doc;
 pub mod head;
 pub mod output;
 pub mod phrase;

@@ -1,5 +1,5 @@
-//! The table: every setting of Pneuma in its group, in documentation order (the README's and
-//! `docs/settings.md`'s tables are generated from it by `cargo xtask settings-doc`).
+//! The table: every setting of Pneuma in its group, in documentation order (`docs/settings.md`
+//! is generated from it, [`super::doc`]).
 
 use super::setting::Setting;
 use super::{analysis, breathing, head, output, phrase, placement};
