@@ -24,7 +24,7 @@ pub struct SettingFlag {
 
 impl SettingFlag {
     /// Factor from the option's unit to the setting's.
-    fn to_setting(&self) -> f64 {
+    fn factor(&self) -> f64 {
         self.unit.factor_to(self.setting.unit).unwrap_or(1.0)
     }
 
@@ -44,13 +44,13 @@ impl SettingFlag {
 
     /// The table's default in the option's unit (for clap's `default_value_t`).
     pub fn default_value(&self) -> f64 {
-        f64::from(self.setting.default) / self.to_setting()
+        f64::from(self.setting.default) / self.factor()
     }
 
     /// `value` (in the option's unit) in the setting's unit, checked against the table's
     /// range; the error names the option and the range in the option's unit.
     pub fn check(&self, value: f64) -> Result<f64, String> {
-        let v = value * self.to_setting();
+        let v = value * self.factor();
         self.setting
             .check(v)
             .map(|()| v)

@@ -19,7 +19,10 @@ pub fn markdown() -> String {
          options give some of them in other units (`--min-pause-ms`); their help says which.\n",
     );
     for group in &GROUPS {
-        out.push_str(&format!("\n## {} (`{}`)\n\n{}.\n\n", group.name, group.id, group.help));
+        out.push_str(&format!(
+            "\n## {} (`{}`)\n\n{}.\n\n",
+            group.name, group.id, group.help
+        ));
         out.push_str("| id | range | default | takes effect | what it does | why this range |\n");
         out.push_str("|---|---|---|---|---|---|\n");
         for s in group.settings {
