@@ -20,7 +20,6 @@ pub mod head;
 pub mod phrase;
 pub mod rng;
 pub mod settings;
-pub mod test_signals;
 
 pub use analysis::{
     AnalysisConfig, AnalysisError, Analyzer, FeatureFrame, VoicingFeatures, VoicingModel,
