@@ -33,7 +33,7 @@ fn main() -> ExitCode {
         }
     };
     if opts.help {
-        println!("{}", options::HELP);
+        println!("{}", options::help());
     }
     set_headless(opts.no_gui);
     let _ = standalone::set_app_defaults(opts.defaults.clone());

@@ -1,23 +1,42 @@
 //! The app's own command-line options, split from the ones nice-plug's standalone wrapper takes.
+//! `--osc-port` and `--osc-format` are settings of core's table (`osc_port`, `osc_format`):
+//! their range, names and the port's default come from it.
 
+use nice_plug::prelude::Enum;
+use pneuma_core::settings::output::{OSC_FORMAT, OSC_PORT};
+use pneuma_core::settings::{Setting, Unit};
 use pneuma_plugin::editor::standalone::AppDefaults;
 use pneuma_plugin::params::{OscFormatChoice, DEFAULT_OSC_HOST, DEFAULT_OSC_PORT};
 
 /// The app's help (printed before nice-plug's own).
-pub const HELP: &str = "\
+pub fn help() -> String {
+    format!(
+        "\
 pneuma-app: Pneuma live: microphone in, voice with breaths out, head pose and breathing to an
 avatar app (OSC/VMC) and as MIDI CC.
 
 Pneuma options:
       --no-gui              No window (headless rigs); runs until Ctrl+C
       --osc-host <ADDR>     OSC/VMC target address, numeric or localhost [default: 127.0.0.1]
-      --osc-port <PORT>     OSC/VMC target port [default: 39539]
-      --osc-format <FMT>    vmc or pneuma [default: vmc]
+      --osc-port <PORT>     OSC/VMC target port, {ports} [default: {port}]
+      --osc-format <FMT>    {formats} [default: vmc]
       --no-osc              Send no OSC
       --lookahead           Lookahead mode (better breath timing, adds latency); default: live
 
 Audio and MIDI options (nice-plug's standalone wrapper) follow.
-";
+",
+        ports = OSC_PORT.range_text(Unit::None),
+        port = OSC_PORT.default_text(Unit::None),
+        formats = OSC_FORMAT.range_text(Unit::None),
+    )
+}
+
+/// The value of `setting` that `text` gives, the error naming `flag`.
+fn table_value(flag: &str, setting: &'static Setting, text: &str) -> Result<f64, String> {
+    setting
+        .parse(text)
+        .map_err(|e| e.render(&|s| (flag.to_owned(), s.unit)))
+}
 
 /// What the app's own options say.
 #[derive(Debug, Clone, PartialEq)]
@@ -93,19 +112,13 @@ pub fn parse(args: &[String]) -> Result<AppOptions, String> {
                 o.defaults.osc_host = host;
             }
             "--osc-port" => {
-                let v = take(&mut i)?;
-                o.defaults.osc_port =
-                    v.parse::<u16>().ok().filter(|p| *p > 0).ok_or_else(|| {
-                        format!("--osc-port {v}: give a port 1..65535 (VMC: 39539)")
-                    })?;
+                let port = table_value(flag, &OSC_PORT, &take(&mut i)?)?;
+                // In the table's range 1..=65535.
+                o.defaults.osc_port = port as u16;
             }
             "--osc-format" => {
-                let v = take(&mut i)?;
-                o.defaults.osc_format = match v.to_ascii_lowercase().as_str() {
-                    "vmc" => OscFormatChoice::Vmc,
-                    "pneuma" => OscFormatChoice::Pneuma,
-                    _ => return Err(format!("--osc-format {v}: give vmc or pneuma")),
-                };
+                let index = table_value(flag, &OSC_FORMAT, &take(&mut i)?)?;
+                o.defaults.osc_format = OscFormatChoice::from_index(index as usize);
             }
             "-h" | "--help" => {
                 o.help = true;
@@ -255,13 +268,25 @@ mod tests {
     #[test]
     fn bad_options_say_what_to_give() {
         for (a, wanted) in [
-            ("--osc-port 0", "1..65535"),
-            ("--osc-port x", "1..65535"),
-            ("--osc-format osc", "vmc or pneuma"),
+            (
+                "--osc-port 0",
+                "--osc-port 0 is out of range: use 1 to 65535",
+            ),
+            (
+                "--osc-port x",
+                "--osc-port: `x` is not a number: use 1 to 65535",
+            ),
+            (
+                "--osc-format osc",
+                "--osc-format: `osc` is not one of pneuma or vmc",
+            ),
             ("--osc-host", "needs a value"),
         ] {
             let e = parse(&args(a)).unwrap_err();
             assert!(e.contains(wanted), "{a}: {e}");
         }
+        let help = help();
+        assert!(help.contains("1 to 65535 [default: 39539]"), "{help}");
+        assert!(help.contains("pneuma or vmc [default: vmc]"), "{help}");
     }
 }

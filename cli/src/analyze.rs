@@ -8,6 +8,7 @@ use pneuma_core::encode::features_csv;
 use pneuma_core::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
 use thiserror::Error;
 
+use crate::options::{render_for, F0_MAX, F0_MIN, FRAME_RATE, SETTING_FLAGS};
 use crate::output::Output;
 use crate::wav::WavInfo;
 use pneuma_io::{mix_to_mono, AudioSource, ReadError};
@@ -138,14 +139,14 @@ pub struct Args {
     /// Output CSV path, or `-` for standard output.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Frames per second, 10 to 1000.
-    #[arg(long, default_value_t = 120.0)]
+    /// Frames per second (the table's `frame_rate_hz`).
+    #[arg(long, help = FRAME_RATE.help(), default_value_t = FRAME_RATE.default_value())]
     pub frame_rate: f64,
-    /// Lowest f0 searched, Hz, 30 to 600.
-    #[arg(long, default_value_t = 50.0, value_parser = crate::options::number)]
+    /// Lowest f0 searched, Hz (the table's `f0_min_hz`).
+    #[arg(long, help = F0_MIN.help(), default_value_t = F0_MIN.default_value() as f32, value_parser = crate::options::number)]
     pub f0_min: f32,
-    /// Highest f0 searched, Hz, 45 to 1000, at least 1.5 times --f0-min.
-    #[arg(long, default_value_t = 600.0, value_parser = crate::options::number)]
+    /// Highest f0 searched, Hz (the table's `f0_max_hz`), at least 1.5 times --f0-min.
+    #[arg(long, help = F0_MAX.help(), default_value_t = F0_MAX.default_value() as f32, value_parser = crate::options::number)]
     pub f0_max: f32,
     /// Refuse to replace an existing output file. By default it is replaced, only when the
     /// analysis succeeded.
@@ -156,17 +157,12 @@ pub struct Args {
 /// The options in the user's terms (the option typed, in its unit), before the analysis
 /// settings they become are checked under their own names.
 fn check_options(args: &Args) -> Result<(), String> {
-    use crate::options::check_range;
-    check_range("--frame-rate", args.frame_rate as f32, 10.0, 1000.0, "Hz")?;
-    check_range("--f0-min", args.f0_min, 30.0, 600.0, "Hz")?;
-    check_range("--f0-max", args.f0_max, 45.0, 1000.0, "Hz")?;
-    if args.f0_max < 1.5 * args.f0_min {
-        return Err(format!(
-            "--f0-max {} Hz must be at least 1.5 times --f0-min {} Hz (at least {} Hz)",
-            args.f0_max,
-            args.f0_min,
-            1.5 * args.f0_min
-        ));
+    FRAME_RATE.check(args.frame_rate)?;
+    F0_MIN.check(f64::from(args.f0_min))?;
+    F0_MAX.check(f64::from(args.f0_max))?;
+    // The f0 range against itself, as the analysis checks it, named as typed.
+    if let Err(AnalysisError::Setting(e)) = analysis_config(args).validate() {
+        return Err(render_for(&SETTING_FLAGS, &e));
     }
     check_output_file(&args.input, &args.output)?;
     if args.no_overwrite && args.output.as_os_str() != "-" {
@@ -192,21 +188,25 @@ fn check_output_file(input: &Path, output: &Path) -> Result<(), String> {
     Ok(())
 }
 
-/// Runs `pneuma analyze` from parsed arguments, printing a summary or the error.
-pub fn main(args: Args) -> ExitCode {
-    if let Err(e) = check_options(&args) {
-        eprintln!("error: {e}");
-        return ExitCode::FAILURE;
-    }
-    let config = AnalysisConfig {
+/// The analysis settings the options give.
+fn analysis_config(args: &Args) -> AnalysisConfig {
+    AnalysisConfig {
         frame_rate_hz: args.frame_rate,
         f0_min_hz: args.f0_min,
         f0_max_hz: args.f0_max,
         // Two periods of the lowest f0, at least the default 40 ms.
         window_s: AnalysisConfig::default().window_s.max(2.0 / args.f0_min),
         ..Default::default()
-    };
-    match run(&args.input, &args.output, config) {
+    }
+}
+
+/// Runs `pneuma analyze` from parsed arguments, printing a summary or the error.
+pub fn main(args: Args) -> ExitCode {
+    if let Err(e) = check_options(&args) {
+        eprintln!("error: {e}");
+        return ExitCode::FAILURE;
+    }
+    match run(&args.input, &args.output, analysis_config(&args)) {
         Ok(s) => {
             if args.output.as_os_str() != "-" {
                 eprintln!(

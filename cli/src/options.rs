@@ -1,10 +1,144 @@
 //! What the subcommands share about their options: numbers as users paste them (a Unicode
-//! minus accepted), range checks that name the option typed in its unit, the
+//! minus accepted), options bound to a setting of core's table ([`SettingFlag`]: their help,
+//! default and range come from the table, and a refused value is named as typed), the
 //! `--no-overwrite` check, the head-model loading and the progress bar.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+
+use pneuma_core::settings::{analysis, breathing, placement, Setting, SettingError, Unit};
+
+/// A command-line option that gives one setting of core's table
+/// ([`pneuma_core::settings`]), typed in `unit` (`--min-pause-ms` gives `min_pause_s` in
+/// milliseconds). Its help text, default and range are the table's.
+#[derive(Debug, Clone, Copy)]
+pub struct SettingFlag {
+    /// The option as typed: `--min-pause-ms`.
+    pub flag: &'static str,
+    /// The setting it gives.
+    pub setting: &'static Setting,
+    /// The unit it is typed in.
+    pub unit: Unit,
+}
+
+impl SettingFlag {
+    /// Factor from the option's unit to the setting's.
+    fn factor(&self) -> f64 {
+        self.unit.factor_to(self.setting.unit).unwrap_or(1.0)
+    }
+
+    /// The help text: the table's help, its range and default in the option's unit.
+    pub fn help(&self) -> String {
+        self.help_with_default(&self.setting.default_text(self.unit))
+    }
+
+    /// The help text with the default in words (`the preset's`).
+    pub fn help_with_default(&self, default: &str) -> String {
+        format!(
+            "{} ({}; default {default})",
+            self.setting.help,
+            self.setting.range_text(self.unit)
+        )
+    }
+
+    /// The table's default in the option's unit (for clap's `default_value_t`).
+    pub fn default_value(&self) -> f64 {
+        f64::from(self.setting.default) / self.factor()
+    }
+
+    /// `value` (in the option's unit) in the setting's unit, checked against the table's
+    /// range; the error names the option and the range in the option's unit.
+    pub fn check(&self, value: f64) -> Result<f64, String> {
+        let v = value * self.factor();
+        self.setting
+            .check(v)
+            .map(|()| v)
+            .map_err(|e| render_for(&[self], &e))
+    }
+}
+
+/// `--frame-rate` (render, analyze, speak).
+pub static FRAME_RATE: SettingFlag = SettingFlag {
+    flag: "--frame-rate",
+    setting: &analysis::FRAME_RATE_HZ,
+    unit: Unit::Hertz,
+};
+/// `--f0-min` (analyze).
+pub static F0_MIN: SettingFlag = SettingFlag {
+    flag: "--f0-min",
+    setting: &analysis::F0_MIN_HZ,
+    unit: Unit::Hertz,
+};
+/// `--f0-max` (analyze).
+pub static F0_MAX: SettingFlag = SettingFlag {
+    flag: "--f0-max",
+    setting: &analysis::F0_MAX_HZ,
+    unit: Unit::Hertz,
+};
+/// `--breath-level-db` (render).
+pub static BREATH_LEVEL: SettingFlag = SettingFlag {
+    flag: "--breath-level-db",
+    setting: &placement::BREATH_LEVEL_DB,
+    unit: Unit::Decibels,
+};
+/// `--min-pause-ms` (render).
+pub static MIN_PAUSE: SettingFlag = SettingFlag {
+    flag: "--min-pause-ms",
+    setting: &placement::MIN_PAUSE_S,
+    unit: Unit::Milliseconds,
+};
+/// `--lookahead-ms` (render).
+pub static LOOKAHEAD: SettingFlag = SettingFlag {
+    flag: "--lookahead-ms",
+    setting: &placement::LOOKAHEAD_S,
+    unit: Unit::Milliseconds,
+};
+/// `--mode` (render).
+pub static MODE: SettingFlag = SettingFlag {
+    flag: "--mode",
+    setting: &placement::MODE,
+    unit: Unit::None,
+};
+/// `--rate` (speak).
+pub static RATE: SettingFlag = SettingFlag {
+    flag: "--rate",
+    setting: &breathing::PROSODY_RATE,
+    unit: Unit::None,
+};
+/// `--loudness` (speak).
+pub static LOUDNESS: SettingFlag = SettingFlag {
+    flag: "--loudness",
+    setting: &breathing::SPEAKING_LOUDNESS,
+    unit: Unit::None,
+};
+
+/// Every option that gives a setting of the table.
+pub static SETTING_FLAGS: [&SettingFlag; 9] = [
+    &FRAME_RATE,
+    &F0_MIN,
+    &F0_MAX,
+    &BREATH_LEVEL,
+    &MIN_PAUSE,
+    &LOOKAHEAD,
+    &MODE,
+    &RATE,
+    &LOUDNESS,
+];
+
+/// `error` with every setting that one of `flags` gives named as that option, in its unit
+/// (the others by their ids).
+pub fn render_for(flags: &[&SettingFlag], error: &SettingError) -> String {
+    error.render(&|s| {
+        flags
+            .iter()
+            .find(|f| std::ptr::eq(f.setting, s))
+            .map_or_else(
+                || (s.id.to_owned(), s.unit),
+                |f| (f.flag.to_owned(), f.unit),
+            )
+    })
+}
 
 /// Parses a number as typed or pasted: the Unicode minus (U+2212, as printed by some
 /// documents) is taken as `-`. For clap's `value_parser`.
@@ -174,6 +308,32 @@ mod tests {
         assert_eq!(number("-22"), Ok(-22.0));
         assert_eq!(number("0.5"), Ok(0.5));
         assert!(number("x").is_err());
+    }
+
+    #[test]
+    fn a_setting_option_is_checked_against_the_table_in_its_own_unit() {
+        use pneuma_core::settings::placement::{CATCH_BREATH_MIN_S, MIN_PAUSE_S};
+        let flag = SettingFlag {
+            flag: "--min-pause-ms",
+            setting: &MIN_PAUSE_S,
+            unit: Unit::Milliseconds,
+        };
+        assert_eq!(flag.check(250.0), Ok(0.25));
+        assert_eq!(flag.default_value(), 250.0);
+        // The message names the option and the table's range (0.1 to 2 s), both in ms.
+        assert_eq!(
+            flag.check(5000.0).unwrap_err(),
+            "--min-pause-ms 5000 ms is out of range: use 100 to 2000 ms"
+        );
+        assert!(flag.check(f64::NAN).is_err());
+        assert!(
+            flag.help().ends_with("(100 to 2000 ms; default 250 ms)"),
+            "{}",
+            flag.help()
+        );
+        // A setting no option gives keeps its id.
+        let e = CATCH_BREATH_MIN_S.check(9.0).unwrap_err();
+        assert!(render_for(&[&flag], &e).starts_with("catch_breath_min_s 9 s"));
     }
 
     #[test]

@@ -27,6 +27,7 @@ use pneuma_core::head::{HeadConfig, HeadSynth};
 use pneuma_core::{AnalysisConfig, Analyzer, BreathEvent, ControlFrame};
 use thiserror::Error;
 
+use crate::options::{FRAME_RATE, LOUDNESS, RATE};
 use crate::output::{commit_all, Output, Staged};
 use crate::plot::{draw_png, PlotError};
 use pneuma_io::{read_mono, ReadError};
@@ -39,8 +40,6 @@ pub const PAUSE_S: f64 = 0.1;
 pub const TAIL_S: f64 = 0.6;
 /// Level under which the ends of a TTS chunk count as silence, dBFS.
 pub const TRIM_DB: f32 = -50.0;
-/// Default frame rate of the controls, Hz (DESIGN.md frame clock), as in `render`.
-pub const FRAME_RATE_HZ: f64 = 120.0;
 
 /// Which TTS program speaks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -69,12 +68,12 @@ pub struct Args {
     /// TTS voice (espeak-ng: e.g. `en-us`, `en-gb`; festival: e.g. `kal_diphone`).
     #[arg(long)]
     pub voice: Option<String>,
-    /// Speaking-rate multiplier, 0.5 to 2 (default: the preset's).
-    #[arg(long, value_parser = crate::options::number)]
+    /// Speaking-rate multiplier (the table's `prosody_rate`; default: the preset's).
+    #[arg(long, help = RATE.help_with_default("the preset's"), value_parser = crate::options::number)]
     pub rate: Option<f32>,
-    /// Speaking loudness, 0.05 to 1 (default: the preset's); louder speech gets shorter breath
-    /// groups (Equation 1) and a louder TTS.
-    #[arg(long, value_parser = crate::options::number)]
+    /// Speaking loudness (the table's `speaking_loudness`; default: the preset's); louder
+    /// speech gets shorter breath groups (Equation 1) and a louder TTS.
+    #[arg(long, help = LOUDNESS.help_with_default("the preset's"), value_parser = crate::options::number)]
     pub loudness: Option<f32>,
     /// Seed of the breath sounds (the same default as `render`).
     #[arg(long, default_value_t = 1)]
@@ -98,8 +97,8 @@ pub struct Args {
     /// Head-pose model file (JSON); the embedded default model when absent.
     #[arg(long, value_name = "JSON")]
     pub head_model: Option<PathBuf>,
-    /// Control frames per second (10 to 1000).
-    #[arg(long, default_value_t = FRAME_RATE_HZ)]
+    /// Control frames per second (the table's `frame_rate_hz`).
+    #[arg(long, help = FRAME_RATE.help(), default_value_t = FRAME_RATE.default_value())]
     pub frame_rate: f64,
     /// Also write `speech.bvh` (head, neck and chest motion).
     #[arg(long)]
@@ -215,14 +214,14 @@ fn plural(n: usize, one: &str, many: &str) -> String {
 
 /// The breathing parameters from the preset and the overrides, validated.
 pub fn params_from_args(args: &Args) -> Result<BreathingParams, SpeakError> {
-    use crate::options::check_range;
     if let Some(r) = args.rate {
-        check_range("--rate", r, 0.5, 2.0, "").map_err(SpeakError::Option)?;
+        RATE.check(f64::from(r)).map_err(SpeakError::Option)?;
     }
     if let Some(l) = args.loudness {
-        check_range("--loudness", l, 0.05, 1.0, "").map_err(SpeakError::Option)?;
+        LOUDNESS.check(f64::from(l)).map_err(SpeakError::Option)?;
     }
-    check_range("--frame-rate", args.frame_rate as f32, 10.0, 1000.0, "Hz")
+    FRAME_RATE
+        .check(args.frame_rate)
         .map_err(SpeakError::Option)?;
     let mut p = Preset::from_name(&args.preset)?.params();
     if let Some(r) = args.rate {

@@ -19,6 +19,7 @@ pub mod engine;
 pub mod head;
 pub mod phrase;
 pub mod rng;
+pub mod settings;
 pub mod speech;
 
 pub use analysis::{

@@ -7,12 +7,15 @@
 use std::path::{Path, PathBuf};
 
 use pneuma_core::breathing::{BreathSample, Preset, SampleSlot};
-use pneuma_core::engine::{Engine, EngineConfig, EngineError, PlacementMode};
+use pneuma_core::engine::{Engine, EngineConfig, EngineError};
 use pneuma_io::{AudioSource, InputFormat, Tags};
 
 use super::error::RenderError;
 use crate::audio_out::Container;
 use crate::markers::MarkerKind;
+use crate::options::{
+    render_for, SettingFlag, BREATH_LEVEL, FRAME_RATE, LOOKAHEAD, MIN_PAUSE, MODE, SETTING_FLAGS,
+};
 use crate::wav::WavInfo;
 
 /// Sample frames per block.
@@ -48,18 +51,20 @@ pub struct Args {
     /// Breathing preset.
     #[arg(long, default_value = "neutral", value_parser = clap::builder::PossibleValuesParser::new(Preset::NAMES))]
     pub preset: String,
-    /// Breath level relative to the speech level, dB (-60 to -6).
-    #[arg(long, default_value_t = -22.0, allow_hyphen_values = true, value_parser = crate::options::number)]
+    /// Breath level relative to the speech level, dB (help, range, default: the table's
+    /// `breath_level_db`).
+    #[arg(long, help = BREATH_LEVEL.help(), default_value_t = BREATH_LEVEL.default_value() as f32, allow_hyphen_values = true, value_parser = crate::options::number)]
     pub breath_level_db: f32,
-    /// Pauses shorter than this get no breath, ms (100 to 5000).
-    #[arg(long, default_value_t = 250.0, value_parser = crate::options::number)]
+    /// Pauses shorter than this get no breath, ms (the table's `min_pause_s`).
+    #[arg(long, help = MIN_PAUSE.help(), default_value_t = MIN_PAUSE.default_value() as f32, value_parser = crate::options::number)]
     pub min_pause_ms: f32,
-    /// Placement: `lookahead` (breath ends just before the next phrase) or `live` (no delay).
-    #[arg(long, default_value = "lookahead")]
+    /// Placement: `lookahead` or `live` (the table's `mode`).
+    #[arg(long, help = MODE.help(), default_value = MODE.setting.names()[MODE.setting.default as usize], value_parser = clap::builder::PossibleValuesParser::new(MODE.setting.names()))]
     pub mode: String,
-    /// Lookahead of the lookahead mode, ms (300 to 2000): renders as the plugin with that
-    /// lookahead. Without it the render looks seconds ahead (the engine's whole-file lookahead).
-    #[arg(long, value_parser = crate::options::number)]
+    /// Lookahead of the lookahead mode, ms (the table's `lookahead_s`): renders as the plugin
+    /// with that lookahead. Without it the render looks seconds ahead (the engine's whole-file
+    /// lookahead).
+    #[arg(long, help = format!("{} Without it the render looks seconds ahead (the engine's whole-file lookahead)", LOOKAHEAD.help()), value_parser = crate::options::number)]
     pub lookahead_ms: Option<f32>,
     /// Do not insert breaths (controls only; the audio is copied unchanged).
     #[arg(long)]
@@ -85,8 +90,8 @@ pub struct Args {
     /// Seed of every random source.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Control frames per second (10 to 1000).
-    #[arg(long, default_value_t = 120.0)]
+    /// Control frames per second (the table's `frame_rate_hz`).
+    #[arg(long, help = FRAME_RATE.help(), default_value_t = FRAME_RATE.default_value())]
     pub frame_rate: f64,
     /// Also write `<stem>.bvh` (head and neck motion; a 1.8 m skeleton in metres).
     #[arg(long)]
@@ -140,24 +145,29 @@ impl Args {
     pub fn engine_config(&self) -> Result<EngineConfig, RenderError> {
         let preset = Preset::from_name(&self.preset)
             .map_err(|e| RenderError::Input(format!("--preset: {e}")))?;
-        // The options in the user's terms first; the engine checks its own settings again.
-        use crate::options::check_range;
-        let lookahead_ms = self.lookahead_ms.unwrap_or(500.0);
-        check_range("--breath-level-db", self.breath_level_db, -60.0, -6.0, "dB")
-            .and_then(|()| check_range("--min-pause-ms", self.min_pause_ms, 100.0, 5000.0, "ms"))
-            .and_then(|()| check_range("--lookahead-ms", lookahead_ms, 300.0, 2000.0, "ms"))
-            .and_then(|()| check_range("--frame-rate", self.frame_rate as f32, 10.0, 1000.0, "Hz"))
-            .and_then(|()| match self.bvh_fps {
-                Some(fps) => check_range("--bvh-fps", fps, 1.0, 1000.0, "fps"),
-                None => Ok(()),
-            })
-            .map_err(RenderError::Input)?;
+        // The options in the user's terms (the option typed, in its unit) against the table's
+        // ranges first; the engine checks its own settings again.
+        if let Some(fps) = self.bvh_fps {
+            crate::options::check_range("--bvh-fps", fps, 1.0, 1000.0, "fps")
+                .map_err(RenderError::Input)?;
+        }
         let mut c = EngineConfig::default();
-        c.analysis.frame_rate_hz = self.frame_rate;
-        c.placement.mode = PlacementMode::from_name(&self.mode)?;
-        c.placement.breath_level_db = self.breath_level_db;
-        c.placement.min_pause_s = self.min_pause_ms / 1000.0;
-        c.placement.lookahead_s = lookahead_ms / 1000.0;
+        let mut set = |flag: &SettingFlag, value: f64| -> Result<(), RenderError> {
+            let v = flag.check(value).map_err(RenderError::Input)?;
+            c.set_value(flag.setting, v)
+                .map_err(|e| RenderError::Input(render_for(&SETTING_FLAGS, &e)))
+        };
+        set(&BREATH_LEVEL, f64::from(self.breath_level_db))?;
+        set(&MIN_PAUSE, f64::from(self.min_pause_ms))?;
+        if let Some(ms) = self.lookahead_ms {
+            set(&LOOKAHEAD, f64::from(ms))?;
+        }
+        set(&FRAME_RATE, self.frame_rate)?;
+        let mode = MODE
+            .setting
+            .parse(&self.mode)
+            .map_err(|e| RenderError::Input(render_for(&SETTING_FLAGS, &e)))?;
+        set(&MODE, mode)?;
         c.placement.whole_file = self.lookahead_ms.is_none();
         c.placement.insert_breaths = !self.no_breaths;
         c.breathing = preset.params();

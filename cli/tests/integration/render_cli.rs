@@ -249,12 +249,14 @@ fn broken_input_fails_cleanly_and_keeps_existing_output() {
     let o = render(&good, &out, &["--preset", "sleepy"]);
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("preset"));
-    // Out-of-range options are named as typed, in their unit, with the range.
+    // Out-of-range options are named as typed, in their unit, with the range: the settings
+    // table's (core/src/settings), the plugin's since its first release, not the wider ones
+    // the command line had (-60 dB, 5000 ms, 10 to 1000 Hz).
     for (option, value, want) in [
         (
             "--breath-level-db",
-            "0",
-            "--breath-level-db 0 dB is out of range: use -60 to -6 dB",
+            "-50",
+            "--breath-level-db -50 dB is out of range: use -40 to -6 dB",
         ),
         (
             "--lookahead-ms",
@@ -263,9 +265,15 @@ fn broken_input_fails_cleanly_and_keeps_existing_output() {
         ),
         (
             "--min-pause-ms",
-            "0",
-            "--min-pause-ms 0 ms is out of range: use 100 to 5000 ms",
+            "2500",
+            "--min-pause-ms 2500 ms is out of range: use 100 to 2000 ms",
         ),
+        (
+            "--frame-rate",
+            "500",
+            "--frame-rate 500 Hz is out of range: use 30 to 240 Hz",
+        ),
+        ("--mode", "later", "[possible values: lookahead, live]"),
     ] {
         let o = render(&good, &out, &[option, value]);
         let err = String::from_utf8_lossy(&o.stderr);
@@ -298,7 +306,13 @@ fn help_shows_every_range_in_ascii() {
     let o = support::pneuma(&["render", "--help"]);
     let help = String::from_utf8_lossy(&o.stdout);
     assert!(!help.contains('\u{2212}'), "Unicode minus in help");
-    for want in ["-60 to -6", "100 to 5000", "300 to 2000", "10 to 1000"] {
+    for want in [
+        "-40 to -6 dB; default -22 dB",
+        "100 to 2000 ms; default 250 ms",
+        "300 to 2000 ms",
+        "30 to 240 Hz; default 120 Hz",
+        "[default: lookahead]",
+    ] {
         assert!(
             help.contains(want),
             "`{want}` not in render --help:\n{help}"

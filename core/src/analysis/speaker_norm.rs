@@ -7,7 +7,11 @@
 //! over voiced frames. Both start from a prior worth `prior_weight_s` seconds of speech, so the
 //! first frames of a stream are not normalised against themselves alone.
 
-use super::error::{check_range, AnalysisError};
+use super::error::AnalysisError;
+use crate::settings::analysis::{
+    SPEAKER_HALF_LIFE_S, SPEAKER_PRIOR_F0_HZ, SPEAKER_PRIOR_LEVEL_DB, SPEAKER_PRIOR_WEIGHT_S,
+};
+use crate::settings::setting::{check_fields, field, Field};
 
 /// Lowest f0 the histogram covers, Hz.
 const HIST_MIN_HZ: f64 = 30.0;
@@ -16,61 +20,50 @@ const BIN_ST: f64 = 0.1;
 /// Number of bins (30 Hz .. about 1 kHz).
 const BINS: usize = 608;
 
-/// Settings of the speaker normalisation.
+/// Settings of the speaker normalisation; each field's setting (unit, range, default, why) is
+/// in [`crate::settings::analysis`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpeakerNormConfig {
-    /// Half-life of the running statistics in seconds of voiced speech (default 30).
+    /// Half-life of the running statistics in seconds of voiced speech
+    /// ([`SPEAKER_HALF_LIFE_S`]).
     pub half_life_s: f32,
-    /// Prior median f0 in Hz before the speaker is heard (default 150).
+    /// Prior median f0 in Hz before the speaker is heard ([`SPEAKER_PRIOR_F0_HZ`]).
     pub prior_f0_hz: f32,
-    /// Prior speech level in dBFS (default −26).
+    /// Prior speech level in dBFS ([`SPEAKER_PRIOR_LEVEL_DB`]).
     pub prior_level_db: f32,
-    /// Weight of the priors, in seconds of voiced speech (default 1).
+    /// Weight of the priors, in seconds of voiced speech ([`SPEAKER_PRIOR_WEIGHT_S`]).
     pub prior_weight_s: f32,
 }
 
+/// The settings of [`SpeakerNormConfig`] and the fields holding them.
+static FIELDS: [Field<SpeakerNormConfig>; 4] = [
+    field!(SPEAKER_HALF_LIFE_S, half_life_s),
+    field!(SPEAKER_PRIOR_F0_HZ, prior_f0_hz),
+    field!(SPEAKER_PRIOR_LEVEL_DB, prior_level_db),
+    field!(SPEAKER_PRIOR_WEIGHT_S, prior_weight_s),
+];
+
 impl Default for SpeakerNormConfig {
+    /// The table's defaults.
     fn default() -> Self {
         Self {
-            half_life_s: 30.0,
-            prior_f0_hz: 150.0,
-            prior_level_db: -26.0,
-            prior_weight_s: 1.0,
+            half_life_s: SPEAKER_HALF_LIFE_S.default,
+            prior_f0_hz: SPEAKER_PRIOR_F0_HZ.default,
+            prior_level_db: SPEAKER_PRIOR_LEVEL_DB.default,
+            prior_weight_s: SPEAKER_PRIOR_WEIGHT_S.default,
         }
     }
 }
 
 impl SpeakerNormConfig {
+    /// The settings of this struct and the fields holding them.
+    pub fn fields() -> &'static [Field<SpeakerNormConfig>] {
+        &FIELDS
+    }
+
     /// Checks every setting.
     pub fn validate(&self) -> Result<(), AnalysisError> {
-        check_range(
-            "speaker.half_life_s",
-            self.half_life_s,
-            1.0,
-            36_000.0,
-            "1..36000 s",
-        )?;
-        check_range(
-            "speaker.prior_f0_hz",
-            self.prior_f0_hz,
-            40.0,
-            900.0,
-            "40..900 Hz",
-        )?;
-        check_range(
-            "speaker.prior_level_db",
-            self.prior_level_db,
-            -100.0,
-            0.0,
-            "-100..0 dBFS",
-        )?;
-        check_range(
-            "speaker.prior_weight_s",
-            self.prior_weight_s,
-            0.0,
-            60.0,
-            "0..60 s",
-        )
+        Ok(check_fields(self, &FIELDS)?)
     }
 }
 

@@ -31,18 +31,9 @@ use thiserror::Error;
 /// Errors of the breathing model.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum BreathingError {
-    /// A parameter is outside its documented range.
-    #[error("breathing parameter `{name}` is {value}; set it between {min} and {max}")]
-    OutOfRange {
-        /// The parameter.
-        name: &'static str,
-        /// The value given.
-        value: f32,
-        /// Smallest allowed value.
-        min: f32,
-        /// Largest allowed value.
-        max: f32,
-    },
+    /// A parameter is outside its range.
+    #[error(transparent)]
+    Setting(#[from] crate::settings::SettingError),
     /// No preset has this name.
     #[error("unknown breathing preset `{0}`; use one of {names}", names = Preset::NAMES.join(", "))]
     UnknownPreset(String),

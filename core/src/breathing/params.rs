@@ -24,6 +24,12 @@
 //!   positions of pause markers "in number of characters" with it.
 
 use super::BreathingError;
+use crate::settings::breathing::{
+    BREATH_SOUND, CAPACITY_LUNG, INSPIRATION_LENGTH_S, MOUTH_VS_NOSE, NECK_AMPLITUDE_DEG,
+    NORM_SYLLABLES, OPENING, PROSODY_RATE, REST_DEPTH, REST_PERIOD_S, SPEAKING_LOUDNESS,
+    THORAX_VS_ABDOMEN,
+};
+use crate::settings::setting::{check_fields, field, Field};
 
 /// Syllables per second of speech at prosody rate 1 (conversational English is about 4–5).
 pub const BASE_SYLLABLE_RATE_HZ: f32 = 4.0;
@@ -35,53 +41,73 @@ pub const MIN_INSPIRATION_S: f32 = 0.15;
 pub const BREATH_RMS_RE_SPEECH_AT_FULL: f32 = 0.2;
 
 /// The user-facing breathing controls: the six high-level parameters of Table 1 and the
-/// independent ones. Map them with [`BreathingParams::map`].
+/// independent ones. Map them with [`BreathingParams::map`]. Each field's setting (unit, range,
+/// default, why) is in [`crate::settings::breathing`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BreathingParams {
-    /// Balance of chest vs stomach breathing, 0..1 (0 = thorax only, 1 = abdomen only).
-    /// Default 0.5.
+    /// Balance of chest vs stomach breathing (0 = thorax only, 1 = abdomen only)
+    /// ([`THORAX_VS_ABDOMEN`]).
     pub thorax_vs_abdomen: f32,
-    /// Overall lung capacity, percent 10..100. Default 60.
+    /// Overall lung capacity, percent ([`CAPACITY_LUNG`]).
     pub capacity_lung: f32,
-    /// Breathing through nose vs mouth, 0..1 (0 = nose only, 1 = mouth only). Default 0.5.
+    /// Breathing through nose vs mouth (0 = nose only, 1 = mouth only) ([`MOUTH_VS_NOSE`]).
     pub mouth_vs_nose: f32,
-    /// How audible the breathing sounds are, 0..1 (0 = silent). Default 0.35.
+    /// How audible the breathing sounds are (0 = silent) ([`BREATH_SOUND`]).
     pub amplitude_breathing_sound: f32,
-    /// How far nostrils and mouth open while breathing in, 0..1. Default 0.5.
+    /// How far nostrils and mouth open while breathing in ([`OPENING`]).
     pub opening_inspiration_channels: f32,
-    /// How loud the speech is, 0.05..1 (louder speech uses air faster: shorter utterances).
-    /// Default 0.5.
+    /// How loud the speech is (louder speech uses air faster: shorter utterances)
+    /// ([`SPEAKING_LOUDNESS`]).
     pub speaking_loudness: f32,
-    /// Independent: speaking-rate multiplier of the TTS / the syllable rate, 0.5..2. Default 1.
+    /// Independent: speaking-rate multiplier of the TTS / the syllable rate
+    /// ([`PROSODY_RATE`]).
     pub prosody_rate: f32,
-    /// Independent: inspiration length of a full (100 %) lung, seconds, 0.2..3. Default 1.0.
+    /// Independent: inspiration length of a full (100 %) lung, seconds
+    /// ([`INSPIRATION_LENGTH_S`]).
     pub inspiration_length_s: f32,
-    /// Independent: head pitch at full lungs, degrees, 0..15 (chin up). Default 3.
+    /// Independent: head pitch at full lungs, degrees (chin up) ([`NECK_AMPLITUDE_DEG`]).
     pub neck_motion_amplitude_deg: f32,
-    /// Independent: the `norm_syllables` factor of Equation 1, syllables, 0.2..5. Default 1.4
-    /// (neutral settings then give about 15 syllables, a 3.8 s breath group).
+    /// Independent: the `norm_syllables` factor of Equation 1, syllables ([`NORM_SYLLABLES`];
+    /// neutral settings then give about 15 syllables, a 3.8 s breath group).
     pub norm_syllables: f32,
-    /// Independent: period of the resting (tidal) breath, seconds, 1.5..12. Default 4.
+    /// Independent: period of the resting (tidal) breath, seconds ([`REST_PERIOD_S`]).
     pub rest_period_s: f32,
-    /// Independent: depth of the resting breath, fraction of the lung, 0..0.5. Default 0.12.
+    /// Independent: depth of the resting breath, fraction of the lung ([`REST_DEPTH`]).
     pub rest_depth: f32,
 }
 
+/// The settings of [`BreathingParams`] and the fields holding them.
+static FIELDS: [Field<BreathingParams>; 12] = [
+    field!(THORAX_VS_ABDOMEN, thorax_vs_abdomen),
+    field!(CAPACITY_LUNG, capacity_lung),
+    field!(MOUTH_VS_NOSE, mouth_vs_nose),
+    field!(BREATH_SOUND, amplitude_breathing_sound),
+    field!(OPENING, opening_inspiration_channels),
+    field!(SPEAKING_LOUDNESS, speaking_loudness),
+    field!(PROSODY_RATE, prosody_rate),
+    field!(INSPIRATION_LENGTH_S, inspiration_length_s),
+    field!(NECK_AMPLITUDE_DEG, neck_motion_amplitude_deg),
+    field!(NORM_SYLLABLES, norm_syllables),
+    field!(REST_PERIOD_S, rest_period_s),
+    field!(REST_DEPTH, rest_depth),
+];
+
 impl Default for BreathingParams {
+    /// The table's defaults.
     fn default() -> Self {
         Self {
-            thorax_vs_abdomen: 0.5,
-            capacity_lung: 60.0,
-            mouth_vs_nose: 0.5,
-            amplitude_breathing_sound: 0.35,
-            opening_inspiration_channels: 0.5,
-            speaking_loudness: 0.5,
-            prosody_rate: 1.0,
-            inspiration_length_s: 1.0,
-            neck_motion_amplitude_deg: 3.0,
-            norm_syllables: 1.4,
-            rest_period_s: 4.0,
-            rest_depth: 0.12,
+            thorax_vs_abdomen: THORAX_VS_ABDOMEN.default,
+            capacity_lung: CAPACITY_LUNG.default,
+            mouth_vs_nose: MOUTH_VS_NOSE.default,
+            amplitude_breathing_sound: BREATH_SOUND.default,
+            opening_inspiration_channels: OPENING.default,
+            speaking_loudness: SPEAKING_LOUDNESS.default,
+            prosody_rate: PROSODY_RATE.default,
+            inspiration_length_s: INSPIRATION_LENGTH_S.default,
+            neck_motion_amplitude_deg: NECK_AMPLITUDE_DEG.default,
+            norm_syllables: NORM_SYLLABLES.default,
+            rest_period_s: REST_PERIOD_S.default,
+            rest_depth: REST_DEPTH.default,
         }
     }
 }
@@ -143,63 +169,28 @@ impl LowLevelParams {
     }
 }
 
-fn check(name: &'static str, value: f32, lo: f32, hi: f32) -> Result<(), BreathingError> {
-    if value.is_finite() && value >= lo && value <= hi {
-        Ok(())
-    } else {
-        Err(BreathingError::OutOfRange {
-            name,
-            value,
-            min: lo,
-            max: hi,
-        })
-    }
-}
-
 impl BreathingParams {
-    /// Checks every field against its documented range.
+    /// The settings of this struct and the fields holding them.
+    pub fn fields() -> &'static [Field<BreathingParams>] {
+        &FIELDS
+    }
+
+    /// Checks every field against its range.
     pub fn validate(&self) -> Result<(), BreathingError> {
-        check("thorax_vs_abdomen", self.thorax_vs_abdomen, 0.0, 1.0)?;
-        check("capacity_lung", self.capacity_lung, 10.0, 100.0)?;
-        check("mouth_vs_nose", self.mouth_vs_nose, 0.0, 1.0)?;
-        check(
-            "amplitude_breathing_sound",
-            self.amplitude_breathing_sound,
-            0.0,
-            1.0,
-        )?;
-        check(
-            "opening_inspiration_channels",
-            self.opening_inspiration_channels,
-            0.0,
-            1.0,
-        )?;
-        check("speaking_loudness", self.speaking_loudness, 0.05, 1.0)?;
-        check("prosody_rate", self.prosody_rate, 0.5, 2.0)?;
-        check("inspiration_length_s", self.inspiration_length_s, 0.2, 3.0)?;
-        check(
-            "neck_motion_amplitude_deg",
-            self.neck_motion_amplitude_deg,
-            0.0,
-            15.0,
-        )?;
-        check("norm_syllables", self.norm_syllables, 0.2, 5.0)?;
-        check("rest_period_s", self.rest_period_s, 1.5, 12.0)?;
-        check("rest_depth", self.rest_depth, 0.0, 0.5)?;
-        Ok(())
+        Ok(check_fields(self, &FIELDS)?)
     }
 
     /// Equation 1 (as read in the module docs): the low-level parameters. Call
     /// [`BreathingParams::validate`] first; out-of-range inputs are clamped here.
     pub fn map(&self) -> LowLevelParams {
-        let tva = self.thorax_vs_abdomen.clamp(0.0, 1.0);
-        let cap = self.capacity_lung.clamp(10.0, 100.0);
-        let mvn = self.mouth_vs_nose.clamp(0.0, 1.0);
-        let amp = self.amplitude_breathing_sound.clamp(0.0, 1.0);
-        let open = self.opening_inspiration_channels.clamp(0.0, 1.0);
-        let loud = self.speaking_loudness.clamp(0.05, 1.0);
-        let rate = self.prosody_rate.clamp(0.5, 2.0);
-        let syllables = (cap / loud).sqrt() * self.norm_syllables.clamp(0.2, 5.0);
+        let tva = THORAX_VS_ABDOMEN.clamp(self.thorax_vs_abdomen);
+        let cap = CAPACITY_LUNG.clamp(self.capacity_lung);
+        let mvn = MOUTH_VS_NOSE.clamp(self.mouth_vs_nose);
+        let amp = BREATH_SOUND.clamp(self.amplitude_breathing_sound);
+        let open = OPENING.clamp(self.opening_inspiration_channels);
+        let loud = SPEAKING_LOUDNESS.clamp(self.speaking_loudness);
+        let rate = PROSODY_RATE.clamp(self.prosody_rate);
+        let syllables = (cap / loud).sqrt() * NORM_SYLLABLES.clamp(self.norm_syllables);
         LowLevelParams {
             volume_thorax: (1.0 - tva) * cap / 100.0,
             volume_abdomen: tva * cap / 100.0,
@@ -209,14 +200,15 @@ impl BreathingParams {
             amplitude_mouth_open: mvn * open,
             length_utterance_syllables: syllables,
             length_utterance_s: syllables / (BASE_SYLLABLE_RATE_HZ * rate),
-            length_inspiration_s: (self.inspiration_length_s.clamp(0.2, 3.0) * cap / 100.0)
+            length_inspiration_s: (INSPIRATION_LENGTH_S.clamp(self.inspiration_length_s) * cap
+                / 100.0)
                 .max(MIN_INSPIRATION_S),
             urgency_limit: 2.0 * syllables,
-            amplitude_neck_motion_deg: self.neck_motion_amplitude_deg.clamp(0.0, 15.0),
+            amplitude_neck_motion_deg: NECK_AMPLITUDE_DEG.clamp(self.neck_motion_amplitude_deg),
             prosody_rate: rate,
             speaking_loudness: loud,
-            rest_period_s: self.rest_period_s.clamp(1.5, 12.0),
-            rest_depth: self.rest_depth.clamp(0.0, 0.5),
+            rest_period_s: REST_PERIOD_S.clamp(self.rest_period_s),
+            rest_depth: REST_DEPTH.clamp(self.rest_depth),
         }
     }
 }

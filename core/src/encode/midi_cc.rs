@@ -28,6 +28,10 @@
 //! frame. After [`CcEncoder::reset`] every mapped signal is sent again on the next frame.
 
 use crate::control::ControlFrame;
+use crate::settings::output::{
+    CC_14BIT, CC_HEAD_RANGE_DEG, CC_LOUDNESS_FLOOR_DB, CC_NECK_RANGE_DEG, MIDI_CHANNEL,
+};
+use crate::settings::setting::{check_fields, Field, SettingError};
 use thiserror::Error;
 
 /// Number of signals the map covers.
@@ -116,9 +120,9 @@ pub enum CcResolution {
 /// A bad CC map: the message says what to change.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum CcMapError {
-    /// The channel is not 0..15.
-    #[error("MIDI channel {0} is out of range: use 0..15 (shown as 1..16 in most hosts)")]
-    Channel(u8),
+    /// A setting of the map (channel, ranges) is out of its range.
+    #[error(transparent)]
+    Setting(#[from] SettingError),
     /// A controller number is not usable.
     #[error("controller {controller} for {signal} is out of range: use 0..119 for 7-bit CCs (120..127 are channel mode messages) or 0..31 for 14-bit pairs (the LSB goes to controller + 32)")]
     Controller {
@@ -137,65 +141,99 @@ pub enum CcMapError {
         /// The shared controller.
         controller: u8,
     },
-    /// A range is not a positive finite number.
-    #[error("{name} = {value} is not usable: it must be a finite number above zero")]
-    Range {
-        /// Name of the setting.
-        name: &'static str,
-        /// The rejected value.
-        value: f32,
-    },
 }
 
 /// Where and how each signal leaves as CC.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CcMap {
-    /// MIDI channel, 0..15 (hosts show 1..16).
+    /// MIDI channel, 0..15 ([`MIDI_CHANNEL`] numbers them 1..16, as hosts show them).
     pub channel: u8,
-    /// 7-bit or 14-bit values.
+    /// 7-bit or 14-bit values ([`CC_14BIT`]).
     pub resolution: CcResolution,
     /// Controller per signal in [`CcSignal::ALL`] order; `None` switches the signal off.
     pub controllers: [Option<u8>; SIGNAL_COUNT],
-    /// Head angle that maps to the ends of the CC range, degrees (> 0). Default 30°.
+    /// Head angle that maps to the ends of the CC range, degrees ([`CC_HEAD_RANGE_DEG`]).
     pub head_range_deg: f32,
-    /// Neck pitch that maps to the ends of the CC range, degrees (> 0). Default 10°.
+    /// Neck pitch that maps to the ends of the CC range, degrees ([`CC_NECK_RANGE_DEG`]).
     pub neck_range_deg: f32,
-    /// Loudness that maps to CC value 0, dBFS (< 0; 0 dBFS maps to the top). Default −60 dBFS.
+    /// Loudness that maps to CC value 0, dBFS; 0 dBFS maps to the top
+    /// ([`CC_LOUDNESS_FLOOR_DB`]).
     pub loudness_floor_db: f32,
 }
 
+/// The settings of [`CcMap`] (all but the controllers, which [`CcSignal`] numbers) and the
+/// fields holding them.
+static FIELDS: [Field<CcMap>; 5] = [
+    Field {
+        setting: &MIDI_CHANNEL,
+        get: |c| f64::from(c.channel) + 1.0,
+        set: |c, v| c.channel = (v - 1.0) as u8,
+    },
+    Field {
+        setting: &CC_14BIT,
+        get: |c| {
+            if c.resolution == CcResolution::Bits14 {
+                1.0
+            } else {
+                0.0
+            }
+        },
+        set: |c, v| {
+            c.resolution = if v != 0.0 {
+                CcResolution::Bits14
+            } else {
+                CcResolution::Bits7
+            }
+        },
+    },
+    Field {
+        setting: &CC_HEAD_RANGE_DEG,
+        get: |c| f64::from(c.head_range_deg),
+        set: |c, v| c.head_range_deg = v as f32,
+    },
+    Field {
+        setting: &CC_NECK_RANGE_DEG,
+        get: |c| f64::from(c.neck_range_deg),
+        set: |c, v| c.neck_range_deg = v as f32,
+    },
+    Field {
+        setting: &CC_LOUDNESS_FLOOR_DB,
+        get: |c| f64::from(c.loudness_floor_db),
+        set: |c, v| c.loudness_floor_db = v as f32,
+    },
+];
+
 impl Default for CcMap {
+    /// The design map ([`CcSignal::DEFAULT_CONTROLLERS`]) with the table's defaults.
     fn default() -> Self {
         let mut controllers = [None; SIGNAL_COUNT];
         for (slot, cc) in controllers.iter_mut().zip(CcSignal::DEFAULT_CONTROLLERS) {
             *slot = Some(cc);
         }
-        Self {
+        let mut map = Self {
             channel: 0,
             resolution: CcResolution::Bits7,
             controllers,
-            head_range_deg: 30.0,
-            neck_range_deg: 10.0,
-            loudness_floor_db: -60.0,
+            head_range_deg: 0.0,
+            neck_range_deg: 0.0,
+            loudness_floor_db: 0.0,
+        };
+        for f in &FIELDS {
+            (f.set)(&mut map, f64::from(f.setting.default));
         }
+        map
     }
 }
 
 impl CcMap {
-    /// Checks channel, controller numbers, collisions and ranges.
+    /// The settings of the map and the fields holding them.
+    pub fn fields() -> &'static [Field<CcMap>] {
+        &FIELDS
+    }
+
+    /// Checks the settings (channel, ranges), the controller numbers and their collisions.
     pub fn validate(&self) -> Result<(), CcMapError> {
-        if self.channel > 15 {
-            return Err(CcMapError::Channel(self.channel));
-        }
-        for (name, value) in [
-            ("head_range_deg", self.head_range_deg),
-            ("neck_range_deg", self.neck_range_deg),
-            ("-loudness_floor_db", -self.loudness_floor_db),
-        ] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(CcMapError::Range { name, value });
-            }
-        }
+        check_fields(self, &FIELDS)?;
         let limit = match self.resolution {
             CcResolution::Bits7 => 119,
             CcResolution::Bits14 => 31,
@@ -517,7 +555,13 @@ mod tests {
             channel: 16,
             ..CcMap::default()
         };
-        assert_eq!(map.validate(), Err(CcMapError::Channel(16)));
+        let err = map.validate().unwrap_err();
+        assert!(matches!(err, CcMapError::Setting(_)), "{err:?}");
+        assert!(
+            err.to_string()
+                .starts_with("midi_channel 17 is out of range: use 1 to 16"),
+            "{err}"
+        );
         map.channel = 0;
         map.controllers[CcSignal::HeadYaw.index()] = Some(16);
         assert!(matches!(
@@ -542,7 +586,7 @@ mod tests {
         map.controllers[CcSignal::Thorax.index()] = None;
         map.validate().unwrap();
         map.head_range_deg = 0.0;
-        assert!(matches!(map.validate(), Err(CcMapError::Range { .. })));
+        assert!(matches!(map.validate(), Err(CcMapError::Setting(_))));
         // set_map keeps the old map on error.
         let mut enc = CcEncoder::new(CcMap::default()).unwrap();
         assert!(enc.set_map(map).is_err());

@@ -3,10 +3,17 @@
 
 use thiserror::Error;
 
-use crate::analysis::{AnalysisConfig, AnalysisError};
+use crate::analysis::{AnalysisConfig, AnalysisError, SpeakerNormConfig};
 use crate::breathing::{BreathingError, BreathingParams};
 use crate::head::{HeadConfig, HeadModelError};
 use crate::phrase::{PhraseConfig, PhraseError};
+use crate::settings::placement::{
+    AFTER_OFFSET_S, BREATH_LEVEL_DB, CATCH_BREATH_MAX_S, CATCH_BREATH_MIN_S, GAP_S, INSERT_BREATHS,
+    LIVE_FADE_S, LOOKAHEAD_S, MIN_PAUSE_S, MODE, WHOLE_FILE,
+};
+use crate::settings::setting::{
+    check_fields, copy_scope, field, set_field, Field, Relation, Scope, Setting, SettingError,
+};
 
 /// How breaths are placed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
@@ -22,21 +29,30 @@ pub enum PlacementMode {
 }
 
 impl PlacementMode {
-    /// `lookahead` or `live`.
+    /// Both modes, in the order of the `mode` setting's names ([`MODE`]).
+    pub const ALL: [PlacementMode; 2] = [PlacementMode::Lookahead, PlacementMode::Live];
+
+    /// The mode's name: `lookahead` or `live` (the `mode` setting's names).
     pub fn as_str(self) -> &'static str {
+        MODE.names()[self.index()]
+    }
+
+    /// Parses a mode's name (`lookahead` or `live`, any case).
+    pub fn from_name(name: &str) -> Result<Self, EngineError> {
+        Ok(Self::from_index(MODE.parse(name)?))
+    }
+
+    /// The index in [`PlacementMode::ALL`] (the `mode` setting's value).
+    fn index(self) -> usize {
         match self {
-            PlacementMode::Lookahead => "lookahead",
-            PlacementMode::Live => "live",
+            PlacementMode::Lookahead => 0,
+            PlacementMode::Live => 1,
         }
     }
 
-    /// Parses `lookahead` or `live`.
-    pub fn from_name(name: &str) -> Result<Self, EngineError> {
-        match name {
-            "lookahead" => Ok(PlacementMode::Lookahead),
-            "live" => Ok(PlacementMode::Live),
-            other => Err(EngineError::Mode(other.to_string())),
-        }
+    /// The mode of a checked `mode` value.
+    fn from_index(value: f64) -> Self {
+        Self::ALL.get(value as usize).copied().unwrap_or_default()
     }
 }
 
@@ -45,38 +61,29 @@ impl PlacementMode {
 pub struct PlacementConfig {
     /// Lookahead or live placement.
     pub mode: PlacementMode,
-    /// Delay of the audio in lookahead mode, seconds (0.3–2, default 0.5). The longest breath
-    /// that fits is about this minus the onset confirmation (~60 ms) and `gap_s`; under 0.3 s
-    /// too little would fit.
+    /// Delay of the audio in lookahead mode, seconds ([`LOOKAHEAD_S`]).
     pub lookahead_s: f32,
-    /// Pauses shorter than this get no breath, seconds (0.1–5, default 0.25).
+    /// Pauses shorter than this get no breath, seconds ([`MIN_PAUSE_S`]).
     pub min_pause_s: f32,
-    /// Silence left between the end of an inhalation and the next phrase onset, seconds
-    /// (0–0.3, default 0.04).
+    /// Silence between the end of an inhalation and the next onset, seconds ([`GAP_S`]).
     pub gap_s: f32,
-    /// Silence kept after the end of a phrase before an inhalation may start, seconds (0–0.5,
-    /// default 0.06).
+    /// Silence kept after a phrase before an inhalation may start, seconds
+    /// ([`AFTER_OFFSET_S`]).
     pub after_offset_s: f32,
-    /// Breath level (plateau RMS) relative to the running speech level, dB, for the neutral
-    /// breathing preset (−60 to −6, default −22); other presets scale it by their breathing-sound
-    /// amplitude. Never more than −6 dB: a breath is never louder than the speech.
+    /// Breath level relative to the running speech level, dB ([`BREATH_LEVEL_DB`]).
     pub breath_level_db: f32,
-    /// Insert breaths into the audio (off: the audio passes unchanged, the controls still follow
-    /// the breathing cycle).
+    /// Insert breaths into the audio ([`INSERT_BREATHS`]).
     pub insert_breaths: bool,
-    /// Fade applied when speech resumes during a live-mode breath, seconds (0.002–0.1, default
-    /// 0.015).
+    /// Fade when speech resumes during a live-mode breath, seconds ([`LIVE_FADE_S`]).
     pub live_fade_s: f32,
-    /// Shortest catch breath, seconds (0.05–0.5, default 0.15): when the air of a breath group
-    /// would run out before its next usable pause, a quick inhalation goes into a shorter pause
-    /// (also under `min_pause_s`) if at least this much fits.
+    /// Shortest catch breath, seconds ([`CATCH_BREATH_MIN_S`]); it may go into a pause under
+    /// `min_pause_s`.
     pub catch_breath_min_s: f32,
-    /// Longest catch breath, seconds (0.1–1, at least `catch_breath_min_s`, default 0.25).
+    /// Longest catch breath, seconds ([`CATCH_BREATH_MAX_S`]), at least `catch_breath_min_s`.
     pub catch_breath_max_s: f32,
-    /// Offline render of a whole file (lookahead mode): the engine looks ahead
-    /// [`OFFLINE_LOOKAHEAD_S`] (or `lookahead_s` if longer), so it sees the coming breath group
-    /// and gives long pauses long, deep breaths. A plugin leaves it off and keeps its bounded
-    /// `lookahead_s` (default off).
+    /// Offline render of a whole file ([`WHOLE_FILE`]): the engine looks ahead
+    /// [`OFFLINE_LOOKAHEAD_S`] (or `lookahead_s` if longer). A plugin leaves it off and keeps
+    /// its bounded `lookahead_s`.
     pub whole_file: bool,
     /// Breaths only into pauses of speech (the speech decision, [`crate::speech`]): no breath
     /// before (lookahead: the next phrase, offline judged by its first half second; or after,
@@ -86,24 +93,44 @@ pub struct PlacementConfig {
     pub speech_only: bool,
 }
 
+/// The settings of [`PlacementConfig`] and the fields holding them.
+static PLACEMENT_FIELDS: [Field<PlacementConfig>; 11] = [
+    Field {
+        setting: &MODE,
+        get: |c| c.mode.index() as f64,
+        set: |c, v| c.mode = PlacementMode::from_index(v),
+    },
+    field!(LOOKAHEAD_S, lookahead_s),
+    field!(switch WHOLE_FILE, whole_file),
+    field!(MIN_PAUSE_S, min_pause_s),
+    field!(GAP_S, gap_s),
+    field!(AFTER_OFFSET_S, after_offset_s),
+    field!(BREATH_LEVEL_DB, breath_level_db),
+    field!(switch INSERT_BREATHS, insert_breaths),
+    field!(LIVE_FADE_S, live_fade_s),
+    field!(CATCH_BREATH_MIN_S, catch_breath_min_s),
+    field!(CATCH_BREATH_MAX_S, catch_breath_max_s),
+];
+
 /// Lookahead of an offline render ([`PlacementConfig::whole_file`]), seconds: longer than a
 /// breath group and the pause before it.
 pub const OFFLINE_LOOKAHEAD_S: f32 = 8.0;
 
 impl Default for PlacementConfig {
+    /// The table's defaults.
     fn default() -> Self {
         Self {
-            mode: PlacementMode::Lookahead,
-            lookahead_s: 0.5,
-            min_pause_s: 0.25,
-            gap_s: 0.04,
-            after_offset_s: 0.06,
-            breath_level_db: -22.0,
-            insert_breaths: true,
-            live_fade_s: 0.015,
-            catch_breath_min_s: 0.15,
-            catch_breath_max_s: 0.25,
-            whole_file: false,
+            mode: PlacementMode::from_index(f64::from(MODE.default)),
+            lookahead_s: LOOKAHEAD_S.default,
+            min_pause_s: MIN_PAUSE_S.default,
+            gap_s: GAP_S.default,
+            after_offset_s: AFTER_OFFSET_S.default,
+            breath_level_db: BREATH_LEVEL_DB.default,
+            insert_breaths: INSERT_BREATHS.default != 0.0,
+            live_fade_s: LIVE_FADE_S.default,
+            catch_breath_min_s: CATCH_BREATH_MIN_S.default,
+            catch_breath_max_s: CATCH_BREATH_MAX_S.default,
+            whole_file: WHOLE_FILE.default != 0.0,
             speech_only: true,
         }
     }
@@ -120,34 +147,25 @@ impl PlacementConfig {
         }
     }
 
-    /// Checks every setting against its range.
-    pub fn validate(&self) -> Result<(), EngineError> {
-        let checks: [(&'static str, f32, f32, f32); 8] = [
-            ("lookahead_s", self.lookahead_s, 0.3, 2.0),
-            ("min_pause_s", self.min_pause_s, 0.1, 5.0),
-            ("gap_s", self.gap_s, 0.0, 0.3),
-            ("after_offset_s", self.after_offset_s, 0.0, 0.5),
-            ("breath_level_db", self.breath_level_db, -60.0, -6.0),
-            ("live_fade_s", self.live_fade_s, 0.002, 0.1),
-            ("catch_breath_min_s", self.catch_breath_min_s, 0.05, 0.5),
-            (
-                "catch_breath_max_s",
-                self.catch_breath_max_s,
-                self.catch_breath_min_s.clamp(0.1, 1.0),
-                1.0,
-            ),
-        ];
-        for (name, value, min, max) in checks {
-            if !(value.is_finite() && (min..=max).contains(&value)) {
-                return Err(EngineError::OutOfRange {
-                    name,
-                    value,
-                    min,
-                    max,
-                });
-            }
-        }
-        Ok(())
+    /// The settings of this struct and the fields holding them.
+    pub fn fields() -> &'static [Field<PlacementConfig>] {
+        &PLACEMENT_FIELDS
+    }
+
+    /// Checks every setting against its range, and the longest catch breath against the
+    /// shortest.
+    pub fn validate(&self) -> Result<(), SettingError> {
+        check_fields(self, &PLACEMENT_FIELDS)?;
+        let shortest = f64::from(self.catch_breath_min_s);
+        CATCH_BREATH_MAX_S.check_within(
+            f64::from(self.catch_breath_max_s),
+            shortest.max(CATCH_BREATH_MAX_S.min()),
+            CATCH_BREATH_MAX_S.max(),
+            Some(Relation {
+                words: "at least",
+                other: &CATCH_BREATH_MIN_S,
+            }),
+        )
     }
 }
 
@@ -206,16 +224,96 @@ impl EngineConfig {
         *self = next;
     }
 
-    /// Takes the stream part from `from`: the one list of the stream part's fields, which
-    /// [`EngineConfig::stream_differs`] and [`EngineConfig::live_differs`] both use.
+    /// Takes the stream part from `from`: every setting of the table whose scope is
+    /// [`Scope::Stream`], the voicing model and the seed. [`EngineConfig::stream_differs`] and
+    /// [`EngineConfig::live_differs`] both use it. Allocation-free.
     fn set_stream_part(&mut self, from: &EngineConfig) {
-        self.analysis = from.analysis.clone();
-        self.phrase = from.phrase;
-        self.placement.mode = from.placement.mode;
-        self.placement.lookahead_s = from.placement.lookahead_s;
-        self.placement.whole_file = from.placement.whole_file;
+        copy_scope(
+            &mut self.analysis,
+            &from.analysis,
+            AnalysisConfig::fields(),
+            Scope::Stream,
+        );
+        copy_scope(
+            &mut self.analysis.speaker,
+            &from.analysis.speaker,
+            SpeakerNormConfig::fields(),
+            Scope::Stream,
+        );
+        copy_scope(
+            &mut self.phrase,
+            &from.phrase,
+            PhraseConfig::fields(),
+            Scope::Stream,
+        );
+        copy_scope(
+            &mut self.placement,
+            &from.placement,
+            PlacementConfig::fields(),
+            Scope::Stream,
+        );
+        copy_scope(
+            &mut self.breathing,
+            &from.breathing,
+            BreathingParams::fields(),
+            Scope::Stream,
+        );
+        copy_scope(
+            &mut self.head,
+            &from.head,
+            HeadConfig::fields(),
+            Scope::Stream,
+        );
+        // Not settings with a range: a fitted file and a seed, both of the stream part.
+        // (Its trees are shared: the clone does not allocate.)
+        self.analysis.voicing_model = from.analysis.voicing_model.clone();
+        // Not in the table yet: the speech decision's switch (built at `prepare`).
         self.placement.speech_only = from.placement.speech_only;
         self.seed = from.seed;
+    }
+
+    /// Sets the setting `setting` to `value` (in the setting's unit; a switch 0 or 1, a choice
+    /// its index), checked against its range. Allocation-free, except for the error of a
+    /// setting that is not one of the engine's (an output's).
+    pub fn set_value(&mut self, setting: &Setting, value: f64) -> Result<(), SettingError> {
+        let id = setting.id;
+        set_field(&mut self.analysis, AnalysisConfig::fields(), id, value)
+            .or_else(|| {
+                set_field(
+                    &mut self.analysis.speaker,
+                    SpeakerNormConfig::fields(),
+                    id,
+                    value,
+                )
+            })
+            .or_else(|| set_field(&mut self.phrase, PhraseConfig::fields(), id, value))
+            .or_else(|| set_field(&mut self.placement, PlacementConfig::fields(), id, value))
+            .or_else(|| set_field(&mut self.breathing, BreathingParams::fields(), id, value))
+            .or_else(|| set_field(&mut self.head, HeadConfig::fields(), id, value))
+            .unwrap_or_else(|| Err(SettingError::Unknown(id.to_owned())))
+    }
+
+    /// The value of `setting` (in its unit), `None` for a setting that is not the engine's.
+    pub fn value(&self, setting: &Setting) -> Option<f64> {
+        fn get<C>(config: &C, fields: &[Field<C>], id: &str) -> Option<f64> {
+            crate::settings::find_field(fields, id).map(|f| (f.get)(config))
+        }
+        let id = setting.id;
+        get(&self.analysis, AnalysisConfig::fields(), id)
+            .or_else(|| get(&self.analysis.speaker, SpeakerNormConfig::fields(), id))
+            .or_else(|| get(&self.phrase, PhraseConfig::fields(), id))
+            .or_else(|| get(&self.placement, PlacementConfig::fields(), id))
+            .or_else(|| get(&self.breathing, BreathingParams::fields(), id))
+            .or_else(|| get(&self.head, HeadConfig::fields(), id))
+    }
+
+    /// Sets the setting with id `id` from text in its unit (for evaluation tools and `--set
+    /// id=value` options).
+    pub fn set(&mut self, id: &str, text: &str) -> Result<(), SettingError> {
+        let setting =
+            crate::settings::find(id).ok_or_else(|| SettingError::Unknown(id.to_owned()))?;
+        let value = setting.parse(text)?;
+        self.set_value(setting, value)
     }
 
     /// Checks every part.
@@ -244,25 +342,169 @@ pub enum EngineError {
     /// A head-pose setting or model.
     #[error(transparent)]
     Head(#[from] HeadModelError),
-    /// A placement setting is out of range.
-    #[error("placement setting `{name}` = {value} is out of range: use {min}..={max}")]
-    OutOfRange {
-        /// The setting.
-        name: &'static str,
-        /// The value given.
-        value: f32,
-        /// Lowest allowed.
-        min: f32,
-        /// Highest allowed.
-        max: f32,
-    },
-    /// Unknown placement mode.
-    #[error("unknown placement mode `{0}`: use `lookahead` or `live`")]
-    Mode(String),
+    /// A placement setting, or a setting given by name.
+    #[error(transparent)]
+    Setting(#[from] SettingError),
     /// Channel count.
     #[error("{0} channels are not supported: use 1 (mono) to 8 channels")]
     Channels(usize),
     /// Block size.
     #[error("maximum block size {0} is not supported: use 1..=65536 samples")]
     MaxBlock(usize),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::encode::midi_cc::CcMap;
+    use crate::settings::{self, Kind};
+
+    /// The ids of a struct's fields, in order.
+    fn ids<C>(fields: &[Field<C>]) -> Vec<&'static str> {
+        fields.iter().map(|f| f.setting.id).collect()
+    }
+
+    /// The ids of a group of the table, in order.
+    fn group(id: &str) -> Vec<&'static str> {
+        let g = settings::GROUPS.iter().find(|g| g.id == id).expect("group");
+        g.settings.iter().map(|s| s.id).collect()
+    }
+
+    #[test]
+    fn each_struct_holds_exactly_its_group_of_the_table() {
+        assert_eq!(ids(AnalysisConfig::fields()), group("analysis"));
+        assert_eq!(ids(SpeakerNormConfig::fields()), group("speaker"));
+        assert_eq!(ids(PhraseConfig::fields()), group("phrase"));
+        assert_eq!(ids(PlacementConfig::fields()), group("placement"));
+        assert_eq!(ids(BreathingParams::fields()), group("breathing"));
+        assert_eq!(ids(HeadConfig::fields()), group("head"));
+        assert_eq!(ids(CcMap::fields()), group("midi"));
+    }
+
+    /// Every field of `config` holds its setting's default, and a value set through the table
+    /// reads back (the binding reaches the right field).
+    fn defaults_and_round_trip<C: Clone>(config: &C, fields: &[Field<C>]) {
+        for f in fields {
+            let s = f.setting;
+            assert_eq!((f.get)(config), f64::from(s.default), "default of {}", s.id);
+            let other = if f64::from(s.default) == s.max() {
+                s.min()
+            } else {
+                s.max()
+            };
+            let mut c = config.clone();
+            (f.set)(&mut c, other);
+            assert_eq!((f.get)(&c), other, "{} reads back", s.id);
+            for g in fields.iter().filter(|g| g.setting.id != s.id) {
+                assert_eq!(
+                    (g.get)(&c),
+                    (g.get)(config),
+                    "{} left {} alone",
+                    s.id,
+                    g.setting.id
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn defaults_come_from_the_table_and_each_field_is_its_own() {
+        let c = EngineConfig::default();
+        defaults_and_round_trip(&c.analysis, AnalysisConfig::fields());
+        defaults_and_round_trip(&c.analysis.speaker, SpeakerNormConfig::fields());
+        defaults_and_round_trip(&c.phrase, PhraseConfig::fields());
+        defaults_and_round_trip(&c.placement, PlacementConfig::fields());
+        defaults_and_round_trip(&c.breathing, BreathingParams::fields());
+        defaults_and_round_trip(&c.head, HeadConfig::fields());
+        defaults_and_round_trip(&CcMap::default(), CcMap::fields());
+        c.validate().unwrap();
+    }
+
+    #[test]
+    fn the_stream_part_is_the_analysis_the_phrases_the_mode_and_the_lookahead() {
+        // The split the engine promises (docs/DESIGN.md, Configuration), written out here
+        // rather than read from the table's scopes.
+        let stream = |id: &str| {
+            group("analysis").contains(&id)
+                || group("speaker").contains(&id)
+                || group("phrase").contains(&id)
+                || ["mode", "lookahead_s", "whole_file"].contains(&id)
+        };
+        let base = EngineConfig::default();
+        for s in settings::all().filter(|s| base.value(s).is_some()) {
+            let mut other = base.clone();
+            let v = if f64::from(s.default) == s.max() {
+                s.min()
+            } else {
+                s.max()
+            };
+            other.set_value(s, v).unwrap();
+            assert_eq!(base.stream_differs(&other), stream(s.id), "{}", s.id);
+            assert_eq!(base.live_differs(&other), !stream(s.id), "{}", s.id);
+            let mut live = base.clone();
+            live.set_live_part(&other);
+            assert_eq!(live == other, !stream(s.id), "{}", s.id);
+        }
+        let other = EngineConfig {
+            seed: 9,
+            ..EngineConfig::default()
+        };
+        assert!(base.stream_differs(&other) && !base.live_differs(&other));
+    }
+
+    #[test]
+    fn settings_are_set_by_id_and_text_with_typed_errors() {
+        let mut c = EngineConfig::default();
+        c.set("breath_level_db", "\u{2212}30").unwrap();
+        assert_eq!(c.placement.breath_level_db, -30.0);
+        c.set("mode", "LIVE").unwrap();
+        assert_eq!(c.placement.mode, PlacementMode::Live);
+        c.set("insert_breaths", "off").unwrap();
+        assert!(!c.placement.insert_breaths);
+        c.set("head_amount", "2").unwrap();
+        assert_eq!(c.head.amount, 2.0);
+        c.set("phrase_silence_db", "-80").unwrap();
+        assert_eq!(c.phrase.silence_db, -80.0);
+        let e = c.set("breath_level_db", "-50").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "breath_level_db -50 dB is out of range: use -40 to -6 dB"
+        );
+        let e = c.set("mode", "later").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "mode: `later` is not one of lookahead or live"
+        );
+        assert!(matches!(
+            c.set("no_such", "1"),
+            Err(SettingError::Unknown(_))
+        ));
+        // An output's setting is not the engine's.
+        assert!(c.set("osc_port", "9000").is_err());
+        assert_eq!(PlacementMode::from_name("live").unwrap().as_str(), "live");
+    }
+
+    #[test]
+    fn the_catch_breaths_keep_their_order() {
+        let mut c = PlacementConfig {
+            catch_breath_min_s: 0.3,
+            catch_breath_max_s: 0.2,
+            ..PlacementConfig::default()
+        };
+        let e = c.validate().unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "catch_breath_max_s 0.2 s is out of range: use 0.3 to 1 s (at least catch_breath_min_s)"
+        );
+        c.catch_breath_max_s = 0.3;
+        c.validate().unwrap();
+        // Every number of the table is checked where it is held: one step out fails.
+        for f in PlacementConfig::fields() {
+            if let Kind::Number { max, .. } = f.setting.kind {
+                let mut c = PlacementConfig::default();
+                (f.set)(&mut c, f64::from(max) + 1.0);
+                assert!(c.validate().is_err(), "{}", f.setting.id);
+            }
+        }
+    }
 }

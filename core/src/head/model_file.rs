@@ -95,6 +95,9 @@ pub enum HeadModelError {
         /// Allowed range, in words.
         range: &'static str,
     },
+    /// A head-pose setting is out of its range.
+    #[error(transparent)]
+    Setting(#[from] crate::settings::SettingError),
     /// The unvoiced behaviour name is unknown.
     #[error("unvoiced behaviour `{0}` is unknown: use `hold`, `return` or `loudness_model`")]
     Behaviour(String),

@@ -21,6 +21,11 @@ use super::smoother::PoseSmoother;
 use crate::analysis::FeatureFrame;
 use crate::control::HeadAngles;
 use crate::rng::SeededRng;
+use crate::settings::head::{
+    HEAD_AMOUNT, HEAD_LIVELINESS, HEAD_MAX_PITCH_DEG, HEAD_MAX_ROLL_DEG, HEAD_MAX_SPEED_DEG_S,
+    HEAD_MAX_YAW_DEG,
+};
+use crate::settings::setting::{check_fields, field, sanitize_fields, Field};
 
 /// Smoothing of |Δθ| near 0 (degrees), so the norms are differentiable.
 const NORM_EPS_DEG: f64 = 1e-3;
@@ -29,21 +34,22 @@ const LIVELINESS_TIME_S: f64 = 1.5;
 /// Standard deviation of the liveliness variation at liveliness 1, degrees.
 const LIVELINESS_SD_DEG: f64 = 2.0;
 
-/// Settings of the head-pose synthesis. Defaults follow the paper's motion-capture criteria.
+/// Settings of the head-pose synthesis. Defaults follow the paper's motion-capture criteria;
+/// each numeric field's setting (unit, range, default, why) is in [`crate::settings::head`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct HeadConfig {
-    /// Amplitude scale of the generated motion, 0..4 (default 1; 0 keeps the head still).
+    /// Amplitude scale of the generated motion (0 keeps the head still) ([`HEAD_AMOUNT`]).
     pub amount: f32,
-    /// Largest |pitch|, degrees, 0.5..90 (default 8).
+    /// Largest |pitch|, degrees ([`HEAD_MAX_PITCH_DEG`]).
     pub max_pitch_deg: f32,
-    /// Largest |yaw|, degrees, 0.5..90 (default 15).
+    /// Largest |yaw|, degrees ([`HEAD_MAX_YAW_DEG`]).
     pub max_yaw_deg: f32,
-    /// Largest |roll|, degrees, 0.5..90 (default 12).
+    /// Largest |roll|, degrees ([`HEAD_MAX_ROLL_DEG`]).
     pub max_roll_deg: f32,
-    /// Largest angular speed |Δθ|·rate, degrees per second, 1..2000 (default 240).
+    /// Largest angular speed |Δθ|·rate, degrees per second ([`HEAD_MAX_SPEED_DEG_S`]).
     pub max_speed_deg_s: f32,
-    /// Seeded slow random variation added to the pose, 0..1 (default 0 = off); 1 adds a
-    /// wandering offset of about 2° SD per axis with a 1.5 s time constant.
+    /// Seeded slow random variation added to the pose (0 = off); 1 adds a wandering offset of
+    /// about 2° SD per axis with a 1.5 s time constant ([`HEAD_LIVELINESS`]).
     pub liveliness: f32,
     /// Seed of the liveliness variation.
     pub seed: u64,
@@ -52,84 +58,49 @@ pub struct HeadConfig {
     pub unvoiced: Option<UnvoicedBehaviour>,
 }
 
+/// The numeric settings of [`HeadConfig`] and the fields holding them.
+static FIELDS: [Field<HeadConfig>; 6] = [
+    field!(HEAD_AMOUNT, amount),
+    field!(HEAD_MAX_PITCH_DEG, max_pitch_deg),
+    field!(HEAD_MAX_YAW_DEG, max_yaw_deg),
+    field!(HEAD_MAX_ROLL_DEG, max_roll_deg),
+    field!(HEAD_MAX_SPEED_DEG_S, max_speed_deg_s),
+    field!(HEAD_LIVELINESS, liveliness),
+];
+
 impl Default for HeadConfig {
+    /// The table's defaults.
     fn default() -> Self {
         Self {
-            amount: 1.0,
-            max_pitch_deg: 8.0,
-            max_yaw_deg: 15.0,
-            max_roll_deg: 12.0,
-            max_speed_deg_s: 240.0,
-            liveliness: 0.0,
+            amount: HEAD_AMOUNT.default,
+            max_pitch_deg: HEAD_MAX_PITCH_DEG.default,
+            max_yaw_deg: HEAD_MAX_YAW_DEG.default,
+            max_roll_deg: HEAD_MAX_ROLL_DEG.default,
+            max_speed_deg_s: HEAD_MAX_SPEED_DEG_S.default,
+            liveliness: HEAD_LIVELINESS.default,
             seed: 0x5EED_4EAD,
             unvoiced: None,
         }
     }
 }
 
-/// The model file's range check, for the `f32` settings.
-fn range(
-    name: &'static str,
-    v: f32,
-    lo: f32,
-    hi: f32,
-    words: &'static str,
-) -> Result<(), HeadModelError> {
-    super::model_file::check(name, v as f64, lo as f64, hi as f64, words)
-}
-
 impl HeadConfig {
+    /// The numeric settings of this struct and the fields holding them.
+    pub fn fields() -> &'static [Field<HeadConfig>] {
+        &FIELDS
+    }
+
     /// Checks every setting.
     pub fn validate(&self) -> Result<(), HeadModelError> {
-        range("head.amount", self.amount, 0.0, 4.0, "0..4")?;
-        range(
-            "head.max_pitch_deg",
-            self.max_pitch_deg,
-            0.5,
-            90.0,
-            "0.5..90 degrees",
-        )?;
-        range(
-            "head.max_yaw_deg",
-            self.max_yaw_deg,
-            0.5,
-            90.0,
-            "0.5..90 degrees",
-        )?;
-        range(
-            "head.max_roll_deg",
-            self.max_roll_deg,
-            0.5,
-            90.0,
-            "0.5..90 degrees",
-        )?;
-        range(
-            "head.max_speed_deg_s",
-            self.max_speed_deg_s,
-            1.0,
-            2000.0,
-            "1..2000 degrees per second",
-        )?;
-        range("head.liveliness", self.liveliness, 0.0, 1.0, "0..1")?;
-        Ok(())
+        Ok(check_fields(self, &FIELDS)?)
     }
 
     /// The same settings with every out-of-range value clamped (non-finite ones set to the
     /// default), for doors that must accept anything.
     pub fn sanitized(&self) -> HeadConfig {
-        let d = HeadConfig::default();
-        let c =
-            |v: f32, lo: f32, hi: f32, def: f32| if v.is_finite() { v.clamp(lo, hi) } else { def };
-        HeadConfig {
-            amount: c(self.amount, 0.0, 4.0, d.amount),
-            max_pitch_deg: c(self.max_pitch_deg, 0.5, 90.0, d.max_pitch_deg),
-            max_yaw_deg: c(self.max_yaw_deg, 0.5, 90.0, d.max_yaw_deg),
-            max_roll_deg: c(self.max_roll_deg, 0.5, 90.0, d.max_roll_deg),
-            max_speed_deg_s: c(self.max_speed_deg_s, 1.0, 2000.0, d.max_speed_deg_s),
-            liveliness: c(self.liveliness, 0.0, 1.0, d.liveliness),
-            seed: self.seed,
-            unvoiced: self.unvoiced,
-        }
+        let mut c = self.clone();
+        sanitize_fields(&mut c, &FIELDS);
+        c
     }
 }
 

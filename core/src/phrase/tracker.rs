@@ -99,9 +99,7 @@ impl PhraseTracker {
     /// Creates a tracker for frames at `frame_rate_hz`.
     pub fn new(config: PhraseConfig, frame_rate_hz: f64) -> Result<Self, PhraseError> {
         config.validate()?;
-        if !(frame_rate_hz.is_finite() && (10.0..=1000.0).contains(&frame_rate_hz)) {
-            return Err(PhraseError::FrameRate(frame_rate_hz));
-        }
+        crate::settings::analysis::FRAME_RATE_HZ.check(frame_rate_hz)?;
         let frames = |s: f32| ((s as f64) * frame_rate_hz).round().max(1.0) as u64;
         let edge_frames = frames(config.edge_extend_s);
         let frames = |s: f32| ((s as f64) * frame_rate_hz).round() as u64;

@@ -448,7 +448,10 @@ fn unsupported_rates_and_unprepared_use_are_errors() {
         ..Default::default()
     })
     .expect_err("20 Hz is out of range");
-    assert!(err.to_string().contains("30 ≤ min"), "{err}");
+    assert_eq!(
+        err.to_string(),
+        "f0_min_hz 20 Hz is out of range: use 30 to 600 Hz"
+    );
 }
 
 /// First voiced frame at or after `from_s`, in seconds.

@@ -57,13 +57,11 @@ fn validation_names_the_parameter() {
     };
     let e = p.validate().unwrap_err();
     assert!(matches!(
-        e,
-        BreathingError::OutOfRange {
-            name: "capacity_lung",
-            ..
-        }
+        &e,
+        BreathingError::Setting(s) if s.setting().map(|s| s.id) == Some("capacity_lung")
     ));
     assert!(e.to_string().contains("capacity_lung"));
+    assert!(e.to_string().contains("use 10 to 100 %"), "{e}");
     let nan = BreathingParams {
         mouth_vs_nose: f32::NAN,
         ..Default::default()

@@ -179,5 +179,5 @@ fn invalid_config_is_rejected_with_its_name() {
         },
     )
     .unwrap_err();
-    assert!(e.to_string().contains("head.max_pitch_deg"), "{e}");
+    assert!(e.to_string().contains("head_max_pitch_deg"), "{e}");
 }

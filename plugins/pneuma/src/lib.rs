@@ -32,9 +32,11 @@
 //! - OSC output: [`osc_sender`]: a preallocated `rtrb` queue to a worker thread that sends UDP
 //!   bundles (pneuma or VMC) to a numeric address (no DNS); the target can change while playing;
 //!   network trouble never reaches the audio thread or holds up unloading.
-//! - Parameters and persisted settings: [`params`], filed under units (VST3) / modules (CLAP):
-//!   Breathing, Breaths & timing, Head, Output, CC map, OSC ([`params::unit_of`]). CLAP
-//!   remote-control pages: "Breathing",
+//! - Parameters and persisted settings: [`params`]; a parameter of core's settings table takes
+//!   its name, range, default, unit and step from it, and hosts file it under the table's group
+//!   (VST3 units, CLAP modules): Breathing, Breaths & timing, Head, Analysis, MIDI CC, OSC
+//!   ([`params::unit_of`]). CLAP remote-control pages (a layout for hardware controllers):
+//!   "Breathing",
 //!   "Breaths & timing", "Head", "Output", "CC map 1", "CC map 2" (every parameter but bypass).
 //!
 //! Real-time: `process()` never allocates, locks, blocks, logs or does I/O. The crate enables
@@ -46,6 +48,8 @@
 
 #[cfg(test)]
 mod alloc_test;
+#[cfg(test)]
+mod automation_compat;
 pub mod editor;
 pub mod osc_sender;
 pub mod params;

@@ -5,6 +5,14 @@
 //! (the OSC host, breath sample paths) are persisted fields (`#[persist]`), saved and restored with
 //! the state but not automatable.
 //!
+//! A parameter with the id of a setting of core's table ([`pneuma_core::settings`]) takes its
+//! name, default, range, unit and step from the table ([`float_param`], [`int_param`],
+//! [`switch_param`]), and hosts file it under the table's group ([`unit_of`]). The others are
+//! the plugin's own ([`PLUGIN_ONLY`]: the host's bypass, the preset choice, the output switches
+//! and the CC controllers, whose defaults are [`CcSignal::DEFAULT_CONTROLLERS`]). The ranges
+//! are the ones the plugin always had, so saved sessions and automation keep their meaning
+//! (`automation_compat` and the state fixture of the tests crate prove it).
+//!
 //! Parameters that change the frame clock or the latency (`mode`, `lookahead_s`,
 //! `frame_rate_hz`) need a new engine: the plugin builds one in the background and swaps it in
 //! (`crate::rebuild`), reporting the new latency to the host.
@@ -25,6 +33,7 @@ use pneuma_core::encode::midi_cc::{CcMap, CcResolution, CcSignal, SIGNAL_COUNT};
 use pneuma_core::encode::osc::OscFormat;
 use pneuma_core::engine::{EngineConfig, PlacementMode};
 use pneuma_core::head::HeadConfig;
+use pneuma_core::settings::{self, analysis, breathing, head, output, placement, Kind, Setting};
 
 /// Breathing preset: `Custom` uses the individual breathing controls, the others replace them.
 #[derive(Enum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -82,8 +91,9 @@ impl From<OscFormatChoice> for OscFormat {
     }
 }
 
-/// Default OSC port (the VMC marionette port most avatar apps listen on).
-pub const DEFAULT_OSC_PORT: i32 = 39539;
+/// Default OSC port (the table's `osc_port`: the VMC marionette port most avatar apps listen
+/// on).
+pub const DEFAULT_OSC_PORT: i32 = output::OSC_PORT.default as i32;
 /// Default OSC host.
 pub const DEFAULT_OSC_HOST: &str = "127.0.0.1";
 
@@ -129,31 +139,54 @@ pub const PARAM_IDS: &[&str] = &[
     "osc_format",
 ];
 
-/// The unit (VST3) or module (CLAP) a host files a parameter under, by id: `bypass` at the top,
-/// then contiguous runs in declaration order (so the flat order hosts show stays the same).
+/// The parameters that are no setting of core's table, each with the id of the table's group
+/// hosts file it under (empty: at the top) and why it is the plugin's own.
+pub const PLUGIN_ONLY: &[(&str, &str, &str)] = &[
+    ("bypass", "", "the host's bypass switch"),
+    (
+        "preset",
+        "breathing",
+        "a choice among core's breathing presets (Preset::ALL) or the custom controls",
+    ),
+    (
+        "midi_enabled",
+        "midi",
+        "whether the plugin sends MIDI CC (the CLI writes files)",
+    ),
+    (
+        "cc_",
+        "midi",
+        "the controller of each CcSignal, 0 (off) to 119; defaults CcSignal::DEFAULT_CONTROLLERS",
+    ),
+    (
+        "osc_enabled",
+        "osc",
+        "whether the plugin sends OSC (the app's --osc)",
+    ),
+];
+
+/// The plugin-only entry of `id` (`cc_` stands for every CC controller).
+fn plugin_only(id: &str) -> Option<&'static (&'static str, &'static str, &'static str)> {
+    PLUGIN_ONLY.iter().find(|(own, _, _)| {
+        *own == id || (*own == "cc_" && CcSignal::ALL.iter().any(|s| id == cc_id(*s)))
+    })
+}
+
+/// The id of the CC controller parameter of `signal`: `cc_` and the signal's name.
+fn cc_id(signal: CcSignal) -> String {
+    format!("cc_{}", signal.name())
+}
+
+/// The unit (VST3) or module (CLAP) a host files a parameter under, by id: the name of its
+/// group of core's table ([`settings::GROUPS`]), `bypass` at the top. The declaration order
+/// keeps each group one contiguous run (so the flat order hosts show stays the same).
 pub fn unit_of(id: &str) -> &'static str {
-    match id {
-        "bypass" => "",
-        "preset"
-        | "thorax_vs_abdomen"
-        | "capacity_lung"
-        | "mouth_vs_nose"
-        | "breath_sound"
-        | "opening"
-        | "speaking_loudness"
-        | "inspiration_length_s"
-        | "neck_amplitude_deg" => "Breathing",
-        "breath_level_db" | "insert_breaths" | "min_pause_s" | "mode" | "lookahead_s" => {
-            "Breaths & timing"
-        }
-        "head_amount" | "head_max_pitch_deg" | "head_max_yaw_deg" | "head_max_roll_deg" => "Head",
-        "frame_rate_hz" | "midi_enabled" | "midi_channel" | "cc_14bit" | "cc_head_range_deg" => {
-            "Output"
-        }
-        "osc_enabled" | "osc_port" | "osc_format" => "OSC",
-        id if id.starts_with("cc_") => "CC map",
-        _ => "",
-    }
+    let group = match settings::find(id) {
+        Some(s) => settings::group_of(s),
+        None => plugin_only(id)
+            .and_then(|(_, group, _)| settings::GROUPS.iter().find(|g| g.id == *group)),
+    };
+    group.map_or("", |g| g.name)
 }
 
 /// What the host sees: [`PneumaParams`] with every parameter filed under its [`unit_of`]
@@ -195,74 +228,77 @@ pub struct PneumaParams {
     /// Breathing preset (custom, neutral, calm, anxious, tired, excited). Default custom.
     #[id = "preset"]
     pub preset: EnumParam<PresetChoice>,
-    /// ThoraxVsAbdomen, 0 (thorax only)..1 (abdomen only). Default 0.5.
+    /// ThoraxVsAbdomen (the table's `thorax_vs_abdomen`).
     #[id = "thorax_vs_abdomen"]
     pub thorax_vs_abdomen: FloatParam,
-    /// Lung capacity, percent 10..100. Default 60.
+    /// Lung capacity (the table's `capacity_lung`).
     #[id = "capacity_lung"]
     pub capacity_lung: FloatParam,
-    /// MouthVsNose, 0 (nose only)..1 (mouth only). Default 0.5.
+    /// MouthVsNose (the table's `mouth_vs_nose`).
     #[id = "mouth_vs_nose"]
     pub mouth_vs_nose: FloatParam,
-    /// Breathing sound amplitude, 0..1. Default 0.35.
+    /// Breathing sound amplitude (the table's `breath_sound`).
     #[id = "breath_sound"]
     pub breath_sound: FloatParam,
-    /// Opening of the inspiration channels (nostrils, mouth), 0..1. Default 0.5.
+    /// Opening of the inspiration channels (nostrils, mouth) (the table's `opening`).
     #[id = "opening"]
     pub opening: FloatParam,
-    /// Speaking loudness, 0.05..1. Default 0.5.
+    /// Speaking loudness (the table's `speaking_loudness`).
     #[id = "speaking_loudness"]
     pub speaking_loudness: FloatParam,
-    /// Inspiration length of a full lung, seconds, 0.2..3. Default 1.
+    /// Inspiration length of a full lung, seconds (the table's `inspiration_length_s`).
     #[id = "inspiration_length_s"]
     pub inspiration_length_s: FloatParam,
-    /// Neck motion amplitude (head pitch at full lungs), degrees 0..15. Default 3.
+    /// Neck motion amplitude (head pitch at full lungs), degrees (the table's
+    /// `neck_amplitude_deg`).
     #[id = "neck_amplitude_deg"]
     pub neck_amplitude_deg: FloatParam,
 
-    /// Loudness of the inserted breaths, dB relative to the speech level, −40..−6. Default −22.
+    /// Loudness of the inserted breaths, dB relative to the speech level (the table's
+    /// `breath_level_db`).
     #[id = "breath_level_db"]
     pub breath_level_db: FloatParam,
-    /// Insert breaths into the audio (off: audio passes, controls still leave). Default on.
+    /// Insert breaths into the audio (off: audio passes, controls still leave) (the table's
+    /// `insert_breaths`).
     #[id = "insert_breaths"]
     pub insert_breaths: BoolParam,
-    /// Shortest pause that gets a breath, seconds, 0.1..2. Default 0.25.
+    /// Shortest pause that gets a breath, seconds (the table's `min_pause_s`).
     #[id = "min_pause_s"]
     pub min_pause_s: FloatParam,
-    /// Lookahead (latency = lookahead) or live (zero latency). Default lookahead. New engine.
+    /// Lookahead (latency = lookahead) or live (zero latency). New engine (the table's `mode`).
     #[id = "mode"]
     pub mode: EnumParam<ModeChoice>,
-    /// Lookahead length (= latency), seconds, 0.3..2. Default 0.5. New engine.
+    /// Lookahead length (= latency), seconds. New engine (the table's `lookahead_s`).
     #[id = "lookahead_s"]
     pub lookahead_s: FloatParam,
 
-    /// Head-motion amount, 0..4 (0 = still). Default 1.
+    /// Head-motion amount (0 = still) (the table's `head_amount`).
     #[id = "head_amount"]
     pub head_amount: FloatParam,
-    /// Largest |head pitch|, degrees, 0.5..90. Default 8.
+    /// Largest |head pitch|, degrees (the table's `head_max_pitch_deg`).
     #[id = "head_max_pitch_deg"]
     pub head_max_pitch_deg: FloatParam,
-    /// Largest |head yaw|, degrees, 0.5..90. Default 15.
+    /// Largest |head yaw|, degrees (the table's `head_max_yaw_deg`).
     #[id = "head_max_yaw_deg"]
     pub head_max_yaw_deg: FloatParam,
-    /// Largest |head roll|, degrees, 0.5..90. Default 12.
+    /// Largest |head roll|, degrees (the table's `head_max_roll_deg`).
     #[id = "head_max_roll_deg"]
     pub head_max_roll_deg: FloatParam,
 
-    /// Control frame rate, Hz, 30..240. Default 120. New engine.
+    /// Control frame rate, Hz. New engine (the table's `frame_rate_hz`).
     #[id = "frame_rate_hz"]
     pub frame_rate_hz: IntParam,
 
     /// Send MIDI CC. Default on.
     #[id = "midi_enabled"]
     pub midi_enabled: BoolParam,
-    /// MIDI channel, 1..16. Default 1.
+    /// MIDI channel (the table's `midi_channel`).
     #[id = "midi_channel"]
     pub midi_channel: IntParam,
-    /// 14-bit CC pairs (MSB on n, LSB on n + 32) instead of 7-bit. Default off.
+    /// 14-bit CC pairs (MSB on n, LSB on n + 32) instead of 7-bit (the table's `cc_14bit`).
     #[id = "cc_14bit"]
     pub cc_14bit: BoolParam,
-    /// Head angle at the ends of the CC range, degrees, 1..90. Default 30.
+    /// Head angle at the ends of the CC range, degrees (the table's `cc_head_range_deg`).
     #[id = "cc_head_range_deg"]
     pub cc_head_range_deg: FloatParam,
     /// Controller per signal, in [`CcSignal::ALL`] order; 0 = off, 1..119 (1..31 in 14-bit mode).
@@ -302,10 +338,10 @@ pub struct PneumaParams {
     /// Send OSC. Default off.
     #[id = "osc_enabled"]
     pub osc_enabled: BoolParam,
-    /// OSC UDP port, 1..65535. Default 39539.
+    /// OSC UDP port (the table's `osc_port`).
     #[id = "osc_port"]
     pub osc_port: IntParam,
-    /// OSC format: pneuma or VMC. Default pneuma.
+    /// OSC format: pneuma or VMC (the table's `osc_format`).
     #[id = "osc_format"]
     pub osc_format: EnumParam<OscFormatChoice>,
 
@@ -425,23 +461,41 @@ impl<'a> nice_plug::params::persist::PersistentField<'a, String> for SamplePath 
     }
 }
 
-fn unit_param(name: &str, default: f32, flags: &Arc<ChangeFlags>) -> FloatParam {
-    FloatParam::new(name, default, FloatRange::Linear { min: 0.0, max: 1.0 })
-        .with_step_size(0.01)
-        .with_callback(raise(flags, Raises::Engine))
+/// The parameter of a number of the table: its label, default, linear range, unit and step.
+pub fn float_param(setting: &'static Setting) -> FloatParam {
+    let step = match setting.kind {
+        Kind::Number { step, .. } => step,
+        Kind::Integer { .. } | Kind::Switch | Kind::Choice(_) => 1.0,
+    };
+    FloatParam::new(
+        setting.label,
+        setting.default,
+        FloatRange::Linear {
+            min: setting.min() as f32,
+            max: setting.max() as f32,
+        },
+    )
+    .with_unit(setting.unit.suffix())
+    .with_step_size(step)
 }
 
-fn linear(
-    name: &str,
-    default: f32,
-    min: f32,
-    max: f32,
-    unit: &'static str,
-    step: f32,
-) -> FloatParam {
-    FloatParam::new(name, default, FloatRange::Linear { min, max })
-        .with_unit(unit)
-        .with_step_size(step)
+/// The whole-number parameter of a setting of the table (an integer, or a number stepped by
+/// whole units such as the frame rate): its label, default, range and unit.
+pub fn int_param(setting: &'static Setting, default: i32) -> IntParam {
+    IntParam::new(
+        setting.label,
+        default,
+        IntRange::Linear {
+            min: setting.min() as i32,
+            max: setting.max() as i32,
+        },
+    )
+    .with_unit(setting.unit.suffix())
+}
+
+/// The switch parameter of a setting of the table: its label and default.
+pub fn switch_param(setting: &'static Setting) -> BoolParam {
+    BoolParam::new(setting.label, setting.default != 0.0)
 }
 
 /// The text of controller 0 (no controller) in the CC parameters.
@@ -485,41 +539,42 @@ impl Default for PneumaParams {
                 .with_callback(raise(&flags, Raises::Engine)),
             preset: EnumParam::new("Breathing preset", PresetChoice::Custom)
                 .with_callback(raise(&flags, Raises::Engine)),
-            thorax_vs_abdomen: unit_param("Thorax vs abdomen", 0.5, &flags),
-            capacity_lung: engine(linear("Lung capacity", 60.0, 10.0, 100.0, " %", 1.0)),
-            mouth_vs_nose: unit_param("Mouth vs nose", 0.5, &flags),
-            breath_sound: unit_param("Breath sound", 0.35, &flags),
-            opening: unit_param("Channel opening", 0.5, &flags),
-            speaking_loudness: engine(linear("Speaking loudness", 0.5, 0.05, 1.0, "", 0.01)),
-            inspiration_length_s: engine(linear("Inspiration length", 1.0, 0.2, 3.0, " s", 0.01)),
-            neck_amplitude_deg: engine(linear("Neck motion", 3.0, 0.0, 15.0, "°", 0.1)),
-            breath_level_db: engine(linear("Breath level", -22.0, -40.0, -6.0, " dB", 0.1)),
-            insert_breaths: BoolParam::new("Insert breaths", true)
+            thorax_vs_abdomen: engine(float_param(&breathing::THORAX_VS_ABDOMEN)),
+            capacity_lung: engine(float_param(&breathing::CAPACITY_LUNG)),
+            mouth_vs_nose: engine(float_param(&breathing::MOUTH_VS_NOSE)),
+            breath_sound: engine(float_param(&breathing::BREATH_SOUND)),
+            opening: engine(float_param(&breathing::OPENING)),
+            speaking_loudness: engine(float_param(&breathing::SPEAKING_LOUDNESS)),
+            inspiration_length_s: engine(float_param(&breathing::INSPIRATION_LENGTH_S)),
+            neck_amplitude_deg: engine(float_param(&breathing::NECK_AMPLITUDE_DEG)),
+            breath_level_db: engine(float_param(&placement::BREATH_LEVEL_DB)),
+            insert_breaths: switch_param(&placement::INSERT_BREATHS)
                 .with_callback(raise(&flags, Raises::Engine)),
-            min_pause_s: engine(linear("Minimum pause", 0.25, 0.1, 2.0, " s", 0.01)),
+            min_pause_s: engine(float_param(&placement::MIN_PAUSE_S)),
             mode: EnumParam::new(
-                "Mode",
+                placement::MODE.label,
                 match app {
                     Some(a) if a.live => ModeChoice::Live,
-                    _ => ModeChoice::Lookahead,
+                    _ => ModeChoice::from_index(placement::MODE.default as usize),
                 },
             )
             .with_callback(raise(&flags, Raises::Structure)),
-            lookahead_s: linear("Lookahead", 0.5, 0.3, 2.0, " s", 0.01)
+            lookahead_s: float_param(&placement::LOOKAHEAD_S)
                 .with_callback(raise(&flags, Raises::Structure)),
-            head_amount: engine(linear("Head motion", 1.0, 0.0, 4.0, "", 0.01)),
-            head_max_pitch_deg: engine(linear("Head pitch limit", 8.0, 0.5, 90.0, "°", 0.5)),
-            head_max_yaw_deg: engine(linear("Head yaw limit", 15.0, 0.5, 90.0, "°", 0.5)),
-            head_max_roll_deg: engine(linear("Head roll limit", 12.0, 0.5, 90.0, "°", 0.5)),
-            frame_rate_hz: IntParam::new("Frame rate", 120, IntRange::Linear { min: 30, max: 240 })
-                .with_unit(" Hz")
-                .with_callback(raise(&flags, Raises::Structure)),
+            head_amount: engine(float_param(&head::HEAD_AMOUNT)),
+            head_max_pitch_deg: engine(float_param(&head::HEAD_MAX_PITCH_DEG)),
+            head_max_yaw_deg: engine(float_param(&head::HEAD_MAX_YAW_DEG)),
+            head_max_roll_deg: engine(float_param(&head::HEAD_MAX_ROLL_DEG)),
+            frame_rate_hz: int_param(
+                &analysis::FRAME_RATE_HZ,
+                analysis::FRAME_RATE_HZ.default as i32,
+            )
+            .with_callback(raise(&flags, Raises::Structure)),
             midi_enabled: BoolParam::new("CC output", true),
-            midi_channel: IntParam::new("MIDI channel", 1, IntRange::Linear { min: 1, max: 16 })
+            midi_channel: int_param(&output::MIDI_CHANNEL, output::MIDI_CHANNEL.default as i32)
                 .with_callback(raise(&flags, Raises::CcMap)),
-            cc_14bit: BoolParam::new("CC 14-bit", false)
-                .with_callback(raise(&flags, Raises::CcMap)),
-            cc_head_range_deg: cc_map(linear("CC head range", 30.0, 1.0, 90.0, "°", 0.5)),
+            cc_14bit: switch_param(&output::CC_14BIT).with_callback(raise(&flags, Raises::CcMap)),
+            cc_head_range_deg: cc_map(float_param(&output::CC_HEAD_RANGE_DEG)),
             cc_lung: cc_param(CcSignal::Lung, &flags),
             cc_head_pitch: cc_param(CcSignal::HeadPitch, &flags),
             cc_head_yaw: cc_param(CcSignal::HeadYaw, &flags),
@@ -532,14 +587,16 @@ impl Default for PneumaParams {
             cc_speaking: cc_param(CcSignal::Speaking, &flags),
             cc_loudness: cc_param(CcSignal::Loudness, &flags),
             osc_enabled: BoolParam::new("OSC out", app.is_some()),
-            osc_port: IntParam::new(
-                "OSC port",
+            osc_port: int_param(
+                &output::OSC_PORT,
                 app.map_or(DEFAULT_OSC_PORT, |a| i32::from(a.osc_port)),
-                IntRange::Linear { min: 1, max: 65535 },
             ),
             osc_format: EnumParam::new(
-                "OSC format",
-                app.map_or(OscFormatChoice::Pneuma, |a| a.osc_format),
+                output::OSC_FORMAT.label,
+                app.map_or(
+                    OscFormatChoice::from_index(output::OSC_FORMAT.default as usize),
+                    |a| a.osc_format,
+                ),
             ),
             osc_host: Arc::new(RwLock::new(
                 app.map_or(DEFAULT_OSC_HOST, |a| a.osc_host.as_str())
@@ -691,14 +748,66 @@ mod tests {
                 "Breathing",
                 "Breaths & timing",
                 "Head",
-                "Output",
-                "CC map",
+                "Analysis",
+                "MIDI CC",
                 "OSC"
             ],
             "each unit one run, in this order"
         );
-        assert_eq!(unit_of("cc_loudness"), "CC map");
+        assert_eq!(unit_of("cc_loudness"), "MIDI CC");
         assert_eq!(unit_of("mode"), "Breaths & timing");
+        assert_eq!(unit_of("preset"), "Breathing");
+    }
+
+    #[test]
+    fn every_parameter_is_a_setting_of_the_table_or_the_plugins_own() {
+        let params = PneumaParams::default();
+        for (id, _, _) in params.param_map() {
+            let in_table = settings::find(&id).is_some();
+            let own = plugin_only(&id).is_some();
+            assert!(
+                in_table != own,
+                "{id}: in the table {in_table}, plugin-only {own}"
+            );
+        }
+        // The plugin-only list names nothing the table holds.
+        for (id, group, why) in PLUGIN_ONLY {
+            assert!(settings::find(id).is_none() && !why.is_empty(), "{id}");
+            assert!(group.is_empty() || settings::GROUPS.iter().any(|g| g.id == *group));
+        }
+        assert!(plugin_only("cc_speaking").is_some() && plugin_only("cc_nothing").is_none());
+    }
+
+    #[test]
+    fn parameters_of_the_table_take_its_range_default_and_names() {
+        let params = PneumaParams::default();
+        let mut checked = 0;
+        for (id, ptr, _) in params.param_map() {
+            let Some(s) = settings::find(&id) else {
+                continue;
+            };
+            // SAFETY: `params` outlives every pointer of its map.
+            let (lo, hi, default, name) = unsafe {
+                (
+                    ptr.preview_plain(0.0),
+                    ptr.preview_plain(1.0),
+                    ptr.default_plain_value(),
+                    ptr.name(),
+                )
+            };
+            assert_eq!((f64::from(lo), f64::from(hi)), (s.min(), s.max()), "{id}");
+            assert_eq!(default, s.default, "{id}");
+            assert_eq!(name, s.label, "{id}");
+            checked += 1;
+        }
+        // All but bypass, preset, the two output switches and the CC controllers.
+        assert_eq!(checked, PARAM_IDS.len() - 4 - SIGNAL_COUNT);
+        // The choices' ids are the table's names, in its order.
+        assert_eq!(ModeChoice::ids().expect("ids"), placement::MODE.names());
+        assert_eq!(
+            OscFormatChoice::ids().expect("ids"),
+            output::OSC_FORMAT.names()
+        );
     }
 
     #[test]

@@ -8,6 +8,8 @@ use pneuma_testkit::voice::example_voice_at;
 use pneuma_tests::bundle::plugin_path;
 use pneuma_tests::host::{param_hash, CcEvent, Plugin};
 
+mod plugin_state;
+
 const CLAP_ID: &str = "org.pneuma.pneuma";
 
 /// The promised parameter ids (saved in host projects: they never change).
@@ -117,7 +119,8 @@ fn parameters_carry_the_promised_ids() {
     };
     assert_eq!(module("bypass"), "");
     assert_eq!(module("mode"), "Breaths & timing");
-    assert_eq!(module("cc_loudness"), "CC map");
+    assert_eq!(module("cc_loudness"), "MIDI CC");
+    assert_eq!(module("frame_rate_hz"), "Analysis");
     assert_eq!(module("osc_format"), "OSC");
     assert!(names.contains(&"OSC port"), "{names:?}");
     // A value set through the host reads back.
