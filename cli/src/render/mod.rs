@@ -12,6 +12,8 @@
 //! - [`error`]: how a render fails, and Ctrl-C;
 //! - [`plan`]: the arguments turned into a checked plan (inputs, engine settings, the engine
 //!   prepared for an input, the output names); nothing is written there;
+//! - [`voice`]: the breath voice learned from the recording (or `--breath-like`) before a
+//!   whole-file render;
 //! - [`pipeline`]: one planned input through the engine and its sinks, the files committed
 //!   together;
 //! - [`batch`]: several inputs or folders, in parallel, with a summary table.
@@ -23,6 +25,7 @@ pub mod batch;
 pub mod error;
 pub mod pipeline;
 pub mod plan;
+pub mod voice;
 
 use std::path::Path;
 use std::process::ExitCode;
