@@ -189,7 +189,8 @@ mod tests {
 
     #[test]
     fn comments_strings_chars_and_lifetimes_hide_no_code_and_show_none() {
-        let src = "//! see crate::a\n/* crate::b /* nested */ still::comment */ let s = \"crate::c\";\n\
+        let src =
+            "//! see crate::a\n/* crate::b /* nested */ still::comment */ let s = \"crate::c\";\n\
                    let r = r#\"crate::d \"\"#; fn f<'a>(x: &'a str) -> char { '\\'' }\n\
                    let n = 1.5e-3f64 + 0x9E37_79B9; crate::e::f();";
         assert_eq!(
