@@ -44,6 +44,8 @@ fn bench(c: &mut Criterion) {
         breath_samples: None,
         breath_mouth: None,
         breath_nose: None,
+        breath_like: None,
+        built_in_breath: false,
         head_model: None,
         seed: 1,
         frame_rate: 120.0,

@@ -21,6 +21,7 @@
 use std::path::{Path, PathBuf};
 
 use pneuma_core::breathing::RESERVE_LUNG;
+use pneuma_core::engine::voice_learning::learn_voice;
 use pneuma_core::engine::{offline, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
 use pneuma_core::ControlFrame;
@@ -160,6 +161,30 @@ pub fn render_offline(
     }
     let mut engine =
         Engine::new(config, HeadModel::default_model().clone()).map_err(|e| e.to_string())?;
+    engine
+        .prepare(rate_hz, 1024, input.len())
+        .map_err(|e| e.to_string())?;
+    Ok(offline::render(&mut engine, input, &[1024]))
+}
+
+/// Renders mono-or-more `input` as `pneuma render` does (the default settings, the whole-file
+/// lookahead) with the breath voice learned from `learn_from` (`None`: the built-in voice),
+/// the engine's seed moved by `seed_offset`.
+pub fn render_with_voice(
+    input: &[Vec<f32>],
+    rate_hz: f64,
+    learn_from: Option<&[f32]>,
+    seed_offset: u64,
+) -> Result<offline::Rendered, String> {
+    let mut config = EngineConfig::default();
+    config.placement.whole_file = true;
+    config.seed = config.seed.wrapping_add(seed_offset);
+    let mut engine = Engine::new(config.clone(), HeadModel::default_model().clone())
+        .map_err(|e| e.to_string())?;
+    if let Some(mono) = learn_from {
+        let voice = learn_voice(&config, mono, rate_hz).map_err(|e| e.to_string())?;
+        engine.set_learned_voice(voice);
+    }
     engine
         .prepare(rate_hz, 1024, input.len())
         .map_err(|e| e.to_string())?;

@@ -8,7 +8,27 @@
 //! overlaps no label is false, one that overlaps only `unsure` labels is not counted
 //! (precision).
 
+use std::path::PathBuf;
+
 use crate::stats::overlaps;
+
+/// The two labelled sets of real breaths (command-line arguments shared by the breath
+/// evaluations): the styletalk clips and the Keele clips, each a folder and its labels.
+#[derive(Debug, Clone, clap::Args)]
+pub struct LabelledSets {
+    /// Folder with the labelled clips (`<clip>.wav`).
+    #[arg(long, default_value = "../shared/data/styletalk")]
+    pub data: PathBuf,
+    /// The labels: `clip,start_s,end_s,kind` (`breath` or `unsure`).
+    #[arg(long, default_value = "assets/labels/styletalk_breaths.csv")]
+    pub labels: PathBuf,
+    /// Folder with the Keele clips (`<clip>.wav`), the second labelled set.
+    #[arg(long, default_value = "../shared/data/keele")]
+    pub keele: PathBuf,
+    /// The Keele clips' labels.
+    #[arg(long, default_value = "assets/labels/keele_breaths.csv")]
+    pub keele_labels: PathBuf,
+}
 
 /// How sure a label is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -24,6 +24,7 @@ pub mod noise;
 pub mod pauses;
 pub mod pitch;
 pub mod podcast;
+pub mod restore;
 pub mod stats;
 
 /// Command-line arguments of `pneuma eval`.
@@ -44,6 +45,9 @@ pub enum What {
     /// Inserted breaths against real ones labelled by hand: spectrum, level, duration, and the
     /// engine's detection of the real ones.
     BreathSounds(breath_sounds::BreathSoundArgs),
+    /// Real breaths cut out as an editor does, then rendered: how they are put back (count,
+    /// level, duration, spectral shape against the real ones), per speaker.
+    Restore(restore::RestoreArgs),
 }
 
 /// Runs `pneuma eval`.
@@ -54,6 +58,7 @@ pub fn main(args: Args) -> ExitCode {
             breath_sounds::run(&b).map(|ok| ok || !b.check),
             "a breath-detection",
         ),
+        What::Restore(r) => exit_code(restore::run(&r), "a breath-restoration"),
         What::Head(h) => exit_code(head::run(&h).map(|all| all || !h.check), "a head-motion"),
     }
 }

@@ -14,6 +14,8 @@
 //!   channels in antiphase): warnings, exit status 0;
 //! - [`plan`]: the arguments turned into a checked plan (inputs, engine settings, the engine
 //!   prepared for an input, the output names); nothing is written there;
+//! - [`voice`]: the breath voice learned from the recording (or `--breath-like`) before a
+//!   whole-file render;
 //! - [`pipeline`]: one planned input through the engine and its sinks, the files committed
 //!   together;
 //! - [`batch`]: several inputs or folders, in parallel, with a summary table.
@@ -26,6 +28,7 @@ pub mod error;
 pub mod findings;
 pub mod pipeline;
 pub mod plan;
+pub mod voice;
 
 use std::path::Path;
 use std::process::ExitCode;

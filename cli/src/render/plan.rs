@@ -84,6 +84,13 @@ pub struct Args {
     /// A WAV recording of a nose inhalation to use instead of the procedural one.
     #[arg(long, value_name = "WAV")]
     pub breath_nose: Option<PathBuf>,
+    /// Learn the breath voice from this recording of the same speaker (e.g. the raw take
+    /// before its breaths were edited out) instead of from the input.
+    #[arg(long, value_name = "FILE")]
+    pub breath_like: Option<PathBuf>,
+    /// Use the built-in breath voice: learn nothing from the recording.
+    #[arg(long, conflicts_with = "breath_like")]
+    pub built_in_breath: bool,
     /// Head-pose model file (JSON); the embedded default model when absent.
     #[arg(long)]
     pub head_model: Option<PathBuf>,
@@ -374,7 +381,7 @@ impl Job {
             }
             info.channels = 1;
         }
-        let engine = prepared_engine(args, config, &info)?;
+        let engine = prepared_engine(args, input, config, &info)?;
         let outputs = OutputPlan::new(args, input, container)?;
         Ok(Self {
             input_channels: (input_channels, pick),
@@ -443,16 +450,22 @@ fn check_input_shape(args: &Args, info: &WavInfo) -> Result<(), RenderError> {
     Ok(())
 }
 
-/// The engine for `config` with the head model and breath samples `args` name, prepared for
-/// the input's rate and channels.
+/// The engine for `config` with the head model and breath samples `args` name and the breath
+/// voice learned for `input` ([`super::voice`]), prepared for the input's rate and channels.
 fn prepared_engine(
     args: &Args,
+    input: &Path,
     config: EngineConfig,
     info: &WavInfo,
 ) -> Result<Engine, RenderError> {
     let model =
         crate::options::load_head_model(args.head_model.as_deref()).map_err(RenderError::Input)?;
+    let voice = match super::voice::source(args, input, &config) {
+        Some(from) => super::voice::learn(from, &config, input)?,
+        None => None,
+    };
     let mut engine = Engine::new(config, model)?;
+    engine.set_learned_voice(voice);
     engine.prepare(
         info.sample_rate_hz as f64,
         BLOCK_FRAMES,

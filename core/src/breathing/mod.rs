@@ -9,10 +9,12 @@
 
 mod chunker;
 mod cycle;
+pub mod learned;
 mod params;
 mod presets;
 mod sample;
 mod syllables;
+pub mod third_octave;
 mod voice;
 
 pub use chunker::{chunk_text, Chunk, ChunkBreak, Chunker};

@@ -24,6 +24,7 @@
 //!
 //! Rendering is allocation-free after [`BreathVoice::prepare`]; an idle voice costs one branch.
 
+use super::learned::{LearnedSound, LearnedVoice};
 use super::sample::fitted_at;
 use super::{BreathSample, SampleSlot};
 use crate::control::BreathKind;
@@ -44,15 +45,19 @@ const NOSE_BANK: [(f64, f64, f64); 4] = [
     (2300.0, 5.0, 0.3),
     (1500.0, 0.7, 0.12),
 ];
-const HIGHPASS_HZ: f64 = 180.0;
-const LOWPASS_HZ: f64 = 8000.0;
+pub(super) const HIGHPASS_HZ: f64 = 180.0;
+pub(super) const LOWPASS_HZ: f64 = 8000.0;
 const CROSSFADE_S: f64 = 0.05;
 const MIN_RAMP_S: f64 = 0.01;
 const FLUTTER_HZ: f64 = 6.0;
 const FLUTTER_DEPTH: f64 = 0.2;
+/// Share of a breath's length its attack takes.
+const ATTACK_SHARE: f64 = 0.30;
+/// Share of a breath's length its release takes.
+const RELEASE_SHARE: f64 = 0.35;
 
 #[derive(Debug, Clone, Copy, Default)]
-struct Biquad {
+pub(super) struct Biquad {
     b0: f64,
     b1: f64,
     b2: f64,
@@ -71,7 +76,7 @@ impl Biquad {
         self.a2 = a[2] / a[0];
     }
     /// RBJ band-pass with 0 dB peak gain.
-    fn bandpass(&mut self, f_hz: f64, q: f64, fs: f64) {
+    pub(super) fn bandpass(&mut self, f_hz: f64, q: f64, fs: f64) {
         let w = 2.0 * PI * f_hz / fs;
         let alpha = w.sin() / (2.0 * q);
         self.set(
@@ -79,7 +84,7 @@ impl Biquad {
             [1.0 + alpha, -2.0 * w.cos(), 1.0 - alpha],
         );
     }
-    fn highpass(&mut self, f_hz: f64, q: f64, fs: f64) {
+    pub(super) fn highpass(&mut self, f_hz: f64, q: f64, fs: f64) {
         let w = 2.0 * PI * f_hz / fs;
         let (c, alpha) = (w.cos(), w.sin() / (2.0 * q));
         self.set(
@@ -87,7 +92,7 @@ impl Biquad {
             [1.0 + alpha, -2.0 * c, 1.0 - alpha],
         );
     }
-    fn lowpass(&mut self, f_hz: f64, q: f64, fs: f64) {
+    pub(super) fn lowpass(&mut self, f_hz: f64, q: f64, fs: f64) {
         let w = 2.0 * PI * f_hz / fs;
         let (c, alpha) = (w.cos(), w.sin() / (2.0 * q));
         self.set(
@@ -96,20 +101,29 @@ impl Biquad {
         );
     }
     #[inline]
-    fn tick(&mut self, x: f64) -> f64 {
+    pub(super) fn tick(&mut self, x: f64) -> f64 {
         let y = self.b0 * x + self.z1;
         self.z1 = self.b1 * x - self.a1 * y + self.z2;
         self.z2 = self.b2 * x - self.a2 * y;
         y
     }
-    fn clear(&mut self) {
+    pub(super) fn clear(&mut self) {
         self.z1 = 0.0;
         self.z2 = 0.0;
+    }
+    /// Power gain |H|² at `w` radians per sample.
+    pub(super) fn power_gain(&self, w: f64) -> f64 {
+        let (c1, s1, c2, s2) = (w.cos(), w.sin(), (2.0 * w).cos(), (2.0 * w).sin());
+        let num =
+            (self.b0 + self.b1 * c1 + self.b2 * c2).powi(2) + (self.b1 * s1 + self.b2 * s2).powi(2);
+        let den =
+            (1.0 + self.a1 * c1 + self.a2 * c2).powi(2) + (self.a1 * s1 + self.a2 * s2).powi(2);
+        num / den
     }
 }
 
 /// Butterworth Q values of a 4th-order section pair.
-const BUTTER4_Q: [f64; 2] = [0.541_196_1, 1.306_563];
+pub(super) const BUTTER4_Q: [f64; 2] = [0.541_196_1, 1.306_563];
 
 /// A resonator bank followed by the shared band limits.
 #[derive(Debug, Clone)]
@@ -241,6 +255,12 @@ pub struct BreathVoice {
     flutter_norm: f64,
     xfade: usize,
     kind: BreathKind,
+    /// The voice learned from the recording, when there is one.
+    learned: Option<LearnedSound>,
+    /// The current breath is drawn from `learned`.
+    use_learned: bool,
+    /// Level of a learned breath relative to the learned level, dB (the user's level).
+    learned_offset_db: f64,
 }
 
 impl BreathVoice {
@@ -263,6 +283,9 @@ impl BreathVoice {
             flutter_norm: 1.0,
             xfade: 0,
             kind: BreathKind::Mixed,
+            learned: None,
+            use_learned: false,
+            learned_offset_db: 0.0,
         }
     }
 
@@ -287,6 +310,9 @@ impl BreathVoice {
                 .map(|s| s.resampled(fs))
                 .unwrap_or_default();
         }
+        if let Some(l) = self.learned.as_mut() {
+            l.prepare(fs);
+        }
         self.reset();
     }
 
@@ -298,6 +324,33 @@ impl BreathVoice {
         self.flutter_state = 0.0;
         self.mouth.clear();
         self.nose.clear();
+        if let Some(l) = self.learned.as_mut() {
+            l.reset();
+        }
+    }
+
+    /// Draws breaths from `voice` (learned from the recording) instead of the procedural sound
+    /// (`None`: back to it); a user sample still wins. Allocation-free apart from the voice
+    /// itself; call it off the audio thread.
+    pub fn set_learned(&mut self, voice: Option<LearnedVoice>) {
+        self.learned = voice.map(|v| {
+            let mut l = LearnedSound::new(v, self.seed ^ 0x6C65_6172_6E65_6421);
+            if self.sample_rate_hz > 0.0 {
+                l.prepare(self.sample_rate_hz);
+            }
+            l
+        });
+    }
+
+    /// The learned voice in use, if any.
+    pub fn learned(&self) -> Option<&LearnedVoice> {
+        self.learned.as_ref().map(LearnedSound::voice)
+    }
+
+    /// Level of learned breaths relative to the learned level, dB (the user's breath level
+    /// relative to its default). Applies from the next breath.
+    pub fn set_learned_offset_db(&mut self, db: f64) {
+        self.learned_offset_db = db;
     }
 
     /// Uses `sample` instead of the procedural sound of `kind` (`None` goes back to procedural).
@@ -338,8 +391,8 @@ impl BreathVoice {
         self.mouth.design(&MOUTH_BANK, scale, fs);
         self.nose.design(&NOSE_BANK, scale, fs);
         let min_ramp = ((MIN_RAMP_S * fs) as usize).max(1);
-        let mut attack = ((0.30 * length_samples as f64) as usize).max(min_ramp);
-        let mut release = ((0.35 * length_samples as f64) as usize).max(min_ramp);
+        let mut attack = ((ATTACK_SHARE * length_samples as f64) as usize).max(min_ramp);
+        let mut release = ((RELEASE_SHARE * length_samples as f64) as usize).max(min_ramp);
         if attack + release > length_samples {
             attack = length_samples / 2;
             release = length_samples - attack;
@@ -356,7 +409,20 @@ impl BreathVoice {
         } else {
             SampleSlot::Nose
         };
-        self.kind = if !self.slots[dominant as usize].fitted.is_empty() {
+        let sampled = !self.slots[dominant as usize].fitted.is_empty();
+        self.use_learned = false;
+        if let (Some(l), false) = (self.learned.as_mut(), sampled) {
+            l.start();
+            self.use_learned = true;
+            // The learned level is the breath's RMS over its length: the plateau is louder by
+            // the envelope's mean square (summed once per breath, no allocation).
+            let rms = 10f64.powf((l.level_db() + self.learned_offset_db) / 20.0);
+            let env = self.env.as_ref().expect("set above");
+            let mean_square =
+                (0..length_samples).map(|i| env.at(i).powi(2)).sum::<f64>() / length_samples as f64;
+            self.gain = rms / mean_square.max(1e-6).sqrt();
+        }
+        self.kind = if sampled {
             BreathKind::Sample
         } else if m >= 0.75 {
             BreathKind::Mouth
@@ -413,7 +479,11 @@ impl BreathVoice {
             let flutter =
                 1.0 + FLUTTER_DEPTH * (self.flutter_state * self.flutter_norm).clamp(-3.0, 3.0);
             let mut v = 0.0;
-            if wm > 0.0 {
+            if self.use_learned {
+                if let Some(l) = self.learned.as_mut() {
+                    v = l.tick() * flutter;
+                }
+            } else if wm > 0.0 {
                 v += wm
                     * if mouth_slot.fitted.is_empty() {
                         let n = (self.rng.uniform() * 2.0 - 1.0) * 3f64.sqrt();
@@ -422,7 +492,7 @@ impl BreathVoice {
                         fitted_at(&mouth_slot.fitted, env.pos, env.length, self.xfade) as f64
                     };
             }
-            if wn > 0.0 {
+            if wn > 0.0 && !self.use_learned {
                 v += wn
                     * if nose_slot.fitted.is_empty() {
                         let n = (self.rng_nose.uniform() * 2.0 - 1.0) * 3f64.sqrt();

@@ -232,6 +232,11 @@ impl BreathTrack {
                         self.close_breath();
                     }
                     let mouth = config.breathing.map().mouth_share();
+                    // A learned voice plays at its learned level, moved by the user's level.
+                    let default_level_db = super::PlacementConfig::default().breath_level_db;
+                    self.voice.set_learned_offset_db(f64::from(
+                        config.placement.breath_level_db - default_level_db,
+                    ));
                     self.state.fading = false;
                     self.voice.start(mouth, length, gain);
                     self.state.gains = gains;

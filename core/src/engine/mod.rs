@@ -47,11 +47,13 @@ mod placement;
 mod schedule;
 mod speech_track;
 mod stereo;
+pub mod voice_learning;
 
 pub use config::{EngineConfig, EngineError, PlacementConfig, PlacementMode, OFFLINE_LOOKAHEAD_S};
 pub use speech_track::SpeechSummary;
 
 use crate::analysis::{Analyzer, FeatureFrame};
+use crate::breathing::learned::LearnedVoice;
 use crate::breathing::{BreathSample, BreathVoice, SampleSlot};
 use crate::control::{BreathEvent, ControlFrame, HeadAngles};
 use crate::encode::sink::FrameSink;
@@ -181,6 +183,8 @@ pub struct Engine {
     pending: Option<EngineConfig>,
     model: HeadModel,
     samples: [Option<BreathSample>; 2],
+    /// The breath voice learned from the recording (`None`: the built-in voice).
+    learned: Option<LearnedVoice>,
     stream: Option<Stream>,
 }
 
@@ -196,6 +200,7 @@ impl Engine {
             pending: None,
             model: head_model,
             samples: [None, None],
+            learned: None,
             stream: None,
         })
     }
@@ -238,6 +243,21 @@ impl Engine {
         }
     }
 
+    /// Draws inserted breaths from `voice`, learned from the speaker's recording
+    /// ([`voice_learning`]; `None`: the built-in voice). Allocates: not for the audio thread.
+    /// Takes effect at once when prepared (the offline render sets it before streaming).
+    pub fn set_learned_voice(&mut self, voice: Option<LearnedVoice>) {
+        self.learned = voice.clone();
+        if let Some(s) = &mut self.stream {
+            s.breaths.voice_mut().set_learned(voice);
+        }
+    }
+
+    /// The learned breath voice in use, if any.
+    pub fn learned_voice(&self) -> Option<&LearnedVoice> {
+        self.learned.as_ref()
+    }
+
     /// Allocates everything for a stream at `sample_rate_hz` (8–768 kHz) with blocks of at most
     /// `max_block` samples and `channels` channels (1–8), takes in settings waiting for it, and
     /// resets.
@@ -270,6 +290,7 @@ impl Engine {
         {
             voice.set_sample(slot, sample.clone());
         }
+        voice.set_learned(self.learned.clone());
         let mode = c.placement.mode;
         let live = mode == PlacementMode::Live;
         let latency = match mode {

@@ -21,6 +21,7 @@ mod head_em;
 mod head_model_file;
 mod head_synth;
 mod head_train;
+mod learned_voice;
 mod live_mode;
 mod no_alloc;
 mod speech_decision;

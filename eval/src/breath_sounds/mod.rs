@@ -32,129 +32,27 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use pneuma_core::engine::EngineConfig;
-use realfft::RealFftPlanner;
 
 pub mod detect;
 
 use crate::breaths::render_offline;
 use crate::data::{read_labels, wav_files, DataError};
-use crate::labels::{score, Counts, Label, LabelKind};
+use crate::labels::{score, Counts, Label, LabelKind, LabelledSets};
 use crate::stats::{median, rms_db};
-
-/// Third-octave band centres compared, Hz (250 Hz to 6.3 kHz: where breath noise lies, above
-/// mains hum and below the 16 kHz clips' Nyquist).
-pub const BAND_CENTRES_HZ: [f64; 15] = [
-    250.0, 315.0, 400.0, 500.0, 630.0, 800.0, 1000.0, 1250.0, 1600.0, 2000.0, 2500.0, 3150.0,
-    4000.0, 5000.0, 6300.0,
-];
-/// Analysis frame, samples.
-const FRAME: usize = 512;
-/// Hop between frames, samples.
-const HOP: usize = 256;
+use pneuma_core::breathing::third_octave::{
+    band_powers, distance_db, frame_len, mean_shape, noise_floor, shape_db, without_floor,
+    BAND_CENTRES_HZ,
+};
 
 /// Arguments of `pneuma eval breath-sounds`.
 #[derive(Debug, clap::Args)]
 pub struct BreathSoundArgs {
-    /// Folder with the labelled clips (`<clip>.wav`).
-    #[arg(long, default_value = "../shared/data/styletalk")]
-    pub data: PathBuf,
-    /// The labels: `clip,start_s,end_s,kind` (`breath` or `unsure`).
-    #[arg(long, default_value = "assets/labels/styletalk_breaths.csv")]
-    pub labels: PathBuf,
-    /// Folder with the Keele clips (`<clip>.wav`), the second labelled set for detection.
-    #[arg(long, default_value = "../shared/data/keele")]
-    pub keele: PathBuf,
-    /// The Keele clips' labels.
-    #[arg(long, default_value = "assets/labels/keele_breaths.csv")]
-    pub keele_labels: PathBuf,
+    /// The labelled clips.
+    #[command(flatten)]
+    pub sets: LabelledSets,
     /// Exit non-zero when a detection target is missed (see the module docs).
     #[arg(long)]
     pub check: bool,
-}
-
-/// Mean power per third-octave band ([`BAND_CENTRES_HZ`]) of `x` at `rate_hz`, Hann frames of
-/// [`FRAME`] samples every [`HOP`] (one zero-padded frame when `x` is shorter).
-pub fn band_powers(x: &[f32], rate_hz: f64) -> [f64; BAND_CENTRES_HZ.len()] {
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fft = planner.plan_fft_forward(FRAME);
-    let window: Vec<f64> = (0..FRAME)
-        .map(|i| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / FRAME as f64).cos())
-        .collect();
-    let mut input = fft.make_input_vec();
-    let mut spectrum = fft.make_output_vec();
-    let mut bands = [0.0; BAND_CENTRES_HZ.len()];
-    let mut frames = 0usize;
-    let mut start = 0;
-    loop {
-        for (i, v) in input.iter_mut().enumerate() {
-            *v = x.get(start + i).map_or(0.0, |s| f64::from(*s)) * window[i];
-        }
-        fft.process(&mut input, &mut spectrum)
-            .expect("buffers made by the plan");
-        for (k, c) in spectrum.iter().enumerate() {
-            let hz = k as f64 * rate_hz / FRAME as f64;
-            if let Some(b) = band_of(hz) {
-                bands[b] += c.norm_sqr();
-            }
-        }
-        frames += 1;
-        start += HOP;
-        if start + FRAME > x.len() {
-            break;
-        }
-    }
-    bands.map(|p| p / frames as f64)
-}
-
-/// The band holding `hz`: edges at the centre × 2^(±1/6).
-fn band_of(hz: f64) -> Option<usize> {
-    let edge = 2f64.powf(1.0 / 6.0);
-    BAND_CENTRES_HZ
-        .iter()
-        .position(|&c| hz >= c / edge && hz < c * edge)
-}
-
-/// Band levels as dB relative to their own mean (the shape of the spectrum).
-pub fn shape_db(powers: &[f64; BAND_CENTRES_HZ.len()]) -> [f64; BAND_CENTRES_HZ.len()] {
-    let db = powers.map(|p| 10.0 * p.max(1e-20).log10());
-    let mean = db.iter().sum::<f64>() / db.len() as f64;
-    db.map(|d| d - mean)
-}
-
-/// Log-spectral distance between two shapes: the RMS of their difference over the bands, dB.
-pub fn distance_db(a: &[f64; BAND_CENTRES_HZ.len()], b: &[f64; BAND_CENTRES_HZ.len()]) -> f64 {
-    let sum: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum();
-    (sum / a.len() as f64).sqrt()
-}
-
-/// The mean of several shapes (NaN bands when there are none).
-fn mean_shape(shapes: &[[f64; BAND_CENTRES_HZ.len()]]) -> [f64; BAND_CENTRES_HZ.len()] {
-    let mut m = [0.0; BAND_CENTRES_HZ.len()];
-    for s in shapes {
-        for (a, b) in m.iter_mut().zip(s) {
-            *a += b / shapes.len() as f64;
-        }
-    }
-    if shapes.is_empty() {
-        m = [f64::NAN; BAND_CENTRES_HZ.len()];
-    }
-    m
-}
-
-/// The noise floor's band powers: per band, the median over the quietest 5 % of the clip's
-/// frames (by total power in the bands).
-fn noise_floor(x: &[f32], rate_hz: f64) -> [f64; BAND_CENTRES_HZ.len()] {
-    let mut frames: Vec<[f64; BAND_CENTRES_HZ.len()]> = x
-        .chunks(FRAME)
-        .filter(|c| c.len() == FRAME)
-        .map(|c| band_powers(c, rate_hz))
-        .collect();
-    frames.sort_by(|a, b| a.iter().sum::<f64>().total_cmp(&b.iter().sum::<f64>()));
-    let quiet = &frames[..(frames.len() / 20).max(1).min(frames.len())];
-    std::array::from_fn(|b| {
-        let v: Vec<f64> = quiet.iter().map(|f| f[b]).collect();
-        median(&v)
-    })
 }
 
 /// What one breath measured.
@@ -207,8 +105,7 @@ fn clip(path: &Path, labels: &[Label]) -> Result<ClipResult, String> {
     for l in labels.iter().filter(|l| l.kind == LabelKind::Breath) {
         let x = samples_of(&input, rate_hz, (l.start_s, l.end_s));
         let p = band_powers(x, rate_hz);
-        let clean: [f64; BAND_CENTRES_HZ.len()] =
-            std::array::from_fn(|b| (p[b] - floor[b]).max(0.1 * p[b]));
+        let clean = without_floor(&p, &floor);
         r.real.push(Measured {
             shape: shape_db(&clean),
             duration_s: l.end_s - l.start_s,
@@ -223,7 +120,7 @@ fn clip(path: &Path, labels: &[Label]) -> Result<ClipResult, String> {
         .collect();
     for b in &out.breaths {
         let x = samples_of(&added, rate_hz, (b.start_s, b.end_s));
-        if x.len() < FRAME / 2 {
+        if x.len() < frame_len(rate_hz) / 2 {
             continue;
         }
         r.inserted.push(Measured {
@@ -250,10 +147,10 @@ fn summary(label: &str, m: &[Measured]) {
 
 /// Runs the evaluation and prints the report.
 pub fn run(args: &BreathSoundArgs) -> Result<bool, String> {
-    let labels = read_labels(&args.labels)?;
+    let labels = read_labels(&args.sets.labels)?;
     let mut clips: BTreeMap<String, PathBuf> = BTreeMap::new();
     for path in wav_files(
-        &args.data,
+        &args.sets.data,
         "the styletalk clips (--data), e.g. ../shared/data/styletalk",
     )? {
         if let Some(stem) = path.file_stem() {
@@ -262,9 +159,9 @@ pub fn run(args: &BreathSoundArgs) -> Result<bool, String> {
     }
     if let Some(l) = labels.iter().find(|l| !clips.contains_key(&l.clip)) {
         return Err(DataError::UnknownClip {
-            labels: args.labels.clone(),
+            labels: args.sets.labels.clone(),
             clip: l.clip.clone(),
-            data: args.data.clone(),
+            data: args.sets.data.clone(),
         }
         .into());
     }
@@ -330,8 +227,8 @@ pub fn run(args: &BreathSoundArgs) -> Result<bool, String> {
         100.0 * heard.precision()
     );
     detect::report(&[
-        (&args.data, &args.labels),
-        (&args.keele, &args.keele_labels),
+        (&args.sets.data, &args.sets.labels),
+        (&args.sets.keele, &args.sets.keele_labels),
     ])
 }
 
@@ -340,33 +237,4 @@ fn bands_row(v: &[f64], decimals: usize) -> String {
         .map(|x| format!("{x:>6.decimals$}"))
         .collect::<Vec<_>>()
         .join("")
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_tone_lands_in_its_band_and_the_shape_is_relative_to_the_mean() {
-        let rate = 16_000.0;
-        let x: Vec<f32> = (0..8000)
-            .map(|i| (2.0 * std::f64::consts::PI * 1000.0 * i as f64 / rate).sin() as f32)
-            .collect();
-        let p = band_powers(&x, rate);
-        let loudest = (0..p.len()).max_by(|&a, &b| p[a].total_cmp(&p[b])).unwrap();
-        assert_eq!(BAND_CENTRES_HZ[loudest], 1000.0);
-        // Two bands away the Hann window's leakage is at least 40 dB down.
-        assert!(10.0 * (p[loudest] / p[loudest + 2]).log10() > 40.0, "{p:?}");
-        let s = shape_db(&p);
-        assert!(s.iter().sum::<f64>().abs() < 1e-9);
-    }
-
-    #[test]
-    fn the_distance_is_zero_for_one_shape_and_grows_with_a_tilt() {
-        let flat = [0.0; BAND_CENTRES_HZ.len()];
-        assert_eq!(distance_db(&flat, &flat), 0.0);
-        let tilt: [f64; BAND_CENTRES_HZ.len()] = std::array::from_fn(|b| b as f64 - 7.0);
-        // RMS of -7..=7: sqrt(280 / 15).
-        assert!((distance_db(&tilt, &flat) - (280.0f64 / 15.0).sqrt()).abs() < 1e-12);
-    }
 }

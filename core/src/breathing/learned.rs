@@ -1,0 +1,447 @@
+//! A breath voice learned from the speaker's own inhalations ([`LearnedVoice`]) and the sound
+//! drawn from it ([`LearnedSound`]).
+//!
+//! # What is learned
+//! From every real inhalation heard in a recording ([`HeardBreath`]: its third-octave band
+//! powers, its mean square and its length) and the recording's noise floor
+//! ([`super::third_octave::FloorEstimate`]):
+//! - the **spectral envelope**: the mean over the breaths of each one's third-octave shape
+//!   ([`super::third_octave`], 250 Hz–6.3 kHz, dB relative to its own mean) with the floor's
+//!   band powers taken out first, and per band the standard deviation of the shapes;
+//! - the **level under the speech**: the median of the breaths' RMS (floor taken out) minus the
+//!   speech level (the median RMS of the recording's voiced frames), and its spread;
+//! - the **length**: median and spread (reported; the placement decides each breath's length).
+//!
+//! With fewer than [`MIN_FOR_SPREAD`] breaths the spreads are the priors below (the spread of
+//! real breaths around their speaker's mean measured on the labelled breaths of issue 31).
+//!
+//! # The sound
+//! Seeded white noise, independent for each band, through one band-pass (RBJ, 0 dB peak, Q of
+//! a third octave) per band and the built-in voice's band limits (4th-order high-pass at
+//! 180 Hz, low-pass at min(8 kHz, 0.45 × rate)). The band weights are solved at each breath's
+//! start so that the sound's band powers, as the third-octave measurement sees them (the FFT
+//! bins in each band), follow the target shape, accounting for each filter's response in the
+//! neighbouring bands (a fixed-point iteration on the analytic responses computed at
+//! `prepare`); the output has unit power. Each breath draws its target shape as
+//! the learned envelope plus, per band, a normal deviate times the learned spread, and its level
+//! as the learned level plus a normal deviate times the level spread (both clamped to ±2
+//! standard deviations). Allocation-free after `prepare`.
+
+use std::f64::consts::PI;
+
+use super::third_octave::{
+    band_edge_ratio, band_of, frame_len, shape_db, without_floor, Bands, BANDS, BAND_CENTRES_HZ,
+};
+use super::voice::{Biquad, BUTTER4_Q, HIGHPASS_HZ, LOWPASS_HZ};
+use crate::rng::SeededRng;
+
+/// Breaths needed before the spreads are measured rather than the priors.
+pub const MIN_FOR_SPREAD: usize = 3;
+/// Prior spread of a breath's shape per band, dB.
+pub const SHAPE_SD_PRIOR_DB: f64 = 1.5;
+/// Prior spread of a breath's level, dB.
+pub const LEVEL_SD_PRIOR_DB: f64 = 2.0;
+/// Largest spread per band or of the level, dB (a floor-dominated band is not a breath's).
+const MAX_SD_DB: f64 = 4.0;
+/// Deviates are clamped to this many standard deviations.
+const MAX_DEVIATE: f64 = 2.0;
+/// Iterations of the band-weight solve.
+const SOLVE_ITERATIONS: usize = 40;
+/// The Hann window's power response is followed this many bins either side of a bin.
+const KERNEL_BINS: f64 = 3.0;
+/// Steps of the window's power response on each side.
+const KERNEL_STEPS: i32 = 30;
+/// Frequency steps of the analytic total power.
+const STEPS_TOTAL: usize = 4096;
+
+/// One real inhalation heard in a recording.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeardBreath {
+    /// Mean power per third-octave band.
+    pub powers: Bands,
+    /// Mean square over the breath.
+    pub mean_square: f64,
+    /// Length, seconds.
+    pub length_s: f64,
+}
+
+/// A breath voice learned from a recording (see the module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LearnedVoice {
+    /// Breaths it was learned from.
+    pub breaths: usize,
+    /// Mean shape per band, dB relative to the bands' mean.
+    pub shape_db: Bands,
+    /// Spread of the shapes per band, dB.
+    pub shape_sd_db: Bands,
+    /// Median level of the breaths under the speech level, dB.
+    pub level_re_speech_db: f64,
+    /// Spread of the level, dB.
+    pub level_sd_db: f64,
+    /// The speech level it was measured against (median RMS of voiced frames), dBFS.
+    pub speech_db: f64,
+    /// Median length, seconds.
+    pub length_s: f64,
+    /// Spread of the length, seconds.
+    pub length_sd_s: f64,
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    match n {
+        0 => f64::NAN,
+        _ if n % 2 == 1 => v[n / 2],
+        _ => 0.5 * (v[n / 2 - 1] + v[n / 2]),
+    }
+}
+
+fn sd(v: &[f64]) -> f64 {
+    let m = v.iter().sum::<f64>() / v.len() as f64;
+    (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() as f64 - 1.0).max(1.0)).sqrt()
+}
+
+impl LearnedVoice {
+    /// The voice of `breaths` in a room whose floor has band powers `floor_powers` and mean
+    /// square `floor_square`, against speech at `speech_db`; `None` without a breath.
+    pub fn learn(
+        breaths: &[HeardBreath],
+        floor_powers: &Bands,
+        floor_square: f64,
+        speech_db: f64,
+    ) -> Option<Self> {
+        if breaths.is_empty() || !speech_db.is_finite() {
+            return None;
+        }
+        let shapes: Vec<Bands> = breaths
+            .iter()
+            .map(|b| shape_db(&without_floor(&b.powers, floor_powers)))
+            .collect();
+        let n = breaths.len();
+        let mean: Bands =
+            std::array::from_fn(|k| shapes.iter().map(|s| s[k]).sum::<f64>() / n as f64);
+        let spread = n >= MIN_FOR_SPREAD;
+        let shape_sd_db: Bands = std::array::from_fn(|k| {
+            if spread {
+                sd(&shapes.iter().map(|s| s[k]).collect::<Vec<_>>()).min(MAX_SD_DB)
+            } else {
+                SHAPE_SD_PRIOR_DB
+            }
+        });
+        let levels: Vec<f64> = breaths
+            .iter()
+            .map(|b| {
+                let clean = (b.mean_square - floor_square).max(0.1 * b.mean_square);
+                10.0 * clean.max(1e-20).log10() - speech_db
+            })
+            .collect();
+        let lengths: Vec<f64> = breaths.iter().map(|b| b.length_s).collect();
+        Some(Self {
+            breaths: n,
+            shape_db: mean,
+            shape_sd_db,
+            level_re_speech_db: median(&mut levels.clone()),
+            level_sd_db: if spread {
+                sd(&levels).min(MAX_SD_DB)
+            } else {
+                LEVEL_SD_PRIOR_DB
+            },
+            speech_db,
+            length_s: median(&mut lengths.clone()),
+            length_sd_s: if spread {
+                sd(&lengths)
+            } else {
+                0.2 * lengths[0]
+            },
+        })
+    }
+
+    /// The same voice for a recording whose speech lies at `speech_db` (a voice learned from
+    /// another take keeps its level under the speech); unchanged when `speech_db` is not finite.
+    pub fn against_speech_db(self, speech_db: f64) -> Self {
+        if speech_db.is_finite() {
+            Self { speech_db, ..self }
+        } else {
+            self
+        }
+    }
+
+    /// The learned level of a breath (its RMS over its length), dBFS.
+    pub fn level_db(&self) -> f64 {
+        self.speech_db + self.level_re_speech_db
+    }
+}
+
+/// Power response of a Hann window at `d` bins from a bin's centre (the window's transform:
+/// half a Dirichlet kernel at the centre and a quarter either side one bin away, in the sinc
+/// approximation), 1 at the centre.
+fn hann_power(d: f64) -> f64 {
+    let sinc = |x: f64| {
+        if x.abs() < 1e-9 {
+            1.0
+        } else {
+            (PI * x).sin() / (PI * x)
+        }
+    };
+    (0.5 * sinc(d) + 0.25 * sinc(d - 1.0) + 0.25 * sinc(d + 1.0)).powi(2) / 0.25
+}
+
+/// Power gain of the 4th-order band limits at `w` rad/sample.
+fn post_power(post: &[Biquad; 4], w: f64) -> f64 {
+    post.iter().map(|b| b.power_gain(w)).product()
+}
+
+/// The sound drawn from a [`LearnedVoice`] (see the module docs).
+#[derive(Debug, Clone)]
+pub struct LearnedSound {
+    voice: LearnedVoice,
+    seed: u64,
+    rng: SeededRng,
+    bank: [Biquad; BANDS],
+    post: [Biquad; 4],
+    /// `response[i][j]`: power in band `i` of filter `j` (with the band limits) for unit white
+    /// noise.
+    response: [[f64; BANDS]; BANDS],
+    /// Total power of filter `j` (with the band limits) for unit white noise.
+    total: Bands,
+    /// Bands the rate can hold.
+    usable: [bool; BANDS],
+    /// Amplitude of each band's noise for the current breath.
+    gains: Bands,
+    /// The current breath's level offset from the learned level, dB.
+    level_offset_db: f64,
+}
+
+impl LearnedSound {
+    /// The sound of `voice`, its noise seeded by `seed`; call [`LearnedSound::prepare`].
+    pub fn new(voice: LearnedVoice, seed: u64) -> Self {
+        Self {
+            voice,
+            seed,
+            rng: SeededRng::new(seed),
+            bank: [Biquad::default(); BANDS],
+            post: [Biquad::default(); 4],
+            response: [[0.0; BANDS]; BANDS],
+            total: [0.0; BANDS],
+            usable: [false; BANDS],
+            gains: [0.0; BANDS],
+            level_offset_db: 0.0,
+        }
+    }
+
+    /// The voice it draws from.
+    pub fn voice(&self) -> &LearnedVoice {
+        &self.voice
+    }
+
+    /// Designs the filters for `fs` Hz and computes their band responses; resets.
+    pub fn prepare(&mut self, fs: f64) {
+        let edge = band_edge_ratio();
+        let q = 1.0 / (edge - 1.0 / edge);
+        for (j, &c) in BAND_CENTRES_HZ.iter().enumerate() {
+            self.usable[j] = c * edge < 0.45 * fs;
+            self.bank[j].bandpass(c, q, fs);
+        }
+        let lp = LOWPASS_HZ.min(0.45 * fs);
+        self.post[0].highpass(HIGHPASS_HZ, BUTTER4_Q[0], fs);
+        self.post[1].highpass(HIGHPASS_HZ, BUTTER4_Q[1], fs);
+        self.post[2].lowpass(lp, BUTTER4_Q[0], fs);
+        self.post[3].lowpass(lp, BUTTER4_Q[1], fs);
+        // Unit white noise has power 2 / fs per Hz up to fs / 2. The band powers are those the
+        // third-octave measurement sees: the FFT bins that fall in each band.
+        let density = 2.0 / fs;
+        let w_of = |hz: f64| 2.0 * PI * hz / fs;
+        let frame = frame_len(fs);
+        let bin_hz = fs / frame as f64;
+        self.response = [[0.0; BANDS]; BANDS];
+        // Each bin sees the spectrum through the Hann window's power response (±3 bins).
+        let kernel: Vec<(f64, f64)> = (-KERNEL_STEPS..=KERNEL_STEPS)
+            .map(|s| {
+                let d = s as f64 * KERNEL_BINS / KERNEL_STEPS as f64;
+                (d, hann_power(d))
+            })
+            .collect();
+        let kernel_sum: f64 = kernel.iter().map(|(_, p)| p).sum();
+        for k in 0..=frame / 2 {
+            let Some(i) = band_of(k as f64 * bin_hz) else {
+                continue;
+            };
+            for &(d, weight) in &kernel {
+                let hz = (k as f64 + d) * bin_hz;
+                if !(0.0..=0.5 * fs).contains(&hz) {
+                    continue;
+                }
+                let post = post_power(&self.post, w_of(hz));
+                for j in 0..BANDS {
+                    self.response[i][j] += self.bank[j].power_gain(w_of(hz)) * post * weight
+                        / kernel_sum
+                        * bin_hz
+                        * density;
+                }
+            }
+        }
+        let df = 0.5 * fs / STEPS_TOTAL as f64;
+        for j in 0..BANDS {
+            self.total[j] = (0..STEPS_TOTAL)
+                .map(|s| {
+                    let w = w_of((s as f64 + 0.5) * df);
+                    self.bank[j].power_gain(w) * post_power(&self.post, w)
+                })
+                .sum::<f64>()
+                * df
+                * density;
+        }
+        self.reset();
+    }
+
+    /// Silence; the noise restarts from the seed.
+    pub fn reset(&mut self) {
+        self.rng = SeededRng::new(self.seed);
+        self.bank.iter_mut().for_each(Biquad::clear);
+        self.post.iter_mut().for_each(Biquad::clear);
+    }
+
+    /// Band weights (powers of each filter's noise) whose band powers follow `target` (band
+    /// powers, any scale), normalised to unit total power.
+    fn solve(&self, target: &Bands) -> Bands {
+        let mut w: Bands = std::array::from_fn(|j| if self.usable[j] { target[j] } else { 0.0 });
+        for _ in 0..SOLVE_ITERATIONS {
+            for j in 0..BANDS {
+                if !self.usable[j] {
+                    continue;
+                }
+                let got: f64 = (0..BANDS).map(|k| self.response[j][k] * w[k]).sum();
+                if got > 0.0 {
+                    w[j] *= target[j] / got;
+                }
+            }
+        }
+        let total: f64 = (0..BANDS).map(|j| w[j] * self.total[j]).sum();
+        w.map(|x| if total > 0.0 { x / total } else { 0.0 })
+    }
+
+    /// A normal deviate clamped to ±[`MAX_DEVIATE`].
+    fn deviate(&mut self) -> f64 {
+        self.rng.normal().clamp(-MAX_DEVIATE, MAX_DEVIATE)
+    }
+
+    /// Starts a breath: draws its shape and level (see the module docs). Allocation-free.
+    pub fn start(&mut self) {
+        let mut target = [0.0; BANDS];
+        for (k, t) in target.iter_mut().enumerate() {
+            let db = self.voice.shape_db[k] + self.voice.shape_sd_db[k] * self.deviate();
+            *t = 10f64.powf(db / 10.0);
+        }
+        self.level_offset_db = self.voice.level_sd_db * self.deviate();
+        self.gains = self.solve(&target).map(f64::sqrt);
+    }
+
+    /// The current breath's level (its RMS over its length), dBFS.
+    pub fn level_db(&self) -> f64 {
+        self.voice.level_db() + self.level_offset_db
+    }
+
+    /// The next sample (unit power).
+    #[inline]
+    pub fn tick(&mut self) -> f64 {
+        let mut y = 0.0;
+        for j in 0..BANDS {
+            if self.gains[j] > 0.0 {
+                let n = (self.rng.uniform() * 2.0 - 1.0) * 3f64.sqrt();
+                y += self.gains[j] * self.bank[j].tick(n);
+            }
+        }
+        for p in self.post.iter_mut() {
+            y = p.tick(y);
+        }
+        y
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::breathing::third_octave::{band_powers, distance_db};
+
+    fn voice(shape_db: Bands, sd_db: f64) -> LearnedVoice {
+        LearnedVoice {
+            breaths: 5,
+            shape_db,
+            shape_sd_db: [sd_db; BANDS],
+            level_re_speech_db: -25.0,
+            level_sd_db: 0.0,
+            speech_db: -20.0,
+            length_s: 0.4,
+            length_sd_s: 0.05,
+        }
+    }
+
+    fn render(sound: &mut LearnedSound, n: usize) -> Vec<f32> {
+        sound.start();
+        (0..n).map(|_| sound.tick() as f32).collect()
+    }
+
+    #[test]
+    fn the_sound_follows_a_target_shape_within_a_db_per_band_and_has_unit_power() {
+        let fs = 16_000.0;
+        // A dark shape with a hump at 500 Hz and a slope down above.
+        let target: Bands = std::array::from_fn(|k| {
+            let x = k as f64;
+            6.0 * (-(x - 3.0).powi(2) / 6.0).exp() - 0.8 * x
+        });
+        let target = shape_db(&target.map(|d| 10f64.powf(d / 10.0)));
+        let mut s = LearnedSound::new(voice(target, 0.0), 7);
+        s.prepare(fs);
+        let x = render(&mut s, 8 * fs as usize);
+        let got = shape_db(&band_powers(&x, fs));
+        for k in 0..BANDS {
+            assert!(
+                (got[k] - target[k]).abs() < 1.0,
+                "band {k}: {got:?} vs {target:?}"
+            );
+        }
+        let p = x.iter().map(|v| (*v as f64).powi(2)).sum::<f64>() / x.len() as f64;
+        assert!((10.0 * p.log10()).abs() < 0.5, "power {p}");
+    }
+
+    #[test]
+    fn breaths_vary_within_the_learned_spread_and_repeat_from_the_seed() {
+        let fs = 16_000.0;
+        let mut s = LearnedSound::new(voice([0.0; BANDS], 1.5), 3);
+        s.prepare(fs);
+        let shapes: Vec<Bands> = (0..8)
+            .map(|_| shape_db(&band_powers(&render(&mut s, fs as usize), fs)))
+            .collect();
+        let d = distance_db(&shapes[0], &shapes[1]);
+        assert!(d > 0.8 && d < 5.0, "{d}");
+        let mut again = LearnedSound::new(voice([0.0; BANDS], 1.5), 3);
+        again.prepare(fs);
+        assert_eq!(render(&mut again, 1000), {
+            let mut first = LearnedSound::new(voice([0.0; BANDS], 1.5), 3);
+            first.prepare(fs);
+            render(&mut first, 1000)
+        });
+    }
+
+    #[test]
+    fn learning_takes_the_floor_out_and_falls_back_to_the_priors_with_few_breaths() {
+        let tilt: Bands = std::array::from_fn(|k| 10f64.powf(-(k as f64) / 10.0));
+        let floor = [1e-3; BANDS];
+        let b = HeardBreath {
+            powers: std::array::from_fn(|k| tilt[k] + floor[k]),
+            mean_square: 0.02,
+            length_s: 0.5,
+        };
+        let v = LearnedVoice::learn(&[b, b], &floor, 0.01, -20.0).expect("two breaths");
+        let want = shape_db(&tilt);
+        assert!(distance_db(&v.shape_db, &want) < 1e-9, "{:?}", v.shape_db);
+        assert_eq!(v.shape_sd_db, [SHAPE_SD_PRIOR_DB; BANDS]);
+        // 0.02 − 0.01 = 0.01: −20 dBFS, 0 dB under −20 dB speech.
+        assert!(
+            v.level_re_speech_db.abs() < 1e-9,
+            "{}",
+            v.level_re_speech_db
+        );
+        assert!(LearnedVoice::learn(&[], &floor, 0.0, -20.0).is_none());
+    }
+}

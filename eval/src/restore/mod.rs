@@ -1,0 +1,416 @@
+//! `pneuma eval restore [--data DIR] [--labels CSV] [--keele DIR] [--keele-labels CSV]
+//! [--check]`: cut the real breaths out of real speech as an editor does, render, and measure
+//! how Pneuma puts them back.
+//!
+//! - **Breaths**: every `breath` label (clear inhalations; `unsure` ones are left in place) of
+//!   the styletalk and Keele labels ([`crate::labels`]). The speaker of a clip is
+//!   [`crate::breath_sounds::detect::speaker_of`]'s.
+//! - **Cuts** ([`Cut`]): gated to digital silence, attenuated by 30 dB, and gated with the
+//!   span shortened by 40 % (the editors' "shorten gaps": the middle 40 % of the breath's span
+//!   is removed and everything after it moves earlier).
+//! - **Runs** ([`Run`]): every breath of a clip cut at once, or one breath at a time (the
+//!   others stay in the recording, as a voice learned from the recording hears them).
+//! - **Voices** ([`Voice`]): the built-in breath voice; the voice `pneuma render` learns from
+//!   the recording it renders (cut one at a time, the breath being restored is not in the
+//!   recording: a **held-out** figure); the voice learned from the uncut recording, the
+//!   restored breath included (a **fitted** figure, the `--breath-like` of the raw take).
+//! - **Scores** ([`score`]): a cut breath is *put back* when an inserted breath overlaps its
+//!   span widened by 0.15 s on each side (each inserted breath counts for one cut breath). An
+//!   inserted breath that puts none back and overlaps no breath inserted in the render of the
+//!   uncut clip (same voice) is *extra*. For each breath put back: its level (RMS of what the
+//!   engine added, output − input, over the inserted span) against the real breath's RMS over
+//!   its label, dB; its duration against the label's; the third-octave shape distance
+//!   ([`pneuma_core::breathing::third_octave`], 250 Hz–6.3 kHz, each shape relative to its own
+//!   mean level) of the inserted breath to the real one it replaces (the real one's band powers
+//!   with the clip's noise floor taken out). For scale, per speaker: the median distance
+//!   between two of the speaker's real breaths, and the spread of the inserted and of the real
+//!   shapes (the median distance of each to the mean of its set).
+//!
+//! `--check` checks the targets on the held-out figures (see [`targets`]).
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use pneuma_core::breathing::third_octave::{
+    band_powers, distance_db, frame_len, noise_floor, shape_db, without_floor, Bands,
+};
+use pneuma_core::engine::offline::Rendered;
+
+use crate::breath_sounds::detect::speaker_of;
+use crate::data::{read_labels, DataError};
+use crate::labels::{Label, LabelKind, LabelledSets};
+use crate::stats::{median, rms_db};
+use pneuma_core::engine::voice_learning::learn_voice;
+use pneuma_core::engine::EngineConfig;
+
+mod cut;
+mod report;
+
+pub use cut::Cut;
+use report::{print_table, targets};
+
+/// How near a cut breath an inserted one must lie to put it back, seconds (each side).
+pub const PUT_BACK_S: f64 = 0.15;
+
+/// Arguments of `pneuma eval restore`.
+#[derive(Debug, clap::Args)]
+pub struct RestoreArgs {
+    /// The labelled clips.
+    #[command(flatten)]
+    pub sets: LabelledSets,
+    /// Exit non-zero when a held-out target is missed.
+    #[arg(long)]
+    pub check: bool,
+}
+
+/// Which breaths are cut in one render.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Run {
+    /// Every labelled breath of the clip.
+    AllAtOnce,
+    /// One breath per render; the others stay.
+    OneAtATime,
+}
+
+/// The breath voice a render uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Voice {
+    /// The built-in voice.
+    BuiltIn,
+    /// Learned from the recording rendered (as `pneuma render` does).
+    Learned,
+    /// Learned from the uncut recording (the breath restored included: fitted).
+    FromUncut,
+}
+
+/// One labelled clip.
+struct Clip {
+    name: String,
+    speaker: String,
+    rate_hz: f64,
+    audio: Vec<f32>,
+    /// The clear breaths, in time order.
+    breaths: Vec<(f64, f64)>,
+    /// Each breath's shape, floor taken out.
+    real_shapes: Vec<Bands>,
+}
+
+/// What one cut breath gave.
+#[derive(Debug, Clone, Copy)]
+pub struct Restored {
+    /// Level of the inserted breath minus the real one's, dB.
+    pub level_db: f64,
+    /// Duration of the inserted breath over the real one's.
+    pub duration_ratio: f64,
+    /// The inserted breath's shape.
+    pub shape: Bands,
+    /// Its distance to the real breath it replaces, dB.
+    pub distance_db: f64,
+}
+
+/// What a set of renders gave for one speaker.
+#[derive(Debug, Clone, Default)]
+pub struct SpeakerResult {
+    /// Breaths cut.
+    pub cut: usize,
+    /// Per cut breath: what was put back (`None`: nothing).
+    pub restored: Vec<Option<Restored>>,
+    /// Inserted breaths that put no breath back and are not in the uncut render.
+    pub extra: usize,
+    /// The speaker's real shapes.
+    pub real_shapes: Vec<Bands>,
+}
+
+fn load(data: &Path, labels_path: &Path) -> Result<Vec<Clip>, String> {
+    let labels = read_labels(labels_path)?;
+    let mut by_clip: BTreeMap<String, Vec<Label>> = BTreeMap::new();
+    for l in labels.into_iter().filter(|l| l.kind == LabelKind::Breath) {
+        by_clip.entry(l.clip.clone()).or_default().push(l);
+    }
+    by_clip
+        .into_iter()
+        .map(|(name, mut ls)| {
+            let path = data.join(format!("{name}.wav"));
+            if !path.exists() {
+                return Err(DataError::UnknownClip {
+                    labels: labels_path.into(),
+                    clip: name,
+                    data: data.into(),
+                }
+                .into());
+            }
+            let (audio, rate) =
+                pneuma_io::read_mono(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let rate_hz = f64::from(rate);
+            ls.sort_by(|a, b| a.start_s.total_cmp(&b.start_s));
+            let floor = noise_floor(&audio, rate_hz);
+            let breaths: Vec<(f64, f64)> = ls.iter().map(|l| (l.start_s, l.end_s)).collect();
+            let real_shapes = breaths
+                .iter()
+                .map(|&span| {
+                    let p = band_powers(samples_of(&audio, rate_hz, span), rate_hz);
+                    shape_db(&without_floor(&p, &floor))
+                })
+                .collect();
+            Ok(Clip {
+                speaker: speaker_of(&name),
+                name,
+                rate_hz,
+                audio,
+                breaths,
+                real_shapes,
+            })
+        })
+        .collect()
+}
+
+/// The samples of `x` in `span` (seconds), clamped to `x`.
+pub fn samples_of(x: &[f32], rate_hz: f64, (start_s, end_s): (f64, f64)) -> &[f32] {
+    let a = ((start_s * rate_hz).round().max(0.0) as usize).min(x.len());
+    let b = ((end_s * rate_hz).round().max(0.0) as usize).clamp(a, x.len());
+    &x[a..b]
+}
+
+/// Renders `input` as `pneuma render` does, with `voice` (`uncut`: the recording before the
+/// cut, for [`Voice::FromUncut`]) and the engine's seed moved by `seed_offset`.
+fn render(
+    input: &[f32],
+    uncut: &[f32],
+    rate_hz: f64,
+    voice: Voice,
+    seed_offset: u64,
+) -> Result<Rendered, String> {
+    let learn_from = match voice {
+        Voice::BuiltIn => None,
+        Voice::Learned => Some(input),
+        Voice::FromUncut => Some(uncut),
+    };
+    crate::breaths::render_with_voice(
+        std::slice::from_ref(&input.to_vec()),
+        rate_hz,
+        learn_from,
+        seed_offset,
+    )
+}
+
+/// Scores one render of `clip` cut at the breaths `cut_idx` with `cut`: adds to `result`.
+#[allow(clippy::too_many_arguments)]
+fn score(
+    clip: &Clip,
+    cut: Cut,
+    cut_idx: &[usize],
+    cut_input: &[f32],
+    out: &Rendered,
+    uncut_inserted: &[(f64, f64)],
+    result: &mut SpeakerResult,
+) {
+    let rate = clip.rate_hz;
+    let spans: Vec<(f64, f64)> = cut_idx.iter().map(|&i| clip.breaths[i]).collect();
+    let moved = cut.moved_spans(&clip.breaths, cut_idx);
+    let added: Vec<f32> = out.audio[0]
+        .iter()
+        .zip(cut_input)
+        .map(|(o, i)| o - i)
+        .collect();
+    let mut used = vec![false; out.breaths.len()];
+    for (k, &i) in cut_idx.iter().enumerate() {
+        let (s, e) = moved[k];
+        let best = out
+            .breaths
+            .iter()
+            .enumerate()
+            .filter(|(j, b)| !used[*j] && b.start_s < e + PUT_BACK_S && s - PUT_BACK_S < b.end_s)
+            .max_by(|(_, a), (_, b)| {
+                let ov = |x: &pneuma_core::BreathEvent| x.end_s.min(e) - x.start_s.max(s);
+                ov(a).total_cmp(&ov(b))
+            })
+            .map(|(j, _)| j);
+        result.cut += 1;
+        let Some(j) = best else {
+            result.restored.push(None);
+            continue;
+        };
+        used[j] = true;
+        let b = &out.breaths[j];
+        let x = samples_of(&added, rate, (b.start_s, b.end_s));
+        let real = samples_of(&clip.audio, rate, spans[k]);
+        let shape = if x.len() >= frame_len(rate) / 2 {
+            shape_db(&band_powers(x, rate))
+        } else {
+            [f64::NAN; pneuma_core::breathing::third_octave::BANDS]
+        };
+        result.restored.push(Some(Restored {
+            level_db: rms_db(x) - rms_db(real),
+            duration_ratio: (b.end_s - b.start_s) / (spans[k].1 - spans[k].0),
+            shape,
+            distance_db: distance_db(&shape, &clip.real_shapes[i]),
+        }));
+    }
+    let uncut_moved: Vec<(f64, f64)> = uncut_inserted
+        .iter()
+        .map(|&(s, e)| {
+            (
+                cut.map_time(&clip.breaths, cut_idx, s),
+                cut.map_time(&clip.breaths, cut_idx, e),
+            )
+        })
+        .collect();
+    result.extra += out
+        .breaths
+        .iter()
+        .zip(&used)
+        .filter(|(b, u)| {
+            !**u && !uncut_moved
+                .iter()
+                .any(|&(s, e)| b.start_s < e && s < b.end_s)
+        })
+        .count();
+}
+
+/// Renders and scores every clip for one (cut, run, voice): results per speaker.
+fn experiment(
+    clips: &[Clip],
+    cut: Cut,
+    run: Run,
+    voice: Voice,
+    uncut_renders: &BTreeMap<(String, Voice), Vec<(f64, f64)>>,
+) -> Result<BTreeMap<String, SpeakerResult>, String> {
+    let mut per: BTreeMap<String, SpeakerResult> = BTreeMap::new();
+    for clip in clips {
+        let r = per.entry(clip.speaker.clone()).or_default();
+        r.real_shapes.extend_from_slice(&clip.real_shapes);
+        let uncut = &uncut_renders[&(clip.name.clone(), voice)];
+        let sets: Vec<Vec<usize>> = match run {
+            Run::AllAtOnce => vec![(0..clip.breaths.len()).collect()],
+            Run::OneAtATime => (0..clip.breaths.len()).map(|i| vec![i]).collect(),
+        };
+        // One render per breath: each its own seed, so the breaths restored one at a time
+        // vary as breaths within one render do.
+        for (k, set) in sets.into_iter().enumerate() {
+            let input = cut.apply(&clip.audio, clip.rate_hz, &clip.breaths, &set);
+            let out = render(&input, &clip.audio, clip.rate_hz, voice, k as u64)
+                .map_err(|e| format!("{}: {e}", clip.name))?;
+            score(clip, cut, &set, &input, &out, uncut, r);
+        }
+    }
+    Ok(per)
+}
+
+/// Prints the voice learned from `clip` (uncut) beside its labelled breaths.
+fn print_voice(clip: &Clip) -> Result<(), String> {
+    let mut config = EngineConfig::default();
+    config.placement.whole_file = true;
+    let v = learn_voice(&config, &clip.audio, clip.rate_hz).map_err(|e| e.to_string())?;
+    let levels: Vec<f64> = clip
+        .breaths
+        .iter()
+        .map(|&s| rms_db(samples_of(&clip.audio, clip.rate_hz, s)))
+        .collect();
+    let lengths: Vec<f64> = clip.breaths.iter().map(|(s, e)| e - s).collect();
+    match v {
+        Some(v) => println!(
+            "  {:<14} heard {:>2}: {:+6.1} dB, {:.2} s   labelled {:>2}: {:+6.1} dB, {:.2} s",
+            clip.name,
+            v.breaths,
+            v.level_re_speech_db,
+            v.length_s,
+            clip.breaths.len(),
+            median(&levels) - v.speech_db,
+            median(&lengths)
+        ),
+        None => println!("  {:<14} heard none: built-in voice", clip.name),
+    }
+    Ok(())
+}
+
+/// Runs the evaluation and prints the report; `Ok(false)` when a held-out target is missed.
+pub fn run(args: &RestoreArgs) -> Result<bool, String> {
+    let mut clips = load(&args.sets.data, &args.sets.labels)?;
+    clips.extend(load(&args.sets.keele, &args.sets.keele_labels)?);
+    let breaths: usize = clips.iter().map(|c| c.breaths.len()).sum();
+    println!(
+        "{breaths} clear labelled breaths in {} clips; put back = an inserted breath within {PUT_BACK_S} s",
+        clips.len()
+    );
+    println!("\nvoice learned from each uncut clip (breaths heard; level re speech; length) vs its labelled breaths (level re the same speech level; length):");
+    let mut uncut: BTreeMap<(String, Voice), Vec<(f64, f64)>> = BTreeMap::new();
+    for clip in &clips {
+        print_voice(clip)?;
+        for voice in [Voice::BuiltIn, Voice::Learned, Voice::FromUncut] {
+            let out = render(&clip.audio, &clip.audio, clip.rate_hz, voice, 0)?;
+            let spans = out.breaths.iter().map(|b| (b.start_s, b.end_s)).collect();
+            uncut.insert((clip.name.clone(), voice), spans);
+        }
+    }
+    let plan = [
+        (Cut::Gated, Run::AllAtOnce, Voice::BuiltIn, "built-in voice"),
+        (
+            Cut::Attenuated,
+            Run::AllAtOnce,
+            Voice::BuiltIn,
+            "built-in voice",
+        ),
+        (
+            Cut::Shortened,
+            Run::AllAtOnce,
+            Voice::BuiltIn,
+            "built-in voice",
+        ),
+        (
+            Cut::Gated,
+            Run::OneAtATime,
+            Voice::BuiltIn,
+            "built-in voice",
+        ),
+        (
+            Cut::Gated,
+            Run::OneAtATime,
+            Voice::Learned,
+            "learned, HELD OUT",
+        ),
+        (
+            Cut::Attenuated,
+            Run::OneAtATime,
+            Voice::Learned,
+            "learned, HELD OUT",
+        ),
+        (
+            Cut::Shortened,
+            Run::OneAtATime,
+            Voice::Learned,
+            "learned, HELD OUT",
+        ),
+        (
+            Cut::Gated,
+            Run::AllAtOnce,
+            Voice::Learned,
+            "learned from the cut file",
+        ),
+        (
+            Cut::Gated,
+            Run::AllAtOnce,
+            Voice::FromUncut,
+            "learned on itself, FITTED",
+        ),
+    ];
+    let mut all_met = true;
+    for (cut, run, voice, what) in plan {
+        let per = experiment(&clips, cut, run, voice, &uncut)?;
+        let run_name = match run {
+            Run::AllAtOnce => "all cut at once",
+            Run::OneAtATime => "one cut at a time",
+        };
+        println!("\n== {} , {run_name}, {what}", cut.name());
+        let overall = print_table(&per);
+        if voice == Voice::Learned && run == Run::OneAtATime {
+            for (name, ok, text) in targets(&overall, cut) {
+                println!(
+                    "  target {name}: {text} {}",
+                    if ok { "met" } else { "MISSED" }
+                );
+                all_met &= ok;
+            }
+        }
+    }
+    Ok(all_met || !args.check)
+}
