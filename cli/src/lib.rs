@@ -9,6 +9,7 @@ pub mod eval;
 pub mod eval_breath_detect;
 pub mod eval_breath_sounds;
 pub mod eval_breaths;
+pub mod eval_head;
 pub mod markers;
 pub mod options;
 pub mod output;

@@ -16,7 +16,8 @@ use glam::{DVec3, Quat};
 use super::bfgs::{minimize, BfgsConfig};
 use super::gmm::{Conditioner, Mixture1};
 use super::governor::SpeedGovernor;
-use super::model_file::{HeadModel, HeadModelError, UnvoicedBehaviour};
+use super::inputs::InputTracker;
+use super::model_file::{HeadModel, HeadModelError, PoseTerm, UnvoicedBehaviour};
 use super::smoother::PoseSmoother;
 use crate::analysis::FeatureFrame;
 use crate::control::HeadAngles;
@@ -141,6 +142,7 @@ pub struct HeadSynth {
     voiced: [Conditioner; 5],
     unvoiced: [Conditioner; 5],
     mix: [Mixture1; 5],
+    inputs: InputTracker,
     bfgs: BfgsConfig,
     /// Internal pose (roll, pitch, yaw) of the last two frames, degrees around neutral.
     prev1: DVec3,
@@ -169,6 +171,7 @@ impl HeadSynth {
         let voiced = [0, 1, 2, 3, 4].map(|k| model.voiced()[k].conditioner());
         let unvoiced = [0, 1, 2, 3, 4].map(|k| model.unvoiced()[k].conditioner());
         let rng = SeededRng::new(config.seed);
+        let inputs = InputTracker::new(&model.normalisation);
         let smoother = PoseSmoother::new(model.synthesis.smoothing_s);
         let governor = SpeedGovernor::new(
             model.synthesis.speed_target_deg_s,
@@ -180,6 +183,7 @@ impl HeadSynth {
             voiced,
             unvoiced,
             mix: [Mixture1::default(); 5],
+            inputs,
             bfgs: BfgsConfig::default(),
             prev1: DVec3::ZERO,
             prev2: DVec3::ZERO,
@@ -195,6 +199,7 @@ impl HeadSynth {
     pub fn reset(&mut self) {
         self.prev1 = DVec3::ZERO;
         self.prev2 = DVec3::ZERO;
+        self.inputs.reset();
         self.rng = SeededRng::new(self.config.seed);
         self.live = DVec3::ZERO;
         self.smoother.reset();
@@ -232,18 +237,8 @@ impl HeadSynth {
         } else {
             120.0
         };
-        let norm = &self.model.normalisation;
-        let level = if frame.level_db.is_finite() {
-            (frame.level_db as f64).clamp(norm.level_db_range[0], norm.level_db_range[1])
-        } else {
-            norm.level_db_range[0]
-        };
-        let voiced = counts_as_voiced(frame);
-        let f0 = if voiced {
-            (frame.f0_st as f64).clamp(norm.f0_st_range[0], norm.f0_st_range[1])
-        } else {
-            0.0
-        };
+        let input = self.inputs.next(frame, rate);
+        let (voiced, f0, level) = (input.voiced, input.f0_st, input.level_db);
         let cfg = &self.config;
         let amount = cfg.amount as f64;
         // Output = governed (smoothed (internal pose × gain per axis, from the model)) × amount.
@@ -330,11 +325,24 @@ impl HeadSynth {
         let p2 = self.prev2;
         let mix = &self.mix;
         let eps2 = NORM_EPS_DEG * NORM_EPS_DEG;
+        // Per axis (mean, 1 / variance) of the conditional pose density, for the Gaussian term.
+        let moments = [0, 1, 2].map(|i| {
+            let (m, v) = mix[i].mean_variance();
+            (m, 1.0 / v.max(1e-9))
+        });
+        let pose_term = w.pose_term;
         let objective = |x: DVec3| {
             let mut j = 0.0;
             let mut g = DVec3::ZERO;
             for i in 0..3 {
-                let (lp, d) = mix[i].log_pdf_grad(x[i]);
+                let (lp, d) = match pose_term {
+                    PoseTerm::Mixture => mix[i].log_pdf_grad(x[i]),
+                    PoseTerm::ConditionalMean => {
+                        let (m, inv_var) = moments[i];
+                        let dx = x[i] - m;
+                        (-0.5 * dx * dx * inv_var, -dx * inv_var)
+                    }
+                };
                 j -= wp * lp;
                 g[i] -= wp * d;
             }
@@ -352,12 +360,6 @@ impl HeadSynth {
         };
         minimize(objective, p1, -bound, bound, &self.bfgs).x
     }
-}
-
-/// Whether the synthesis treats `frame` as voiced: the analyzer says so and its f0 and level
-/// are finite (training uses the same rule when it replays the governor).
-pub fn counts_as_voiced(frame: &FeatureFrame) -> bool {
-    frame.voiced && frame.f0_st.is_finite() && frame.level_db.is_finite()
 }
 
 /// The head rotation as a quaternion in a right-handed character frame with x = the
