@@ -4,12 +4,6 @@
 
 pub mod analyze;
 pub mod audio_out;
-pub mod batch;
-pub mod eval;
-pub mod eval_breath_detect;
-pub mod eval_breath_sounds;
-pub mod eval_breaths;
-pub mod eval_head;
 pub mod markers;
 pub mod options;
 pub mod output;

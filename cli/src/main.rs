@@ -1,10 +1,11 @@
 //! The `pneuma` command: a thin door onto `pneuma-core`. Each subcommand lives in its own module
-//! of the `pneuma_cli` library with its own `Args` and `main`.
+//! of the `pneuma_cli` library with its own `Args` and `main`; `eval` is the evaluation crate's
+//! (`pneuma-eval`).
 
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use pneuma_cli::{analyze, eval, render, speak, train};
+use pneuma_cli::{analyze, render, speak, train};
 
 #[derive(Parser)]
 #[command(
@@ -29,7 +30,7 @@ enum Command {
     /// Train a head-pose model from audio files with head-motion CSVs.
     Train(train::Args),
     /// Evaluate a model against data.
-    Eval(eval::Args),
+    Eval(pneuma_eval::Args),
 }
 
 fn main() -> ExitCode {
@@ -38,6 +39,6 @@ fn main() -> ExitCode {
         Command::Render(args) => render::main(args),
         Command::Speak(args) => speak::main(args),
         Command::Train(args) => train::main(args),
-        Command::Eval(args) => eval::main(args),
+        Command::Eval(args) => pneuma_eval::main(args),
     }
 }

@@ -411,6 +411,20 @@ fn speaker_normalisation_centres_on_the_voice() {
     let mean_level = late.iter().map(|f| f.level_db as f64).sum::<f64>() / late.len() as f64;
     assert!(mean_st.abs() < 0.5, "{mean_st}");
     assert!(mean_level.abs() < 1.5, "{mean_level}");
+    // The level is measured against the speech level each frame reports, and that is the
+    // voice's own level by now.
+    for f in &frames {
+        assert_eq!(
+            f.level_db.to_bits(),
+            (f.rms_db - f.speech_level_db).to_bits()
+        );
+    }
+    let mean_rms = late.iter().map(|f| f.rms_db as f64).sum::<f64>() / late.len() as f64;
+    let speech_db = late[late.len() - 1].speech_level_db as f64;
+    assert!(
+        (speech_db - mean_rms).abs() < 1.5,
+        "{speech_db} vs {mean_rms}"
+    );
     // Early on the prior (150 Hz) still weighs: 220 Hz lies well above it.
     assert!(between(&frames, 0.06, 0.1)[0].f0_st > 3.0);
 }

@@ -27,6 +27,7 @@ fn frames(n: usize) -> Vec<FeatureFrame> {
                     0.0
                 },
                 level_db: (3.0 * (2.1 * t).sin() - if voiced { 0.0 } else { 12.0 }) as f32,
+                speech_level_db: -22.0,
                 band_db: -22.0,
                 bands: Default::default(),
             }

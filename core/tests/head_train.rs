@@ -40,6 +40,7 @@ fn clip(name: &str, seconds: f64, seed: u64) -> TrainingClip {
             rms_db: (-20.0 + level_db) as f32,
             f0_st: if voiced { f0_st as f32 } else { 0.0 },
             level_db: level_db as f32,
+            speech_level_db: -20.0,
             band_db: (-20.0 + level_db) as f32,
             bands: Default::default(),
         });

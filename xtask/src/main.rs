@@ -1,19 +1,23 @@
-//! Project chores: `cargo xtask bundle <package> --release` (nice-plug's bundler) and the
-//! evaluations (`cargo xtask eval-pitch --data ../shared/data/ptdb`).
+//! Project chores: `cargo xtask bundle <package> --release` (nice-plug's bundler), the
+//! evaluations of the evaluation crate (`cargo xtask eval-pitch --data ../shared/data/ptdb`,
+//! `eval-pauses`), the trainings of the shipped models (`train-voicing`, `train-default`) and
+//! the structure checks (`check-structure`).
 
-mod eval_pauses;
-mod eval_pitch;
-mod f0_baselines;
+mod structure;
 mod train_default;
 mod train_voicing;
 
 fn main() -> nice_plug_xtask::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
-        Some("eval-pauses") => std::process::exit(eval_pauses::main(&args[1..])),
-        Some("eval-pitch") => std::process::exit(eval_pitch::main(&args[1..])),
+        Some("eval-pauses") => std::process::exit(pneuma_eval::pauses::main(&args[1..])),
+        Some("eval-pitch") => std::process::exit(pneuma_eval::pitch::main(
+            &args[1..],
+            &train_voicing::held_out_models,
+        )),
         Some("train-voicing") => std::process::exit(train_voicing::main(&args[1..])),
         Some("train-default") => std::process::exit(train_default::main(&args[1..])),
+        Some("check-structure") => std::process::exit(structure::main(&args[1..])),
         _ => nice_plug_xtask::main(),
     }
 }

@@ -8,8 +8,11 @@
 
 use super::biquad::{Biquad, HighPass};
 use super::clock::FrameClock;
-use super::config::{check_sample_rate, AnalysisConfig, AnalysisError};
+use super::config::{check_sample_rate, AnalysisConfig};
 use super::decimator::{factor_for, Decimator};
+use super::error::AnalysisError;
+use super::frame::FeatureFrame;
+use super::level::amplitude_to_db;
 use super::noise_floor::NoiseFloor;
 use super::pitch::{FrameAnalysis, NsdfPitch};
 use super::speaker_norm::SpeakerNorm;
@@ -17,7 +20,6 @@ use super::tracking::Tracker;
 use super::voicing::{
     period_jump_octaves, VoicingEvidence, VoicingFeatures, VoicingRule, TRACK_CAP_S,
 };
-use super::{amplitude_to_db, FeatureFrame};
 
 /// Input samples beyond this magnitude are clamped for analysis (+60 dBFS).
 const INPUT_LIMIT: f32 = 1000.0;
@@ -468,6 +470,7 @@ impl State {
             evidence.edge_newest,
         );
         self.speaker.update(t.voiced, t.f0_hz, rms_db);
+        let speech_level_db = self.speaker.speech_level_db();
         let frame = FeatureFrame {
             index: self.next_frame,
             time_s: self.clock.time_s(self.next_frame),
@@ -480,7 +483,8 @@ impl State {
             } else {
                 0.0
             },
-            level_db: rms_db - self.speaker.speech_level_db(),
+            level_db: rms_db - speech_level_db,
+            speech_level_db,
             band_db,
             bands: self.pitch.band_levels(),
         };

@@ -25,7 +25,7 @@
 
 use realfft::num_complex::Complex;
 
-use super::amplitude_to_db;
+use super::level::amplitude_to_db;
 
 /// The three bands' edges, Hz: low, mid, high.
 const BANDS_HZ: [(f64, f64); 3] = [(100.0, 400.0), (500.0, 2500.0), (2500.0, 3500.0)];

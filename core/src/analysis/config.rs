@@ -1,7 +1,7 @@
-//! Settings of the analysis front end and the errors of this area.
+//! Settings of the analysis front end: [`AnalysisConfig`], its validation and its string
+//! setter, and the supported host sample rates.
 
-use thiserror::Error;
-
+use super::error::{check_range, AnalysisError};
 use super::speaker_norm::SpeakerNormConfig;
 use super::voicing::VoicingModel;
 
@@ -9,52 +9,6 @@ use super::voicing::VoicingModel;
 pub const MIN_SAMPLE_RATE_HZ: f64 = 8_000.0;
 /// Highest supported host sample rate in Hz.
 pub const MAX_SAMPLE_RATE_HZ: f64 = 768_000.0;
-
-/// Errors of the analysis area; each message says what to change.
-#[derive(Debug, Error, Clone, PartialEq)]
-pub enum AnalysisError {
-    /// The host sample rate is outside 8–768 kHz or not finite.
-    #[error(
-        "sample rate {0} Hz is not supported: use a rate between 8000 and 768000 Hz (resample the input)"
-    )]
-    SampleRate(f64),
-    /// The frame rate is outside 10–1000 Hz.
-    #[error(
-        "frame rate {0} Hz is not supported: use a frame rate between 10 and 1000 Hz (default 120)"
-    )]
-    FrameRate(f64),
-    /// The f0 range is empty or outside 30–1000 Hz.
-    #[error("f0 range {min_hz}–{max_hz} Hz is not usable: choose 30 ≤ min < max ≤ 1000 Hz with max ≥ 1.5 × min (default 50–600)")]
-    F0Range {
-        /// Lower bound given.
-        min_hz: f32,
-        /// Upper bound given.
-        max_hz: f32,
-    },
-    /// The analysis window cannot hold two periods of the lowest f0.
-    #[error("analysis window {window_s} s does not fit f0_min {f0_min_hz} Hz: it must be at least 2 periods ({needed_s} s) and at most 0.1 s")]
-    Window {
-        /// Window given, seconds.
-        window_s: f32,
-        /// Lowest f0 given, Hz.
-        f0_min_hz: f32,
-        /// Shortest window that works, seconds.
-        needed_s: f32,
-    },
-    /// A threshold or ratio is outside 0..1.
-    #[error("{name} = {value} is out of range: it must lie in {range}")]
-    OutOfRange {
-        /// Name of the setting.
-        name: &'static str,
-        /// Value given.
-        value: f32,
-        /// Allowed range, in words.
-        range: &'static str,
-    },
-    /// `process` was called before `prepare`.
-    #[error("the analyzer is not prepared: call prepare(sample_rate, max_block) first")]
-    NotPrepared,
-}
 
 /// Settings of the analysis front end. Defaults are the product's defaults.
 #[derive(Debug, Clone, PartialEq)]
@@ -130,10 +84,11 @@ impl Default for AnalysisConfig {
 impl AnalysisConfig {
     /// Sets one setting from its name and a text value (for command-line overrides such as
     /// `voicing_on=0.8`).
-    pub fn set(&mut self, name: &str, value: &str) -> Result<(), String> {
-        let v: f64 = value
-            .parse()
-            .map_err(|_| format!("{name}: {value:?} is not a number"))?;
+    pub fn set(&mut self, name: &str, value: &str) -> Result<(), AnalysisError> {
+        let v: f64 = value.parse().map_err(|_| AnalysisError::NotANumber {
+            name: name.to_string(),
+            value: value.to_string(),
+        })?;
         match name {
             "frame_rate_hz" => self.frame_rate_hz = v,
             "f0_min_hz" => self.f0_min_hz = v as f32,
@@ -158,7 +113,7 @@ impl AnalysisConfig {
                 }
                 self.voicing_model = self.voicing_model.with_thresholds(on, off)?;
             }
-            _ => return Err(format!("unknown analysis setting {name:?}")),
+            _ => return Err(AnalysisError::UnknownSetting(name.to_string())),
         }
         Ok(())
     }
@@ -222,20 +177,6 @@ impl AnalysisConfig {
         }
         check_range("silence_db", self.silence_db, -120.0, 0.0, "-120..0 dBFS")?;
         self.speaker.validate()
-    }
-}
-
-pub(crate) fn check_range(
-    name: &'static str,
-    value: f32,
-    lo: f32,
-    hi: f32,
-    range: &'static str,
-) -> Result<(), AnalysisError> {
-    if value.is_finite() && value >= lo && value <= hi {
-        Ok(())
-    } else {
-        Err(AnalysisError::OutOfRange { name, value, range })
     }
 }
 
@@ -332,5 +273,48 @@ mod tests {
         assert!(check_sample_rate(192_000.0).is_ok());
         assert!(check_sample_rate(768_000.0).is_ok());
         assert!(check_sample_rate(768_001.0).is_err());
+    }
+
+    #[test]
+    fn the_string_setter_names_what_is_wrong() {
+        use crate::analysis::{InvalidVoicingModel, VoicingModelError};
+        let mut c = AnalysisConfig::default();
+        assert_eq!(c.set("f0_min_hz", "60"), Ok(()));
+        assert_eq!(c.f0_min_hz, 60.0);
+        let e = c.set("f0_min_hz", "sixty").unwrap_err();
+        assert_eq!(
+            e,
+            AnalysisError::NotANumber {
+                name: "f0_min_hz".into(),
+                value: "sixty".into()
+            }
+        );
+        assert_eq!(e.to_string(), "f0_min_hz: \"sixty\" is not a number");
+        let e = c.set("f0_minimum", "60").unwrap_err();
+        assert_eq!(e, AnalysisError::UnknownSetting("f0_minimum".into()));
+        assert_eq!(e.to_string(), "unknown analysis setting \"f0_minimum\"");
+        // The thresholds go through the model, which refuses `off` above `on`.
+        c.set("voicing_threshold_on", "1").unwrap();
+        c.set("voicing_threshold_off", "0.5").unwrap();
+        assert_eq!(
+            (
+                c.voicing_model.threshold(false),
+                c.voicing_model.threshold(true)
+            ),
+            (1.0, 0.5)
+        );
+        let e = c.set("voicing_threshold_off", "2").unwrap_err();
+        assert_eq!(
+            e,
+            AnalysisError::VoicingModel(VoicingModelError::Invalid(
+                InvalidVoicingModel::ThresholdOrder { on: 1.0, off: 2.0 }
+            ))
+        );
+        assert_eq!(e.to_string(), "threshold_off 2 lies above threshold_on 1");
+        assert_eq!(
+            c.voicing_model.threshold(true),
+            0.5,
+            "a refused value changes nothing"
+        );
     }
 }

@@ -7,7 +7,7 @@
 //! over voiced frames. Both start from a prior worth `prior_weight_s` seconds of speech, so the
 //! first frames of a stream are not normalised against themselves alone.
 
-use super::config::{check_range, AnalysisError};
+use super::error::{check_range, AnalysisError};
 
 /// Lowest f0 the histogram covers, Hz.
 const HIST_MIN_HZ: f64 = 30.0;

@@ -1,5 +1,5 @@
 //! Causal decisions on top of the per-window pitch estimates: the voiced decision (the
-//! [`VoicingRule`] of `voicing.rs`), continuity against octave jumps and a short outlier filter
+//! [`VoicingRule`] of `voicing/rule.rs`), continuity against octave jumps and a short outlier filter
 //! ([`F0Smoother`]).
 //! Nothing here looks ahead: each frame uses only itself and the two frames before it.
 

@@ -187,7 +187,7 @@ impl Placement {
         let voiced = f.voiced && f.rms_db.is_finite() && f.level_db.is_finite();
         if voiced {
             let s = &mut self.state;
-            s.speech_level_db = f.rms_db - f.level_db;
+            s.speech_level_db = f.speech_level_db;
             s.phrase_power += 10f64.powf(f.rms_db as f64 / 10.0);
             s.phrase_voiced += 1;
         }

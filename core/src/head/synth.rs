@@ -388,6 +388,7 @@ mod tests {
             rms_db: -20.0,
             f0_st,
             level_db,
+            speech_level_db: -20.0,
             band_db: -20.0,
             bands: Default::default(),
         }

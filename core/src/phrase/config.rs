@@ -18,6 +18,17 @@ pub enum PhraseError {
     /// The frame rate is out of range.
     #[error("phrase tracker frame rate {0} Hz is out of range: use 10–1000 Hz")]
     FrameRate(f64),
+    /// A text value given to [`PhraseConfig::set`] that is not a number.
+    #[error("`{value}` is not a number (setting `{name}`)")]
+    NotANumber {
+        /// The setting.
+        name: String,
+        /// The text given.
+        value: String,
+    },
+    /// A name given to [`PhraseConfig::set`] that is no phrase setting.
+    #[error("unknown phrase setting `{0}`")]
+    UnknownSetting(String),
 }
 
 /// Settings of the [`super::PhraseTracker`].
@@ -89,10 +100,11 @@ impl Default for PhraseConfig {
 
 impl PhraseConfig {
     /// Sets one setting by its field name from text (for evaluation tools and the command line).
-    pub fn set(&mut self, name: &str, value: &str) -> Result<(), String> {
-        let v: f32 = value
-            .parse()
-            .map_err(|_| format!("`{value}` is not a number (setting `{name}`)"))?;
+    pub fn set(&mut self, name: &str, value: &str) -> Result<(), PhraseError> {
+        let v: f32 = value.parse().map_err(|_| PhraseError::NotANumber {
+            name: name.to_string(),
+            value: value.to_string(),
+        })?;
         let field = match name {
             "hangover_s" => &mut self.hangover_s,
             "onset_voiced_s" => &mut self.onset_voiced_s,
@@ -107,7 +119,7 @@ impl PhraseConfig {
             "breath_margin_db" => &mut self.breath_margin_db,
             "breath_max_high_over_mid_db" => &mut self.breath_max_high_over_mid_db,
             "breath_max_low_over_mid_db" => &mut self.breath_max_low_over_mid_db,
-            _ => return Err(format!("unknown phrase setting `{name}`")),
+            _ => return Err(PhraseError::UnknownSetting(name.to_string())),
         };
         *field = v;
         Ok(())
@@ -178,5 +190,33 @@ impl PhraseConfig {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_string_setter_names_what_is_wrong() {
+        let mut c = PhraseConfig::default();
+        assert_eq!(c.set("hangover_s", "0.2"), Ok(()));
+        assert_eq!(c.hangover_s, 0.2);
+        let e = c.set("hangover_s", "long").unwrap_err();
+        assert_eq!(
+            e,
+            PhraseError::NotANumber {
+                name: "hangover_s".into(),
+                value: "long".into()
+            }
+        );
+        assert_eq!(
+            e.to_string(),
+            "`long` is not a number (setting `hangover_s`)"
+        );
+        let e = c.set("hangover", "0.2").unwrap_err();
+        assert_eq!(e, PhraseError::UnknownSetting("hangover".into()));
+        assert_eq!(e.to_string(), "unknown phrase setting `hangover`");
+        assert_eq!(c.hangover_s, 0.2, "a refused value changes nothing");
     }
 }

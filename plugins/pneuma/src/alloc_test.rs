@@ -180,9 +180,9 @@ fn real_process_never_allocates(api: PluginApi) {
         assert!(left[..n].iter().chain(&right[..n]).all(|s| s.is_finite()));
         // The build thread makes the engine the mode change asked for; the next `process`
         // swaps it in under the guard.
-        if plugin.build_pending_samples.is_some() {
+        if plugin.slot.build_pending() {
             let start = std::time::Instant::now();
-            while plugin.swap.built.slots() == 0 {
+            while !plugin.slot.built_waiting() {
                 assert!(start.elapsed().as_secs() < 10, "no engine built in 10 s");
                 std::thread::sleep(std::time::Duration::from_millis(1));
             }

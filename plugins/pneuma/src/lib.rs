@@ -66,7 +66,7 @@ pub use params::{ChangeFlags, PneumaParams, PARAM_IDS};
 use pneuma_core::breathing::BreathSample;
 use pneuma_core::engine::Engine;
 use pneuma_core::ControlFrame;
-use rebuild::{BuildWorker, EngineBuilder, StreamSpec, Structural, SwapEnds};
+use rebuild::{EngineSlot, SlotEvent};
 use transport::{JumpDetector, PreRoll};
 
 impl OscSettings for PneumaParams {
@@ -123,10 +123,8 @@ impl MonoSource {
 /// The Pneuma plugin instance.
 pub struct Pneuma {
     params: Arc<PneumaParams>,
-    /// `None` before activation and where the engine cannot run at the host's sample rate: the
-    /// audio then passes untouched and the controls rest. Boxed so that swapping engines on the
-    /// audio thread moves a pointer and frees nothing ([`rebuild`]).
-    engine: Option<Box<Engine>>,
+    /// The engine and its replacement when structural settings change ([`rebuild`]).
+    slot: EngineSlot,
     /// The rest pose went out since the controls stopped following the voice (bypass, or no
     /// engine); the next frames from the engine clear it.
     at_rest: bool,
@@ -136,32 +134,6 @@ pub struct Pneuma {
     osc_feed: Option<OscFeed>,
     osc_worker: Option<OscWorker>,
     osc_stats: Option<Arc<OscStats>>,
-    /// Builds engines: at activation, and on `build_worker` when structural settings change.
-    builder: Arc<EngineBuilder>,
-    /// The build thread (started at the first activation).
-    build_worker: Option<BuildWorker>,
-    /// The audio thread's ends of the engine hand-over.
-    swap: SwapEnds,
-    /// The running engine's structural settings.
-    prepared: Option<Structural>,
-    /// The latency last reported to the host, samples.
-    reported_latency: u32,
-    /// The host hears of a latency change only while activating (CLAP): a built engine whose
-    /// latency differs from the reported one then waits for the next activation.
-    latency_only_at_activation: bool,
-    /// Structural settings whose engine was built but held back for a latency change; not built
-    /// again until the settings move on or the plugin is re-activated.
-    held: Option<Structural>,
-    /// The current activation's stream (its epoch tells builds for it from older ones).
-    stream: Option<StreamSpec>,
-    /// Samples processed since a background build was asked for (`None`: none pending).
-    build_pending_samples: Option<u64>,
-    /// The structural settings may differ from the running engine's: a structural parameter
-    /// raised its flag, a build came back or a sample path changed. Compared (and cleared) at
-    /// the next block instead of diffing the settings every block.
-    structure_stale: bool,
-    /// The breath-sample change count last seen.
-    seen_sample_generation: u64,
     jumps: JumpDetector,
     pre_roll: PreRoll,
     /// The audio side of the editor's data path ([`editor::feed`]).
@@ -169,18 +141,14 @@ pub struct Pneuma {
     view_shared: Arc<EditorShared>,
 }
 
-/// Seconds of processed audio after which an unanswered build is asked for again.
-const BUILD_RETRY_S: f64 = 2.0;
-
 impl Default for Pneuma {
     fn default() -> Self {
         let params = Arc::new(PneumaParams::default());
         let cc = CcEncoder::new(params.cc_map()).expect("the default CC map is valid");
-        let (builder, swap) = EngineBuilder::new(params.clone());
         let (view, view_shared) = editor::feed::channel();
         Self {
+            slot: EngineSlot::new(params.clone()),
             params,
-            engine: None,
             at_rest: false,
             mono: MonoSource::default(),
             cc,
@@ -188,17 +156,6 @@ impl Default for Pneuma {
             osc_feed: None,
             osc_worker: None,
             osc_stats: None,
-            builder,
-            build_worker: None,
-            swap,
-            prepared: None,
-            reported_latency: 0,
-            latency_only_at_activation: false,
-            held: None,
-            stream: None,
-            build_pending_samples: None,
-            structure_stale: true,
-            seen_sample_generation: 0,
             jumps: JumpDetector::default(),
             pre_roll: PreRoll::default(),
             view,
@@ -219,81 +176,28 @@ impl Pneuma {
     }
 
     fn reset_streams(&mut self) {
-        if let Some(e) = &mut self.engine {
-            e.reset();
-        }
+        self.slot.reset();
         self.cc.reset();
     }
 
-    /// Audio thread, start of a block: swaps in an engine the builder finished for this
-    /// activation and reports its latency; asks for a build when the structural settings differ
-    /// from the running engine's. Never allocates, frees or blocks.
+    /// Audio thread, start of a block: the engine slot swaps in an engine built for new
+    /// structural settings ([`EngineSlot::follow`]); the host hears of its latency, or is asked
+    /// for a restart, and the editor shows it. Never allocates, frees or blocks.
     fn follow_structure(&mut self, context: &mut impl ProcessContext<Self>, block: usize) {
-        let Some(stream) = self.stream else {
-            return;
-        };
-        while let Ok(built) = self.swap.built.pop() {
-            if built.epoch != stream.epoch {
-                self.swap.retire(built.engine);
-                continue;
+        let (view, at_rest) = (&mut self.view, &mut self.at_rest);
+        self.slot.follow(block, |event| match event {
+            SlotEvent::Swapped {
+                latency,
+                running,
+                sample_rate_hz,
+            } => {
+                context.set_latency_samples(latency);
+                // The editor shows the latency the swapped-in engine costs.
+                view.activated(running, latency, sample_rate_hz);
+                *at_rest = false;
             }
-            self.build_pending_samples = None;
-            // The parameters may have moved on while it was built.
-            self.structure_stale = true;
-            let latency = built.engine.as_ref().map_or(0, |e| e.latency_samples());
-            if self.latency_only_at_activation && latency != self.reported_latency {
-                // CLAP lets a plugin report a new latency only inside `activate`; reporting it
-                // from here races the host's deactivation (nice-plug then tells the host outside
-                // `activate`). Ask for the restart instead: the settings take effect at that
-                // activation, which builds its engine from them and reports its latency.
-                self.held = Some(built.structural);
-                self.swap.retire(built.engine);
-                context.request_restart();
-                continue;
-            }
-            let old = std::mem::replace(&mut self.engine, built.engine);
-            self.swap.retire(old);
-            self.prepared = Some(built.structural);
-            if let Some(engine) = self.engine.as_deref_mut() {
-                // Live settings that changed while it was built.
-                if let Err(e) = engine.set_config(&self.params.engine_config()) {
-                    debug_assert!(false, "the parameters' engine settings are valid: {e}");
-                }
-            }
-            context.set_latency_samples(latency);
-            self.reported_latency = latency;
-            // The editor shows the latency the swapped-in engine costs.
-            self.view
-                .activated(self.engine.is_some(), latency, stream.sample_rate_hz as f32);
-            self.at_rest = false;
-        }
-        if ChangeFlags::take(&self.params.changes.structure) {
-            self.structure_stale = true;
-        }
-        let generation = rebuild::sample_generation(&self.params);
-        if generation != self.seen_sample_generation {
-            self.seen_sample_generation = generation;
-            self.structure_stale = true;
-        }
-        let retry = (BUILD_RETRY_S * stream.sample_rate_hz) as u64;
-        match self.build_pending_samples.as_mut() {
-            Some(waited) if *waited < retry => *waited += block as u64,
-            _ if !self.structure_stale => self.build_pending_samples = None,
-            _ => {
-                let wanted = Some(Structural::of(&self.params));
-                if self.prepared != wanted && self.held != wanted {
-                    // Stays stale: the built engine is compared again when it comes back, or
-                    // the build is asked for again after the retry time.
-                    if let Some(worker) = &self.build_worker {
-                        self.build_pending_samples = Some(0);
-                        worker.request();
-                    }
-                } else {
-                    self.build_pending_samples = None;
-                    self.structure_stale = false;
-                }
-            }
-        }
+            SlotEvent::RestartWanted => context.request_restart(),
+        });
     }
 
     /// Runs the engine (or the pass-through where there is none) over `audio`, sending its
@@ -306,7 +210,7 @@ impl Pneuma {
         send_cc: &mut dyn FnMut(u32, CcMessage),
     ) {
         let bypassed = self.params.bypass.value();
-        match self.engine.as_deref_mut() {
+        match self.slot.engine_mut() {
             Some(engine) => {
                 self.at_rest = bypassed;
                 let outputs = if bypassed {
@@ -448,7 +352,7 @@ impl Plugin for Pneuma {
 
     fn deactivate(&mut self) {
         // Off the audio thread: drop what the audio thread handed back.
-        self.builder.drop_retired();
+        self.slot.deactivate();
     }
 
     fn editor(&mut self, _executor: AsyncExecutor<Self>) -> Option<Self::Editor> {
@@ -470,46 +374,17 @@ impl Plugin for Pneuma {
         let channels = audio_io_layout
             .main_output_channels
             .map_or(1, NonZeroU32::get) as usize;
-        let epoch = self.stream.map_or(0, |s| s.epoch) + 1;
-        let stream = StreamSpec::new(
-            f64::from(buffer_config.sample_rate),
+        // Never refuse: a host may use any rate (1 Hz, 768 kHz, 1 234.5678 Hz). Where the engine
+        // cannot run, the audio passes untouched and the controls rest.
+        let latency = self.slot.activate(
+            buffer_config.sample_rate,
             buffer_config.max_buffer_size,
             channels,
-            epoch,
+            context.plugin_api() == PluginApi::Clap,
         );
-        self.stream = Some(stream);
-        self.builder.set_stream(stream);
-        // Engines from builds of earlier activations are dropped here, off the audio thread.
-        while self.swap.built.pop().is_ok() {}
-        self.builder.drop_retired();
-        self.build_pending_samples = None;
-        if self.build_worker.is_none() {
-            match BuildWorker::start(self.builder.clone()) {
-                Ok(worker) => self.build_worker = Some(worker),
-                // Structural changes then wait for the next activation.
-                Err(e) => nice_error!("Pneuma: cannot start the engine build thread: {e}"),
-            }
-        }
-        // Never refuse: a host may use any rate (1 Hz, 768 kHz, 1 234.5678 Hz). Where the engine
-        // cannot run, the audio passes untouched and the controls rest. Built on the build
-        // thread (a known stack), here only if that thread is missing or stuck.
-        let built = self
-            .build_worker
-            .as_ref()
-            .and_then(|w| w.build_and_wait(&mut self.swap, epoch))
-            .unwrap_or_else(|| self.builder.build_boxed(&stream));
-        self.engine = built.engine;
-        let structural = built.structural;
-        let latency = self.engine.as_ref().map_or(0, |e| e.latency_samples());
         context.set_latency_samples(latency);
-        self.reported_latency = latency;
-        self.latency_only_at_activation = context.plugin_api() == PluginApi::Clap;
-        self.held = None;
         self.view
-            .activated(self.engine.is_some(), latency, buffer_config.sample_rate);
-        self.prepared = Some(structural);
-        // Settings may have moved while it was built.
-        self.structure_stale = true;
+            .activated(self.slot.is_running(), latency, buffer_config.sample_rate);
         self.at_rest = false;
         self.mono = MonoSource::new(audio_io_layout);
         // One millisecond of tolerance for rounded host positions (at least one sample).
@@ -553,8 +428,7 @@ impl Plugin for Pneuma {
         let jumped = self.jumps.check(playing, pos, buffer.samples());
         if jumped {
             self.reset_streams();
-            let latency = self.engine.as_ref().map_or(0, |e| e.latency_samples());
-            self.pre_roll.start(pos, latency);
+            self.pre_roll.start(pos, self.slot.latency_samples());
         }
         self.follow_structure(context, buffer.samples());
         let changes = &self.params.changes;
@@ -566,13 +440,9 @@ impl Plugin for Pneuma {
             }
         }
         if ChangeFlags::take(&changes.engine) {
-            if let Some(engine) = self.engine.as_deref_mut() {
-                // The live part applies now; a stream part waits for the build that the structure
-                // flag asked for. Every parameter is in range, so the settings are valid.
-                if let Err(e) = engine.set_config(&self.params.engine_config()) {
-                    debug_assert!(false, "the parameters' engine settings are valid: {e}");
-                }
-            }
+            // The live part applies now; a stream part waits for the build that the structure
+            // flag asked for.
+            self.slot.apply_live_settings();
         }
         let midi_on = self.params.midi_enabled.value();
         if midi_on && !self.midi_was_enabled {
@@ -599,7 +469,7 @@ impl Plugin for Pneuma {
         };
         self.mono.apply(buffer.as_slice());
         self.view.begin_block(buffer.as_slice());
-        let rest = bypassed || self.engine.is_none();
+        let rest = bypassed || !self.slot.is_running();
         if rest && !self.at_rest {
             // Once: every controller to the rest pose, one rest frame to OSC.
             self.at_rest = true;

@@ -12,10 +12,16 @@
 //! 2. [`EngineBuilder::run`] (on that thread: allocates, reads files) drops the engines the
 //!    audio thread retired, builds an engine for the current parameters and the stream the
 //!    plugin was activated for, and hands it over through a lock-free queue ([`Built`]).
-//! 3. The audio thread ([`SwapEnds`]) takes it at the start of a block, swaps it in, reports its
-//!    latency to the host (VST3: `restartComponent(kLatencyChanged)`; CLAP: a restart request,
-//!    as the CLAP latency extension asks) and passes the old engine back to be dropped off the
-//!    audio thread. Nothing on the audio thread allocates, frees, locks or blocks.
+//! 3. The audio thread ([`EngineSlot::follow`], through [`SwapEnds`]) takes it at the start of
+//!    a block, swaps it in, reports its latency to the host (VST3:
+//!    `restartComponent(kLatencyChanged)`; CLAP: a restart request, as the CLAP latency
+//!    extension asks) and passes the old engine back to be dropped off the audio thread.
+//!    Nothing on the audio thread allocates, frees, locks or blocks.
+//!
+//! [`EngineSlot`] holds all of it for the plugin: the running engine, the builder and its
+//! thread, the hand-over queues, the settings the engine was built from and the latency the host
+//! was told. The plugin activates the slot, lets it follow the parameters at the start of each
+//! block, and runs the engine it holds.
 //!
 //! The new engine starts empty, as after a transport jump: in lookahead mode the track is
 //! silent for the new lookahead. Each activation starts a new stream epoch; an engine built for
@@ -38,7 +44,7 @@ use pneuma_core::head::HeadModel;
 use rtrb::{Consumer, Producer, RingBuffer};
 
 use crate::load_breath_sample;
-use crate::params::PneumaParams;
+use crate::params::{ChangeFlags, PneumaParams};
 
 /// Largest block the engine is prepared for; longer host blocks are processed in pieces.
 pub const MAX_ENGINE_BLOCK: usize = 8192;
@@ -331,12 +337,270 @@ impl Drop for BuildWorker {
     }
 }
 
+/// Seconds of processed audio after which an unanswered build is asked for again.
+const BUILD_RETRY_S: f64 = 2.0;
+
+/// What a block's look at the [`EngineSlot`] asks of the host and the editor.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SlotEvent {
+    /// A newly built engine runs now (`running`), or none where it cannot run at this rate:
+    /// report its latency to the host (VST3: `restartComponent(kLatencyChanged)`) and show it.
+    Swapped {
+        /// The new engine's latency, samples (0 without an engine).
+        latency: u32,
+        /// An engine runs (false: the audio passes untouched and the controls rest).
+        running: bool,
+        /// The stream's sample rate, Hz.
+        sample_rate_hz: f32,
+    },
+    /// A built engine would change the latency, which the host hears of only while
+    /// activating (CLAP): ask the host for a restart; the running engine keeps going until
+    /// then, and the re-activation builds from the new settings.
+    RestartWanted,
+}
+
+/// The plugin's engine and everything about replacing it: the running engine, the builder and
+/// its thread, the hand-over queues, the structural settings the engine was built from, the
+/// latency reported to the host and the build asked for. The plugin activates it, looks at it
+/// at the start of every block ([`EngineSlot::follow`]) and runs the engine it holds.
+pub struct EngineSlot {
+    params: Arc<PneumaParams>,
+    /// `None` before activation and where the engine cannot run at the host's sample rate.
+    /// Boxed so that swapping engines on the audio thread moves a pointer and frees nothing.
+    engine: Option<Box<Engine>>,
+    /// Builds engines: at activation, and on `worker` when structural settings change.
+    builder: Arc<EngineBuilder>,
+    /// The build thread (started at the first activation).
+    worker: Option<BuildWorker>,
+    /// The audio thread's ends of the engine hand-over.
+    swap: SwapEnds,
+    /// The running engine's structural settings.
+    prepared: Option<Structural>,
+    /// Structural settings whose engine was built but held back for a latency change; not built
+    /// again until the settings move on or the plugin is re-activated.
+    held: Option<Structural>,
+    /// The latency last reported to the host, samples.
+    reported_latency: u32,
+    /// The host hears of a latency change only while activating (CLAP): a built engine whose
+    /// latency differs from the reported one then waits for the next activation.
+    latency_only_at_activation: bool,
+    /// The current activation's stream (its epoch tells builds for it from older ones).
+    stream: Option<StreamSpec>,
+    /// Samples processed since a background build was asked for (`None`: none pending).
+    build_pending_samples: Option<u64>,
+    /// The structural settings may differ from the running engine's: a structural parameter
+    /// raised its flag, a build came back or a sample path changed. Compared (and cleared) at
+    /// the next block instead of diffing the settings every block.
+    structure_stale: bool,
+    /// The breath-sample change count last seen.
+    seen_sample_generation: u64,
+}
+
+impl EngineSlot {
+    /// An empty slot for `params` (no engine until [`EngineSlot::activate`]).
+    pub fn new(params: Arc<PneumaParams>) -> Self {
+        let (builder, swap) = EngineBuilder::new(params.clone());
+        Self {
+            params,
+            engine: None,
+            builder,
+            worker: None,
+            swap,
+            prepared: None,
+            held: None,
+            reported_latency: 0,
+            latency_only_at_activation: false,
+            stream: None,
+            build_pending_samples: None,
+            structure_stale: true,
+            seen_sample_generation: 0,
+        }
+    }
+
+    /// The running engine.
+    pub fn engine_mut(&mut self) -> Option<&mut Engine> {
+        self.engine.as_deref_mut()
+    }
+
+    /// Whether an engine runs (none before activation or at a rate it cannot run at).
+    pub fn is_running(&self) -> bool {
+        self.engine.is_some()
+    }
+
+    /// The running engine's latency, samples (0 without one).
+    pub fn latency_samples(&self) -> u32 {
+        self.engine.as_ref().map_or(0, |e| e.latency_samples())
+    }
+
+    /// Clears the running engine's stream state (no allocation).
+    pub fn reset(&mut self) {
+        if let Some(engine) = self.engine_mut() {
+            engine.reset();
+        }
+    }
+
+    /// Applies the parameters' live settings to the running engine at once (allocation-free);
+    /// a stream part waits for the build that the structure flag asks for.
+    pub fn apply_live_settings(&mut self) {
+        let config = self.params.engine_config();
+        if let Some(engine) = self.engine_mut() {
+            // Every parameter is in range, so the settings are valid.
+            if let Err(e) = engine.set_config(&config) {
+                debug_assert!(false, "the parameters' engine settings are valid: {e}");
+            }
+        }
+    }
+
+    /// Activation (not the audio thread): an engine for the parameters and this stream,
+    /// built on the build thread (a known stack; here only if that thread is missing or stuck),
+    /// replaces the running one; the latency to report to the host. Never fails: where the
+    /// engine cannot run at `sample_rate_hz` the slot holds none (latency 0).
+    /// `latency_only_at_activation`: the host hears of latency changes only here (CLAP).
+    pub fn activate(
+        &mut self,
+        sample_rate_hz: f32,
+        host_max_block: u32,
+        channels: usize,
+        latency_only_at_activation: bool,
+    ) -> u32 {
+        let epoch = self.stream.map_or(0, |s| s.epoch) + 1;
+        let stream = StreamSpec::new(f64::from(sample_rate_hz), host_max_block, channels, epoch);
+        self.stream = Some(stream);
+        self.builder.set_stream(stream);
+        // Engines from builds of earlier activations are dropped here, off the audio thread.
+        while self.swap.built.pop().is_ok() {}
+        self.builder.drop_retired();
+        self.build_pending_samples = None;
+        if self.worker.is_none() {
+            match BuildWorker::start(self.builder.clone()) {
+                Ok(worker) => self.worker = Some(worker),
+                // Structural changes then wait for the next activation.
+                Err(e) => nice_error!("Pneuma: cannot start the engine build thread: {e}"),
+            }
+        }
+        let built = self
+            .worker
+            .as_ref()
+            .and_then(|w| w.build_and_wait(&mut self.swap, epoch))
+            .unwrap_or_else(|| self.builder.build_boxed(&stream));
+        self.engine = built.engine;
+        self.reported_latency = self.latency_samples();
+        self.latency_only_at_activation = latency_only_at_activation;
+        self.held = None;
+        self.prepared = Some(built.structural);
+        // Settings may have moved while it was built.
+        self.structure_stale = true;
+        self.reported_latency
+    }
+
+    /// Deactivation (not the audio thread): drops the engines the audio thread handed back.
+    pub fn deactivate(&self) {
+        self.builder.drop_retired();
+    }
+
+    /// Audio thread, start of a block of `block` samples: swaps in an engine the builder
+    /// finished for this activation (telling `on` what the host must hear), and asks for a
+    /// build when the structural settings differ from the running engine's. Never allocates,
+    /// frees or blocks.
+    pub fn follow(&mut self, block: usize, mut on: impl FnMut(SlotEvent)) {
+        let Some(stream) = self.stream else {
+            return;
+        };
+        while let Ok(built) = self.swap.built.pop() {
+            if built.epoch == stream.epoch {
+                self.take(built, stream, &mut on);
+            } else {
+                self.swap.retire(built.engine);
+            }
+        }
+        self.notice_structure_changes();
+        self.ask_for_build(block, stream);
+    }
+
+    /// Swaps in an engine built for this activation, or holds it back for a restart.
+    fn take(&mut self, built: Built, stream: StreamSpec, on: &mut impl FnMut(SlotEvent)) {
+        self.build_pending_samples = None;
+        // The parameters may have moved on while it was built.
+        self.structure_stale = true;
+        let latency = built.engine.as_ref().map_or(0, |e| e.latency_samples());
+        if self.latency_only_at_activation && latency != self.reported_latency {
+            // CLAP lets a plugin report a new latency only inside `activate`; reporting it
+            // from here races the host's deactivation (nice-plug then tells the host outside
+            // `activate`). Ask for the restart instead: the settings take effect at that
+            // activation, which builds its engine from them and reports its latency.
+            self.held = Some(built.structural);
+            self.swap.retire(built.engine);
+            on(SlotEvent::RestartWanted);
+            return;
+        }
+        let old = std::mem::replace(&mut self.engine, built.engine);
+        self.swap.retire(old);
+        self.prepared = Some(built.structural);
+        // Live settings that changed while it was built.
+        self.apply_live_settings();
+        on(SlotEvent::Swapped {
+            latency,
+            running: self.engine.is_some(),
+            sample_rate_hz: stream.sample_rate_hz as f32,
+        });
+        self.reported_latency = latency;
+    }
+
+    /// Marks the structure stale when a structural parameter raised its flag or a breath
+    /// sample path changed.
+    fn notice_structure_changes(&mut self) {
+        if ChangeFlags::take(&self.params.changes.structure) {
+            self.structure_stale = true;
+        }
+        let generation = sample_generation(&self.params);
+        if generation != self.seen_sample_generation {
+            self.seen_sample_generation = generation;
+            self.structure_stale = true;
+        }
+    }
+
+    /// Asks the build thread for an engine when the structural settings are stale and differ
+    /// from the running (or held-back) engine's; again after [`BUILD_RETRY_S`] unanswered.
+    fn ask_for_build(&mut self, block: usize, stream: StreamSpec) {
+        let retry = (BUILD_RETRY_S * stream.sample_rate_hz) as u64;
+        match self.build_pending_samples.as_mut() {
+            Some(waited) if *waited < retry => *waited += block as u64,
+            _ if !self.structure_stale => self.build_pending_samples = None,
+            _ => {
+                let wanted = Some(Structural::of(&self.params));
+                if self.prepared != wanted && self.held != wanted {
+                    // Stays stale: the built engine is compared again when it comes back, or
+                    // the build is asked for again after the retry time.
+                    if let Some(worker) = &self.worker {
+                        self.build_pending_samples = Some(0);
+                        worker.request();
+                    }
+                } else {
+                    self.build_pending_samples = None;
+                    self.structure_stale = false;
+                }
+            }
+        }
+    }
+
+    /// A build was asked for and has not come back yet (tests).
+    #[cfg(test)]
+    pub(crate) fn build_pending(&self) -> bool {
+        self.build_pending_samples.is_some()
+    }
+
+    /// A built engine waits to be taken at the next block (tests).
+    #[cfg(test)]
+    pub(crate) fn built_waiting(&self) -> bool {
+        self.swap.built.slots() > 0
+    }
+}
+
 #[cfg(test)]
 // nice-plug's `ParamPtr` setters are `unsafe`: the parameters outlive every call.
 #[allow(unsafe_code)]
 mod tests {
     use super::*;
-    use crate::params::ChangeFlags;
     use nice_plug::prelude::Params;
 
     /// Every parameter, set to several values: where core says the engine config's stream part

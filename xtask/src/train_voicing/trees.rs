@@ -226,6 +226,7 @@ pub(crate) fn fit_trees(
         Some(m) => m.plus_trees(depth, splits, leaves, 0.0, 0.0),
         None => VoicingModel::trees(depth, base, splits, leaves, 0.0, 0.0),
     }
+    .map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

@@ -23,9 +23,12 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use pneuma_core::phrase::{PhraseConfig, PhraseEvent, PhraseTracker};
-use pneuma_core::{AnalysisConfig, Analyzer};
+use pneuma_core::AnalysisConfig;
 
-use crate::eval_pitch::{list_clips, read_reference, split_name};
+use crate::data::analyse;
+use crate::data::reference::{list_clips, read_reference, split_name};
+use crate::noise::with_noise;
+use crate::stats::overlap_s;
 
 /// Shortest pause evaluated, seconds.
 const MIN_PAUSE_S: f64 = 0.25;
@@ -69,10 +72,6 @@ impl Counts {
     }
 }
 
-fn overlap(a: (f64, f64), b: (f64, f64)) -> f64 {
-    (a.1.min(b.1) - a.0.max(b.0)).max(0.0)
-}
-
 /// Unvoiced runs of the reference as (start, end, bounded by voiced on both sides).
 fn reference_runs(reference: &[(f64, f32)]) -> Vec<(f64, f64, bool)> {
     let step = if reference.len() > 1 {
@@ -110,28 +109,19 @@ fn reference_runs(reference: &[(f64, f32)]) -> Vec<(f64, f64, bool)> {
 
 fn detect(audio: &[f32], rate: u32, phrase: PhraseConfig) -> Result<Vec<(f64, f64)>, String> {
     let config = AnalysisConfig::default();
-    let mut analyzer = Analyzer::new(config.clone()).map_err(|e| e.to_string())?;
-    analyzer
-        .prepare(rate as f64, 4096)
-        .map_err(|e| e.to_string())?;
+    let frames = analyse(audio, rate as f64, &config).map_err(|e| e.to_string())?;
     let mut tracker =
         PhraseTracker::new(phrase, config.frame_rate_hz).map_err(|e| e.to_string())?;
     let mut pauses = Vec::new();
-    let mut on_frame = |f: &pneuma_core::FeatureFrame| {
+    for f in &frames {
         tracker.update(f, |e| {
             if let PhraseEvent::Start { pause: p, .. } = e {
                 if !p.leading {
                     pauses.push((p.start_s, p.end_s));
                 }
             }
-        })
-    };
-    for block in audio.chunks(4096) {
-        analyzer
-            .process(block, &mut on_frame)
-            .map_err(|e| e.to_string())?;
+        });
     }
-    analyzer.finish(&mut on_frame).map_err(|e| e.to_string())?;
     Ok(pauses)
 }
 
@@ -159,27 +149,6 @@ fn zero_runs(audio: &[f32], rate: u32) -> Vec<(f64, f64, bool)> {
     runs
 }
 
-/// Adds seeded white or brown noise at `snr_db` under the speech power (active samples only).
-fn with_noise(audio: &[f32], snr_db: f64, brown: bool, seed: u64) -> Vec<f32> {
-    let active: Vec<f32> = audio.iter().copied().filter(|x| *x != 0.0).collect();
-    let speech = pneuma_core::test_signals::rms(&active);
-    let mut noise = pneuma_core::test_signals::white_noise(audio.len(), 1.0, seed);
-    if brown {
-        // Leaky integration: a 1/f² spectrum above ~16 Hz, like road rumble.
-        let mut y = 0.0f32;
-        for n in noise.iter_mut() {
-            y = 0.995 * y + *n;
-            *n = y;
-        }
-    }
-    let gain = speech / pneuma_core::test_signals::rms(&noise) / 10f64.powf(snr_db / 20.0);
-    audio
-        .iter()
-        .zip(&noise)
-        .map(|(x, n)| x + (gain * *n as f64) as f32)
-        .collect()
-}
-
 fn score(reference: &[(f64, f32)], detected: &[(f64, f64)]) -> Counts {
     score_runs(&reference_runs(reference), detected)
 }
@@ -193,7 +162,7 @@ fn score_runs(runs: &[(f64, f64, bool)], detected: &[(f64, f64)]) -> Counts {
         c.reference += 1;
         if detected
             .iter()
-            .any(|&d| d.1 - d.0 >= 0.2 && overlap(d, (s, e)) >= 0.5 * (d.1 - d.0))
+            .any(|&d| d.1 - d.0 >= 0.2 && overlap_s(d, (s, e)) >= 0.5 * (d.1 - d.0))
         {
             c.reference_found += 1;
         }
@@ -203,7 +172,7 @@ fn score_runs(runs: &[(f64, f64, bool)], detected: &[(f64, f64)]) -> Counts {
             continue;
         }
         c.detected += 1;
-        let covered: f64 = runs.iter().map(|&(s, e, _)| overlap(d, (s, e))).sum();
+        let covered: f64 = runs.iter().map(|&(s, e, _)| overlap_s(d, (s, e))).sum();
         if covered >= 0.5 * (d.1 - d.0) {
             c.detected_right += 1;
         }
@@ -211,6 +180,8 @@ fn score_runs(runs: &[(f64, f64, bool)], detected: &[(f64, f64)]) -> Counts {
     c
 }
 
+/// Runs `cargo xtask eval-pauses` with `args` (after the command's name); returns the process
+/// exit code.
 pub fn main(args: &[String]) -> i32 {
     match run(args) {
         Ok(code) => code,
@@ -238,19 +209,13 @@ fn run(args: &[String]) -> Result<i32, String> {
             "--set" => {
                 let kv = it.next().ok_or("--set needs name=value")?;
                 let (k, v) = kv.split_once('=').ok_or("--set needs name=value")?;
-                phrase.set(k, v)?;
+                phrase.set(k, v).map_err(|e| e.to_string())?;
             }
             other => return Err(format!("unknown argument {other:?}")),
         }
     }
     let data: PathBuf =
         data.ok_or("missing --data DIR (the PTDB-TUG excerpts, e.g. ../shared/data/ptdb)")?;
-    if !data.is_dir() {
-        return Err(format!(
-            "data folder {} not found: pass the folder holding <clip>.wav and <clip>.f0.csv",
-            data.display()
-        ));
-    }
     let names = list_clips(&data)?;
     let mut per_snr: BTreeMap<u32, Counts> = BTreeMap::new();
     let mut per_noise: BTreeMap<String, Counts> = BTreeMap::new();
@@ -260,7 +225,7 @@ fn run(args: &[String]) -> Result<i32, String> {
     for name in &names {
         let (noise, snr_db) =
             split_name(name).ok_or_else(|| format!("cannot read noise/SNR from {name}"))?;
-        let (audio, rate) = match pneuma_cli::wav::read_mono(&data.join(format!("{name}.wav"))) {
+        let (audio, rate) = match pneuma_io::wav::read_mono(&data.join(format!("{name}.wav"))) {
             Ok(v) => v,
             Err(_) => {
                 skipped += 1;
@@ -300,7 +265,7 @@ fn run(args: &[String]) -> Result<i32, String> {
     // The example voice: exact pauses (runs of digital zeros), with seeded white and brown
     // (low-frequency, traffic-like) noise at each SNR.
     let voice_path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../assets/examples/voice.wav");
-    let (voice, voice_rate) = pneuma_cli::wav::read_mono(&voice_path).map_err(|e| e.to_string())?;
+    let (voice, voice_rate) = pneuma_io::wav::read_mono(&voice_path).map_err(|e| e.to_string())?;
     let voice_ref = zero_runs(&voice, voice_rate);
     let mut per_snr_voice: BTreeMap<u32, Counts> = BTreeMap::new();
     for snr_db in [40u32, 20, 10, 0] {

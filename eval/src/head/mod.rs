@@ -32,7 +32,11 @@ use pneuma_core::head::{HeadConfig, HeadModel, TrainingClip, UnvoicedBehaviour, 
 use pneuma_core::{AnalysisConfig, FeatureFrame};
 use pneuma_io::read_mono;
 
-use crate::train::{analyze_wav, load_clips, print_clip_table, print_variant_ranks};
+use crate::data::styletalk::load_clips;
+use crate::data::{analyse_file, wav_files};
+
+mod tables;
+pub use tables::{print_clip_table, print_variant_ranks};
 
 /// Length of the silence rendered through the engine for the posture check, seconds.
 pub const ENGINE_SILENCE_S: f64 = 600.0;
@@ -66,6 +70,11 @@ pub struct HeadArgs {
     /// herwinvw/VisualProsody): runs them on the same clips and voices as a reference.
     #[arg(long)]
     pub paper_models: Option<PathBuf>,
+    /// Cross-validate only these variants (names as the variant table prints them, e.g.
+    /// `--variant "mixture/loudness_model -governor"`; repeatable); the model's own variant is
+    /// always run.
+    #[arg(long = "variant")]
+    pub variants: Vec<String>,
     /// Folder to write each clip's generated and real angles to (`<clip>.motion.csv`), for
     /// plots.
     #[arg(long)]
@@ -166,21 +175,14 @@ fn engine_silence(
     Ok(t)
 }
 
-/// The `.wav` files of a folder, sorted.
+/// The `.wav` files of a voice folder, sorted; an error when it has none.
 fn wavs(dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|e| {
-            format!(
-                "cannot read the voice folder {}: {e} (give e.g. ../shared/data/keele)",
-                dir.display()
-            )
-        })?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "wav"))
-        .collect();
-    v.sort();
+    let v = wav_files(dir, "voices as .wav files, e.g. ../shared/data/keele")?;
     if v.is_empty() {
-        return Err(format!("no .wav files in {}", dir.display()));
+        return Err(format!(
+            "no .wav files in {} (give a folder of voices, e.g. ../shared/data/keele)",
+            dir.display()
+        ));
     }
     Ok(v)
 }
@@ -298,7 +300,7 @@ fn paper_report(
     if let Some(dir) = keele {
         let mut voices = Vec::new();
         for f in wavs(dir)? {
-            let frames = analyze_wav(&f, config).map_err(|e| e.to_string())?;
+            let frames = analyse_file(&f, config)?;
             let gen = run_paper(&synth, &frames, rate);
             voices.push((stem(&f), motion_stats(&gen, rate)));
         }
@@ -348,9 +350,6 @@ pub fn run(args: &HeadArgs) -> Result<bool, String> {
     if let Some(u) = unvoiced {
         judged.unvoiced = u;
     }
-    if let Ok(j) = std::env::var("JUDGE") {
-        judged = Variant::candidates().into_iter().find(|v| v.name() == j).expect("JUDGE");
-    }
     let clips = load_clips(&args.data, &config).map_err(|e| e.to_string())?;
     let mut targets = Vec::new();
     let evals = if args.cross_validate {
@@ -362,8 +361,8 @@ pub fn run(args: &HeadArgs) -> Result<bool, String> {
             ..TrainConfig::default()
         };
         let mut variants = Variant::candidates();
-        if let Ok(f) = std::env::var("VARIANTS") {
-            variants.retain(|v| f.split(';').any(|x| v.name() == x));
+        if !args.variants.is_empty() {
+            variants.retain(|v| args.variants.contains(&v.name()));
         }
         if !variants.contains(&judged) {
             variants.push(judged);

@@ -1,5 +1,5 @@
 //! The Python pitch baselines of `cargo xtask eval-pitch`: swift-f0 (an ONNX CNN, PyPI) and pYIN
-//! (librosa), run by `xtask/python/f0_baselines.py` in one worker process per evaluation (the
+//! (librosa), run by `eval/python/f0_baselines.py` in one worker process per evaluation (the
 //! models load once). The worker needs a Python with `swift-f0` (and `librosa` for pYIN):
 //! `python3 -m venv target/venv-f0 && target/venv-f0/bin/pip install swift-f0==0.3.0
 //! soundfile==0.14.0 soxr==1.1.0 librosa==0.11.0` (librosa only for pYIN; `.ci/run` installs the
@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 
 /// The worker script, embedded so the xtask runs from any folder.
-const SCRIPT: &str = include_str!("../python/f0_baselines.py");
+const SCRIPT: &str = include_str!("../../python/f0_baselines.py");
 
 /// Where `.ci/run` and the README put the virtual environment.
 pub const DEFAULT_PYTHON: &str = "target/venv-f0/bin/python";

@@ -19,14 +19,15 @@
 //! one) is missed.
 
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 use pneuma_core::breathing::RESERVE_LUNG;
 use pneuma_core::engine::{offline, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
 use pneuma_core::ControlFrame;
+use pneuma_io::wav::read_mono;
 
-use crate::wav::read_mono;
+use crate::data::{wav_files, DataError};
+use crate::stats::{median, rms_db, spearman};
 
 /// Lung volume under which the lung counts as empty.
 pub const EMPTY_LUNG: f32 = 0.05;
@@ -48,7 +49,7 @@ pub struct BreathArgs {
     pub check: Vec<String>,
     /// Render as the plugin with this lookahead, ms (300 to 2000), instead of the offline
     /// render's whole-file lookahead.
-    #[arg(long, value_parser = crate::options::number)]
+    #[arg(long)]
     pub lookahead_ms: Option<f32>,
 }
 
@@ -67,72 +68,6 @@ pub struct BreathFigures {
     pub empty_starts: usize,
     /// Per inserted breath: (duration s, length of the pause holding it s, level re speech dB).
     pub breaths: Vec<(f64, f64, f64)>,
-}
-
-/// Median of the finite values of `v` (NaN when there are none).
-pub fn median(v: &[f64]) -> f64 {
-    let mut s: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
-    if s.is_empty() {
-        return f64::NAN;
-    }
-    s.sort_by(f64::total_cmp);
-    let n = s.len();
-    if n % 2 == 1 {
-        s[n / 2]
-    } else {
-        0.5 * (s[n / 2 - 1] + s[n / 2])
-    }
-}
-
-/// Ranks (1-based, ties get their mean rank).
-fn ranks(v: &[f64]) -> Vec<f64> {
-    let mut idx: Vec<usize> = (0..v.len()).collect();
-    idx.sort_by(|&a, &b| v[a].total_cmp(&v[b]));
-    let mut r = vec![0.0; v.len()];
-    let mut i = 0;
-    while i < idx.len() {
-        let mut j = i;
-        while j + 1 < idx.len() && v[idx[j + 1]] == v[idx[i]] {
-            j += 1;
-        }
-        let mean = (i + j) as f64 / 2.0 + 1.0;
-        for &k in &idx[i..=j] {
-            r[k] = mean;
-        }
-        i = j + 1;
-    }
-    r
-}
-
-/// Spearman rank correlation of `x` and `y` (NaN with fewer than 3 pairs or a constant side).
-pub fn spearman(x: &[f64], y: &[f64]) -> f64 {
-    let n = x.len().min(y.len());
-    if n < 3 {
-        return f64::NAN;
-    }
-    let (rx, ry) = (ranks(&x[..n]), ranks(&y[..n]));
-    let m = (n as f64 + 1.0) / 2.0;
-    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
-    for i in 0..n {
-        let (a, b) = (rx[i] - m, ry[i] - m);
-        sxy += a * b;
-        sxx += a * a;
-        syy += b * b;
-    }
-    if sxx > 0.0 && syy > 0.0 {
-        sxy / (sxx * syy).sqrt()
-    } else {
-        f64::NAN
-    }
-}
-
-/// RMS level in dBFS of `x` (−120 for silence).
-pub fn rms_db(x: &[f32]) -> f64 {
-    if x.is_empty() {
-        return -120.0;
-    }
-    let p = x.iter().map(|v| (*v as f64).powi(2)).sum::<f64>() / x.len() as f64;
-    (10.0 * p.max(1e-12).log10()).max(-120.0)
 }
 
 /// Measures one render: its control frames (one per analysis frame, in order), the input and
@@ -210,21 +145,33 @@ pub fn measure(
     fig
 }
 
-/// Renders `path` offline with the default settings and `lookahead_ms` (`None`: the offline
-/// render's whole-file lookahead, as `pneuma render` without `--lookahead-ms`) and measures it.
-pub fn render_and_measure(path: &Path, lookahead_ms: Option<f32>) -> Result<BreathFigures, String> {
+/// Renders `input` (one `Vec` per channel, at `rate_hz`) offline with the default settings
+/// and `lookahead_ms` (`None`: the offline render's whole-file lookahead, as `pneuma render`
+/// without `--lookahead-ms`).
+pub fn render_offline(
+    input: &[Vec<f32>],
+    rate_hz: f64,
+    lookahead_ms: Option<f32>,
+) -> Result<offline::Rendered, String> {
     let mut config = EngineConfig::default();
     config.placement.whole_file = lookahead_ms.is_none();
     if let Some(ms) = lookahead_ms {
         config.placement.lookahead_s = ms / 1000.0;
     }
-    let (input, rate) = read_mono(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let mut engine =
         Engine::new(config, HeadModel::default_model().clone()).map_err(|e| e.to_string())?;
     engine
-        .prepare(rate as f64, 1024, 1)
+        .prepare(rate_hz, 1024, input.len())
+        .map_err(|e| e.to_string())?;
+    Ok(offline::render(&mut engine, input, &[1024]))
+}
+
+/// Renders `path` offline with the default settings and `lookahead_ms` (see
+/// [`render_offline`]) and measures it.
+pub fn render_and_measure(path: &Path, lookahead_ms: Option<f32>) -> Result<BreathFigures, String> {
+    let (input, rate) = read_mono(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let out = render_offline(std::slice::from_ref(&input), rate as f64, lookahead_ms)
         .map_err(|e| format!("{}: {e}", path.display()))?;
-    let out = offline::render(&mut engine, std::slice::from_ref(&input), &[1024]);
     let frames: Vec<ControlFrame> = out.frames.iter().map(|(f, _)| *f).collect();
     let breaths: Vec<(f64, f64)> = out.breaths.iter().map(|b| (b.start_s, b.end_s)).collect();
     Ok(measure(
@@ -353,21 +300,29 @@ fn row(name: &str, s: &Summary) {
 
 /// Runs `pneuma eval breaths`; returns whether every checked target was met.
 pub fn run(args: &BreathArgs) -> Result<bool, String> {
+    for c in &args.check {
+        if ![
+            "all",
+            "empty_voiced",
+            "empty_starts",
+            "duration",
+            "rank_corr",
+            "level",
+        ]
+        .contains(&c.as_str())
+        {
+            return Err(format!("--check {c} is not a target: use empty_voiced, empty_starts, duration, rank_corr, level or all"));
+        }
+    }
     let mut files = vec![args.voice.clone()];
     if let Some(dir) = &args.data {
-        let mut wavs: Vec<PathBuf> = std::fs::read_dir(dir)
-            .map_err(|e| {
-                format!(
-                    "cannot read the folder {}: {e} (give --data a folder of .wav files)",
-                    dir.display()
-                )
-            })?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.extension().is_some_and(|x| x == "wav"))
-            .collect();
-        wavs.sort();
+        let wavs = wav_files(dir, ".wav files (--data), e.g. ../shared/data/styletalk")?;
         if wavs.is_empty() {
-            return Err(format!("{} holds no .wav files", dir.display()));
+            return Err(DataError::Empty {
+                path: dir.clone(),
+                what: ".wav files",
+            }
+            .into());
         }
         files.extend(wavs);
     }
@@ -406,41 +361,9 @@ pub fn run(args: &BreathArgs) -> Result<bool, String> {
     Ok(ok)
 }
 
-/// Runs the command and maps the result to an exit code.
-pub fn main(args: &BreathArgs) -> ExitCode {
-    for c in &args.check {
-        if ![
-            "all",
-            "empty_voiced",
-            "empty_starts",
-            "duration",
-            "rank_corr",
-            "level",
-        ]
-        .contains(&c.as_str())
-        {
-            eprintln!("error: --check {c} is not a target: use empty_voiced, empty_starts, duration, rank_corr, level or all");
-            return ExitCode::FAILURE;
-        }
-    }
-    crate::eval::exit_code(run(args), "a checked breathing")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn spearman_of_monotone_and_reversed_data() {
-        let x = [0.1, 0.5, 0.2, 0.9, 0.4];
-        let up = [1.0, 8.0, 2.0, 30.0, 5.0];
-        assert!((spearman(&x, &up) - 1.0).abs() < 1e-12);
-        let down: Vec<f64> = up.iter().map(|v| -v).collect();
-        assert!((spearman(&x, &down) + 1.0).abs() < 1e-12);
-        // Ties share their rank: 1, 2.5, 2.5, 4 against 1, 2, 3, 4.
-        let r = spearman(&[1.0, 2.0, 2.0, 3.0], &[1.0, 2.0, 3.0, 4.0]);
-        assert!((r - 4.5 / 22.5f64.sqrt()).abs() < 1e-12, "{r}");
-    }
 
     fn frame(i: u64, speaking: bool, lung: f32) -> ControlFrame {
         let mut f = ControlFrame {

@@ -2,11 +2,10 @@
 //! inserted breaths against real inhalations labelled by hand in real speech, and the engine's
 //! detection of the real ones.
 //!
-//! - **Labels** (`assets/labels/styletalk_breaths.csv`, times only, never audio): `clip,start_s,
-//!   end_s,kind` with `kind` `breath` (a clear inhalation: a broadband noise plateau above the
-//!   room's floor between the end of a phrase's decay and the next onset) or `unsure` (noise in a
-//!   pause that may be a breath, a lip noise or a reverberant tail). Every pause of at least
-//!   0.2 s in every clip was looked at on its spectrogram; a pause without a row holds no breath.
+//! - **Labels** (`assets/labels/styletalk_breaths.csv`, format and kinds in [`crate::labels`]):
+//!   a `breath` label is a broadband noise plateau above the room's floor between the end of a
+//!   phrase's decay and the next onset. Every pause of at least 0.2 s in every clip was looked
+//!   at on its spectrogram; a pause without a row holds no breath.
 //! - **Spectrum**: the level in each third-octave band from 250 Hz to 6.3 kHz (Hann frames of
 //!   512 samples, hop 256, powers averaged over the breath), as dB relative to the breath's own
 //!   mean band level, so only the shape counts. A real breath's band powers have the clip's
@@ -21,10 +20,8 @@
 //! - **Level** relative to the clip's speech median (the median RMS of voiced frames) and
 //!   **duration**, real and inserted.
 //! - **Detection**: the breaths the engine heard in the input (its existing breaths) against the
-//!   labels. A `breath` label is found when a heard breath overlaps it; a heard breath that
-//!   overlaps no label is a false one; one that overlaps only an `unsure` label is not counted.
-//!
-//! - **Detection per speaker** ([`crate::eval_breath_detect`]): the same scores on the
+//!   labels, scored as [`crate::labels::score`] scores them.
+//! - **Detection per speaker** ([`detect`]): the same scores on the
 //!   styletalk and the Keele labels (`--keele`, `--keele-labels`), for the level-only rule, the
 //!   default settings and the breath-shape limits fitted leave-one-speaker-out.
 //!
@@ -33,13 +30,16 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
-use pneuma_core::engine::{offline, Engine, EngineConfig};
-use pneuma_core::head::HeadModel;
+use pneuma_core::engine::EngineConfig;
 use realfft::RealFftPlanner;
 
-use crate::eval_breaths::{median, rms_db};
+pub mod detect;
+
+use crate::breaths::render_offline;
+use crate::data::{read_labels, wav_files, DataError};
+use crate::labels::{score, Counts, Label, LabelKind};
+use crate::stats::{median, rms_db};
 
 /// Third-octave band centres compared, Hz (250 Hz to 6.3 kHz: where breath noise lies, above
 /// mains hum and below the 16 kHz clips' Nyquist).
@@ -70,72 +70,6 @@ pub struct BreathSoundArgs {
     /// Exit non-zero when a detection target is missed (see the module docs).
     #[arg(long)]
     pub check: bool,
-}
-
-/// How sure a label is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LabelKind {
-    /// A clear inhalation.
-    Breath,
-    /// Maybe a breath: neither counted as found nor as false.
-    Unsure,
-}
-
-/// One labelled span.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Label {
-    /// Clip name (file stem).
-    pub clip: String,
-    /// Start, seconds.
-    pub start_s: f64,
-    /// End, seconds.
-    pub end_s: f64,
-    /// How sure.
-    pub kind: LabelKind,
-}
-
-/// Parses the labels file: a header `clip,start_s,end_s,kind`, then one row per span; `#`
-/// starts a comment line.
-pub fn parse_labels(text: &str) -> Result<Vec<Label>, String> {
-    let mut rows = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-    match rows.next() {
-        Some((_, h)) if h.trim() == "clip,start_s,end_s,kind" => {}
-        _ => return Err("the first row must be the header clip,start_s,end_s,kind".into()),
-    }
-    rows.map(|(i, l)| {
-        let line = i + 1;
-        let f: Vec<&str> = l.split(',').map(str::trim).collect();
-        if f.len() != 4 {
-            return Err(format!("line {line}: 4 fields expected, found {}", f.len()));
-        }
-        let num = |s: &str, what: &str| {
-            s.parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite() && *v >= 0.0)
-                .ok_or_else(|| format!("line {line}: {what} {s:?} is not a time in seconds"))
-        };
-        let (start_s, end_s) = (num(f[1], "start_s")?, num(f[2], "end_s")?);
-        if end_s <= start_s {
-            return Err(format!(
-                "line {line}: end_s {end_s} is not after start_s {start_s}"
-            ));
-        }
-        let kind = match f[3] {
-            "breath" => LabelKind::Breath,
-            "unsure" => LabelKind::Unsure,
-            k => return Err(format!("line {line}: kind {k:?}: use breath or unsure")),
-        };
-        Ok(Label {
-            clip: f[0].to_string(),
-            start_s,
-            end_s,
-            kind,
-        })
-    })
-    .collect()
 }
 
 /// Mean power per third-octave band ([`BAND_CENTRES_HZ`]) of `x` at `rate_hz`, Hann frames of
@@ -236,17 +170,8 @@ struct Measured {
 struct ClipResult {
     real: Vec<Measured>,
     inserted: Vec<Measured>,
-    /// Breath labels found by a heard breath.
-    found: usize,
-    /// Breath labels.
-    labelled: usize,
-    /// Heard breaths overlapping a breath label, and overlapping no label.
-    heard_true: usize,
-    heard_false: usize,
-}
-
-fn overlaps(a: (f64, f64), b: (f64, f64)) -> bool {
-    a.0 < b.1 && b.0 < a.1
+    /// The engine's heard breaths against the labels.
+    heard: Counts,
 }
 
 fn samples_of(x: &[f32], rate_hz: f64, (start_s, end_s): (f64, f64)) -> &[f32] {
@@ -256,20 +181,14 @@ fn samples_of(x: &[f32], rate_hz: f64, (start_s, end_s): (f64, f64)) -> &[f32] {
 }
 
 /// Renders one clip and measures its labelled and inserted breaths.
-fn clip(path: &Path, labels: &[&Label]) -> Result<ClipResult, String> {
+fn clip(path: &Path, labels: &[Label]) -> Result<ClipResult, String> {
     let (input, rate) =
         pneuma_io::read_mono(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let rate_hz = f64::from(rate);
     // As `pneuma render` renders a file: the default settings, the whole-file lookahead.
-    let mut config = EngineConfig::default();
-    config.placement.whole_file = true;
-    let mut engine =
-        Engine::new(config, HeadModel::default_model().clone()).map_err(|e| e.to_string())?;
-    engine
-        .prepare(rate_hz, 1024, 1)
+    let out = render_offline(std::slice::from_ref(&input), rate_hz, None)
         .map_err(|e| format!("{}: {e}", path.display()))?;
-    let out = offline::render(&mut engine, std::slice::from_ref(&input), &[1024]);
-    let frame_s = 1.0 / engine.config().analysis.frame_rate_hz;
+    let frame_s = 1.0 / EngineConfig::default().analysis.frame_rate_hz;
     let voiced_db: Vec<f64> = out
         .frames
         .iter()
@@ -295,27 +214,8 @@ fn clip(path: &Path, labels: &[&Label]) -> Result<ClipResult, String> {
             duration_s: l.end_s - l.start_s,
             level_re_speech_db: rms_db(x) - speech_db,
         });
-        r.labelled += 1;
-        if out
-            .existing_breaths
-            .iter()
-            .any(|&h| overlaps(h, (l.start_s, l.end_s)))
-        {
-            r.found += 1;
-        }
     }
-    for &h in &out.existing_breaths {
-        match labels
-            .iter()
-            .filter(|l| overlaps(h, (l.start_s, l.end_s)))
-            .map(|l| l.kind)
-            .min_by_key(|k| *k == LabelKind::Unsure)
-        {
-            Some(LabelKind::Breath) => r.heard_true += 1,
-            Some(LabelKind::Unsure) => {}
-            None => r.heard_false += 1,
-        }
-    }
+    r.heard = score(labels, &out.existing_breaths);
     let added: Vec<f32> = out.audio[0]
         .iter()
         .zip(&input)
@@ -350,49 +250,39 @@ fn summary(label: &str, m: &[Measured]) {
 
 /// Runs the evaluation and prints the report.
 pub fn run(args: &BreathSoundArgs) -> Result<bool, String> {
-    let text = std::fs::read_to_string(&args.labels)
-        .map_err(|e| format!("cannot read the labels {}: {e}", args.labels.display()))?;
-    let labels =
-        parse_labels(&text).map_err(|e| format!("labels {}: {e}", args.labels.display()))?;
+    let labels = read_labels(&args.labels)?;
     let mut clips: BTreeMap<String, PathBuf> = BTreeMap::new();
-    for entry in std::fs::read_dir(&args.data).map_err(|e| {
-        format!(
-            "cannot read {}: {e} (give the styletalk folder with --data)",
-            args.data.display()
-        )
-    })? {
-        let path = entry.map_err(|e| e.to_string())?.path();
-        if path.extension().is_some_and(|e| e == "wav") {
-            if let Some(stem) = path.file_stem() {
-                clips.insert(stem.to_string_lossy().into_owned(), path);
-            }
+    for path in wav_files(
+        &args.data,
+        "the styletalk clips (--data), e.g. ../shared/data/styletalk",
+    )? {
+        if let Some(stem) = path.file_stem() {
+            clips.insert(stem.to_string_lossy().into_owned(), path);
         }
     }
     if let Some(l) = labels.iter().find(|l| !clips.contains_key(&l.clip)) {
-        return Err(format!(
-            "the labels name clip {:?}, which is not in {}",
-            l.clip,
-            args.data.display()
-        ));
+        return Err(DataError::UnknownClip {
+            labels: args.labels.clone(),
+            clip: l.clip.clone(),
+            data: args.data.clone(),
+        }
+        .into());
     }
     let (mut real, mut inserted) = (Vec::new(), Vec::new());
-    let (mut found, mut labelled, mut heard_true, mut heard_false) = (0, 0, 0, 0);
+    let mut heard = Counts::default();
     println!("clip                   labelled found heard(true/false) inserted");
     for (name, path) in &clips {
-        let mine: Vec<&Label> = labels.iter().filter(|l| &l.clip == name).collect();
+        let mine: Vec<Label> = labels.iter().filter(|l| &l.clip == name).cloned().collect();
         let r = clip(path, &mine)?;
         println!(
             "{name:<22} {:>8} {:>5} {:>7}/{:<9} {:>8}",
-            r.labelled,
-            r.found,
-            r.heard_true,
-            r.heard_false,
+            r.heard.labelled,
+            r.heard.found,
+            r.heard.heard_true,
+            r.heard.heard_false,
             r.inserted.len()
         );
-        found += r.found;
-        labelled += r.labelled;
-        heard_true += r.heard_true;
-        heard_false += r.heard_false;
+        heard.add(r.heard);
         real.extend(r.real);
         inserted.extend(r.inserted);
     }
@@ -430,14 +320,16 @@ pub fn run(args: &BreathSoundArgs) -> Result<bool, String> {
         median(&each_inserted),
         median(&real_spread)
     );
-    let pct = |a: usize, b: usize| 100.0 * a as f64 / b.max(1) as f64;
     println!(
-        "\nreal breaths heard by the engine (its existing breaths): recall {found}/{labelled} ({:.0} %), precision {heard_true}/{} ({:.0} %; heard breaths over unsure labels not counted)",
-        pct(found, labelled),
-        heard_true + heard_false,
-        pct(heard_true, heard_true + heard_false)
+        "\nreal breaths heard by the engine (its existing breaths): recall {}/{} ({:.0} %), precision {}/{} ({:.0} %; heard breaths over unsure labels not counted)",
+        heard.found,
+        heard.labelled,
+        100.0 * heard.recall(),
+        heard.heard_true,
+        heard.heard_true + heard.heard_false,
+        100.0 * heard.precision()
     );
-    crate::eval_breath_detect::report(&[
+    detect::report(&[
         (&args.data, &args.labels),
         (&args.keele, &args.keele_labels),
     ])
@@ -448,11 +340,6 @@ fn bands_row(v: &[f64], decimals: usize) -> String {
         .map(|x| format!("{x:>6.decimals$}"))
         .collect::<Vec<_>>()
         .join("")
-}
-
-/// Runs `pneuma eval breath-sounds` (printed only: it has no target to miss).
-pub fn main(args: &BreathSoundArgs) -> ExitCode {
-    crate::eval::exit_code(run(args).map(|ok| ok || !args.check), "a breath-detection")
 }
 
 #[cfg(test)]
@@ -481,22 +368,5 @@ mod tests {
         let tilt: [f64; BAND_CENTRES_HZ.len()] = std::array::from_fn(|b| b as f64 - 7.0);
         // RMS of -7..=7: sqrt(280 / 15).
         assert!((distance_db(&tilt, &flat) - (280.0f64 / 15.0).sqrt()).abs() < 1e-12);
-    }
-
-    #[test]
-    fn labels_parse_and_bad_rows_say_which_line() {
-        let ok =
-            parse_labels("# by eye\nclip,start_s,end_s,kind\na,1.0,1.4,breath\nb,2,2.5,unsure\n")
-                .unwrap();
-        assert_eq!(ok.len(), 2);
-        assert_eq!(ok[1].kind, LabelKind::Unsure);
-        assert_eq!((ok[0].start_s, ok[0].end_s), (1.0, 1.4));
-        let err = parse_labels("clip,start_s,end_s,kind\na,1.0,0.5,breath\n").unwrap_err();
-        assert!(err.contains("line 2") && err.contains("not after"), "{err}");
-        let err = parse_labels("clip,start_s,end_s,kind\na,1.0,1.5,sigh\n").unwrap_err();
-        assert!(err.contains("breath or unsure"), "{err}");
-        assert!(parse_labels("a,1,2,breath\n")
-            .unwrap_err()
-            .contains("header"));
     }
 }

@@ -2,14 +2,13 @@
 //! speaker and overall, and the leave-one-speaker-out fit of the breath shape limits.
 //!
 //! - **Clips**: every labelled set (`<clip>.wav` in a folder with a labels file, see
-//!   [`crate::eval_breath_sounds::parse_labels`]). Each clip is analysed once with the default
+//!   [`crate::labels`]). Each clip is analysed once with the default
 //!   analysis settings; the phrase tracker then runs over its frames with the settings under
 //!   test, exactly as the engine runs it, and its pauses' breath spans are the heard breaths.
 //! - **Speaker**: a Keele clip is one speaker; a styletalk clip's speaker is its name before
 //!   `_clip` (andrew's two clips are one speaker).
-//! - **Scores**: a `breath` label is found when a heard breath overlaps it (recall); a heard
-//!   breath that overlaps a `breath` label is true, one that overlaps no label is false, one
-//!   that overlaps only `unsure` labels is not counted (precision).
+//! - **Scores**: as [`crate::labels`] scores heard breaths: recall over the `breath` labels,
+//!   precision over the heard breaths (those over `unsure` labels only not counted).
 //! - **Fit** ([`fit_shape`]): the three breath-shape settings (`breath_margin_db`,
 //!   `breath_max_high_over_mid_db`, `breath_max_low_over_mid_db`) chosen from a small grid by
 //!   the F1 of the pooled counts. **Held out**: for each speaker the settings are fitted on the
@@ -17,12 +16,13 @@
 //!   speakers. The fit on all speakers is the in-sample figure (not a held-out one).
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use pneuma_core::analysis::{AnalysisConfig, Analyzer, FeatureFrame};
+use pneuma_core::analysis::{AnalysisConfig, FeatureFrame};
 use pneuma_core::phrase::{PhraseConfig, PhraseEvent, PhraseTracker};
 
-use crate::eval_breath_sounds::{parse_labels, Label, LabelKind};
+use crate::data::{analyse_file, read_labels, wav_files, DataError};
+use crate::labels::{score, Counts, Label};
 
 /// One analysed clip with its labels.
 pub struct Clip {
@@ -38,61 +38,6 @@ pub struct Clip {
     pub labels: Vec<Label>,
 }
 
-/// Detection counts.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Counts {
-    /// `breath` labels.
-    pub labelled: usize,
-    /// `breath` labels a heard breath overlaps.
-    pub found: usize,
-    /// Heard breaths over a `breath` label.
-    pub heard_true: usize,
-    /// Heard breaths over no label.
-    pub heard_false: usize,
-}
-
-impl Counts {
-    fn add(&mut self, o: Counts) {
-        self.labelled += o.labelled;
-        self.found += o.found;
-        self.heard_true += o.heard_true;
-        self.heard_false += o.heard_false;
-    }
-
-    /// Recall, 0..1 (0 without labels).
-    pub fn recall(&self) -> f64 {
-        self.found as f64 / self.labelled.max(1) as f64
-    }
-
-    /// Precision, 0..1 (0 without heard breaths).
-    pub fn precision(&self) -> f64 {
-        self.heard_true as f64 / (self.heard_true + self.heard_false).max(1) as f64
-    }
-
-    /// F1 of recall and precision (0 when both are 0).
-    pub fn f1(&self) -> f64 {
-        let (r, p) = (self.recall(), self.precision());
-        if r + p > 0.0 {
-            2.0 * r * p / (r + p)
-        } else {
-            0.0
-        }
-    }
-
-    /// `found/labelled (r %), true/heard (p %)`.
-    pub fn describe(&self) -> String {
-        format!(
-            "recall {:>2}/{:<2} ({:>3.0} %)  precision {:>2}/{:<2} ({:>3.0} %)",
-            self.found,
-            self.labelled,
-            100.0 * self.recall(),
-            self.heard_true,
-            self.heard_true + self.heard_false,
-            100.0 * self.precision()
-        )
-    }
-}
-
 /// The speaker of a clip: a styletalk clip's name before `_clip`, else the whole name.
 pub fn speaker_of(clip: &str) -> String {
     clip.split("_clip").next().unwrap_or(clip).to_string()
@@ -101,64 +46,37 @@ pub fn speaker_of(clip: &str) -> String {
 /// Loads and analyses every clip of `data` that `labels_path` names. Errors say which file
 /// or label is wrong.
 pub fn load_set(data: &Path, labels_path: &Path) -> Result<Vec<Clip>, String> {
-    let text = std::fs::read_to_string(labels_path)
-        .map_err(|e| format!("cannot read the labels {}: {e}", labels_path.display()))?;
-    let labels =
-        parse_labels(&text).map_err(|e| format!("labels {}: {e}", labels_path.display()))?;
     let mut by_clip: BTreeMap<String, Vec<Label>> = BTreeMap::new();
-    for l in labels {
+    for l in read_labels(labels_path)? {
         by_clip.entry(l.clip.clone()).or_default().push(l);
     }
     // Clips without a row hold no visible breath but still count for false detections.
-    let mut names: Vec<String> = std::fs::read_dir(data)
-        .map_err(|e| {
-            format!(
-                "cannot read {}: {e} (give the data folder of {})",
-                data.display(),
-                labels_path.display()
-            )
-        })?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "wav"))
+    let names: Vec<String> = wav_files(data, "the labelled clips (<clip>.wav) the labels name")?
+        .iter()
         .filter_map(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
         .collect();
-    names.sort();
     if let Some(c) = by_clip.keys().find(|c| !names.contains(c)) {
-        return Err(format!(
-            "the labels {} name clip {c:?}, which is not in {}",
-            labels_path.display(),
-            data.display()
-        ));
+        return Err(DataError::UnknownClip {
+            labels: labels_path.into(),
+            clip: c.clone(),
+            data: data.into(),
+        }
+        .into());
     }
+    let config = AnalysisConfig::default();
     names
         .into_iter()
         .map(|name| {
-            let path: PathBuf = data.join(format!("{name}.wav"));
-            let frames = analyse(&path)?;
+            let frames = analyse_file(&data.join(format!("{name}.wav")), &config)?;
             Ok(Clip {
                 speaker: speaker_of(&name),
                 labels: by_clip.remove(&name).unwrap_or_default(),
-                frame_rate_hz: AnalysisConfig::default().frame_rate_hz,
+                frame_rate_hz: config.frame_rate_hz,
                 frames,
                 name,
             })
         })
         .collect()
-}
-
-/// The feature frames of a file with the default analysis settings.
-fn analyse(path: &Path) -> Result<Vec<FeatureFrame>, String> {
-    let (x, rate) = pneuma_io::read_mono(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut a = Analyzer::new(AnalysisConfig::default()).map_err(|e| e.to_string())?;
-    a.prepare(f64::from(rate), 1024)
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut frames = Vec::new();
-    for block in x.chunks(1024) {
-        a.process(block, |f| frames.push(*f))
-            .map_err(|e| e.to_string())?;
-    }
-    a.finish(|f| frames.push(*f)).map_err(|e| e.to_string())?;
-    Ok(frames)
 }
 
 /// The breaths the phrase tracker hears in `clip` with `config`, (start, end) seconds.
@@ -173,34 +91,6 @@ pub fn heard(clip: &Clip, config: PhraseConfig) -> Result<Vec<(f64, f64)>, Strin
         });
     }
     Ok(spans)
-}
-
-fn overlaps(a: (f64, f64), b: (f64, f64)) -> bool {
-    a.0 < b.1 && b.0 < a.1
-}
-
-/// Scores heard spans against a clip's labels.
-pub fn score(labels: &[Label], heard: &[(f64, f64)]) -> Counts {
-    let mut c = Counts::default();
-    for l in labels.iter().filter(|l| l.kind == LabelKind::Breath) {
-        c.labelled += 1;
-        if heard.iter().any(|&h| overlaps(h, (l.start_s, l.end_s))) {
-            c.found += 1;
-        }
-    }
-    for &h in heard {
-        let over: Vec<LabelKind> = labels
-            .iter()
-            .filter(|l| overlaps(h, (l.start_s, l.end_s)))
-            .map(|l| l.kind)
-            .collect();
-        if over.contains(&LabelKind::Breath) {
-            c.heard_true += 1;
-        } else if over.is_empty() {
-            c.heard_false += 1;
-        }
-    }
-    c
 }
 
 /// Counts per speaker for `config`.
@@ -419,37 +309,6 @@ pub const MIN_HELD_OUT_PRECISION: f64 = 0.75;
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn label(start_s: f64, end_s: f64, kind: LabelKind) -> Label {
-        Label {
-            clip: "c".into(),
-            start_s,
-            end_s,
-            kind,
-        }
-    }
-
-    #[test]
-    fn scores_count_found_true_false_and_leave_unsure_out() {
-        let labels = [
-            label(1.0, 1.4, LabelKind::Breath),
-            label(3.0, 3.4, LabelKind::Breath),
-            label(5.0, 5.4, LabelKind::Unsure),
-        ];
-        let heard = [(1.2, 1.5), (5.1, 5.2), (7.0, 7.3)];
-        let c = score(&labels, &heard);
-        assert_eq!(
-            c,
-            Counts {
-                labelled: 2,
-                found: 1,
-                heard_true: 1,
-                heard_false: 1
-            }
-        );
-        assert_eq!((c.recall(), c.precision()), (0.5, 0.5));
-        assert!((c.f1() - 0.5).abs() < 1e-12);
-    }
 
     #[test]
     fn speakers_of_styletalk_clips_join_and_keele_clips_stand_alone() {

@@ -3,9 +3,9 @@
 //! table at the end. A file that fails is reported in the table and the others are finished; the
 //! exit code is non-zero when any failed (130 when interrupted).
 //!
-//! Folders give the audio files directly inside them (by extension, see
-//! [`pneuma_io::AUDIO_EXTENSIONS`]), sorted by name. Two inputs that would write the same output
-//! names (`a.wav` and `a.flac`) are refused before anything runs.
+//! The inputs come expanded and checked from [`super::plan`] (folders give the audio files
+//! directly inside them; two inputs that would write the same output names, `a.wav` and
+//! `a.flac`, are refused before anything runs).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -13,81 +13,9 @@ use std::sync::Mutex;
 
 use rayon::prelude::*;
 
-use crate::render::{run, Args, RenderError, RenderSummary, EXIT_INTERRUPTED};
-
-/// Most jobs accepted by `--jobs`.
-const MAX_JOBS: usize = 256;
-
-/// The input files of `args`: files as given, folders expanded to the audio files inside.
-pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
-    let mut out = Vec::new();
-    for p in args {
-        if p.is_dir() {
-            let mut found: Vec<PathBuf> = std::fs::read_dir(p)
-                .map_err(|e| format!("cannot read the folder {}: {e}", p.display()))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| {
-                    f.is_file()
-                        && f.file_name().and_then(|n| n.to_str()).is_some_and(|n| {
-                            !n.starts_with('.') && pneuma_io::audio_stem(n).is_some()
-                        })
-                })
-                .collect();
-            if found.is_empty() {
-                return Err(format!(
-                    "{} holds no audio files (.{}); give files or a folder of them",
-                    p.display(),
-                    pneuma_io::AUDIO_EXTENSIONS.join(", .")
-                ));
-            }
-            found.sort();
-            out.extend(found);
-        } else {
-            out.push(p.clone());
-        }
-    }
-    Ok(out)
-}
-
-/// The first two inputs whose outputs would have the same names.
-fn clashing_stems(inputs: &[PathBuf]) -> Option<(&Path, &Path)> {
-    let stem = |p: &Path| p.file_stem().map(|s| s.to_os_string());
-    for (i, a) in inputs.iter().enumerate() {
-        if let Some(b) = inputs[..i].iter().find(|b| stem(b) == stem(a)) {
-            return Some((b, a));
-        }
-    }
-    None
-}
-
-/// Checks a batch's arguments before anything runs.
-fn check(args: &Args, inputs: &[PathBuf]) -> Result<usize, String> {
-    if args.output.as_os_str() == "-" {
-        return Err(
-            "-o - (standard output) takes one input; give an output folder for a batch".into(),
-        );
-    }
-    if inputs.iter().any(|p| p.as_os_str() == "-") {
-        return Err("- (standard input) cannot be part of a batch; render it on its own".into());
-    }
-    if let Some((a, b)) = clashing_stems(inputs) {
-        return Err(format!(
-            "{} and {} would write the same output files in {}; rename one, or render them \
-             into different folders",
-            a.display(),
-            b.display(),
-            args.output.display()
-        ));
-    }
-    let jobs = match args.jobs {
-        Some(n) if !(1..=MAX_JOBS).contains(&n) => {
-            return Err(format!("--jobs {n} is out of range: use 1 to {MAX_JOBS}"))
-        }
-        Some(n) => n,
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-    };
-    Ok(jobs.min(inputs.len()).max(1))
-}
+use super::error::{RenderError, EXIT_INTERRUPTED, INTERRUPTED};
+use super::pipeline::{lossy_note, run, RenderSummary};
+use super::plan::{check_batch, Args};
 
 /// One row of the summary table.
 fn row(input: &Path, result: &Result<RenderSummary, RenderError>) -> [String; 5] {
@@ -102,7 +30,7 @@ fn row(input: &Path, result: &Result<RenderSummary, RenderError>) -> [String; 5]
                 .first()
                 .map(|f| f.display().to_string())
                 .unwrap_or_default()
-                + &crate::render::lossy_note(s),
+                + &lossy_note(s),
         ],
         Err(e) => [name, "FAILED".into(), "-".into(), "-".into(), e.to_string()],
     }
@@ -136,7 +64,7 @@ fn print_table(rows: &[[String; 5]]) {
 
 /// Renders every input; prints the table; the exit code.
 pub fn main(args: &Args, inputs: &[PathBuf]) -> ExitCode {
-    let jobs = match check(args, inputs) {
+    let jobs = match check_batch(args, inputs) {
         Ok(j) => j,
         Err(e) => {
             eprintln!("error: {e}");
@@ -168,7 +96,7 @@ pub fn main(args: &Args, inputs: &[PathBuf]) -> ExitCode {
             .par_iter()
             .enumerate()
             .map(|(i, input)| {
-                if crate::render::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
+                if INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
                     return Err(RenderError::Interrupted);
                 }
                 let r = run(args, input, |f| report(i, f));

@@ -1,0 +1,67 @@
+//! How a render fails: [`RenderError`], and Ctrl-C, which stops a render after its current
+//! block as an error that leaves nothing behind ([`INTERRUPTED`], [`EXIT_INTERRUPTED`]).
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use pneuma_core::engine::EngineError;
+use pneuma_io::ReadError;
+use thiserror::Error;
+
+/// Errors of `pneuma render`.
+#[derive(Debug, Error)]
+pub enum RenderError {
+    /// The input file.
+    #[error(transparent)]
+    Audio(#[from] ReadError),
+    /// The settings.
+    #[error("invalid settings: {0}")]
+    Settings(#[from] EngineError),
+    /// A breath sample or the head model.
+    #[error("{0}")]
+    Input(String),
+    /// An output file.
+    #[error("cannot write {path}: {source}{}", crate::output::write_hint(source))]
+    Output {
+        /// Where we tried to write.
+        path: PathBuf,
+        /// Why it failed.
+        source: std::io::Error,
+    },
+    /// The plot.
+    #[error(transparent)]
+    Plot(#[from] crate::plot::PlotError),
+    /// Ctrl-C.
+    #[error("interrupted (Ctrl-C): nothing was written, existing files are unchanged")]
+    Interrupted,
+}
+
+/// A [`RenderError::Output`] for `path`, for `map_err`.
+pub fn out_err(path: &Path) -> impl Fn(std::io::Error) -> RenderError + '_ {
+    move |source| RenderError::Output {
+        path: path.to_owned(),
+        source,
+    }
+}
+
+/// Set by the Ctrl-C handler; a render checks it after every block and stops, leaving no
+/// partial file (its staged files are removed when dropped).
+pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// Whether Ctrl-C was pressed.
+pub fn interrupted() -> bool {
+    INTERRUPTED.load(Ordering::Relaxed)
+}
+
+/// Exit code of an interrupted run (128 + SIGINT), as shells expect.
+pub const EXIT_INTERRUPTED: u8 = 130;
+
+/// Installs the Ctrl-C handler: the first Ctrl-C sets [`INTERRUPTED`] (the render stops after
+/// its current block and removes its temporary files), a second one exits at once.
+pub fn install_interrupt_handler() {
+    let _ = ctrlc::set_handler(|| {
+        if INTERRUPTED.swap(true, Ordering::Relaxed) {
+            std::process::exit(i32::from(EXIT_INTERRUPTED));
+        }
+    });
+}

@@ -1,0 +1,97 @@
+//! `pneuma render IN -o DIR`: streams an audio file (any format `pneuma-io` reads, or standard
+//! input) through the [`Engine`](pneuma_core::engine::Engine) in blocks and writes
+//! `DIR/<stem>.wav|flac|aiff` (the input with breaths, same rate, channels and bit depth; see
+//! [`output_container`]), `DIR/<stem>.controls.csv`, `DIR/<stem>.breaths.csv`,
+//! `DIR/<stem>.png`, with `--bvh` `DIR/<stem>.bvh` and with `--markers` the editors' marker
+//! files (contracts in DESIGN.md); or, with `-o -`, only the audio as WAV to standard output.
+//!
+//! The engine runs as in the plugin (with `--lookahead-ms` exactly as the plugin; by default
+//! with the engine's whole-file lookahead of seconds). The parts, each using only the ones
+//! before it:
+//!
+//! - [`error`]: how a render fails, and Ctrl-C;
+//! - [`plan`]: the arguments turned into a checked plan (inputs, engine settings, the engine
+//!   prepared for an input, the output names); nothing is written there;
+//! - [`pipeline`]: one planned input through the engine and its sinks, the files committed
+//!   together;
+//! - [`batch`]: several inputs or folders, in parallel, with a summary table.
+//!
+//! This module only dispatches ([`main`]): one input with a progress bar and a summary line, or
+//! a batch.
+
+pub mod batch;
+pub mod error;
+pub mod pipeline;
+pub mod plan;
+
+use std::path::Path;
+use std::process::ExitCode;
+
+pub use error::{install_interrupt_handler, RenderError, EXIT_INTERRUPTED, INTERRUPTED};
+pub use pipeline::{lossy_note, run, RenderSummary};
+pub use plan::{output_container, Args};
+
+/// Runs `pneuma render` from parsed arguments: one input with a progress bar when a terminal
+/// is attached and the job takes more than a second, or a batch (several inputs or a folder).
+pub fn main(args: Args) -> ExitCode {
+    install_interrupt_handler();
+    let inputs = match plan::expand_inputs(&args.inputs) {
+        Ok(v) => v,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    if args.inputs.len() > 1 || args.inputs[0].is_dir() {
+        return batch::main(&args, &inputs);
+    }
+    render_one(&args, &inputs[0])
+}
+
+/// Renders one input with a progress bar; prints its summary or error; the exit code.
+fn render_one(args: &Args, input: &Path) -> ExitCode {
+    let mut bar = crate::options::Progress::new("rendering", !args.quiet && !args.no_progress);
+    let result = run(args, input, |f| bar.set(f));
+    bar.finish();
+    match result {
+        Ok(s) => {
+            if !args.quiet {
+                print_summary(input, &s);
+            }
+            ExitCode::SUCCESS
+        }
+        Err(RenderError::Interrupted) => {
+            eprintln!("error: {}", RenderError::Interrupted);
+            ExitCode::from(EXIT_INTERRUPTED)
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The summary of one render on standard error: the input's format, breaths, frames, clipped
+/// samples, what a lossy input became, and the files written.
+fn print_summary(input: &Path, s: &RenderSummary) {
+    eprintln!(
+        "rendered {} ({}, {} Hz, {} ch, {}-bit{}): {} breaths, {} control frames{}{}",
+        input.display(),
+        s.input_format.0.name(),
+        s.info.sample_rate_hz,
+        s.info.channels,
+        s.info.bits,
+        if s.info.float { " float" } else { "" },
+        s.breaths.len(),
+        s.frames,
+        if s.clipped > 0 {
+            format!(", {} samples clipped", s.clipped)
+        } else {
+            String::new()
+        },
+        lossy_note(s)
+    );
+    for f in &s.files {
+        eprintln!("  {}", f.display());
+    }
+}

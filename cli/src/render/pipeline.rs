@@ -1,0 +1,532 @@
+//! Running one planned render ([`Job`]) through the engine and its sinks: blocks from the
+//! input through core's one offline loop ([`offline::stream`]), which removes the lookahead
+//! delay by dropping the first `latency` output samples and feeds silence at the end (the
+//! engine's tail) until every frame of the file is out. The outputs that follow frames are
+//! sinks ([`FrameSink`]): the controls CSV and the BVH as [`TextSink`]s, the plot's frames and
+//! the breaths kept in memory ([`Kept`]). Memory stays bounded: audio is read, processed and
+//! written block by block, the controls stream to their file, and the plot keeps a min/max
+//! envelope of at most a few hundred thousand points ([`Envelope`]). Every output file is
+//! written under a temporary name and renamed into place only when the whole render succeeded
+//! ([`commit_all`]).
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use pneuma_core::analysis::FrameClock;
+use pneuma_core::encode::breaths_csv;
+use pneuma_core::encode::sink::{FrameSink, TextSink};
+use pneuma_core::engine::offline::{self, TailFrames};
+use pneuma_core::{BreathEvent, ControlFrame};
+use pneuma_io::{AudioSource, InputFormat};
+
+use super::error::{interrupted, out_err, RenderError};
+use super::plan::{Args, FolderFiles, Job, OutputPlan, BLOCK_FRAMES};
+use crate::audio_out::{AudioSink, Container};
+use crate::output::{commit_all, Output, Staged};
+use crate::wav::WavInfo;
+
+/// Most points of the plot's waveform envelope.
+const PLOT_POINTS: usize = 400_000;
+/// Most control frames kept for the plot.
+const PLOT_FRAMES: usize = 200_000;
+
+/// What a render did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenderSummary {
+    /// The input format (rate, channels, bits also of the output).
+    pub info: WavInfo,
+    /// The input's container and whether it is lossless.
+    pub input_format: (InputFormat, bool),
+    /// The output's container.
+    pub container: Container,
+    /// Files written.
+    pub files: Vec<PathBuf>,
+    /// Breaths inserted.
+    pub breaths: Vec<BreathEvent>,
+    /// Control frames written.
+    pub frames: u64,
+    /// Length of the output audio, seconds.
+    pub length_s: f64,
+    /// Output samples clipped to the integer range.
+    pub clipped: u64,
+}
+
+/// What a lossy input became, for the summary: `" (MP3 input written as FLAC: …)"`.
+pub fn lossy_note(s: &RenderSummary) -> String {
+    let (format, lossless) = s.input_format;
+    if lossless || s.container == Container::Wav && format == InputFormat::Wav {
+        return String::new();
+    }
+    format!(
+        "; {} input written as {} (no second lossy generation; --format wav for WAV)",
+        format.name(),
+        s.container.extension().to_uppercase()
+    )
+}
+
+/// Renders `input` (`-`: standard input) as `args` ask ([`Job::plan`], then [`render`]);
+/// `progress` is called with the fraction done (0..1) now and then.
+pub fn run(
+    args: &Args,
+    input: &Path,
+    progress: impl FnMut(f64),
+) -> Result<RenderSummary, RenderError> {
+    render(Job::plan(args, input)?, progress)
+}
+
+/// Runs a planned render: creates the outputs, streams the input through the engine into
+/// them, and commits every file together (or, to standard output, finishes the audio).
+pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, RenderError> {
+    let Job {
+        mut source,
+        info,
+        input_format,
+        tags,
+        mut engine,
+        outputs,
+    } = job;
+    if let Some(files) = &outputs.files {
+        std::fs::create_dir_all(&files.folder).map_err(out_err(&files.folder))?;
+    }
+    let audio = match &outputs.files {
+        None => AudioSink::stdout(info),
+        Some(_) => AudioSink::create_as(&outputs.audio, info, outputs.container, tags),
+    }
+    .map_err(out_err(&outputs.audio))?;
+    let frame_rate_hz = engine.config().analysis.frame_rate_hz;
+    let frames_total =
+        FrameClock::new(frame_rate_hz, info.sample_rate_hz as f64).frames_in(info.frames);
+    let mut sinks = (
+        controls_sink(outputs.files.as_ref())?,
+        bvh_sink(outputs.files.as_ref(), frames_total, frame_rate_hz)?,
+        Kept::new(frames_total),
+    );
+    let channels = info.channels as usize;
+    let mut interleaved = Vec::with_capacity(BLOCK_FRAMES * channels);
+    let mut pass = AudioPass::new(audio, &outputs.audio, info, progress);
+    offline::stream(
+        &mut engine,
+        channels,
+        &[BLOCK_FRAMES],
+        TailFrames::InputOnly,
+        |planar: &mut [Vec<f32>], max: usize| {
+            read_block(&mut source, &mut interleaved, planar, max)
+        },
+        &mut sinks,
+        |(controls, bvh, _), planar, range| {
+            check_text_sinks(controls, bvh, outputs.files.as_ref())?;
+            pass.write(planar, range)
+        },
+    )?;
+    let (controls, bvh, kept) = sinks;
+    let AudioPass {
+        mut audio,
+        envelope,
+        written,
+        ..
+    } = pass;
+    // A breath cut by the end of the file ends with it.
+    let length_s = written as f64 / info.sample_rate_hz as f64;
+    let breaths = breaths_within(kept.breaths, length_s);
+    let clipped = audio.clipped();
+    if outputs.cues {
+        audio.set_cues(crate::markers::cues(&breaths, info.sample_rate_hz));
+    }
+    let files = match (&outputs.files, controls) {
+        (Some(folder), Some(controls)) => commit_files(
+            &outputs,
+            folder,
+            Finished {
+                audio,
+                controls,
+                bvh,
+                breaths: &breaths,
+                envelope,
+                plot_frames: &kept.plot,
+                length_s,
+            },
+        )?,
+        // Standard output: the audio is all there is.
+        _ => {
+            audio.finish().map_err(out_err(&outputs.audio))?;
+            vec![outputs.audio.clone()]
+        }
+    };
+    Ok(RenderSummary {
+        info,
+        input_format,
+        container: outputs.container,
+        files,
+        breaths,
+        frames: kept.frames,
+        length_s,
+        clipped,
+    })
+}
+
+/// The controls CSV, streaming into its file (none for standard output).
+fn controls_sink(files: Option<&FolderFiles>) -> Result<Option<TextSink<Output>>, RenderError> {
+    let Some(files) = files else {
+        return Ok(None);
+    };
+    let path = &files.controls;
+    let o = Output::create(path).map_err(out_err(path))?;
+    Ok(Some(TextSink::controls_csv(o).map_err(out_err(path))?))
+}
+
+/// The BVH, streaming into its file with `--bvh`: its header needs the frame count, known from
+/// the input's header.
+fn bvh_sink(
+    files: Option<&FolderFiles>,
+    frames_total: u64,
+    frame_rate_hz: f64,
+) -> Result<Option<TextSink<Output>>, RenderError> {
+    let Some(path) = files.and_then(|f| f.bvh.as_ref()) else {
+        return Ok(None);
+    };
+    let o = Output::create(path).map_err(out_err(path))?;
+    Ok(Some(
+        TextSink::bvh(o, frames_total as usize, frame_rate_hz).map_err(out_err(path))?,
+    ))
+}
+
+/// Reads the next block of `source` into the engine's planar buffers; the frames read.
+fn read_block(
+    source: &mut AudioSource,
+    interleaved: &mut Vec<f32>,
+    planar: &mut [Vec<f32>],
+    max: usize,
+) -> Result<usize, RenderError> {
+    let n = source.read_interleaved(max, interleaved)?;
+    for (i, frame) in interleaved.chunks_exact(planar.len()).enumerate() {
+        for (c, &x) in frame.iter().enumerate() {
+            planar[c][i] = x;
+        }
+    }
+    Ok(n)
+}
+
+/// A failed write of the controls or the BVH stops the render.
+fn check_text_sinks(
+    controls: &Option<TextSink<Output>>,
+    bvh: &Option<TextSink<Output>>,
+    files: Option<&FolderFiles>,
+) -> Result<(), RenderError> {
+    let Some(files) = files else {
+        return Ok(());
+    };
+    if let Some(text) = controls {
+        text.check().map_err(out_err(&files.controls))?;
+    }
+    if let (Some(text), Some(path)) = (bvh, &files.bvh) {
+        text.check().map_err(out_err(path))?;
+    }
+    Ok(())
+}
+
+/// The audio side of a render: the output audio, the plot's envelope, the progress.
+struct AudioPass<'a, P> {
+    audio: AudioSink,
+    path: &'a Path,
+    channels: usize,
+    total_in: u64,
+    out_interleaved: Vec<f32>,
+    envelope: Envelope,
+    /// Sample frames written to the output.
+    written: u64,
+    last_progress: f64,
+    progress: P,
+}
+
+impl<'a, P: FnMut(f64)> AudioPass<'a, P> {
+    fn new(audio: AudioSink, path: &'a Path, info: WavInfo, progress: P) -> Self {
+        let channels = info.channels as usize;
+        Self {
+            audio,
+            path,
+            channels,
+            total_in: info.frames,
+            out_interleaved: Vec::with_capacity(BLOCK_FRAMES * channels),
+            envelope: Envelope::new(info.frames),
+            written: 0,
+            last_progress: 0.0,
+            progress,
+        }
+    }
+
+    /// Writes the output samples `range` of `planar`, feeds the envelope, reports progress;
+    /// stops on Ctrl-C.
+    fn write(&mut self, planar: &[Vec<f32>], range: Range<usize>) -> Result<(), RenderError> {
+        self.out_interleaved.clear();
+        for i in range.clone() {
+            let mut mono = 0.0;
+            for p in planar {
+                self.out_interleaved.push(p[i]);
+                mono += p[i];
+            }
+            self.envelope.push(mono / self.channels as f32);
+        }
+        self.written += range.len() as u64;
+        self.audio
+            .write_interleaved(&self.out_interleaved)
+            .map_err(out_err(self.path))?;
+        if interrupted() {
+            return Err(RenderError::Interrupted);
+        }
+        let done = self.written as f64 / self.total_in.max(1) as f64;
+        if done - self.last_progress >= 0.01 {
+            self.last_progress = done;
+            (self.progress)(done.min(1.0));
+        }
+        Ok(())
+    }
+}
+
+/// The breaths that start before `length_s`, each ending by then at the latest.
+fn breaths_within(mut breaths: Vec<BreathEvent>, length_s: f64) -> Vec<BreathEvent> {
+    breaths.retain(|b| b.start_s < length_s);
+    for b in &mut breaths {
+        b.end_s = b.end_s.min(length_s);
+    }
+    breaths
+}
+
+/// What a render to a folder has once the input is through.
+struct Finished<'a> {
+    audio: AudioSink,
+    controls: TextSink<Output>,
+    bvh: Option<TextSink<Output>>,
+    breaths: &'a [BreathEvent],
+    envelope: Envelope,
+    plot_frames: &'a [ControlFrame],
+    length_s: f64,
+}
+
+/// Finishes every file of a render to a folder under a temporary name, then moves them all
+/// into place together, or none; the files in the order the summary lists them.
+fn commit_files(
+    outputs: &OutputPlan,
+    files: &FolderFiles,
+    done: Finished<'_>,
+) -> Result<Vec<PathBuf>, RenderError> {
+    let mut breaths_out = Output::create(&files.breaths).map_err(out_err(&files.breaths))?;
+    breaths_csv::write_all(&mut breaths_out.writer(), done.breaths)
+        .map_err(out_err(&files.breaths))?;
+    let mut written = vec![
+        outputs.audio.clone(),
+        files.controls.clone(),
+        files.breaths.clone(),
+    ];
+    let mut staged = vec![
+        done.audio
+            .finish()
+            .map_err(out_err(&outputs.audio))?
+            .ok_or_else(|| out_err(&outputs.audio)(std::io::Error::other("not a file")))?,
+        staged_file(
+            done.controls
+                .into_inner()
+                .map_err(out_err(&files.controls))?,
+            &files.controls,
+        )?,
+        staged_file(breaths_out, &files.breaths)?,
+    ];
+    for (kind, path) in &files.markers {
+        let mut o = Output::create(path).map_err(out_err(path))?;
+        o.writer()
+            .write_all(kind.file_text(done.breaths).as_bytes())
+            .map_err(out_err(path))?;
+        staged.push(staged_file(o, path)?);
+        written.push(path.clone());
+    }
+    if let (Some(o), Some(path)) = (done.bvh, &files.bvh) {
+        let o = o.into_inner().map_err(out_err(path))?;
+        staged.push(staged_file(o, path)?);
+        written.push(path.clone());
+    }
+    if let Some(path) = &files.plot {
+        let plot = Staged::new(path).map_err(out_err(path))?;
+        crate::plot::draw_png(
+            plot.temp(),
+            path,
+            &done.envelope.finish(),
+            done.length_s,
+            done.plot_frames,
+            done.breaths,
+        )?;
+        staged.push(plot);
+        written.push(path.clone());
+    }
+    if interrupted() {
+        return Err(RenderError::Interrupted);
+    }
+    commit_all(staged).map_err(|(path, source)| RenderError::Output { path, source })?;
+    Ok(written)
+}
+
+/// Finishes a file output of the render (never standard output) into its staged file.
+fn staged_file(out: Output, path: &Path) -> Result<Staged, RenderError> {
+    out.finish()
+        .map_err(out_err(path))?
+        .ok_or_else(|| out_err(path)(std::io::Error::other("not a file")))
+}
+
+/// A min/max envelope of the mono output for the plot, bounded in size.
+struct Envelope {
+    bucket: usize,
+    filled: usize,
+    lo: f32,
+    hi: f32,
+    points: Vec<f32>,
+}
+
+impl Envelope {
+    /// For `total_frames` samples; 0 (a length not known before the end) starts with
+    /// buckets of two samples and widens them as the input goes on.
+    fn new(total_frames: u64) -> Self {
+        let bucket = if total_frames == 0 {
+            2
+        } else {
+            usize::try_from(total_frames.saturating_mul(2).div_ceil(PLOT_POINTS as u64))
+                .unwrap_or(usize::MAX)
+                .max(1)
+        };
+        Self {
+            bucket,
+            filled: 0,
+            lo: f32::INFINITY,
+            hi: f32::NEG_INFINITY,
+            points: Vec::new(),
+        }
+    }
+    fn push(&mut self, x: f32) {
+        if self.bucket == 1 {
+            self.points.push(x);
+            return;
+        }
+        self.lo = self.lo.min(x);
+        self.hi = self.hi.max(x);
+        self.filled += 1;
+        if self.filled == self.bucket {
+            self.points.push(self.lo);
+            self.points.push(self.hi);
+            self.filled = 0;
+            self.lo = f32::INFINITY;
+            self.hi = f32::NEG_INFINITY;
+            if self.points.len() >= 2 * PLOT_POINTS {
+                // Longer than announced (a length not known before): merge neighbouring
+                // buckets, so the envelope stays bounded.
+                let merged: Vec<f32> = self
+                    .points
+                    .chunks(4)
+                    .flat_map(|c| match *c {
+                        [lo1, hi1, lo2, hi2] => [lo1.min(lo2), hi1.max(hi2)],
+                        [lo, hi, ..] => [lo, hi],
+                        _ => unreachable!("points come in pairs"),
+                    })
+                    .collect();
+                self.points = merged;
+                self.bucket *= 2;
+            }
+        }
+    }
+    /// The points, evenly spread over the samples pushed so far (a last partial bucket
+    /// included).
+    fn finish(mut self) -> Vec<f32> {
+        if self.filled > 0 {
+            self.points.push(self.lo);
+            self.points.push(self.hi);
+        }
+        self.points
+    }
+}
+
+/// What a render keeps of the engine's output besides the files: the number of control frames,
+/// every `every`-th frame for the plot (at most [`PLOT_FRAMES`]) and the inserted breaths.
+struct Kept {
+    every: usize,
+    frames: u64,
+    plot: Vec<ControlFrame>,
+    breaths: Vec<BreathEvent>,
+}
+
+impl Kept {
+    fn new(frames_total: u64) -> Self {
+        Self {
+            every: (frames_total as usize).div_ceil(PLOT_FRAMES).max(1),
+            frames: 0,
+            plot: Vec::new(),
+            breaths: Vec::new(),
+        }
+    }
+}
+
+impl FrameSink for Kept {
+    fn frame(&mut self, frame: &ControlFrame, _at: u64) {
+        if (frame.index as usize).is_multiple_of(self.every) {
+            self.plot.push(*frame);
+            if self.plot.len() > 2 * PLOT_FRAMES {
+                // Longer than announced (a length not known before): keep every other one.
+                self.every *= 2;
+                let every = self.every;
+                self.plot
+                    .retain(|f| (f.index as usize).is_multiple_of(every));
+            }
+        }
+        self.frames += 1;
+    }
+    fn breath(&mut self, breath: &BreathEvent) {
+        self.breaths.push(*breath);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_envelope_of_unknown_length_stays_bounded_and_keeps_the_extremes() {
+        let n = 5 * PLOT_POINTS;
+        let mut e = Envelope::new(0);
+        for i in 0..n {
+            // A ramp with one spike in the middle.
+            e.push(if i == n / 2 { 2.0 } else { i as f32 / n as f32 });
+        }
+        let points = e.finish();
+        assert!(
+            points.len() <= 2 * PLOT_POINTS + 2,
+            "{} points",
+            points.len()
+        );
+        assert!(points.len() >= PLOT_POINTS / 2, "{} points", points.len());
+        let max = points.iter().copied().fold(f32::MIN, f32::max);
+        let min = points.iter().copied().fold(f32::MAX, f32::min);
+        assert_eq!((min, max), (0.0, 2.0));
+        // Pairs stay in time order: the last pair holds the end of the ramp.
+        assert!(points[points.len() - 1] > 0.99);
+    }
+
+    #[test]
+    fn plot_frames_of_unknown_length_stay_bounded_and_evenly_spaced() {
+        let mut kept = Kept::new(0);
+        let n = 5 * PLOT_FRAMES as u64;
+        for index in 0..n {
+            let f = ControlFrame {
+                index,
+                ..Default::default()
+            };
+            kept.frame(&f, 0);
+        }
+        assert_eq!(kept.frames, n);
+        assert!(kept.plot.len() <= 2 * PLOT_FRAMES, "{}", kept.plot.len());
+        let steps: Vec<u64> = kept
+            .plot
+            .windows(2)
+            .map(|w| w[1].index - w[0].index)
+            .collect();
+        assert!(steps.iter().all(|&s| s == kept.every as u64), "uneven");
+        assert!(kept
+            .plot
+            .last()
+            .is_some_and(|f| f.index + kept.every as u64 >= n));
+    }
+}

@@ -1,0 +1,485 @@
+//! Turning `pneuma render`'s arguments into a validated plan: the input files (folders
+//! expanded, a batch's names and job count checked) and, for one input, a [`Job`]: the opened
+//! input, the engine settings and the engine prepared for that input (head model, breath
+//! samples), and where each output goes ([`OutputPlan`]). Everything a render can refuse before
+//! it writes is refused here, in the order a user meets it; nothing is written here.
+
+use std::path::{Path, PathBuf};
+
+use pneuma_core::breathing::{BreathSample, Preset, SampleSlot};
+use pneuma_core::engine::{Engine, EngineConfig, EngineError, PlacementMode};
+use pneuma_io::{AudioSource, InputFormat, Tags};
+
+use super::error::RenderError;
+use crate::audio_out::Container;
+use crate::markers::MarkerKind;
+use crate::wav::WavInfo;
+
+/// Sample frames per block.
+pub const BLOCK_FRAMES: usize = 4096;
+
+/// Most jobs accepted by `--jobs`.
+const MAX_JOBS: usize = 256;
+
+/// Command-line arguments of `pneuma render`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct Args {
+    /// Input audio: WAV, FLAC, MP3, M4A/AAC, Ogg Vorbis, AIFF or CAF (any channels, 8–192
+    /// kHz); `-` reads standard input. Several files or folders render them all (a batch, in
+    /// parallel; folders give the audio files directly inside them).
+    #[arg(required = true, value_name = "IN")]
+    pub inputs: Vec<PathBuf>,
+    /// Output folder (created if missing); the files inside are named after the input. `-`
+    /// writes only the audio, as WAV, to standard output (one input).
+    #[arg(short, long, value_name = "DIR")]
+    pub output: PathBuf,
+    /// Audio format of the output: by default the input's own for WAV, FLAC and AIFF, and FLAC
+    /// for everything else (never a second lossy generation).
+    #[arg(long, value_enum)]
+    pub format: Option<Container>,
+    /// Breath markers for editors, comma-separated: audacity (label track
+    /// `<stem>.breaths.txt`), reaper (region list `<stem>.breaths.reaper.csv`), cue (cue points
+    /// inside the output WAV).
+    #[arg(long, value_enum, value_delimiter = ',', value_name = "KIND")]
+    pub markers: Vec<MarkerKind>,
+    /// Files rendered at once in a batch (1 to 256; default: the number of cores).
+    #[arg(short = 'j', long, value_name = "N")]
+    pub jobs: Option<usize>,
+    /// Breathing preset.
+    #[arg(long, default_value = "neutral", value_parser = clap::builder::PossibleValuesParser::new(Preset::NAMES))]
+    pub preset: String,
+    /// Breath level relative to the speech level, dB (-60 to -6).
+    #[arg(long, default_value_t = -22.0, allow_hyphen_values = true, value_parser = crate::options::number)]
+    pub breath_level_db: f32,
+    /// Pauses shorter than this get no breath, ms (100 to 5000).
+    #[arg(long, default_value_t = 250.0, value_parser = crate::options::number)]
+    pub min_pause_ms: f32,
+    /// Placement: `lookahead` (breath ends just before the next phrase) or `live` (no delay).
+    #[arg(long, default_value = "lookahead")]
+    pub mode: String,
+    /// Lookahead of the lookahead mode, ms (300 to 2000): renders as the plugin with that
+    /// lookahead. Without it the render looks seconds ahead (the engine's whole-file lookahead).
+    #[arg(long, value_parser = crate::options::number)]
+    pub lookahead_ms: Option<f32>,
+    /// Do not insert breaths (controls only; the audio is copied unchanged).
+    #[arg(long)]
+    pub no_breaths: bool,
+    /// Folder with user breath samples `mouth.wav` and/or `nose.wav` (or .flac, .aiff, … any
+    /// input format; the same as giving
+    /// them with --breath-mouth and --breath-nose).
+    #[arg(long, value_name = "DIR")]
+    pub breath_samples: Option<PathBuf>,
+    /// A WAV recording of a mouth inhalation to use instead of the procedural one.
+    #[arg(long, value_name = "WAV")]
+    pub breath_mouth: Option<PathBuf>,
+    /// A WAV recording of a nose inhalation to use instead of the procedural one.
+    #[arg(long, value_name = "WAV")]
+    pub breath_nose: Option<PathBuf>,
+    /// Head-pose model file (JSON); the embedded default model when absent.
+    #[arg(long)]
+    pub head_model: Option<PathBuf>,
+    /// Seed of every random source.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Control frames per second (10 to 1000).
+    #[arg(long, default_value_t = 120.0)]
+    pub frame_rate: f64,
+    /// Also write `<stem>.bvh` (head and neck motion).
+    #[arg(long)]
+    pub bvh: bool,
+    /// Skip the plot.
+    #[arg(long)]
+    pub no_plot: bool,
+    /// Refuse to replace existing outputs. By default existing outputs are replaced, all
+    /// together and only when the whole run succeeded.
+    #[arg(short = 'n', long)]
+    pub no_overwrite: bool,
+    /// No progress bar (the summary stays).
+    #[arg(long)]
+    pub no_progress: bool,
+    /// Print errors only: no progress bar, no summary.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+impl Args {
+    /// The engine settings these arguments ask for.
+    pub fn engine_config(&self) -> Result<EngineConfig, RenderError> {
+        let preset = Preset::from_name(&self.preset)
+            .map_err(|e| RenderError::Input(format!("--preset: {e}")))?;
+        // The options in the user's terms first; the engine checks its own settings again.
+        use crate::options::check_range;
+        let lookahead_ms = self.lookahead_ms.unwrap_or(500.0);
+        check_range("--breath-level-db", self.breath_level_db, -60.0, -6.0, "dB")
+            .and_then(|()| check_range("--min-pause-ms", self.min_pause_ms, 100.0, 5000.0, "ms"))
+            .and_then(|()| check_range("--lookahead-ms", lookahead_ms, 300.0, 2000.0, "ms"))
+            .and_then(|()| check_range("--frame-rate", self.frame_rate as f32, 10.0, 1000.0, "Hz"))
+            .map_err(RenderError::Input)?;
+        let mut c = EngineConfig::default();
+        c.analysis.frame_rate_hz = self.frame_rate;
+        c.placement.mode = PlacementMode::from_name(&self.mode)?;
+        c.placement.breath_level_db = self.breath_level_db;
+        c.placement.min_pause_s = self.min_pause_ms / 1000.0;
+        c.placement.lookahead_s = lookahead_ms / 1000.0;
+        c.placement.whole_file = self.lookahead_ms.is_none();
+        c.placement.insert_breaths = !self.no_breaths;
+        c.breathing = preset.params();
+        c.seed = self.seed;
+        c.validate()?;
+        Ok(c)
+    }
+
+    /// `-o -`: only the audio, to standard output.
+    fn to_stdout(&self) -> bool {
+        self.output.as_os_str() == "-"
+    }
+}
+
+/// The input files of `args`: files as given, folders expanded to the audio files inside
+/// (by extension, see [`pneuma_io::AUDIO_EXTENSIONS`]), sorted by name.
+pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+    let mut out = Vec::new();
+    for p in args {
+        if p.is_dir() {
+            let mut found: Vec<PathBuf> = std::fs::read_dir(p)
+                .map_err(|e| format!("cannot read the folder {}: {e}", p.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|f| {
+                    f.is_file()
+                        && f.file_name().and_then(|n| n.to_str()).is_some_and(|n| {
+                            !n.starts_with('.') && pneuma_io::audio_stem(n).is_some()
+                        })
+                })
+                .collect();
+            if found.is_empty() {
+                return Err(format!(
+                    "{} holds no audio files (.{}); give files or a folder of them",
+                    p.display(),
+                    pneuma_io::AUDIO_EXTENSIONS.join(", .")
+                ));
+            }
+            found.sort();
+            out.extend(found);
+        } else {
+            out.push(p.clone());
+        }
+    }
+    Ok(out)
+}
+
+/// The first two inputs whose outputs would have the same names.
+fn clashing_stems(inputs: &[PathBuf]) -> Option<(&Path, &Path)> {
+    let stem = |p: &Path| p.file_stem().map(|s| s.to_os_string());
+    for (i, a) in inputs.iter().enumerate() {
+        if let Some(b) = inputs[..i].iter().find(|b| stem(b) == stem(a)) {
+            return Some((b, a));
+        }
+    }
+    None
+}
+
+/// Checks a batch's arguments before anything runs; the number of render threads.
+pub fn check_batch(args: &Args, inputs: &[PathBuf]) -> Result<usize, String> {
+    if args.to_stdout() {
+        return Err(
+            "-o - (standard output) takes one input; give an output folder for a batch".into(),
+        );
+    }
+    if inputs.iter().any(|p| p.as_os_str() == "-") {
+        return Err("- (standard input) cannot be part of a batch; render it on its own".into());
+    }
+    if let Some((a, b)) = clashing_stems(inputs) {
+        return Err(format!(
+            "{} and {} would write the same output files in {}; rename one, or render them \
+             into different folders",
+            a.display(),
+            b.display(),
+            args.output.display()
+        ));
+    }
+    let jobs = match args.jobs {
+        Some(n) if !(1..=MAX_JOBS).contains(&n) => {
+            return Err(format!("--jobs {n} is out of range: use 1 to {MAX_JOBS}"))
+        }
+        Some(n) => n,
+        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+    };
+    Ok(jobs.min(inputs.len()).max(1))
+}
+
+/// The output container for an input: `asked`, else the input's own when it is lossless and
+/// writable (WAV, FLAC, AIFF), else FLAC (other lossless containers, and lossy input, which is
+/// never encoded lossy a second time).
+pub fn output_container(asked: Option<Container>, format: InputFormat) -> Container {
+    asked.unwrap_or(match format {
+        InputFormat::Wav => Container::Wav,
+        InputFormat::Aiff => Container::Aiff,
+        _ => Container::Flac,
+    })
+}
+
+/// One input's render, checked and ready to run: nothing is written yet.
+pub struct Job {
+    /// The opened input.
+    pub source: AudioSource,
+    /// The input's format (rate, channels, bits also of the output).
+    pub info: WavInfo,
+    /// The input's container and whether it is lossless.
+    pub input_format: (InputFormat, bool),
+    /// The input's tags, carried into the output.
+    pub tags: Tags,
+    /// The engine, prepared for the input's rate and channels, with the breath samples.
+    pub engine: Engine,
+    /// Where the outputs go.
+    pub outputs: OutputPlan,
+}
+
+/// The files a render writes into its output folder besides the audio.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FolderFiles {
+    /// The output folder (created by the render).
+    pub folder: PathBuf,
+    /// `<stem>.controls.csv`.
+    pub controls: PathBuf,
+    /// `<stem>.breaths.csv`.
+    pub breaths: PathBuf,
+    /// `<stem>.png`, unless `--no-plot`.
+    pub plot: Option<PathBuf>,
+    /// `<stem>.bvh` with `--bvh`.
+    pub bvh: Option<PathBuf>,
+    /// The marker files with `--markers` (cue points are inside the audio).
+    pub markers: Vec<(MarkerKind, PathBuf)>,
+}
+
+impl FolderFiles {
+    /// Every file of the folder but the audio, in the order they are listed.
+    fn paths(&self) -> impl Iterator<Item = &PathBuf> {
+        [&self.controls, &self.breaths]
+            .into_iter()
+            .chain(&self.plot)
+            .chain(&self.bvh)
+            .chain(self.markers.iter().map(|(_, p)| p))
+    }
+}
+
+/// Where one input's outputs go.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputPlan {
+    /// The audio's container.
+    pub container: Container,
+    /// The audio file, `-` for standard output.
+    pub audio: PathBuf,
+    /// Cue points inside the audio (`--markers cue`).
+    pub cues: bool,
+    /// The other files, `None` with `-o -` (only the audio, to standard output).
+    pub files: Option<FolderFiles>,
+}
+
+impl Job {
+    /// Opens `input` and checks everything `args` ask of it: the settings, the options that
+    /// need a file output or a WAV, the channels, the head model, the breath samples and the
+    /// output names (`--no-overwrite`, never over the input).
+    pub fn plan(args: &Args, input: &Path) -> Result<Self, RenderError> {
+        let config = args.engine_config()?;
+        check_stdout_options(args)?;
+        let source = AudioSource::open(input)?;
+        let container = if args.to_stdout() {
+            Container::Wav
+        } else {
+            output_container(args.format, source.format())
+        };
+        check_cue_container(args, container)?;
+        let info = source.info();
+        check_input_shape(args, &info)?;
+        let engine = prepared_engine(args, config, &info)?;
+        let outputs = OutputPlan::new(args, input, container)?;
+        Ok(Self {
+            input_format: (source.format(), source.lossless()),
+            tags: source.tags(),
+            info,
+            source,
+            engine,
+            outputs,
+        })
+    }
+}
+
+/// `-o -` writes only WAV audio: no markers, no other format.
+fn check_stdout_options(args: &Args) -> Result<(), RenderError> {
+    if args.to_stdout() && !args.markers.is_empty() {
+        return Err(RenderError::Input(
+            "-o - writes only the audio to standard output: drop --markers, or give an output \
+             folder"
+                .into(),
+        ));
+    }
+    if args.to_stdout() && args.format.is_some_and(|f| f != Container::Wav) {
+        return Err(RenderError::Input(
+            "-o - writes WAV (a stream of unknown length): drop --format, or give an output \
+             folder"
+                .into(),
+        ));
+    }
+    Ok(())
+}
+
+/// Cue points live inside a WAV file.
+fn check_cue_container(args: &Args, container: Container) -> Result<(), RenderError> {
+    if args.markers.contains(&MarkerKind::Cue) && container != Container::Wav {
+        return Err(RenderError::Input(format!(
+            "--markers cue writes cue points inside a WAV file, but the output is {}: add \
+             --format wav, or use --markers audacity or reaper",
+            container.extension().to_uppercase()
+        )));
+    }
+    Ok(())
+}
+
+/// The engine takes the input's channels; the BVH needs the input's length up front.
+fn check_input_shape(args: &Args, info: &WavInfo) -> Result<(), RenderError> {
+    let channels = info.channels as usize;
+    if channels > pneuma_core::engine::MAX_CHANNELS {
+        return Err(EngineError::Channels(channels).into());
+    }
+    if args.bvh && !args.to_stdout() && info.frames == 0 {
+        return Err(RenderError::Input(
+            "--bvh needs the input's length before the render (the BVH header holds the frame \
+             count), and this input does not announce it (a pipe, or a stream of unknown \
+             length): save it to a file first, or drop --bvh"
+                .into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The engine for `config` with the head model and breath samples `args` name, prepared for
+/// the input's rate and channels.
+fn prepared_engine(
+    args: &Args,
+    config: EngineConfig,
+    info: &WavInfo,
+) -> Result<Engine, RenderError> {
+    let model =
+        crate::options::load_head_model(args.head_model.as_deref()).map_err(RenderError::Input)?;
+    let mut engine = Engine::new(config, model)?;
+    engine.prepare(
+        info.sample_rate_hz as f64,
+        BLOCK_FRAMES,
+        info.channels as usize,
+    )?;
+    for (slot, sample) in breath_samples(args)? {
+        engine.set_breath_sample(slot, Some(sample));
+    }
+    Ok(engine)
+}
+
+/// The breath samples `args` name: `--breath-mouth`, `--breath-nose`, then the `mouth` and
+/// `nose` files of `--breath-samples` (later ones replace earlier ones in their slot).
+fn breath_samples(args: &Args) -> Result<Vec<(SampleSlot, BreathSample)>, RenderError> {
+    let mut samples = Vec::new();
+    for (slot, path, name) in [
+        (SampleSlot::Mouth, &args.breath_mouth, "--breath-mouth"),
+        (SampleSlot::Nose, &args.breath_nose, "--breath-nose"),
+    ] {
+        if let Some(path) = path {
+            samples.push((slot, load_sample(path, name)?));
+        }
+    }
+    if let Some(dir) = &args.breath_samples {
+        if !dir.is_dir() {
+            return Err(RenderError::Input(format!(
+                "--breath-samples {}: not a folder (it should hold mouth.wav and/or nose.wav, or .flac, .aiff, …)",
+                dir.display()
+            )));
+        }
+        let before = samples.len();
+        for (slot, name) in [(SampleSlot::Mouth, "mouth"), (SampleSlot::Nose, "nose")] {
+            if let Some(path) = pneuma_io::find_audio(dir, name) {
+                samples.push((slot, load_sample(&path, "breath sample")?));
+            }
+        }
+        if samples.len() == before {
+            return Err(RenderError::Input(format!(
+                "--breath-samples {}: no mouth or nose audio file (mouth.wav, nose.flac, …) in it",
+                dir.display()
+            )));
+        }
+    }
+    Ok(samples)
+}
+
+/// Reads the breath sample at `path`; `label` names it in errors.
+fn load_sample(path: &Path, label: &str) -> Result<BreathSample, RenderError> {
+    let (samples, rate) = pneuma_io::read_mono(path)?;
+    BreathSample::from_mono(samples, rate as f64)
+        .map_err(|e| RenderError::Input(format!("{label} {}: {e}", path.display())))
+}
+
+impl OutputPlan {
+    /// The outputs of `input` as `args` ask, in `container`: refused when `-o` looks like a
+    /// file, when the audio would replace the input, or (`--no-overwrite`) when one exists.
+    fn new(args: &Args, input: &Path, container: Container) -> Result<Self, RenderError> {
+        let cues = args.markers.contains(&MarkerKind::Cue);
+        if args.to_stdout() {
+            return Ok(Self {
+                container,
+                audio: PathBuf::from("-"),
+                cues,
+                files: None,
+            });
+        }
+        crate::options::check_output_folder("-o", &args.output).map_err(RenderError::Input)?;
+        let stem = output_stem(input);
+        let named = |suffix: &str| args.output.join(format!("{stem}.{suffix}"));
+        let audio = named(container.extension());
+        if same_file(input, &audio) {
+            return Err(RenderError::Output {
+                path: audio,
+                source: std::io::Error::other("it is the input file; choose another output folder"),
+            });
+        }
+        let files = FolderFiles {
+            folder: args.output.clone(),
+            controls: named("controls.csv"),
+            breaths: named("breaths.csv"),
+            plot: (!args.no_plot).then(|| named("png")),
+            bvh: args.bvh.then(|| named("bvh")),
+            markers: args
+                .markers
+                .iter()
+                .filter_map(|&k| k.suffix().map(|s| (k, named(s))))
+                .collect(),
+        };
+        if args.no_overwrite {
+            let all: Vec<PathBuf> = std::iter::once(&audio)
+                .chain(files.paths())
+                .cloned()
+                .collect();
+            crate::options::refuse_existing(&all).map_err(RenderError::Input)?;
+        }
+        Ok(Self {
+            container,
+            audio,
+            cues,
+            files: Some(files),
+        })
+    }
+}
+
+/// The name the outputs of `input` are named after: its file stem, `stdin` for `-`.
+fn output_stem(input: &Path) -> String {
+    if input.as_os_str() == "-" {
+        return "stdin".into();
+    }
+    input
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "render".into())
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => false,
+    }
+}

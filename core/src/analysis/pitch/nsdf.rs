@@ -1,0 +1,226 @@
+//! [`Nsdf`]: the normalised square difference function of one window length, with its FFT
+//! plans and buffers, the low-pass it may hear the window through, and what its spectrum also
+//! gives (the low band's share of the voice band, the breath bands).
+
+use std::sync::Arc;
+
+use realfft::num_complex::Complex;
+use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
+
+use super::super::biquad::Biquad;
+use super::super::breath_band::{BandLevels, BandSpectrum};
+use super::sums::{Lanes, WindowStats};
+
+/// The low band (Hz) whose share of the voice band's energy ([`super::NsdfPitch::low_band`]) tells
+/// voiced sounds (energy in the first formant region) from fricatives and hiss.
+const LOW_BAND_HZ: (f64, f64) = (80.0, 1000.0);
+/// Top of the voice band for that share: the lowest internal rate's Nyquist frequency, so the
+/// share means the same at every host rate.
+const VOICE_BAND_TOP_HZ: f64 = 4000.0;
+
+/// Behind the low-pass, r(τ) holds the filter's ringing past the window's end and m(τ) does
+/// not, so a periodic window's NSDF peaks reach about 1.015: the curve is clamped here, not at
+/// 1, so the parabolic refinement still sees the peak's shape (the clarity is clamped to 1).
+pub(super) const HEARD_NSDF_MAX: f64 = 1.1;
+
+/// The NSDF of one window length, with its FFT plans and buffers.
+pub(super) struct Nsdf {
+    pub(super) window_len: usize,
+    pub(super) r2c: Arc<dyn RealToComplex<f32>>,
+    pub(super) c2r: Arc<dyn ComplexToReal<f32>>,
+    pub(super) time: Vec<f32>,
+    pub(super) spectrum: Vec<Complex<f32>>,
+    pub(super) scratch: Vec<Complex<f32>>,
+    pub(super) acf: Vec<f32>,
+    /// n(τ) for τ = 0..=lag_max+1.
+    pub(super) curve: Vec<f32>,
+    /// Spectrum bins of the low band and of the whole voice band (see `low_band`).
+    pub(super) low_bins: (usize, usize),
+    pub(super) band_bins: (usize, usize),
+    /// Share of the last window's voice-band energy in the low band, 0..1 (kept up to date
+    /// only when `measure_low_band`: the short windows' share is never asked for).
+    pub(super) low_band: f32,
+    pub(super) measure_low_band: bool,
+    /// The breath bands read from the spectrum, when asked for ([`super::NsdfPitch::measure_bands`]),
+    /// and their levels in the last window.
+    pub(super) bands: Option<BandSpectrum>,
+    pub(super) band_levels: BandLevels,
+    /// The low-pass the NSDF hears the window through (see [`super::NsdfPitch::low_pass`]), its
+    /// power gain per spectrum bin, and the window through it (from rest).
+    pub(super) filter: Option<Biquad>,
+    pub(super) weights: Vec<f32>,
+    pub(super) heard: Vec<f32>,
+    /// Energy of the last window as the NSDF hears it (about the mean, after the low-pass).
+    pub(super) heard_energy: f64,
+}
+
+/// Smallest even 5-smooth number (2^a·3^b·5^c, a ≥ 1) not below `n`: sizes the real FFT is
+/// fast at (an odd length would cost a full-length complex FFT).
+pub(super) fn fft_len_for(n: usize) -> usize {
+    let mut m = n.max(2).next_multiple_of(2);
+    loop {
+        let mut k = m;
+        for p in [2, 3, 5] {
+            while k.is_multiple_of(p) {
+                k /= p;
+            }
+        }
+        if k == 1 {
+            return m;
+        }
+        m += 2;
+    }
+}
+
+impl Nsdf {
+    pub(super) fn new(
+        planner: &mut RealFftPlanner<f32>,
+        rate_hz: f64,
+        window_len: usize,
+        lag_max: usize,
+        measure_low_band: bool,
+    ) -> Self {
+        let fft_len = fft_len_for(window_len + lag_max + 2);
+        let bin = |hz: f64| ((hz * fft_len as f64 / rate_hz).round() as usize).min(fft_len / 2);
+        let r2c = planner.plan_fft_forward(fft_len);
+        let c2r = planner.plan_fft_inverse(fft_len);
+        let scratch_len = r2c.get_scratch_len().max(c2r.get_scratch_len());
+        Self {
+            window_len,
+            time: r2c.make_input_vec(),
+            spectrum: r2c.make_output_vec(),
+            scratch: vec![Complex::default(); scratch_len],
+            acf: c2r.make_output_vec(),
+            curve: vec![0.0; lag_max + 2],
+            low_bins: (bin(LOW_BAND_HZ.0), bin(LOW_BAND_HZ.1)),
+            band_bins: (bin(LOW_BAND_HZ.0), bin(VOICE_BAND_TOP_HZ)),
+            low_band: 0.0,
+            measure_low_band,
+            bands: None,
+            band_levels: BandLevels::FLOOR,
+            filter: None,
+            weights: Vec::new(),
+            heard: Vec::new(),
+            heard_energy: 0.0,
+            r2c,
+            c2r,
+        }
+    }
+
+    /// Computes the curve of `window` (exactly `window_len` samples, mean removed here); returns
+    /// false (curve all zero) for a silent window.
+    pub(super) fn compute(&mut self, window: &[f32]) -> bool {
+        self.compute_with(window, WindowStats::of(window))
+    }
+
+    /// [`Nsdf::compute`] with the window's statistics already known.
+    pub(super) fn compute_with(&mut self, window: &[f32], stats: WindowStats) -> bool {
+        let w = self.window_len;
+        let WindowStats { mean, energy } = stats;
+        for (t, &x) in self.time.iter_mut().zip(window) {
+            *t = x - mean;
+        }
+        self.time[w..].fill(0.0);
+        self.low_band = 0.0;
+        self.band_levels = BandLevels::FLOOR;
+        self.heard_energy = energy;
+        if energy < 1e-12 * w as f64 {
+            self.curve.fill(0.0);
+            return false;
+        }
+        if let Some(mut filter) = self.filter {
+            let mut e = Lanes::default();
+            for (h, &t) in self.heard.iter_mut().zip(&self.time[..w]) {
+                *h = filter.process(t as f64) as f32;
+            }
+            e.add(&self.heard, |h| (h as f64) * (h as f64));
+            self.heard_energy = e.total();
+        }
+        // r(τ) by FFT: |X|² then inverse. Plans and buffers are sized in new(), so the only
+        // failure is impossible here; fall back to "no pitch" rather than panic.
+        if self
+            .r2c
+            .process_with_scratch(&mut self.time, &mut self.spectrum, &mut self.scratch)
+            .is_err()
+        {
+            self.curve.fill(0.0);
+            return false;
+        }
+        for c in self.spectrum.iter_mut() {
+            *c = Complex::new(c.norm_sqr(), 0.0);
+        }
+        if self.measure_low_band {
+            if let Some(bands) = &self.bands {
+                self.band_levels = bands.levels(&self.spectrum);
+            }
+        }
+        // The breath bands are read before the low-pass, the low-band share after it. The
+        // low-pass, applied to the power spectrum: r(τ) becomes the autocorrelation of the
+        // filtered window (its ringing past the window's end included).
+        for (c, &g) in self.spectrum.iter_mut().zip(&self.weights) {
+            c.re *= g;
+        }
+        if self.measure_low_band {
+            let ((la, lb), (ba, bb)) = (self.low_bins, self.band_bins);
+            let power = |c: Complex<f32>| c.re as f64;
+            let (mut low, mut band) = (Lanes::default(), Lanes::default());
+            low.add(&self.spectrum[la..lb], power);
+            band.add(&self.spectrum[ba..bb], power);
+            let (low, band) = (low.total(), band.total());
+            if band > 0.0 {
+                self.low_band = (low / band) as f32;
+            }
+        }
+        if self
+            .c2r
+            .process_with_scratch(&mut self.spectrum, &mut self.acf, &mut self.scratch)
+            .is_err()
+        {
+            self.curve.fill(0.0);
+            return false;
+        }
+        // m(0) = 2·Σx²; later lags drop one sample from each end (the forward pass overwrote
+        // `time`, so the ends are read from the window itself, or from the filtered window).
+        let mut m = 2.0 * self.heard_energy;
+        let scale = 1.0 / self.time.len() as f64;
+        let top = if self.filter.is_some() {
+            HEARD_NSDF_MAX
+        } else {
+            1.0
+        };
+        for tau in 0..self.curve.len() {
+            if tau > 0 {
+                let (a, b) = if self.filter.is_some() {
+                    (self.heard[tau - 1] as f64, self.heard[w - tau] as f64)
+                } else {
+                    (
+                        (window[tau - 1] - mean) as f64,
+                        (window[w - tau] - mean) as f64,
+                    )
+                };
+                m -= a * a + b * b;
+            }
+            let r = self.acf[tau] as f64 * scale;
+            self.curve[tau] = if m > 1e-12 {
+                (2.0 * r / m).clamp(-1.0, top) as f32
+            } else {
+                0.0
+            };
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fft_sizes_are_5_smooth() {
+        assert_eq!(fft_len_for(483), 486);
+        assert_eq!(fft_len_for(512), 512);
+        assert_eq!(fft_len_for(532), 540);
+        // The short window at 8 kHz: 243 = 3^5 is 5-smooth but odd.
+        assert_eq!(fft_len_for(242), 250);
+    }
+}

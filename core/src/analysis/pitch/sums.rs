@@ -1,0 +1,128 @@
+//! Window statistics in f64 lanes: the mean and energy of a window ([`WindowStats`]), its plain
+//! sum of squares, and the long and three short windows of one frame at once ([`FrameStats`]),
+//! each bit-identical to its window's sums taken alone.
+
+/// The mean of one window and its energy about the mean.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct WindowStats {
+    /// Mean of the samples (summed in f64 in [`Lanes`], then rounded to f32).
+    pub(super) mean: f32,
+    /// Σ (x − mean)², each difference rounded to f32 first, summed in f64 in [`Lanes`].
+    pub(super) energy: f64,
+}
+
+impl WindowStats {
+    pub(super) fn of(window: &[f32]) -> Self {
+        let mut sum = Lanes::default();
+        sum.add(window, |x| x as f64);
+        let mean = (sum.total() / window.len().max(1) as f64) as f32;
+        Self {
+            mean,
+            energy: energy_about(window, mean),
+        }
+    }
+}
+
+/// Σ (x − mean)² over `window`, each difference rounded to f32, summed in [`Lanes`].
+#[inline]
+pub(super) fn energy_about(window: &[f32], mean: f32) -> f64 {
+    let mut e = Lanes::default();
+    e.add(window, |x| {
+        let t = (x - mean) as f64;
+        t * t
+    });
+    e.total()
+}
+
+/// Σ x² of `window` in [`Lanes`].
+pub(super) fn square_sum(window: &[f32]) -> f64 {
+    let mut s = Lanes::default();
+    s.add(window, |x| (x as f64) * (x as f64));
+    s.total()
+}
+
+/// Lanes of [`Lanes`].
+const LANES: usize = 8;
+
+/// A sum in f64 over a run of samples kept as [`LANES`] partial sums (sample `i` of the run
+/// into lane `i % LANES`, each lane in sample order) and added up at the end in a fixed tree:
+/// independent chains that vectorise and overlap, where one serial sum waits on every
+/// addition. The same run always gives the same bits.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Lanes([f64; LANES]);
+
+impl Lanes {
+    /// Adds `f(x)` for every sample of `xs` (the whole run, or its continuation when the run
+    /// so far was a whole number of [`LANES`] long).
+    #[inline(always)]
+    pub(super) fn add<T: Copy>(&mut self, xs: &[T], f: impl Fn(T) -> f64) {
+        let mut l = self.0;
+        let chunks = xs.chunks_exact(LANES);
+        let tail = chunks.remainder();
+        for c in chunks {
+            for k in 0..LANES {
+                l[k] += f(c[k]);
+            }
+        }
+        for (k, &x) in tail.iter().enumerate() {
+            l[k] += f(x);
+        }
+        self.0 = l;
+    }
+
+    /// The sum: the lanes added pairwise.
+    #[inline]
+    pub(super) fn total(&self) -> f64 {
+        let l = self.0;
+        ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]))
+    }
+}
+
+/// The statistics of the long window and of the three short windows inside it (oldest end,
+/// centre, newest end), and the long window's plain sum of squares: each window's sums are
+/// exactly its [`WindowStats::of`] sums (the same lanes in the same order, so the results are
+/// bit-identical), but the oldest short window's sum is shared with the long window's.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct FrameStats {
+    pub(super) long: WindowStats,
+    /// Oldest end, centre, newest end.
+    pub(super) short: [WindowStats; 3],
+    /// Σ x² of the long window, summed in [`Lanes`] (for [`super::FrameAnalysis::square_sum`]).
+    pub(super) square_sum: f64,
+}
+
+impl FrameStats {
+    /// The short windows start at `0`, `(w − short_len) / 2` and `w − short_len`; requires
+    /// `short_len <= window.len()`.
+    pub(super) fn of(window: &[f32], short_len: usize) -> Self {
+        let (w, len) = (window.len(), short_len);
+        let starts = [0, (w - len) / 2, w - len];
+        let shorts = starts.map(|a| &window[a..a + len]);
+        let plain = |x: f32| x as f64;
+        let mut sums = [Lanes::default(); 3];
+        for (s, part) in sums.iter_mut().zip(shorts) {
+            s.add(part, plain);
+        }
+        let mut long = Lanes::default();
+        if len.is_multiple_of(LANES) {
+            // The long window's run so far is the oldest short window's.
+            long = sums[0];
+            long.add(&window[len..], plain);
+        } else {
+            long.add(window, plain);
+        }
+        let mean_long = (long.total() / w.max(1) as f64) as f32;
+        let means = sums.map(|s| (s.total() / len.max(1) as f64) as f32);
+        Self {
+            long: WindowStats {
+                mean: mean_long,
+                energy: energy_about(window, mean_long),
+            },
+            short: [0, 1, 2].map(|k| WindowStats {
+                mean: means[k],
+                energy: energy_about(shorts[k], means[k]),
+            }),
+            square_sum: square_sum(window),
+        }
+    }
+}

@@ -1,0 +1,18 @@
+//! [`FrameFacts`]: what the phrase tracker keeps of each frame in its history ring, for moving
+//! a phrase's edges back over quiet consonants and forward over tails, and for the breath runs.
+
+/// Per-frame facts kept in the history ring.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct FrameFacts {
+    pub(super) active: bool,
+    pub(super) over_floor: bool,
+    pub(super) voiced: bool,
+    /// The voice-band level the decisions use, dBFS.
+    pub(super) level_db: f32,
+    /// Over the floor by `breath_margin_db` (and not silence): loud enough for a breath run.
+    pub(super) breath_level: bool,
+    /// The frame's high band over its mid band, dB ([`crate::analysis::BandLevels`]).
+    pub(super) high_over_mid_db: f32,
+    /// The frame's low band over its mid band, dB.
+    pub(super) low_over_mid_db: f32,
+}

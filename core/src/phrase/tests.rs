@@ -1,0 +1,320 @@
+//! Tests of the phrase tracker: scripted level and voicing sequences and the events they give.
+
+use super::*;
+use crate::analysis::{BandLevels, FeatureFrame};
+
+fn frame(index: u64, rms_db: f32, voiced: bool) -> FeatureFrame {
+    FeatureFrame {
+        index,
+        time_s: index as f64 / 100.0,
+        f0_hz: if voiced { 150.0 } else { 0.0 },
+        voiced,
+        voicing: if voiced { 0.9 } else { 0.2 },
+        rms_db,
+        f0_st: 0.0,
+        level_db: rms_db - -20.0,
+        speech_level_db: -20.0,
+        band_db: rms_db,
+        bands: breathy(rms_db),
+    }
+}
+
+/// Band levels of broadband breath noise at `rms_db`: most energy in the mid band.
+fn breathy(rms_db: f32) -> BandLevels {
+    BandLevels {
+        low_db: rms_db - 12.0,
+        mid_db: rms_db - 1.5,
+        high_db: rms_db - 6.0,
+    }
+}
+
+/// Runs a scripted level/voicing sequence at 100 frames/s and collects the start and end
+/// events.
+fn run(script: &[(usize, f32, bool)]) -> Vec<PhraseEvent> {
+    run_all(script)
+        .into_iter()
+        .filter(|e| !matches!(e, PhraseEvent::Activity { .. }))
+        .collect()
+}
+
+/// All events, activity included.
+fn run_all(script: &[(usize, f32, bool)]) -> Vec<PhraseEvent> {
+    run_edited(script, |_, _| {})
+}
+
+/// All events of a script whose frames `edit` changes (given the frame number).
+fn run_edited(
+    script: &[(usize, f32, bool)],
+    edit: impl Fn(u64, &mut FeatureFrame),
+) -> Vec<PhraseEvent> {
+    let mut t = PhraseTracker::new(PhraseConfig::default(), 100.0).unwrap();
+    let mut events = Vec::new();
+    let mut i = 0u64;
+    for &(n, db, v) in script {
+        for _ in 0..n {
+            let mut f = frame(i, db, v);
+            edit(i, &mut f);
+            t.update(&f, |e| events.push(e));
+            i += 1;
+        }
+    }
+    events
+}
+
+#[test]
+fn two_phrases_give_start_end_start_with_the_pause() {
+    let ev = run(&[
+        (100, -70.0, false),
+        (150, -20.0, true),
+        (60, -70.0, false),
+        (150, -20.0, true),
+        (100, -70.0, false),
+    ]);
+    assert_eq!(ev.len(), 4, "{ev:?}");
+    match ev[0] {
+        PhraseEvent::Start { onset_s, pause } => {
+            assert!((onset_s - 1.0).abs() < 0.011, "{onset_s}");
+            assert!(pause.leading && pause.start_s == 0.0);
+        }
+        _ => panic!("{ev:?}"),
+    }
+    match ev[2] {
+        PhraseEvent::Start { onset_s, pause } => {
+            let p = pause;
+            assert!(!p.leading && p.last_activity_end_s.is_none());
+            assert!((onset_s - 3.1).abs() < 0.011, "{onset_s}");
+            assert!((p.start_s - 2.5).abs() < 0.011, "{p:?}");
+            assert!((p.length_s() - 0.6).abs() < 0.021, "{p:?}");
+            assert!(!p.has_breath);
+            assert_eq!(p.breath_s, None);
+        }
+        _ => panic!("{ev:?}"),
+    }
+}
+
+#[test]
+fn a_short_dip_inside_a_phrase_is_not_a_pause() {
+    let ev = run(&[
+        (100, -70.0, false),
+        (100, -20.0, true),
+        (8, -70.0, false),
+        (100, -20.0, true),
+        (100, -70.0, false),
+    ]);
+    assert_eq!(ev.len(), 2, "{ev:?}");
+}
+
+#[test]
+fn unvoiced_noise_bursts_do_not_start_phrases_but_count_as_breath() {
+    let ev = run(&[
+        (100, -70.0, false),
+        (100, -20.0, true),
+        (40, -70.0, false),
+        (35, -48.0, false), // breath-like: 22 dB under speech, 22 dB over the floor
+        (30, -70.0, false),
+        (100, -20.0, true),
+        (50, -70.0, false),
+    ]);
+    let starts: Vec<_> = ev
+        .iter()
+        .filter_map(|e| match e {
+            PhraseEvent::Start { pause, .. } => Some(*pause),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(starts.len(), 2, "{ev:?}");
+    assert!(starts[1].has_breath, "{ev:?}");
+    // Its span: the burst's frames 240..275.
+    let (start_s, end_s) = starts[1].breath_s.expect("the breath's span");
+    assert!(
+        (start_s - 2.40).abs() < 0.021 && (end_s - 2.75).abs() < 0.021,
+        "breath at {start_s}..{end_s} s, want 2.40..2.75"
+    );
+    assert_eq!(
+        starts[0].breath_s, None,
+        "no breath before the first phrase"
+    );
+}
+
+/// The pauses' `breath_s` of a script's phrase starts.
+fn breaths_of(script: &[(usize, f32, bool)]) -> Vec<Option<(f64, f64)>> {
+    run(script)
+        .iter()
+        .filter_map(|e| match e {
+            PhraseEvent::Start { pause, .. } => Some(pause.breath_s),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn a_reverberant_tail_is_not_a_breath_but_a_rise_after_it_is() {
+    // A phrase whose sound decays over 0.6 s (3 dB per 50 ms, unvoiced) into the pause.
+    let tail: Vec<(usize, f32, bool)> =
+        (0..8).map(|k| (5, -42.0 - 3.0 * k as f32, false)).collect();
+    let mut only_tail = vec![(100, -70.0, false), (100, -20.0, true)];
+    only_tail.extend(&tail);
+    only_tail.extend([(40, -70.0, false), (100, -20.0, true), (50, -70.0, false)]);
+    assert_eq!(
+        breaths_of(&only_tail),
+        [None, None],
+        "a tail heard as a breath"
+    );
+    // The same tail, then noise rising again 8 dB before the next phrase: an inhalation.
+    let mut tail_then_breath = vec![(100, -70.0, false), (100, -20.0, true)];
+    tail_then_breath.extend(&tail);
+    tail_then_breath.extend([
+        (25, -55.0, false),
+        (5, -70.0, false),
+        (100, -20.0, true),
+        (50, -70.0, false),
+    ]);
+    let b = breaths_of(&tail_then_breath);
+    assert!(b[1].is_some(), "the rise after the tail is a breath: {b:?}");
+}
+
+/// The pauses' `breath_s` of a script whose unvoiced frames between `from` and `to`
+/// (frame numbers) carry `bands` instead of breath-like band levels.
+fn breaths_with_bands(
+    script: &[(usize, f32, bool)],
+    (from, to): (u64, u64),
+    bands: impl Fn(f32) -> BandLevels,
+) -> Vec<Option<(f64, f64)>> {
+    run_edited(script, |i, f| {
+        if (from..to).contains(&i) {
+            f.bands = bands(f.band_db);
+        }
+    })
+    .into_iter()
+    .filter_map(|e| match e {
+        PhraseEvent::Start { pause, .. } => Some(pause.breath_s),
+        _ => None,
+    })
+    .collect()
+}
+
+#[test]
+fn a_burst_shaped_like_a_sibilant_or_a_vowel_tail_is_no_breath() {
+    // The breath-like burst of frames 240..275 (22 dB under speech) of the test above.
+    let script = [
+        (100, -70.0, false),
+        (100, -20.0, true),
+        (40, -70.0, false),
+        (35, -48.0, false),
+        (30, -70.0, false),
+        (100, -20.0, true),
+        (50, -70.0, false),
+    ];
+    let burst = (240, 275);
+    assert!(breaths_with_bands(&script, burst, breathy)[1].is_some());
+    // /s/: the high band 10 dB over the mid band.
+    let sibilant = |db: f32| BandLevels {
+        low_db: db - 25.0,
+        mid_db: db - 10.0,
+        high_db: db - 0.5,
+    };
+    assert_eq!(breaths_with_bands(&script, burst, sibilant)[1], None);
+    // A vowel's tail or rumble: the low band 8 dB over the mid band.
+    let low = |db: f32| BandLevels {
+        low_db: db - 0.5,
+        mid_db: db - 8.5,
+        high_db: db - 20.0,
+    };
+    assert_eq!(breaths_with_bands(&script, burst, low)[1], None);
+}
+
+#[test]
+fn a_quiet_initial_consonant_moves_the_onset_back() {
+    let ev = run(&[
+        (100, -70.0, false),
+        (10, -45.0, false), // an /f/ 25 dB under speech
+        (100, -20.0, true),
+        (50, -70.0, false),
+    ]);
+    match ev[0] {
+        PhraseEvent::Start { onset_s, .. } => assert!((onset_s - 1.0).abs() < 0.011),
+        _ => panic!("{ev:?}"),
+    }
+}
+
+#[test]
+fn a_loud_unvoiced_burst_in_a_pause_is_reported_and_bounds_the_pause() {
+    let ev = run_all(&[
+        (100, -70.0, false),
+        (100, -20.0, true),
+        (30, -70.0, false),
+        (8, -22.0, false), // a click or a word too short to confirm, at 2.3 s
+        (40, -70.0, false),
+        (100, -20.0, true),
+        (50, -70.0, false),
+    ]);
+    let activity: Vec<f64> = ev
+        .iter()
+        .filter_map(|e| match e {
+            PhraseEvent::Activity { time_s } => Some(*time_s),
+            _ => None,
+        })
+        .collect();
+    assert!(activity.iter().any(|t| (t - 2.3).abs() < 0.011), "{ev:?}");
+    let last = ev
+        .iter()
+        .rev()
+        .find_map(|e| match e {
+            PhraseEvent::Start { pause, .. } => Some(*pause),
+            _ => None,
+        })
+        .unwrap();
+    let end = last.last_activity_end_s.expect("the burst is reported");
+    assert!((end - 2.38).abs() < 0.011, "{last:?}");
+}
+
+#[test]
+fn a_breath_before_the_first_phrase_is_seen() {
+    let ev = run(&[
+        (50, -70.0, false),
+        (35, -48.0, false),
+        (30, -70.0, false),
+        (100, -20.0, true),
+        (30, -70.0, false),
+    ]);
+    match ev[0] {
+        PhraseEvent::Start { pause, .. } => assert!(pause.leading && pause.has_breath),
+        _ => panic!("{ev:?}"),
+    }
+}
+
+#[test]
+fn nan_levels_are_silence() {
+    let ev = run(&[
+        (100, f32::NAN, false),
+        (100, -20.0, true),
+        (50, f32::NAN, false),
+    ]);
+    assert_eq!(ev.len(), 2, "{ev:?}");
+}
+
+#[test]
+fn an_unvoiced_burst_is_speech_only_near_the_speech_level() {
+    // An unvoiced burst at −30 dBFS, 40 dB over the floor, in a pause (at 2.3 s): within
+    // `unvoiced_drop_db` (12 dB) of a −25 dBFS speaker it is activity; 25 dB under a −5 dBFS
+    // speaker it is not. Only the frames' speech level differs (their level_db stays).
+    let script = [
+        (100, -70.0, false),
+        (100, -20.0, true),
+        (30, -70.0, false),
+        (8, -30.0, false),
+        (40, -70.0, false),
+        (100, -20.0, true),
+        (50, -70.0, false),
+    ];
+    for (speech_level_db, heard) in [(-25.0, true), (-5.0, false)] {
+        let ev = run_edited(&script, |_, f| f.speech_level_db = speech_level_db);
+        let activity = ev
+            .iter()
+            .any(|e| matches!(e, PhraseEvent::Activity { time_s } if (time_s - 2.3).abs() < 0.011));
+        assert_eq!(
+            activity, heard,
+            "speech level {speech_level_db} dBFS: {ev:?}"
+        );
+    }
+}

@@ -1,0 +1,345 @@
+//! [`PhraseTracker`]: the per-frame decision (active, over the floor, breath-like), the history
+//! ring of those facts ([`super::facts`]), and the phrase and candidate state that turns them into events. The
+//! breath runs of a pause ([`super::breath_run`]) and the room's band levels
+//! ([`super::floor_bands`]) have rooms of their own.
+
+use super::breath_run::{BreathRules, PauseBreaths};
+use super::config::{PhraseConfig, PhraseError};
+use super::events::{Pause, PhraseEvent};
+use super::facts::FrameFacts;
+use super::floor_bands::{
+    FloorBands, FLOOR_BAND_TAU_S, FLOOR_BAND_UNDER_SPEECH_DB, FLOOR_BAND_WITHIN_DB,
+};
+use crate::analysis::noise_floor::NoiseFloor;
+use crate::analysis::FeatureFrame;
+
+/// Number of half-second blocks the noise floor looks back over.
+const FLOOR_BLOCKS: usize = 6;
+/// Length of one block of the noise floor's minimum ring, seconds.
+const FLOOR_BLOCK_S: f32 = 0.5;
+
+/// The settings' durations as frame counts.
+#[derive(Debug, Clone, Copy)]
+struct FrameCounts {
+    onset_voiced: u32,
+    hangover: u64,
+    edge: u64,
+    offset: u64,
+    run_gap: u64,
+}
+
+/// The phrase being spoken, or the last one.
+#[derive(Debug, Clone, Copy, Default)]
+struct PhraseState {
+    /// Inside a phrase (between a confirmed onset and a confirmed offset).
+    inside: bool,
+    onset: u64,
+    last_active: u64,
+    /// The offset of the last phrase (`None` before the first).
+    last_offset: Option<u64>,
+}
+
+/// A run of active frames in a pause that may become a phrase.
+#[derive(Debug, Clone, Copy, Default)]
+struct Candidate {
+    /// Its first frame (`None` = no run going on).
+    start: Option<u64>,
+    last_active: u64,
+    /// Voiced frames in it.
+    voiced: u32,
+}
+
+/// What [`PhraseTracker::reset`] clears.
+#[derive(Debug, Clone, Copy)]
+struct TrackerState {
+    /// The noise floor's latest value, dBFS.
+    floor_db: f32,
+    /// The room's band levels.
+    floor_bands: FloorBands,
+    frames_seen: u64,
+    phrase: PhraseState,
+    candidate: Candidate,
+    /// Last active frame of a run in this pause that did not become a phrase.
+    pause_last_active: Option<u64>,
+    /// Breath detection inside the current pause.
+    breaths: PauseBreaths,
+}
+
+impl Default for TrackerState {
+    fn default() -> Self {
+        Self {
+            floor_db: f32::NEG_INFINITY,
+            floor_bands: FloorBands::default(),
+            frames_seen: 0,
+            phrase: PhraseState::default(),
+            candidate: Candidate::default(),
+            pause_last_active: None,
+            breaths: PauseBreaths::default(),
+        }
+    }
+}
+
+/// The phrase tracker. Feed it every feature frame in order with [`PhraseTracker::update`].
+#[derive(Debug, Clone)]
+pub struct PhraseTracker {
+    config: PhraseConfig,
+    frame_rate_hz: f64,
+    counts: FrameCounts,
+    breath_rules: BreathRules,
+    /// Noise floor (minimum statistics).
+    floor: NoiseFloor,
+    /// Weight of one frame in the room's band levels (from [`FLOOR_BAND_TAU_S`]).
+    floor_band_weight: f64,
+    /// History ring of the last `history.len()` frames.
+    history: Vec<FrameFacts>,
+    state: TrackerState,
+}
+
+impl PhraseTracker {
+    /// Creates a tracker for frames at `frame_rate_hz`.
+    pub fn new(config: PhraseConfig, frame_rate_hz: f64) -> Result<Self, PhraseError> {
+        config.validate()?;
+        if !(frame_rate_hz.is_finite() && (10.0..=1000.0).contains(&frame_rate_hz)) {
+            return Err(PhraseError::FrameRate(frame_rate_hz));
+        }
+        let frames = |s: f32| ((s as f64) * frame_rate_hz).round().max(1.0) as u64;
+        let edge_frames = frames(config.edge_extend_s);
+        let frames = |s: f32| ((s as f64) * frame_rate_hz).round() as u64;
+        let hangover_frames = frames(config.hangover_s);
+        let history_len = (edge_frames.max(hangover_frames) + frames(1.0)) as usize;
+        let frames = |s: f32| ((s as f64) * frame_rate_hz).round().max(1.0) as u64;
+        Ok(Self {
+            counts: FrameCounts {
+                onset_voiced: frames(config.onset_voiced_s) as u32,
+                hangover: hangover_frames,
+                edge: edge_frames,
+                offset: frames(config.offset_extend_s),
+                run_gap: frames(config.run_gap_s),
+            },
+            breath_rules: BreathRules {
+                min_frames: frames(config.breath_min_s) as u32,
+                max_high_over_mid_db: config.breath_max_high_over_mid_db,
+                max_low_over_mid_db: config.breath_max_low_over_mid_db,
+            },
+            floor: NoiseFloor::with_blocks(frames(FLOOR_BLOCK_S) as usize, FLOOR_BLOCKS),
+            config,
+            frame_rate_hz,
+            floor_band_weight: 1.0 / (FLOOR_BAND_TAU_S * frame_rate_hz).max(1.0),
+            history: vec![FrameFacts::default(); history_len],
+            state: TrackerState::default(),
+        })
+    }
+
+    /// Clears all state (start of a new stream).
+    pub fn reset(&mut self) {
+        self.floor.reset();
+        self.history
+            .iter_mut()
+            .for_each(|f| *f = FrameFacts::default());
+        self.state = TrackerState::default();
+    }
+
+    /// The settings.
+    pub fn config(&self) -> &PhraseConfig {
+        &self.config
+    }
+
+    /// The current noise-floor estimate in dBFS (−∞ before the first frame).
+    pub fn noise_floor_db(&self) -> f32 {
+        self.state.floor_db
+    }
+
+    /// True while inside a phrase (between a confirmed onset and a confirmed offset).
+    pub fn in_phrase(&self) -> bool {
+        self.state.phrase.inside
+    }
+
+    /// How far in the past (seconds) an event may refer at most when it is reported: the
+    /// hangover for offsets, the onset confirmation plus the edge extension for onsets.
+    pub fn max_report_delay_s(&self) -> f64 {
+        let n = &self.counts;
+        let onset = n.edge + n.run_gap * 4 + n.onset_voiced as u64;
+        onset.max(n.hangover) as f64 / self.frame_rate_hz
+    }
+
+    fn time_s(&self, index: u64) -> f64 {
+        index as f64 / self.frame_rate_hz
+    }
+
+    fn facts(&self, index: u64) -> FrameFacts {
+        self.history[(index % self.history.len() as u64) as usize]
+    }
+
+    /// Feeds one frame (in order). Calls `on_event` for what became certain at this frame: at
+    /// most an end, an activity and a start.
+    pub fn update(&mut self, frame: &FeatureFrame, mut on_event: impl FnMut(PhraseEvent)) {
+        let i = self.state.frames_seen;
+        let facts = self.frame_facts(frame);
+        let len = self.history.len() as u64;
+        self.history[(i % len) as usize] = facts;
+        self.state.frames_seen += 1;
+        if self.state.phrase.inside {
+            self.in_phrase_frame(i, facts.active, &mut on_event);
+        } else {
+            self.in_pause_frame(i, facts, &mut on_event);
+        }
+    }
+
+    /// The decisions on one frame; updates the noise floor and the room's band levels.
+    fn frame_facts(&mut self, frame: &FeatureFrame) -> FrameFacts {
+        let c = self.config;
+        let s = &mut self.state;
+        // Decisions use the voice-band level (rumble stays out), against the speaker's
+        // running speech level (full band).
+        let rms_db = if frame.band_db.is_finite() {
+            frame.band_db
+        } else {
+            -120.0
+        };
+        s.floor_db = self.floor.update(Some(rms_db));
+        let speech_level_db = if frame.speech_level_db.is_finite() {
+            frame.speech_level_db
+        } else {
+            rms_db
+        };
+        let over_floor = rms_db >= s.floor_db + c.edge_margin_db && rms_db > c.silence_db;
+        let loud = rms_db >= s.floor_db + c.activity_margin_db
+            && rms_db >= speech_level_db - c.unvoiced_drop_db
+            && rms_db > c.silence_db;
+        let voiced = frame.voiced && rms_db > c.silence_db;
+        let active = voiced || loud;
+        let breath_level = rms_db >= s.floor_db + c.breath_margin_db && rms_db > c.silence_db;
+        // The room's own band levels, learnt on frames at the floor, are taken out of the
+        // frame's band powers: what is left is the shape of the sound over the room.
+        if !voiced
+            && rms_db <= s.floor_db + FLOOR_BAND_WITHIN_DB
+            && rms_db <= speech_level_db - FLOOR_BAND_UNDER_SPEECH_DB
+        {
+            s.floor_bands.learn(&frame.bands, self.floor_band_weight);
+        }
+        let (high_over_mid_db, low_over_mid_db) = s.floor_bands.excess_shape_db(&frame.bands);
+        FrameFacts {
+            active,
+            over_floor,
+            voiced,
+            level_db: rms_db,
+            breath_level,
+            high_over_mid_db,
+            low_over_mid_db,
+        }
+    }
+
+    /// Frame `i` inside a phrase: the phrase ends after the hangover without an active frame.
+    fn in_phrase_frame(&mut self, i: u64, active: bool, on_event: &mut impl FnMut(PhraseEvent)) {
+        let p = &mut self.state.phrase;
+        if active {
+            p.last_active = i;
+            return;
+        }
+        if i - p.last_active < self.counts.hangover {
+            return;
+        }
+        // The phrase ended: extend the offset forward over a decaying tail.
+        let last_active = p.last_active;
+        let mut offset = last_active + 1;
+        while offset < i
+            && offset - last_active <= self.counts.offset
+            && self.facts(offset).over_floor
+        {
+            offset += 1;
+        }
+        let s = &mut self.state;
+        s.phrase.inside = false;
+        s.phrase.last_offset = Some(offset);
+        s.candidate.start = None;
+        s.candidate.voiced = 0;
+        s.pause_last_active = None;
+        // Breath detection restarts from the offset (frames since are in the ring).
+        s.breaths.restart();
+        for k in offset..=i {
+            let f = self.facts(k);
+            let s = &mut self.state;
+            s.breaths
+                .track(k, f, s.phrase.last_offset, &self.breath_rules);
+        }
+        on_event(PhraseEvent::End {
+            onset_s: self.time_s(self.state.phrase.onset),
+            offset_s: self.time_s(offset),
+        });
+    }
+
+    /// Frame `i` in a pause: look for a candidate phrase, and for breaths.
+    fn in_pause_frame(&mut self, i: u64, f: FrameFacts, on_event: &mut impl FnMut(PhraseEvent)) {
+        let s = &mut self.state;
+        if f.active {
+            if s.candidate.start.is_none() {
+                s.candidate.start = Some(i);
+                s.candidate.voiced = 0;
+                on_event(PhraseEvent::Activity {
+                    time_s: self.time_s(i),
+                });
+            }
+            let s = &mut self.state;
+            s.candidate.last_active = i;
+            if f.voiced {
+                s.candidate.voiced += 1;
+            }
+        } else if let Some(_start) = s.candidate.start {
+            if i - s.candidate.last_active > self.counts.run_gap {
+                // The run died out without enough voicing: noise or a word too short to
+                // confirm. Nothing may be placed over it.
+                s.pause_last_active = Some(s.candidate.last_active);
+                s.candidate.start = None;
+                s.candidate.voiced = 0;
+            }
+        }
+        let s = &mut self.state;
+        if s.candidate.start.is_none() {
+            s.breaths
+                .track(i, f, s.phrase.last_offset, &self.breath_rules);
+        }
+        if let Some(start) = s.candidate.start {
+            if s.candidate.voiced >= self.counts.onset_voiced {
+                self.start_phrase(i, start, on_event);
+            }
+        }
+    }
+
+    /// A phrase starts at frame `i` from the candidate run that began at `start`: move the
+    /// onset back over a quiet consonant and report the pause it ends.
+    fn start_phrase(&mut self, i: u64, start: u64, on_event: &mut impl FnMut(PhraseEvent)) {
+        let len = self.history.len() as u64;
+        let s = &self.state;
+        let limit = s
+            .phrase
+            .last_offset
+            .unwrap_or(0)
+            .max(s.pause_last_active.map_or(0, |k| k + 1))
+            .max(start.saturating_sub(self.counts.edge))
+            .max(i.saturating_sub(len - 1));
+        let mut onset = start;
+        while onset > limit && self.facts(onset - 1).over_floor {
+            onset -= 1;
+        }
+        // A breath run still going counts only with the part before the onset.
+        let breath = s.breaths.at_onset(onset, &self.breath_rules);
+        let pause = Pause {
+            start_s: self.time_s(s.phrase.last_offset.unwrap_or(0)),
+            end_s: self.time_s(onset),
+            leading: s.phrase.last_offset.is_none(),
+            has_breath: breath.is_some(),
+            breath_s: breath.map(|(a, b)| (self.time_s(a), self.time_s(b))),
+            last_activity_end_s: s.pause_last_active.map(|k| self.time_s(k + 1)),
+        };
+        let s = &mut self.state;
+        s.phrase.inside = true;
+        s.phrase.onset = onset;
+        s.phrase.last_active = i;
+        s.candidate.start = None;
+        s.pause_last_active = None;
+        on_event(PhraseEvent::Start {
+            onset_s: self.time_s(onset),
+            pause,
+        });
+    }
+}
