@@ -10,12 +10,13 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use pneuma_core::head::evaluate::CrossValidation;
-use pneuma_core::head::train::{train, TrainConfig};
+use pneuma_core::head::select::train;
+use pneuma_core::head::train::TrainConfig;
 use pneuma_core::head::Variant;
 use pneuma_core::AnalysisConfig;
 use pneuma_eval::data::styletalk::load_clips;
 use pneuma_eval::data::DataError;
-use pneuma_eval::head::print_variant_ranks;
+use pneuma_eval::head::{print_clip_table, print_variant_ranks};
 use thiserror::Error;
 
 /// Errors of training.
@@ -46,9 +47,13 @@ pub struct Args {
     /// Output model file (JSON).
     #[arg(short = 'o', long)]
     pub output: PathBuf,
-    /// Components per voiced GMM (the paper: 11).
+    /// Components of each voiced velocity and acceleration GMM (the paper: 11).
     #[arg(long, default_value_t = 11)]
     pub components: usize,
+    /// Components of each pose GMM (roll, pitch, yaw; voiced and unvoiced); 1 keeps the head
+    /// at the speaker's mean pose on average.
+    #[arg(long, default_value_t = TrainConfig::default().pose_components)]
+    pub pose_components: usize,
     /// EM restarts per GMM.
     #[arg(long, default_value_t = 3)]
     pub restarts: usize,
@@ -80,6 +85,10 @@ pub fn print_report(cv: &CrossValidation) {
         m[0], m[1], m[2], m[3], m[4]
     );
     print_variant_ranks(cv);
+    if let Some(best) = cv.best() {
+        println!("the kept variant per clip, held out:");
+        print_clip_table(&best.clips);
+    }
 }
 
 /// Trains with `args` settings; returns the model JSON and the cross-validation.
@@ -94,6 +103,7 @@ pub fn run(
     let clips = load_clips(&args.data, &config)?;
     let cfg = TrainConfig {
         components: args.components,
+        pose_components: args.pose_components,
         restarts: args.restarts,
         seed: args.seed,
         motion_smoothing_s: args.motion_smoothing_ms / 1000.0,

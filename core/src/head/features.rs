@@ -3,7 +3,7 @@
 //! speaker-normalised f0 (semitones) and level (dB) of each frame.
 
 use super::gmm::MAX_DIM;
-use super::inputs::{InputTracker, ModelInput};
+use super::inputs::ModelInput;
 use super::model_file::Normalisation;
 use crate::analysis::FeatureFrame;
 
@@ -121,7 +121,7 @@ impl FeatureRows {
         let r = clip.frame_rate_hz;
         let pose = smooth_pose(&clip.pose_deg, smoothing_s * r);
         // The model's inputs, as the synthesis computes them over the stream.
-        let mut tracker = InputTracker::new(norm);
+        let mut tracker = norm.input_tracker();
         let inputs: Vec<ModelInput> = clip.frames.iter().map(|f| tracker.next(f, r)).collect();
         let n = pose.len().min(inputs.len());
         // The mean pose of voiced and of unvoiced frames, each taken out of its own rows: every

@@ -17,7 +17,6 @@
 //!   or a quiet room turn into a constant input offset, and the model's gain into a posture
 //!   offset of degrees (issue 32).
 
-use super::model_file::Normalisation;
 use crate::analysis::FeatureFrame;
 
 /// Time constant of the running means, seconds of frames of the class (voiced or unvoiced):
@@ -103,12 +102,13 @@ pub struct InputTracker {
 }
 
 impl InputTracker {
-    /// A tracker for a model with `norm` (of a valid model: its names select a kind).
-    pub fn new(norm: &Normalisation) -> InputTracker {
+    /// A tracker of `kind` inputs clamped to `f0_st_range` and `level_db_range` (a model's
+    /// normalisation makes its own: `Normalisation::input_tracker`).
+    pub fn new(kind: InputKind, f0_st_range: [f64; 2], level_db_range: [f64; 2]) -> InputTracker {
         InputTracker {
-            kind: norm.input_kind(),
-            f0_range: norm.f0_st_range,
-            level_range: norm.level_db_range,
+            kind,
+            f0_range: f0_st_range,
+            level_range: level_db_range,
             f0: RunningMean::default(),
             voiced_level: RunningMean::default(),
             unvoiced_level: RunningMean::default(),
@@ -139,8 +139,7 @@ impl InputTracker {
                 let st = super::metrics::f0_semitones(frame.f0_hz as f64);
                 (
                     self.f0.centre(st, frame_rate_hz),
-                    self.voiced_level
-                        .centre(frame.rms_db as f64, frame_rate_hz),
+                    self.voiced_level.centre(frame.rms_db as f64, frame_rate_hz),
                 )
             }
             InputKind::SpeakerMean if frame.rms_db.is_finite() => (
@@ -161,6 +160,7 @@ impl InputTracker {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::head::model_file::Normalisation;
 
     fn frame(voiced: bool, f0_hz: f32, rms_db: f32) -> FeatureFrame {
         FeatureFrame {
@@ -183,13 +183,17 @@ mod tests {
     fn every_input_averages_zero_over_a_steady_speaker() {
         // A low voice alternating 90 / 110 Hz, voiced at −20 and −14 dBFS, pauses at −50 dBFS:
         // after the first frames every input is centred on the speaker's own means.
-        let mut t = InputTracker::new(&mean_norm());
+        let mut t = mean_norm().input_tracker();
         let mut sums = [0.0; 3];
         for i in 0..12_000 {
             let hi = i % 40 < 20;
             let voiced = i % 100 < 60;
             let f = if voiced {
-                frame(true, if hi { 110.0 } else { 90.0 }, if hi { -14.0 } else { -20.0 })
+                frame(
+                    true,
+                    if hi { 110.0 } else { 90.0 },
+                    if hi { -14.0 } else { -20.0 },
+                )
             } else {
                 frame(false, 0.0, if hi { -48.0 } else { -52.0 })
             };
@@ -211,7 +215,7 @@ mod tests {
 
     #[test]
     fn a_long_silence_settles_to_an_ordinary_level_and_bad_frames_teach_nothing() {
-        let mut t = InputTracker::new(&mean_norm());
+        let mut t = mean_norm().input_tracker();
         for _ in 0..600 {
             t.next(&frame(true, 200.0, -20.0), 120.0);
             t.next(&frame(false, 0.0, -45.0), 120.0);
@@ -236,7 +240,7 @@ mod tests {
         let mut norm = mean_norm();
         norm.f0 = SPEAKER_MEDIAN_NAMES.0.into();
         norm.level = SPEAKER_MEDIAN_NAMES.1.into();
-        let mut t = InputTracker::new(&norm);
+        let mut t = norm.input_tracker();
         let x = t.next(&frame(true, 200.0, -20.0), 120.0);
         assert_eq!((x.f0_st, x.level_db), (5.0, 7.0));
     }

@@ -78,6 +78,20 @@ pub fn f0_semitones(f0_hz: f64) -> f64 {
     12.0 * (f0_hz / 100.0).log2()
 }
 
+/// The median of `v` (0 when empty).
+pub fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
 /// Mean angular speed |Δθ|·rate of `pose` sampled at `frame_rate_hz`, degrees per second (0
 /// for fewer than two frames).
 pub fn mean_speed(pose: &[[f64; 3]], frame_rate_hz: f64) -> f64 {

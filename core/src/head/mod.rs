@@ -32,15 +32,17 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod bfgs;
+pub mod clip_eval;
 pub mod em;
 pub mod evaluate;
 pub mod features;
 pub mod gmm;
-pub mod inputs;
 pub mod governor;
+pub mod inputs;
 pub mod metrics;
-pub mod paper;
 pub mod model_file;
+pub mod paper;
+pub mod select;
 pub mod smoother;
 pub mod synth;
 pub mod targets;

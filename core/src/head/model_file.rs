@@ -29,7 +29,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use super::gmm::{Gaussian, Gmm, GmmError, MAX_DIM};
-use super::inputs::{InputKind, SPEAKER_MEAN_NAMES, SPEAKER_MEDIAN_NAMES};
+use super::inputs::{InputKind, InputTracker, SPEAKER_MEAN_NAMES, SPEAKER_MEDIAN_NAMES};
 
 /// The `format` name of a head model file.
 pub const FORMAT_NAME: &str = "pneuma-head-model";
@@ -230,8 +230,13 @@ pub struct Provenance {
     pub unvoiced_frames: u64,
     /// Frame rate of the training features, Hz.
     pub frame_rate_hz: f64,
-    /// Components per GMM.
+    /// Components of each voiced velocity and acceleration GMM (and, in files without
+    /// `pose_components`, of every voiced GMM).
     pub components: usize,
+    /// Components of each pose GMM (roll, pitch, yaw; voiced and unvoiced); absent in older
+    /// files, whose voiced pose GMMs have `components`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pose_components: Option<usize>,
     /// EM seed.
     pub seed: u64,
     /// SD of the Gaussian smoothing applied to the training motion, seconds (tracking jitter
@@ -275,6 +280,11 @@ impl Normalisation {
     /// current kind).
     pub fn input_kind(&self) -> InputKind {
         InputKind::of_names(&self.f0, &self.level).unwrap_or(InputKind::SpeakerMean)
+    }
+
+    /// A fresh tracker of the inputs this normalisation names, clamped to its ranges.
+    pub fn input_tracker(&self) -> InputTracker {
+        InputTracker::new(self.input_kind(), self.f0_st_range, self.level_db_range)
     }
 }
 
@@ -738,14 +748,18 @@ mod tests {
         let key = text
             .find("\"smoothing_s\":")
             .expect("the shipped model has smoothing_s");
+        let line_start = text[..key].rfind('\n').unwrap();
         let line_end = key + text[key..].find('\n').unwrap();
-        // An older file: the field (the last of its object) and the comma before it dropped.
-        let comma = text[..key].rfind(',').unwrap();
-        let older = format!("{}{}", &text[..comma], &text[line_end..]);
+        // An older file: the field's line dropped (a field followed by another, with its comma).
+        assert!(
+            text[..line_end].ends_with(','),
+            "smoothing_s is not the last field"
+        );
+        let older = format!("{}{}", &text[..line_start], &text[line_end..]);
         let m = HeadModel::from_json(&older).unwrap();
         assert_eq!(m.synthesis.smoothing_s, 0.0);
         // Out of range: a clear message naming the field and its range.
-        let wrong = format!("{}\"smoothing_s\": 2.5{}", &text[..key], &text[line_end..]);
+        let wrong = format!("{}\"smoothing_s\": 2.5,{}", &text[..key], &text[line_end..]);
         let err = HeadModel::from_json(&wrong).unwrap_err();
         let msg = err.to_string();
         assert!(

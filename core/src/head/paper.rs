@@ -271,14 +271,8 @@ mod tests {
         // every angle up.
         let gmm = parse_gmm_xml(&two_components(0.0)).unwrap();
         let motion = parse_gmm_xml(&two_components(3.0)).unwrap();
-        let mut s = PaperSynth::new(&[
-            gmm.clone(),
-            gmm.clone(),
-            gmm,
-            motion.clone(),
-            motion,
-        ])
-        .unwrap();
+        let mut s =
+            PaperSynth::new(&[gmm.clone(), gmm.clone(), gmm, motion.clone(), motion]).unwrap();
         let frame = |f0_hz: f32, voiced: bool| FeatureFrame {
             f0_hz,
             voiced,

@@ -13,8 +13,8 @@
 
 use std::ops::RangeInclusive;
 
-use super::evaluate::ClipEval;
-use super::metrics::MotionStats;
+use super::clip_eval::ClipEval;
+use super::metrics::{median, MotionStats};
 
 /// Largest |mean angle| of a clip or a silence, degrees.
 pub const MAX_MEAN_ANGLE_DEG: f64 = 1.0;
@@ -72,20 +72,6 @@ fn ratio_miss(r: f64, range: &RangeInclusive<f64>) -> f64 {
         (r / hi).ln() / hi.ln()
     } else {
         0.0
-    }
-}
-
-/// The median of `v` (0 when empty).
-pub fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
     }
 }
 
@@ -293,8 +279,9 @@ pub fn closeness(clips: &[ClipEval]) -> f64 {
         .iter()
         .map(|c| {
             let sd = c.sd_ratio().iter().map(|r| ln(*r)).sum::<f64>() / 3.0;
-            let posture =
-                c.generated.mean_deg.iter().map(|m| m.abs()).sum::<f64>() / 3.0 / MAX_MEAN_ANGLE_DEG;
+            let posture = c.generated.mean_deg.iter().map(|m| m.abs()).sum::<f64>()
+                / 3.0
+                / MAX_MEAN_ANGLE_DEG;
             sd + ln(c.speed_ratio())
                 + posture
                 + (c.cca[0] - c.cca[1]).abs() / CCA_WITHIN_REAL
@@ -338,7 +325,10 @@ mod tests {
     }
 
     fn missed(t: &[Target]) -> Vec<&str> {
-        t.iter().filter(|t| !t.passed).map(|t| t.what.as_str()).collect()
+        t.iter()
+            .filter(|t| !t.passed)
+            .map(|t| t.what.as_str())
+            .collect()
     }
 
     #[test]
@@ -367,15 +357,26 @@ mod tests {
         ];
         let t = judge(&c, [0.0, -2.0, 0.5]);
         let m = missed(&t);
-        assert!(m[0].contains("every clip and axis: worst a roll -1.40°"), "{m:?}");
+        assert!(
+            m[0].contains("every clip and axis: worst a roll -1.40°"),
+            "{m:?}"
+        );
         assert!(
             m[1].contains("over a silence: |mean angle| ≤ 1°: worst pitch -2.00°"),
             "{m:?}"
         );
-        assert!(m.iter().any(|w| w.starts_with("CCA(head, f0) mean over clips above chance")));
-        assert!(m.iter().any(|w| w.contains("worst a +0.300 below")), "{m:?}");
+        assert!(m
+            .iter()
+            .any(|w| w.starts_with("CCA(head, f0) mean over clips above chance")));
+        assert!(
+            m.iter().any(|w| w.contains("worst a +0.300 below")),
+            "{m:?}"
+        );
         // The clip 0.3 below its real CCA misses by half the 0.2 allowance.
-        let below = t.iter().find(|t| t.what.contains("below its real")).unwrap();
+        let below = t
+            .iter()
+            .find(|t| t.what.contains("below its real"))
+            .unwrap();
         assert!((below.miss - 0.5).abs() < 1e-9, "{}", below.miss);
         let (n, miss, _) = rank(&t, &c);
         assert_eq!(n, m.len());

@@ -2,7 +2,8 @@
 //! row, and one row per synthesis variant with the variant training keeps. `pneuma eval head`,
 //! `pneuma train` and `cargo xtask train-default` print them.
 
-use pneuma_core::head::evaluate::{ClipEval, CrossValidation};
+use pneuma_core::head::clip_eval::ClipEval;
+use pneuma_core::head::evaluate::CrossValidation;
 use pneuma_core::head::targets;
 
 /// Prints one line per variant: targets missed on the held-out clips, by how much, the
@@ -90,4 +91,3 @@ power_above_3hz_gen,power_above_3hz_real,frozen_gen,onset_peak_deg_s"
         mean(&|c| c.onset_peak_deg_s),
     );
 }
-
