@@ -14,19 +14,9 @@ use pneuma_core::engine::Engine;
 use pneuma_core::head::HeadModel;
 use pneuma_plugin::editor::feed;
 use pneuma_plugin::{run_block, Outputs, PneumaParams};
+use pneuma_testkit::voice::example_voice;
 
 const BLOCK: usize = 256;
-
-fn voice() -> (Vec<f32>, f64) {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/examples/voice.wav");
-    let mut r = hound::WavReader::open(path).expect("the example voice");
-    let rate = f64::from(r.spec().sample_rate);
-    let v = r
-        .samples::<i16>()
-        .map(|s| f32::from(s.unwrap()) / 32768.0)
-        .collect();
-    (v, rate)
-}
 
 fn engine(rate: f64) -> Engine {
     let mut e = Engine::new(
@@ -65,7 +55,8 @@ fn pass(
 }
 
 fn bench(c: &mut Criterion) {
-    let (voice, rate) = voice();
+    let (voice, rate) = example_voice();
+    let rate = f64::from(rate);
     let mut buf = vec![0.0f32; BLOCK];
     let mut g = c.benchmark_group("audio thread, 25 s example voice");
     g.sample_size(10).measurement_time(Duration::from_secs(20));

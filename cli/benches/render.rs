@@ -1,6 +1,6 @@
 //! Speed of a whole `pneuma render` (WAV in, engine with breaths and head pose, WAV, controls
-//! CSV, breaths CSV and plot out) on the example voice brought to 48 kHz mono (25 s, linear
-//! interpolation ×3). Multiples of real time = 25.3 s / time per iteration; the target
+//! CSV, breaths CSV and plot out) on the example voice brought to 48 kHz mono (25 s, resampled by
+//! `pneuma_testkit`). Multiples of real time = 25.3 s / time per iteration; the target
 //! is ≥ 200×.
 
 use std::path::PathBuf;
@@ -9,9 +9,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use pneuma_cli::render::{run, Args};
 
 fn voice_48k(dir: &std::path::Path) -> PathBuf {
-    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../assets/examples/voice.wav");
-    let (x, rate) = pneuma_cli::wav::read_mono(&src).expect("example voice");
-    assert_eq!(rate, 16_000);
+    let x = pneuma_testkit::voice::example_voice_at(48_000);
     let path = dir.join("voice48.wav");
     let spec = hound::WavSpec {
         channels: 1,
@@ -20,13 +18,7 @@ fn voice_48k(dir: &std::path::Path) -> PathBuf {
         sample_format: hound::SampleFormat::Int,
     };
     let mut w = hound::WavWriter::create(&path, spec).expect("create");
-    for i in 0..x.len() * 3 {
-        let p = i as f32 / 3.0;
-        let k = p as usize;
-        let f = p - k as f32;
-        let a = x[k];
-        let b = x.get(k + 1).copied().unwrap_or(0.0);
-        let v = a + f * (b - a);
+    for v in x {
         w.write_sample((v * 32767.0).round() as i16).expect("write");
     }
     w.finalize().expect("finalize");

@@ -1,7 +1,7 @@
 //! Writes a generated speech-like episode for measuring long renders (used by `.ci/run`):
 //! `cargo run --release -p pneuma-cli --example episode -- OUT.wav LENGTH_S [RATE_HZ] [CHANNELS]`.
 
-#[path = "../tests/support/episode.rs"]
+#[path = "../tests/integration/support/episode.rs"]
 mod episode;
 
 fn main() {

@@ -17,6 +17,7 @@ use std::io::{Cursor, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
 
+use pneuma_core::analysis::rms;
 use pneuma_core::breathing::{
     chunk_text, BreathCycle, BreathSample, BreathVoice, BreathingError, BreathingParams, Chunk,
     Preset, SampleSlot,
@@ -343,13 +344,6 @@ pub fn trim_silence(audio: &[f32], rate_hz: u32) -> &[f32] {
         (Some(a), Some(b)) => &audio[a.saturating_sub(margin)..(b + 1 + margin).min(audio.len())],
         _ => &audio[..0],
     }
-}
-
-fn rms(x: &[f32]) -> f64 {
-    if x.is_empty() {
-        return 0.0;
-    }
-    (x.iter().map(|&v| (v as f64).powi(2)).sum::<f64>() / x.len() as f64).sqrt()
 }
 
 fn load_sample(path: &Path) -> Result<BreathSample, SpeakError> {

@@ -4,11 +4,11 @@
 //! audio and samples per second; multiples of real time = 10 s / time.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use pneuma_core::test_signals;
 use pneuma_core::{AnalysisConfig, Analyzer};
+use pneuma_testkit::signals;
 
 fn speech_like(rate: f64) -> Vec<f32> {
-    test_signals::phrases_with_pauses(rate, 10.0, 30.0, 1)
+    signals::phrases_with_pauses(rate, 10.0, 30.0, 1)
 }
 
 fn bench(c: &mut Criterion) {

@@ -6,10 +6,10 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use pneuma_core::engine::{Engine, EngineConfig, PlacementMode};
 use pneuma_core::head::HeadModel;
-use pneuma_core::test_signals;
+use pneuma_testkit::signals;
 
 fn speech_like(rate: f64) -> Vec<f32> {
-    test_signals::phrases_with_pauses(rate, 10.0, 40.0, 1)
+    signals::phrases_with_pauses(rate, 10.0, 40.0, 1)
 }
 
 fn bench(c: &mut Criterion) {

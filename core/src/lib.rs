@@ -19,7 +19,6 @@ pub mod engine;
 pub mod head;
 pub mod phrase;
 pub mod rng;
-pub mod test_signals;
 
 pub use analysis::{
     AnalysisConfig, AnalysisError, Analyzer, FeatureFrame, VoicingFeatures, VoicingModel,

@@ -16,17 +16,14 @@
 //! `-0.0` included) and over every breath event; counts are stored beside it so a mismatch
 //! says where to look.
 
-mod example_voice;
-
 use std::fmt::Write as _;
-
-use example_voice::{example_voice, repo_root};
 
 use pneuma_core::breathing::{BreathSample, Preset, SampleSlot};
 use pneuma_core::engine::offline::{self, Rendered};
 use pneuma_core::engine::{Engine, EngineConfig, PlacementMode};
 use pneuma_core::head::HeadModel;
-use pneuma_core::test_signals;
+use pneuma_testkit::signals;
+use pneuma_testkit::voice::{example_voice, workspace_root};
 
 /// FNV-1a, 64 bit.
 struct Fnv(u64);
@@ -62,13 +59,14 @@ fn config(mode: PlacementMode, preset: Preset) -> EngineConfig {
 fn cases() -> Vec<Case> {
     use PlacementMode::{Live, Lookahead};
     let (voice, voice_sr) = example_voice();
+    let voice_sr = f64::from(voice_sr);
     // The voice on the left, a quieter, slightly later copy on the right.
     let right: Vec<f32> = std::iter::repeat_n(0.0, 40)
         .chain(voice.iter().map(|x| 0.4 * x))
         .take(voice.len())
         .collect();
     let gen_sr = 22_050.0;
-    let generated = test_signals::phrases_with_pauses(gen_sr, 12.0, 20.0, 7);
+    let generated = signals::phrases_with_pauses(gen_sr, 12.0, 20.0, 7);
     let gen_right: Vec<f32> = generated.iter().map(|x| -0.7 * x).collect();
     let voice_mono = || (vec![voice.clone()], voice_sr);
     let voice_stereo = || (vec![voice.clone(), right.clone()], voice_sr);
@@ -104,7 +102,7 @@ fn run(case: &Case) -> Rendered {
     if case.breath_sample {
         // A generated "recording": 0.6 s of noise with a rise and fall.
         let n = (0.6 * case.sample_rate_hz) as usize;
-        let noise = test_signals::white_noise(n, 0.1, 3);
+        let noise = signals::white_noise(n, 0.1, 3);
         let shaped = noise
             .iter()
             .enumerate()
@@ -153,7 +151,7 @@ fn digest_line(name: &str, r: &Rendered) -> String {
 
 #[test]
 fn engine_output_matches_the_golden_digests() {
-    let path = repo_root().join("core/tests/golden.txt");
+    let path = workspace_root().join("core/tests/golden.txt");
     let lines: Vec<String> = cases()
         .iter()
         .map(|c| digest_line(c.name, &run(c)))

@@ -72,10 +72,8 @@ pub fn power(x: &[f32]) -> f64 {
     x.iter().map(|&v| v as f64 * v as f64).sum::<f64>() / x.len().max(1) as f64
 }
 
-/// RMS of `x` (0 for no samples).
-pub fn rms(x: &[f32]) -> f64 {
-    power(x).sqrt()
-}
+/// RMS of `x` (0 for no samples): the analysis's own.
+pub use pneuma_core::analysis::rms;
 
 /// Whether two time spans (start, end) share some time.
 pub fn overlaps(a: (f64, f64), b: (f64, f64)) -> bool {

@@ -43,9 +43,11 @@ export PNEUMA_ARDOUR_SESSION="$work/session"
 export PNEUMA_ARDOUR_OUT="$work/out"
 rm -rf "$PNEUMA_ARDOUR_SESSION" "$PNEUMA_ARDOUR_OUT"
 mkdir -p "$PNEUMA_ARDOUR_OUT"
+# The reference CLAP host loads the same release build Ardour plays (tests/src/bundle.rs).
+export PNEUMA_CLAP="${PNEUMA_CLAP:-$root/target/bundled/Pneuma.clap}"
 check() {
-  PNEUMA_ARDOUR_OUT="$PNEUMA_ARDOUR_OUT" cargo test --quiet -p pneuma-tests --test ardour -- \
-    --ignored --exact "$1" --nocapture
+  PNEUMA_ARDOUR_OUT="$PNEUMA_ARDOUR_OUT" cargo test --quiet -p pneuma-tests --test integration -- \
+    --ignored --exact "ardour::$1" --nocapture
 }
 lua() {
   # ardour7-lua exits 0 after a Lua error: the scripts print a marker, checked here.

@@ -1,13 +1,14 @@
-//! CPU per plugin instance: the built `Pneuma.clap` through the CLAP test host at 48 kHz in
+//! CPU per plugin instance: the plugin library `cargo bench` builds (optimised, as the release
+//! bundle; or `PNEUMA_CLAP`, see `pneuma_tests::bundle`) through the CLAP test host at 48 kHz in
 //! 64-sample blocks, mono and stereo, one second of the example voice per iteration.
 //! Real-time multiple = 1 s / (time per iteration). Also the time from loading the plugin (the
 //! bundle's library already mapped by an earlier load) to its first processed block: load,
 //! activate at 48 kHz, one 64-sample block. Run: `cargo bench -p pneuma-tests`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use pneuma_tests::bundle::ensure_clap;
+use pneuma_testkit::voice::example_voice_at;
+use pneuma_tests::bundle::plugin_path;
 use pneuma_tests::host::Plugin;
-use pneuma_tests::wav::example_voice_at;
 
 fn plugin_cpu(c: &mut Criterion) {
     let voice = example_voice_at(48_000);
@@ -15,7 +16,7 @@ fn plugin_cpu(c: &mut Criterion) {
     let mut group = c.benchmark_group("plugin_48k_64");
     group.throughput(Throughput::Elements(48_000));
     for (channels, osc) in [(1, false), (2, false), (1, true)] {
-        let mut plugin = Plugin::load(&ensure_clap(), "org.pneuma.pneuma").expect("bundle loads");
+        let mut plugin = Plugin::load(&plugin_path(), "org.pneuma.pneuma").expect("bundle loads");
         if osc {
             plugin.set_param("osc_enabled", "On").unwrap();
             // Nobody listens on the discard port: the sends still happen.
@@ -43,7 +44,7 @@ fn plugin_cpu(c: &mut Criterion) {
 }
 
 fn load_to_first_block(c: &mut Criterion) {
-    let path = ensure_clap();
+    let path = plugin_path();
     let mut group = c.benchmark_group("plugin_load");
     group.sample_size(20);
     group.bench_function("load_activate_first_block_48k_64", |b| {

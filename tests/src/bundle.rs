@@ -1,116 +1,53 @@
-//! Where the plugin bundle is, and how the tests get an up-to-date one.
+//! Which plugin library the tests and benches load.
 //!
-//! Policy: the tests **build the bundle themselves**, once per test binary, by running
-//! `cargo xtask bundle pneuma-plugin --release` in the workspace (cargo makes that a quick no-op
-//! when nothing changed). So `cargo test --workspace` never tests a stale plugin and needs no
-//! earlier step. If the build fails, the tests fail with the command to run by hand and its
-//! output. Set `PNEUMA_SKIP_BUNDLE_BUILD=1` to use an existing `target/bundled/Pneuma.clap` as
-//! it is (then a missing bundle fails with the command to build it).
+//! A CLAP plugin on Linux is a shared library under another name, and `pneuma-tests`
+//! dev-depends on `pneuma-plugin`: so `cargo test` (and `cargo bench`) build the plugin's
+//! `cdylib` in the same run, profile and features as everything else, beside the test binaries
+//! (`target/<profile>/deps/libpneuma_plugin.so`). [`plugin_path`] finds it there; nothing is
+//! built a second time. Under `cargo test` it is a debug build: debug assertions are on, so
+//! nice-plug's allocation guard aborts the test on any allocation inside `process`. Under
+//! `cargo bench` it is an optimised (release-like) build.
+//!
+//! `PNEUMA_CLAP=path` loads that file instead: `.ci/run` runs the same tests on the shipped
+//! bundle (`cargo xtask bundle pneuma-plugin --release --features editor`,
+//! `target/bundled/Pneuma.clap`).
+//!
+//! A `cargo build` of the plugin with other features or another profile between two test runs
+//! writes the same file name; the next `cargo test` that rebuilds the plugin replaces it again.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::sync::OnceLock;
+use std::path::PathBuf;
 
-/// The command that builds the bundles.
-pub const BUNDLE_COMMAND: &str = "cargo xtask bundle pneuma-plugin --release";
+/// The environment variable naming a plugin file to load instead of the one cargo built.
+pub const PLUGIN_ENV: &str = "PNEUMA_CLAP";
 
-/// The workspace root.
-pub fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("tests/ sits in the workspace")
-        .to_path_buf()
-}
-
-/// The cargo target directory (honours `CARGO_TARGET_DIR`).
-pub fn target_dir() -> PathBuf {
-    std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .map(|p| {
-            if p.is_absolute() {
-                p
-            } else {
-                workspace_root().join(p)
-            }
-        })
-        .unwrap_or_else(|| workspace_root().join("target"))
-}
-
-/// `target/bundled/Pneuma.clap`.
-pub fn clap_path() -> PathBuf {
-    target_dir().join("bundled").join("Pneuma.clap")
-}
-
-/// `target/bundled/Pneuma.vst3`.
-pub fn vst3_path() -> PathBuf {
-    target_dir().join("bundled").join("Pneuma.vst3")
-}
-
-fn build() -> Result<PathBuf, String> {
-    let path = clap_path();
-    if std::env::var_os("PNEUMA_SKIP_BUNDLE_BUILD").is_none() {
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let output = Command::new(cargo)
-            .args(["xtask", "bundle", "pneuma-plugin", "--release"])
-            .current_dir(workspace_root())
-            .output()
-            .map_err(|e| {
-                format!(
-                    "cannot run cargo to build the bundle ({e}); run `{BUNDLE_COMMAND}` by hand"
-                )
-            })?;
-        if !output.status.success() {
-            return Err(format!(
-                "building the plugin bundle failed; run `{BUNDLE_COMMAND}` and fix what it reports:\n{}",
-                String::from_utf8_lossy(&output.stderr)
-            ));
+/// The plugin library to load: `PNEUMA_CLAP` if set, else the `cdylib` cargo built beside the
+/// running test or bench binary. Panics with what to do when the file is missing.
+pub fn plugin_path() -> PathBuf {
+    let path = match std::env::var_os(PLUGIN_ENV) {
+        Some(p) => PathBuf::from(p),
+        None => beside_this_binary(),
+    };
+    assert!(
+        path.is_file(),
+        "{} does not exist: {}",
+        path.display(),
+        if std::env::var_os(PLUGIN_ENV).is_some() {
+            "build it (cargo xtask bundle pneuma-plugin --release) or unset PNEUMA_CLAP"
+        } else {
+            "run the tests through cargo (cargo test -p pneuma-tests builds the plugin library \
+             first, as a dev-dependency)"
         }
-    }
-    if !path.exists() {
-        return Err(format!(
-            "{} does not exist: run `{BUNDLE_COMMAND}` first",
-            path.display()
-        ));
-    }
-    Ok(path)
+    );
+    path
 }
 
-/// The path of an up-to-date `Pneuma.clap`, built once per process; panics with the command to
-/// run if that fails.
-pub fn ensure_clap() -> PathBuf {
-    static BUILT: OnceLock<Result<PathBuf, String>> = OnceLock::new();
-    match BUILT.get_or_init(build) {
-        Ok(p) => p.clone(),
-        Err(e) => panic!("{e}"),
-    }
-}
-
-fn build_cli() -> Result<PathBuf, String> {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let output = Command::new(cargo)
-        .args(["build", "--release", "-p", "pneuma-cli"])
-        .current_dir(workspace_root())
-        .output()
-        .map_err(|e| format!("cannot run cargo to build the CLI ({e})"))?;
-    if !output.status.success() {
-        return Err(format!(
-            "building the CLI failed; run `cargo build --release -p pneuma-cli`:\n{}",
-            String::from_utf8_lossy(&output.stderr)
-        ));
-    }
-    let path = target_dir().join("release").join("pneuma");
-    if path.exists() {
-        Ok(path)
-    } else {
-        Err(format!("{} missing after the build", path.display()))
-    }
-}
-
-/// The release `pneuma` binary, built once per process (same policy as the bundle).
-pub fn ensure_cli() -> PathBuf {
-    static BUILT: OnceLock<Result<PathBuf, String>> = OnceLock::new();
-    match BUILT.get_or_init(build_cli) {
-        Ok(p) => p.clone(),
-        Err(e) => panic!("{e}"),
-    }
+/// `<dir of this executable>/libpneuma_plugin.so` (the platform's library name).
+fn beside_this_binary() -> PathBuf {
+    let exe = std::env::current_exe().expect("the test binary's path");
+    let dir = exe.parent().expect("the test binary sits in a folder");
+    dir.join(format!(
+        "{}pneuma_plugin{}",
+        std::env::consts::DLL_PREFIX,
+        std::env::consts::DLL_SUFFIX
+    ))
 }

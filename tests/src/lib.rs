@@ -1,15 +1,17 @@
 //! End-to-end test support (the tests themselves are in `tests/tests/`):
 //!
-//! - [`bundle`]: finds the built `Pneuma.clap`, building it first with
-//!   `cargo xtask bundle pneuma-plugin --release` (see there for the policy and
-//!   `PNEUMA_SKIP_BUNDLE_BUILD`);
+//! - [`bundle`]: which plugin library the tests load: the one `cargo test` built beside them
+//!   (this crate dev-depends on the plugin), or the file `PNEUMA_CLAP` names (`.ci/run`: the
+//!   shipped bundle);
 //! - [`host`]: a small CLAP host on `clack-host`: loads the bundle, sets parameters, selects the
 //!   mono or stereo layout, activates at any rate and block size, processes audio with or without
 //!   a transport, collects the plugin's MIDI CC output with sample offsets, reads the reported
-//!   latency, saves and restores state;
-//! - [`wav`]: reading the shipped example voice and resampling it to the host rates.
+//!   latency, saves and restores state.
 //!
-//! Test files: `plugin_clap.rs` (parameters, block partitions at 44.1/48 kHz, CC rules, breaths
+//! The example voice, its resampling to the host rates and the OSC decoder come from
+//! `pneuma-testkit`.
+//!
+//! Test modules (one binary, `tests/integration/`): `plugin_clap.rs` (parameters, block partitions at 44.1/48 kHz, CC rules, breaths
 //! in the audio, 14-bit/channel settings, state, NaN/silence, latency and restart, transport
 //! jumps, and equality with the CLI render), `osc_udp.rs` (both
 //! OSC formats received on 127.0.0.1, target and format changed while playing, an unresolvable
@@ -19,4 +21,3 @@
 
 pub mod bundle;
 pub mod host;
-pub mod wav;

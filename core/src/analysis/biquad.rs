@@ -22,7 +22,7 @@ pub(crate) fn polynomial_power(
 
 /// One RBJ biquad section with f64 state.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Biquad {
+pub struct Biquad {
     b: [f64; 3],
     a: [f64; 2],
     x: [f64; 2],
@@ -31,7 +31,7 @@ pub(crate) struct Biquad {
 
 impl Biquad {
     /// A second-order Butterworth high-pass (`high = true`) or low-pass at `corner_hz`.
-    pub(crate) fn butterworth(corner_hz: f64, rate_hz: f64, high: bool) -> Self {
+    pub fn butterworth(corner_hz: f64, rate_hz: f64, high: bool) -> Self {
         let w0 = 2.0 * std::f64::consts::PI * corner_hz / rate_hz;
         let alpha = w0.sin() / (2.0 * std::f64::consts::FRAC_1_SQRT_2);
         let cos = w0.cos();
@@ -64,7 +64,7 @@ impl Biquad {
 
     /// Filters one sample.
     #[inline]
-    pub(crate) fn process(&mut self, x: f64) -> f64 {
+    pub fn process(&mut self, x: f64) -> f64 {
         let y = self.b[0] * x + self.b[1] * self.x[0] + self.b[2] * self.x[1]
             - self.a[0] * self.y[0]
             - self.a[1] * self.y[1];
@@ -96,7 +96,7 @@ impl HighPass {
 
     /// Filters one sample.
     #[inline]
-    pub(crate) fn process(&mut self, x: f32) -> f32 {
+    pub fn process(&mut self, x: f32) -> f32 {
         match &mut self.0 {
             Some(section) => section.process(x as f64) as f32,
             None => x,

@@ -8,3 +8,8 @@ pub fn amplitude_to_db(rms: f64) -> f32 {
         (20.0 * rms.log10()) as f32
     }
 }
+
+/// The RMS amplitude of `x` (0 for no samples).
+pub fn rms(x: &[f32]) -> f64 {
+    (x.iter().map(|&v| v as f64 * v as f64).sum::<f64>() / x.len().max(1) as f64).sqrt()
+}

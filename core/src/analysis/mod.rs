@@ -21,12 +21,13 @@ mod tracking;
 mod voicing;
 
 pub use analyzer::Analyzer;
+pub use biquad::Biquad;
 pub use breath_band::BandLevels;
 pub use clock::FrameClock;
 pub use config::{AnalysisConfig, MAX_SAMPLE_RATE_HZ, MIN_SAMPLE_RATE_HZ};
 pub use error::AnalysisError;
 pub use frame::FeatureFrame;
-pub use level::amplitude_to_db;
+pub use level::{amplitude_to_db, rms};
 pub use pitch::{NsdfPitch, PitchEstimate};
 pub use speaker_norm::{SpeakerNorm, SpeakerNormConfig};
 pub use voicing::{

@@ -270,7 +270,7 @@ mod tests {
     use super::*;
     use crate::control::BreathKind;
     use crate::encode::midi_cc::{CcMap, CcSignal};
-    use crate::encode::osc::decode_packet;
+    use pneuma_testkit::osc::{decode, OscType};
 
     fn frame(index: u64) -> ControlFrame {
         ControlFrame {
@@ -412,12 +412,9 @@ mod tests {
         let indices: Vec<u64> = packets.iter().map(|(i, _)| *i).collect();
         assert_eq!(indices, [0, 1, 2, 3]);
         for (i, bytes) in &packets {
-            let messages = decode_packet(bytes).unwrap();
+            let messages = decode(bytes).unwrap();
             assert_eq!(messages[0].address, crate::encode::osc::address::FRAME);
-            assert_eq!(
-                messages[0].args[0],
-                crate::encode::osc::OscValue::Int(*i as i32)
-            );
+            assert_eq!(messages[0].args[0], OscType::Int(*i as i32));
         }
     }
 }

@@ -123,7 +123,7 @@ mod tests {
                 .map(|i| 0.3 * (i as f32 * 0.1).sin())
                 .collect::<Vec<_>>()
         };
-        let noise = crate::test_signals::white_noise(8000, 0.01, 5);
+        let noise = pneuma_testkit::signals::white_noise(8000, 0.01, 5);
         let mut x = tone(24_000);
         x.extend(&noise);
         let onset = x.len();

@@ -251,7 +251,7 @@ mod tests {
 
     #[test]
     fn input_only_hands_exactly_the_input_frames_and_the_output_is_the_input_length() {
-        let input = crate::test_signals::phrases_with_pauses(RATE_HZ, 3.0, 30.0, 3);
+        let input = pneuma_testkit::signals::phrases_with_pauses(RATE_HZ, 3.0, 30.0, 3);
         let clock = FrameClock::new(EngineConfig::default().analysis.frame_rate_hz, RATE_HZ);
         let (out, kept, done) = run(&input, &[300, 17, 4096], TailFrames::InputOnly);
         let indices: Vec<u64> = kept.frames.iter().map(|(f, _)| f.index).collect();

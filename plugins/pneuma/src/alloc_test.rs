@@ -4,12 +4,18 @@
 //! `assert_process_allocs` installs in debug builds), which aborts the test binary on any
 //! allocation inside the guarded closure. Parameter changes between blocks go through the same
 //! change flags a host's automation raises.
+//!
+//! A guard that is not there (a release build, where nice-plug disables it; a feature dropped)
+//! would let every allocation pass silently, so the test first proves it is active: this test
+//! binary runs [`the_guard_catches_an_allocation`] again in a child process with [`PROBE_ENV`]
+//! set, where it allocates under the guard, and the child must die of it.
 
 // nice-plug's `Buffer::set_slices` and `ParamPtr` setters are `unsafe`: the slices and parameters
 // outlive every call here.
 #![allow(unsafe_code)]
 
 use std::num::NonZeroU32;
+use std::sync::OnceLock;
 
 use nice_plug::context::process::SendEventError;
 use nice_plug::prelude::*;
@@ -74,6 +80,61 @@ impl ActivateContext<Pneuma> for Activation {
     fn set_current_voice_capacity(&self, _capacity: u32) {}
 }
 
+/// Set in the child process: [`the_guard_catches_an_allocation`] allocates under the guard.
+const PROBE_ENV: &str = "PNEUMA_ALLOC_GUARD_PROBE";
+
+/// The probe's full test name (the child runs exactly it).
+const PROBE_TEST: &str = "alloc_test::the_guard_catches_an_allocation";
+
+/// Runs the probe in a child process once per test binary; `Err` says why the guard did not
+/// catch its allocation.
+fn guard_catches_allocations() -> Result<(), String> {
+    static VERDICT: OnceLock<Result<(), String>> = OnceLock::new();
+    VERDICT
+        .get_or_init(|| {
+            let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+            let out = std::process::Command::new(exe)
+                .args([PROBE_TEST, "--exact", "--nocapture", "--test-threads=1"])
+                .env(PROBE_ENV, "1")
+                .output()
+                .map_err(|e| format!("cannot run the probe: {e}"))?;
+            let stdout = String::from_utf8_lossy(&out.stdout);
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            if !stdout.contains("running 1 test") {
+                return Err(format!("the probe did not run: {stdout}{stderr}"));
+            }
+            if out.status.success() || stdout.contains("PROBE SURVIVED") {
+                return Err(format!(
+                    "an allocation under nice-plug's guard went unnoticed (a release build, or \
+                     `assert_process_allocs` off?): {stdout}{stderr}"
+                ));
+            }
+            if !stderr.contains("memory allocation of 64 bytes failed") {
+                return Err(format!(
+                    "the probe failed, but not on its allocation: {stderr}"
+                ));
+            }
+            Ok(())
+        })
+        .clone()
+}
+
+/// In the parent: the child running this test with [`PROBE_ENV`] set dies of its allocation.
+/// In that child: allocates under the guard, which must abort the process before it returns.
+#[test]
+fn the_guard_catches_an_allocation() {
+    if std::env::var_os(PROBE_ENV).is_some() {
+        nice_assert_no_alloc::assert_no_alloc(|| {
+            std::hint::black_box(vec![0u8; 64]);
+        });
+        println!("PROBE SURVIVED: the allocation guard let an allocation pass");
+        return;
+    }
+    if let Err(e) = guard_catches_allocations() {
+        panic!("{e}");
+    }
+}
+
 fn set(plugin: &Pneuma, id: &str, normalized: f32) {
     let ptr = plugin
         .params
@@ -99,6 +160,10 @@ fn the_real_process_never_allocates_after_activate_as_clap() {
 /// Runs the real `process` under the guard through automation, bypass and a mode change, as
 /// `api` (which decides how the mode change's latency reaches the host).
 fn real_process_never_allocates(api: PluginApi) {
+    // A silent guard would prove nothing below.
+    if let Err(e) = guard_catches_allocations() {
+        panic!("{e}");
+    }
     let mut plugin = Pneuma::default();
     set(&plugin, "osc_enabled", 1.0);
     // The editor is open: its feed runs inside the guard too.

@@ -357,7 +357,8 @@ mod tests {
             assert_eq!(at(name), None, "{name:?} is not an address");
         }
     }
-    use pneuma_core::encode::osc::{decode_packet, OscValue};
+    use pneuma_core::encode::osc::TimeTag;
+    use pneuma_testkit::osc::{decode, Message, OscType};
     use std::sync::Mutex;
 
     struct Settings {
@@ -384,10 +385,10 @@ mod tests {
         }
     }
 
-    fn receive(sock: &UdpSocket) -> Vec<pneuma_core::encode::osc::OscMessage> {
+    fn receive(sock: &UdpSocket) -> Vec<Message> {
         let mut buf = [0u8; 2048];
         let n = sock.recv(&mut buf).expect("a packet within the timeout");
-        decode_packet(&buf[..n]).unwrap()
+        decode(&buf[..n]).unwrap()
     }
 
     #[test]
@@ -405,8 +406,8 @@ mod tests {
         feed.push(&frame(1));
         let msgs = receive(&a);
         assert_eq!(msgs[0].address, "/pneuma/frame");
-        assert_eq!(msgs[1].args, vec![OscValue::Float(101.0)]);
-        let tag = msgs[0].time_tag.unwrap().to_unix_seconds();
+        assert_eq!(msgs[1].args, vec![OscType::Float(101.0)]);
+        let tag = TimeTag(msgs[0].time_tag.unwrap()).to_unix_seconds();
         assert!((tag - now_unix_s()).abs() < 2.0, "time tag near now: {tag}");
 
         *settings.target.lock().unwrap() = ("127.0.0.1".into(), b.local_addr().unwrap().port());
@@ -419,7 +420,7 @@ mod tests {
         for i in 2..100 {
             feed.push(&frame(i));
             if let Ok(n) = b.recv(&mut buf) {
-                got = Some(decode_packet(&buf[..n]).unwrap());
+                got = Some(decode(&buf[..n]).unwrap());
                 break;
             }
         }

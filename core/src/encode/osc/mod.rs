@@ -1,5 +1,6 @@
-//! OSC 1.0 encoder (and a small decoder for tests and tools): one bundle per [`ControlFrame`],
-//! written into a caller-provided buffer without allocating (DESIGN.md, "Contracts", OSC).
+//! OSC 1.0 encoder: one bundle per [`ControlFrame`], written into a caller-provided buffer
+//! without allocating (DESIGN.md, "Contracts", OSC). The tests read the bytes back with rosc, a
+//! decoder written apart from this encoder (`pneuma_testkit::osc`).
 //!
 //! # Wire format
 //! OSC 1.0: strings NUL-terminated and padded to 4 bytes, `i` = big-endian i32, `f` = big-endian
@@ -57,14 +58,11 @@
 //! - [`wire`]: the OSC 1.0 writer (messages, bundles, time tags).
 //! - [`pneuma`]: the `/pneuma` mapping.
 //! - [`vmc`]: the VMC mapping and Unity-frame maths.
-//! - [`decode`]: a decoder for tests and tools.
 
-pub mod decode;
 pub mod pneuma;
 pub mod vmc;
 pub mod wire;
 
-pub use decode::{decode_packet, OscMessage, OscValue};
 pub use pneuma::encode_pneuma;
 pub use vmc::{encode_vmc, unity_quaternion, VmcRig, VMC_BLENDSHAPES};
 pub use wire::{write_message, BundleWriter, OscArg, OscError, TimeTag};
@@ -140,6 +138,7 @@ mod tests {
     use super::*;
     use crate::control::{BreathingState, HeadAngles, Phase};
     use glam::{Quat, Vec3};
+    use pneuma_testkit::osc::{decode, OscType};
 
     fn sample_frame() -> ControlFrame {
         ControlFrame {
@@ -213,8 +212,8 @@ mod tests {
         let tag = TimeTag::from_unix_seconds(1_700_000_000.25);
         let n = encode_pneuma(&sample_frame(), tag, &mut buf).unwrap();
         assert_eq!(&buf[..8], b"#bundle\0");
-        let msgs = decode_packet(&buf[..n]).unwrap();
-        assert!(msgs.iter().all(|m| m.time_tag == Some(tag)));
+        let msgs = decode(&buf[..n]).unwrap();
+        assert!(msgs.iter().all(|m| m.time_tag == Some(tag.0)));
         let get = |a: &str| {
             msgs.iter()
                 .find(|m| m.address == a)
@@ -222,7 +221,7 @@ mod tests {
                 .args
                 .clone()
         };
-        use OscValue::{Float as F, Int as I};
+        use OscType::{Float as F, Int as I};
         assert_eq!(get("/pneuma/frame"), vec![I(42), F(0.35)]);
         assert_eq!(get("/pneuma/f0"), vec![F(180.5)]);
         assert_eq!(get("/pneuma/voiced"), vec![I(1)]);
@@ -231,7 +230,7 @@ mod tests {
         assert_eq!(get("/pneuma/speaking"), vec![I(1)]);
         assert_eq!(
             get("/pneuma/breath/phase"),
-            vec![OscValue::Str("expiration".into())]
+            vec![OscType::String("expiration".into())]
         );
         assert_eq!(get("/pneuma/breath/lung"), vec![F(0.6)]);
         assert_eq!(get("/pneuma/breath/thorax"), vec![F(0.5)]);
@@ -251,8 +250,8 @@ mod tests {
         f.voiced = false;
         let mut buf = [0u8; MAX_FRAME_PACKET_BYTES];
         let n = encode_pneuma(&f, TimeTag::IMMEDIATELY, &mut buf).unwrap();
-        let msgs = decode_packet(&buf[..n]).unwrap();
-        assert_eq!(msgs[1].args, vec![OscValue::Float(0.0)]);
+        let msgs = decode(&buf[..n]).unwrap();
+        assert_eq!(msgs[1].args, vec![OscType::Float(0.0)]);
     }
 
     /// Rotates a vector by a Unity quaternion (numerically the usual formula).
@@ -288,7 +287,7 @@ mod tests {
         let frame = sample_frame();
         let n = encode_frame(OscFormat::Vmc, &frame, TimeTag::IMMEDIATELY, &mut buf).unwrap();
         assert!(n <= MAX_FRAME_PACKET_BYTES);
-        let msgs = decode_packet(&buf[..n]).unwrap();
+        let msgs = decode(&buf[..n]).unwrap();
         let bones: Vec<_> = msgs
             .iter()
             .filter(|m| m.address == "/VMC/Ext/Bone/Pos")
@@ -296,19 +295,19 @@ mod tests {
         let names: Vec<_> = bones
             .iter()
             .map(|m| match &m.args[0] {
-                OscValue::Str(s) => s.as_str(),
+                OscType::String(s) => s.as_str(),
                 other => panic!("{other:?}"),
             })
             .collect();
         assert_eq!(names, ["Chest", "Neck", "Head"]);
         for m in &bones {
             assert_eq!(m.args.len(), 8);
-            assert!(m.args[1..].iter().all(|a| matches!(a, OscValue::Float(_))));
+            assert!(m.args[1..].iter().all(|a| matches!(a, OscType::Float(_))));
         }
         let head: Vec<f32> = bones[2].args[4..]
             .iter()
             .map(|a| match a {
-                OscValue::Float(v) => *v,
+                OscType::Float(v) => *v,
                 _ => unreachable!(),
             })
             .collect();
@@ -323,9 +322,9 @@ mod tests {
         assert_eq!(
             blends,
             vec![
-                vec![OscValue::Str("A".into()), OscValue::Float(0.2)],
-                vec![OscValue::Str("Breath".into()), OscValue::Float(0.6)],
-                vec![OscValue::Str("NostrilFlare".into()), OscValue::Float(0.1)],
+                vec![OscType::String("A".into()), OscType::Float(0.2)],
+                vec![OscType::String("Breath".into()), OscType::Float(0.6)],
+                vec![OscType::String("NostrilFlare".into()), OscType::Float(0.1)],
             ]
         );
         let applies: Vec<_> = msgs
@@ -336,12 +335,5 @@ mod tests {
         assert_eq!(applies.len(), 1);
         assert_eq!(applies[0].0, msgs.len() - 1, "Apply comes last");
         assert!(applies[0].1.args.is_empty());
-    }
-
-    #[test]
-    fn decoder_rejects_garbage() {
-        assert!(decode_packet(b"abc").is_err());
-        assert!(decode_packet(b"noslash\0").is_err());
-        assert!(decode_packet(b"#bundle\0\0\0\0\0\0\0\0\x01\0\0\0\x40").is_err());
     }
 }

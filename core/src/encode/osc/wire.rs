@@ -17,7 +17,7 @@ pub enum OscError {
     /// An address does not start with `/` or contains a NUL.
     #[error("OSC address {0:?} is invalid: it must start with '/' and contain no NUL")]
     Address(String),
-    /// A packet could not be decoded.
+    /// A message this writer cannot carry (more than 15 arguments, a NUL inside a string).
     #[error("malformed OSC packet: {0}")]
     Malformed(&'static str),
 }

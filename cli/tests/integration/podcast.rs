@@ -1,0 +1,506 @@
+//! What a podcaster does with `pneuma render`: pipes (`-` in, `-o -` out), breath markers for
+//! editors (Audacity labels, REAPER regions, WAV cue points — each parsed back here), batches
+//! with a broken file, the output format and tags of lossy and lossless input, and Ctrl-C.
+
+use std::path::Path;
+use std::process::Command;
+
+use crate::support;
+use pneuma_testkit::voice::example_voice_path;
+use support::{
+    assert_ok, breaths_csv, ffmpeg_encode, have_ffmpeg, pneuma, pneuma_with_stdin, render, samples,
+};
+
+/// The RIFF chunks of a WAV file: (id, body).
+fn riff_chunks(bytes: &[u8]) -> Vec<([u8; 4], Vec<u8>)> {
+    assert_eq!(&bytes[..4], b"RIFF");
+    assert_eq!(&bytes[8..12], b"WAVE");
+    let riff_end = 8 + u32::from_le_bytes(bytes[4..8].try_into().expect("4")) as usize;
+    assert_eq!(riff_end, bytes.len(), "RIFF size");
+    let mut at = 12;
+    let mut out = Vec::new();
+    while at + 8 <= bytes.len() {
+        let id: [u8; 4] = bytes[at..at + 4].try_into().expect("4");
+        let size = u32::from_le_bytes(bytes[at + 4..at + 8].try_into().expect("4")) as usize;
+        out.push((id, bytes[at + 8..at + 8 + size].to_vec()));
+        at += 8 + size + size % 2;
+    }
+    out
+}
+
+fn u32_at(b: &[u8], at: usize) -> u32 {
+    u32::from_le_bytes(b[at..at + 4].try_into().expect("4"))
+}
+
+#[test]
+fn standard_input_and_output_carry_the_same_audio_as_files() {
+    let dir = tempfile::tempdir().expect("temp");
+    assert_ok(&render(
+        &example_voice_path(),
+        &dir.path().join("file"),
+        &["--no-plot"],
+    ));
+    let want = samples(&dir.path().join("file/voice.wav"));
+    let bytes = std::fs::read(example_voice_path()).expect("voice");
+    let o = pneuma_with_stdin(&["render", "-", "-o", "-", "--quiet"], &bytes);
+    assert_ok(&o);
+    // A streamed WAV: sizes unknown (0xFFFFFFFF), read to the end.
+    assert_eq!(&o.stdout[..4], b"RIFF");
+    assert_eq!(u32_at(&o.stdout, 4), u32::MAX);
+    let piped = dir.path().join("piped.wav");
+    std::fs::write(&piped, &o.stdout).expect("write");
+    assert!(
+        samples(&piped) == want,
+        "stdin→stdout audio differs from the file render"
+    );
+    // Standard input into a folder: the outputs are named `stdin.*`.
+    let o = pneuma_with_stdin(
+        &[
+            "render",
+            "-",
+            "-o",
+            dir.path().join("named").to_str().expect("utf8"),
+            "--quiet",
+            "--no-plot",
+        ],
+        &bytes,
+    );
+    assert_ok(&o);
+    assert!(samples(&dir.path().join("named/stdin.wav")) == want);
+    assert_eq!(
+        breaths_csv(&dir.path().join("named/stdin.breaths.csv")),
+        breaths_csv(&dir.path().join("file/voice.breaths.csv"))
+    );
+    // Markers have nowhere to go with -o -.
+    let o = pneuma_with_stdin(&["render", "-", "-o", "-", "--markers", "audacity"], &bytes);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("drop --markers"));
+}
+
+#[test]
+fn a_flac_through_a_pipe_renders_like_the_file() {
+    if !have_ffmpeg("a_flac_through_a_pipe_renders_like_the_file") {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp");
+    let flac = dir.path().join("voice.flac");
+    ffmpeg_encode(&example_voice_path(), &flac, &[]);
+    assert_ok(&render(
+        &example_voice_path(),
+        &dir.path().join("file"),
+        &["--no-plot"],
+    ));
+    let o = pneuma_with_stdin(
+        &["render", "-", "-o", "-", "--quiet"],
+        &std::fs::read(&flac).expect("flac"),
+    );
+    assert_ok(&o);
+    let piped = dir.path().join("piped.wav");
+    std::fs::write(&piped, &o.stdout).expect("write");
+    assert!(samples(&piped) == samples(&dir.path().join("file/voice.wav")));
+}
+
+/// `M:SS.mmm` in seconds.
+fn minutes(s: &str) -> f64 {
+    let (m, rest) = s.split_once(':').expect("M:SS.mmm");
+    m.parse::<f64>().expect("minutes") * 60.0 + rest.parse::<f64>().expect("seconds")
+}
+
+#[test]
+fn markers_are_parsed_back_as_the_breaths() {
+    let dir = tempfile::tempdir().expect("temp");
+    let out = dir.path().join("out");
+    assert_ok(&render(
+        &example_voice_path(),
+        &out,
+        &["--no-plot", "--markers", "audacity,reaper,cue"],
+    ));
+    let want = breaths_csv(&out.join("voice.breaths.csv"));
+    assert!(want.len() >= 3, "the example voice gets breaths: {want:?}");
+
+    // Audacity: start<TAB>end<TAB>label.
+    let text = std::fs::read_to_string(out.join("voice.breaths.txt")).expect("labels");
+    let labels: Vec<(f64, f64, String)> = text
+        .lines()
+        .map(|l| {
+            let f: Vec<&str> = l.split('\t').collect();
+            assert_eq!(f.len(), 3, "{l}");
+            (
+                f[0].parse().expect("start"),
+                f[1].parse().expect("end"),
+                f[2].to_string(),
+            )
+        })
+        .collect();
+    assert_eq!(labels.len(), want.len());
+    for (i, ((s, e, label), (ws, we))) in labels.iter().zip(&want).enumerate() {
+        assert!(
+            (s - ws).abs() < 1e-5 && (e - we).abs() < 1e-5,
+            "{s} {e} vs {ws} {we}"
+        );
+        assert!(label.starts_with(&format!("breath {} (", i + 1)), "{label}");
+    }
+
+    // REAPER: #,Name,Start,End,Length with regions R1…
+    let csv = std::fs::read_to_string(out.join("voice.breaths.reaper.csv")).expect("reaper");
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("#,Name,Start,End,Length"));
+    let regions: Vec<Vec<String>> = lines
+        .map(|l| l.split(',').map(String::from).collect())
+        .collect();
+    assert_eq!(regions.len(), want.len());
+    for (i, (r, (ws, we))) in regions.iter().zip(&want).enumerate() {
+        assert_eq!(r[0], format!("R{}", i + 1));
+        assert!((minutes(&r[2]) - ws).abs() < 6e-4, "{} vs {ws}", r[2]);
+        assert!((minutes(&r[3]) - we).abs() < 6e-4, "{} vs {we}", r[3]);
+        assert!((minutes(&r[4]) - (we - ws)).abs() < 1.1e-3, "{}", r[4]);
+    }
+
+    // Cue points inside the WAV, with labels and lengths in LIST/adtl.
+    let bytes = std::fs::read(out.join("voice.wav")).expect("wav");
+    let chunks = riff_chunks(&bytes);
+    let ids: Vec<&[u8; 4]> = chunks.iter().map(|c| &c.0).collect();
+    assert_eq!(ids, [b"fmt ", b"data", b"cue ", b"LIST"], "chunk order");
+    let cue = &chunks[2].1;
+    assert_eq!(u32_at(cue, 0) as usize, want.len());
+    let adtl = &chunks[3].1;
+    assert_eq!(&adtl[..4], b"adtl");
+    let mut labl = std::collections::HashMap::new();
+    let mut ltxt = std::collections::HashMap::new();
+    let mut at = 4;
+    while at + 8 <= adtl.len() {
+        let size = u32_at(adtl, at + 4) as usize;
+        let body = &adtl[at + 8..at + 8 + size];
+        match &adtl[at..at + 4] {
+            b"labl" => {
+                let text = String::from_utf8(body[4..body.len() - 1].to_vec()).expect("utf8");
+                labl.insert(u32_at(body, 0), text);
+            }
+            b"ltxt" => {
+                ltxt.insert(u32_at(body, 0), u32_at(body, 4));
+            }
+            other => panic!("unexpected adtl chunk {other:?}"),
+        }
+        at += 8 + size + size % 2;
+    }
+    for (i, (ws, we)) in want.iter().enumerate() {
+        let p = &cue[4 + 24 * i..4 + 24 * (i + 1)];
+        let id = u32_at(p, 0);
+        assert_eq!(&p[8..12], b"data");
+        let frame = u32_at(p, 20) as f64;
+        assert!(
+            (frame / 16_000.0 - ws).abs() <= 1.0 / 16_000.0,
+            "cue {id} at {frame}"
+        );
+        assert!(
+            labl[&id].starts_with(&format!("breath {} (", i + 1)),
+            "{}",
+            labl[&id]
+        );
+        let len = ltxt[&id] as f64 / 16_000.0;
+        assert!(
+            (len - (we - ws)).abs() <= 2.0 / 16_000.0,
+            "cue {id} length {len}"
+        );
+    }
+    // The audio itself is the same as without markers.
+    assert_ok(&render(
+        &example_voice_path(),
+        &dir.path().join("plain"),
+        &["--no-plot"],
+    ));
+    assert!(samples(&out.join("voice.wav")) == samples(&dir.path().join("plain/voice.wav")));
+    // Cue points need a WAV output.
+    let o = render(
+        &example_voice_path(),
+        &dir.path().join("x"),
+        &["--markers", "cue", "--format", "flac"],
+    );
+    assert!(!o.status.success());
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("--markers cue writes cue points inside a WAV")
+    );
+}
+
+#[test]
+fn a_batch_finishes_the_good_files_and_reports_the_broken_one() {
+    let dir = tempfile::tempdir().expect("temp");
+    let inputs = dir.path().join("episodes");
+    std::fs::create_dir(&inputs).expect("dir");
+    for name in ["ep1.wav", "ep2.wav", "ep3.wav"] {
+        std::fs::copy(example_voice_path(), inputs.join(name)).expect("copy");
+    }
+    std::fs::write(inputs.join("broken.mp3"), "not audio at all\n".repeat(10)).expect("write");
+    std::fs::write(inputs.join("notes.txt"), "ignored: not audio by name").expect("write");
+    let out = dir.path().join("out");
+    let o = pneuma(&[
+        "render",
+        inputs.to_str().expect("utf8"),
+        "-o",
+        out.to_str().expect("utf8"),
+        "--no-plot",
+        "--jobs",
+        "2",
+    ]);
+    assert!(!o.status.success(), "a failed file makes the batch fail");
+    let err = String::from_utf8_lossy(&o.stderr);
+    let table: Vec<&str> = err.lines().collect();
+    assert!(
+        table[0].starts_with("input") && table[0].contains("result"),
+        "{err}"
+    );
+    let row = |name: &str| {
+        table
+            .iter()
+            .find(|l| l.contains(name))
+            .unwrap_or_else(|| panic!("{name} not in: {err}"))
+            .to_string()
+    };
+    assert!(
+        row("broken.mp3").contains("FAILED") && row("broken.mp3").contains("not an audio file")
+    );
+    for ep in ["ep1", "ep2", "ep3"] {
+        assert!(row(&format!("{ep}.wav")).contains(" ok "), "{}", row(ep));
+        assert!(out.join(format!("{ep}.wav")).exists());
+        assert!(out.join(format!("{ep}.breaths.csv")).exists());
+    }
+    assert!(err.contains("3 rendered, 1 failed"), "{err}");
+    let left: Vec<String> = std::fs::read_dir(&out)
+        .expect("out")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with("broken") || n.contains("partial"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+    // The same three alone succeed; two files with one stem are refused before anything runs.
+    std::fs::remove_file(inputs.join("broken.mp3")).expect("rm");
+    let o = pneuma(&[
+        "render",
+        inputs.to_str().expect("utf8"),
+        "-o",
+        out.to_str().expect("utf8"),
+        "--no-plot",
+        "-q",
+    ]);
+    assert_ok(&o);
+    std::fs::copy(example_voice_path(), inputs.join("ep1.aiff")).expect("copy");
+    let o = pneuma(&[
+        "render",
+        inputs.to_str().expect("utf8"),
+        "-o",
+        out.to_str().expect("utf8"),
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("would write the same output files"));
+}
+
+/// The Vorbis comments of a FLAC file.
+fn flac_comments(path: &Path) -> Vec<String> {
+    let b = std::fs::read(path).expect("flac");
+    assert_eq!(&b[..4], b"fLaC");
+    let mut at = 4;
+    loop {
+        let last = b[at] & 0x80 != 0;
+        let kind = b[at] & 0x7f;
+        let len = u32::from_be_bytes([0, b[at + 1], b[at + 2], b[at + 3]]) as usize;
+        let body = &b[at + 4..at + 4 + len];
+        if kind == 4 {
+            let vendor = u32_at(body, 0) as usize;
+            let mut p = 4 + vendor;
+            let n = u32_at(body, p);
+            p += 4;
+            let mut out = Vec::new();
+            for _ in 0..n {
+                let l = u32_at(body, p) as usize;
+                out.push(String::from_utf8(body[p + 4..p + 4 + l].to_vec()).expect("utf8"));
+                p += 4 + l;
+            }
+            return out;
+        }
+        assert!(!last, "no Vorbis comment block");
+        at += 4 + len;
+    }
+}
+
+#[test]
+fn lossy_input_becomes_flac_with_its_tags_and_lossless_keeps_its_format() {
+    if !have_ffmpeg("lossy_input_becomes_flac_with_its_tags_and_lossless_keeps_its_format") {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp");
+    let mp3 = dir.path().join("episode.mp3");
+    ffmpeg_encode(
+        &example_voice_path(),
+        &mp3,
+        &[
+            "-metadata",
+            "title=Episode 12: Breathing",
+            "-metadata",
+            "artist=The Host",
+            "-c:a",
+            "libmp3lame",
+        ],
+    );
+    let out = dir.path().join("out");
+    let o = pneuma(&[
+        "render",
+        mp3.to_str().expect("utf8"),
+        "-o",
+        out.to_str().expect("utf8"),
+        "--no-plot",
+    ]);
+    assert_ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("MP3 input written as FLAC (no second lossy generation"),
+        "{err}"
+    );
+    let comments = flac_comments(&out.join("episode.flac"));
+    assert!(
+        comments.contains(&"TITLE=Episode 12: Breathing".to_string()),
+        "{comments:?}"
+    );
+    assert!(
+        comments.contains(&"ARTIST=The Host".to_string()),
+        "{comments:?}"
+    );
+    assert!(!out.join("episode.mp3").exists() && !out.join("episode.wav").exists());
+    // --format wav: the tags as LIST/INFO.
+    let o = pneuma(&[
+        "render",
+        mp3.to_str().expect("utf8"),
+        "-o",
+        out.to_str().expect("utf8"),
+        "--no-plot",
+        "--format",
+        "wav",
+        "-q",
+    ]);
+    assert_ok(&o);
+    let chunks = riff_chunks(&std::fs::read(out.join("episode.wav")).expect("wav"));
+    let info = &chunks.iter().find(|c| &c.0 == b"LIST").expect("LIST").1;
+    let text = String::from_utf8_lossy(info);
+    assert!(
+        text.starts_with("INFO") && text.contains("INAM") && text.contains("Episode 12: Breathing"),
+        "{text}"
+    );
+    assert!(text.contains("IART") && text.contains("The Host"), "{text}");
+    // 24-bit stereo AIFF in, 24-bit stereo AIFF out, the same samples as the WAV route.
+    let wav24 = dir.path().join("st.wav");
+    ffmpeg_encode(
+        &example_voice_path(),
+        &wav24,
+        &["-ac", "2", "-c:a", "pcm_s24le"],
+    );
+    let aiff = dir.path().join("st.aiff");
+    ffmpeg_encode(&wav24, &aiff, &["-c:a", "pcm_s24be"]);
+    assert_ok(&render(&wav24, &dir.path().join("w"), &["--no-plot"]));
+    assert_ok(&render(&aiff, &dir.path().join("a"), &["--no-plot"]));
+    let a = dir.path().join("a/st.aiff");
+    let mut src = pneuma_io::AudioSource::open(&a).expect("aiff out");
+    assert_eq!(src.format(), pneuma_io::InputFormat::Aiff);
+    assert_eq!((src.info().bits, src.info().channels), (24, 2));
+    let mut block = Vec::new();
+    assert!(src.read_interleaved(16, &mut block).expect("read") > 0);
+    assert!(
+        samples(&a) == samples(&dir.path().join("w/st.wav")),
+        "AIFF route differs"
+    );
+}
+
+#[test]
+fn ctrl_c_leaves_no_partial_file_and_the_old_outputs() {
+    // Five minutes at 48 kHz: long enough to be interrupted mid-render.
+    let dir = tempfile::tempdir().expect("temp");
+    let long = dir.path().join("long.wav");
+    let rate = 48_000u32;
+    let one: Vec<f32> = {
+        let (v, r) = pneuma_io::read_mono(&example_voice_path()).expect("voice");
+        assert_eq!(r, 16_000);
+        v.iter().flat_map(|&x| [x, x, x]).collect()
+    };
+    let mut mono = Vec::new();
+    while mono.len() < 300 * rate as usize {
+        mono.extend_from_slice(&one);
+    }
+    support::write_wav(&long, (rate, 1, 16, false), &mono, 1.0);
+    let out = dir.path().join("out");
+    std::fs::create_dir(&out).expect("dir");
+    std::fs::write(out.join("long.wav"), "old render").expect("write");
+    let child = Command::new(env!("CARGO_BIN_EXE_pneuma"))
+        .args([
+            "render",
+            long.to_str().expect("utf8"),
+            "-o",
+            out.to_str().expect("utf8"),
+            "-q",
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start");
+    // Wait until the render is writing (its temporary files exist), then Ctrl-C.
+    let start = std::time::Instant::now();
+    while std::fs::read_dir(&out).expect("out").count() < 2 {
+        assert!(
+            start.elapsed().as_secs() < 60,
+            "the render never started writing"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(kill.success());
+    let o = child.wait_with_output().expect("wait");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    assert!(err.contains("interrupted"), "{err}");
+    let names: Vec<String> = std::fs::read_dir(&out)
+        .expect("out")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["long.wav"], "only the old file stays");
+    assert_eq!(
+        std::fs::read_to_string(out.join("long.wav")).expect("old"),
+        "old render"
+    );
+}
+
+#[test]
+fn a_breath_sample_folder_may_hold_flac() {
+    if !have_ffmpeg("a_breath_sample_folder_may_hold_flac") {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp");
+    let (wavs, flacs) = (dir.path().join("wavs"), dir.path().join("flacs"));
+    std::fs::create_dir(&wavs).expect("dir");
+    std::fs::create_dir(&flacs).expect("dir");
+    // Half a second of shaped noise as a breath.
+    let mut state = 7u32;
+    let noise: Vec<f32> = (0..22_050)
+        .map(|i| {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let env = (std::f32::consts::PI * i as f32 / 22_050.0).sin();
+            ((state >> 8) as f32 / (1u32 << 24) as f32 - 0.5) * 0.2 * env
+        })
+        .collect();
+    support::write_wav(&wavs.join("mouth.wav"), (44_100, 1, 16, false), &noise, 1.0);
+    ffmpeg_encode(&wavs.join("mouth.wav"), &flacs.join("mouth.flac"), &[]);
+    for (samples_dir, out) in [(&wavs, "a"), (&flacs, "b")] {
+        assert_ok(&render(
+            &example_voice_path(),
+            &dir.path().join(out),
+            &[
+                "--no-plot",
+                "--breath-samples",
+                samples_dir.to_str().expect("utf8"),
+            ],
+        ));
+    }
+    let kinds = std::fs::read_to_string(dir.path().join("b/voice.breaths.csv")).expect("csv");
+    assert!(kinds.contains(",sample,"), "{kinds}");
+    assert!(
+        samples(&dir.path().join("a/voice.wav")) == samples(&dir.path().join("b/voice.wav")),
+        "mouth.flac renders as mouth.wav"
+    );
+}

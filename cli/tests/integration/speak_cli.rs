@@ -1,0 +1,280 @@
+//! `pneuma speak` end to end (when espeak-ng is installed, as `.ci/run` makes sure), its errors,
+//! and the plot on a long input.
+
+use std::path::Path;
+use std::process::Command;
+
+use crate::support;
+use support::tool_or_skip;
+
+use pneuma_cli::plot::{write_plot, HEIGHT_PX, WIDTH_PX};
+use pneuma_core::{BreathEvent, BreathKind, BreathingState, ControlFrame, Phase};
+
+fn pneuma() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_pneuma"))
+}
+
+/// Whether espeak-ng is installed. Without it a test skips visibly, except under `CI=true`
+/// (`.ci/run` installs it), where it fails.
+fn espeak_or_skip(test: &str) -> bool {
+    tool_or_skip("espeak-ng", "--version", test)
+}
+
+fn csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_owned)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(str::to_owned).collect())
+        .collect();
+    (header, rows)
+}
+
+fn png_size(path: &Path) -> (u32, u32) {
+    let b = std::fs::read(path).unwrap();
+    assert_eq!(&b[..8], b"\x89PNG\r\n\x1a\n");
+    let be = |i: usize| u32::from_be_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+    (be(16), be(20))
+}
+
+const TEXT: &str = "Breathing is vital for animals. What about virtual characters? Does the \
+    perceivable presence or absence of this behavior play a role in how they are perceived_ \
+    is breathing movement effective at conveying state and trait related information? \
+    These are the questions that motivate our research.";
+
+#[test]
+fn speak_end_to_end_with_espeak() {
+    if !espeak_or_skip("speak_end_to_end_with_espeak") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let run = |seed: &str, preset: &str, out: &Path| {
+        let o = pneuma()
+            .args(["speak", TEXT, "-o"])
+            .arg(out)
+            .args(["--seed", seed, "--preset", preset])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    run("7", "neutral", &out);
+    for f in [
+        "speech.wav",
+        "speech.controls.csv",
+        "speech.breaths.csv",
+        "speech.png",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    // No scratch files left behind.
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), 4);
+
+    let (h, rows) = csv(&out.join("speech.controls.csv"));
+    assert_eq!(h.join(","), pneuma_core::encode::controls_csv::HEADER);
+    let (bh, breaths) = csv(&out.join("speech.breaths.csv"));
+    assert_eq!(bh.join(","), "start_s,end_s,kind,peak_db");
+    assert!(breaths.len() >= 3, "{} breaths", breaths.len());
+
+    let reader = hound::WavReader::open(out.join("speech.wav")).unwrap();
+    let rate = reader.spec().sample_rate as f64;
+    let duration_s = reader.duration() as f64 / rate;
+    let last_t: f64 = rows.last().unwrap()[0].parse().unwrap();
+    assert!(
+        (duration_s - last_t).abs() < 2.0 / 120.0,
+        "{duration_s} vs {last_t}"
+    );
+
+    // Every breath lies in a pause (never on top of speech), in an inspiration phase, and is
+    // followed by speech; the lung rises during it and falls during the speech after it.
+    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
+    let (t_c, speak_c, phase_c, lung_c) =
+        (col("time_s"), col("speaking"), col("phase"), col("lung"));
+    let at = |t: f64| &rows[((t * 120.0).round() as usize).min(rows.len() - 1)];
+    for b in &breaths {
+        let (s, e): (f64, f64) = (b[0].parse().unwrap(), b[1].parse().unwrap());
+        assert!(e > s);
+        let mid = at(0.5 * (s + e));
+        assert_eq!(mid[speak_c], "0");
+        assert_eq!(mid[phase_c], "inspiration");
+        let lung_start: f32 = at(s + 0.02)[lung_c].parse().unwrap();
+        let lung_end: f32 = at(e - 0.02)[lung_c].parse().unwrap();
+        assert!(lung_end > lung_start + 0.1);
+        let after = at(e + 0.3);
+        assert_eq!(after[speak_c], "1");
+        assert_eq!(after[phase_c], "expiration");
+        let peak: f32 = b[3].parse().unwrap();
+        assert!((-60.0..-10.0).contains(&peak), "breath peak {peak} dBFS");
+    }
+    assert!(rows.iter().all(|r| r[t_c].parse::<f64>().is_ok()));
+    assert_eq!(png_size(&out.join("speech.png")), (WIDTH_PX, HEIGHT_PX));
+
+    // Same seed, same audio bit for bit; another preset changes the breathing.
+    let again = dir.path().join("again");
+    run("7", "neutral", &again);
+    assert_eq!(
+        std::fs::read(out.join("speech.wav")).unwrap(),
+        std::fs::read(again.join("speech.wav")).unwrap()
+    );
+    let anxious = dir.path().join("anxious");
+    run("7", "anxious", &anxious);
+    let (_, anxious_breaths) = csv(&anxious.join("speech.breaths.csv"));
+    assert!(anxious_breaths.len() > breaths.len());
+}
+
+#[test]
+fn missing_tts_names_the_package() {
+    let dir = tempfile::tempdir().unwrap();
+    for (tts, package) in [("espeak", "espeak-ng"), ("festival", "festival")] {
+        let o = pneuma()
+            .args(["speak", "Hello there.", "--tts", tts, "-o"])
+            .arg(dir.path())
+            .env("PATH", dir.path())
+            .output()
+            .unwrap();
+        assert!(!o.status.success());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains(&format!("apt-get install {package}")),
+            "{tts}: {err}"
+        );
+    }
+}
+
+#[test]
+fn bad_input_gets_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: [(&[&str], &str); 5] = [
+        (&["speak", "  ...  "], "no text"),
+        (
+            &["speak", "Hi.", "--preset", "sleepy"],
+            "[possible values: neutral, calm, anxious, tired, excited]",
+        ),
+        (
+            &["speak", "Hi.", "--rate", "5"],
+            "--rate 5 is out of range: use 0.5 to 2",
+        ),
+        (
+            &["speak", "Hi.", "--loudness", "0"],
+            "--loudness 0 is out of range: use 0.05 to 1",
+        ),
+        (
+            &["speak", "--text-file", "/nonexistent/x.txt"],
+            "cannot read the text file",
+        ),
+    ];
+    for (args, want) in cases {
+        let o = pneuma()
+            .args(args)
+            .arg("-o")
+            .arg(dir.path())
+            .output()
+            .unwrap();
+        assert!(!o.status.success());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
+#[test]
+fn plot_of_a_long_file_has_a_fixed_size() {
+    let rate = 8_000.0;
+    let seconds = 1200.0;
+    let audio: Vec<f32> = (0..(rate * seconds) as usize)
+        .map(|i| (i as f32 * 0.05).sin() * 0.3)
+        .collect();
+    let controls: Vec<ControlFrame> = (0..(seconds * 120.0) as usize)
+        .map(|i| ControlFrame {
+            index: i as u64,
+            time_s: i as f64 / 120.0,
+            breathing: BreathingState {
+                phase: if i % 600 < 60 {
+                    Phase::Inspiration
+                } else {
+                    Phase::Expiration
+                },
+                lung: (i % 600) as f32 / 600.0,
+                ..Default::default()
+            },
+            ..Default::default()
+        })
+        .collect();
+    let breaths: Vec<BreathEvent> = (0..240)
+        .map(|k| BreathEvent {
+            start_s: k as f64 * 5.0,
+            end_s: k as f64 * 5.0 + 0.5,
+            kind: BreathKind::Mouth,
+            peak_db: -30.0,
+        })
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("long.png");
+    write_plot(&path, &audio, seconds, &controls, &breaths).unwrap();
+    assert_eq!(png_size(&path), (WIDTH_PX, HEIGHT_PX));
+    assert!(std::fs::metadata(&path).unwrap().len() < 2_000_000);
+    assert!(write_plot(&path, &[], seconds, &[], &[]).is_err());
+    assert!(write_plot(&path, &audio[..100], f64::NAN, &controls, &breaths).is_err());
+}
+
+#[test]
+fn speak_moves_the_head_and_writes_bvh_at_the_asked_rate() {
+    if !espeak_or_skip("speak_moves_the_head_and_writes_bvh_at_the_asked_rate") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = pneuma()
+        .args(["speak", TEXT, "--output"])
+        .arg(&out)
+        .args(["--bvh", "--no-plot", "--frame-rate", "60", "-q"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(o.stderr.is_empty(), "-q printed something");
+    assert!(!out.join("speech.png").exists(), "--no-plot drew a plot");
+    let (h, rows) = csv(&out.join("speech.controls.csv"));
+    // 60 frames per second.
+    let t1: f64 = rows[1][0].parse().unwrap();
+    assert!((t1 - 1.0 / 60.0).abs() < 1e-6, "second frame at {t1} s");
+    // The head moves: each angle column varies over the speech.
+    for name in ["head_pitch_deg", "head_yaw_deg", "head_roll_deg"] {
+        let c = h.iter().position(|x| x == name).expect(name);
+        let v: Vec<f64> = rows.iter().map(|r| r[c].parse().unwrap()).collect();
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+        assert!(hi - lo > 0.5, "{name} spans only {lo}..{hi} degrees");
+    }
+    let bvh = std::fs::read_to_string(out.join("speech.bvh")).unwrap();
+    let frames: usize = bvh
+        .lines()
+        .find_map(|l| l.strip_prefix("Frames:"))
+        .unwrap()
+        .trim()
+        .parse()
+        .unwrap();
+    assert_eq!(frames, rows.len());
+    assert!(bvh.contains("Frame Time: 0.016"), "BVH not at 60 frames/s");
+}
+
+#[test]
+fn a_bad_voice_points_to_the_voice_list() {
+    if !espeak_or_skip("a_bad_voice_points_to_the_voice_list") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let o = pneuma()
+        .args(["speak", "Hello there.", "--voice", "xx-nonesuch", "-o"])
+        .arg(dir.path().join("out"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "a bad voice succeeded");
+    assert!(err.contains("espeak-ng --voices"), "{err}");
+}

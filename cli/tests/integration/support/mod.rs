@@ -1,0 +1,201 @@
+//! Shared by the CLI end-to-end tests: running the `pneuma` binary, encoding inputs with
+//! ffmpeg, writing test WAV files and reading outputs back.
+
+pub mod episode;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// True when `program` runs (`program version_arg` succeeds). Without it a test skips visibly,
+/// except under `CI=true` (`.ci/run` installs it), where it fails. The Debian package has the
+/// program's name (`espeak-ng`, `ffmpeg`).
+pub fn tool_or_skip(program: &str, version_arg: &str, test: &str) -> bool {
+    if Command::new(program)
+        .arg(version_arg)
+        .output()
+        .is_ok_and(|o| o.status.success())
+    {
+        return true;
+    }
+    let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
+    assert!(
+        !ci,
+        "{test}: {program} is not installed but CI=true: install it (apt-get install {program})"
+    );
+    eprintln!("SKIPPED {test}: {program} is not installed (apt-get install {program})");
+    false
+}
+
+/// Runs the built `pneuma` binary with `args`.
+pub fn pneuma(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pneuma"))
+        .args(args)
+        .output()
+        .expect("the pneuma binary runs")
+}
+
+/// Runs the built `pneuma` binary with `args`, writing `stdin` to its standard input.
+pub fn pneuma_with_stdin(args: &[&str], stdin: &[u8]) -> Output {
+    use std::io::Write as _;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_pneuma"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the pneuma binary starts");
+    let mut pipe = child.stdin.take().expect("stdin");
+    let bytes = stdin.to_vec();
+    // A writer thread, so a reader that stops early cannot dead-lock the test.
+    let writer = std::thread::spawn(move || {
+        let _ = pipe.write_all(&bytes);
+    });
+    let out = child.wait_with_output().expect("the pneuma binary runs");
+    writer.join().expect("writer");
+    out
+}
+
+/// Runs `pneuma render INPUT -o OUT --quiet` with `extra` arguments.
+pub fn render(input: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "render",
+        input.to_str().expect("utf-8"),
+        "-o",
+        out.to_str().expect("utf-8"),
+        "--quiet",
+    ];
+    args.extend_from_slice(extra);
+    pneuma(&args)
+}
+
+/// Writes `mono` to every channel of a WAV file in the given format, channels after the first
+/// scaled by `other_channel_gain` (so a mix differs from a copy).
+pub fn write_wav(
+    path: &Path,
+    format: (u32, u16, u16, bool),
+    mono: &[f32],
+    other_channel_gain: f32,
+) {
+    let (rate, channels, bits, float) = format;
+    let spec = hound::WavSpec {
+        channels,
+        sample_rate: rate,
+        bits_per_sample: bits,
+        sample_format: if float {
+            hound::SampleFormat::Float
+        } else {
+            hound::SampleFormat::Int
+        },
+    };
+    let mut w = hound::WavWriter::create(path, spec).expect("create wav");
+    for &v in mono {
+        for ch in 0..channels {
+            let v = if ch == 0 { v } else { v * other_channel_gain };
+            if float {
+                w.write_sample(v).expect("write");
+            } else {
+                let max = ((1i64 << (bits - 1)) - 1) as f32;
+                w.write_sample((v * max).round() as i32).expect("write");
+            }
+        }
+    }
+    w.finalize().expect("finalize");
+}
+
+/// The files in `dir` other than `keep`.
+pub fn files_besides(dir: &Path, keep: &Path) -> Vec<PathBuf> {
+    std::fs::read_dir(dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p != keep)
+        .collect()
+}
+
+/// `pneuma analyze INPUT -o existing.csv` fails with every one of `must_mention` in its
+/// message, leaves the existing output as it was and no temporary file beside it.
+pub fn assert_analyze_fails(input: &Path, must_mention: &[&str]) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let csv = dir.path().join("existing.csv");
+    std::fs::write(&csv, "precious\n").expect("write");
+    let out = pneuma(&[
+        "analyze",
+        input.to_str().expect("utf-8"),
+        "-o",
+        csv.to_str().expect("utf-8"),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success(),
+        "{} should fail; stderr {err}",
+        input.display()
+    );
+    assert!(err.starts_with("error: "), "{err}");
+    for m in must_mention {
+        assert!(err.contains(m), "{}: `{m}` not in: {err}", input.display());
+    }
+    assert_eq!(std::fs::read_to_string(&csv).expect("kept"), "precious\n");
+    let leftovers = files_besides(dir.path(), &csv);
+    assert!(leftovers.is_empty(), "partial files left: {leftovers:?}");
+}
+
+/// Asserts that a run succeeded, showing its standard error when not.
+pub fn assert_ok(o: &Output) {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// True when ffmpeg runs; otherwise skips visibly (fails under CI=true).
+pub fn have_ffmpeg(test: &str) -> bool {
+    tool_or_skip("ffmpeg", "-version", test)
+}
+
+/// Encodes `input` to `out` with ffmpeg and the codec (or metadata, channel…) arguments `codec`.
+pub fn ffmpeg_encode(input: &Path, out: &Path, codec: &[&str]) {
+    let o = Command::new("ffmpeg")
+        .args(["-hide_banner", "-loglevel", "error", "-y", "-i"])
+        .arg(input)
+        .args(codec)
+        .arg(out)
+        .output()
+        .expect("ffmpeg runs");
+    assert!(
+        o.status.success(),
+        "ffmpeg {codec:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// Reads an audio file (any format pneuma reads) as interleaved f32 with its rate and channels.
+pub fn read_audio(path: &Path) -> (Vec<f32>, u32, u16) {
+    let mut src =
+        pneuma_io::AudioSource::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let info = src.info();
+    let mut all = Vec::new();
+    let mut block = Vec::new();
+    while src.read_interleaved(4096, &mut block).expect("read") > 0 {
+        all.extend_from_slice(&block);
+    }
+    (all, info.sample_rate_hz, info.channels)
+}
+
+/// Interleaved samples of any audio file pneuma reads.
+pub fn samples(path: &Path) -> Vec<f32> {
+    read_audio(path).0
+}
+
+/// `(start_s, end_s)` of every row of a `breaths.csv`.
+pub fn breaths_csv(path: &Path) -> Vec<(f64, f64)> {
+    std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<f64> = l
+                .split(',')
+                .take(2)
+                .map(|x| x.parse().expect("a number"))
+                .collect();
+            (f[0], f[1])
+        })
+        .collect()
+}

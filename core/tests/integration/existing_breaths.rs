@@ -1,0 +1,107 @@
+//! Breaths already in the input: a breath-like noise burst in a pause between two phrases is
+//! reported by `Engine::take_existing_breaths` with its time, and no breath is inserted over it;
+//! the same phrases with a quiet pause report none.
+
+use pneuma_core::engine::{offline, Engine, EngineConfig};
+use pneuma_core::head::HeadModel;
+use pneuma_testkit::signals;
+
+const RATE_HZ: f64 = 16_000.0;
+/// The breath-like burst inside the pause, seconds.
+const BURST_S: (f64, f64) = (2.0, 2.35);
+
+/// A 1.6 s vowel, a 0.9 s pause (with the burst when `with_burst`), a 1.6 s vowel, 0.8 s of
+/// silence.
+fn phrases(with_burst: bool) -> Vec<f32> {
+    let vowel = || signals::harmonic_tone(RATE_HZ, 1.6, 0.3, &[1.0, 0.6, 0.4, 0.3, 0.2], |_| 140.0);
+    let mut x = vowel();
+    let pause_start = x.len();
+    x.extend(vec![0.0; (0.9 * RATE_HZ) as usize]);
+    if with_burst {
+        // About 26 dB under the vowels' level: breath noise, unvoiced, not a phrase.
+        let a = (BURST_S.0 * RATE_HZ) as usize;
+        let b = (BURST_S.1 * RATE_HZ) as usize;
+        let noise = signals::white_noise(b - a, 0.01, 7);
+        for (i, n) in noise.into_iter().enumerate() {
+            let ramp = ((i.min(b - a - 1 - i) as f32) / 160.0).min(1.0);
+            x[a + i] += n * ramp;
+        }
+    }
+    assert!(pause_start < (BURST_S.0 * RATE_HZ) as usize);
+    x.extend(vowel());
+    x.extend(vec![0.0; (0.8 * RATE_HZ) as usize]);
+    x
+}
+
+/// Breath spans (start, end), seconds.
+type Spans = Vec<(f64, f64)>;
+
+/// Runs the engine over `audio` in 256-sample blocks; returns the existing breaths and the
+/// inserted ones.
+fn run(audio: &[f32]) -> (Spans, Spans) {
+    let mut engine = Engine::new(EngineConfig::default(), HeadModel::default_model().clone())
+        .expect("default engine");
+    engine.prepare(RATE_HZ, 256, 1).expect("prepare");
+    let r = offline::render(&mut engine, &[audio.to_vec()], &[256]);
+    let inserted = r.breaths.iter().map(|b| (b.start_s, b.end_s)).collect();
+    (r.existing_breaths, inserted)
+}
+
+#[test]
+fn a_breath_in_a_pause_is_reported_with_its_time_and_nothing_is_inserted_over_it() {
+    let (existing, inserted) = run(&phrases(true));
+    assert_eq!(existing.len(), 1, "one breath already there: {existing:?}");
+    let (start_s, end_s) = existing[0];
+    assert!(
+        (start_s - BURST_S.0).abs() < 0.05 && (end_s - BURST_S.1).abs() < 0.05,
+        "reported at {start_s:.3}..{end_s:.3} s, the burst is at {BURST_S:?}"
+    );
+    assert!(
+        inserted.iter().all(|&(a, b)| b <= 1.6 || a >= 2.5),
+        "a breath inserted in the pause that holds one: {inserted:?}"
+    );
+}
+
+#[test]
+fn a_quiet_pause_reports_no_breath_already_there() {
+    let (existing, inserted) = run(&phrases(false));
+    assert!(existing.is_empty(), "{existing:?}");
+    assert!(
+        inserted.iter().any(|&(a, b)| a >= 1.6 && b <= 2.5),
+        "the quiet pause gets an inserted breath: {inserted:?}"
+    );
+}
+
+#[test]
+fn the_breathing_cycle_breathes_in_with_the_breath_already_there() {
+    for whole_file in [false, true] {
+        let mut c = EngineConfig::default();
+        c.placement.whole_file = whole_file;
+        let mut engine = Engine::new(c, HeadModel::default_model().clone()).expect("engine");
+        engine.prepare(RATE_HZ, 256, 1).expect("prepare");
+        let r = pneuma_core::engine::offline::render(&mut engine, &[phrases(true)], &[256]);
+        assert!(
+            r.breaths.iter().all(|b| b.end_s <= 1.6 || b.start_s >= 2.5),
+            "whole file {whole_file}: a second breath in the pause: {:?}",
+            r.breaths
+        );
+        // The inspiration in the pause (1.6–2.5 s) lies on the burst and covers most of it.
+        let inspiring: Vec<f64> = r
+            .frames
+            .iter()
+            .map(|f| &f.0)
+            .filter(|f| f.time_s > 1.6 && f.time_s < 2.5)
+            .filter(|f| f.breathing.phase == pneuma_core::Phase::Inspiration)
+            .map(|f| f.time_s)
+            .collect();
+        let (first, last) = (inspiring.first(), inspiring.last());
+        let covered_s = inspiring.len() as f64 / 120.0;
+        assert!(
+            first.is_some_and(|&t| (t - BURST_S.0).abs() < 0.05)
+                && last.is_some_and(|&t| (t - BURST_S.1).abs() < 0.05)
+                && covered_s >= 0.8 * (BURST_S.1 - BURST_S.0),
+            "whole file {whole_file}: inspiration at {first:?}..{last:?} ({covered_s:.3} s), \
+             the breath at {BURST_S:?}"
+        );
+    }
+}

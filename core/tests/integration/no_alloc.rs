@@ -1,0 +1,132 @@
+//! `process` and `finish` never allocate, at any rate and block size: a counting global
+//! allocator watches the thread while the analyzer runs, and while the engine runs into the
+//! sinks a plugin drives (MIDI CC and OSC encoders).
+
+use pneuma_core::encode::midi_cc::{CcEncoder, CcMap};
+use pneuma_core::encode::osc::{OscFormat, TimeTag};
+use pneuma_core::encode::sink::{CcSink, FrameSink, OscSink};
+use pneuma_core::{AnalysisConfig, Analyzer, BreathEvent, ControlFrame};
+use pneuma_testkit::signals;
+
+/// Counts frames and breaths.
+#[derive(Default)]
+struct Count {
+    frames: usize,
+    breaths: usize,
+}
+
+impl FrameSink for Count {
+    fn frame(&mut self, _: &ControlFrame, _: u64) {
+        self.frames += 1;
+    }
+    fn breath(&mut self, _: &BreathEvent) {
+        self.breaths += 1;
+    }
+}
+
+use crate::support::watched;
+
+#[test]
+fn the_counter_sees_allocations() {
+    let (_, n) = watched(|| vec![1u8; 100]);
+    assert!(n >= 1);
+}
+
+#[test]
+fn process_never_allocates() {
+    for rate in [
+        8_000.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 96_000.0, 192_000.0,
+    ] {
+        let mut x = signals::harmonic_tone(rate, 1.0, 0.5, &[1.0, 0.5, 0.3], |t| 100.0 + 200.0 * t);
+        x[1000] = f32::NAN;
+        let mut a = Analyzer::new(AnalysisConfig::default()).expect("config");
+        a.prepare(rate, 4096).expect("rate");
+        let mut frames = 0usize;
+        let ((), n) = watched(|| {
+            for (i, size) in [1usize, 37, 512, 4096].iter().cycle().enumerate() {
+                let start = (i * 1000) % (x.len() - 4096);
+                a.process(&x[start..start + size], |_| frames += 1)
+                    .expect("prepared");
+                if i > 200 {
+                    break;
+                }
+            }
+            a.finish(|_| frames += 1).expect("prepared");
+            a.reset();
+        });
+        assert!(frames > 10);
+        assert_eq!(n, 0, "{n} allocations at {rate} Hz");
+    }
+}
+
+/// Phrases with pauses at `rate`: 0.8 s voiced, 0.6 s silence, repeated.
+fn phrases(rate: f64, seconds: f64) -> Vec<f32> {
+    let mut x = signals::harmonic_tone(rate, seconds, 0.4, &[1.0, 0.6, 0.4, 0.2], |t| {
+        if t % 1.4 < 0.8 {
+            120.0 + 30.0 * (2.0 * t).sin()
+        } else {
+            0.0
+        }
+    });
+    x[777] = f32::NAN;
+    x[1234] = f32::INFINITY;
+    x
+}
+
+#[test]
+fn the_engine_never_allocates_while_processing() {
+    use pneuma_core::engine::{Engine, EngineConfig, PlacementMode};
+    use pneuma_core::head::HeadModel;
+    for (rate, channels, mode) in [
+        (44_100.0, 1usize, PlacementMode::Lookahead),
+        (48_000.0, 2, PlacementMode::Lookahead),
+        (16_000.0, 1, PlacementMode::Live),
+        (96_000.0, 2, PlacementMode::Live),
+    ] {
+        let x = phrases(rate, 4.5);
+        let mut config = EngineConfig::default();
+        config.placement.mode = mode;
+        let mut engine = Engine::new(config, HeadModel::default_model().clone()).expect("config");
+        engine.prepare(rate, 1024, channels).expect("prepare");
+        let mut bufs = vec![x.clone(); channels];
+        let mut counted = Count::default();
+        let mut encoder = CcEncoder::new(CcMap::default()).expect("default map");
+        let (mut cc_messages, mut osc_bytes) = (0usize, 0usize);
+        let ((), n) = watched(|| {
+            // The outputs a plugin drives: MIDI CC and OSC encoders as sinks.
+            let cc = CcSink::new(&mut encoder, |_, _| cc_messages += 1);
+            let osc = OscSink::new(
+                OscFormat::Vmc,
+                |f: &ControlFrame| TimeTag::from_unix_seconds(f.time_s),
+                |_: &ControlFrame, bytes: &[u8]| osc_bytes += bytes.len(),
+            );
+            let mut sinks = (&mut counted, cc, osc);
+            let mut pos = 0;
+            for size in [1usize, 37, 512, 1024, 3000].iter().cycle() {
+                if pos >= x.len() {
+                    break;
+                }
+                let size = (*size).min(x.len() - pos);
+                let (a, b) = bufs.split_at_mut(1);
+                let mut chans: [&mut [f32]; 2] = match b.first_mut() {
+                    Some(r) => [&mut a[0][pos..pos + size], &mut r[pos..pos + size]],
+                    None => [&mut a[0][pos..pos + size], &mut []],
+                };
+                engine.process_into(&mut chans[..channels], pos as u64, &mut sinks);
+                pos += size;
+            }
+            engine.finish();
+            engine.take_breaths(|b| sinks.breath(b));
+            engine.reset();
+        });
+        let Count { frames, breaths } = counted;
+        assert!(frames > 100, "{frames} frames");
+        assert!(breaths >= 1, "no breath inserted at {rate} Hz");
+        assert!(cc_messages > frames, "{cc_messages} CC messages");
+        assert!(osc_bytes > 100 * frames, "{osc_bytes} OSC bytes");
+        assert_eq!(
+            n, 0,
+            "{n} allocations at {rate} Hz, {channels} ch, {mode:?}"
+        );
+    }
+}
