@@ -19,6 +19,7 @@ pub mod engine;
 pub mod head;
 pub mod phrase;
 pub mod rng;
+pub mod speech;
 
 pub use analysis::{
     AnalysisConfig, AnalysisError, Analyzer, FeatureFrame, VoicingFeatures, VoicingModel,

@@ -1,5 +1,6 @@
 //! A small seeded random source (SplitMix64), so every random choice in Pneuma is reproducible
-//! bit for bit from its seed, on every platform.
+//! bit for bit from its seed, on every platform; and [`PinkFilter`], which colours its white
+//! noise 1/f (the tests' and the evaluations' pink noise).
 
 /// SplitMix64 generator.
 #[derive(Debug, Clone)]
@@ -32,6 +33,28 @@ impl SeededRng {
         let u1 = self.uniform().max(1e-300);
         let u2 = self.uniform();
         (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+    }
+}
+
+/// 1/f (pink) noise from white noise: Paul Kellet's filter, one white sample in, one pink out.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PinkFilter {
+    b: [f64; 7],
+}
+
+impl PinkFilter {
+    /// The next pink sample for white sample `w`.
+    pub fn step(&mut self, w: f64) -> f64 {
+        let b = &mut self.b;
+        b[0] = 0.99886 * b[0] + w * 0.0555179;
+        b[1] = 0.99332 * b[1] + w * 0.0750759;
+        b[2] = 0.96900 * b[2] + w * 0.1538520;
+        b[3] = 0.86650 * b[3] + w * 0.3104856;
+        b[4] = 0.55000 * b[4] + w * 0.5329522;
+        b[5] = -0.7616 * b[5] - w * 0.0168980;
+        let y = b[..6].iter().sum::<f64>() + b[6] + w * 0.5362;
+        b[6] = w * 0.115926;
+        y
     }
 }
 

@@ -23,6 +23,7 @@ pub mod labels;
 pub mod noise;
 pub mod pauses;
 pub mod pitch;
+pub mod podcast;
 pub mod stats;
 
 /// Command-line arguments of `pneuma eval`.

@@ -3,9 +3,19 @@
 //! `eval-pauses`), the trainings of the shipped models (`train-voicing`, `train-default`) and
 //! the structure checks (`check-structure`).
 
+mod silero_weights;
 mod structure;
 mod train_default;
+mod train_speech;
 mod train_voicing;
+
+/// The workspace's root folder.
+pub fn workspace_root() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("xtask lives in the workspace")
+        .to_path_buf()
+}
 
 fn main() -> nice_plug_xtask::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -16,6 +26,8 @@ fn main() -> nice_plug_xtask::Result<()> {
             &train_voicing::held_out_models,
         )),
         Some("train-voicing") => std::process::exit(train_voicing::main(&args[1..])),
+        Some("silero-weights") => std::process::exit(silero_weights::main(&args[1..])),
+        Some("train-speech") => std::process::exit(train_speech::main(&args[1..])),
         Some("train-default") => std::process::exit(train_default::main(&args[1..])),
         Some("check-structure") => std::process::exit(structure::main(&args[1..])),
         _ => nice_plug_xtask::main(),

@@ -17,8 +17,11 @@ use super::error::{RenderError, EXIT_INTERRUPTED, INTERRUPTED};
 use super::pipeline::{lossy_note, run, RenderSummary};
 use super::plan::{check_batch, Args};
 
+/// Columns of the summary table.
+const COLUMNS: usize = 6;
+
 /// One row of the summary table.
-fn row(input: &Path, result: &Result<RenderSummary, RenderError>) -> [String; 5] {
+fn row(input: &Path, result: &Result<RenderSummary, RenderError>) -> [String; COLUMNS] {
     let name = input.display().to_string();
     match result {
         Ok(s) => [
@@ -26,29 +29,52 @@ fn row(input: &Path, result: &Result<RenderSummary, RenderError>) -> [String; 5]
             "ok".into(),
             s.breaths.len().to_string(),
             format!("{:.1}", s.length_s),
+            if s.findings.is_empty() {
+                "-".into()
+            } else {
+                s.findings
+                    .iter()
+                    .map(|f| f.short())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            },
             s.files
                 .first()
                 .map(|f| f.display().to_string())
                 .unwrap_or_default()
                 + &lossy_note(s),
         ],
-        Err(e) => [name, "FAILED".into(), "-".into(), "-".into(), e.to_string()],
+        Err(e) => [
+            name,
+            "FAILED".into(),
+            "-".into(),
+            "-".into(),
+            "-".into(),
+            e.to_string(),
+        ],
     }
 }
 
 /// Prints the summary table to standard error.
-fn print_table(rows: &[[String; 5]]) {
-    let header = ["input", "result", "breaths", "length_s", "output / error"];
+fn print_table(rows: &[[String; COLUMNS]]) {
+    let header = [
+        "input",
+        "result",
+        "breaths",
+        "length_s",
+        "warnings",
+        "output / error",
+    ];
     let mut width = header.map(str::len);
     for r in rows {
-        for (w, c) in width.iter_mut().zip(r).take(4) {
+        for (w, c) in width.iter_mut().zip(r).take(COLUMNS - 1) {
             *w = (*w).max(c.chars().count());
         }
     }
-    let line = |cells: [&str; 5]| {
+    let line = |cells: [&str; COLUMNS]| {
         let mut s = String::new();
         for (i, c) in cells.iter().enumerate() {
-            if i < 4 {
+            if i < COLUMNS - 1 {
                 s.push_str(&format!("{c:<w$}  ", w = width[i]));
             } else {
                 s.push_str(c);
@@ -58,7 +84,7 @@ fn print_table(rows: &[[String; 5]]) {
     };
     line(header);
     for r in rows {
-        line([&r[0], &r[1], &r[2], &r[3], &r[4]]);
+        line(r.each_ref().map(String::as_str));
     }
 }
 
@@ -110,7 +136,7 @@ pub fn main(args: &Args, inputs: &[PathBuf]) -> ExitCode {
     }
     let failed = results.iter().filter(|r| r.is_err()).count();
     if !args.quiet || failed > 0 {
-        let rows: Vec<[String; 5]> = inputs
+        let rows: Vec<[String; COLUMNS]> = inputs
             .iter()
             .zip(&results)
             .filter(|(_, r)| !args.quiet || r.is_err())

@@ -10,6 +10,8 @@
 //! before it:
 //!
 //! - [`error`]: how a render fails, and Ctrl-C;
+//! - [`findings`]: what a render found that the user should know (no speech, mostly music,
+//!   channels in antiphase): warnings, exit status 0;
 //! - [`plan`]: the arguments turned into a checked plan (inputs, engine settings, the engine
 //!   prepared for an input, the output names); nothing is written there;
 //! - [`pipeline`]: one planned input through the engine and its sinks, the files committed
@@ -21,6 +23,7 @@
 
 pub mod batch;
 pub mod error;
+pub mod findings;
 pub mod pipeline;
 pub mod plan;
 
@@ -93,5 +96,8 @@ fn print_summary(input: &Path, s: &RenderSummary) {
     );
     for f in &s.files {
         eprintln!("  {}", f.display());
+    }
+    for f in &s.findings {
+        eprintln!("warning: {}", f.message());
     }
 }

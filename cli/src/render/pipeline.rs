@@ -20,6 +20,7 @@ use pneuma_core::{BreathEvent, ControlFrame};
 use pneuma_io::{AudioSource, InputFormat};
 
 use super::error::{interrupted, out_err, RenderError};
+use super::findings::{findings, ChannelEnergy, Finding};
 use super::plan::{Args, FolderFiles, Job, OutputPlan, BLOCK_FRAMES};
 use crate::audio_out::{AudioSink, Container};
 use crate::output::{commit_all, Output, Staged};
@@ -49,6 +50,8 @@ pub struct RenderSummary {
     pub length_s: f64,
     /// Output samples clipped to the integer range.
     pub clipped: u64,
+    /// What the user should know about the input (no speech, antiphase channels, …).
+    pub findings: Vec<Finding>,
 }
 
 /// What a lossy input became, for the summary: `" (MP3 input written as FLAC: …)"`.
@@ -80,6 +83,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
     let Job {
         mut source,
         info,
+        input_channels,
         input_format,
         tags,
         mut engine,
@@ -102,7 +106,8 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         Kept::new(frames_total),
     );
     let channels = info.channels as usize;
-    let mut interleaved = Vec::with_capacity(BLOCK_FRAMES * channels);
+    let mut interleaved = Vec::with_capacity(BLOCK_FRAMES * input_channels.0);
+    let mut energy = ChannelEnergy::default();
     let mut pass = AudioPass::new(audio, &outputs.audio, info, progress);
     offline::stream(
         &mut engine,
@@ -110,7 +115,9 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         &[BLOCK_FRAMES],
         TailFrames::InputOnly,
         |planar: &mut [Vec<f32>], max: usize| {
-            read_block(&mut source, &mut interleaved, planar, max)
+            let n = read_block(&mut source, &mut interleaved, input_channels, planar, max)?;
+            energy.add(planar, n);
+            Ok(n)
         },
         &mut sinks,
         |(controls, bvh, _), planar, range| {
@@ -118,6 +125,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
             pass.write(planar, range)
         },
     )?;
+    let found = findings(&energy, &engine.speech_summary());
     let (controls, bvh, kept) = sinks;
     let AudioPass {
         mut audio,
@@ -161,6 +169,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         frames: kept.frames,
         length_s,
         clipped,
+        findings: found,
     })
 }
 
@@ -194,13 +203,19 @@ fn bvh_sink(
 fn read_block(
     source: &mut AudioSource,
     interleaved: &mut Vec<f32>,
+    (input_channels, pick): (usize, Option<usize>),
     planar: &mut [Vec<f32>],
     max: usize,
 ) -> Result<usize, RenderError> {
     let n = source.read_interleaved(max, interleaved)?;
-    for (i, frame) in interleaved.chunks_exact(planar.len()).enumerate() {
-        for (c, &x) in frame.iter().enumerate() {
-            planar[c][i] = x;
+    for (i, frame) in interleaved.chunks_exact(input_channels).enumerate() {
+        match pick {
+            Some(k) => planar[0][i] = frame[k],
+            None => {
+                for (c, &x) in frame.iter().enumerate() {
+                    planar[c][i] = x;
+                }
+            }
         }
     }
     Ok(n)

@@ -64,6 +64,10 @@ pub struct Args {
     /// Do not insert breaths (controls only; the audio is copied unchanged).
     #[arg(long)]
     pub no_breaths: bool,
+    /// Render one channel of the input (`left` = the first, `right` = the second) as a mono
+    /// file: for a file whose channels cancel when mixed to mono (antiphase).
+    #[arg(long, value_enum)]
+    pub channel: Option<Channel>,
     /// Folder with user breath samples `mouth.wav` and/or `nose.wav` (or .flac, .aiff, … any
     /// input format; the same as giving
     /// them with --breath-mouth and --breath-nose).
@@ -100,6 +104,25 @@ pub struct Args {
     /// Print errors only: no progress bar, no summary.
     #[arg(long, short)]
     pub quiet: bool,
+}
+
+/// A channel `--channel` picks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Channel {
+    /// The first channel.
+    Left,
+    /// The second channel.
+    Right,
+}
+
+impl Channel {
+    /// Its index among the input's channels.
+    pub fn index(self) -> usize {
+        match self {
+            Channel::Left => 0,
+            Channel::Right => 1,
+        }
+    }
 }
 
 impl Args {
@@ -222,13 +245,16 @@ pub fn output_container(asked: Option<Container>, format: InputFormat) -> Contai
 pub struct Job {
     /// The opened input.
     pub source: AudioSource,
-    /// The input's format (rate, channels, bits also of the output).
+    /// The format rendered (rate, channels, bits also of the output): the input's, with one
+    /// channel when `--channel` picks one.
     pub info: WavInfo,
+    /// The input's channels, and the one rendered (`--channel`), if one.
+    pub input_channels: (usize, Option<usize>),
     /// The input's container and whether it is lossless.
     pub input_format: (InputFormat, bool),
     /// The input's tags, carried into the output.
     pub tags: Tags,
-    /// The engine, prepared for the input's rate and channels, with the breath samples.
+    /// The engine, prepared for the rendered rate and channels, with the breath samples.
     pub engine: Engine,
     /// Where the outputs go.
     pub outputs: OutputPlan,
@@ -289,11 +315,24 @@ impl Job {
             output_container(args.format, source.format())
         };
         check_cue_container(args, container)?;
-        let info = source.info();
+        let mut info = source.info();
         check_input_shape(args, &info)?;
+        let input_channels = info.channels as usize;
+        let pick = args.channel.map(Channel::index);
+        if let Some(k) = pick {
+            if k >= input_channels {
+                return Err(RenderError::Input(format!(
+                    "--channel right needs two channels, and {} has {input_channels}: drop \
+                     --channel",
+                    input.display()
+                )));
+            }
+            info.channels = 1;
+        }
         let engine = prepared_engine(args, config, &info)?;
         let outputs = OutputPlan::new(args, input, container)?;
         Ok(Self {
+            input_channels: (input_channels, pick),
             input_format: (source.format(), source.lossless()),
             tags: source.tags(),
             info,

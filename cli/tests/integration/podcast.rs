@@ -504,3 +504,64 @@ fn a_breath_sample_folder_may_hold_flac() {
         "mouth.flac renders as mouth.wav"
     );
 }
+
+#[test]
+fn a_render_says_what_it_found_and_renders_one_channel_on_request() {
+    let dir = tempfile::tempdir().expect("temp");
+    let (voice, rate, channels) = support::read_audio(&example_voice_path());
+    assert_eq!(channels, 1);
+    // The voice on the left, inverted on the right: they cancel when mixed to mono.
+    let anti = dir.path().join("anti.wav");
+    support::write_wav(&anti, (rate, 2, 16, false), &voice, -1.0);
+    let silence = dir.path().join("silence.wav");
+    support::write_wav(&silence, (16_000, 1, 16, false), &vec![0.0; 48_000], 1.0);
+    let run = |input: &Path, out: &str, extra: &[&str]| {
+        let out = dir.path().join(out);
+        let mut args = vec![
+            "render",
+            input.to_str().expect("utf-8"),
+            "-o",
+            out.to_str().expect("utf-8"),
+            "--no-plot",
+            "--no-progress",
+        ];
+        args.extend_from_slice(extra);
+        let o = pneuma(&args);
+        assert_ok(&o);
+        (String::from_utf8_lossy(&o.stderr).into_owned(), out)
+    };
+    let (said, out) = run(&anti, "anti", &[]);
+    assert!(
+        said.contains("warning: left and right are in antiphase: render one channel"),
+        "{said}"
+    );
+    assert!(breaths_csv(&out.join("anti.breaths.csv")).is_empty());
+    let (said, out) = run(&anti, "left", &["--channel", "left"]);
+    assert!(!said.contains("warning:"), "{said}");
+    let (_, _, rendered_channels) = support::read_audio(&out.join("anti.wav"));
+    assert_eq!(rendered_channels, 1);
+    assert!(!breaths_csv(&out.join("anti.breaths.csv")).is_empty());
+    let (said, _) = run(&silence, "silence", &[]);
+    assert!(said.contains("warning: no speech found"), "{said}");
+    let (said, _) = run(&example_voice_path(), "voice", &[]);
+    assert!(!said.contains("warning:"), "{said}");
+    // The batch table has a column for it.
+    let (said, _) = run(&anti, "batch", &[silence.to_str().expect("utf-8")]);
+    let header = said.lines().find(|l| l.starts_with("input")).unwrap_or("");
+    assert!(header.contains("warnings"), "{said}");
+    assert!(
+        said.contains("antiphase") && said.contains("no speech"),
+        "{said}"
+    );
+    // A mono file has no right channel.
+    let o = pneuma(&[
+        "render",
+        silence.to_str().expect("utf-8"),
+        "-o",
+        dir.path().join("right").to_str().expect("utf-8"),
+        "--channel",
+        "right",
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--channel"));
+}

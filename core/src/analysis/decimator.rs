@@ -127,7 +127,7 @@ impl Decimator {
 /// overlap (four independent vector chains, each a quarter of the taps long); the summation
 /// order is fixed, so the result is the same on every call with the same data.
 #[inline]
-fn dot(a: &[f32], b: &[f32]) -> f32 {
+pub(crate) fn dot(a: &[f32], b: &[f32]) -> f32 {
     let mut acc = [[0.0f32; 4]; 4];
     let (xs, ys) = (a.chunks_exact(16), b.chunks_exact(16));
     let mut tail = 0.0;
@@ -148,7 +148,7 @@ fn dot(a: &[f32], b: &[f32]) -> f32 {
 
 /// Kaiser-windowed sinc low-pass of odd length `len`, cut-off `cutoff` in cycles per sample,
 /// normalised to unit DC gain.
-fn design_lowpass(len: usize, cutoff: f64) -> Vec<f32> {
+pub(crate) fn design_lowpass(len: usize, cutoff: f64) -> Vec<f32> {
     let mid = (len - 1) as f64 / 2.0;
     let i0_beta = bessel_i0(KAISER_BETA);
     let mut taps: Vec<f64> = (0..len)

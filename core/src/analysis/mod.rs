@@ -10,7 +10,7 @@ pub(crate) mod biquad;
 pub(crate) mod breath_band;
 mod clock;
 mod config;
-mod decimator;
+pub(crate) mod decimator;
 mod error;
 mod frame;
 mod level;

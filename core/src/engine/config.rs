@@ -78,6 +78,12 @@ pub struct PlacementConfig {
     /// and gives long pauses long, deep breaths. A plugin leaves it off and keeps its bounded
     /// `lookahead_s` (default off).
     pub whole_file: bool,
+    /// Breaths only into pauses of speech (the speech decision, [`crate::speech`]): no breath
+    /// before (lookahead: the next phrase, offline judged by its first half second; or after,
+    /// live: the finished phrase) music, singing or noise. Off: every pause, as the phrase
+    /// tracker finds them (signals that are not speech, a user who wants breaths in singing).
+    /// Stream part (the decision is built at `prepare`).
+    pub speech_only: bool,
 }
 
 /// Lookahead of an offline render ([`PlacementConfig::whole_file`]), seconds: longer than a
@@ -98,6 +104,7 @@ impl Default for PlacementConfig {
             catch_breath_min_s: 0.15,
             catch_breath_max_s: 0.25,
             whole_file: false,
+            speech_only: true,
         }
     }
 }
@@ -207,6 +214,7 @@ impl EngineConfig {
         self.placement.mode = from.placement.mode;
         self.placement.lookahead_s = from.placement.lookahead_s;
         self.placement.whole_file = from.placement.whole_file;
+        self.placement.speech_only = from.placement.speech_only;
         self.seed = from.seed;
     }
 

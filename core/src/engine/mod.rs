@@ -45,9 +45,11 @@ mod gate;
 pub mod offline;
 mod placement;
 mod schedule;
+mod speech_track;
 mod stereo;
 
 pub use config::{EngineConfig, EngineError, PlacementConfig, PlacementMode, OFFLINE_LOOKAHEAD_S};
+pub use speech_track::SpeechSummary;
 
 use crate::analysis::{Analyzer, FeatureFrame};
 use crate::breathing::{BreathSample, BreathVoice, SampleSlot};
@@ -61,6 +63,7 @@ use delay::DelayLine;
 use gate::InputGate;
 use placement::{EventContext, Placement};
 use schedule::{Queue, Schedule};
+use speech_track::SpeechTrack;
 use stereo::StereoImage;
 
 /// Most channels a stream may have.
@@ -135,6 +138,7 @@ struct Stream {
     stereo: StereoImage,
     gate: InputGate,
     placement: Placement,
+    speech: SpeechTrack,
     breaths: BreathTrack,
     cycle: CycleTrack,
     pending: Queue<Pending>,
@@ -302,6 +306,12 @@ impl Engine {
             stereo: StereoImage::new(sample_rate_hz, channels, max_block),
             gate: InputGate::new(sample_rate_hz, c.phrase.silence_db),
             placement: Placement::new(mode, latency, sample_rate_hz, frame_rate_hz),
+            speech: SpeechTrack::new(
+                c.placement.speech_only,
+                sample_rate_hz,
+                frame_rate_hz,
+                c.phrase.silence_db,
+            ),
             breaths: BreathTrack::new(voice, sample_rate_hz, latency, live, max_block),
             cycle: CycleTrack::new(&c.breathing.map(), sample_rate_hz, frame_rate_hz, live),
             pending: Queue::with_capacity(max_pending),
@@ -328,6 +338,7 @@ impl Engine {
             s.stereo.reset();
             s.gate.reset();
             s.placement.reset();
+            s.speech.reset();
             s.breaths.reset();
             s.cycle.reset();
             s.pending.clear();
@@ -350,6 +361,15 @@ impl Engine {
     /// the end.
     pub fn tail_samples(&self) -> u64 {
         self.stream.as_ref().map_or(0, |s| s.tail as u64)
+    }
+
+    /// What the speech decision heard since the last [`Engine::prepare`] or
+    /// [`Engine::reset`] (all zero before `prepare`): frames with sound, frames and phrases
+    /// judged speech. With `speech_only` off every frame and phrase counts as speech.
+    pub fn speech_summary(&self) -> SpeechSummary {
+        self.stream
+            .as_ref()
+            .map_or_else(SpeechSummary::default, |s| s.speech.summary())
     }
 
     /// The prepared sample rate.
@@ -522,10 +542,16 @@ impl Stream {
         debug_assert_eq!(beyond, 0, "frames beyond the block's frame buffer");
         self.lost.analysis_blocks += u64::from(analysed.is_err());
         self.lost.frames += beyond;
+        // The speech decision hears the samples that complete each frame, then the frame.
+        let mut fed = 0;
         for k in 0..count {
             let (f, i) = self.completed[k];
+            self.speech.push(&self.mono[fed..=i]);
+            fed = i + 1;
+            self.speech.frame(&f);
             self.on_frame(config, &f, base + i as u64, i, channels);
         }
+        self.speech.push(&self.mono[fed..n]);
         // 3. Output: the delayed input. 4. Breaths.
         for (c, chan) in audio.iter_mut().take(channels).enumerate() {
             self.delay.read(c, base, &mut chan[start..start + n]);
@@ -610,12 +636,24 @@ impl Stream {
         });
         debug_assert!(count <= events.len(), "{count} phrase events at one frame");
         self.lost.phrase_events += count.saturating_sub(events.len()) as u64;
+        // The speech decision judges the phrases first (an end's judgement is kept apart from
+        // the phrase a start in the same frame begins).
+        for e in events.iter().flatten() {
+            match *e {
+                PhraseEvent::Start { onset_s, .. } => self.speech.phrase_started(onset_s),
+                PhraseEvent::End { onset_s, offset_s } => {
+                    self.speech.phrase_ended(onset_s, offset_s);
+                }
+                PhraseEvent::Activity { .. } => {}
+            }
+        }
         let ctx = EventContext {
             config,
             now,
             gains: self.stereo.gains(channels),
             breath_playing: self.breaths.playing(),
             pending: &self.pending,
+            speech: &self.speech,
         };
         for e in events.into_iter().flatten() {
             if let PhraseEvent::Start {

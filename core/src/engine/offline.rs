@@ -217,8 +217,12 @@ mod tests {
     const RATE_HZ: f64 = 16_000.0;
 
     fn engine() -> Engine {
-        let mut e = Engine::new(EngineConfig::default(), HeadModel::default_model().clone())
-            .expect("default engine");
+        // The test signal is a sustained vowel, which the speech decision calls no speech:
+        // these tests are about the loop, so every pause counts.
+        let mut config = EngineConfig::default();
+        config.placement.speech_only = false;
+        let mut e =
+            Engine::new(config, HeadModel::default_model().clone()).expect("default engine");
         e.prepare(RATE_HZ, 300, 1).expect("prepare");
         e
     }

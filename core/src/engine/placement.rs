@@ -28,6 +28,7 @@
 //!   each breath for the running estimate of a group instead.
 
 use super::schedule::{BreathAction, CycleAction, Queue, Schedule};
+use super::speech_track::SpeechTrack;
 use super::{EngineConfig, Pending, PlacementMode, MAX_CHANNELS};
 use crate::analysis::FeatureFrame;
 use crate::breathing::MIN_LUNG_VOLUME;
@@ -49,6 +50,12 @@ const CATCH_MARGIN_S: f64 = 0.01;
 const MIN_LEFT_S: f32 = 0.5;
 /// Longest breath, in inspiration lengths of the breathing parameters.
 const MAX_BREATH_INSPIRATIONS: f64 = 2.5;
+/// Longest breath, seconds: real inhalations are rarely longer (median about 0.35 s), however
+/// long the silence before the phrase.
+pub(crate) const MAX_BREATH_S: f64 = 0.8;
+/// A pause longer than this makes the breath no longer, seconds: after a long silence the
+/// speaker takes a normal inhalation before speaking, not a sigh.
+const LONGEST_PAUSE_EFFECT_S: f64 = 2.0;
 /// Speech level assumed before the first voiced frame, dBFS.
 const PRIOR_SPEECH_LEVEL_DB: f32 = -26.0;
 
@@ -63,6 +70,8 @@ pub(crate) struct EventContext<'a> {
     pub(crate) breath_playing: bool,
     /// Frames analysed but not yet emitted (the lookahead's view of the upcoming phrase).
     pub(crate) pending: &'a Queue<Pending>,
+    /// The speech decision's judgements of the phrases.
+    pub(crate) speech: &'a SpeechTrack,
 }
 
 /// A phrase the tracker reported whose pause (the one before it) is not decided yet.
@@ -74,6 +83,8 @@ struct Seen {
     pause: Pause,
     gains: [f32; MAX_CHANNELS],
     level_db: f32,
+    /// Its speech judgement once it ended (its first half second heard).
+    speech: Option<bool>,
 }
 
 impl Default for Seen {
@@ -91,17 +102,21 @@ impl Default for Seen {
             },
             gains: [1.0; MAX_CHANNELS],
             level_db: PRIOR_SPEECH_LEVEL_DB,
+            speech: None,
         }
     }
 }
 
 /// Length of a full breath, seconds: the breathing parameters' inspiration, longer in longer
-/// pauses and for longer coming groups (`volume` 0..1 of the lung), at most
-/// `MAX_BREATH_INSPIRATIONS` inspirations. Whatever fits in the pause is used of it.
+/// pauses (up to `LONGEST_PAUSE_EFFECT_S`) and for longer coming groups (`volume` 0..1 of the
+/// lung), at most `MAX_BREATH_INSPIRATIONS` inspirations and `MAX_BREATH_S`. Whatever fits in
+/// the pause is used of it.
 pub(crate) fn breath_length_s(inspiration_s: f64, pause_s: f64, volume: f64) -> f64 {
     let v = volume.clamp(0.0, 1.0);
-    (inspiration_s * (0.5 + 0.3 * pause_s.max(0.0)) * (0.75 + 0.25 * v))
+    let pause_s = pause_s.clamp(0.0, LONGEST_PAUSE_EFFECT_S);
+    (inspiration_s * (0.5 + 0.3 * pause_s) * (0.75 + 0.25 * v))
         .min(MAX_BREATH_INSPIRATIONS * inspiration_s)
+        .min(MAX_BREATH_S)
 }
 
 /// See the module docs.
@@ -135,6 +150,8 @@ struct PlacementState {
     last_onset_s: Option<f64>,
     /// End of the last scheduled breath (input sample).
     breath_end: u64,
+    /// The speech judgement of the last phrase decided and ended (lookahead mode).
+    prev_speech: Option<bool>,
 }
 
 impl Default for PlacementState {
@@ -149,6 +166,7 @@ impl Default for PlacementState {
             group_spoken_s: 0.0,
             last_onset_s: None,
             breath_end: 0,
+            prev_speech: None,
         }
     }
 }
@@ -288,6 +306,7 @@ impl Placement {
                     pause,
                     gains: ctx.gains,
                     level_db,
+                    speech: None,
                 });
             }
             PhraseEvent::End { onset_s, offset_s } => {
@@ -300,9 +319,20 @@ impl Placement {
                     .cycle
                     .insert_sorted((offset_s, CycleAction::SpeechStopped));
                 if !live {
-                    if let Some(last) = self.seen.back_mut() {
-                        last.offset_s = Some(offset_s);
+                    // The phrase that ended is the last one seen, or, decided already, the
+                    // one before the next pause.
+                    let speech = ctx.speech.last_ended();
+                    match self.seen.back_mut() {
+                        Some(last) => {
+                            last.offset_s = Some(offset_s);
+                            last.speech = speech;
+                        }
+                        None => self.state.prev_speech = speech,
                     }
+                    return;
+                }
+                // Live: a breath only after speech (the finished phrase's last half second).
+                if !ctx.speech.tail_is_speech(onset_s, offset_s) {
                     return;
                 }
                 self.state.group_spoken_s += (offset_s - onset_s).max(0.0) as f32;
@@ -390,6 +420,28 @@ impl Placement {
         (known, ended)
     }
 
+    /// Lookahead mode: whether the pause before phrase `ph` (just taken from the front) is a
+    /// pause of speech, so that a breath may go into it. The phrase after it is judged by its
+    /// first half second once that has been heard (offline: always). While less of it is
+    /// visible (the plugin's short lookahead), the pause counts when what is visible is speech
+    /// or the phrase before the pause was speech; before any phrase has been judged (the
+    /// stream's first), when Silero alone took the visible start for speech.
+    fn pause_of_speech(&self, ctx: &EventContext, ph: &Seen) -> bool {
+        if let Some(speech) = ph.speech {
+            return speech;
+        }
+        // A phrase not yet ended is the one being spoken: the speech track's current judge.
+        let visible = match ctx.speech.current() {
+            Some((speech, true)) => return speech,
+            Some((speech, false)) => speech,
+            None => false,
+        };
+        match self.state.prev_speech {
+            Some(before) => visible || before,
+            None => visible || ctx.speech.silero_heard(),
+        }
+    }
+
     /// Decides the pause of the oldest undecided phrase: a breath, a catch breath or none, and
     /// the phrase's share of its group.
     fn decide_front(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
@@ -416,6 +468,10 @@ impl Placement {
         };
         let pause_s = onset_s - pause.start_s;
         let usable = pause_s >= p.min_pause_s as f64;
+        let speech = self.pause_of_speech(ctx, &ph);
+        if ph.speech.is_some() {
+            self.state.prev_speech = ph.speech;
+        }
         let air_left_s = self.state.group_planned_s - self.state.group_spoken_s;
         let short_of_air = pause.leading
             || (self.state.group_spoken_s >= MIN_SPOKEN_BEFORE_CATCH_S
@@ -437,7 +493,7 @@ impl Placement {
                 window = Some((start_s, to_s));
             }
         }
-        if usable && window.is_none() {
+        if usable && speech && window.is_none() {
             let end_s = onset_s - p.gap_s as f64;
             let after_s = if pause.leading && pause.last_activity_end_s.is_none() {
                 quiet_from_s
@@ -456,7 +512,7 @@ impl Placement {
             let start_s = (end_s - p.catch_breath_max_s as f64)
                 .max(after_s)
                 .max(earliest_s);
-            if end_s - start_s >= p.catch_breath_min_s as f64 - 1e-9 {
+            if speech && end_s - start_s >= p.catch_breath_min_s as f64 - 1e-9 {
                 window = Some((start_s, end_s));
             } else if pause.leading && self.state.group_planned_s <= 0.0 {
                 // Speech from the very start of the stream: the speaker breathed before it.

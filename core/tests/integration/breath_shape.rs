@@ -67,8 +67,12 @@ type Spans = Vec<(f64, f64)>;
 /// Renders `audio` with the default engine in `block` sample blocks; returns the breaths heard
 /// in the input and the inserted ones.
 fn render(audio: &[f32], rate_hz: f64, block: usize) -> (Spans, Spans) {
-    let mut engine = Engine::new(EngineConfig::default(), HeadModel::default_model().clone())
-        .expect("default engine");
+    // The phrases are steady tones, which the speech decision calls no speech; this test is
+    // about the sound in the pause, so every pause counts.
+    let mut config = EngineConfig::default();
+    config.placement.speech_only = false;
+    let mut engine =
+        Engine::new(config, HeadModel::default_model().clone()).expect("default engine");
     engine.prepare(rate_hz, block, 1).expect("prepare");
     let r = offline::render(&mut engine, &[audio.to_vec()], &[block]);
     let inserted = r.breaths.iter().map(|b| (b.start_s, b.end_s)).collect();

@@ -39,8 +39,12 @@ type Spans = Vec<(f64, f64)>;
 /// Runs the engine over `audio` in 256-sample blocks; returns the existing breaths and the
 /// inserted ones.
 fn run(audio: &[f32]) -> (Spans, Spans) {
-    let mut engine = Engine::new(EngineConfig::default(), HeadModel::default_model().clone())
-        .expect("default engine");
+    // The phrases are steady tones, which the speech decision calls no speech; this test is
+    // about the sound in the pause, so every pause counts.
+    let mut config = EngineConfig::default();
+    config.placement.speech_only = false;
+    let mut engine =
+        Engine::new(config, HeadModel::default_model().clone()).expect("default engine");
     engine.prepare(RATE_HZ, 256, 1).expect("prepare");
     let r = offline::render(&mut engine, &[audio.to_vec()], &[256]);
     let inserted = r.breaths.iter().map(|b| (b.start_s, b.end_s)).collect();

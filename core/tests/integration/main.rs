@@ -23,4 +23,6 @@ mod head_synth;
 mod head_train;
 mod live_mode;
 mod no_alloc;
+mod speech_decision;
+mod speech_silero;
 mod voicing_signals;

@@ -59,15 +59,37 @@ fn process_never_allocates() {
     }
 }
 
-/// Phrases with pauses at `rate`: 0.8 s voiced, 0.6 s silence, repeated.
+/// Speech-like phrases with pauses at `rate` (so that the speech decision lets breaths in):
+/// 0.8 s of glottal vowels in 0.2 s syllables, 0.6 s silence, repeated.
 fn phrases(rate: f64, seconds: f64) -> Vec<f32> {
-    let mut x = signals::harmonic_tone(rate, seconds, 0.4, &[1.0, 0.6, 0.4, 0.2], |t| {
-        if t % 1.4 < 0.8 {
-            120.0 + 30.0 * (2.0 * t).sin()
+    use pneuma_testkit::signals::{GlottalVowel, Vowel};
+    let mut x = Vec::new();
+    let mut k = 0u64;
+    while (x.len() as f64) < seconds * rate {
+        let t = x.len() as f64 / rate;
+        if k % 5 < 4 {
+            let v = signals::glottal_vowel(
+                &GlottalVowel {
+                    sample_rate_hz: rate,
+                    length_s: 0.2,
+                    vowel: [Vowel::A, Vowel::I, Vowel::U][(k % 3) as usize],
+                    jitter: 0.01,
+                    shimmer: 0.05,
+                    peak: 0.4,
+                    seed: k,
+                },
+                |s| 130.0 + 30.0 * (2.0 * (t + s)).sin(),
+            );
+            let n = v.len();
+            x.extend(v.iter().enumerate().map(|(i, y)| {
+                y * (0.3 + 0.7 * (std::f64::consts::PI * i as f64 / n as f64).sin()) as f32
+            }));
         } else {
-            0.0
+            x.extend(std::iter::repeat_n(0.0, (0.6 * rate) as usize));
         }
-    });
+        k += 1;
+    }
+    x.truncate((seconds * rate) as usize);
     x[777] = f32::NAN;
     x[1234] = f32::INFINITY;
     x

@@ -1,0 +1,176 @@
+//! What a render found out about its input that the user should know, though nothing failed
+//! (the exit status stays 0): no speech at all, mostly something else than speech (music,
+//! singing, noise), or channels that cancel when mixed to mono. Each is a [`Finding`]: a line
+//! of the summary (`warning: …`) and a short word in the batch table.
+//!
+//! The channel check ([`ChannelEnergy`]) sums each channel's power and the power of their mean
+//! (the mono mix the engine analyses) while the blocks pass; the speech figures come from the
+//! engine ([`SpeechSummary`]).
+
+use pneuma_core::engine::{SpeechSummary, MAX_CHANNELS};
+
+/// The mono mix is this far under the channels' mean power: they cancel, dB.
+const ANTIPHASE_DB: f64 = 20.0;
+/// Channels quieter than this hold nothing to cancel, dBFS (mean power).
+const SILENT_CHANNEL_DB: f64 = -90.0;
+/// Less speech than this share of the frames with sound: no speech found.
+const NO_SPEECH_SHARE: f64 = 0.01;
+/// Less speech than this share of the frames with sound: mostly not speech.
+const MOSTLY_OTHER_SHARE: f64 = 0.5;
+
+/// Something the user should know about a render.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Finding {
+    /// The channels cancel when mixed to mono.
+    Antiphase,
+    /// No speech was heard (silence, music, noise): no breath was placed.
+    NoSpeech,
+    /// Speech in only this share of the time with sound.
+    MostlyNotSpeech {
+        /// Share of the frames with sound that are speech, 0..1.
+        speech_share: f64,
+    },
+}
+
+impl Finding {
+    /// The summary's line (after `warning: `).
+    pub fn message(&self) -> String {
+        match self {
+            Finding::Antiphase => "left and right are in antiphase: render one channel \
+                 (--channel left or --channel right); mixed to mono they cancel, so nothing \
+                 was heard"
+                .into(),
+            Finding::NoSpeech => "no speech found (silence, music or noise): breaths go only \
+                 into the pauses of speech, so none was inserted"
+                .into(),
+            Finding::MostlyNotSpeech { speech_share } => format!(
+                "mostly music or other sound that is not speech (speech in {:.0} % of the time \
+                 with sound): breaths went only into the pauses of the speech",
+                100.0 * speech_share
+            ),
+        }
+    }
+
+    /// The batch table's word.
+    pub fn short(&self) -> &'static str {
+        match self {
+            Finding::Antiphase => "antiphase",
+            Finding::NoSpeech => "no speech",
+            Finding::MostlyNotSpeech { .. } => "mostly music",
+        }
+    }
+}
+
+/// Each channel's power and the power of the mono mix, summed over the input.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ChannelEnergy {
+    channels: usize,
+    sum_sq: [f64; MAX_CHANNELS],
+    mix_sq: f64,
+    frames: u64,
+}
+
+impl ChannelEnergy {
+    /// Adds one block, one slice per channel (as the engine gets them), `n` frames.
+    pub fn add(&mut self, planar: &[Vec<f32>], n: usize) {
+        let channels = planar.len().min(MAX_CHANNELS);
+        self.channels = channels;
+        if channels == 0 {
+            return;
+        }
+        for i in 0..n {
+            let mut mix = 0.0f64;
+            for (c, chan) in planar.iter().take(channels).enumerate() {
+                let x = f64::from(chan[i]);
+                self.sum_sq[c] += x * x;
+                mix += x;
+            }
+            mix /= channels as f64;
+            self.mix_sq += mix * mix;
+        }
+        self.frames += n as u64;
+    }
+
+    /// The channels hold sound that cancels when mixed to mono.
+    pub fn antiphase(&self) -> bool {
+        if self.channels < 2 || self.frames == 0 {
+            return false;
+        }
+        let n = self.frames as f64;
+        let mean_db = |sum: f64| 10.0 * (sum / n).max(1e-30).log10();
+        let channels_db = mean_db(self.sum_sq[..self.channels].iter().sum::<f64>())
+            - 10.0 * (self.channels as f64).log10();
+        channels_db > SILENT_CHANNEL_DB && mean_db(self.mix_sq) < channels_db - ANTIPHASE_DB
+    }
+}
+
+/// The findings of a render: the channels, then the speech.
+pub fn findings(energy: &ChannelEnergy, speech: &SpeechSummary) -> Vec<Finding> {
+    if energy.antiphase() {
+        return vec![Finding::Antiphase];
+    }
+    let share = if speech.sound_frames == 0 {
+        0.0
+    } else {
+        speech.speech_frames as f64 / speech.sound_frames as f64
+    };
+    if share < NO_SPEECH_SHARE || speech.speech_phrases == 0 {
+        vec![Finding::NoSpeech]
+    } else if share < MOSTLY_OTHER_SHARE {
+        vec![Finding::MostlyNotSpeech {
+            speech_share: share,
+        }]
+    } else {
+        Vec::new()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn energy(left: &[f32], right: &[f32]) -> ChannelEnergy {
+        let mut e = ChannelEnergy::default();
+        e.add(&[left.to_vec(), right.to_vec()], left.len());
+        e
+    }
+
+    #[test]
+    fn channels_that_cancel_are_antiphase_and_others_are_not() {
+        let x: Vec<f32> = (0..4800).map(|i| (i as f32 * 0.05).sin() * 0.3).collect();
+        let minus: Vec<f32> = x.iter().map(|v| -v).collect();
+        let half: Vec<f32> = x.iter().map(|v| -0.5 * v).collect();
+        let silent = vec![0.0f32; x.len()];
+        assert!(energy(&x, &minus).antiphase());
+        // Partly cancelling (6 dB down) or one silent channel is not antiphase.
+        assert!(!energy(&x, &half).antiphase());
+        assert!(!energy(&x, &silent).antiphase());
+        assert!(!energy(&silent, &silent).antiphase());
+        let mut mono = ChannelEnergy::default();
+        mono.add(std::slice::from_ref(&x), x.len());
+        assert!(!mono.antiphase());
+    }
+
+    #[test]
+    fn speech_shares_give_no_speech_mostly_music_or_nothing() {
+        let s = |sound_frames, speech_frames, speech_phrases| SpeechSummary {
+            frames: 1000,
+            sound_frames,
+            speech_frames,
+            phrases: 10,
+            speech_phrases,
+        };
+        let e = ChannelEnergy::default();
+        assert_eq!(findings(&e, &s(0, 0, 0)), [Finding::NoSpeech]);
+        assert_eq!(findings(&e, &s(900, 5, 1)), [Finding::NoSpeech]);
+        assert_eq!(findings(&e, &s(900, 300, 0)), [Finding::NoSpeech]);
+        assert_eq!(
+            findings(&e, &s(900, 300, 3)),
+            [Finding::MostlyNotSpeech {
+                speech_share: 300.0 / 900.0
+            }]
+        );
+        assert_eq!(findings(&e, &s(900, 700, 8)), []);
+        assert!(Finding::Antiphase.message().contains("render one channel"));
+    }
+}

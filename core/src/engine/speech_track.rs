@@ -1,0 +1,205 @@
+//! The speech track: the engine's view of the speech decision ([`crate::speech`]). It feeds the
+//! [`SpeechDetector`] the stream's mono samples in the analysis order (the samples that complete
+//! a frame, then the frame), keeps each frame's speech probability for a few seconds, and judges
+//! the phrases the tracker reports:
+//! - a phrase is speech when the mean probability of its first [`JUDGE_WINDOW_S`] (or of the
+//!   whole phrase when it is shorter) reaches the model's threshold; until that window has been
+//!   heard (the plugin's short lookahead sees about 0.1 s of a phrase when the breath before
+//!   it must start), by what was heard of it, and Silero's highest probability in it
+//!   ([`SpeechTrack::current`], [`SpeechTrack::silero_heard`]);
+//! - live mode, which must decide right after a phrase ends, judges the last
+//!   [`JUDGE_WINDOW_S`] of the finished phrase ([`SpeechTrack::tail_is_speech`]).
+//!
+//! With the decision switched off (`PlacementConfig::speech_only` false) every phrase is
+//! speech and nothing is computed. Allocation-free after `new`; the decisions depend on the
+//! sample sequence only, so any block partition gives the same judgements.
+
+use crate::analysis::FeatureFrame;
+use crate::speech::segments::THRESHOLD as SILERO_THRESHOLD;
+use crate::speech::{RecentSpeech, SpanJudge, SpeechDetector, SpeechModel, JUDGE_WINDOW_S};
+
+/// Frames kept for late judgements, seconds: a phrase reported up to this long after its onset
+/// (or a short phrase ended this long ago) is judged from its own frames.
+const KEPT_S: f64 = 3.0;
+
+/// What was heard since the last `reset`, for the render's summary.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SpeechSummary {
+    /// Analysis frames.
+    pub frames: u64,
+    /// Frames with sound (above the phrase tracker's silence level).
+    pub sound_frames: u64,
+    /// Frames the decision calls speech.
+    pub speech_frames: u64,
+    /// Phrases judged, and those judged speech.
+    pub phrases: u64,
+    /// Phrases judged speech.
+    pub speech_phrases: u64,
+}
+
+/// See the module docs.
+#[derive(Debug, Clone)]
+pub(crate) struct SpeechTrack {
+    detector: Option<SpeechDetector>,
+    threshold: f32,
+    silence_db: f32,
+    recent: RecentSpeech,
+    /// Silero's probability of the same frames.
+    recent_silero: RecentSpeech,
+    state: SpeechTrackState,
+}
+
+/// What [`SpeechTrack::reset`] clears besides the detector and the ring.
+#[derive(Debug, Clone, Copy, Default)]
+struct SpeechTrackState {
+    /// The judge of the phrase being spoken (the last one started).
+    phrase: Option<SpanJudge>,
+    /// Silero's highest probability in the phrase being spoken so far.
+    silero_max: f32,
+    /// The judgement of the phrase that ended last.
+    ended: Option<bool>,
+    summary: SpeechSummary,
+}
+
+impl SpeechTrack {
+    /// A track for a stream at `sample_rate_hz` with frames at `frame_rate_hz`; `enabled` false
+    /// calls everything speech. Allocates.
+    pub(crate) fn new(
+        enabled: bool,
+        sample_rate_hz: f64,
+        frame_rate_hz: f64,
+        silence_db: f32,
+    ) -> Self {
+        let model = SpeechModel::shipped().clone();
+        let threshold = model.threshold();
+        Self {
+            detector: enabled.then(|| SpeechDetector::new(model, sample_rate_hz, frame_rate_hz)),
+            threshold,
+            silence_db,
+            recent: RecentSpeech::new(KEPT_S, frame_rate_hz),
+            recent_silero: RecentSpeech::new(KEPT_S, frame_rate_hz),
+            state: SpeechTrackState::default(),
+        }
+    }
+
+    /// Back to the start of a stream.
+    pub(crate) fn reset(&mut self) {
+        if let Some(d) = &mut self.detector {
+            d.reset();
+        }
+        self.recent.reset();
+        self.recent_silero.reset();
+        self.state = SpeechTrackState::default();
+    }
+
+    /// The decision is on.
+    pub(crate) fn enabled(&self) -> bool {
+        self.detector.is_some()
+    }
+
+    /// The next mono samples (those up to the one that completes the next frame, or the rest
+    /// of a block). Never allocates.
+    pub(crate) fn push(&mut self, samples: &[f32]) {
+        if let Some(d) = &mut self.detector {
+            d.push(samples, |_, _| {});
+        }
+    }
+
+    /// The next analysis frame (after the samples that completed it): its speech probability
+    /// (1 when the decision is off).
+    pub(crate) fn frame(&mut self, f: &FeatureFrame) -> f32 {
+        let (p, silero_p) = match &mut self.detector {
+            Some(d) => {
+                let s = d.frame(f.voiced, f.rms_db);
+                (s.speech_p, s.silero_p)
+            }
+            None => (1.0, 1.0),
+        };
+        self.recent.push(f.time_s, p);
+        self.recent_silero.push(f.time_s, silero_p);
+        if let Some(j) = &mut self.state.phrase {
+            j.add(f.time_s, p);
+            if f.time_s >= j.start_s() {
+                self.state.silero_max = self.state.silero_max.max(silero_p);
+            }
+        }
+        let s = &mut self.state.summary;
+        s.frames += 1;
+        if f.rms_db > self.silence_db {
+            s.sound_frames += 1;
+            s.speech_frames += u64::from(p >= self.threshold);
+        }
+        p
+    }
+
+    /// A phrase started at `onset_s` (reported now, after the frame that confirmed it).
+    pub(crate) fn phrase_started(&mut self, onset_s: f64) {
+        self.state.phrase = Some(self.recent.judge_from(onset_s));
+        self.state.silero_max = self
+            .recent_silero
+            .iter()
+            .filter(|&(t, _)| t >= onset_s)
+            .fold(0.0, |m, (_, p)| m.max(p));
+    }
+
+    /// The phrase being spoken, judged by what was heard of its window so far: `(speech,
+    /// complete)`, `None` before its first frame (always speech when the decision is off).
+    pub(crate) fn current(&self) -> Option<(bool, bool)> {
+        if !self.enabled() {
+            return Some((true, true));
+        }
+        let j = self.state.phrase?;
+        Some((j.is_speech(self.threshold)?, j.is_complete()))
+    }
+
+    /// Silero's probability reached its own threshold (0.5) in what was heard of the phrase
+    /// being spoken (always true when the decision is off). The stacked model's threshold needs
+    /// more than a phrase's first chunks; Silero's own is what a phrase's first 0.1 s can say.
+    pub(crate) fn silero_heard(&self) -> bool {
+        !self.enabled() || self.state.silero_max >= SILERO_THRESHOLD
+    }
+
+    /// The phrase from `onset_s` ended at `offset_s`: its judgement by its first
+    /// [`JUDGE_WINDOW_S`] (the whole phrase when shorter). Counted in the summary.
+    pub(crate) fn phrase_ended(&mut self, onset_s: f64, offset_s: f64) -> bool {
+        let speech = if !self.enabled() {
+            true
+        } else if offset_s - onset_s < JUDGE_WINDOW_S {
+            // The running judge may hold frames past the end (the end is confirmed late).
+            self.recent
+                .mean_between(onset_s, offset_s)
+                .is_some_and(|m| m >= self.threshold)
+        } else {
+            self.state
+                .phrase
+                .and_then(|j| j.is_speech(self.threshold))
+                .unwrap_or(false)
+        };
+        self.state.phrase = None;
+        self.state.ended = Some(speech);
+        let s = &mut self.state.summary;
+        s.phrases += 1;
+        s.speech_phrases += u64::from(speech);
+        speech
+    }
+
+    /// The judgement of the phrase that ended last ([`SpeechTrack::phrase_ended`]).
+    pub(crate) fn last_ended(&self) -> Option<bool> {
+        self.state.ended
+    }
+
+    /// Live mode: the phrase from `onset_s` that ended at `offset_s` was speech by its last
+    /// [`JUDGE_WINDOW_S`] (the whole phrase when shorter).
+    pub(crate) fn tail_is_speech(&self, onset_s: f64, offset_s: f64) -> bool {
+        !self.enabled()
+            || self
+                .recent
+                .mean_between((offset_s - JUDGE_WINDOW_S).max(onset_s), offset_s)
+                .is_some_and(|m| m >= self.threshold)
+    }
+
+    /// What was heard since the last reset.
+    pub(crate) fn summary(&self) -> SpeechSummary {
+        self.state.summary
+    }
+}
