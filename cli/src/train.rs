@@ -1,18 +1,22 @@
 //! `pneuma train --data DIR -o model.json`: trains a head-pose model from `<clip>.wav` files
 //! paired with `<clip>.head.csv` (`time_s,pitch_deg,yaw_deg,roll_deg`, the styletalk format),
-//! reports the leave-one-clip-out held-out log-likelihood per GMM and the comparison of the
-//! unvoiced behaviours, and writes the model file.
+//! compares the synthesis variants leave-one-clip-out (held-out log-likelihood per GMM, each
+//! variant's targets on the held-out clips), keeps the best variant and writes the model file.
 //!
-//! The data loading ([`load_clips`]) is the evaluation crate's, shared with `pneuma eval head`
-//! and `cargo xtask train-default`.
+//! The data loading ([`load_clips`]) and the variant table are the evaluation crate's, shared
+//! with `pneuma eval head` and `cargo xtask train-default`.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use pneuma_core::head::train::{mismatch_score, train, CrossValidation, TrainConfig};
+use pneuma_core::head::evaluate::CrossValidation;
+use pneuma_core::head::select::train;
+use pneuma_core::head::train::TrainConfig;
+use pneuma_core::head::Variant;
 use pneuma_core::AnalysisConfig;
 use pneuma_eval::data::styletalk::load_clips;
 use pneuma_eval::data::DataError;
+use pneuma_eval::head::{print_clip_table, print_variant_ranks};
 use thiserror::Error;
 
 /// Errors of training.
@@ -43,9 +47,13 @@ pub struct Args {
     /// Output model file (JSON).
     #[arg(short = 'o', long)]
     pub output: PathBuf,
-    /// Components per voiced GMM (the paper: 11).
+    /// Components of each voiced velocity and acceleration GMM (the paper: 11).
     #[arg(long, default_value_t = 11)]
     pub components: usize,
+    /// Components of each pose GMM (roll, pitch, yaw; voiced and unvoiced); 1 keeps the head
+    /// at the speaker's mean pose on average.
+    #[arg(long, default_value_t = TrainConfig::default().pose_components)]
+    pub pose_components: usize,
     /// EM restarts per GMM.
     #[arg(long, default_value_t = 3)]
     pub restarts: usize,
@@ -61,7 +69,7 @@ pub struct Args {
     pub motion_smoothing_ms: f64,
 }
 
-/// Prints the held-out log-likelihoods and the unvoiced-behaviour comparison.
+/// Prints the held-out log-likelihoods, every variant's rank and the variant kept.
 pub fn print_report(cv: &CrossValidation) {
     println!("held-out log-likelihood per voiced GMM (nats/frame, leave-one-clip-out)");
     println!("clip,roll,pitch,yaw,velocity,acceleration");
@@ -76,24 +84,11 @@ pub fn print_report(cv: &CrossValidation) {
         "mean,{:.3},{:.3},{:.3},{:.3},{:.3}",
         m[0], m[1], m[2], m[3], m[4]
     );
-    println!("unvoiced behaviour comparison (mismatch score vs real motion, lower is better)");
-    for (b, evals) in &cv.evals {
-        let n = evals.len().max(1) as f64;
-        let frozen = evals.iter().map(|e| e.generated.frozen_share).sum::<f64>() / n;
-        let speed = evals
-            .iter()
-            .map(|e| e.generated.mean_speed_deg_s)
-            .sum::<f64>()
-            / n;
-        println!(
-            "{:<15} score {:.3}  frozen {:.1} %  mean speed {:.1} deg/s",
-            b.as_str(),
-            mismatch_score(evals),
-            100.0 * frozen,
-            speed
-        );
+    print_variant_ranks(cv);
+    if let Some(best) = cv.best() {
+        println!("the kept variant per clip, held out:");
+        print_clip_table(&best.clips);
     }
-    println!("kept: {}", cv.best_behaviour().as_str());
 }
 
 /// Trains with `args` settings; returns the model JSON and the cross-validation.
@@ -108,13 +103,16 @@ pub fn run(
     let clips = load_clips(&args.data, &config)?;
     let cfg = TrainConfig {
         components: args.components,
+        pose_components: args.pose_components,
         restarts: args.restarts,
         seed: args.seed,
         motion_smoothing_s: args.motion_smoothing_ms / 1000.0,
         data_description: data_description.to_string(),
         ..TrainConfig::default()
     };
-    let (model, cv) = train(&clips, &cfg, |name| eprintln!("leave out {name} ..."))?;
+    let (model, cv) = train(&clips, &cfg, &Variant::candidates(), |name| {
+        eprintln!("leave out {name} ...")
+    })?;
     Ok((model.to_json(), cv))
 }
 

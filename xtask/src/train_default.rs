@@ -50,6 +50,7 @@ pub fn main(args: &[String]) -> i32 {
         data,
         output: out.clone(),
         components: 11,
+        pose_components: pneuma_core::head::TrainConfig::default().pose_components,
         restarts: 3,
         seed: 2015,
         frame_rate: 120.0,

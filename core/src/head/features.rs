@@ -3,6 +3,7 @@
 //! speaker-normalised f0 (semitones) and level (dB) of each frame.
 
 use super::gmm::MAX_DIM;
+use super::inputs::ModelInput;
 use super::model_file::Normalisation;
 use crate::analysis::FeatureFrame;
 
@@ -100,8 +101,9 @@ impl TrainingClip {
 }
 
 /// Training rows of one clip: for each motion feature (roll, pitch, yaw, velocity,
-/// acceleration) the voiced rows (feature, f0_st, level_db) and unvoiced rows
-/// (feature, level_db). The first two frames (no acceleration yet) are skipped.
+/// acceleration) the voiced rows (feature, f0, level) and unvoiced rows (feature, level), with
+/// f0 and level the model's inputs ([`super::inputs`]). The first two frames (no acceleration
+/// yet) are skipped.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct FeatureRows {
     /// Voiced rows per motion feature.
@@ -111,14 +113,36 @@ pub struct FeatureRows {
 }
 
 impl FeatureRows {
-    /// Appends the rows of `clip`, clamping f0 and level to the normalisation's ranges. The
-    /// pose is first smoothed by a Gaussian of SD `smoothing_s` seconds (0 = none), which
-    /// removes the tracking jitter that would otherwise dominate the acceleration.
+    /// Appends the rows of `clip` (inputs as a model with `norm` reads them). The pose is first
+    /// smoothed by a Gaussian of SD `smoothing_s` seconds (0 = none), which removes the tracking
+    /// jitter that would otherwise dominate the acceleration; the pose rows are taken around the
+    /// mean pose of their voicing class.
     pub fn add_clip(&mut self, clip: &TrainingClip, norm: &Normalisation, smoothing_s: f64) {
         let r = clip.frame_rate_hz;
         let pose = smooth_pose(&clip.pose_deg, smoothing_s * r);
-        for t in 2..pose.len().min(clip.frames.len()) {
-            let f = &clip.frames[t];
+        // The model's inputs, as the synthesis computes them over the stream.
+        let mut tracker = norm.input_tracker();
+        let inputs: Vec<ModelInput> = clip.frames.iter().map(|f| tracker.next(f, r)).collect();
+        let n = pose.len().min(inputs.len());
+        // The mean pose of voiced and of unvoiced frames, each taken out of its own rows: every
+        // pose density then has the mean pose at its centre (the voiced model's output at the
+        // mean input is the mean pose), whatever share of a clip is voiced.
+        let mut class_mean = [[0.0; 3]; 2];
+        let mut class_count = [0.0; 2];
+        for t in 2..n {
+            let c = usize::from(!inputs[t].voiced);
+            for k in 0..3 {
+                class_mean[c][k] += pose[t][k];
+            }
+            class_count[c] += 1.0;
+        }
+        for c in 0..2 {
+            for k in 0..3 {
+                class_mean[c][k] /= f64::max(class_count[c], 1.0);
+            }
+        }
+        for t in 2..n {
+            let x = inputs[t];
             let (p, p1, p2) = (pose[t], pose[t - 1], pose[t - 2]);
             let mut v2 = 0.0;
             let mut a2 = 0.0;
@@ -126,22 +150,63 @@ impl FeatureRows {
                 v2 += (p[k] - p1[k]).powi(2);
                 a2 += (p[k] - 2.0 * p1[k] + p2[k]).powi(2);
             }
-            let feats = [p[0], p[1], p[2], r * v2.sqrt(), r * r * a2.sqrt()];
-            let level = if f.level_db.is_finite() {
-                (f.level_db as f64).clamp(norm.level_db_range[0], norm.level_db_range[1])
-            } else {
-                norm.level_db_range[0]
-            };
-            if f.voiced && f.f0_st.is_finite() {
-                let f0 = (f.f0_st as f64).clamp(norm.f0_st_range[0], norm.f0_st_range[1]);
-                for (rows, x) in self.voiced.iter_mut().zip(feats) {
-                    rows.push([x, f0, level]);
+            let m = class_mean[usize::from(!x.voiced)];
+            let feats = [
+                p[0] - m[0],
+                p[1] - m[1],
+                p[2] - m[2],
+                r * v2.sqrt(),
+                r * r * a2.sqrt(),
+            ];
+            if x.voiced {
+                for (rows, v) in self.voiced.iter_mut().zip(feats) {
+                    rows.push([v, x.f0_st, x.level_db]);
                 }
             } else {
-                for (rows, x) in self.unvoiced.iter_mut().zip(feats) {
-                    rows.push([x, level, 0.0]);
+                for (rows, v) in self.unvoiced.iter_mut().zip(feats) {
+                    rows.push([v, x.level_db, 0.0]);
                 }
             }
+        }
+    }
+}
+
+/// Share of the training inputs left outside the model's input range at each end.
+pub const INPUT_TAIL_SHARE: f64 = 0.01;
+
+impl FeatureRows {
+    /// The range of an input over the rows (`pick` reads it from a row of the first motion
+    /// feature, voiced or not, or skips the row): from the [`INPUT_TAIL_SHARE`] quantile to the
+    /// 1 − [`INPUT_TAIL_SHARE`] one, widened to include 0 (the mean input). The model clamps its
+    /// inputs to it, so it is never asked beyond its data (a linear density extrapolated to a
+    /// deep silence gave poses of several degrees).
+    pub fn input_range(&self, pick: impl Fn(&[f64; MAX_DIM], bool) -> Option<f64>) -> [f64; 2] {
+        let mut v: Vec<f64> = self.voiced[0]
+            .iter()
+            .filter_map(|r| pick(r, true))
+            .chain(self.unvoiced[0].iter().filter_map(|r| pick(r, false)))
+            .collect();
+        if v.is_empty() {
+            return [0.0, 0.0];
+        }
+        v.sort_by(f64::total_cmp);
+        let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
+        [
+            at(INPUT_TAIL_SHARE).min(0.0),
+            at(1.0 - INPUT_TAIL_SHARE).max(0.0),
+        ]
+    }
+
+    /// Clamps every row's inputs to `norm`'s ranges, as the synthesis clamps its inputs.
+    pub fn clamp_inputs(&mut self, norm: &Normalisation) {
+        let [f_lo, f_hi] = norm.f0_st_range;
+        let [l_lo, l_hi] = norm.level_db_range;
+        for r in self.voiced.iter_mut().flatten() {
+            r[1] = r[1].clamp(f_lo, f_hi);
+            r[2] = r[2].clamp(l_lo, l_hi);
+        }
+        for r in self.unvoiced.iter_mut().flatten() {
+            r[1] = r[1].clamp(l_lo, l_hi);
         }
     }
 }

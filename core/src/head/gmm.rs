@@ -457,11 +457,24 @@ impl Mixture1 {
         (m + s.ln(), g / s)
     }
 
+    /// The weight of component `k` (the log weight without the normalisation).
+    fn weight(&self, k: usize) -> f64 {
+        (self.log_w[k] + 0.5 * (LN_2PI - self.inv_var[k].ln())).exp()
+    }
+
     /// The mean of the mixture.
     pub fn mean(&self) -> f64 {
-        (0..self.n)
-            .map(|k| (self.log_w[k] + 0.5 * (LN_2PI - self.inv_var[k].ln())).exp() * self.mean[k])
-            .sum()
+        (0..self.n).map(|k| self.weight(k) * self.mean[k]).sum()
+    }
+
+    /// The mean and the variance of the mixture (within-component variance plus the spread of
+    /// the component means).
+    pub fn mean_variance(&self) -> (f64, f64) {
+        let mean = self.mean();
+        let var = (0..self.n)
+            .map(|k| self.weight(k) * (1.0 / self.inv_var[k] + (self.mean[k] - mean).powi(2)))
+            .sum();
+        (mean, var)
     }
 }
 

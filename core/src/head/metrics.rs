@@ -52,10 +52,12 @@ pub fn cca_pose_signal(pose: &[[f64; 3]], signal: &[f64], mask: Option<&[bool]>)
     r2.clamp(0.0, 1.0).sqrt()
 }
 
-/// Summary of a motion: per-axis SD (roll, pitch, yaw), degrees; mean angular speed, °/s;
-/// share of frozen frames (speed below [`FROZEN_SPEED_DEG_S`]), 0..1.
+/// Summary of a motion: per-axis mean and SD (roll, pitch, yaw), degrees; mean angular speed,
+/// °/s; share of frozen frames (speed below [`FROZEN_SPEED_DEG_S`]), 0..1.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct MotionStats {
+    /// Mean per axis (roll, pitch, yaw), degrees: the posture.
+    pub mean_deg: [f64; 3],
     /// Standard deviation per axis (roll, pitch, yaw), degrees.
     pub sd_deg: [f64; 3],
     /// Mean angular speed |Δθ|·rate, degrees per second.
@@ -65,6 +67,29 @@ pub struct MotionStats {
     /// Share of the angular-velocity power above [`JERKY_ABOVE_HZ`], 0..1 (see
     /// [`power_share_above`]); lower is smoother.
     pub power_above_3hz: f64,
+}
+
+/// f0 as semitones above 100 Hz, the f0 signal the evaluation correlates head motion with: a
+/// fixed reference, so the canonical correlation (which ignores offset and scale) measures the
+/// coupling with log f0 itself. The running speaker median the synthesis reads (`f0_st`) moves
+/// while it learns a new voice, and a slow drift like that correlates by chance with any slow
+/// head motion (on a 10 s clip of a high voice, the real motion's CCA read 0.77 against 0.35).
+pub fn f0_semitones(f0_hz: f64) -> f64 {
+    12.0 * (f0_hz / 100.0).log2()
+}
+
+/// The median of `v` (0 when empty).
+pub fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
 }
 
 /// Mean angular speed |Δθ|·rate of `pose` sampled at `frame_rate_hz`, degrees per second (0
@@ -109,6 +134,7 @@ pub fn motion_stats(pose: &[[f64; 3]], frame_rate_hz: f64) -> MotionStats {
         }
     }
     MotionStats {
+        mean_deg: mean,
         sd_deg: sd.map(f64::sqrt),
         mean_speed_deg_s: speed_sum / (n - 1) as f64,
         frozen_share: frozen as f64 / (n - 1) as f64,
@@ -179,6 +205,7 @@ mod tests {
         assert!((s.mean_speed_deg_s - 10.0).abs() < 1e-9);
         assert_eq!(s.frozen_share, 0.0);
         assert_eq!(s.sd_deg[0], 0.0);
+        assert!((s.mean_deg[1] - 5.0).abs() < 1e-9, "{:?}", s.mean_deg);
         let still = vec![[1.0, 2.0, 3.0]; 50];
         assert_eq!(motion_stats(&still, 30.0).frozen_share, 1.0);
     }

@@ -32,22 +32,31 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod bfgs;
+pub mod clip_eval;
 pub mod em;
+pub mod evaluate;
 pub mod features;
 pub mod gmm;
 pub mod governor;
+pub mod inputs;
 pub mod metrics;
 pub mod model_file;
+pub mod paper;
+pub mod select;
 pub mod smoother;
 pub mod synth;
+pub mod targets;
 pub mod train;
+pub mod variant;
 
 pub use em::{EmConfig, EmError, EmFit};
 pub use features::{MotionTrack, TrainingClip};
 pub use gmm::{Gaussian, Gmm, GmmError};
 pub use governor::SpeedGovernor;
 pub use model_file::{
-    HeadModel, HeadModelError, Normalisation, Provenance, SynthesisWeights, UnvoicedBehaviour,
+    HeadModel, HeadModelError, Normalisation, PoseTerm, Provenance, SynthesisWeights,
+    UnvoicedBehaviour,
 };
 pub use synth::{angles_to_quat, HeadConfig, HeadSynth};
 pub use train::{TrainConfig, TrainError};
+pub use variant::Variant;

@@ -29,6 +29,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use super::gmm::{Gaussian, Gmm, GmmError, MAX_DIM};
+use super::inputs::{InputKind, InputTracker, SPEAKER_MEAN_NAMES, SPEAKER_MEDIAN_NAMES};
 
 /// The `format` name of a head model file.
 pub const FORMAT_NAME: &str = "pneuma-head-model";
@@ -37,6 +38,9 @@ pub const FORMAT_VERSION: u32 = 1;
 
 /// The shipped model, trained by `cargo xtask train-default` on the styletalk clips.
 const DEFAULT_MODEL_JSON: &str = include_str!("../../../assets/models/head-default.json");
+
+/// Largest per-axis output gain a model may have.
+pub const MAX_OUTPUT_GAIN: f64 = 20.0;
 
 /// The names of the five motion features, in model order.
 pub const FEATURE_NAMES: [&str; 5] = ["roll", "pitch", "yaw", "velocity", "acceleration"];
@@ -151,7 +155,7 @@ pub struct SynthesisWeights {
     pub acceleration_weight: f64,
     /// Box bound of each angle during the search, degrees (reference: 90).
     pub bound_deg: f64,
-    /// Output gain per axis (roll, pitch, yaw), 1..10: the argmax follows the densities' modes
+    /// Output gain per axis (roll, pitch, yaw), 1..[`MAX_OUTPUT_GAIN`]: the argmax follows the densities' modes
     /// and so shrinks the motion; training calibrates this gain on the training clips so the
     /// generated per-axis SD matches the real one (1 = the paper's raw argmax).
     #[serde(default = "unit_gain")]
@@ -171,6 +175,25 @@ pub struct SynthesisWeights {
     /// [`super::smoother`]).
     #[serde(default)]
     pub smoothing_s: f64,
+    /// How the pose terms read the pose densities (`mixture`, the paper's, in files written
+    /// before this field existed; see [`PoseTerm`]).
+    #[serde(default)]
+    pub pose_term: PoseTerm,
+}
+
+/// How the synthesis objective's three pose terms use the conditional pose densities
+/// p(angle | f0, level).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PoseTerm {
+    /// The paper's: the log of the whole conditional mixture. The argmax climbs to the
+    /// mixture's highest mode, and a narrow component (one speaker's habitual pose) makes a
+    /// high, narrow mode away from the mean: the pose then sits off the mean pose.
+    #[default]
+    Mixture,
+    /// A Gaussian with the conditional mixture's mean and variance: the pose is pulled toward
+    /// E[angle | f0, level], which averages to the mean pose over the training frames.
+    ConditionalMean,
 }
 
 fn unit_gain() -> [f64; 3] {
@@ -192,6 +215,7 @@ impl Default for SynthesisWeights {
             speed_target_deg_s: 0.0,
             speed_time_s: default_speed_time(),
             smoothing_s: 0.0,
+            pose_term: PoseTerm::Mixture,
         }
     }
 }
@@ -209,8 +233,13 @@ pub struct Provenance {
     pub unvoiced_frames: u64,
     /// Frame rate of the training features, Hz.
     pub frame_rate_hz: f64,
-    /// Components per GMM.
+    /// Components of each voiced velocity and acceleration GMM (and, in files without
+    /// `pose_components`, of every voiced GMM).
     pub components: usize,
+    /// Components of each pose GMM (roll, pitch, yaw; voiced and unvoiced); absent in older
+    /// files, whose voiced pose GMMs have `components`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pose_components: Option<usize>,
     /// EM seed.
     pub seed: u64,
     /// SD of the Gaussian smoothing applied to the training motion, seconds (tracking jitter
@@ -231,9 +260,11 @@ pub struct Provenance {
 /// The feature normalisation a model expects (checked against what this build computes).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Normalisation {
-    /// f0 units: `st_re_speaker_median`.
+    /// f0 units: `st_re_speaker_mean` (semitones around the speaker's running mean) or, in
+    /// older files, `st_re_speaker_median` (see [`super::inputs`]).
     pub f0: String,
-    /// Level units: `db_re_speech_level`.
+    /// Level units: `db_re_speaker_mean` (dB around the running mean of its voicing class) or,
+    /// in older files, `db_re_speech_level`.
     pub level: String,
     /// Angle units: `deg_re_speaker_mean_pose`.
     pub angles: String,
@@ -247,11 +278,24 @@ pub struct Normalisation {
     pub level_db_range: [f64; 2],
 }
 
+impl Normalisation {
+    /// The inputs the model reads (of a validated model; an unknown pair of names reads as the
+    /// current kind).
+    pub fn input_kind(&self) -> InputKind {
+        InputKind::of_names(&self.f0, &self.level).unwrap_or(InputKind::SpeakerMean)
+    }
+
+    /// A fresh tracker of the inputs this normalisation names, clamped to its ranges.
+    pub fn input_tracker(&self) -> InputTracker {
+        InputTracker::new(self.input_kind(), self.f0_st_range, self.level_db_range)
+    }
+}
+
 impl Default for Normalisation {
     fn default() -> Self {
         Self {
-            f0: "st_re_speaker_median".into(),
-            level: "db_re_speech_level".into(),
+            f0: SPEAKER_MEAN_NAMES.0.into(),
+            level: SPEAKER_MEAN_NAMES.1.into(),
             angles: "deg_re_speaker_mean_pose".into(),
             velocity: "deg_per_s".into(),
             acceleration: "deg_per_s2".into(),
@@ -472,8 +516,20 @@ impl HeadModel {
                 });
             }
         }
-        check_norm("f0", &normalisation.f0, "st_re_speaker_median")?;
-        check_norm("level", &normalisation.level, "db_re_speech_level")?;
+        if InputKind::of_names(&normalisation.f0, &normalisation.level).is_none() {
+            let field = if [SPEAKER_MEAN_NAMES.0, SPEAKER_MEDIAN_NAMES.0]
+                .contains(&normalisation.f0.as_str())
+            {
+                ("level", normalisation.level.clone())
+            } else {
+                ("f0", normalisation.f0.clone())
+            };
+            return Err(HeadModelError::Normalisation {
+                field: field.0,
+                got: field.1,
+                want: "the pairs st_re_speaker_mean + db_re_speaker_mean or st_re_speaker_median + db_re_speech_level",
+            });
+        }
         check_norm("angles", &normalisation.angles, "deg_re_speaker_mean_pose")?;
         check_norm("velocity", &normalisation.velocity, "deg_per_s")?;
         check_norm("acceleration", &normalisation.acceleration, "deg_per_s2")?;
@@ -526,7 +582,7 @@ impl HeadModel {
             "1..180 degrees",
         )?;
         for g in s.output_gain {
-            check("synthesis.output_gain", g, 1.0, 10.0, "1..10")?;
+            check("synthesis.output_gain", g, 1.0, MAX_OUTPUT_GAIN, "1..20")?;
         }
         check(
             "synthesis.speed_target_deg_s",
@@ -695,14 +751,18 @@ mod tests {
         let key = text
             .find("\"smoothing_s\":")
             .expect("the shipped model has smoothing_s");
+        let line_start = text[..key].rfind('\n').unwrap();
         let line_end = key + text[key..].find('\n').unwrap();
-        // An older file: the field (the last of its object) and the comma before it dropped.
-        let comma = text[..key].rfind(',').unwrap();
-        let older = format!("{}{}", &text[..comma], &text[line_end..]);
+        // An older file: the field's line dropped (a field followed by another, with its comma).
+        assert!(
+            text[..line_end].ends_with(','),
+            "smoothing_s is not the last field"
+        );
+        let older = format!("{}{}", &text[..line_start], &text[line_end..]);
         let m = HeadModel::from_json(&older).unwrap();
         assert_eq!(m.synthesis.smoothing_s, 0.0);
         // Out of range: a clear message naming the field and its range.
-        let wrong = format!("{}\"smoothing_s\": 2.5{}", &text[..key], &text[line_end..]);
+        let wrong = format!("{}\"smoothing_s\": 2.5,{}", &text[..key], &text[line_end..]);
         let err = HeadModel::from_json(&wrong).unwrap_err();
         let msg = err.to_string();
         assert!(

@@ -45,13 +45,13 @@ fn rejects_nan() {
 #[test]
 fn rejects_a_covariance_that_is_not_positive_definite() {
     let mut v = default_json();
-    v["voiced"]["yaw"]["covariances"][2][0][0] = serde_json::json!(-1.0);
+    v["voiced"]["velocity"]["covariances"][2][0][0] = serde_json::json!(-1.0);
     let e = load(&v).unwrap_err();
     assert_eq!(
         e,
         HeadModelError::Gmm {
             group: "voiced",
-            feature: "yaw",
+            feature: "velocity",
             source: GmmError::NotPositiveDefinite(2)
         }
     );
