@@ -123,7 +123,7 @@ def main():
     if hasattr(plugin, "raw_state"):
         # Printed, not checked: nice-plug 0.4.2 ignores IEditController::setParamNormalized while
         # the plugin processes, so a state saved before the next block holds the previous value
-        # (README, "State"). pedalboard saves without a block in between.
+        # (docs/guide/plugin.md, "State"). pedalboard saves without a block in between.
         probe = load(args.vst3)
         probe.breath_level_db = -14.0
         early = load(args.vst3)

@@ -21,7 +21,7 @@
 //! make 70 % of the fit and the low male voices of Keele lose (m1 held out 11.35 % FFE against
 //! Praat's 8.47 %); with the noise cues and the monotone trees, data-set weights also keep PTDB's
 //! noisy conditions better than the `pitch-detection` crate, which the logistic model alone under
-//! them did not (README, pitch section).
+//! them did not (docs/measurements.md, section 1).
 //!
 //! Model ([`SHIPPED_KIND`], the one written to the file): the logistic regression on standardised
 //! cues (Newton's method with a small ridge, [`fit::RIDGE`], [`fit::NEWTON_STEPS`] steps) plus

@@ -59,7 +59,7 @@ pub struct AnalysisConfig {
     /// its lower harmonics, while white noise, hiss and fan noise spread evenly up to the
     /// internal Nyquist frequency (4–8 kHz): with the band above the corner damped (−12 dB per
     /// octave) the NSDF hears the voice over less of that noise (held-out Keele FFE in white
-    /// noise at 10 dB: 11.31 % without, 9.04 % with; README). It is applied to each window's
+    /// noise at 10 dB: 11.31 % without, 9.04 % with; docs/measurements.md). It is applied to each window's
     /// power spectrum ([`crate::analysis::NsdfPitch`]), so the breath bands, the band level the
     /// phrase tracker reads (`FeatureFrame::band_db`), the level and the two-period edge cue
     /// still read the signal without it; the voicing cues' band level and its noise floor are

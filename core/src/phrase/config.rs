@@ -58,7 +58,7 @@ pub struct PhraseConfig {
     ///
     /// Both shape defaults are the fit of `pneuma eval breath-sounds` on all hand-labelled
     /// speakers (styletalk and Keele: the pooled F1 over a 10 × 10 grid); its
-    /// leave-one-speaker-out figures are the honest ones (README, "Breaths already there").
+    /// leave-one-speaker-out figures are the honest ones (docs/measurements.md, section 4, "Breaths already there").
     pub breath_max_low_over_mid_db: f32,
 }
 

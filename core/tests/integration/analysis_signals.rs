@@ -343,7 +343,7 @@ fn frames_are_timestamped_on_the_clock_and_complete() {
 
 #[test]
 fn a_pitch_change_is_reported_within_the_stated_latency() {
-    // The latency the README reports and the issue limits to 35 ms: from a 150 → 250 Hz step
+    // The latency docs/measurements.md reports and the issue limits to 35 ms: from a 150 → 250 Hz step
     // in the input to the input sample at which the first frame reporting 250 Hz is emitted
     // (`--nocapture` prints it), at every rate class from 8 to 192 kHz. Half the 40 ms window
     // and the decimation filter (`latency_s`) plus up to one frame spacing (the step falls

@@ -58,7 +58,7 @@ pub(crate) struct Args {
     /// Write one CSV per clip (reference and every track on the reference grid) here.
     #[arg(long, value_name = "DIR")]
     pub(crate) dump: Option<PathBuf>,
-    /// The Python that runs the swift-f0 and pYIN baselines (`xtask/python/f0_baselines.py`);
+    /// The Python that runs the swift-f0 and pYIN baselines (`eval/python/f0_baselines.py`);
     /// default `target/venv-f0/bin/python` when it exists, else they are left out.
     #[arg(long, value_name = "PYTHON")]
     pub(crate) baselines_python: Option<PathBuf>,

@@ -607,7 +607,7 @@ mod tests {
         let params = PneumaParams::default();
         let map = params.param_map();
         let ids: Vec<&str> = map.iter().map(|(id, _, _)| id.as_str()).collect();
-        // The id saved in host projects (README): a literal, not the code's own constant.
+        // The id saved in host projects (docs/guide/plugin.md): a literal, not the code's own constant.
         assert!(ids.contains(&"breath_level_db"));
 
         let p = &params.breath_level_db;

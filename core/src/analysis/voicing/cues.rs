@@ -12,7 +12,7 @@ pub const LEVEL_VS_GATE: usize = 14;
 /// speech level (a stream without pauses has its "floor" at the voice itself). The margin was
 /// 6 dB until stop 28, though the model has level cues of its own; at 0 dB the model judges the
 /// frames between, and held out, Keele's white noise at 0 dB went from 17.67 % to 12.34 % FFE
-/// with that change alone (README, pitch section).
+/// with that change alone (docs/measurements.md, section 1).
 const SPEECH_GATE_DB: f32 = 30.0;
 const NOISE_MARGIN_DB: f32 = 0.0;
 const NOISE_HEADROOM_DB: f32 = 2.0;
