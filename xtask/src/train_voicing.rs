@@ -76,7 +76,7 @@ pub(crate) const TREES: TreeParams = TreeParams {
 /// error 9.68 % logistic alone, 9.86 % with 50 such trees); with the noise cues, the band
 /// floor and the octave-down rule they give held-out Keele clean FFE 6.74 % against the
 /// logistic model's 6.78 %, and what decides: PTDB traffic at 0 dB 18.51 % fitted against
-/// 33.88 % (the `pitch-detection` target; README, Measured). Without the monotone constraint a
+/// 33.88 % (the `pitch-detection` target; docs/measurements.md, section 1). Without the monotone constraint a
 /// hybrid broke `glides_are_followed` (a synthetic input outside the recordings).
 pub(crate) const HYBRID: TreeParams = TreeParams {
     depth: 3,
