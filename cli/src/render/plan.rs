@@ -460,7 +460,12 @@ fn prepared_engine(
 ) -> Result<Engine, RenderError> {
     let model =
         crate::options::load_head_model(args.head_model.as_deref()).map_err(RenderError::Input)?;
-    let voice = match super::voice::source(args, input, &config) {
+    let voice = match super::voice::source(
+        args.built_in_breath,
+        args.breath_like.as_deref(),
+        input,
+        &config,
+    ) {
         Some(from) => super::voice::learn(from, &config, input)?,
         None => None,
     };

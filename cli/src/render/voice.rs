@@ -12,17 +12,23 @@ use pneuma_core::engine::EngineConfig;
 use pneuma_io::AudioSource;
 
 use super::error::RenderError;
-use super::plan::Args;
 
 /// Frames read per block of the learning pass.
 const BLOCK_FRAMES: usize = 8192;
 
-/// Where the voice of a render of `input` with `config` is learned from (`None`: built in).
-pub fn source<'a>(args: &'a Args, input: &'a Path, config: &EngineConfig) -> Option<&'a Path> {
-    if args.built_in_breath || !config.placement.whole_file {
+/// Where the voice of a render of `input` with `config` is learned from (`None`: built in):
+/// `breath_like` (`--breath-like FILE`) or the input itself, unless `built_in`
+/// (`--built-in-breath`).
+pub fn source<'a>(
+    built_in: bool,
+    breath_like: Option<&'a Path>,
+    input: &'a Path,
+    config: &EngineConfig,
+) -> Option<&'a Path> {
+    if built_in || !config.placement.whole_file {
         return None;
     }
-    match &args.breath_like {
+    match breath_like {
         Some(p) => Some(p),
         None if input.as_os_str() == "-" => None,
         None => Some(input),

@@ -29,10 +29,10 @@
 
 use std::f64::consts::PI;
 
+use super::filters::{Biquad, BUTTER4_Q, HIGHPASS_HZ, LOWPASS_HZ};
 use super::third_octave::{
     band_edge_ratio, band_of, frame_len, shape_db, without_floor, Bands, BANDS, BAND_CENTRES_HZ,
 };
-use super::voice::{Biquad, BUTTER4_Q, HIGHPASS_HZ, LOWPASS_HZ};
 use crate::rng::SeededRng;
 
 /// Breaths needed before the spreads are measured rather than the priors.

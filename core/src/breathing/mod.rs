@@ -9,6 +9,7 @@
 
 mod chunker;
 mod cycle;
+mod filters;
 pub mod learned;
 mod params;
 mod presets;

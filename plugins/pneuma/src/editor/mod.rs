@@ -16,7 +16,8 @@
 
 pub mod feed;
 pub mod history;
-pub mod standalone;
+/// The standalone program's defaults live with the parameters they set (kept here for `pneuma-app`).
+pub use crate::params::standalone;
 #[cfg(feature = "editor")]
 pub mod timeline;
 #[cfg(feature = "editor")]
@@ -27,34 +28,13 @@ use std::sync::{Arc, RwLock};
 
 #[cfg(feature = "editor")]
 use nice_plug_egui::{create_egui_editor, EguiEditorState, EguiNiceSettings, RepaintNotifier};
-use serde::{Deserialize, Serialize};
 
+pub use crate::params::layout::EditorLayout;
 use crate::params::PneumaParams;
 use feed::EditorShared;
 
-/// The editor window's size (logical points) and zoom, saved with the plugin state.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct EditorLayout {
-    /// Width, logical points.
-    pub width: u32,
-    /// Height, logical points.
-    pub height: u32,
-    /// The user's zoom on top of the host's scale factor.
-    pub zoom: f32,
-}
-
 /// Smallest window, logical points.
 pub const MIN_SIZE: (u32, u32) = (720, 480);
-
-impl Default for EditorLayout {
-    fn default() -> Self {
-        Self {
-            width: 1000,
-            height: 680,
-            zoom: 1.0,
-        }
-    }
-}
 
 static HEADLESS: AtomicBool = AtomicBool::new(false);
 

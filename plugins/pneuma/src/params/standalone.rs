@@ -5,7 +5,7 @@
 
 use std::sync::OnceLock;
 
-use crate::params::OscFormatChoice;
+use super::OscFormatChoice;
 
 /// Defaults for the standalone program.
 #[derive(Debug, Clone, PartialEq)]

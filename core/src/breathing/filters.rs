@@ -1,0 +1,80 @@
+//! The breath voices' filters: one biquad section (RBJ band-pass, high-pass, low-pass, direct
+//! form II transposed, f64) and the band limits every breath passes through, shared by the
+//! built-in voice (`voice.rs`) and the learned one (`learned.rs`).
+
+use std::f64::consts::PI;
+
+/// High-pass corner of every breath voice, Hz.
+pub(super) const HIGHPASS_HZ: f64 = 180.0;
+/// Low-pass corner of every breath voice, Hz (at most 0.45 × the rate).
+pub(super) const LOWPASS_HZ: f64 = 8000.0;
+
+/// One biquad section.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Biquad {
+    b0: f64,
+    b1: f64,
+    b2: f64,
+    a1: f64,
+    a2: f64,
+    z1: f64,
+    z2: f64,
+}
+
+impl Biquad {
+    fn set(&mut self, b: [f64; 3], a: [f64; 3]) {
+        self.b0 = b[0] / a[0];
+        self.b1 = b[1] / a[0];
+        self.b2 = b[2] / a[0];
+        self.a1 = a[1] / a[0];
+        self.a2 = a[2] / a[0];
+    }
+    /// RBJ band-pass with 0 dB peak gain.
+    pub(super) fn bandpass(&mut self, f_hz: f64, q: f64, fs: f64) {
+        let w = 2.0 * PI * f_hz / fs;
+        let alpha = w.sin() / (2.0 * q);
+        self.set(
+            [alpha, 0.0, -alpha],
+            [1.0 + alpha, -2.0 * w.cos(), 1.0 - alpha],
+        );
+    }
+    pub(super) fn highpass(&mut self, f_hz: f64, q: f64, fs: f64) {
+        let w = 2.0 * PI * f_hz / fs;
+        let (c, alpha) = (w.cos(), w.sin() / (2.0 * q));
+        self.set(
+            [(1.0 + c) / 2.0, -(1.0 + c), (1.0 + c) / 2.0],
+            [1.0 + alpha, -2.0 * c, 1.0 - alpha],
+        );
+    }
+    pub(super) fn lowpass(&mut self, f_hz: f64, q: f64, fs: f64) {
+        let w = 2.0 * PI * f_hz / fs;
+        let (c, alpha) = (w.cos(), w.sin() / (2.0 * q));
+        self.set(
+            [(1.0 - c) / 2.0, 1.0 - c, (1.0 - c) / 2.0],
+            [1.0 + alpha, -2.0 * c, 1.0 - alpha],
+        );
+    }
+    #[inline]
+    pub(super) fn tick(&mut self, x: f64) -> f64 {
+        let y = self.b0 * x + self.z1;
+        self.z1 = self.b1 * x - self.a1 * y + self.z2;
+        self.z2 = self.b2 * x - self.a2 * y;
+        y
+    }
+    pub(super) fn clear(&mut self) {
+        self.z1 = 0.0;
+        self.z2 = 0.0;
+    }
+    /// Power gain |H|² at `w` radians per sample.
+    pub(super) fn power_gain(&self, w: f64) -> f64 {
+        let (c1, s1, c2, s2) = (w.cos(), w.sin(), (2.0 * w).cos(), (2.0 * w).sin());
+        let num =
+            (self.b0 + self.b1 * c1 + self.b2 * c2).powi(2) + (self.b1 * s1 + self.b2 * s2).powi(2);
+        let den =
+            (1.0 + self.a1 * c1 + self.a2 * c2).powi(2) + (self.a1 * s1 + self.a2 * s2).powi(2);
+        num / den
+    }
+}
+
+/// Butterworth Q values of a 4th-order section pair.
+pub(super) const BUTTER4_Q: [f64; 2] = [0.541_196_1, 1.306_563];
