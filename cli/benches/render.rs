@@ -40,6 +40,7 @@ fn bench(c: &mut Criterion) {
         mode: "lookahead".into(),
         lookahead_ms: Some(500.0),
         no_breaths: false,
+        any_sound: false,
         channel: None,
         breath_samples: None,
         breath_mouth: None,

@@ -31,7 +31,7 @@ row() { # format file [decode_speed flags]
   shift 2
   local dec
   dec=$("$bin/examples/decode_speed" "$@" "$file" | sed -E 's/.*= ([0-9]+)x real time/\1/')
-  /usr/bin/time -f '%e %M' -o "$dir/t" "$bin/pneuma" render "$file" -o "$dir/out_$f" --quiet
+  /usr/bin/time -f '%e %M' -o "$dir/t" "$bin/pneuma" render "$file" -o "$dir/out_$f" --quiet --any-sound
   local wall kb out
   read -r wall kb < "$dir/t"
   out=$(cd "$dir/out_$f" && ls ep.wav ep.flac ep.aiff 2>/dev/null | head -1 || true)

@@ -69,6 +69,10 @@ pub struct Args {
     /// Do not insert breaths (controls only; the audio is copied unchanged).
     #[arg(long)]
     pub no_breaths: bool,
+    /// Breaths in the pauses of any sound, not only of speech (the speech decision off): for
+    /// singing or generated test signals. Music, noise and silence then get breaths too.
+    #[arg(long)]
+    pub any_sound: bool,
     /// Render one channel of the input (`left` = the first, `right` = the second) as a mono
     /// file: for a file whose channels cancel when mixed to mono (antiphase).
     #[arg(long, value_enum)]
@@ -177,6 +181,7 @@ impl Args {
         set(&MODE, mode)?;
         c.placement.whole_file = self.lookahead_ms.is_none();
         c.placement.insert_breaths = !self.no_breaths;
+        c.placement.speech_only = !self.any_sound;
         c.breathing = preset.params();
         c.seed = self.seed;
         c.validate()?;

@@ -155,6 +155,8 @@ fn summaries_count_breaths_in_words_and_lossy_input_has_no_bit_depth() {
         "-o",
         out.to_str().expect("utf-8"),
         "--no-plot",
+        // Generated vowels are not speech to the speech decision.
+        "--any-sound",
     ]);
     assert_ok(&o);
     let n = breaths_csv(&out.join("two.breaths.csv")).len();
@@ -347,6 +349,7 @@ fn mu_law_and_a_law_wav_render_as_their_16_bit_twins() {
             "-o",
             out.to_str().expect("utf-8"),
             "--no-plot",
+            "--any-sound",
         ]);
         assert_ok(&o);
         assert!(
@@ -354,7 +357,7 @@ fn mu_law_and_a_law_wav_render_as_their_16_bit_twins() {
             "{}",
             stderr(&o)
         );
-        assert_ok(&render(&twin, &out, &["--no-plot"]));
+        assert_ok(&render(&twin, &out, &["--no-plot", "--any-sound"]));
         let rendered = support::samples(&out.join(format!("{codec}.wav")));
         assert_eq!(
             rendered,
