@@ -24,6 +24,7 @@ pub mod noise;
 pub mod pauses;
 pub mod pitch;
 pub mod podcast;
+pub mod python_worker;
 pub mod restore;
 pub mod stats;
 

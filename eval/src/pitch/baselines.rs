@@ -6,9 +6,9 @@
 //! rest). Each tracker's frames keep their own times; eval-pitch puts them on its
 //! scoring grid like Praat's.
 
-use std::io::{BufRead, BufReader, Write};
-use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+use std::path::Path;
+
+use crate::python_worker::{PythonWorker, WorkerScript};
 
 /// The worker script, embedded so the xtask runs from any folder.
 const SCRIPT: &str = include_str!("../../python/f0_baselines.py");
@@ -21,48 +21,23 @@ pub const SWIFT_F0: &str = "swift-f0";
 /// pYIN (librosa).
 pub const PYIN: &str = "pyin";
 
+/// How the worker's Python is made.
+const INSTALL: &str = "python3 -m venv target/venv-f0 && target/venv-f0/bin/pip install \
+swift-f0==0.3.0 soundfile==0.14.0 soxr==1.1.0 librosa==0.11.0  # librosa only for --pyin";
+
 /// A running worker.
-pub struct Baselines {
-    child: Child,
-    stdin: ChildStdin,
-    stdout: BufReader<ChildStdout>,
-    script: PathBuf,
-}
+pub struct Baselines(PythonWorker);
 
 impl Baselines {
     /// Starts the worker with `python` (checked to import the modules `modules` needs first);
     /// `Err` says what is missing and how to install it.
     pub fn start(python: &Path, scratch: &Path, modules: &[&str]) -> Result<Self, String> {
-        let probe = Command::new(python)
-            .arg("-c")
-            .arg(format!("import {}", modules.join(", ")))
-            .output()
-            .map_err(|e| format!("{}: {e}", python.display()))?;
-        if !probe.status.success() {
-            return Err(format!(
-                "{} cannot import {}: install with `python3 -m venv target/venv-f0 && \
-                 target/venv-f0/bin/pip install swift-f0==0.3.0 soundfile==0.14.0 soxr==1.1.0 \
-                 librosa==0.11.0` (librosa only for --pyin)",
-                python.display(),
-                modules.join(", ")
-            ));
-        }
-        let script = scratch.join("f0_baselines.py");
-        std::fs::write(&script, SCRIPT).map_err(|e| format!("{}: {e}", script.display()))?;
-        let mut child = Command::new(python)
-            .arg(&script)
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .spawn()
-            .map_err(|e| format!("cannot start {}: {e}", python.display()))?;
-        let stdin = child.stdin.take().ok_or("no stdin")?;
-        let stdout = BufReader::new(child.stdout.take().ok_or("no stdout")?);
-        Ok(Self {
-            child,
-            stdin,
-            stdout,
-            script,
-        })
+        let script = WorkerScript {
+            name: "f0_baselines.py",
+            text: SCRIPT,
+            install: INSTALL,
+        };
+        PythonWorker::start(python, scratch, modules, script).map(Self)
     }
 
     /// Runs `tracker` on `wav` (frame period `period_s`, used by pYIN) and returns its frames:
@@ -74,24 +49,12 @@ impl Baselines {
         period_s: f64,
     ) -> Result<(Vec<f64>, Vec<f32>), String> {
         let wav = std::fs::canonicalize(wav).map_err(|e| format!("{}: {e}", wav.display()))?;
-        let out = self.script.with_file_name(format!("{tracker}_out.csv"));
-        writeln!(
-            self.stdin,
-            "{tracker}\t{}\t{}\t{period_s:.9}",
-            wav.display(),
-            out.display()
-        )
-        .and_then(|()| self.stdin.flush())
-        .map_err(|e| format!("the {tracker} worker stopped: {e}"))?;
-        let mut answer = String::new();
-        self.stdout
-            .read_line(&mut answer)
-            .map_err(|e| format!("the {tracker} worker stopped: {e}"))?;
-        match answer.trim() {
-            "ok" => {}
-            "" => return Err(format!("the {tracker} worker stopped on {}", wav.display())),
-            other => return Err(format!("{tracker} on {}: {other}", wav.display())),
-        }
+        let out = self.0.scratch_file(&format!("{tracker}_out.csv"));
+        let (wav_text, out_text) = (wav.display().to_string(), out.display().to_string());
+        let period = format!("{period_s:.9}");
+        let context = format!(" on {wav_text}");
+        self.0
+            .request(tracker, &[&wav_text, &out_text, &period], &context)?;
         let text = std::fs::read_to_string(&out).map_err(|e| format!("{}: {e}", out.display()))?;
         parse_track(&text).map_err(|line| format!("{tracker} wrote {line:?}"))
     }
@@ -111,12 +74,4 @@ pub fn parse_track(text: &str) -> Result<(Vec<f64>, Vec<f32>), String> {
         f0.push(f);
     }
     Ok((times, f0))
-}
-
-impl Drop for Baselines {
-    fn drop(&mut self) {
-        // Closing stdin ends the worker's loop.
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
 }
