@@ -17,6 +17,33 @@ pub fn workspace_root() -> std::path::PathBuf {
         .to_path_buf()
 }
 
+/// The `--data DIR` and `--check` arguments of a training chore (`data` unless `--data` is
+/// given); `Err` holds the exit code after the usage error is printed.
+pub fn data_and_check(
+    args: &[String],
+    mut data: std::path::PathBuf,
+) -> Result<(std::path::PathBuf, bool), i32> {
+    let mut check = false;
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--data" => match it.next() {
+                Some(d) => data = std::path::PathBuf::from(d),
+                None => {
+                    eprintln!("error: --data needs a folder");
+                    return Err(2);
+                }
+            },
+            "--check" => check = true,
+            other => {
+                eprintln!("error: unknown argument `{other}` (use --data DIR, --check)");
+                return Err(2);
+            }
+        }
+    }
+    Ok((data, check))
+}
+
 fn main() -> nice_plug_xtask::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {

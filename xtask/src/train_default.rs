@@ -4,8 +4,6 @@
 //! same data and code regenerate the file bit for bit; `--check` verifies that instead of
 //! writing.
 
-use std::path::PathBuf;
-
 use pneuma_cli::train::{print_report, run, Args};
 
 /// Description of the data recorded in the model's provenance (no machine-specific paths).
@@ -15,29 +13,11 @@ const DATA_DESCRIPTION: &str =
 
 /// Runs the chore; returns the process exit code.
 pub fn main(args: &[String]) -> i32 {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("xtask lives in the workspace")
-        .to_path_buf();
-    let mut data = root.join("../shared/data/styletalk");
-    let mut check = false;
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--data" => match it.next() {
-                Some(d) => data = PathBuf::from(d),
-                None => {
-                    eprintln!("error: --data needs a folder");
-                    return 2;
-                }
-            },
-            "--check" => check = true,
-            other => {
-                eprintln!("error: unknown argument `{other}` (use --data DIR, --check)");
-                return 2;
-            }
-        }
-    }
+    let root = crate::workspace_root();
+    let (data, check) = match crate::data_and_check(args, root.join("../shared/data/styletalk")) {
+        Ok(parsed) => parsed,
+        Err(code) => return code,
+    };
     if !data.is_dir() {
         eprintln!(
             "error: {} not found: the default model is trained on ../shared/data/styletalk beside the checkout (or pass --data DIR)",

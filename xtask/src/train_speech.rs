@@ -8,8 +8,6 @@
 //! Needs `../shared/data` and the virtual environment of [`podcast::python`] (Praat, through
 //! parselmouth, gives styletalk's reference voicing).
 
-use std::path::PathBuf;
-
 use pneuma_core::speech::SpeechModel;
 
 use pneuma_eval::podcast::fit::{fit, THRESHOLD};
@@ -22,25 +20,10 @@ const OUTPUT: &str = "assets/models/speech.txt";
 /// Runs the chore; returns the process exit code.
 pub fn main(args: &[String]) -> i32 {
     let root = crate::workspace_root();
-    let mut data = root.join("../shared/data");
-    let mut check = false;
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--data" => match it.next() {
-                Some(d) => data = PathBuf::from(d),
-                None => {
-                    eprintln!("error: --data needs a folder");
-                    return 2;
-                }
-            },
-            "--check" => check = true,
-            other => {
-                eprintln!("error: unknown argument `{other}` (use --data DIR, --check)");
-                return 2;
-            }
-        }
-    }
+    let (data, check) = match crate::data_and_check(args, root.join("../shared/data")) {
+        Ok(parsed) => parsed,
+        Err(code) => return code,
+    };
     match run(&root, &data, check) {
         Ok(code) => code,
         Err(e) => {
