@@ -3,16 +3,11 @@
 
 /// Median of the finite values of `v` (NaN when there are none).
 pub fn median(v: &[f64]) -> f64 {
-    let mut s: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
-    if s.is_empty() {
-        return f64::NAN;
-    }
-    s.sort_by(f64::total_cmp);
-    let n = s.len();
-    if n % 2 == 1 {
-        s[n / 2]
+    let finite: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    if finite.is_empty() {
+        f64::NAN
     } else {
-        0.5 * (s[n / 2 - 1] + s[n / 2])
+        pneuma_core::head::metrics::median(finite)
     }
 }
 
