@@ -8,7 +8,8 @@
 //! nice-plug's allocation guard aborts the test on any allocation inside `process`. Under
 //! `cargo bench` it is an optimised (release-like) build.
 //!
-//! `PNEUMA_CLAP=path` loads that file instead: `.ci/run` runs the same tests on the shipped
+//! `PNEUMA_CLAP=path` loads that file instead (a relative path is read from the workspace root,
+//! not from the crate folder cargo runs the tests in): `.ci/run` runs the same tests on the shipped
 //! bundle (`cargo xtask bundle pneuma-plugin --release --features editor`,
 //! `target/bundled/Pneuma.clap`).
 //!
@@ -24,7 +25,7 @@ pub const PLUGIN_ENV: &str = "PNEUMA_CLAP";
 /// running test or bench binary. Panics with what to do when the file is missing.
 pub fn plugin_path() -> PathBuf {
     let path = match std::env::var_os(PLUGIN_ENV) {
-        Some(p) => PathBuf::from(p),
+        Some(p) => from_workspace_root(PathBuf::from(p)),
         None => beside_this_binary(),
     };
     assert!(
@@ -39,6 +40,20 @@ pub fn plugin_path() -> PathBuf {
         }
     );
     path
+}
+
+/// A relative `PNEUMA_CLAP` is read from the workspace root, where the user typed the command:
+/// cargo runs each test binary in its own crate's folder (`tests/`), where
+/// `target/bundled/Pneuma.clap` would name a file that is not there.
+fn from_workspace_root(path: PathBuf) -> PathBuf {
+    if path.is_absolute() {
+        return path;
+    }
+    let crate_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    crate_dir
+        .parent()
+        .expect("the tests crate sits in the workspace")
+        .join(path)
 }
 
 /// `<dir of this executable>/libpneuma_plugin.so` (the platform's library name).
