@@ -9,7 +9,7 @@
 //! of real breaths ([`labels`]). An evaluation uses the rooms and never another evaluation's
 //! insides (the breath sounds use the breathing's offline render).
 //!
-//! The doors: `pneuma eval head|breaths|breath-sounds` ([`Args`], [`main`]) and `cargo xtask
+//! The doors: `pneuma eval head|breaths|breath-sounds|restore|podcast` ([`Args`], [`main`]) and `cargo xtask
 //! eval-pitch|eval-pauses` ([`pitch::main`], [`pauses::main`]). The data lives beside the
 //! checkout (`../shared/data`), never in it.
 
@@ -49,6 +49,9 @@ pub enum What {
     /// Real breaths cut out as an editor does, then rendered: how they are put back (count,
     /// level, duration, spectral shape against the real ones), per speaker.
     Restore(restore::RestoreArgs),
+    /// Podcast-like episodes (real speech, music, singing, noise): breaths outside speech
+    /// pauses, pauses with a breath, and the speech decision beside Silero VAD.
+    Podcast(podcast::evaluate::PodcastArgs),
 }
 
 /// Runs `pneuma eval`.
@@ -60,6 +63,10 @@ pub fn main(args: Args) -> ExitCode {
             "a breath-detection",
         ),
         What::Restore(r) => exit_code(restore::run(&r), "a breath-restoration"),
+        What::Podcast(p) => exit_code(
+            podcast::evaluate::run(&p).map(|ok| ok || !p.check),
+            "a podcast",
+        ),
         What::Head(h) => exit_code(head::run(&h).map(|all| all || !h.check), "a head-motion"),
     }
 }

@@ -59,6 +59,7 @@ use crate::control::{BreathEvent, ControlFrame, HeadAngles};
 use crate::encode::sink::FrameSink;
 use crate::head::{HeadModel, HeadSynth};
 use crate::phrase::{PhraseEvent, PhraseTracker};
+use crate::speech::SpeechModel;
 use breath_track::{Block, BreathTrack};
 use cycle_track::CycleTrack;
 use delay::DelayLine;
@@ -185,6 +186,8 @@ pub struct Engine {
     samples: [Option<BreathSample>; 2],
     /// The breath voice learned from the recording (`None`: the built-in voice).
     learned: Option<LearnedVoice>,
+    /// The speech decision's model (`None`: the shipped one).
+    speech_model: Option<SpeechModel>,
     stream: Option<Stream>,
 }
 
@@ -201,6 +204,7 @@ impl Engine {
             model: head_model,
             samples: [None, None],
             learned: None,
+            speech_model: None,
             stream: None,
         })
     }
@@ -251,6 +255,13 @@ impl Engine {
         if let Some(s) = &mut self.stream {
             s.breaths.voice_mut().set_learned(voice);
         }
+    }
+
+    /// Judges speech with `model` instead of the shipped one (`None`: the shipped one) from the
+    /// next [`Engine::prepare`] on. For evaluations that render with a model fitted without the
+    /// material they judge; a plugin or a user never needs it.
+    pub fn set_speech_model(&mut self, model: Option<SpeechModel>) {
+        self.speech_model = model;
     }
 
     /// The learned breath voice in use, if any.
@@ -328,7 +339,11 @@ impl Engine {
             gate: InputGate::new(sample_rate_hz, c.phrase.silence_db),
             placement: Placement::new(mode, latency, sample_rate_hz, frame_rate_hz),
             speech: SpeechTrack::new(
-                c.placement.speech_only,
+                c.placement.speech_only.then(|| {
+                    self.speech_model
+                        .clone()
+                        .unwrap_or_else(|| SpeechModel::shipped().clone())
+                }),
                 sample_rate_hz,
                 frame_rate_hz,
                 c.phrase.silence_db,

@@ -78,6 +78,9 @@ pub(crate) struct EventContext<'a> {
 #[derive(Debug, Clone, Copy)]
 struct Seen {
     onset_s: f64,
+    /// Where its speech began by Silero ([`SpeechTrack::speech_onset_s`]), at or before
+    /// `onset_s`: breaths end before it.
+    speech_onset_s: f64,
     /// Its offset once its end was reported.
     offset_s: Option<f64>,
     pause: Pause,
@@ -91,6 +94,7 @@ impl Default for Seen {
     fn default() -> Self {
         Self {
             onset_s: 0.0,
+            speech_onset_s: 0.0,
             offset_s: None,
             pause: Pause {
                 start_s: 0.0,
@@ -302,6 +306,7 @@ impl Placement {
                 let level_db = self.local_speech_level_db(ctx.pending, Some(onset_s));
                 self.seen.push_back(Seen {
                     onset_s,
+                    speech_onset_s: ctx.speech.speech_onset_s(pause.start_s, onset_s),
                     offset_s: None,
                     pause,
                     gains: ctx.gains,
@@ -493,8 +498,11 @@ impl Placement {
                 window = Some((start_s, to_s));
             }
         }
+        // Breaths end before the speech, where Silero heard it start if the tracker's onset is
+        // late (a soft onset in noise or under a bed).
+        let speech_onset_s = ph.speech_onset_s.min(onset_s);
         if usable && speech && window.is_none() {
-            let end_s = onset_s - p.gap_s as f64;
+            let end_s = speech_onset_s - p.gap_s as f64;
             let after_s = if pause.leading && pause.last_activity_end_s.is_none() {
                 quiet_from_s
             } else {
@@ -507,7 +515,7 @@ impl Placement {
             }
         }
         if window.is_none() && short_of_air {
-            let end_s = onset_s - CATCH_MARGIN_S;
+            let end_s = speech_onset_s - CATCH_MARGIN_S;
             let after_s = quiet_from_s + if pause.leading { 0.0 } else { CATCH_MARGIN_S };
             let start_s = (end_s - p.catch_breath_max_s as f64)
                 .max(after_s)

@@ -16,6 +16,7 @@
 
 use crate::analysis::FeatureFrame;
 use crate::speech::segments::THRESHOLD as SILERO_THRESHOLD;
+use crate::speech::silero::{CHUNK, SILERO_RATE_HZ};
 use crate::speech::{RecentSpeech, SpanJudge, SpeechDetector, SpeechModel, JUDGE_WINDOW_S};
 
 /// Frames kept for late judgements, seconds: a phrase reported up to this long after its onset
@@ -35,6 +36,24 @@ pub struct SpeechSummary {
     pub phrases: u64,
     /// Phrases judged speech.
     pub speech_phrases: u64,
+}
+
+/// The time of the first of the unbroken run of `frames` (time, Silero's probability; in
+/// time order) after `from_s` at or over Silero's threshold that lasts up to the last frame at
+/// or before `to_s`; `None` when that last frame is under it.
+fn run_reaching(frames: impl Iterator<Item = (f64, f32)>, from_s: f64, to_s: f64) -> Option<f64> {
+    let mut run = None;
+    for (t, p) in frames.skip_while(|&(t, _)| t <= from_s) {
+        if t > to_s {
+            break;
+        }
+        run = if p >= SILERO_THRESHOLD {
+            run.or(Some(t))
+        } else {
+            None
+        };
+    }
+    run
 }
 
 /// See the module docs.
@@ -62,18 +81,19 @@ struct SpeechTrackState {
 }
 
 impl SpeechTrack {
-    /// A track for a stream at `sample_rate_hz` with frames at `frame_rate_hz`; `enabled` false
-    /// calls everything speech. Allocates.
+    /// A track for a stream at `sample_rate_hz` with frames at `frame_rate_hz` judging with
+    /// `model`; `None` (the decision off) calls everything speech. Allocates.
     pub(crate) fn new(
-        enabled: bool,
+        model: Option<SpeechModel>,
         sample_rate_hz: f64,
         frame_rate_hz: f64,
         silence_db: f32,
     ) -> Self {
-        let model = SpeechModel::shipped().clone();
-        let threshold = model.threshold();
+        let threshold = model
+            .as_ref()
+            .map_or(SpeechModel::shipped().threshold(), SpeechModel::threshold);
         Self {
-            detector: enabled.then(|| SpeechDetector::new(model, sample_rate_hz, frame_rate_hz)),
+            detector: model.map(|m| SpeechDetector::new(m, sample_rate_hz, frame_rate_hz)),
             threshold,
             silence_db,
             recent: RecentSpeech::new(KEPT_S, frame_rate_hz),
@@ -159,6 +179,23 @@ impl SpeechTrack {
         !self.enabled() || self.state.silero_max >= SILERO_THRESHOLD
     }
 
+    /// Where the speech of the phrase the tracker starts at `onset_s` began by Silero: the
+    /// first frame after `from_s` (the pause's start) of the unbroken run of frames at or over
+    /// Silero's threshold that reaches the onset, less one chunk and the resampler's latency (a
+    /// chunk's probability arrives when the chunk completes), never before `from_s`. In noise or
+    /// under a bed the tracker hears a soft onset late (a consonant, the first syllable's rise)
+    /// while Silero already hears speech. `onset_s` when the frame before the onset was not
+    /// called speech, or with the decision off. Call it when the phrase is reported: it reads
+    /// the last [`KEPT_S`] of frames.
+    pub(crate) fn speech_onset_s(&self, from_s: f64, onset_s: f64) -> f64 {
+        let Some(d) = &self.detector else {
+            return onset_s;
+        };
+        let lag_s = CHUNK as f64 / SILERO_RATE_HZ + d.latency_s();
+        run_reaching(self.recent_silero.iter(), from_s, onset_s)
+            .map_or(onset_s, |t| (t - lag_s).clamp(from_s, onset_s))
+    }
+
     /// The phrase from `onset_s` ended at `offset_s`: its judgement by its first
     /// [`JUDGE_WINDOW_S`] (the whole phrase when shorter). Counted in the summary.
     pub(crate) fn phrase_ended(&mut self, onset_s: f64, offset_s: f64) -> bool {
@@ -201,5 +238,30 @@ impl SpeechTrack {
     /// What was heard since the last reset.
     pub(crate) fn summary(&self) -> SpeechSummary {
         self.state.summary
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::run_reaching;
+
+    fn frames(ps: &[f32]) -> impl Iterator<Item = (f64, f32)> + '_ {
+        ps.iter().enumerate().map(|(i, &p)| (i as f64 * 0.01, p))
+    }
+
+    #[test]
+    fn the_run_that_reaches_the_onset_is_found_from_its_start() {
+        let ps = [0.9, 0.1, 0.2, 0.6, 0.8, 0.9, 0.95, 0.9];
+        // Frames 3..=6 are at or over 0.5 up to the onset at 0.06 s.
+        assert_eq!(run_reaching(frames(&ps), -1.0, 0.06), Some(0.03));
+        // The pause starts at 0.04 s: the run is cut there.
+        assert_eq!(run_reaching(frames(&ps), 0.04, 0.06), Some(0.05));
+    }
+
+    #[test]
+    fn no_run_when_the_frame_before_the_onset_is_not_speech() {
+        let ps = [0.9, 0.9, 0.2, 0.1];
+        assert_eq!(run_reaching(frames(&ps), -1.0, 0.03), None);
+        assert_eq!(run_reaching(frames(&ps), -1.0, 0.01), Some(0.0));
     }
 }

@@ -1,0 +1,509 @@
+//! `pneuma eval podcast [--data DIR] [--check]`: the engine on the podcast recipe's episodes
+//! ([`recipe`](super::recipe)), offline and as the plugin renders with its 500 ms lookahead,
+//! judged against the episodes' labels, beside Silero VAD on the same frames.
+//!
+//! - **Breaths** (from real renders of the mixes): those inside music-only spans, singing and
+//!   noise-only spans standing alone (intros, stings, the sung passage, outros, noise between
+//!   segments; not a bed's lead-in, which is a pause of the speech under it), those on speech
+//!   (overlapping the clean track's speech truth by more than [`OVERLAP_S`]), and the pauses of
+//!   [`MIN_PAUSE_S`] or more between two phrases of a segment that got a breath (an inserted
+//!   one centred in it, or a real one the engine heard there), by condition.
+//! - **Frames**: the engine's frame decision (Silero's segments, each judged by the stacked
+//!   model over its first half second) against the speech truth, per music piece (recall on
+//!   the speech under its beds, speech called on its music and singing) and per class, beside
+//!   Silero VAD in onnxruntime with the `silero-vad` package's segment rule.
+//!
+//! **Held out** (the judged figures): each episode is rendered and decided by a speech model
+//! fitted without its music pieces, its noise type and its speakers ([`Exclusion::of`]);
+//! **fitted**: the shipped model, which saw every episode but the sung piece. The targets
+//! ([`targets`]) are those of issue 30 and are checked on the held-out figures only.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use pneuma_core::engine::{offline, Engine, EngineConfig};
+use pneuma_core::head::HeadModel;
+use pneuma_core::speech::segments::segments;
+use pneuma_core::speech::{SpanJudge, SpeechAnalysis, SpeechModel};
+
+use super::fit::fit;
+use super::recipe::{self, Class, Condition, Episode};
+use super::sources::{FRAMES_PER_S, HOP, MUSIC, RATE_HZ};
+use super::{analyse, fit_rows, python, Exclusion};
+use crate::data::workspace_root;
+
+/// A breath counts as on speech (or inside a span) past this much overlap, seconds.
+pub const OVERLAP_S: f64 = 0.030;
+/// Pauses this long or longer are counted, seconds.
+pub const MIN_PAUSE_S: f64 = 0.4;
+/// The plugin's lookahead, ms (its default).
+pub const LOOKAHEAD_MS: f32 = 500.0;
+/// A bed this deep or deeper under the voice is a "deep bed", dB.
+pub const DEEP_BED_DB: f64 = 20.0;
+
+/// Arguments of `pneuma eval podcast`.
+#[derive(Debug, clap::Args)]
+pub struct PodcastArgs {
+    /// The shared data folder (keele, ptdb, styletalk, music) [default: ../shared/data].
+    #[arg(long, value_name = "DIR")]
+    pub data: Option<PathBuf>,
+    /// Exit non-zero when a held-out target is missed.
+    #[arg(long)]
+    pub check: bool,
+}
+
+/// How a render places breaths.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Mode {
+    /// `pneuma render`: the whole file.
+    Offline,
+    /// The plugin's default lookahead.
+    Lookahead,
+}
+
+impl Mode {
+    const ALL: [Mode; 2] = [Mode::Offline, Mode::Lookahead];
+
+    fn name(self) -> &'static str {
+        match self {
+            Mode::Offline => "offline",
+            Mode::Lookahead => "lookahead 500 ms",
+        }
+    }
+}
+
+/// Breath figures of a set of renders.
+#[derive(Debug, Clone, Copy, Default)]
+struct BreathTally {
+    inserted: usize,
+    music: usize,
+    singing: usize,
+    noise: usize,
+    on_speech: usize,
+    /// (with a breath, pauses) for clean speech, deep beds, shallow beds, noise.
+    pauses: [(usize, usize); 4],
+    audio_s: f64,
+    wall_s: f64,
+}
+
+const PAUSE_KINDS: [&str; 4] = [
+    "clean speech",
+    "under beds >= 20 dB down",
+    "under beds < 20 dB down",
+    "in noise",
+];
+
+/// Frame figures: (called speech, frames).
+#[derive(Debug, Clone, Copy, Default)]
+struct FrameTally {
+    class: [(u64, u64); 7],
+    piece_recall: [(u64, u64); 6],
+    piece_false: [(u64, u64); 6],
+}
+
+impl FrameTally {
+    fn add(&mut self, episode: &Episode, called: &[bool]) {
+        let l = &episode.labels;
+        for (k, &called) in called.iter().enumerate().take(episode.frames()) {
+            let (Some(class), true) = (l.class[k], l.mask[k]) else {
+                continue;
+            };
+            let c = u64::from(called);
+            let t = &mut self.class[class as usize];
+            t.0 += c;
+            t.1 += 1;
+            if let Some(p) = l.piece[k] {
+                let t = if class.is_speech() {
+                    &mut self.piece_recall[p]
+                } else {
+                    &mut self.piece_false[p]
+                };
+                t.0 += c;
+                t.1 += 1;
+            }
+        }
+    }
+}
+
+fn percent((a, n): (u64, u64)) -> f64 {
+    100.0 * a as f64 / n.max(1) as f64
+}
+
+/// Per label frame: inside one of `spans` (16 kHz samples)?
+fn frames_in(spans: &[(u64, u64)], frames: usize) -> Vec<bool> {
+    let mut out = vec![false; frames];
+    for &(a, b) in spans {
+        let (fa, fb) = (a as usize / HOP, (b as usize).div_ceil(HOP).min(frames));
+        for f in out.iter_mut().take(fb).skip(fa.min(frames)) {
+            *f = true;
+        }
+    }
+    out
+}
+
+/// The engine's frame decision with `model`: Silero's segments (of the engine's own Silero)
+/// each judged by the model over its first half second.
+fn pneuma_frames(episode: &Episode, a: &SpeechAnalysis, model: &SpeechModel) -> Vec<bool> {
+    let n = episode.audio.len() as u64;
+    let kept: Vec<(u64, u64)> = segments(&a.chunks, n)
+        .into_iter()
+        .filter(|&(s, e)| {
+            let (start_s, end_s) = (s as f64 / RATE_HZ, e as f64 / RATE_HZ);
+            let mut judge = SpanJudge::new(start_s);
+            for (f, sp) in a.frames.iter().zip(&a.speech) {
+                if f.time_s >= end_s {
+                    break;
+                }
+                judge.add(f.time_s, model.probability(&sp.features));
+            }
+            judge.close();
+            judge.is_speech(model.threshold()).unwrap_or(false)
+        })
+        .collect();
+    frames_in(&kept, episode.frames())
+}
+
+/// Seconds of `[a, b)` that lie on label frames where `on` holds.
+fn overlap_s(a: f64, b: f64, frames: usize, on: impl Fn(usize) -> bool) -> f64 {
+    let first = (a * FRAMES_PER_S).floor().max(0.0) as usize;
+    let last = ((b * FRAMES_PER_S).ceil() as usize).min(frames);
+    let step = 1.0 / FRAMES_PER_S;
+    (first..last)
+        .filter(|&k| on(k))
+        .map(|k| {
+            let (fa, fb) = (k as f64 * step, (k + 1) as f64 * step);
+            (b.min(fb) - a.max(fa)).max(0.0)
+        })
+        .sum()
+}
+
+/// The pauses of [`MIN_PAUSE_S`] or more between two speech frames of each segment, in label
+/// frames, with the kind of [`PAUSE_KINDS`] their segment's condition gives.
+fn pauses(episode: &Episode) -> Vec<(usize, usize, usize)> {
+    let truth = &episode.labels.truth;
+    let min = (MIN_PAUSE_S * FRAMES_PER_S).round() as usize;
+    let mut out = Vec::new();
+    for seg in &episode.segments {
+        let kind = match seg.condition {
+            Condition::Clean => 0,
+            Condition::Bed(db) if db >= DEEP_BED_DB => 1,
+            Condition::Bed(_) => 2,
+            Condition::Noise(..) => 3,
+        };
+        let (a, b) = seg.frames;
+        let mut last_speech: Option<usize> = None;
+        for (k, &speech) in truth.iter().enumerate().take(b).skip(a) {
+            if speech {
+                if let Some(p) = last_speech {
+                    if k - p > min {
+                        out.push((p + 1, k, kind));
+                    }
+                }
+                last_speech = Some(k);
+            }
+        }
+    }
+    out
+}
+
+/// Renders `episode` in `mode` with `model` judging speech.
+fn render(episode: &Episode, mode: Mode, model: &SpeechModel) -> Result<offline::Rendered, String> {
+    let mut config = EngineConfig::default();
+    config.placement.whole_file = mode == Mode::Offline;
+    if mode == Mode::Lookahead {
+        config.placement.lookahead_s = LOOKAHEAD_MS / 1000.0;
+    }
+    let mut engine =
+        Engine::new(config, HeadModel::default_model().clone()).map_err(|e| e.to_string())?;
+    engine.set_speech_model(Some(model.clone()));
+    engine
+        .prepare(RATE_HZ, 1024, 1)
+        .map_err(|e| e.to_string())?;
+    Ok(offline::render(
+        &mut engine,
+        std::slice::from_ref(&episode.audio),
+        &[1024],
+    ))
+}
+
+impl BreathTally {
+    fn add(&mut self, episode: &Episode, out: &offline::Rendered) {
+        let l = &episode.labels;
+        let n = episode.frames();
+        let alone = |k: usize, class: Class| {
+            l.class[k] == Some(class) && l.role[k].is_some_and(|r| r.stands_alone())
+        };
+        for b in &out.breaths {
+            self.inserted += 1;
+            let (a, e) = (b.start_s, b.end_s);
+            self.music +=
+                usize::from(overlap_s(a, e, n, |k| alone(k, Class::MusicOnly)) > OVERLAP_S);
+            self.singing +=
+                usize::from(overlap_s(a, e, n, |k| alone(k, Class::Singing)) > OVERLAP_S);
+            self.noise +=
+                usize::from(overlap_s(a, e, n, |k| alone(k, Class::NoiseOnly)) > OVERLAP_S);
+            let ov = overlap_s(a, e, n, |k| l.truth[k]);
+            self.on_speech += usize::from(ov > OVERLAP_S);
+        }
+        for (a, b, kind) in pauses(episode) {
+            let (a_s, b_s) = (a as f64 / FRAMES_PER_S, b as f64 / FRAMES_PER_S);
+            let inserted = out.breaths.iter().any(|br| {
+                let mid = 0.5 * (br.start_s + br.end_s);
+                mid >= a_s && mid < b_s
+            });
+            let real = out
+                .existing_breaths
+                .iter()
+                .any(|&(s, e)| s < b_s && e > a_s);
+            self.pauses[kind].0 += usize::from(inserted || real);
+            self.pauses[kind].1 += 1;
+        }
+        self.audio_s += episode.audio.len() as f64 / RATE_HZ;
+    }
+}
+
+/// A target: its name, the figure, met.
+pub type Target = (String, String, bool);
+
+/// The held-out targets of issue 30 for one mode.
+fn breath_targets(mode: Mode, t: &BreathTally) -> Vec<Target> {
+    let share = |(a, n): (usize, usize)| a as f64 / n.max(1) as f64;
+    let m = mode.name();
+    vec![
+        (
+            format!("{m}: breaths in music-only spans = 0"),
+            t.music.to_string(),
+            t.music == 0,
+        ),
+        (
+            format!("{m}: breaths in singing = 0"),
+            t.singing.to_string(),
+            t.singing == 0,
+        ),
+        (
+            format!("{m}: breaths in noise-only spans = 0"),
+            t.noise.to_string(),
+            t.noise == 0,
+        ),
+        (
+            format!("{m}: breaths on speech = 0"),
+            t.on_speech.to_string(),
+            t.on_speech == 0,
+        ),
+        (
+            format!("{m}: pauses >= 0.4 s with a breath, clean speech >= 0.90"),
+            format!("{:.2}", share(t.pauses[0])),
+            share(t.pauses[0]) >= 0.9,
+        ),
+        (
+            format!("{m}: pauses >= 0.4 s with a breath, beds >= 20 dB down >= 0.80"),
+            format!("{:.2}", share(t.pauses[1])),
+            share(t.pauses[1]) >= 0.8,
+        ),
+    ]
+}
+
+/// The frame targets: per music piece, recall no lower than Silero's and speech called on its
+/// music and singing no more often; noise-only and silence frames no more often.
+fn frame_targets(pneuma: &FrameTally, silero: &FrameTally) -> Vec<Target> {
+    let mut out = Vec::new();
+    for (p, name) in MUSIC.iter().enumerate() {
+        let (r, rs) = (
+            percent(pneuma.piece_recall[p]),
+            percent(silero.piece_recall[p]),
+        );
+        out.push((
+            format!("{name}: speech recall >= Silero's"),
+            format!("{r:.2}% vs {rs:.2}%"),
+            r >= rs,
+        ));
+        let (f, fs) = (
+            percent(pneuma.piece_false[p]),
+            percent(silero.piece_false[p]),
+        );
+        out.push((
+            format!("{name}: music/singing called speech <= Silero's"),
+            format!("{f:.2}% vs {fs:.2}%"),
+            f <= fs,
+        ));
+    }
+    for class in [Class::NoiseOnly, Class::Silence] {
+        let (f, fs) = (
+            percent(pneuma.class[class as usize]),
+            percent(silero.class[class as usize]),
+        );
+        out.push((
+            format!("{}: called speech <= Silero's", class.name()),
+            format!("{f:.2}% vs {fs:.2}%"),
+            f <= fs,
+        ));
+    }
+    out
+}
+
+/// Runs the evaluation; `Ok(true)` when every held-out target is met.
+pub fn run(args: &PodcastArgs) -> Result<bool, String> {
+    let root = workspace_root();
+    let data = args
+        .data
+        .clone()
+        .unwrap_or_else(|| root.join("../shared/data"));
+    if !data.join("music").is_dir() {
+        return Err(format!(
+            "{} has no music/: the podcast recipe needs ../shared/data beside the checkout (or --data DIR)",
+            data.display()
+        ));
+    }
+    let mut worker = python::Worker::start(
+        &root.join(python::VENV_PYTHON),
+        &root.join("target/podcast-scratch"),
+        &["parselmouth", "numpy", "onnxruntime"],
+    )?;
+    let lib = recipe::library(&data, &mut |a| worker.praat(a))?;
+    let episodes = recipe::episodes(&lib);
+    let shipped = SpeechModel::shipped();
+    let analysed = episodes
+        .iter()
+        .map(|e| analyse(e, shipped))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut held_models = Vec::new();
+    for e in &episodes {
+        let rows = fit_rows(&episodes, &analysed, &Exclusion::of(e));
+        held_models.push(fit(&rows).ok_or(format!("episode {}: nothing left to fit on", e.index))?);
+    }
+
+    let mut frames = [FrameTally::default(); 3]; // held, fitted, Silero
+    for ((e, a), m) in episodes.iter().zip(&analysed).zip(&held_models) {
+        let probs = worker.silero(&e.audio)?;
+        let silero = frames_in(&segments(&probs, e.audio.len() as u64), e.frames());
+        frames[0].add(e, &pneuma_frames(e, a, m));
+        frames[1].add(e, &pneuma_frames(e, a, shipped));
+        frames[2].add(e, &silero);
+    }
+
+    let mut breaths = [[BreathTally::default(); 2]; 2]; // [mode][held, fitted]
+    for (mi, mode) in Mode::ALL.into_iter().enumerate() {
+        for (e, m) in episodes.iter().zip(&held_models) {
+            for (which, model) in [(0, m), (1, shipped)] {
+                let t0 = Instant::now();
+                let out =
+                    render(e, mode, model).map_err(|err| format!("episode {}: {err}", e.index))?;
+                breaths[mi][which].wall_s += t0.elapsed().as_secs_f64();
+                breaths[mi][which].add(e, &out);
+            }
+        }
+    }
+    print_report(&episodes, &frames, &breaths);
+
+    let mut targets = Vec::new();
+    for (mi, mode) in Mode::ALL.into_iter().enumerate() {
+        targets.extend(breath_targets(mode, &breaths[mi][0]));
+    }
+    targets.extend(frame_targets(&frames[0], &frames[2]));
+    Ok(print_targets(&targets))
+}
+
+fn print_report(episodes: &[Episode], frames: &[FrameTally; 3], breaths: &[[BreathTally; 2]; 2]) {
+    let minutes: f64 = episodes
+        .iter()
+        .map(|e| e.audio.len() as f64 / RATE_HZ)
+        .sum::<f64>()
+        / 60.0;
+    println!(
+        "podcast recipe: {} episodes, {minutes:.1} min at 16 kHz (seed {}); held out = speech model \
+         fitted without the episode's music pieces, noise type and speakers; fitted = the shipped model",
+        episodes.len(),
+        recipe::SEED
+    );
+    println!("\nBreaths (held out | fitted)");
+    println!(
+        "{:<34} {:>18} {:>18}",
+        "",
+        Mode::ALL[0].name(),
+        Mode::ALL[1].name()
+    );
+    let row = |name: &str, f: &dyn Fn(&BreathTally) -> String| {
+        println!(
+            "{name:<34} {:>18} {:>18}",
+            format!("{} | {}", f(&breaths[0][0]), f(&breaths[0][1])),
+            format!("{} | {}", f(&breaths[1][0]), f(&breaths[1][1]))
+        );
+    };
+    row("inserted", &|t| t.inserted.to_string());
+    row("in music-only spans", &|t| t.music.to_string());
+    row("in singing", &|t| t.singing.to_string());
+    row("in noise-only spans", &|t| t.noise.to_string());
+    row("on speech (> 30 ms)", &|t| t.on_speech.to_string());
+    for (i, kind) in PAUSE_KINDS.iter().enumerate() {
+        row(&format!("pauses >= 0.4 s with a breath, {kind}"), &|t| {
+            format!("{}/{}", t.pauses[i].0, t.pauses[i].1)
+        });
+    }
+    row("render speed, x real time", &|t| {
+        format!("{:.0}", t.audio_s / t.wall_s.max(1e-9))
+    });
+
+    println!("\nFrames called speech: Pneuma held out | Pneuma fitted | Silero VAD (onnxruntime)");
+    for class in Class::ALL {
+        let i = class as usize;
+        println!(
+            "{:<34} {:>7.2}% {:>7.2}% {:>7.2}%  ({} frames)",
+            class.name(),
+            percent(frames[0].class[i]),
+            percent(frames[1].class[i]),
+            percent(frames[2].class[i]),
+            frames[2].class[i].1
+        );
+    }
+    println!(
+        "Per music piece: speech under its beds called speech; its music and singing called speech"
+    );
+    for (p, name) in MUSIC.iter().enumerate() {
+        println!(
+            "{name:<18} recall {:>6.2}% {:>6.2}% {:>6.2}%   false {:>6.2}% {:>6.2}% {:>6.2}%",
+            percent(frames[0].piece_recall[p]),
+            percent(frames[1].piece_recall[p]),
+            percent(frames[2].piece_recall[p]),
+            percent(frames[0].piece_false[p]),
+            percent(frames[1].piece_false[p]),
+            percent(frames[2].piece_false[p]),
+        );
+    }
+}
+
+/// Prints the targets; true when all are met.
+fn print_targets(targets: &[Target]) -> bool {
+    println!("\nHeld-out targets (issue 30)");
+    for (name, figure, met) in targets {
+        println!(
+            "  [{}] {name}: {figure}",
+            if *met { "met" } else { "MISSED" }
+        );
+    }
+    targets.iter().all(|t| t.2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overlap_counts_only_the_frames_that_hold() {
+        // Frames 10 ms; frames 5..10 hold (0.05..0.10 s).
+        let on = |k: usize| (5..10).contains(&k);
+        let got = overlap_s(0.0, 0.2, 100, on);
+        assert!((got - 0.05).abs() < 1e-9, "{got}");
+        let half = overlap_s(0.075, 0.2, 100, on);
+        assert!((half - 0.025).abs() < 1e-9, "{half}");
+        assert_eq!(overlap_s(0.2, 0.3, 100, on), 0.0);
+    }
+
+    #[test]
+    fn spans_cover_the_frames_they_touch() {
+        let f = frames_in(&[(160, 480), (1600, 1601)], 12);
+        assert_eq!(
+            f,
+            [false, true, true, false, false, false, false, false, false, false, true, false]
+        );
+    }
+}
