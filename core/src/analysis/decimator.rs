@@ -125,24 +125,25 @@ impl Decimator {
 
 /// Dot product in sixteen lanes (four groups of four) so it vectorises and its additions
 /// overlap (four independent vector chains, each a quarter of the taps long); the summation
-/// order is fixed, so the result is the same on every call with the same data.
+/// order is fixed, so the result is the same on every call with the same data. Lane `k` takes
+/// the products `16·i + k`; the lanes are added as `((g0 + g1) + (g2 + g3))` per position in a
+/// group, then the four positions pairwise, then the products past the last whole sixteen.
 #[inline]
 pub(crate) fn dot(a: &[f32], b: &[f32]) -> f32 {
-    let mut acc = [[0.0f32; 4]; 4];
+    let mut acc = [0.0f32; 16];
     let (xs, ys) = (a.chunks_exact(16), b.chunks_exact(16));
     let mut tail = 0.0;
     for (x, y) in xs.remainder().iter().zip(ys.remainder()) {
         tail += x * y;
     }
     for (x, y) in xs.zip(ys) {
-        for (g, acc) in acc.iter_mut().enumerate() {
-            for l in 0..4 {
-                acc[l] += x[4 * g + l] * y[4 * g + l];
-            }
+        for k in 0..16 {
+            acc[k] += x[k] * y[k];
         }
     }
-    let [a0, a1, a2, a3] = acc;
-    let lane = |l: usize| (a0[l] + a1[l]) + (a2[l] + a3[l]);
+    // Kept from the reduction's view, so the loop keeps four whole vectors of four lanes.
+    let acc = std::hint::black_box(acc);
+    let lane = |l: usize| (acc[l] + acc[4 + l]) + (acc[8 + l] + acc[12 + l]);
     ((lane(0) + lane(1)) + (lane(2) + lane(3))) + tail
 }
 

@@ -4,8 +4,7 @@
 //! at half the period (an octave-down pick).
 
 use super::key_maxima::PitchEstimate;
-use super::sums::FrameStats;
-use super::{NsdfPitch, SAME_LOBE_RATIO};
+use super::{FrameKnown, NsdfPitch, SAME_LOBE_RATIO};
 
 impl NsdfPitch {
     /// The last long window's NSDF at half the period of `chosen` (linear interpolation),
@@ -47,7 +46,7 @@ impl NsdfPitch {
         window: &[f32],
         chosen: PitchEstimate,
         newest: bool,
-        stats: Option<&FrameStats>,
+        frame: Option<&FrameKnown>,
     ) -> Option<f32> {
         let (short, last) = self.short.as_ref()?;
         let (len, reach) = (short.window_len, *last as f64 * SAME_LOBE_RATIO);
@@ -62,7 +61,8 @@ impl NsdfPitch {
             return Some(two_period_clarity(window, period, newest) * (1.0 - octave_down));
         }
         let start = if newest { window.len() - len } else { 0 };
-        let p = self.short_pick_at(window, start, stats.map(|st| st.short[2 * newest as usize]))?;
+        let known = frame.map(|fr| fr.window(if newest { 3 } else { 1 }));
+        let p = self.short_pick_at(window, start, known)?;
         let ratio = SAME_LOBE_RATIO as f32;
         (p.f0_hz < chosen.f0_hz * ratio && p.f0_hz * ratio > chosen.f0_hz).then_some(p.clarity)
     }

@@ -50,8 +50,8 @@ use super::breath_band::{BandLevels, BandSpectrum};
 pub use key_maxima::PitchEstimate;
 
 use key_maxima::key_maxima;
-use nsdf::Nsdf;
-use sums::{square_sum, FrameStats, WindowStats};
+use nsdf::{hear_frame, Known, Nsdf};
+use sums::{square_sum, FrameStats};
 
 /// Most key maxima kept per frame.
 pub const MAX_CANDIDATES: usize = 16;
@@ -95,6 +95,32 @@ pub struct NsdfPitch {
     /// The centred short window's pick, when it ran, and whether it agreed with the choice.
     short_pick: PitchEstimate,
     short_agrees: bool,
+    /// The four windows of a frame as the NSDF hears them, behind the low-pass (long, oldest
+    /// end, centre, newest end; empty without a low-pass or a short window).
+    frame_heard: [Vec<f32>; 4],
+}
+
+/// What the fused frame analysis knows of its four windows before their NSDFs: their
+/// statistics and, behind a low-pass, the windows as the NSDF hears them.
+#[derive(Debug, Clone, Copy)]
+struct FrameKnown<'a> {
+    stats: &'a FrameStats,
+    heard: Option<&'a [Vec<f32>; 4]>,
+}
+
+impl<'a> FrameKnown<'a> {
+    /// Window `k`: 0 the long one, 1–3 the short ones (oldest end, centre, newest end).
+    fn window(&self, k: usize) -> Known<'a> {
+        let stats = if k == 0 {
+            self.stats.long
+        } else {
+            self.stats.short[k - 1]
+        };
+        Known {
+            stats,
+            heard: self.heard.map(|h| &h[k][..]),
+        }
+    }
 }
 
 impl std::fmt::Debug for NsdfPitch {
@@ -164,6 +190,7 @@ impl NsdfPitch {
             long_periodicity: 0.0,
             short_pick: PitchEstimate::default(),
             short_agrees: false,
+            frame_heard: Default::default(),
         }
     }
 
@@ -223,6 +250,8 @@ impl NsdfPitch {
         weigh(&mut self.long);
         if let Some((short, _)) = &mut self.short {
             weigh(short);
+            let (long, short) = (self.long.window_len, short.window_len);
+            self.frame_heard = [long, short, short, short].map(|n| vec![0.0; n]);
         }
     }
 
@@ -277,17 +306,29 @@ impl NsdfPitch {
                 };
             }
         };
-        let chosen = self.analyse_with(window, Some(&stats));
-        FrameAnalysis {
+        // Behind the low-pass, the four windows are heard at once (see `hear_frame`).
+        let mut heard = std::mem::take(&mut self.frame_heard);
+        let filter = self.long.filter.filter(|_| heard[0].len() == window.len());
+        if let (Some(filter), Some(len)) = (filter, short_len) {
+            hear_frame(filter, window, &stats, len, &mut heard);
+        }
+        let frame = FrameKnown {
+            stats: &stats,
+            heard: filter.map(|_| &heard),
+        };
+        let chosen = self.analyse_with(window, Some(&frame));
+        let analysis = FrameAnalysis {
             chosen,
-            edge_newest: self.edge_clarity_with(window, chosen, true, Some(&stats)),
-            edge_oldest: self.edge_clarity_with(window, chosen, false, Some(&stats)),
+            edge_newest: self.edge_clarity_with(window, chosen, true, Some(&frame)),
+            edge_oldest: self.edge_clarity_with(window, chosen, false, Some(&frame)),
             square_sum: stats.square_sum,
             heard_energy: self.long.heard_energy,
-        }
+        };
+        self.frame_heard = heard;
+        analysis
     }
 
-    fn analyse_with(&mut self, window: &[f32], stats: Option<&FrameStats>) -> PitchEstimate {
+    fn analyse_with(&mut self, window: &[f32], frame: Option<&FrameKnown>) -> PitchEstimate {
         self.n_candidates = 0;
         self.periodicity = 0.0;
         self.long_periodicity = 0.0;
@@ -298,8 +339,8 @@ impl NsdfPitch {
             self.long.heard_energy = 0.0;
             return PitchEstimate::default();
         }
-        let computed = match stats {
-            Some(st) => self.long.compute_with(window, st.long),
+        let computed = match frame {
+            Some(fr) => self.long.compute_with(window, fr.window(0)),
             None => self.long.compute(window),
         };
         if !computed {
@@ -342,7 +383,7 @@ impl NsdfPitch {
                 && self.rate_hz / (chosen.f0_hz as f64) <= *last as f64 * SAME_LOBE_RATIO
         });
         if in_reach {
-            if let Some(short_pick) = self.short_pick(window, stats) {
+            if let Some(short_pick) = self.short_pick(window, frame) {
                 let ratio = SAME_LOBE_RATIO as f32;
                 let same = |a: f32, b: f32| a < b * ratio && a * ratio > b;
                 if !same(short_pick.f0_hz, chosen.f0_hz) && short_pick.f0_hz < chosen.f0_hz {
@@ -367,26 +408,26 @@ impl NsdfPitch {
     }
 
     /// The key-maximum choice on the short window (periods it holds twice), if there is one.
-    fn short_pick(&mut self, window: &[f32], stats: Option<&FrameStats>) -> Option<PitchEstimate> {
+    fn short_pick(&mut self, window: &[f32], frame: Option<&FrameKnown>) -> Option<PitchEstimate> {
         let len = self.short.as_ref()?.0.window_len;
         self.short_pick_at(
             window,
             (window.len() - len) / 2,
-            stats.map(|st| st.short[1]),
+            frame.map(|fr| fr.window(2)),
         )
     }
 
-    /// The short window's pick at `start`; `stats` are that window's, when known.
+    /// The short window's pick at `start`; `known` is what is known of that window already.
     fn short_pick_at(
         &mut self,
         window: &[f32],
         start: usize,
-        stats: Option<WindowStats>,
+        known: Option<Known>,
     ) -> Option<PitchEstimate> {
         let (short, short_last) = self.short.as_mut()?;
         let part = &window[start..start + short.window_len];
-        let computed = match stats {
-            Some(st) => short.compute_with(part, st),
+        let computed = match known {
+            Some(k) => short.compute_with(part, k),
             None => short.compute(part),
         };
         if !computed {

@@ -9,7 +9,7 @@ use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 
 use super::super::biquad::Biquad;
 use super::super::breath_band::{BandLevels, BandSpectrum};
-use super::sums::{Lanes, WindowStats};
+use super::sums::{short_starts, FrameStats, Lanes, WindowStats};
 
 /// The low band (Hz) whose share of the voice band's energy ([`super::NsdfPitch::low_band`]) tells
 /// voiced sounds (energy in the first formant region) from fricatives and hiss.
@@ -34,6 +34,8 @@ pub(super) struct Nsdf {
     pub(super) acf: Vec<f32>,
     /// n(τ) for τ = 0..=lag_max+1.
     pub(super) curve: Vec<f32>,
+    /// m(τ) for the same lags.
+    norm: Vec<f64>,
     /// Spectrum bins of the low band and of the whole voice band (see `low_band`).
     pub(super) low_bins: (usize, usize),
     pub(super) band_bins: (usize, usize),
@@ -52,6 +54,83 @@ pub(super) struct Nsdf {
     pub(super) heard: Vec<f32>,
     /// Energy of the last window as the NSDF hears it (about the mean, after the low-pass).
     pub(super) heard_energy: f64,
+}
+
+/// A window's statistics, and the window as the NSDF hears it when that is known already
+/// ([`hear_frame`]).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Known<'a> {
+    pub(super) stats: WindowStats,
+    pub(super) heard: Option<&'a [f32]>,
+}
+
+/// One step of the NSDF's hearing: the centred sample `t` through `filter` (from its state).
+#[inline(always)]
+fn hear_one(filter: &mut Biquad, t: f32) -> f32 {
+    filter.process(t as f64) as f32
+}
+
+/// The centred window `time` filtered from rest through `filter`, into `heard`.
+fn hear(mut filter: Biquad, time: &[f32], heard: &mut [f32]) {
+    for (h, &t) in heard.iter_mut().zip(time) {
+        *h = hear_one(&mut filter, t);
+    }
+}
+
+/// The long window of a frame and its three short windows (oldest end, centre, newest end, of
+/// `short_len` samples) as the NSDF hears them: each centred on its mean in `stats` and
+/// filtered from rest through `filter`, into `heard` (long, oldest, centre, newest). The same
+/// samples as [`hear`] gives each window alone, but the four recursions run in one loop: each
+/// output waits on the one before it in its own window only, so the four overlap where one
+/// window after another would each wait out its whole chain.
+pub(super) fn hear_frame(
+    filter: Biquad,
+    window: &[f32],
+    stats: &FrameStats,
+    short_len: usize,
+    heard: &mut [Vec<f32>; 4],
+) {
+    let means = [
+        stats.long.mean,
+        stats.short[0].mean,
+        stats.short[1].mean,
+        stats.short[2].mean,
+    ];
+    let [a, b, c] = short_starts(window.len(), short_len);
+    let shorts = [a, b, c].map(|s| &window[s..s + short_len]);
+    let [long, oldest, centre, newest] = heard;
+    let (long_head, long_rest) = long.split_at_mut(short_len);
+    let mut f = [filter; 4];
+    for (i, (((l, o), c), n)) in long_head
+        .iter_mut()
+        .zip(&mut oldest[..short_len])
+        .zip(&mut centre[..short_len])
+        .zip(&mut newest[..short_len])
+        .enumerate()
+    {
+        *l = hear_one(&mut f[0], window[i] - means[0]);
+        *o = hear_one(&mut f[1], shorts[0][i] - means[1]);
+        *c = hear_one(&mut f[2], shorts[1][i] - means[2]);
+        *n = hear_one(&mut f[3], shorts[2][i] - means[3]);
+    }
+    for (h, &x) in long_rest.iter_mut().zip(&window[short_len..]) {
+        *h = hear_one(&mut f[0], x - means[0]);
+    }
+}
+
+/// m(τ) into `norm` for τ = 0, 1, ...: `m0` at lag 0, then at each lag the squares of the
+/// window's two end samples (`end(i)` is sample `i` of the `w`-sample window as the NSDF hears
+/// it) taken off, one running sum in f64.
+#[inline(always)]
+fn norms(norm: &mut [f64], m0: f64, w: usize, end: impl Fn(usize) -> f32) {
+    let mut m = m0;
+    for (tau, n) in norm.iter_mut().enumerate() {
+        if tau > 0 {
+            let (a, b) = (end(tau - 1) as f64, end(w - tau) as f64);
+            m -= a * a + b * b;
+        }
+        *n = m;
+    }
 }
 
 /// Smallest even 5-smooth number (2^a·3^b·5^c, a ≥ 1) not below `n`: sizes the real FFT is
@@ -92,6 +171,7 @@ impl Nsdf {
             scratch: vec![Complex::default(); scratch_len],
             acf: c2r.make_output_vec(),
             curve: vec![0.0; lag_max + 2],
+            norm: vec![0.0; lag_max + 2],
             low_bins: (bin(LOW_BAND_HZ.0), bin(LOW_BAND_HZ.1)),
             band_bins: (bin(LOW_BAND_HZ.0), bin(VOICE_BAND_TOP_HZ)),
             low_band: 0.0,
@@ -110,13 +190,14 @@ impl Nsdf {
     /// Computes the curve of `window` (exactly `window_len` samples, mean removed here); returns
     /// false (curve all zero) for a silent window.
     pub(super) fn compute(&mut self, window: &[f32]) -> bool {
-        self.compute_with(window, WindowStats::of(window))
+        let stats = WindowStats::of(window);
+        self.compute_with(window, Known { stats, heard: None })
     }
 
-    /// [`Nsdf::compute`] with the window's statistics already known.
-    pub(super) fn compute_with(&mut self, window: &[f32], stats: WindowStats) -> bool {
+    /// [`Nsdf::compute`] with what is `known` of the window already.
+    pub(super) fn compute_with(&mut self, window: &[f32], known: Known) -> bool {
         let w = self.window_len;
-        let WindowStats { mean, energy } = stats;
+        let WindowStats { mean, energy } = known.stats;
         for (t, &x) in self.time.iter_mut().zip(window) {
             *t = x - mean;
         }
@@ -128,11 +209,12 @@ impl Nsdf {
             self.curve.fill(0.0);
             return false;
         }
-        if let Some(mut filter) = self.filter {
-            let mut e = Lanes::default();
-            for (h, &t) in self.heard.iter_mut().zip(&self.time[..w]) {
-                *h = filter.process(t as f64) as f32;
+        if let Some(filter) = self.filter {
+            match known.heard {
+                Some(heard) => self.heard.copy_from_slice(heard),
+                None => hear(filter, &self.time[..w], &mut self.heard),
             }
+            let mut e = Lanes::default();
             e.add(&self.heard, |h| (h as f64) * (h as f64));
             self.heard_energy = e.total();
         }
@@ -181,31 +263,26 @@ impl Nsdf {
         }
         // m(0) = 2·Σx²; later lags drop one sample from each end (the forward pass overwrote
         // `time`, so the ends are read from the window itself, or from the filtered window).
-        let mut m = 2.0 * self.heard_energy;
-        let scale = 1.0 / self.time.len() as f64;
+        // The running sum first, then the lags' divisions, which do not wait on each other.
+        let m0 = 2.0 * self.heard_energy;
         let top = if self.filter.is_some() {
+            let heard = &self.heard;
+            norms(&mut self.norm, m0, w, |i| heard[i]);
             HEARD_NSDF_MAX
         } else {
+            norms(&mut self.norm, m0, w, |i| window[i] - mean);
             1.0
         };
-        for tau in 0..self.curve.len() {
-            if tau > 0 {
-                let (a, b) = if self.filter.is_some() {
-                    (self.heard[tau - 1] as f64, self.heard[w - tau] as f64)
-                } else {
-                    (
-                        (window[tau - 1] - mean) as f64,
-                        (window[w - tau] - mean) as f64,
-                    )
-                };
-                m -= a * a + b * b;
-            }
-            let r = self.acf[tau] as f64 * scale;
-            self.curve[tau] = if m > 1e-12 {
-                (2.0 * r / m).clamp(-1.0, top) as f32
-            } else {
-                0.0
-            };
+        let scale = 1.0 / self.time.len() as f64;
+        let n = self.curve.len();
+        let (curve, norm, acf) = (&mut self.curve[..n], &self.norm[..n], &self.acf[..n]);
+        for i in 0..n {
+            let (m, r) = (norm[i], acf[i] as f64 * scale);
+            // As `clamp(-1.0, top)` does it, without its check that the bounds are ordered.
+            let v = 2.0 * r / m;
+            let v = if v < -1.0 { -1.0 } else { v };
+            let v = if v > top { top } else { v };
+            curve[i] = if m > 1e-12 { v as f32 } else { 0.0 };
         }
         true
     }

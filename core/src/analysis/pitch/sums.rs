@@ -91,12 +91,17 @@ pub(super) struct FrameStats {
     pub(super) square_sum: f64,
 }
 
+/// Where the three short windows of `short_len` samples start in a long window of `w`: its
+/// oldest end, its centre and its newest end.
+pub(super) fn short_starts(w: usize, short_len: usize) -> [usize; 3] {
+    [0, (w - short_len) / 2, w - short_len]
+}
+
 impl FrameStats {
-    /// The short windows start at `0`, `(w − short_len) / 2` and `w − short_len`; requires
-    /// `short_len <= window.len()`.
+    /// The short windows start at [`short_starts`]; requires `short_len <= window.len()`.
     pub(super) fn of(window: &[f32], short_len: usize) -> Self {
         let (w, len) = (window.len(), short_len);
-        let starts = [0, (w - len) / 2, w - len];
+        let starts = short_starts(w, len);
         let shorts = starts.map(|a| &window[a..a + len]);
         let plain = |x: f32| x as f64;
         let mut sums = [Lanes::default(); 3];
