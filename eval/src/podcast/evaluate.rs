@@ -80,6 +80,9 @@ struct BreathTally {
     singing: usize,
     noise: usize,
     on_speech: usize,
+    /// Those of `on_speech` on truth frames within 80 ms of voicing (the rest are on frames
+    /// that are speech by their level alone: within 15 dB of the speech level).
+    near_voicing: usize,
     /// (with a breath, pauses) for clean speech, deep beds, shallow beds, noise.
     pauses: [(usize, usize); 4],
     audio_s: f64,
@@ -243,6 +246,8 @@ impl BreathTally {
             self.noise +=
                 usize::from(overlap_s(a, e, n, |k| alone(k, Class::NoiseOnly)) > OVERLAP_S);
             let ov = overlap_s(a, e, n, |k| l.truth[k]);
+            let near = |k: usize| l.truth[k] && l.near_voicing[k];
+            self.near_voicing += usize::from(overlap_s(a, e, n, near) > OVERLAP_S);
             self.on_speech += usize::from(ov > OVERLAP_S);
         }
         for (a, b, kind) in pauses(episode) {
@@ -424,7 +429,7 @@ fn print_report(episodes: &[Episode], frames: &[FrameTally; 3], breaths: &[[Brea
     );
     let row = |name: &str, f: &dyn Fn(&BreathTally) -> String| {
         println!(
-            "{name:<34} {:>18} {:>18}",
+            "{name:<48} {:>18} {:>18}",
             format!("{} | {}", f(&breaths[0][0]), f(&breaths[0][1])),
             format!("{} | {}", f(&breaths[1][0]), f(&breaths[1][1]))
         );
@@ -434,6 +439,9 @@ fn print_report(episodes: &[Episode], frames: &[FrameTally; 3], breaths: &[[Brea
     row("in singing", &|t| t.singing.to_string());
     row("in noise-only spans", &|t| t.noise.to_string());
     row("on speech (> 30 ms)", &|t| t.on_speech.to_string());
+    row("  of them within 80 ms of voicing", &|t| {
+        t.near_voicing.to_string()
+    });
     for (i, kind) in PAUSE_KINDS.iter().enumerate() {
         row(&format!("pauses >= 0.4 s with a breath, {kind}"), &|t| {
             format!("{}/{}", t.pauses[i].0, t.pauses[i].1)

@@ -190,6 +190,9 @@ pub struct Segment {
 pub struct Labels {
     /// Speech truth.
     pub truth: Vec<bool>,
+    /// Within 80 ms of the reference voicing (a part of the truth; the rest is speech by its
+    /// level alone).
+    pub near_voicing: Vec<bool>,
     /// Frames that count in scores.
     pub mask: Vec<bool>,
     /// What the frame holds.
@@ -427,6 +430,7 @@ impl Builder {
             self.clean.resize(n * HOP, 0.0);
             let l = &mut self.labels;
             l.truth.resize(n, false);
+            l.near_voicing.resize(n, false);
             l.mask.resize(n, true);
             l.class.resize(n, None);
             l.piece.resize(n, None);
@@ -569,6 +573,7 @@ fn build(
         for j in 0..n {
             let f = start + j;
             b.labels.truth[f] = clip.truth[j];
+            b.labels.near_voicing[f] = clip.near_voicing[j];
             b.labels.mask[f] = clip.mask[j];
             b.labels.speaker[f] = Some(speaker);
             b.labels.segment[f] = Some(k);

@@ -118,6 +118,8 @@ pub struct SpeechClip {
     pub audio: Vec<f32>,
     /// Speech truth per label frame.
     pub truth: Vec<bool>,
+    /// Frames within [`NEAR_VOICING_FRAMES`] of the reference voicing.
+    pub near_voicing: Vec<bool>,
     /// Frames that count in scores.
     pub mask: Vec<bool>,
     /// The speech level (mean power of the reference-voiced frames), dBFS.
@@ -269,6 +271,7 @@ pub fn speech_clip(data: &Path, name: &str, praat: &mut Praat<'_>) -> Result<Spe
         speaker: speaker_of(name),
         audio,
         truth,
+        near_voicing: dilate(&voiced, NEAR_VOICING_FRAMES),
         mask,
         level_db,
     })
