@@ -9,7 +9,7 @@ use crate::head::{HeadConfig, HeadModelError};
 use crate::phrase::{PhraseConfig, PhraseError};
 use crate::settings::placement::{
     AFTER_OFFSET_S, BREATH_LEVEL_DB, CATCH_BREATH_MAX_S, CATCH_BREATH_MIN_S, GAP_S, INSERT_BREATHS,
-    LIVE_FADE_S, LOOKAHEAD_S, MIN_PAUSE_S, MODE, WHOLE_FILE,
+    LIVE_FADE_S, LOOKAHEAD_S, MIN_PAUSE_S, MODE, SPEECH_ONLY, WHOLE_FILE,
 };
 use crate::settings::setting::{
     check_fields, copy_scope, field, set_field, Field, Relation, Scope, Setting, SettingError,
@@ -89,12 +89,12 @@ pub struct PlacementConfig {
     /// before (lookahead: the next phrase, offline judged by its first half second; or after,
     /// live: the finished phrase) music, singing or noise. Off: every pause, as the phrase
     /// tracker finds them (signals that are not speech, a user who wants breaths in singing).
-    /// Stream part (the decision is built at `prepare`).
+    /// Stream part (the decision is built at `prepare`). [`SPEECH_ONLY`].
     pub speech_only: bool,
 }
 
 /// The settings of [`PlacementConfig`] and the fields holding them.
-static PLACEMENT_FIELDS: [Field<PlacementConfig>; 11] = [
+static PLACEMENT_FIELDS: [Field<PlacementConfig>; 12] = [
     Field {
         setting: &MODE,
         get: |c| c.mode.index() as f64,
@@ -102,6 +102,7 @@ static PLACEMENT_FIELDS: [Field<PlacementConfig>; 11] = [
     },
     field!(LOOKAHEAD_S, lookahead_s),
     field!(switch WHOLE_FILE, whole_file),
+    field!(switch SPEECH_ONLY, speech_only),
     field!(MIN_PAUSE_S, min_pause_s),
     field!(GAP_S, gap_s),
     field!(AFTER_OFFSET_S, after_offset_s),
@@ -131,7 +132,7 @@ impl Default for PlacementConfig {
             catch_breath_min_s: CATCH_BREATH_MIN_S.default,
             catch_breath_max_s: CATCH_BREATH_MAX_S.default,
             whole_file: WHOLE_FILE.default != 0.0,
-            speech_only: true,
+            speech_only: SPEECH_ONLY.default != 0.0,
         }
     }
 }
@@ -202,7 +203,8 @@ impl Default for EngineConfig {
 impl EngineConfig {
     /// True when `other` differs in the stream part, which sizes and seeds the stream and so
     /// only takes effect at [`super::Engine::prepare`]: the analysis, the phrase tracker, the
-    /// placement mode, the lookahead (and whole-file rendering) and the seed.
+    /// placement mode, the lookahead (and whole-file rendering), the speech decision's switch
+    /// and the seed.
     pub fn stream_differs(&self, other: &EngineConfig) -> bool {
         let mut stream = self.clone();
         stream.set_stream_part(other);
@@ -267,8 +269,6 @@ impl EngineConfig {
         // Not settings with a range: a fitted file and a seed, both of the stream part.
         // (Its trees are shared: the clone does not allocate.)
         self.analysis.voicing_model = from.analysis.voicing_model.clone();
-        // Not in the table yet: the speech decision's switch (built at `prepare`).
-        self.placement.speech_only = from.placement.speech_only;
         self.seed = from.seed;
     }
 
@@ -428,7 +428,7 @@ mod tests {
             group("analysis").contains(&id)
                 || group("speaker").contains(&id)
                 || group("phrase").contains(&id)
-                || ["mode", "lookahead_s", "whole_file"].contains(&id)
+                || ["mode", "lookahead_s", "whole_file", "speech_only"].contains(&id)
         };
         let base = EngineConfig::default();
         for s in settings::all().filter(|s| base.value(s).is_some()) {

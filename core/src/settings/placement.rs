@@ -50,6 +50,22 @@ pub static WHOLE_FILE: Setting = Setting {
     why: "on or off",
 };
 
+/// Breaths only into pauses of speech.
+pub static SPEECH_ONLY: Setting = Setting {
+    id: "speech_only",
+    label: "Speech pauses only",
+    unit: Unit::None,
+    kind: Kind::Switch,
+    default: 1.0,
+    off: None,
+    scope: Scope::Stream,
+    help: "Breaths only into pauses of speech: the speech decision (Silero VAD and two cues of \
+           Pneuma's own) keeps them out of music, singing, noise and silence with no speech \
+           beside them. Off: every pause the phrase tracker finds (breaths between sung \
+           phrases, generated test signals); `pneuma render --any-sound`",
+    why: "on or off",
+};
+
 /// Pauses shorter than this get no breath.
 pub static MIN_PAUSE_S: Setting = Setting {
     id: "min_pause_s",
@@ -189,10 +205,11 @@ pub static CATCH_BREATH_MAX_S: Setting = Setting {
 };
 
 /// The group's settings, in documentation order.
-pub static SETTINGS: [&Setting; 11] = [
+pub static SETTINGS: [&Setting; 12] = [
     &MODE,
     &LOOKAHEAD_S,
     &WHOLE_FILE,
+    &SPEECH_ONLY,
     &MIN_PAUSE_S,
     &GAP_S,
     &AFTER_OFFSET_S,
