@@ -398,7 +398,7 @@ fn draw_on(
         breaths
             .iter()
             .enumerate()
-            .filter(|(i, _)| crate::markers::number(*i) % every == 0 || every == 1)
+            .filter(|(i, _)| crate::markers::number(*i).is_multiple_of(every))
             .map(|(i, b)| {
                 Text::new(
                     crate::markers::number(i).to_string(),
