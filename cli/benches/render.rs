@@ -32,6 +32,8 @@ fn bench(c: &mut Criterion) {
         inputs: vec![input.clone()],
         output: dir.path().join("out"),
         format: None,
+        bitrate: None,
+        vbr: false,
         markers: Vec::new(),
         jobs: None,
         preset: "neutral".into(),

@@ -16,6 +16,8 @@
 //!   rewritten with the MD5 sum and the length at the end; tags and chapters as Vorbis comments
 //!   (`TITLE`, `ARTIST`, `CHAPTER001=HH:MM:SS.mmm`, `CHAPTER001NAME`). FLAC holds integers of at
 //!   most 24 bits here: float input is written as 24-bit FLAC.
+//! - **MP3** (only when asked, [`crate::mp3_out`]): an ID3v2 tag, then LAME's frames; the first
+//!   frame (LAME's Info/Xing frame with the encoder delay and padding) is rewritten at the end.
 
 use std::fs::File;
 use std::io::{BufWriter, Seek, SeekFrom, Write};
@@ -26,6 +28,7 @@ use flacenc::error::Verify;
 use flacenc::source::Fill;
 use pneuma_io::Tags;
 
+use crate::mp3_out::{Mp3Encoder, Mp3Settings};
 use crate::output::{commit_all, Staged};
 use crate::wav::WavInfo;
 
@@ -38,6 +41,8 @@ pub enum Container {
     Flac,
     /// AIFF.
     Aiff,
+    /// MP3 (lossy: only when asked).
+    Mp3,
 }
 
 impl Container {
@@ -47,6 +52,7 @@ impl Container {
             Self::Wav => "wav",
             Self::Flac => "flac",
             Self::Aiff => "aiff",
+            Self::Mp3 => "mp3",
         }
     }
 }
@@ -112,6 +118,7 @@ pub struct AudioSink {
     header_len: u64,
     bytes: Vec<u8>,
     flac: Option<Box<FlacState>>,
+    mp3: Option<Box<Mp3Encoder>>,
 }
 
 impl std::fmt::Debug for AudioSink {
@@ -176,6 +183,26 @@ impl AudioSink {
         container: Container,
         tags: Tags,
     ) -> std::io::Result<Self> {
+        Self::create_file(target, info, container, tags, None)
+    }
+
+    /// Starts writing `target` as MP3 encoded as `settings` ask, carrying `tags`.
+    pub fn create_mp3(
+        target: &Path,
+        info: WavInfo,
+        tags: Tags,
+        settings: Mp3Settings,
+    ) -> std::io::Result<Self> {
+        Self::create_file(target, info, Container::Mp3, tags, Some(settings))
+    }
+
+    fn create_file(
+        target: &Path,
+        info: WavInfo,
+        container: Container,
+        tags: Tags,
+        mp3: Option<Mp3Settings>,
+    ) -> std::io::Result<Self> {
         let staged = Staged::new(target)?;
         let file = File::create(staged.temp())?;
         Self::start(
@@ -186,6 +213,7 @@ impl AudioSink {
             info,
             container,
             tags,
+            mp3,
         )
     }
 
@@ -196,10 +224,17 @@ impl AudioSink {
             info,
             Container::Wav,
             Tags::default(),
+            None,
         )
     }
 
-    fn start(dest: Dest, info: WavInfo, container: Container, tags: Tags) -> std::io::Result<Self> {
+    fn start(
+        dest: Dest,
+        info: WavInfo,
+        container: Container,
+        tags: Tags,
+        mp3: Option<Mp3Settings>,
+    ) -> std::io::Result<Self> {
         // Float goes to FLAC as 24-bit integers and to AIFF as 32-bit integers (AIFF is integer).
         let (bits, float) = match (container, info.float) {
             (Container::Flac, true) => (24, false),
@@ -220,7 +255,13 @@ impl AudioSink {
             header_len: 0,
             bytes: Vec::new(),
             flac: None,
+            mp3: None,
         };
+        if container == Container::Mp3 {
+            let settings = mp3.ok_or_else(|| std::io::Error::other("MP3 settings missing"))?;
+            let encoder = Mp3Encoder::new(info.channels, info.sample_rate_hz, settings)?;
+            sink.mp3 = Some(Box::new(encoder));
+        }
         sink.write_header()?;
         Ok(sink)
     }
@@ -338,6 +379,11 @@ impl AudioSink {
                     info_at,
                 }));
             }
+            Container::Mp3 => {
+                let length_s =
+                    (self.info.frames > 0).then(|| self.info.frames as f64 / f64::from(rate));
+                h = crate::mp3_out::id3_tag(&self.tags, length_s)?;
+            }
         }
         self.header_len = h.len() as u64;
         self.dest().write_all(&h)
@@ -391,6 +437,19 @@ impl AudioSink {
     pub fn write_interleaved(&mut self, samples: &[f32]) -> std::io::Result<()> {
         if self.container == Container::Flac {
             return self.write_flac(samples);
+        }
+        if let Some(mut mp3) = self.mp3.take() {
+            let mut clipped = self.clipped;
+            let result = match mp3.encode(samples, &mut clipped) {
+                Ok(bytes) => {
+                    self.data_bytes += bytes.len() as u64;
+                    self.dest().write_all(bytes)
+                }
+                Err(e) => Err(e),
+            };
+            self.clipped = clipped;
+            self.mp3 = Some(mp3);
+            return result;
         }
         let mut bytes = std::mem::take(&mut self.bytes);
         bytes.clear();
@@ -478,6 +537,13 @@ impl AudioSink {
             }
             self.flac = Some(flac);
         }
+        let mut lame_info = Vec::new();
+        if let Some(mp3) = self.mp3.as_mut() {
+            let (last, info) = mp3.finish()?;
+            lame_info = info;
+            self.data_bytes += last.len() as u64;
+            self.dest().write_all(&last)?;
+        }
         let tail = self.tail_chunks();
         self.dest().write_all(&tail)?;
         match self.dest.take().expect("destination present until finish") {
@@ -485,6 +551,12 @@ impl AudioSink {
             Dest::File { writer, staged } => {
                 let mut file = writer.into_inner().map_err(|e| e.into_error())?;
                 self.patch_sizes(&mut file, tail.len() as u64)?;
+                if !lame_info.is_empty() {
+                    // LAME's Info frame replaces the placeholder frame after the ID3 tag.
+                    file.seek(SeekFrom::Start(self.header_len))?;
+                    file.write_all(&lame_info)?;
+                    file.seek(SeekFrom::End(0))?;
+                }
                 file.sync_all()?;
                 Ok(Some(staged))
             }
@@ -585,6 +657,7 @@ impl AudioSink {
                 file.seek(SeekFrom::Start(flac.info_at))?;
                 file.write_all(sink.as_slice())?;
             }
+            Container::Mp3 => {}
         }
         file.seek(SeekFrom::End(0))?;
         Ok(())

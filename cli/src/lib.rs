@@ -5,6 +5,7 @@
 pub mod analyze;
 pub mod audio_out;
 pub mod markers;
+pub mod mp3_out;
 pub mod options;
 pub mod output;
 pub mod plot;

@@ -47,11 +47,16 @@ impl MarkerKind {
     }
 }
 
+/// The number the `i`-th breath (0-based) goes by in labels and in the plot: from 1.
+pub fn number(i: usize) -> usize {
+    i + 1
+}
+
 /// The label of the `i`-th breath (0-based).
 pub fn label(i: usize, b: &BreathEvent) -> String {
     format!(
         "breath {} ({}, {:.1} dBFS)",
-        i + 1,
+        number(i),
         b.kind.as_str(),
         b.peak_db
     )

@@ -1,6 +1,10 @@
 //! The breathing plot (PNG), in the style of Bernardet et al.'s Figure 4: the lung-volume
 //! sawtooth (with thorax and abdomen) on top, the audio waveform below with speech and breath
-//! sounds in different colours, the breathing phases shaded in both panels, time in seconds.
+//! sounds in different colours, the breathing phases shaded in both panels. Time reads in
+//! seconds up to a minute, then `m:ss`, from an hour `h:mm:ss` ([`time_label`]). Breaths carry
+//! the numbers the marker files give them ([`crate::markers::number`]); where they are too dense
+//! for every number, every k-th is numbered ([`numbered_every`]). The thorax is drawn dashed
+//! over the lung line over a wide abdomen, so all three show where they are equal.
 //!
 //! The image has a fixed size whatever the input length: the waveform (given as samples or as an
 //! already reduced min/max envelope, evenly spread over its duration) is reduced to its minimum
@@ -28,6 +32,8 @@ pub const WIDTH_PX: u32 = 1600;
 pub const HEIGHT_PX: u32 = 800;
 /// Column width above which breaths are drawn as markers, seconds.
 pub const MARKER_COLUMN_S: f64 = 0.05;
+/// Least distance between two breath numbers, pixels.
+const NUMBER_SPACING_PX: f64 = 28.0;
 const FONT: &str = "pneuma-sans";
 const FONT_BYTES: &[u8] = include_bytes!("../assets/fonts/DejaVuSansCondensed-subset.ttf");
 
@@ -123,6 +129,45 @@ fn columns(
     out
 }
 
+/// A time axis label for `t_s` on a plot `duration_s` long: seconds (`12.5`) below a minute,
+/// `m:ss` below an hour, `h:mm:ss` beyond.
+pub fn time_label(t_s: f64, duration_s: f64) -> String {
+    if duration_s < 60.0 {
+        return format!("{t_s:.1}");
+    }
+    let s = t_s.max(0.0).round() as u64;
+    if duration_s < 3600.0 {
+        format!("{}:{:02}", s / 60, s % 60)
+    } else {
+        format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+    }
+}
+
+/// The time axis' description for a plot `duration_s` long (the format of [`time_label`]).
+fn time_desc(duration_s: f64) -> &'static str {
+    if duration_s < 60.0 {
+        "time (s)"
+    } else if duration_s < 3600.0 {
+        "time (m:ss)"
+    } else {
+        "time (h:mm:ss)"
+    }
+}
+
+/// Every how many breaths a number is drawn: 1 when the breaths are at least
+/// [`NUMBER_SPACING_PX`] apart on average over `width_px` for `duration_s`, else the first of
+/// 2, 5, 10, 20, 50, … that spaces them so.
+pub fn numbered_every(breaths: usize, duration_s: f64, width_px: f64) -> usize {
+    if breaths < 2 || duration_s <= 0.0 {
+        return 1;
+    }
+    let px_per_breath = width_px / breaths as f64;
+    (0..)
+        .flat_map(|p| [1, 2, 5].map(|m| m * 10usize.pow(p)))
+        .find(|&every| px_per_breath * every as f64 >= NUMBER_SPACING_PX || every >= breaths)
+        .unwrap_or(breaths)
+}
+
 /// Runs of equal phase: (start_s, end_s, phase).
 fn phase_runs(controls: &[ControlFrame]) -> Vec<(f64, f64, Phase)> {
     let mut runs: Vec<(f64, f64, Phase)> = Vec::new();
@@ -189,12 +234,24 @@ fn draw(
     controls: &[ControlFrame],
     breaths: &[BreathEvent],
 ) -> Result<(), String> {
+    let root = BitMapBackend::new(file, (WIDTH_PX, HEIGHT_PX)).into_drawing_area();
+    draw_on(&root, audio, audio_s, controls, breaths)?;
+    root.present().map_err(|x| x.to_string())
+}
+
+/// Draws the plot on `root` ([`WIDTH_PX`] × [`HEIGHT_PX`]).
+fn draw_on(
+    root: &DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>,
+    audio: &[f32],
+    audio_s: f64,
+    controls: &[ControlFrame],
+    breaths: &[BreathEvent],
+) -> Result<(), String> {
     let e = |x: &dyn std::fmt::Display| x.to_string();
     let rate = audio.len() as f64 / audio_s.max(1e-9);
     let controls_s = controls.last().map_or(0.0, |f| f.time_s);
     let duration_s = audio_s.max(controls_s).max(1e-3);
     let markers = duration_s / WIDTH_PX as f64 > MARKER_COLUMN_S;
-    let root = BitMapBackend::new(file, (WIDTH_PX, HEIGHT_PX)).into_drawing_area();
     root.fill(&WHITE).map_err(|x| e(&x))?;
     let (top, bottom) = root.split_vertically(HEIGHT_PX * 9 / 20);
     let label = (FONT, 16).into_font();
@@ -220,6 +277,7 @@ fn draw(
     chart
         .configure_mesh()
         .disable_x_mesh()
+        .x_label_formatter(&|t: &f64| time_label(*t, duration_s))
         .light_line_style(TRANSPARENT)
         .y_desc("fraction of maximum")
         .label_style(label.clone())
@@ -239,23 +297,16 @@ fn draw(
             .map(move |c| (c.time_s, f(c) as f64))
             .collect::<Vec<_>>()
     };
-    // Abdomen first and wide, thorax over it and thin: both stay visible when equal.
+    // Abdomen first and wide, the lung over it, the thorax dashed on top: all three stay
+    // visible where they are equal.
     chart
         .draw_series(LineSeries::new(
             series(|c| c.breathing.abdomen),
-            ABDOMEN.stroke_width(4),
+            ABDOMEN.stroke_width(6),
         ))
         .map_err(|x| e(&x))?
         .label("abdomen")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], ABDOMEN));
-    chart
-        .draw_series(LineSeries::new(
-            series(|c| c.breathing.thorax),
-            THORAX.stroke_width(1),
-        ))
-        .map_err(|x| e(&x))?
-        .label("thorax")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], THORAX));
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], ABDOMEN.stroke_width(4)));
     chart
         .draw_series(LineSeries::new(
             series(|c| c.breathing.lung),
@@ -264,6 +315,16 @@ fn draw(
         .map_err(|x| e(&x))?
         .label("lung")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], LUNG.stroke_width(2)));
+    chart
+        .draw_series(DashedLineSeries::new(
+            series(|c| c.breathing.thorax),
+            8,
+            6,
+            THORAX.stroke_width(3),
+        ))
+        .map_err(|x| e(&x))?
+        .label("thorax")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 8, y)], THORAX.stroke_width(3)));
     chart
         .configure_series_labels()
         .label_font(label.clone())
@@ -294,8 +355,9 @@ fn draw(
     wave.configure_mesh()
         .disable_x_mesh()
         .y_label_formatter(&|v: &f64| tick(*v))
+        .x_label_formatter(&|t: &f64| time_label(*t, duration_s))
         .light_line_style(TRANSPARENT)
-        .x_desc("time (s)")
+        .x_desc(time_desc(duration_s))
         .y_desc("amplitude")
         .label_style(label.clone())
         .axis_desc_style(label)
@@ -329,7 +391,23 @@ fn draw(
         }))
         .map_err(|x| e(&x))?;
     }
-    root.present().map_err(|x| e(&x))?;
+    // The breaths' numbers (as in the marker files) along the top of the waveform.
+    let every = numbered_every(breaths.len(), duration_s, f64::from(WIDTH_PX));
+    let number_font = (FONT, 13).into_font().color(&BREATH);
+    wave.draw_series(
+        breaths
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| crate::markers::number(*i).is_multiple_of(every))
+            .map(|(i, b)| {
+                Text::new(
+                    crate::markers::number(i).to_string(),
+                    (0.5 * (b.start_s + b.end_s), peak),
+                    number_font.clone(),
+                )
+            }),
+    )
+    .map_err(|x| e(&x))?;
     Ok(())
 }
 
@@ -367,6 +445,76 @@ mod tests {
         assert_eq!(cols[1].hi, 0.9);
         assert!(cols.iter().filter(|c| c.hi > 0.0).count() == 1);
         assert!(cols[5].breath && !cols[2].breath && !cols[8].breath);
+    }
+
+    #[test]
+    fn time_reads_in_seconds_then_minutes_then_hours() {
+        assert_eq!(time_label(12.5, 25.0), "12.5");
+        assert_eq!(time_label(250.0, 406.45), "4:10");
+        assert_eq!(time_label(59.6, 600.0), "1:00");
+        assert_eq!(time_label(3725.0, 4000.0), "1:02:05");
+        assert_eq!(time_label(0.0, 4000.0), "0:00:00");
+        assert_eq!(time_desc(25.0), "time (s)");
+        assert_eq!(time_desc(406.45), "time (m:ss)");
+        assert_eq!(time_desc(3600.0), "time (h:mm:ss)");
+    }
+
+    #[test]
+    fn breaths_are_numbered_every_one_two_five_ten_as_space_allows() {
+        assert_eq!(numbered_every(3, 25.0, 1600.0), 1);
+        // 57 breaths in 1600 px: 28 px each.
+        assert_eq!(numbered_every(57, 400.0, 1600.0), 1);
+        assert_eq!(numbered_every(80, 400.0, 1600.0), 2);
+        assert_eq!(numbered_every(200, 3600.0, 1600.0), 5);
+        assert_eq!(numbered_every(600, 3600.0, 1600.0), 20);
+        assert_eq!(numbered_every(0, 3600.0, 1600.0), 1);
+    }
+
+    /// The plot drawn in memory: RGB bytes, [`WIDTH_PX`] × [`HEIGHT_PX`].
+    fn pixels(controls: &[ControlFrame], audio: &[f32], audio_s: f64) -> Vec<u8> {
+        register_font();
+        let mut buf = vec![0u8; (WIDTH_PX * HEIGHT_PX * 3) as usize];
+        {
+            let root =
+                BitMapBackend::with_buffer(&mut buf, (WIDTH_PX, HEIGHT_PX)).into_drawing_area();
+            draw_on(&root, audio, audio_s, controls, &[]).expect("draws");
+            root.present().expect("present");
+        }
+        buf
+    }
+
+    fn count(buf: &[u8], c: RGBColor) -> usize {
+        buf.chunks_exact(3)
+            .filter(|p| p[0] == c.0 && p[1] == c.1 && p[2] == c.2)
+            .count()
+    }
+
+    #[test]
+    fn the_thorax_and_lung_show_where_they_equal_the_abdomen() {
+        // Lung, thorax and abdomen all the same sawtooth.
+        let controls: Vec<ControlFrame> = (0..3000)
+            .map(|i| {
+                let v = (i % 300) as f32 / 300.0;
+                ControlFrame {
+                    index: i,
+                    time_s: i as f64 * 0.01,
+                    breathing: BreathingState {
+                        lung: v,
+                        thorax: v,
+                        abdomen: v,
+                        ..Default::default()
+                    },
+                    ..Default::default()
+                }
+            })
+            .collect();
+        let audio = vec![0.0f32; 30 * 100];
+        let buf = pixels(&controls, &audio, 30.0);
+        // The legend's samples alone are a few dozen pixels each; the lines are thousands.
+        for (name, c) in [("thorax", THORAX), ("lung", LUNG), ("abdomen", ABDOMEN)] {
+            let n = count(&buf, c);
+            assert!(n > 1500, "{name}: {n} pixels of its colour");
+        }
     }
 
     #[test]

@@ -59,7 +59,11 @@ pub struct RenderSummary {
 /// What a lossy input became, for the summary: `" (MP3 input written as FLAC: …)"`.
 pub fn lossy_note(s: &RenderSummary) -> String {
     let (format, lossless) = s.input_format;
-    if lossless || s.container == Container::Wav && format == InputFormat::Wav {
+    // MP3 output is asked for: no note.
+    if lossless
+        || s.container == Container::Mp3
+        || s.container == Container::Wav && format == InputFormat::Wav
+    {
         return String::new();
     }
     format!(
@@ -96,7 +100,10 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
     }
     let audio = match &outputs.files {
         None => AudioSink::stdout(info),
-        Some(_) => AudioSink::create_as(&outputs.audio, info, outputs.container, tags),
+        Some(_) => match outputs.mp3 {
+            Some(mp3) => AudioSink::create_mp3(&outputs.audio, info, tags, mp3),
+            None => AudioSink::create_as(&outputs.audio, info, outputs.container, tags),
+        },
     }
     .map_err(out_err(&outputs.audio))?;
     let frame_rate_hz = engine.config().analysis.frame_rate_hz;

@@ -37,9 +37,17 @@ pub struct Args {
     #[arg(short, long, value_name = "DIR")]
     pub output: PathBuf,
     /// Audio format of the output: by default the input's own for WAV, FLAC and AIFF, and FLAC
-    /// for everything else (never a second lossy generation).
+    /// for everything else (never a second lossy generation); MP3 only when asked.
     #[arg(long, value_enum)]
     pub format: Option<Container>,
+    /// MP3 bitrate, kbps (with --format mp3; 8 to 320 in LAME's steps; default: the input's
+    /// for MP3 input, else 192). With --vbr, the average aimed at.
+    #[arg(long, value_name = "KBPS", value_parser = crate::mp3_out::parse_bitrate)]
+    pub bitrate: Option<u32>,
+    /// Variable-bitrate MP3 (with --format mp3; LAME's -V level nearest the bitrate). Default:
+    /// constant bitrate, or VBR for VBR MP3 input.
+    #[arg(long)]
+    pub vbr: bool,
     /// Breath markers for editors, comma-separated: audacity (label track
     /// `<stem>.breaths.txt`), reaper (region list `<stem>.breaths.reaper.csv`), cue (cue points
     /// inside the output WAV).
@@ -356,6 +364,8 @@ pub struct OutputPlan {
     pub bvh_fps: Option<f64>,
     /// The other files, `None` with `-o -` (only the audio, to standard output).
     pub files: Option<FolderFiles>,
+    /// The MP3 encoding when the audio is MP3.
+    pub mp3: Option<crate::mp3_out::Mp3Settings>,
 }
 
 impl Job {
@@ -374,6 +384,7 @@ impl Job {
         check_cue_container(args, container)?;
         let mut info = source.info();
         check_input_shape(args, &info)?;
+        let mp3 = mp3_settings(args, input, container, &source, args.channel.is_some())?;
         let input_channels = info.channels as usize;
         let pick = args.channel.map(Channel::index);
         if let Some(k) = pick {
@@ -387,7 +398,8 @@ impl Job {
             info.channels = 1;
         }
         let engine = prepared_engine(args, input, config, &info)?;
-        let outputs = OutputPlan::new(args, input, container)?;
+        let mut outputs = OutputPlan::new(args, input, container)?;
+        outputs.mp3 = mp3;
         Ok(Self {
             input_channels: (input_channels, pick),
             input_format: (source.format(), source.lossless()),
@@ -424,6 +436,44 @@ fn check_stdout_options(args: &Args) -> Result<(), RenderError> {
         ));
     }
     Ok(())
+}
+
+/// The MP3 encoding with `--format mp3` (`None` for other formats); `--bitrate` and `--vbr`
+/// without it, more than two channels (unless one is picked), and a bitrate the MP3's rate
+/// does not hold are refused.
+fn mp3_settings(
+    args: &Args,
+    input: &Path,
+    container: Container,
+    source: &AudioSource,
+    one_channel: bool,
+) -> Result<Option<crate::mp3_out::Mp3Settings>, RenderError> {
+    if container != Container::Mp3 {
+        if args.bitrate.is_some() || args.vbr {
+            return Err(RenderError::Input(
+                "--bitrate and --vbr set the MP3 encoding: add --format mp3, or drop them".into(),
+            ));
+        }
+        return Ok(None);
+    }
+    let info = source.info();
+    if info.channels > 2 && !one_channel {
+        return Err(RenderError::Input(format!(
+            "MP3 holds one or two channels and {} has {}: add --channel left, or write \
+             --format flac",
+            input.display(),
+            info.channels
+        )));
+    }
+    crate::mp3_out::Mp3Settings::resolve(
+        args.bitrate,
+        args.vbr,
+        input,
+        source.format(),
+        info.sample_rate_hz,
+    )
+    .map(Some)
+    .map_err(RenderError::Input)
 }
 
 /// Cue points live inside a WAV file.
@@ -541,6 +591,7 @@ impl OutputPlan {
                 cues,
                 bvh_fps: None,
                 files: None,
+                mp3: None,
             });
         }
         crate::options::check_output_folder("-o", &args.output).map_err(RenderError::Input)?;
@@ -579,6 +630,7 @@ impl OutputPlan {
             cues,
             bvh_fps: args.bvh_fps.map(f64::from),
             files: Some(files),
+            mp3: None,
         })
     }
 }

@@ -8,6 +8,7 @@ mod support;
 mod analyze_cli;
 mod formats;
 mod long_render;
+mod mp3_output;
 mod podcast;
 mod render_cli;
 mod speak_cli;

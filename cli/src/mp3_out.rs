@@ -1,0 +1,427 @@
+//! MP3 output (`--format mp3`): LAME (the `mp3lame-encoder` crate, which builds LAME 3.100 from
+//! source with the C compiler) behind an ID3v2.3 tag (title, artist, album, comment, chapters as
+//! `CHAP`/`CTOC` frames, written with the `id3` crate) and LAME's Info/Xing frame, which carries
+//! the encoder delay and padding so decoders (ffmpeg, symphonia, players) trim them and the
+//! decoded length equals the render's.
+//!
+//! MP3 is written only when asked: a lossy input is never encoded lossy a second time by default
+//! ([`crate::render::output_container`]). The bitrate ([`Mp3Settings::resolve`]) is
+//! `--bitrate`, else the input's own for MP3 input ([`input_bitrate`]: the average of a VBR
+//! file's Xing header, the first frame's for CBR), else 192 kbps; `--vbr` (or a VBR MP3 input)
+//! encodes VBR at the LAME `-V` level whose documented average is nearest that bitrate.
+//!
+//! MP3 holds 8 to 48 kHz: input at a rate MP3 does not hold is resampled by LAME to the
+//! highest MP3 rate below it ([`output_rate_hz`]).
+
+use std::num::NonZeroU32;
+use std::path::Path;
+
+use id3::TagLike;
+use mp3lame_encoder::{Bitrate, Builder, Encoder, FlushGap, InterleavedPcm, MonoPcm};
+use pneuma_io::{InputFormat, Tags};
+
+/// The bitrates the encoder writes, kbps (LAME's CBR steps shared by the MPEG versions).
+pub const BITRATES_KBPS: [u32; 16] = [
+    8, 16, 24, 32, 40, 48, 64, 80, 96, 112, 128, 160, 192, 224, 256, 320,
+];
+
+/// The bitrate without `--bitrate` when the input is not MP3, kbps.
+pub const DEFAULT_BITRATE_KBPS: u32 = 192;
+
+/// The sample rates an MP3 holds, Hz (MPEG-2.5, MPEG-2, MPEG-1), ascending.
+const RATES_HZ: [u32; 9] = [
+    8_000, 11_025, 12_000, 16_000, 22_050, 24_000, 32_000, 44_100, 48_000,
+];
+
+/// LAME's VBR levels `-V 0` … `-V 9` and their documented average bitrates (kbps, 44.1 kHz
+/// stereo; LAME's usage notes): `--vbr` picks the level nearest the bitrate asked.
+const VBR_AVERAGE_KBPS: [u32; 10] = [245, 225, 190, 175, 165, 130, 115, 100, 85, 65];
+
+/// How the MP3 is encoded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Mp3Settings {
+    /// CBR bitrate, or the VBR average aimed at, kbps.
+    pub bitrate_kbps: u32,
+    /// Variable bitrate.
+    pub vbr: bool,
+    /// The MP3's sample rate (the input's, or the highest MP3 rate below it).
+    pub rate_hz: u32,
+}
+
+/// The MP3 sample rate for input at `input_hz`: the same, or the highest MP3 rate below it.
+pub fn output_rate_hz(input_hz: u32) -> u32 {
+    RATES_HZ
+        .iter()
+        .copied()
+        .rfind(|&r| r <= input_hz)
+        .unwrap_or(RATES_HZ[0])
+}
+
+/// The bitrates an MP3 at `rate_hz` holds, kbps (MPEG-1 32–320, MPEG-2 8–160, MPEG-2.5 8–64).
+fn bitrate_range_kbps(rate_hz: u32) -> (u32, u32) {
+    match rate_hz {
+        32_000.. => (32, 320),
+        16_000.. => (8, 160),
+        _ => (8, 64),
+    }
+}
+
+/// `--bitrate`'s parser: one of [`BITRATES_KBPS`] (a trailing `k` is accepted).
+pub fn parse_bitrate(text: &str) -> Result<u32, String> {
+    let list = BITRATES_KBPS.map(|b| b.to_string()).join(", ");
+    let kbps: u32 = text
+        .trim()
+        .trim_end_matches(['k', 'K'])
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number of kbps: give one of {list}"))?;
+    if BITRATES_KBPS.contains(&kbps) {
+        Ok(kbps)
+    } else {
+        Err(format!(
+            "{kbps} kbps is not an MP3 bitrate: give one of {list}"
+        ))
+    }
+}
+
+/// The bitrate of an MP3 file, kbps, and whether it is VBR: a Xing header's average (bytes and
+/// frames) for VBR, else the first frame's. `None` when `path` is no MP3 this can read (then
+/// the default applies).
+pub fn input_bitrate(path: &Path) -> Option<(u32, bool)> {
+    use std::io::Read;
+    let mut head = Vec::new();
+    std::fs::File::open(path)
+        .ok()?
+        .take(256 * 1024)
+        .read_to_end(&mut head)
+        .ok()?;
+    let mut at = 0;
+    if head.starts_with(b"ID3") && head.len() >= 10 {
+        let size = head[6..10]
+            .iter()
+            .fold(0usize, |s, &b| (s << 7) | usize::from(b & 0x7f));
+        let footer = if head[5] & 0x10 != 0 { 10 } else { 0 };
+        at = 10 + size + footer;
+    }
+    let frame_at = (at..head.len().saturating_sub(4))
+        .find(|&i| head[i] == 0xff && head[i + 1] & 0xe6 == 0xe2)?;
+    let h = &head[frame_at..];
+    let version = (h[1] >> 3) & 3; // 3: MPEG-1, 2: MPEG-2, 0: MPEG-2.5
+    let index = usize::from(h[2] >> 4);
+    let mpeg1 = version == 3;
+    const MPEG1: [u32; 15] = [
+        0, 32, 40, 48, 56, 64, 80, 96, 112, 128, 160, 192, 224, 256, 320,
+    ];
+    const MPEG2: [u32; 15] = [0, 8, 16, 24, 32, 40, 48, 56, 64, 80, 96, 112, 128, 144, 160];
+    let header_kbps = *if mpeg1 { &MPEG1 } else { &MPEG2 }.get(index)?;
+    const RATES: [[u32; 3]; 4] = [
+        [11_025, 12_000, 8_000],
+        [0, 0, 0],
+        [22_050, 24_000, 16_000],
+        [44_100, 48_000, 32_000],
+    ];
+    let rate_hz = RATES
+        .get(usize::from(version))?
+        .get(usize::from((h[2] >> 2) & 3))
+        .copied()?;
+    let mono = h[3] >> 6 == 3;
+    let side = match (mpeg1, mono) {
+        (true, false) => 32,
+        (true, true) | (false, false) => 17,
+        (false, true) => 9,
+    };
+    let tag = h.get(4 + side..4 + side + 16)?;
+    if &tag[..4] == b"Xing" && tag[7] & 3 == 3 {
+        let frames = u64::from(u32::from_be_bytes(tag[8..12].try_into().ok()?));
+        let bytes = u64::from(u32::from_be_bytes(tag[12..16].try_into().ok()?));
+        let samples = frames * if mpeg1 { 1152 } else { 576 };
+        if samples > 0 && rate_hz > 0 {
+            let kbps = bytes * 8 * u64::from(rate_hz) / samples / 1000;
+            return Some((u32::try_from(kbps).ok()?, true));
+        }
+    }
+    (header_kbps > 0).then_some((header_kbps, false))
+}
+
+impl Mp3Settings {
+    /// The settings for an input at `input_hz` in `format` (at `path`; `-` is standard input):
+    /// `asked_kbps` (`--bitrate`) else the MP3 input's own bitrate (snapped to the nearest of
+    /// [`BITRATES_KBPS`] the rate holds) else [`DEFAULT_BITRATE_KBPS`]; VBR with `vbr` or
+    /// when the MP3 input is VBR. `Err` says what to give when the bitrate does not fit the rate.
+    pub fn resolve(
+        asked_kbps: Option<u32>,
+        vbr: bool,
+        path: &Path,
+        format: InputFormat,
+        input_hz: u32,
+    ) -> Result<Self, String> {
+        let rate_hz = output_rate_hz(input_hz);
+        let (lo, hi) = bitrate_range_kbps(rate_hz);
+        let from_input = (format == InputFormat::Mp3 && path.as_os_str() != "-")
+            .then(|| input_bitrate(path))
+            .flatten();
+        let bitrate_kbps = match (asked_kbps, from_input) {
+            (Some(kbps), _) => {
+                if !(lo..=hi).contains(&kbps) {
+                    return Err(format!(
+                        "--bitrate {kbps}: an MP3 at {rate_hz} Hz holds {lo} to {hi} kbps; give \
+                         a bitrate in that range"
+                    ));
+                }
+                kbps
+            }
+            (None, Some((kbps, _))) => nearest(kbps, lo, hi),
+            (None, None) => nearest(DEFAULT_BITRATE_KBPS, lo, hi),
+        };
+        Ok(Self {
+            bitrate_kbps,
+            vbr: vbr || from_input.is_some_and(|(_, v)| v),
+            rate_hz,
+        })
+    }
+}
+
+/// The one of [`BITRATES_KBPS`] within `lo..=hi` nearest `kbps` (the higher on a tie).
+fn nearest(kbps: u32, lo: u32, hi: u32) -> u32 {
+    BITRATES_KBPS
+        .iter()
+        .copied()
+        .filter(|b| (lo..=hi).contains(b))
+        .min_by_key(|&b| (b.abs_diff(kbps), u32::MAX - b))
+        .unwrap_or(hi)
+}
+
+fn lame_err(e: impl std::fmt::Display) -> std::io::Error {
+    std::io::Error::other(format!("MP3 encoder (LAME): {e}"))
+}
+
+fn bitrate_enum(kbps: u32) -> Bitrate {
+    use Bitrate::*;
+    match kbps {
+        8 => Kbps8,
+        16 => Kbps16,
+        24 => Kbps24,
+        32 => Kbps32,
+        40 => Kbps40,
+        48 => Kbps48,
+        64 => Kbps64,
+        80 => Kbps80,
+        96 => Kbps96,
+        112 => Kbps112,
+        128 => Kbps128,
+        160 => Kbps160,
+        192 => Kbps192,
+        224 => Kbps224,
+        256 => Kbps256,
+        _ => Kbps320,
+    }
+}
+
+fn vbr_quality(kbps: u32) -> mp3lame_encoder::Quality {
+    use mp3lame_encoder::Quality::*;
+    let level = (0..VBR_AVERAGE_KBPS.len())
+        .min_by_key(|&v| VBR_AVERAGE_KBPS[v].abs_diff(kbps))
+        .unwrap_or(2);
+    [
+        Best,
+        SecondBest,
+        NearBest,
+        VeryNice,
+        Nice,
+        Good,
+        Decent,
+        Ok,
+        SecondWorst,
+        Worst,
+    ][level]
+}
+
+/// The ID3v2.3 tag for `tags` (empty when there are none); chapters end where the next one
+/// starts, the last at `length_s` (the input's announced length; its start when unknown).
+pub fn id3_tag(tags: &Tags, length_s: Option<f64>) -> std::io::Result<Vec<u8>> {
+    let mut tag = id3::Tag::new();
+    if let Some(t) = &tags.title {
+        tag.set_title(t.as_str());
+    }
+    if let Some(a) = &tags.artist {
+        tag.set_artist(a.as_str());
+    }
+    if let Some(a) = &tags.album {
+        tag.set_album(a.as_str());
+    }
+    if let Some(c) = &tags.comment {
+        tag.add_frame(id3::frame::Comment {
+            lang: "eng".into(),
+            description: String::new(),
+            text: c.clone(),
+        });
+    }
+    let ms = |s: f64| (s.max(0.0) * 1000.0).round().min(f64::from(u32::MAX)) as u32;
+    let ids: Vec<String> = (1..=tags.chapters.len())
+        .map(|i| format!("ch{i}"))
+        .collect();
+    for (i, c) in tags.chapters.iter().enumerate() {
+        let end_s = tags
+            .chapters
+            .get(i + 1)
+            .map(|n| n.start_s)
+            .or(length_s)
+            .unwrap_or(c.start_s);
+        let mut title = id3::Tag::new();
+        title.set_title(c.title.as_str());
+        tag.add_frame(id3::frame::Chapter {
+            element_id: ids[i].clone(),
+            start_time: ms(c.start_s),
+            end_time: ms(end_s.max(c.start_s)),
+            start_offset: u32::MAX,
+            end_offset: u32::MAX,
+            frames: title.frames().cloned().collect(),
+        });
+    }
+    if !ids.is_empty() {
+        tag.add_frame(id3::frame::TableOfContents {
+            element_id: "toc".into(),
+            top_level: true,
+            ordered: true,
+            elements: ids,
+            frames: Vec::new(),
+        });
+    }
+    let mut out = Vec::new();
+    if tag.frames().next().is_some() {
+        tag.write_to(&mut out, id3::Version::Id3v23)
+            .map_err(|e| std::io::Error::other(format!("ID3 tag: {e}")))?;
+    }
+    Ok(out)
+}
+
+/// A running LAME encoder; the bytes it returns follow the ID3 tag in the file, and its Info
+/// frame ([`Mp3Encoder::finish`]) replaces the first frame of them.
+pub struct Mp3Encoder {
+    encoder: Encoder,
+    channels: usize,
+    /// Encoded bytes waiting to be written.
+    out: Vec<u8>,
+    /// Clamped input samples.
+    scratch: Vec<f32>,
+}
+
+impl Mp3Encoder {
+    /// An encoder for `channels` (1 or 2) at `input_hz`, as `settings` ask.
+    pub fn new(channels: u16, input_hz: u32, settings: Mp3Settings) -> std::io::Result<Self> {
+        if !(1..=2).contains(&channels) {
+            return Err(std::io::Error::other(format!(
+                "MP3 holds one or two channels and the input has {channels}: add --channel \
+                 left, or write --format flac"
+            )));
+        }
+        let mut b = Builder::new().ok_or_else(|| lame_err("cannot start"))?;
+        b.set_num_channels(channels as u8).map_err(lame_err)?;
+        b.set_sample_rate(input_hz).map_err(lame_err)?;
+        b.set_output_sample_rate(NonZeroU32::new(settings.rate_hz))
+            .map_err(lame_err)?;
+        b.set_mode(if channels == 1 {
+            mp3lame_encoder::Mode::Mono
+        } else {
+            mp3lame_encoder::Mode::JointStereo
+        })
+        .map_err(lame_err)?;
+        // LAME's recommended algorithm quality (`-q 2`, the `-h` of its front end).
+        b.set_quality(mp3lame_encoder::Quality::NearBest)
+            .map_err(lame_err)?;
+        if settings.vbr {
+            b.set_vbr_mode(mp3lame_encoder::VbrMode::Mtrh)
+                .map_err(lame_err)?;
+            b.set_vbr_quality(vbr_quality(settings.bitrate_kbps))
+                .map_err(lame_err)?;
+        } else {
+            b.set_vbr_mode(mp3lame_encoder::VbrMode::Off)
+                .map_err(lame_err)?;
+            b.set_brate(bitrate_enum(settings.bitrate_kbps))
+                .map_err(lame_err)?;
+        }
+        // The Info/Xing frame with the LAME extension: delay and padding for gapless decoding.
+        b.set_to_write_vbr_tag(true).map_err(lame_err)?;
+        Ok(Self {
+            encoder: b.build().map_err(lame_err)?,
+            channels: usize::from(channels),
+            out: Vec::new(),
+            scratch: Vec::new(),
+        })
+    }
+
+    /// Encodes interleaved samples (full scale ±1; beyond it clamped, counted in `clipped`) and
+    /// returns the bytes to write.
+    pub fn encode(&mut self, samples: &[f32], clipped: &mut u64) -> std::io::Result<&[u8]> {
+        self.scratch.clear();
+        self.scratch.extend(samples.iter().map(|&x| {
+            if !(-1.0..=1.0).contains(&x) {
+                *clipped += 1;
+            }
+            x.clamp(-1.0, 1.0)
+        }));
+        let frames = samples.len() / self.channels;
+        self.out.clear();
+        self.out
+            .reserve(mp3lame_encoder::max_required_buffer_size(frames));
+        let r = if self.channels == 1 {
+            self.encoder
+                .encode_to_vec(MonoPcm(&self.scratch[..]), &mut self.out)
+        } else {
+            self.encoder
+                .encode_to_vec(InterleavedPcm(&self.scratch[..]), &mut self.out)
+        };
+        r.map_err(lame_err)?;
+        Ok(&self.out)
+    }
+
+    /// Flushes the encoder: the last frames, and the Info frame that replaces the first frame
+    /// written.
+    pub fn finish(&mut self) -> std::io::Result<(Vec<u8>, Vec<u8>)> {
+        let mut last = Vec::with_capacity(7200);
+        self.encoder
+            .flush_to_vec::<FlushGap>(&mut last)
+            .map_err(lame_err)?;
+        let mut info = Vec::with_capacity(self.encoder.lame_tag_size().max(1));
+        self.encoder.lame_tag_encode_to_vec(&mut info);
+        Ok((last, info))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bitrates_are_parsed_and_bad_ones_refused_with_the_list() {
+        assert_eq!(parse_bitrate("128"), Ok(128));
+        assert_eq!(parse_bitrate("320k"), Ok(320));
+        let e = parse_bitrate("100").unwrap_err();
+        assert!(e.contains("100 kbps is not an MP3 bitrate"), "{e}");
+        assert!(e.contains("8, 16, 24"), "{e}");
+        let e = parse_bitrate("fast").unwrap_err();
+        assert!(e.contains("'fast' is not a number of kbps"), "{e}");
+    }
+
+    #[test]
+    fn the_default_bitrate_is_192_for_non_mp3_input_and_fits_the_rate() {
+        let wav = Path::new("x.wav");
+        let s = Mp3Settings::resolve(None, false, wav, InputFormat::Wav, 44_100).unwrap();
+        assert_eq!((s.bitrate_kbps, s.vbr, s.rate_hz), (192, false, 44_100));
+        // MPEG-2 rates hold at most 160 kbps.
+        let s = Mp3Settings::resolve(None, false, wav, InputFormat::Wav, 16_000).unwrap();
+        assert_eq!((s.bitrate_kbps, s.rate_hz), (160, 16_000));
+        // 96 kHz is written at 48 kHz.
+        let s = Mp3Settings::resolve(Some(64), true, wav, InputFormat::Flac, 96_000).unwrap();
+        assert_eq!((s.bitrate_kbps, s.vbr, s.rate_hz), (64, true, 48_000));
+        let e = Mp3Settings::resolve(Some(320), false, wav, InputFormat::Wav, 8_000).unwrap_err();
+        assert!(e.contains("8000 Hz holds 8 to 64 kbps"), "{e}");
+    }
+
+    #[test]
+    fn vbr_levels_follow_the_bitrate() {
+        assert_eq!(vbr_quality(320) as u8, 0);
+        assert_eq!(vbr_quality(192) as u8, 2);
+        assert_eq!(vbr_quality(128) as u8, 5);
+        assert_eq!(vbr_quality(8) as u8, 9);
+    }
+}
