@@ -6,6 +6,7 @@ pub mod analyze;
 pub mod audio_out;
 pub mod markers;
 pub mod options;
+pub mod osc_out;
 pub mod output;
 pub mod plot;
 pub mod render;

@@ -8,6 +8,7 @@ mod support;
 mod analyze_cli;
 mod formats;
 mod long_render;
+mod osc;
 mod podcast;
 mod render_cli;
 mod speak_cli;
