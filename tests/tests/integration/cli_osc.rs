@@ -73,7 +73,7 @@ fn clip(dir: &Path) -> (PathBuf, Vec<f32>, u32) {
     (path, samples, rate)
 }
 
-/// `pneuma render IN -o DIR --osc-port PORT --osc-format FORMAT --osc-speed SPEED` in process
+/// `pneuma render IN -o DIR/out --osc-port PORT --osc-format FORMAT --osc-speed SPEED` in process
 /// (the command's own argument parsing and code path); the OSC line of its summary.
 fn render(input: &Path, dir: &Path, port: u16, format: &str, speed: &str) -> Option<String> {
     use clap::{Args as _, FromArgMatches as _};
@@ -81,7 +81,7 @@ fn render(input: &Path, dir: &Path, port: u16, format: &str, speed: &str) -> Opt
         "render",
         input.to_str().unwrap(),
         "-o",
-        dir.to_str().unwrap(),
+        dir.join("out").to_str().unwrap(),
         "--quiet",
         "--no-plot",
         "--lookahead-ms",
