@@ -5,8 +5,9 @@
 use nice_plug::prelude::Enum;
 use pneuma_core::settings::output::{OSC_FORMAT, OSC_PORT};
 use pneuma_core::settings::{Setting, Unit};
+use pneuma_osc::{DEFAULT_OSC_HOST, DEFAULT_OSC_PORT};
 use pneuma_plugin::editor::standalone::AppDefaults;
-use pneuma_plugin::params::{OscFormatChoice, DEFAULT_OSC_HOST, DEFAULT_OSC_PORT};
+use pneuma_plugin::params::OscFormatChoice;
 
 /// The app's help (printed before nice-plug's own).
 pub fn help() -> String {
@@ -74,7 +75,7 @@ pub fn parse(args: &[String]) -> Result<AppOptions, String> {
         defaults: AppDefaults {
             live: true,
             osc_host: DEFAULT_OSC_HOST.to_owned(),
-            osc_port: DEFAULT_OSC_PORT as u16,
+            osc_port: DEFAULT_OSC_PORT,
             osc_format: OscFormatChoice::Vmc,
         },
         no_osc: false,

@@ -1,5 +1,5 @@
-//! VMC checked by third-party code: the plugin's OSC sender (the one the app and the plugin
-//! use) sends VMC bundles for frames with a known head pose to `vmc_receiver.py`, which parses
+//! VMC checked by third-party code: the plugin's OSC sender (`pneuma_osc::worker`, the one the
+//! app and the plugin use) sends VMC bundles for frames with a known head pose to `vmc_receiver.py`, which parses
 //! them with python-osc and vmcp and checks bone names, the Unity frame, the quaternion order,
 //! blendshape names, one `/VMC/Ext/Blend/Apply` per bundle and one bundle per frame.
 //!
@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 
 use pneuma_core::encode::osc::OscFormat;
 use pneuma_core::{ControlFrame, HeadAngles};
-use pneuma_plugin::osc_sender::{self, OscSettings};
+use pneuma_osc::worker::{self as osc_sender, OscSettings};
 
 struct Target(u16);
 

@@ -54,6 +54,7 @@ fn bench(c: &mut Criterion) {
         frame_rate: 120.0,
         bvh: false,
         midi: false,
+        osc: Default::default(),
         bvh_fps: None,
         no_plot: false,
         no_overwrite: false,

@@ -7,6 +7,7 @@ pub mod audio_out;
 pub mod markers;
 pub mod mp3_out;
 pub mod options;
+pub mod osc_out;
 pub mod output;
 pub mod plot;
 pub mod render;

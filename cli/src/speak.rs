@@ -106,6 +106,9 @@ pub struct Args {
     /// Also write `speech.mid`: the MIDI CC lanes the plugin sends, as in `render --midi`.
     #[arg(long)]
     pub midi: bool,
+    /// OSC output as in `render` (the frames are sent once the files are written).
+    #[command(flatten)]
+    pub osc: crate::osc_out::OscArgs,
     /// Skip the plot.
     #[arg(long)]
     pub no_plot: bool,
@@ -183,6 +186,8 @@ pub struct SpeakSummary {
     pub duration_s: f64,
     /// The inserted breaths.
     pub breaths: Vec<BreathEvent>,
+    /// What was sent as OSC (`--osc`), for the summary.
+    pub osc: Option<String>,
 }
 
 /// Runs `pneuma speak`.
@@ -197,6 +202,9 @@ pub fn main(args: Args) -> ExitCode {
                     plural(s.breaths.len(), "breath", "breaths"),
                     args.out_dir.display()
                 );
+                if let Some(osc) = &s.osc {
+                    eprintln!("  {osc}");
+                }
             }
             ExitCode::SUCCESS
         }
@@ -394,6 +402,7 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         return Err(SpeakError::NoText);
     }
     crate::options::check_output_folder("-o", &args.out_dir).map_err(SpeakError::Option)?;
+    let osc = args.osc.plan().map_err(SpeakError::Option)?;
     let out = |name: &str| args.out_dir.join(name);
     let names = [
         "speech.wav",
@@ -585,11 +594,23 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         staged.push(plot);
     }
     commit_all(staged).map_err(|(path, source)| SpeakError::Output { path, source })?;
+    let osc = match osc {
+        Some(plan) => {
+            use pneuma_core::encode::sink::FrameSink as _;
+            let mut sender = plan.open().map_err(SpeakError::Option)?;
+            for f in &frames {
+                sender.frame(f, 0);
+            }
+            Some(plan.describe(&sender.stats()))
+        }
+        None => None,
+    };
     Ok(SpeakSummary {
         chunks,
         chunk_durations_s: durations,
         duration_s: secs(audio.len()),
         breaths,
+        osc,
     })
 }
 

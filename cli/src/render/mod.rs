@@ -133,6 +133,9 @@ fn print_summary(input: &Path, s: &RenderSummary) {
     for f in &s.files {
         eprintln!("  {}", f.display());
     }
+    if let Some(osc) = &s.osc {
+        eprintln!("  {osc}");
+    }
     for f in &s.findings {
         eprintln!("warning: {}", f.message());
     }

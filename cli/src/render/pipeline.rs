@@ -54,6 +54,8 @@ pub struct RenderSummary {
     pub clipped: u64,
     /// What the user should know about the input (no speech, antiphase channels, …).
     pub findings: Vec<Finding>,
+    /// What was sent as OSC (`--osc`), for the summary.
+    pub osc: Option<String>,
 }
 
 /// What a lossy input became, for the summary: `" (MP3 input written as FLAC: …)"`.
@@ -119,6 +121,12 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         )?,
         Kept::new(frames_total),
         midi_sink(outputs.files.as_ref())?,
+        outputs
+            .osc
+            .as_ref()
+            .map(crate::osc_out::OscPlan::open)
+            .transpose()
+            .map_err(RenderError::Input)?,
     );
     let channels = info.channels as usize;
     let mut interleaved = Vec::with_capacity(BLOCK_FRAMES * input_channels.0);
@@ -135,14 +143,19 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
             Ok(n)
         },
         &mut sinks,
-        |(controls, bvh, _, midi), planar, range| {
+        |(controls, bvh, _, midi, _), planar, range| {
             check_text_sinks(controls, bvh, outputs.files.as_ref())?;
             check_midi(midi, outputs.files.as_ref())?;
             pass.write(planar, range)
         },
     )?;
     let found = findings(&energy, &engine.speech_summary());
-    let (controls, bvh, kept, midi) = sinks;
+    let (controls, bvh, kept, midi, osc) = sinks;
+    let osc = outputs
+        .osc
+        .as_ref()
+        .zip(osc)
+        .map(|(plan, sender)| plan.describe(&sender.stats()));
     let AudioPass {
         mut audio,
         envelope,
@@ -187,6 +200,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         length_s,
         clipped,
         findings: found,
+        osc,
     })
 }
 

@@ -125,6 +125,9 @@ pub struct Args {
     /// at 120 BPM so a DAW places each change at its second.
     #[arg(long)]
     pub midi: bool,
+    /// OSC output (`--osc`, `--osc-host`, `--osc-port`, `--osc-format`, `--osc-speed`).
+    #[command(flatten)]
+    pub osc: crate::osc_out::OscArgs,
     /// Skip the plot.
     #[arg(long)]
     pub no_plot: bool,
@@ -271,6 +274,13 @@ pub fn check_batch(args: &Args, inputs: &[PathBuf]) -> Result<usize, String> {
     if inputs.iter().any(|p| p.as_os_str() == "-") {
         return Err("- (standard input) cannot be part of a batch; render it on its own".into());
     }
+    if args.osc.wanted() {
+        return Err(
+            "OSC sends one render's frames as they play: render one file with --osc, \
+                    or drop the --osc options for a batch"
+                .into(),
+        );
+    }
     if let Some((a, b)) = clashing_stems(inputs) {
         return Err(format!(
             "{} and {} would write the same output files in {}; rename one, or render them \
@@ -366,6 +376,8 @@ pub struct OutputPlan {
     pub files: Option<FolderFiles>,
     /// The MP3 encoding when the audio is MP3.
     pub mp3: Option<crate::mp3_out::Mp3Settings>,
+    /// Where the frames go as OSC, if anywhere.
+    pub osc: Option<crate::osc_out::OscPlan>,
 }
 
 impl Job {
@@ -584,6 +596,7 @@ impl OutputPlan {
     /// file, when the audio would replace the input, or (`--no-overwrite`) when one exists.
     fn new(args: &Args, input: &Path, container: Container) -> Result<Self, RenderError> {
         let cues = args.markers.contains(&MarkerKind::Cue);
+        let osc = args.osc.plan().map_err(RenderError::Input)?;
         if args.to_stdout() {
             return Ok(Self {
                 container,
@@ -592,6 +605,7 @@ impl OutputPlan {
                 bvh_fps: None,
                 files: None,
                 mp3: None,
+                osc,
             });
         }
         crate::options::check_output_folder("-o", &args.output).map_err(RenderError::Input)?;
@@ -631,6 +645,7 @@ impl OutputPlan {
             bvh_fps: args.bvh_fps.map(f64::from),
             files: Some(files),
             mp3: None,
+            osc,
         })
     }
 }

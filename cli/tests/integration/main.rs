@@ -9,6 +9,7 @@ mod analyze_cli;
 mod formats;
 mod long_render;
 mod mp3_output;
+mod osc;
 mod podcast;
 mod render_cli;
 mod speak_cli;

@@ -29,9 +29,10 @@
 //! - MIDI output: CC per the DESIGN.md map ([`pneuma_core::encode::midi_cc`]), sent only on change,
 //!   at most once per frame, at the sample offset inside the block where the frame became
 //!   available. No MIDI input (on VST3 it adds ~2 000 hidden parameters).
-//! - OSC output: [`osc_sender`]: a preallocated `rtrb` queue to a worker thread that sends UDP
-//!   bundles (pneuma or VMC) to a numeric address (no DNS); the target can change while playing;
-//!   network trouble never reaches the audio thread or holds up unloading.
+//! - OSC output: [`pneuma_osc::worker`] (the crate the CLI sends from too): a preallocated
+//!   `rtrb` queue to a worker thread that sends UDP bundles (pneuma or VMC) to a numeric address
+//!   (no DNS); the target can change while playing; network trouble never reaches the audio
+//!   thread or holds up unloading.
 //! - Parameters and persisted settings: [`params`]; a parameter of core's settings table takes
 //!   its name, range, default, unit and step from it, and hosts file it under the table's group
 //!   (VST3 units, CLAP modules): Breathing, Breaths & timing, Head, Analysis, MIDI CC, OSC
@@ -51,7 +52,6 @@ mod alloc_test;
 #[cfg(test)]
 mod automation_compat;
 pub mod editor;
-pub mod osc_sender;
 pub mod params;
 pub mod rebuild;
 mod transport;
@@ -65,11 +65,11 @@ use pneuma_core::encode::osc::OscFormat;
 use pneuma_core::encode::sink::{CcSink, FrameSink};
 
 use editor::feed::{EditorFeed, EditorShared};
-use osc_sender::{OscFeed, OscSettings, OscStats, OscWorker};
 pub use params::{ChangeFlags, PneumaParams, PARAM_IDS};
 use pneuma_core::breathing::BreathSample;
 use pneuma_core::engine::Engine;
 use pneuma_core::ControlFrame;
+use pneuma_osc::worker::{self as osc_sender, OscFeed, OscSettings, OscStats, OscWorker};
 use rebuild::{EngineSlot, SlotEvent};
 use transport::{JumpDetector, PreRoll};
 

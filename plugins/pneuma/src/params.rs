@@ -94,12 +94,6 @@ impl From<OscFormatChoice> for OscFormat {
     }
 }
 
-/// Default OSC port (the table's `osc_port`: the VMC marionette port most avatar apps listen
-/// on).
-pub const DEFAULT_OSC_PORT: i32 = output::OSC_PORT.default as i32;
-/// Default OSC host.
-pub const DEFAULT_OSC_HOST: &str = "127.0.0.1";
-
 /// Every parameter id, in declaration order.
 pub const PARAM_IDS: &[&str] = &[
     "bypass",
@@ -592,7 +586,7 @@ impl Default for PneumaParams {
             osc_enabled: BoolParam::new("OSC out", app.is_some()),
             osc_port: int_param(
                 &output::OSC_PORT,
-                app.map_or(DEFAULT_OSC_PORT, |a| i32::from(a.osc_port)),
+                i32::from(app.map_or(pneuma_osc::DEFAULT_OSC_PORT, |a| a.osc_port)),
             ),
             osc_format: EnumParam::new(
                 output::OSC_FORMAT.label,
@@ -602,7 +596,7 @@ impl Default for PneumaParams {
                 ),
             ),
             osc_host: Arc::new(RwLock::new(
-                app.map_or(DEFAULT_OSC_HOST, |a| a.osc_host.as_str())
+                app.map_or(pneuma_osc::DEFAULT_OSC_HOST, |a| a.osc_host.as_str())
                     .to_owned(),
             )),
             breath_sample_mouth: SamplePath::default(),

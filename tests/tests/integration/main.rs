@@ -5,6 +5,7 @@
 
 mod ardour;
 mod cli_midi;
+mod cli_osc;
 mod example_voice;
 mod osc_udp;
 mod plugin_clap;

@@ -25,7 +25,7 @@ use nice_plug_egui::EguiEditorState;
 use pneuma_core::encode::sink::FrameSink;
 use pneuma_core::{BreathEvent, ControlFrame};
 
-use crate::osc_sender::OscStats;
+use pneuma_osc::worker::OscStats;
 
 /// Ring capacity in frames: about 8.5 s at 120 Hz, so a GUI that skips a few repaints loses
 /// nothing.
@@ -63,7 +63,7 @@ pub struct OutputStatus {
     pub osc_failed: AtomicU64,
     /// OSC frames dropped (queue full or stale).
     pub osc_dropped: AtomicU64,
-    /// Why the last OSC frame failed ([`crate::osc_sender::OscError`] code; 0: none).
+    /// Why the last OSC frame failed ([`pneuma_osc::OscError`] code; 0: none).
     pub osc_last_error: AtomicU8,
     /// MIDI CC messages the host's event buffer refused.
     pub cc_lost: AtomicU64,
@@ -376,17 +376,14 @@ mod tests {
         let osc = OscStats::default();
         osc.sent.store(7, Ordering::Relaxed);
         osc.failed.store(3, Ordering::Relaxed);
-        osc.last_error.store(
-            crate::osc_sender::OscError::Refused as u8,
-            Ordering::Relaxed,
-        );
+        osc.last_error
+            .store(pneuma_osc::OscError::Refused as u8, Ordering::Relaxed);
         feed.end_block(Some(&osc), false);
         let status = &shared.status;
         assert_eq!(status.osc_sent.load(Ordering::Relaxed), 7);
         assert_eq!(status.osc_failed.load(Ordering::Relaxed), 3);
-        let error =
-            crate::osc_sender::OscError::from_code(status.osc_last_error.load(Ordering::Relaxed));
-        assert_eq!(error, Some(crate::osc_sender::OscError::Refused));
+        let error = pneuma_osc::OscError::from_code(status.osc_last_error.load(Ordering::Relaxed));
+        assert_eq!(error, Some(pneuma_osc::OscError::Refused));
     }
 
     #[test]

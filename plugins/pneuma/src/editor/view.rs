@@ -255,10 +255,9 @@ impl EditorApp {
             ui.label("last error");
             let failed = load(&s.osc_failed);
             if failed > 0 {
-                let reason = crate::osc_sender::OscError::from_code(
-                    s.osc_last_error.load(Ordering::Relaxed),
-                )
-                .map_or("check the host (a numeric address) and port", |e| e.text());
+                let reason =
+                    pneuma_osc::OscError::from_code(s.osc_last_error.load(Ordering::Relaxed))
+                        .map_or("check the host (a numeric address) and port", |e| e.text());
                 ui.colored_label(ERROR_COLOUR, format!("{reason} ({failed} frames not sent)"));
             } else {
                 ui.label("none");

@@ -1,4 +1,4 @@
-//! The OSC sender: the audio thread hands control frames to a worker thread through a
+//! The plugin's OSC sender: the audio thread hands control frames to a worker thread through a
 //! preallocated lock-free `rtrb` queue; the worker encodes them (pneuma or VMC bundles with NTP
 //! time tags) and sends them over UDP.
 //!
@@ -20,15 +20,17 @@
 //!   now, so tags always increase; faster-than-real-time processing (offline bounce) gives tags
 //!   ahead of the wall clock, as the audio time says.
 
-use std::net::{IpAddr, Ipv4Addr, SocketAddr, UdpSocket};
+use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
-use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+use std::time::{Duration, Instant};
 
 use pneuma_core::encode::osc::{OscFormat, TimeTag};
 use pneuma_core::encode::sink::{FrameSink, OscSink};
 use pneuma_core::ControlFrame;
+
+use crate::target::{now_unix_s, resolve, send, socket_for, OscError};
 
 /// Queue capacity in frames (about 4 s at 120 Hz).
 pub const QUEUE_FRAMES: usize = 512;
@@ -62,71 +64,6 @@ pub struct OscStats {
     pub failed: AtomicU64,
     /// Why the last frame that failed was not sent ([`OscError`] as its code; 0: none yet).
     pub last_error: AtomicU8,
-}
-
-/// Why a frame was not sent, kept as a small code so that the audio thread can copy it and the
-/// editor turns it into text ([`OscError::text`]) on its own thread: nothing allocates.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[repr(u8)]
-pub enum OscError {
-    /// The host is not a numeric IP address or `localhost` (names are never looked up).
-    NotAnAddress = 1,
-    /// No UDP socket could be opened (no network stack, or no free port).
-    NoSocket = 2,
-    /// The frame did not fit a packet (should not happen: report it).
-    Encoding = 3,
-    /// The OS found no route to the host (network down, wrong address).
-    Unreachable = 4,
-    /// The receiver's port is closed (nothing listens there).
-    Refused = 5,
-    /// The OS refused to send (a firewall, or a broadcast address).
-    PermissionDenied = 6,
-    /// Any other send error.
-    Other = 7,
-}
-
-impl OscError {
-    /// The error for a code stored in [`OscStats::last_error`] (`None` for 0 or an unknown code).
-    pub fn from_code(code: u8) -> Option<Self> {
-        [
-            Self::NotAnAddress,
-            Self::NoSocket,
-            Self::Encoding,
-            Self::Unreachable,
-            Self::Refused,
-            Self::PermissionDenied,
-            Self::Other,
-        ]
-        .into_iter()
-        .find(|e| *e as u8 == code)
-    }
-
-    /// What went wrong and what to do, for the editor.
-    pub fn text(self) -> &'static str {
-        match self {
-            Self::NotAnAddress => {
-                "the host is not an IP address: enter a numeric address (e.g. 192.168.1.20) or localhost"
-            }
-            Self::NoSocket => "no UDP socket could be opened: check the network settings",
-            Self::Encoding => "a frame did not fit an OSC packet (a bug: please report it)",
-            Self::Unreachable => "no route to the host: check the address and that the network is up",
-            Self::Refused => "nothing listens on that port: start the receiver or check the port",
-            Self::PermissionDenied => "the system refused to send: check the firewall and the address",
-            Self::Other => "sending failed: check the host and port",
-        }
-    }
-
-    fn of_send(e: &std::io::Error) -> Self {
-        use std::io::ErrorKind;
-        match e.kind() {
-            ErrorKind::ConnectionRefused => Self::Refused,
-            ErrorKind::PermissionDenied => Self::PermissionDenied,
-            ErrorKind::HostUnreachable | ErrorKind::NetworkUnreachable | ErrorKind::NetworkDown => {
-                Self::Unreachable
-            }
-            _ => Self::Other,
-        }
-    }
 }
 
 /// The audio-thread end: push frames, never blocks.
@@ -202,40 +139,6 @@ struct Target {
     resolved_at: Instant,
 }
 
-/// The target's address, without the network: a numeric IPv4 or IPv6 address (brackets
-/// allowed) or `localhost` (127.0.0.1). Host names are not resolved: a DNS lookup can block for
-/// minutes, and a worker stuck in one would hold up unloading the plugin (which joins it).
-fn resolve(key: &(String, u16)) -> Option<SocketAddr> {
-    let host = key.0.trim();
-    let ip: IpAddr = if host.eq_ignore_ascii_case("localhost") {
-        Ipv4Addr::LOCALHOST.into()
-    } else {
-        host.trim_start_matches('[')
-            .trim_end_matches(']')
-            .parse()
-            .ok()?
-    };
-    Some(SocketAddr::new(ip, key.1))
-}
-
-/// A non-blocking UDP socket of the address family of `addr`.
-fn socket_for(addr: &SocketAddr) -> Option<UdpSocket> {
-    let socket = if addr.is_ipv4() {
-        UdpSocket::bind(("0.0.0.0", 0))
-    } else {
-        UdpSocket::bind(("::", 0))
-    }
-    .ok()?;
-    socket.set_nonblocking(true).ok()?;
-    Some(socket)
-}
-
-fn now_unix_s() -> f64 {
-    SystemTime::now()
-        .duration_since(UNIX_EPOCH)
-        .map_or(0.0, |d| d.as_secs_f64())
-}
-
 fn run<S: OscSettings>(
     mut consumer: rtrb::Consumer<ControlFrame>,
     settings: Arc<S>,
@@ -280,7 +183,7 @@ fn run<S: OscSettings>(
             None => true,
         };
         if stale {
-            let addr = resolve(&key);
+            let addr = resolve(&key.0, key.1);
             if let Some(a) = &addr {
                 let family_ok = socket
                     .as_ref()
@@ -311,15 +214,7 @@ fn run<S: OscSettings>(
                 TimeTag::from_unix_seconds(base + frame.time_s)
             },
             |_: &ControlFrame, packet: &[u8]| {
-                let sent = match (addr, &socket) {
-                    (None, _) => Err(OscError::NotAnAddress),
-                    (Some(_), None) => Err(OscError::NoSocket),
-                    (Some(addr), Some(socket)) => socket
-                        .send_to(packet, addr)
-                        .map(|_| ())
-                        .map_err(|e| OscError::of_send(&e)),
-                };
-                match sent {
+                match send(addr, socket.as_ref(), packet) {
                     Ok(()) => stats.sent.fetch_add(1, Ordering::Relaxed),
                     Err(e) => {
                         stats.last_error.store(e as u8, Ordering::Relaxed);
@@ -345,18 +240,6 @@ fn run<S: OscSettings>(
 mod tests {
     use super::*;
 
-    #[test]
-    fn only_numeric_addresses_and_localhost_are_targets() {
-        let at = |h: &str| resolve(&(h.to_owned(), 9000));
-        assert_eq!(at("127.0.0.1"), Some("127.0.0.1:9000".parse().unwrap()));
-        assert_eq!(at(" localhost "), Some("127.0.0.1:9000".parse().unwrap()));
-        assert_eq!(at("LOCALHOST"), Some("127.0.0.1:9000".parse().unwrap()));
-        assert_eq!(at("::1"), Some("[::1]:9000".parse().unwrap()));
-        assert_eq!(at("[fe80::1]"), Some("[fe80::1]:9000".parse().unwrap()));
-        for name in ["", "example.com", "my-avatar-pc", "10.0.0", "1.2.3.4:80"] {
-            assert_eq!(at(name), None, "{name:?} is not an address");
-        }
-    }
     use pneuma_core::encode::osc::TimeTag;
     use pneuma_testkit::osc::{decode, Message, OscType};
     use std::sync::Mutex;
@@ -430,21 +313,6 @@ mod tests {
         assert!(stats.sent.load(Ordering::Relaxed) >= 2);
         assert_eq!(stats.failed.load(Ordering::Relaxed), 0);
         assert_eq!(stats.last_error.load(Ordering::Relaxed), 0, "no error");
-    }
-
-    #[test]
-    fn every_error_code_maps_back_and_has_advice() {
-        assert_eq!(OscError::from_code(0), None, "0 is no error");
-        assert_eq!(OscError::from_code(200), None);
-        let mut seen = 0;
-        for code in 1..=u8::MAX {
-            if let Some(e) = OscError::from_code(code) {
-                assert_eq!(e as u8, code);
-                assert!(e.text().contains(':'), "{e:?} says what to do");
-                seen += 1;
-            }
-        }
-        assert_eq!(seen, 7, "each kind has its own code");
     }
 
     #[test]

@@ -1,0 +1,24 @@
+//! `pneuma render --osc` from the outside: a host that is not an address is refused before
+//! anything is rendered, with what to give (the frames themselves are checked against the
+//! plugin's in `tests/tests/integration/cli_osc.rs`).
+
+use std::process::{Command, Stdio};
+
+#[test]
+fn an_osc_host_that_is_not_an_address_stops_the_render_before_it_starts() {
+    let out = Command::new(env!("CARGO_BIN_EXE_pneuma"))
+        .arg("render")
+        .arg(pneuma_testkit::voice::example_voice_path())
+        .args(["-o", "-", "--osc-host", "my-avatar-pc"])
+        .stdout(Stdio::null())
+        .output()
+        .expect("pneuma runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("--osc-host `my-avatar-pc` is not an IP address")
+            && err
+                .contains("give a numeric address such as 127.0.0.1 or 192.168.1.20, or localhost"),
+        "{err}"
+    );
+}
