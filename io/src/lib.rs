@@ -260,7 +260,8 @@ impl AudioSource {
             InputFormat::Unknown if n < 4 || path_says_wav(path) => InputFormat::Wav,
             f => f,
         };
-        if format != InputFormat::Wav && file_len.is_some() {
+        let adpcm = format == InputFormat::Wav && wav_format_tag(&head).is_some_and(is_adpcm);
+        if (format != InputFormat::Wav || adpcm) && file_len.is_some() {
             // A regular file is opened again: symphonia seeks in it (trailing tags, MP4 boxes).
             let file = std::fs::File::open(path).map_err(open_err)?;
             return Ok(Self::Decoded(Box::new(DecodedSource::open(
@@ -461,6 +462,33 @@ fn not_text(path: &Path, head: &[u8]) -> Result<(), ReadError> {
     }
 }
 
+/// The format tag of a RIFF WAV file's `fmt ` chunk, if it lies within `head`.
+fn wav_format_tag(head: &[u8]) -> Option<u16> {
+    let u32_at = |i: usize| -> Option<u32> {
+        Some(u32::from_le_bytes(head.get(i..i + 4)?.try_into().ok()?))
+    };
+    if head.get(0..4) != Some(b"RIFF") || head.get(8..12) != Some(b"WAVE") {
+        return None;
+    }
+    let mut at = 12;
+    while at + 8 <= head.len() {
+        let size = u32_at(at + 4)? as usize;
+        if head.get(at..at + 4) == Some(b"fmt ") {
+            return Some(u16::from_le_bytes(
+                head.get(at + 8..at + 10)?.try_into().ok()?,
+            ));
+        }
+        at = at.checked_add(8 + size + size % 2)?;
+    }
+    None
+}
+
+/// IMA and Microsoft ADPCM: read from a file through symphonia's WAV reader and ADPCM decoder
+/// (the own WAV reader takes PCM, float and G.711 only).
+fn is_adpcm(tag: u16) -> bool {
+    matches!(tag, 0x0002 | 0x0011)
+}
+
 /// A name ending in `.wav` (any case): an unrecognised file is reported by the WAV reader.
 fn path_says_wav(path: &Path) -> bool {
     path.extension()
@@ -505,6 +533,17 @@ pub fn read_mono(path: &Path) -> Result<(Vec<f32>, u32), ReadError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn adpcm_tags_are_found_in_the_header() {
+        let mut head = b"RIFF\0\0\0\0WAVE".to_vec();
+        head.extend_from_slice(b"LIST\x04\0\0\0abcd");
+        head.extend_from_slice(b"fmt \x14\0\0\0\x11\0\x01\0");
+        assert_eq!(wav_format_tag(&head), Some(0x0011));
+        assert!(is_adpcm(0x0011) && is_adpcm(0x0002) && !is_adpcm(0x0001) && !is_adpcm(0x0007));
+        assert_eq!(wav_format_tag(&head[..20]), None);
+        assert_eq!(wav_format_tag(b"RIFX\0\0\0\0WAVEfmt "), None);
+    }
 
     #[test]
     fn formats_are_recognised_by_their_first_bytes() {

@@ -61,7 +61,7 @@ pub enum WavError {
         reason: String,
     },
     /// A sample format Pneuma does not read.
-    #[error("{path}: {what} is not supported; Pneuma reads 8/16/24/32-bit integer, 32-bit float, µ-law and A-law WAV: convert it, e.g. `sox IN -b 24 OUT.wav`")]
+    #[error("{path}: {what} is not supported; Pneuma reads 8/16/24/32-bit integer, 32-bit float, µ-law and A-law WAV, and IMA or Microsoft ADPCM WAV from a file (not from standard input): convert it, e.g. `sox IN -b 24 OUT.wav`")]
     Unsupported {
         /// The file.
         path: PathBuf,
