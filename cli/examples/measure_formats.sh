@@ -21,14 +21,18 @@ bin=target/release
 enc() { ffmpeg -hide_banner -loglevel error -y -i "$dir/ep.wav" "$@"; }
 formats=${FORMATS:-wav flac aiff caf mp3 m4a ogg ulaw alaw midi}
 mkdir -p "$dir/ulaw" "$dir/alaw"
-enc -c:a pcm_mulaw "$dir/ulaw/ep.wav"
-enc -c:a pcm_alaw "$dir/alaw/ep.wav"
-enc -c:a flac "$dir/ep.flac"
-enc -c:a pcm_s16be "$dir/ep.aiff"
-enc -c:a pcm_s16le "$dir/ep.caf"
-enc -c:a libmp3lame -b:a 128k "$dir/ep.mp3"
-enc -c:a aac -b:a 128k "$dir/ep.m4a"
-enc -c:a libvorbis -q:a 5 "$dir/ep.ogg"
+for f in $formats; do # the encodings the chosen rows need
+  case $f in
+    ulaw) enc -c:a pcm_mulaw "$dir/ulaw/ep.wav" ;;
+    alaw) enc -c:a pcm_alaw "$dir/alaw/ep.wav" ;;
+    flac) enc -c:a flac "$dir/ep.flac" ;;
+    aiff) enc -c:a pcm_s16be "$dir/ep.aiff" ;;
+    caf) enc -c:a pcm_s16le "$dir/ep.caf" ;;
+    mp3) enc -c:a libmp3lame -b:a 128k "$dir/ep.mp3" ;;
+    m4a) enc -c:a aac -b:a 128k "$dir/ep.m4a" ;;
+    ogg) enc -c:a libvorbis -q:a 5 "$dir/ep.ogg" ;;
+  esac
+done
 echo "episode: $secs s, $rate Hz, $ch ch (16-bit source; lossy at 128 kb/s or Vorbis q5)"
 printf '%-5s %12s %10s %10s %10s %9s\n' format decode_x render_s render_x peak_MB output
 row() { # format file [render flags]
