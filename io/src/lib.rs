@@ -260,15 +260,27 @@ impl AudioSource {
             InputFormat::Unknown if n < 4 || path_says_wav(path) => InputFormat::Wav,
             f => f,
         };
-        let adpcm = format == InputFormat::Wav && wav_format_tag(&head).is_some_and(is_adpcm);
-        if (format != InputFormat::Wav || adpcm) && file_len.is_some() {
+        let adpcm = Some(format)
+            .filter(|f| *f == InputFormat::Wav)
+            .and_then(|_| wav_format_tag(&head))
+            .filter(|&t| is_adpcm(t));
+        if (format != InputFormat::Wav || adpcm.is_some()) && file_len.is_some() {
             // A regular file is opened again: symphonia seeks in it (trailing tags, MP4 boxes).
             let file = std::fs::File::open(path).map_err(open_err)?;
-            return Ok(Self::Decoded(Box::new(DecodedSource::open(
-                path,
-                Box::new(file),
-                format,
-            )?)));
+            let source = DecodedSource::open(path, Box::new(file), format);
+            return match (source, adpcm) {
+                // An ADPCM header symphonia cannot read is a WAV problem: say which format.
+                (Err(DecodeError::Unknown { reason, .. }), Some(tag)) => {
+                    Err(ReadError::Wav(WavError::Format {
+                        path: path.to_owned(),
+                        reason: format!(
+                            "{}, its header cannot be read: {reason}",
+                            wav::tag_name(tag)
+                        ),
+                    }))
+                }
+                (source, _) => Ok(Self::Decoded(Box::new(source?))),
+            };
         }
         Self::from_stream(path, head, file, file_len, format)
     }

@@ -263,8 +263,8 @@ fn not_riff(head: &[u8]) -> String {
     }
 }
 
-/// A name for a format tag that is not read.
-fn tag_name(tag: u16) -> String {
+/// A name for a format tag that this reader does not read.
+pub(crate) fn tag_name(tag: u16) -> String {
     let name = match tag {
         0x0002 => "Microsoft ADPCM",
         0x0006 => "A-law",
