@@ -8,12 +8,12 @@
 //! Needs `../shared/data` and the virtual environment of [`podcast::python`] (Praat, through
 //! parselmouth, gives styletalk's reference voicing).
 
-use pneuma_core::speech::SpeechModel;
+use pneuma_core::speech::{SpeechAnalysis, SpeechModel};
 
 use pneuma_eval::podcast::fit::{fit, THRESHOLD};
 use pneuma_eval::podcast::recipe::{self, Class, Episode, EPISODES, SEED};
 use pneuma_eval::podcast::sources::MUSIC;
-use pneuma_eval::podcast::{self, fit_rows, label_frame, python, Exclusion};
+use pneuma_eval::podcast::{self, fit_rows, label_frame, percent, python, Exclusion, FrameTally};
 
 const OUTPUT: &str = "assets/models/speech.txt";
 
@@ -33,51 +33,14 @@ pub fn main(args: &[String]) -> i32 {
     }
 }
 
-/// Share of frames called speech per class, and per music piece of its non-speech frames.
-#[derive(Debug, Clone, Default)]
-struct Tally {
-    /// [class] → (called speech, frames).
-    class: [(u64, u64); 7],
-    /// [piece] → non-speech frames of the piece (music, singing): (called speech, frames).
-    piece_false: [(u64, u64); 6],
-    /// [piece] → speech frames under its beds: (called speech, frames).
-    piece_recall: [(u64, u64); 6],
-}
-
-impl Tally {
-    fn add(
-        &mut self,
-        episode: &Episode,
-        a: &pneuma_core::speech::SpeechAnalysis,
-        model: &SpeechModel,
-    ) {
-        let l = &episode.labels;
-        for (f, s) in a.frames.iter().zip(&a.speech) {
-            let Some(k) = label_frame(f.time_s, episode.frames()) else {
-                continue;
-            };
-            let (Some(class), true) = (l.class[k], l.mask[k]) else {
-                continue;
-            };
-            let called = u64::from(model.probability(&s.features) >= model.threshold());
-            let c = &mut self.class[class as usize];
-            c.0 += called;
-            c.1 += 1;
-            if let Some(p) = l.piece[k] {
-                let t = if class.is_speech() {
-                    &mut self.piece_recall[p]
-                } else {
-                    &mut self.piece_false[p]
-                };
-                t.0 += called;
-                t.1 += 1;
-            }
+/// Counts the frames of `episode` (analysed as `a`) that `model` calls speech.
+fn tally(t: &mut FrameTally, episode: &Episode, a: &SpeechAnalysis, model: &SpeechModel) {
+    for (f, s) in a.frames.iter().zip(&a.speech) {
+        if let Some(k) = label_frame(f.time_s, episode.frames()) {
+            let called = model.probability(&s.features) >= model.threshold();
+            t.count(&episode.labels, k, called);
         }
     }
-}
-
-fn percent((a, n): (u64, u64)) -> f64 {
-    100.0 * a as f64 / n.max(1) as f64
 }
 
 fn run(root: &std::path::Path, data: &std::path::Path, check: bool) -> Result<i32, String> {
@@ -101,13 +64,13 @@ fn run(root: &std::path::Path, data: &std::path::Path, check: bool) -> Result<i3
         .collect::<Result<Vec<_>, _>>()?;
     let all_rows = fit_rows(&episodes, &analysed, &Exclusion::none());
     let model = fit(&all_rows).ok_or("the recipe gave no speech or no non-speech frame")?;
-    let mut fitted = Tally::default();
-    let mut held = Tally::default();
+    let mut fitted = FrameTally::default();
+    let mut held = FrameTally::default();
     for (e, a) in episodes.iter().zip(&analysed) {
-        fitted.add(e, a, &model);
+        tally(&mut fitted, e, a, &model);
         let rows = fit_rows(&episodes, &analysed, &Exclusion::of(e));
         let m = fit(&rows).ok_or(format!("episode {}: nothing left to fit on", e.index))?;
-        held.add(e, a, &m);
+        tally(&mut held, e, a, &m);
     }
     let seconds: f64 = episodes
         .iter()

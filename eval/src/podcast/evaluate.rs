@@ -29,7 +29,7 @@ use pneuma_core::speech::{SpanJudge, SpeechAnalysis, SpeechModel};
 use super::fit::fit;
 use super::recipe::{self, Class, Condition, Episode};
 use super::sources::{FRAMES_PER_S, HOP, MUSIC, RATE_HZ};
-use super::{analyse, fit_rows, python, Exclusion};
+use super::{analyse, fit_rows, percent, python, Exclusion, FrameTally};
 use crate::data::workspace_root;
 
 /// A breath counts as on speech (or inside a span) past this much overlap, seconds.
@@ -96,40 +96,11 @@ const PAUSE_KINDS: [&str; 4] = [
     "in noise",
 ];
 
-/// Frame figures: (called speech, frames).
-#[derive(Debug, Clone, Copy, Default)]
-struct FrameTally {
-    class: [(u64, u64); 7],
-    piece_recall: [(u64, u64); 6],
-    piece_false: [(u64, u64); 6],
-}
-
-impl FrameTally {
-    fn add(&mut self, episode: &Episode, called: &[bool]) {
-        let l = &episode.labels;
-        for (k, &called) in called.iter().enumerate().take(episode.frames()) {
-            let (Some(class), true) = (l.class[k], l.mask[k]) else {
-                continue;
-            };
-            let c = u64::from(called);
-            let t = &mut self.class[class as usize];
-            t.0 += c;
-            t.1 += 1;
-            if let Some(p) = l.piece[k] {
-                let t = if class.is_speech() {
-                    &mut self.piece_recall[p]
-                } else {
-                    &mut self.piece_false[p]
-                };
-                t.0 += c;
-                t.1 += 1;
-            }
-        }
+/// The frames of `episode` called speech by `called` (one per label frame).
+fn tally(t: &mut FrameTally, episode: &Episode, called: &[bool]) {
+    for (k, &c) in called.iter().enumerate().take(episode.frames()) {
+        t.count(&episode.labels, k, c);
     }
-}
-
-fn percent((a, n): (u64, u64)) -> f64 {
-    100.0 * a as f64 / n.max(1) as f64
 }
 
 /// Per label frame: inside one of `spans` (16 kHz samples)?
@@ -381,9 +352,9 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
     for ((e, a), m) in episodes.iter().zip(&analysed).zip(&held_models) {
         let probs = worker.silero(&e.audio)?;
         let silero = frames_in(&segments(&probs, e.audio.len() as u64), e.frames());
-        frames[0].add(e, &pneuma_frames(e, a, m));
-        frames[1].add(e, &pneuma_frames(e, a, shipped));
-        frames[2].add(e, &silero);
+        tally(&mut frames[0], e, &pneuma_frames(e, a, m));
+        tally(&mut frames[1], e, &pneuma_frames(e, a, shipped));
+        tally(&mut frames[2], e, &silero);
     }
 
     let mut breaths = [[BreathTally::default(); 2]; 2]; // [mode][held, fitted]

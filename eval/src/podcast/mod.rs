@@ -19,6 +19,46 @@ use fit::Row;
 use recipe::{Condition, Episode};
 use sources::{FRAMES_PER_S, MUSIC, SUNG_PIECE};
 
+/// Frames called speech, as (called, frames): per class, and per music piece of the speech
+/// under its beds (recall) and of its music and singing (false speech).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FrameTally {
+    /// [class] → (called speech, frames).
+    pub class: [(u64, u64); 7],
+    /// [piece] → speech frames under its beds: (called speech, frames).
+    pub piece_recall: [(u64, u64); 6],
+    /// [piece] → non-speech frames of the piece (music, singing): (called speech, frames).
+    pub piece_false: [(u64, u64); 6],
+}
+
+impl FrameTally {
+    /// Counts label frame `k` of `labels`, `called` speech or not; unlabelled and masked-out
+    /// frames are left out.
+    pub fn count(&mut self, labels: &recipe::Labels, k: usize, called: bool) {
+        let (Some(class), true) = (labels.class[k], labels.mask[k]) else {
+            return;
+        };
+        let c = u64::from(called);
+        let t = &mut self.class[class as usize];
+        t.0 += c;
+        t.1 += 1;
+        if let Some(p) = labels.piece[k] {
+            let t = if class.is_speech() {
+                &mut self.piece_recall[p]
+            } else {
+                &mut self.piece_false[p]
+            };
+            t.0 += c;
+            t.1 += 1;
+        }
+    }
+}
+
+/// `(a, n)` as a percentage (0 for no frames).
+pub fn percent((a, n): (u64, u64)) -> f64 {
+    100.0 * a as f64 / n.max(1) as f64
+}
+
 /// The label frame (10 ms) holding time `t_s`, if inside an episode of `n` label frames.
 pub fn label_frame(t_s: f64, n: usize) -> Option<usize> {
     let k = (t_s * FRAMES_PER_S).floor();
