@@ -4,27 +4,29 @@
 //! program (espeak-ng by default, festival's `text2wave` as the alternative), its real duration is
 //! measured from the audio (leading and trailing silence below −50 dBFS trimmed, as the paper
 //! measures the length of the TTS output), and the timeline is laid out as
-//! `[rest 0.25 s] [inspiration + breath sound] [chunk] [pause 0.1 s] [inspiration] [chunk] … [rest 0.6 s]`.
-//! The same [`BreathCycle`] as the audio-driven engine runs on the events ("inspiration of L s
-//! for an utterance of U s", "utterance of U s starts", "speech stopped"). The breath sound's
-//! plateau RMS is the speech RMS times `breath_rms_re_speech` of the mapped parameters.
+//! `[rest 0.25 s] [pause] [chunk] [pause] [chunk] … [rest 0.6 s]`, each pause the 0.1 s gap plus
+//! room for the inspiration its chunk needs ([`pause_before_s`]). The timeline then runs through
+//! the same [`Engine`] as `pneuma render` (whole file known, breaths in every pause): the engine
+//! places each breath and chooses its length from the pause and the coming group, plays it at
+//! the preset's level under the speech, runs the breath cycle (with its reserve) and the head,
+//! and analyses the speech for the controls. So `speak` breathes as a render of a recording
+//! does, and varies as it does.
 //!
 //! Writes `DIR/speech.wav` (16-bit mono at the TTS rate), `DIR/speech.controls.csv`,
-//! `DIR/speech.breaths.csv` and `DIR/speech.png`; every file is written atomically. f0, voicing
-//! and level in the controls come from Pneuma's analysis of the written audio; head angles are 0.
+//! `DIR/speech.breaths.csv` and `DIR/speech.png`; every file is written atomically.
 
 use std::io::{Cursor, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
 
-use pneuma_core::analysis::rms;
+use pneuma_core::analysis::FrameClock;
 use pneuma_core::breathing::{
-    chunk_text, BreathCycle, BreathSample, BreathVoice, BreathingError, BreathingParams, Chunk,
-    Preset, SampleSlot,
+    chunk_text, BreathSample, BreathingError, BreathingParams, Chunk, LowLevelParams, Preset,
+    SampleSlot,
 };
 use pneuma_core::encode::{breaths_csv, bvh, controls_csv};
-use pneuma_core::head::{HeadConfig, HeadSynth};
-use pneuma_core::{AnalysisConfig, Analyzer, BreathEvent, ControlFrame};
+use pneuma_core::engine::{offline, Engine, EngineConfig, EngineError};
+use pneuma_core::{BreathEvent, ControlFrame};
 use thiserror::Error;
 
 use crate::options::{FRAME_RATE, LOUDNESS, RATE};
@@ -38,6 +40,8 @@ pub const LEAD_IN_S: f64 = 0.25;
 pub const PAUSE_S: f64 = 0.1;
 /// Rest after the last chunk, seconds.
 pub const TAIL_S: f64 = 0.6;
+/// Samples per block through the engine.
+const BLOCK: usize = 4096;
 /// Level under which the ends of a TTS chunk count as silence, dBFS.
 pub const TRIM_DB: f32 = -50.0;
 
@@ -173,6 +177,9 @@ pub enum SpeakError {
     /// The plot could not be drawn.
     #[error(transparent)]
     Plot(#[from] PlotError),
+    /// The engine refused its settings or the TTS's rate.
+    #[error(transparent)]
+    Engine(#[from] EngineError),
 }
 
 /// What `speak` produced.
@@ -366,13 +373,6 @@ fn load_sample(path: &Path) -> Result<BreathSample, SpeakError> {
     })
 }
 
-#[derive(Debug, Clone, Copy)]
-enum Event {
-    Inspire { length_s: f32, utterance_s: f32 },
-    Speak { utterance_s: f32 },
-    Stop,
-}
-
 /// Runs `speak` and returns what it produced.
 pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     let text = text_from_args(args)?;
@@ -441,104 +441,42 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         speech.push(trim_silence(&audio, r).to_vec());
     }
     let fs = rate_hz as f64;
-    let all_speech: Vec<f32> = speech.iter().flatten().copied().collect();
-    let speech_rms = rms(&all_speech).max(1e-4);
 
-    // Lay out the timeline.
+    // Lay out the timeline: each chunk after a pause long enough for the breath its group
+    // needs; the engine then breathes into those pauses as it does in a recording.
     let secs = |n: usize| n as f64 / fs;
     let samples = |s: f64| (s * fs).round() as usize;
-    let insp_n = samples(low.length_inspiration_s as f64).max(1);
     let mut audio: Vec<f32> = vec![0.0; samples(LEAD_IN_S)];
-    let mut events: Vec<(f64, Event)> = Vec::new();
-    let mut breath_spans: Vec<(usize, usize)> = Vec::new();
-    let mut speech_spans: Vec<(f64, f64)> = Vec::new();
     let mut durations = Vec::with_capacity(chunks.len());
-    for (i, s) in speech.iter().enumerate() {
-        if i > 0 {
-            audio.resize(audio.len() + samples(PAUSE_S), 0.0);
-        }
-        let utterance_s = secs(s.len()) as f32;
-        durations.push(secs(s.len()));
-        events.push((
-            secs(audio.len()),
-            Event::Inspire {
-                length_s: secs(insp_n) as f32,
-                utterance_s,
-            },
-        ));
-        breath_spans.push((audio.len(), insp_n));
-        audio.resize(audio.len() + insp_n, 0.0);
-        let start = audio.len();
-        events.push((secs(start), Event::Speak { utterance_s }));
+    for s in &speech {
+        let utterance_s = secs(s.len());
+        durations.push(utterance_s);
+        audio.resize(
+            audio.len() + samples(pause_before_s(&low, utterance_s)),
+            0.0,
+        );
         audio.extend_from_slice(s);
-        events.push((secs(audio.len()), Event::Stop));
-        speech_spans.push((secs(start), secs(audio.len())));
     }
     audio.resize(audio.len() + samples(TAIL_S), 0.0);
 
-    // Breath sounds.
-    let mut voice = BreathVoice::new(args.seed);
-    voice.set_sample(SampleSlot::Mouth, mouth_sample);
-    voice.set_sample(SampleSlot::Nose, nose_sample);
-    voice.prepare(fs, insp_n);
-    let gain = (speech_rms * low.breath_rms_re_speech() as f64) as f32;
-    let mut breath_buf = vec![0.0f32; insp_n];
-    let mut breaths = Vec::with_capacity(breath_spans.len());
-    for &(start, n) in &breath_spans {
-        breath_buf.iter_mut().for_each(|v| *v = 0.0);
-        voice.start(low.mouth_share(), n, gain);
-        voice.render_add(&mut breath_buf[..n]);
-        let peak = breath_buf[..n].iter().fold(0.0f32, |m, v| m.max(v.abs()));
-        for (o, b) in audio[start..start + n].iter_mut().zip(&breath_buf[..n]) {
-            *o += *b;
-        }
-        breaths.push(BreathEvent {
-            start_s: secs(start),
-            end_s: secs(start + n),
-            kind: voice.kind(),
-            peak_db: pneuma_core::analysis::amplitude_to_db(peak as f64),
-        });
-    }
+    // The engine over the timeline, as `pneuma render` over a recording (whole-file lookahead).
+    let mut engine = Engine::new(engine_config(args, params)?, model)?;
+    engine.prepare(fs, BLOCK, 1)?;
+    engine.set_breath_sample(SampleSlot::Mouth, mouth_sample);
+    engine.set_breath_sample(SampleSlot::Nose, nose_sample);
+    let rendered = offline::render(&mut engine, std::slice::from_ref(&audio), &[BLOCK]);
+    let file_frames = FrameClock::new(args.frame_rate, fs).frames_in(audio.len() as u64);
+    let frames: Vec<ControlFrame> = rendered
+        .frames
+        .into_iter()
+        .map(|(f, _)| f)
+        .filter(|f| f.index < file_frames)
+        .collect();
+    let breaths = rendered.breaths;
+    let mut audio = rendered.audio.into_iter().next().unwrap_or_default();
     for v in audio.iter_mut() {
         *v = v.clamp(-1.0, 1.0);
     }
-
-    // Controls: the breath cycle on the events, analysis of the written audio.
-    let mut features = Vec::new();
-    let mut analyzer = Analyzer::new(AnalysisConfig {
-        frame_rate_hz: args.frame_rate,
-        ..Default::default()
-    })
-    .map_err(|e| SpeakError::TtsFailed {
-        program: "analysis",
-        chunk: String::new(),
-        reason: e.to_string(),
-    })?;
-    let analysis_err = |e: pneuma_core::AnalysisError| SpeakError::TtsFailed {
-        program: "analysis",
-        chunk: String::new(),
-        reason: e.to_string(),
-    };
-    analyzer.prepare(fs, 4096).map_err(analysis_err)?;
-    for block in audio.chunks(4096) {
-        analyzer
-            .process(block, |f| features.push(*f))
-            .map_err(analysis_err)?;
-    }
-    analyzer
-        .finish(|f| features.push(*f))
-        .map_err(analysis_err)?;
-    let mut head = HeadSynth::new(model, HeadConfig::default())
-        .map_err(|e| SpeakError::Option(format!("head model: {e}")))?;
-    let frames = controls_for(
-        &low,
-        &events,
-        &speech_spans,
-        &features,
-        secs(audio.len()),
-        args.frame_rate,
-        &mut head,
-    );
 
     // Write everything.
     let wav_bytes = wav_16bit(&audio, rate_hz);
@@ -614,60 +552,32 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     })
 }
 
-/// Control frames for the timeline: the cycle driven by `events` (time-sorted), frames at
-/// `frame_rate_hz` (time = index / rate), features matched by index; the head pose comes from
-/// `head` run on the features (as the engine does in `render`).
-fn controls_for(
-    low: &pneuma_core::breathing::LowLevelParams,
-    events: &[(f64, Event)],
-    speech_spans: &[(f64, f64)],
-    features: &[pneuma_core::FeatureFrame],
-    duration_s: f64,
-    frame_rate_hz: f64,
-    head: &mut HeadSynth,
-) -> Vec<ControlFrame> {
-    let mut cycle = BreathCycle::new(low);
-    let n = (duration_s * frame_rate_hz).ceil() as usize;
-    let mut frames = Vec::with_capacity(n);
-    let mut now = 0.0f64;
-    let mut next = 0;
-    for i in 0..n {
-        let t = i as f64 / frame_rate_hz;
-        while next < events.len() && events[next].0 <= t {
-            let (te, ev) = events[next];
-            cycle.advance((te - now) as f32);
-            now = te;
-            match ev {
-                Event::Inspire {
-                    length_s,
-                    utterance_s,
-                } => cycle.inspire(length_s, utterance_s),
-                Event::Speak { utterance_s } => cycle.utterance_starts(utterance_s),
-                Event::Stop => cycle.speech_stopped(),
-            }
-            next += 1;
-        }
-        let state = cycle.advance((t - now).max(0.0) as f32);
-        now = t;
-        let f = features.get(i).copied().unwrap_or_default();
-        let pose = head.process(&f, frame_rate_hz);
-        frames.push(ControlFrame {
-            index: i as u64,
-            time_s: t,
-            f0_hz: f.f0_hz,
-            voiced: f.voiced,
-            rms_db: if features.get(i).is_some() {
-                f.rms_db
-            } else {
-                -120.0
-            },
-            level_db: f.level_db,
-            speaking: speech_spans.iter().any(|&(a, b)| t >= a && t < b),
-            breathing: state,
-            head: pose,
-        });
-    }
-    frames
+/// The silence laid out before a chunk of `utterance_s` seconds: the gap after the previous
+/// chunk plus room for an inspiration that grows with the share of a full breath group the
+/// chunk takes (half the preset's inspiration for a short chunk, all of it for a full group),
+/// so the engine's breath in it varies with the group as a speaker's does.
+pub fn pause_before_s(low: &LowLevelParams, utterance_s: f64) -> f64 {
+    let share = (utterance_s / f64::from(low.length_utterance_s).max(1e-3)).clamp(0.0, 1.0);
+    PAUSE_S + f64::from(low.length_inspiration_s) * (0.5 + 0.5 * share)
+}
+
+/// The engine settings of `speak`: the preset's breathing, the control frame rate and seed
+/// asked for, breaths in every pause (the timeline holds only the TTS's speech, so no speech
+/// decision is needed) with the whole file known in advance, as `pneuma render` of a file.
+fn engine_config(args: &Args, params: BreathingParams) -> Result<EngineConfig, SpeakError> {
+    let mut c = EngineConfig::default();
+    let rate = FRAME_RATE
+        .check(args.frame_rate)
+        .map_err(SpeakError::Option)?;
+    c.set_value(FRAME_RATE.setting, rate)
+        .map_err(|e| SpeakError::Option(e.to_string()))?;
+    c.breathing = params;
+    c.seed = args.seed;
+    c.placement.whole_file = true;
+    c.placement.insert_breaths = true;
+    c.placement.speech_only = false;
+    c.validate()?;
+    Ok(c)
 }
 
 /// A scratch folder for the TTS output, removed when dropped.

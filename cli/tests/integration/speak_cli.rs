@@ -278,3 +278,53 @@ fn a_bad_voice_points_to_the_voice_list() {
     assert!(!o.status.success(), "a bad voice succeeded");
     assert!(err.contains("espeak-ng --voices"), "{err}");
 }
+
+/// `speak` runs the engine over its timeline (issue 31): breaths vary in length with the pause
+/// and the coming group as in a render, and the lung keeps the render's reserve at the end of
+/// a group instead of emptying (the hand-built timeline before gave every breath the preset's
+/// 0.60 s and a lung of 0.00 before each one).
+#[test]
+fn speak_breathes_like_a_render_varied_breaths_and_a_reserve() {
+    if !espeak_or_skip("speak_breathes_like_a_render_varied_breaths_and_a_reserve") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!("{TEXT} {TEXT} Short one. {TEXT}");
+    let o = pneuma()
+        .args(["speak", &text, "-o"])
+        .arg(dir.path())
+        .arg("--no-plot")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (_, breaths) = csv(&dir.path().join("speech.breaths.csv"));
+    let lengths: Vec<f64> = breaths
+        .iter()
+        .map(|b| b[1].parse::<f64>().unwrap() - b[0].parse::<f64>().unwrap())
+        .collect();
+    assert!(lengths.len() >= 8, "{} breaths", lengths.len());
+    let mean = lengths.iter().sum::<f64>() / lengths.len() as f64;
+    let sd =
+        (lengths.iter().map(|l| (l - mean).powi(2)).sum::<f64>() / lengths.len() as f64).sqrt();
+    assert!(sd > 0.02, "breath lengths {lengths:?} hardly vary");
+    assert!(
+        lengths.iter().all(|l| (0.1..0.9).contains(l)),
+        "{lengths:?}"
+    );
+    let (h, rows) = csv(&dir.path().join("speech.controls.csv"));
+    let lung_c = h.iter().position(|c| c == "lung").unwrap();
+    let mut before: Vec<f64> = breaths
+        .iter()
+        .skip(1)
+        .map(|b| {
+            let i = (b[0].parse::<f64>().unwrap() * 120.0).floor() as usize;
+            rows[i.saturating_sub(1)][lung_c].parse().unwrap()
+        })
+        .collect();
+    before.sort_by(f64::total_cmp);
+    let median = before[before.len() / 2];
+    assert!(
+        median > 0.05,
+        "lung before a breath: median {median} ({before:?})"
+    );
+}
