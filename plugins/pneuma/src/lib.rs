@@ -555,6 +555,7 @@ impl ClapPlugin for Pneuma {
             });
             section.add_page("Breaths & timing", |page| {
                 page.add_param(&p.insert_breaths);
+                page.add_param(&p.speech_only);
                 page.add_param(&p.breath_level_db);
                 page.add_param(&p.min_pause_s);
                 page.add_param(&p.mode);

@@ -108,6 +108,7 @@ pub const PARAM_IDS: &[&str] = &[
     "neck_amplitude_deg",
     "breath_level_db",
     "insert_breaths",
+    "speech_only",
     "min_pause_s",
     "mode",
     "lookahead_s",
@@ -259,6 +260,10 @@ pub struct PneumaParams {
     /// `insert_breaths`).
     #[id = "insert_breaths"]
     pub insert_breaths: BoolParam,
+    /// Breaths only into pauses of speech (off: every pause, as `render --any-sound`). New
+    /// engine (the table's `speech_only`).
+    #[id = "speech_only"]
+    pub speech_only: BoolParam,
     /// Shortest pause that gets a breath, seconds (the table's `min_pause_s`).
     #[id = "min_pause_s"]
     pub min_pause_s: FloatParam,
@@ -547,6 +552,8 @@ impl Default for PneumaParams {
             breath_level_db: engine(float_param(&placement::BREATH_LEVEL_DB)),
             insert_breaths: switch_param(&placement::INSERT_BREATHS)
                 .with_callback(raise(&flags, Raises::Engine)),
+            speech_only: switch_param(&placement::SPEECH_ONLY)
+                .with_callback(raise(&flags, Raises::Structure)),
             min_pause_s: engine(float_param(&placement::MIN_PAUSE_S)),
             mode: EnumParam::new(
                 placement::MODE.label,
@@ -688,6 +695,7 @@ impl PneumaParams {
         config.placement.breath_level_db = self.breath_level_db.value();
         // Bypassed: the audio still goes through the delay line, without breaths.
         config.placement.insert_breaths = self.insert_breaths.value() && !self.bypass.value();
+        config.placement.speech_only = self.speech_only.value();
         config.breathing = self.breathing_params();
         config.head = self.head_config();
         config

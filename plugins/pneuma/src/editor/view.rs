@@ -19,6 +19,7 @@ use nice_plug_egui::resizable_window::ResizableWindow;
 use nice_plug_egui::widgets::ParamSlider;
 use nice_plug_egui::NiceEguiApp;
 use pneuma_core::encode::midi_cc::{CcResolution, CcSignal};
+use pneuma_core::settings::placement;
 use pneuma_core::ControlFrame;
 
 use super::feed::EditorShared;
@@ -202,6 +203,18 @@ impl EditorApp {
                 setter.begin_set_parameter(&p.insert_breaths);
                 setter.set_parameter(&p.insert_breaths, on);
                 setter.end_set_parameter(&p.insert_breaths);
+            }
+            ui.end_row();
+            ui.label(placement::SPEECH_ONLY.label);
+            let mut speech_only = p.speech_only.value();
+            if ui
+                .checkbox(&mut speech_only, "")
+                .on_hover_text(placement::SPEECH_ONLY.help)
+                .changed()
+            {
+                setter.begin_set_parameter(&p.speech_only);
+                setter.set_parameter(&p.speech_only, speech_only);
+                setter.end_set_parameter(&p.speech_only);
             }
             ui.end_row();
             ui.label("Head amount");

@@ -215,6 +215,10 @@ fn each_change_raises_its_flag_and_only_that() {
     assert_eq!(change("mode", 1.0), [true, false, true]);
     assert_eq!(change("lookahead_s", 1.0), [true, false, true]);
     assert_eq!(change("frame_rate_hz", 0.0), [true, false, true]);
+    // The speech decision is a stream setting: a new engine, and the engine is told.
+    assert!(params.engine_config().placement.speech_only);
+    assert_eq!(change("speech_only", 0.0), [true, false, true]);
+    assert!(!params.engine_config().placement.speech_only);
     assert_eq!(change("osc_port", 0.3), [false, false, false]);
     assert_eq!(change("midi_enabled", 0.0), [false, false, false]);
     // The same value again is no change.
