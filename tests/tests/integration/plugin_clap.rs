@@ -26,6 +26,7 @@ const PARAM_IDS: &[&str] = &[
     "neck_amplitude_deg",
     "breath_level_db",
     "insert_breaths",
+    "speech_only",
     "min_pause_s",
     "mode",
     "lookahead_s",

@@ -28,6 +28,7 @@ const SET: &[(&str, &str, &str)] = &[
     ("neck_amplitude_deg", "7.5", r#"{"f32":7.5}"#),
     ("breath_level_db", "-30", r#"{"f32":-30.0}"#),
     ("insert_breaths", "Off", r#"{"bool":false}"#),
+    ("speech_only", "Off", r#"{"bool":false}"#),
     ("min_pause_s", "0.6", r#"{"f32":0.6}"#),
     ("mode", "Live", r#"{"string":"live"}"#),
     ("lookahead_s", "0.9", r#"{"f32":0.9}"#),
