@@ -12,7 +12,7 @@
 
 use nice_plug::prelude::*;
 
-use crate::params::PneumaParams;
+use crate::params::{PneumaParams, ADDED_SINCE_SETTINGS_TABLE as ADDED_SINCE};
 
 /// The fixture's path.
 fn fixture_path() -> std::path::PathBuf {
@@ -21,10 +21,6 @@ fn fixture_path() -> std::path::PathBuf {
         .join("fixtures")
         .join("normalized-before-settings-table.txt")
 }
-
-/// Parameters added after the fixture was written: no session before them can hold them (a
-/// session without them gets their defaults). Every other parameter must be in the fixture.
-const ADDED_SINCE: &[&str] = &["speech_only"];
 
 /// Normalized values at which the plain value is recorded.
 const NORMALIZED: [f32; 7] = [0.0, 0.1, 0.25, 0.5, 0.75, 0.9, 1.0];

@@ -94,6 +94,11 @@ impl From<OscFormatChoice> for OscFormat {
     }
 }
 
+/// Parameters added after the settings table (issue 34): sessions and automation saved before
+/// them do not hold them and load with their defaults. The compatibility tests check every
+/// other parameter against what the plugin saved before.
+pub const ADDED_SINCE_SETTINGS_TABLE: &[&str] = &["speech_only"];
+
 /// Every parameter id, in declaration order.
 pub const PARAM_IDS: &[&str] = &[
     "bypass",
