@@ -3,19 +3,18 @@
 //! them with python-osc and vmcp and checks bone names, the Unity frame, the quaternion order,
 //! blendshape names, one `/VMC/Ext/Blend/Apply` per bundle and one bundle per frame.
 //!
-//! The receiver runs in a Python environment with `python-osc` and `vmcp`: `.ci/run` makes one
-//! under `target/vmc-venv`. Without it the test says how to make it and passes only when
-//! `PNEUMA_REQUIRE_VMC` is unset (local runs); `.ci/run` sets it.
+//! The receiver and its Python are the testkit's ([`pneuma_testkit::vmc`]): without that Python
+//! the test says how to make it and passes only when `PNEUMA_REQUIRE_VMC` is unset (local runs);
+//! `.ci/run` sets it.
 
 use std::net::UdpSocket;
-use std::path::PathBuf;
-use std::process::{Command, Stdio};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use pneuma_core::encode::osc::OscFormat;
 use pneuma_core::{ControlFrame, HeadAngles};
 use pneuma_osc::worker::{self as osc_sender, OscSettings};
+use pneuma_testkit::vmc;
 
 struct Target(u16);
 
@@ -28,14 +27,6 @@ impl OscSettings for Target {
     }
 }
 
-fn python() -> Option<PathBuf> {
-    if let Ok(p) = std::env::var("PNEUMA_VMC_PYTHON") {
-        return Some(PathBuf::from(p));
-    }
-    let venv = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/vmc-venv/bin/python");
-    venv.exists().then_some(venv)
-}
-
 fn free_udp_port() -> u16 {
     UdpSocket::bind("127.0.0.1:0")
         .and_then(|s| s.local_addr())
@@ -45,39 +36,14 @@ fn free_udp_port() -> u16 {
 
 #[test]
 fn vmc_bundles_pass_a_third_party_receiver() {
-    let Some(python) = python() else {
-        let msg = "no Python with python-osc and vmcp: run `python3 -m venv target/vmc-venv && \
-                   target/vmc-venv/bin/pip install python-osc==1.10.2 vmcp==1.0.6`";
-        assert!(std::env::var_os("PNEUMA_REQUIRE_VMC").is_none(), "{msg}");
-        eprintln!("skipped: {msg}");
+    let Some(python) = vmc::receiver_python("vmc_bundles_pass_a_third_party_receiver") else {
         return;
     };
     let (pitch, yaw, roll) = (10.0f32, 20.0f32, 5.0f32);
     let frames = 120;
     let port = free_udp_port();
-    let ready = std::env::temp_dir().join(format!("pneuma-vmc-ready-{}", std::process::id()));
-    let _ = std::fs::remove_file(&ready);
-    let script = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/vmc_receiver.py");
-    let receiver = Command::new(&python)
-        .arg(&script)
-        .args(["--port", &port.to_string()])
-        .args(["--bundles", &frames.to_string()])
-        .args(["--timeout-s", "30"])
-        .args(["--expect-head", &format!("{pitch},{yaw},{roll}")])
-        .arg("--ready-file")
-        .arg(&ready)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start the receiver");
-    let t0 = Instant::now();
-    while !ready.exists() {
-        assert!(
-            t0.elapsed() < Duration::from_secs(30),
-            "receiver did not start"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    let head = ["--expect-head".to_owned(), format!("{pitch},{yaw},{roll}")];
+    let receiver = vmc::Receiver::start(&python, port, frames, 30, &head, &std::env::temp_dir());
     let (mut feed, _worker, _stats) = osc_sender::start(Arc::new(Target(port))).unwrap();
     // Real time, 120 frames a second, the pose held (the last frame is what the receiver
     // checks); a few extra frames in case the first ones race the socket.
@@ -97,13 +63,10 @@ fn vmc_bundles_pass_a_third_party_receiver() {
         feed.push(&frame);
         std::thread::sleep(Duration::from_micros(8333));
     }
-    let out = receiver.wait_with_output().unwrap();
-    let report = String::from_utf8_lossy(&out.stdout);
+    let (accepted, report) = receiver.finish();
     println!("vmc receiver: {report}");
     assert!(
-        out.status.success(),
-        "the third-party receiver refused the VMC output: {report}{}",
-        String::from_utf8_lossy(&out.stderr)
+        accepted,
+        "the third-party receiver refused the VMC output: {report}"
     );
-    let _ = std::fs::remove_file(&ready);
 }

@@ -7,7 +7,8 @@
 //!   (through hound, not Pneuma's own reader), at its rate or resampled;
 //! - [`resample`]: resampling through rubato (tests present the example voice at host rates);
 //! - [`osc`]: an OSC decoder independent of Pneuma's encoder (rosc), so the encoder's tests do
-//!   not check it against itself.
+//!   not check it against itself;
+//! - [`vmc`]: the third-party VMC receiver (python-osc + vmcp) the OSC tests send to.
 //!
 //! The level helper is core's own [`pneuma_core::analysis::rms`] (the CLI uses it too).
 //!
@@ -19,4 +20,5 @@
 pub mod osc;
 pub mod resample;
 pub mod signals;
+pub mod vmc;
 pub mod voice;

@@ -9,14 +9,14 @@ use std::collections::BTreeMap;
 use std::ffi::OsString;
 use std::net::UdpSocket;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use pneuma_core::encode::osc::TimeTag;
 use pneuma_testkit::osc::{decode, Message, OscType};
-use pneuma_testkit::voice::workspace_root;
+use pneuma_testkit::vmc;
 use pneuma_tests::bundle::plugin_path;
 use pneuma_tests::host::Plugin;
 
@@ -236,69 +236,25 @@ fn the_cli_sends_the_plugins_bundles_in_both_formats() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// A Python with python-osc and vmcp (`PNEUMA_VMC_PYTHON`, or the venv `.ci/run` makes:
-/// `target/vmc-venv`), or `None`: the test then skips visibly, and fails under
-/// `PNEUMA_REQUIRE_VMC` (`.ci/run` sets it).
-fn vmc_python(test: &str) -> Option<PathBuf> {
-    let python = std::env::var_os("PNEUMA_VMC_PYTHON")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| workspace_root().join("target/vmc-venv/bin/python"));
-    let ok = Command::new(&python)
-        .args(["-c", "import pythonosc, vmcp"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    let msg = "no Python with python-osc and vmcp: run `python3 -m venv target/vmc-venv && \
-               target/vmc-venv/bin/pip install python-osc==1.10.2 vmcp==1.0.6`";
-    assert!(
-        ok || std::env::var_os("PNEUMA_REQUIRE_VMC").is_none(),
-        "{test}: {msg}"
-    );
-    if !ok {
-        eprintln!("SKIPPED {test}: {msg}");
-    }
-    ok.then_some(python)
-}
-
 #[test]
 fn the_clis_vmc_passes_a_third_party_receiver_at_four_times_real_time() {
     let test = "the_clis_vmc_passes_a_third_party_receiver_at_four_times_real_time";
-    let Some(python) = vmc_python(test) else {
+    let Some(python) = vmc::receiver_python(test) else {
         return;
     };
     let dir = std::env::temp_dir().join(format!("pneuma-cli-vmc-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (input, _, _) = clip(&dir);
     let port = socket().local_addr().unwrap().port();
-    let ready = dir.join("ready");
     // 240 bundles: 2 s of audio; at 4x the receiver's time tags must step by 1/480 s.
-    let receiver = Command::new(&python)
-        .arg(workspace_root().join("app/tests/vmc_receiver.py"))
-        .args(["--port", &port.to_string()])
-        .args(["--bundles", "240"])
-        .args(["--timeout-s", "60"])
-        .args(["--frame-rate-hz", "480"])
-        .arg("--ready-file")
-        .arg(&ready)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start the receiver");
-    let t0 = Instant::now();
-    while !ready.exists() {
-        assert!(
-            t0.elapsed() < Duration::from_secs(30),
-            "receiver did not start"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    let rate = ["--frame-rate-hz".to_owned(), "480".to_owned()];
+    let receiver = vmc::Receiver::start(&python, port, 240, 60, &rate, &dir);
     render(&input, &dir, port, "vmc", "4");
-    let out = receiver.wait_with_output().unwrap();
+    let (accepted, report) = receiver.finish();
     let _ = std::fs::remove_dir_all(&dir);
-    let report = String::from_utf8_lossy(&out.stdout);
     println!("vmc receiver: {report}");
     assert!(
-        out.status.success(),
-        "the third-party receiver refused the CLI's VMC: {report}{}",
-        String::from_utf8_lossy(&out.stderr)
+        accepted,
+        "the third-party receiver refused the CLI's VMC: {report}"
     );
 }
