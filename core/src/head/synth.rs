@@ -32,8 +32,8 @@ use crate::settings::setting::{check_fields, field, sanitize_fields, Field};
 
 /// Unvoiced time after which the stretch is a silence rather than a pause, seconds: the head
 /// then returns to its rest pose whatever the model's pause behaviour. Pauses inside speech
-/// rarely last longer (the styletalk training clips: 99 % of unvoiced stretches are shorter;
-/// see docs/measurements.md, 5.0), so the pause models were trained on pauses this long at
+/// rarely last longer (the longest unvoiced stretch of the seven styletalk training clips is
+/// 1.99 s, docs/measurements.md, 5.0), so the pause models were trained on pauses this long at
 /// most and are not asked beyond their data: the loudness model, trained on pauses where heads
 /// keep moving, wants motion at several °/s and in a long silence wandered to a posture degrees
 /// off the mean (one leave-one-clip-out model: roll +2.26° over a minute of silence), and a hold
