@@ -4,7 +4,7 @@
 //! f0; mean angle (posture), SD and mean angular speed of generated and real motion; frozen
 //! frames; the share of angular-velocity power above 3 Hz; and the peak speed when the clip's
 //! speech starts after a silence (a jump shows there). Also the frames of a digital silence and
-//! the posture over it. [`super::targets`] judges the figures, [`super::evaluate`] gathers them
+//! the posture over it after a clip's speech. [`super::targets`] judges the figures, [`super::evaluate`] gathers them
 //! leave-one-clip-out.
 
 use super::features::TrainingClip;
@@ -176,16 +176,20 @@ pub fn peak_speed_from(pose: &[[f64; 3]], start: usize, frame_rate_hz: f64) -> f
         .fold(0.0, f64::max)
 }
 
-/// The mean angles (roll, pitch, yaw) of the head over `silence`, degrees.
+/// The mean angles (roll, pitch, yaw) of the head over `silence` when it follows `speech`
+/// (frames of a clip; empty for a silence from the start of a stream), degrees. After speech
+/// the silence starts from wherever the speech left the head and with the speaker's pause
+/// level, which a silence from the start of a stream (at rest from its first frame) never
+/// tests.
 pub fn silence_posture(
     model: &HeadModel,
     config: &HeadConfig,
+    speech: &[FeatureFrame],
     silence: &[FeatureFrame],
     frame_rate_hz: f64,
 ) -> [f64; 3] {
-    motion_stats(
-        &synthesize(model, config, silence, frame_rate_hz),
-        frame_rate_hz,
-    )
-    .mean_deg
+    let mut frames = speech.to_vec();
+    frames.extend_from_slice(silence);
+    let pose = synthesize(model, config, &frames, frame_rate_hz);
+    motion_stats(&pose[speech.len()..], frame_rate_hz).mean_deg
 }

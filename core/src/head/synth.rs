@@ -1,7 +1,9 @@
 //! Per-frame head-pose synthesis: the argmax of the weighted product of the five conditional
 //! densities given the two previous poses (van Welbergen et al. after Le et al.), found by BFGS
 //! from the previous pose with analytic gradients inside box bounds; unvoiced frames follow the
-//! configured [`UnvoicedBehaviour`]. Allocation-free and deterministic after `new`.
+//! configured [`UnvoicedBehaviour`] inside pauses; in a silence (no voiced frame for more than
+//! [`REST_AFTER_S`], or none yet) the head returns to its rest pose, the speaker's mean pose
+//! (0°), as [`UnvoicedBehaviour::Return`]. Allocation-free and deterministic after `new`.
 //!
 //! Per frame, with θ = (roll, pitch, yaw) in degrees around the neutral pose, frame rate r:
 //! `J(θ) = −w_p·Σ_axes log p(θ_axis | f0, E) − w_v·log p(v | f0, E) − w_a·log p(a | f0, E)`,
@@ -28,8 +30,21 @@ use crate::settings::head::{
 };
 use crate::settings::setting::{check_fields, field, sanitize_fields, Field};
 
+/// Unvoiced time after which the stretch is a silence rather than a pause, seconds: the head
+/// then returns to its rest pose whatever the model's pause behaviour. Pauses inside speech
+/// rarely last longer (the longest unvoiced stretch of the seven styletalk training clips is
+/// 1.99 s, docs/measurements.md, 5.0), so the pause models were trained on pauses this long at
+/// most and are not asked beyond their data: the loudness model, trained on pauses where heads
+/// keep moving, wants motion at several °/s and in a long silence wandered to a posture degrees
+/// off the mean (one leave-one-clip-out model: roll +2.26° over a minute of silence), and a hold
+/// keeps the last pose for ever. The angles are relative to the speaker's mean pose, so the
+/// rest pose is 0°.
+pub const REST_AFTER_S: f64 = 2.0;
+
 /// Smoothing of |Δθ| near 0 (degrees), so the norms are differentiable.
 const NORM_EPS_DEG: f64 = 1e-3;
+/// The unvoiced time a stream starts with and is counted up to: past [`REST_AFTER_S`] (at rest).
+const AT_REST_S: f64 = 2.0 * REST_AFTER_S;
 /// Time constant of the liveliness variation, seconds.
 const LIVELINESS_TIME_S: f64 = 1.5;
 /// Standard deviation of the liveliness variation at liveliness 1, degrees.
@@ -124,6 +139,9 @@ pub struct HeadSynth {
     governor: SpeedGovernor,
     /// Governed output of the last frame before liveliness and limits, degrees.
     prev_out: DVec3,
+    /// Seconds since the last voiced frame (counted up to just past [`REST_AFTER_S`]; a stream
+    /// starts at rest, as after a silence).
+    unvoiced_s: f64,
 }
 
 /// Model-space pose → output angles.
@@ -163,6 +181,7 @@ impl HeadSynth {
             smoother,
             governor,
             prev_out: DVec3::ZERO,
+            unvoiced_s: AT_REST_S,
         })
     }
 
@@ -176,6 +195,7 @@ impl HeadSynth {
         self.smoother.reset();
         self.governor.reset();
         self.prev_out = DVec3::ZERO;
+        self.unvoiced_s = AT_REST_S;
     }
 
     /// Changes the settings between frames (out-of-range values are clamped, see
@@ -227,8 +247,15 @@ impl HeadSynth {
             search.min(limits)
         };
 
+        self.unvoiced_s = if voiced {
+            0.0
+        } else {
+            (self.unvoiced_s + 1.0 / rate).min(AT_REST_S)
+        };
         let behaviour = if voiced {
             None
+        } else if self.unvoiced_s > REST_AFTER_S {
+            Some(UnvoicedBehaviour::Return)
         } else {
             Some(cfg.unvoiced.unwrap_or(self.model.unvoiced_behaviour))
         };

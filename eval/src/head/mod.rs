@@ -11,7 +11,8 @@
 //!   of the model's own variant. Without it, the model (default: the embedded one) generates
 //!   every clip, in-sample for the clips it was trained on.
 //! - Posture through the engine, in lookahead and live mode: the mean angles over ten minutes
-//!   of silence, and with `--keele DIR` on every Keele voice (no motion truth there: mean
+//!   of silence after the first clip's speech (the head starts the silence wherever the speech
+//!   left it), and with `--keele DIR` on every Keele voice (no motion truth there: mean
 //!   angles, SD and speed against real heads' ranges).
 //! - `--paper-models DIR`: the seed paper's own GMMs ([`pneuma_core::head::paper`]) on the same
 //!   clips and voices, with the paper's objective and features; reported, not checked.
@@ -152,24 +153,35 @@ const MODES: [(PlacementMode, &str); 2] = [
     (PlacementMode::Live, "live"),
 ];
 
-/// Posture over ten minutes of silence through the engine, in both modes.
+/// Posture over ten minutes of silence through the engine, in both modes, after the audio of
+/// `speech` (none: the silence from the start of the stream).
 fn engine_silence(
     model: &HeadModel,
     head: &HeadConfig,
+    speech: Option<&Path>,
     frame_rate_hz: f64,
 ) -> Result<Vec<Target>, String> {
-    const RATE_HZ: f64 = 16_000.0;
-    let silence = vec![0.0f32; (ENGINE_SILENCE_S * RATE_HZ) as usize];
+    let (mut audio, rate_hz) = match speech {
+        Some(f) => {
+            let (samples, rate) = read_mono(f).map_err(|e| format!("{}: {e}", f.display()))?;
+            (samples, rate as f64)
+        }
+        None => (Vec::new(), 16_000.0),
+    };
+    let speech_s = audio.len() as f64 / rate_hz;
+    audio.resize(audio.len() + (ENGINE_SILENCE_S * rate_hz) as usize, 0.0);
+    let after = speech.map_or(String::new(), |f| format!(" after {}", stem(f)));
     let mut t = Vec::new();
     for (mode, name) in MODES {
-        let pose = engine_head(model, head, mode, &silence, RATE_HZ, frame_rate_hz)?;
-        let m = motion_stats(&pose, frame_rate_hz).mean_deg;
+        let pose = engine_head(model, head, mode, &audio, rate_hz, frame_rate_hz)?;
+        let start = ((speech_s * frame_rate_hz).round() as usize).min(pose.len());
+        let m = motion_stats(&pose[start..], frame_rate_hz).mean_deg;
         println!(
-            "silence {ENGINE_SILENCE_S:.0} s, {name} mode: mean roll {:+.2}°, pitch {:+.2}°, yaw {:+.2}°",
+            "silence {ENGINE_SILENCE_S:.0} s{after}, {name} mode: mean roll {:+.2}°, pitch {:+.2}°, yaw {:+.2}°",
             m[0], m[1], m[2]
         );
         t.push(judge_silence(
-            &format!("{ENGINE_SILENCE_S:.0} s of silence through the engine, {name} mode"),
+            &format!("{ENGINE_SILENCE_S:.0} s of silence{after} through the engine, {name} mode"),
             m,
         ));
     }
@@ -421,12 +433,17 @@ pub fn run(args: &HeadArgs) -> Result<bool, String> {
         );
         let evals = in_sample(&model, &head, &clips);
         print_clip_table(&evals);
-        let rest = silence_posture(
-            &model,
-            &head,
-            &silence_frames(SILENCE_CHECK_S, config.frame_rate_hz),
-            config.frame_rate_hz,
-        );
+        // The silence after each clip's speech: the clip with the largest |mean| per axis.
+        let silence = silence_frames(SILENCE_CHECK_S, config.frame_rate_hz);
+        let mut rest = [0.0f64; 3];
+        for c in &clips {
+            let m = silence_posture(&model, &head, &c.frames, &silence, config.frame_rate_hz);
+            for k in 0..3 {
+                if m[k].abs() > rest[k].abs() {
+                    rest[k] = m[k];
+                }
+            }
+        }
         targets.extend(judge(&evals, rest));
         evals
     };
@@ -434,7 +451,13 @@ pub fn run(args: &HeadArgs) -> Result<bool, String> {
         write_motion(dir, &clips, &evals)?;
         println!("wrote {}/<clip>.motion.csv", dir.display());
     }
-    targets.extend(engine_silence(&model, &head, config.frame_rate_hz)?);
+    let speech = wav_files(&args.data, "clips as .wav files")?;
+    targets.extend(engine_silence(
+        &model,
+        &head,
+        speech.first().map(PathBuf::as_path),
+        config.frame_rate_hz,
+    )?);
     if let Some(dir) = &args.keele {
         targets.extend(engine_voices(&model, &head, dir, config.frame_rate_hz)?);
     }
