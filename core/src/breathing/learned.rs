@@ -3,13 +3,16 @@
 //!
 //! # What is learned
 //! From every real inhalation heard in a recording ([`HeardBreath`]: its third-octave band
-//! powers, its mean square and its length) and the recording's noise floor
+//! powers and its length) and the recording's noise floor
 //! ([`super::third_octave::FloorEstimate`]):
 //! - the **spectral envelope**: the mean over the breaths of each one's third-octave shape
 //!   ([`super::third_octave`], 250 Hz–6.3 kHz, dB relative to its own mean) with the floor's
 //!   band powers taken out first, and per band the standard deviation of the shapes;
-//! - the **level under the speech**: the median of the breaths' RMS (floor taken out) minus the
-//!   speech level (the median RMS of the recording's voiced frames), and its spread;
+//! - the **level under the speech**: the median of the breaths' levels minus the speech level
+//!   (the median RMS of the recording's voiced frames), and its spread. A breath's level is its
+//!   mean square in the bands with the floor's band powers taken out
+//!   ([`super::third_octave::band_level_db`]), the level the evaluations measure real and
+//!   inserted breaths at;
 //! - the **length**: median and spread (reported; the placement decides each breath's length).
 //!
 //! With fewer than [`MIN_FOR_SPREAD`] breaths the spreads are the priors below (the spread of
@@ -22,7 +25,8 @@
 //! start so that the sound's band powers, as the third-octave measurement sees them (the FFT
 //! bins in each band), follow the target shape, accounting for each filter's response in the
 //! neighbouring bands (a fixed-point iteration on the analytic responses computed at
-//! `prepare`); the output has unit power. Each breath draws its target shape as
+//! `prepare`); the output has unit power, and [`LearnedSound::rms_db`] is the RMS that puts its
+//! level in the bands at the drawn level. Each breath draws its target shape as
 //! the learned envelope plus, per band, a normal deviate times the learned spread, and its level
 //! as the learned level plus a normal deviate times the level spread (both clamped to ±2
 //! standard deviations). Allocation-free after `prepare`.
@@ -31,7 +35,8 @@ use std::f64::consts::PI;
 
 use super::filters::{Biquad, BUTTER4_Q, HIGHPASS_HZ, LOWPASS_HZ};
 use super::third_octave::{
-    band_edge_ratio, band_of, frame_len, shape_db, without_floor, Bands, BANDS, BAND_CENTRES_HZ,
+    band_edge_ratio, band_level_db, band_of, frame_len, shape_db, without_floor, Bands, BANDS,
+    BAND_CENTRES_HZ,
 };
 use crate::rng::SeededRng;
 
@@ -57,10 +62,8 @@ const STEPS_TOTAL: usize = 4096;
 /// One real inhalation heard in a recording.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HeardBreath {
-    /// Mean power per third-octave band.
+    /// Mean power per third-octave band ([`super::third_octave::BandAnalyzer::powers`]).
     pub powers: Bands,
-    /// Mean square over the breath.
-    pub mean_square: f64,
     /// Length, seconds.
     pub length_s: f64,
 }
@@ -102,21 +105,22 @@ fn sd(v: &[f64]) -> f64 {
 }
 
 impl LearnedVoice {
-    /// The voice of `breaths` in a room whose floor has band powers `floor_powers` and mean
-    /// square `floor_square`, against speech at `speech_db`; `None` without a breath.
+    /// The voice of `breaths` (measured at `rate_hz`) in a room whose floor has band powers
+    /// `floor_powers`, against speech at `speech_db`; `None` without a breath.
     pub fn learn(
         breaths: &[HeardBreath],
         floor_powers: &Bands,
-        floor_square: f64,
         speech_db: f64,
+        rate_hz: f64,
     ) -> Option<Self> {
         if breaths.is_empty() || !speech_db.is_finite() {
             return None;
         }
-        let shapes: Vec<Bands> = breaths
+        let clean: Vec<Bands> = breaths
             .iter()
-            .map(|b| shape_db(&without_floor(&b.powers, floor_powers)))
+            .map(|b| without_floor(&b.powers, floor_powers))
             .collect();
+        let shapes: Vec<Bands> = clean.iter().map(shape_db).collect();
         let n = breaths.len();
         let mean: Bands =
             std::array::from_fn(|k| shapes.iter().map(|s| s[k]).sum::<f64>() / n as f64);
@@ -128,12 +132,9 @@ impl LearnedVoice {
                 SHAPE_SD_PRIOR_DB
             }
         });
-        let levels: Vec<f64> = breaths
+        let levels: Vec<f64> = clean
             .iter()
-            .map(|b| {
-                let clean = (b.mean_square - floor_square).max(0.1 * b.mean_square);
-                10.0 * clean.max(1e-20).log10() - speech_db
-            })
+            .map(|p| band_level_db(p, rate_hz) - speech_db)
             .collect();
         let lengths: Vec<f64> = breaths.iter().map(|b| b.length_s).collect();
         Some(Self {
@@ -166,7 +167,7 @@ impl LearnedVoice {
         }
     }
 
-    /// The learned level of a breath (its RMS over its length), dBFS.
+    /// The learned level of a breath (its mean square in the bands over its length), dBFS.
     pub fn level_db(&self) -> f64 {
         self.speech_db + self.level_re_speech_db
     }
@@ -210,6 +211,8 @@ pub struct LearnedSound {
     gains: Bands,
     /// The current breath's level offset from the learned level, dB.
     level_offset_db: f64,
+    /// Share of the current breath's power in the bands.
+    band_share: f64,
 }
 
 impl LearnedSound {
@@ -226,6 +229,7 @@ impl LearnedSound {
             usable: [false; BANDS],
             gains: [0.0; BANDS],
             level_offset_db: 0.0,
+            band_share: 1.0,
         }
     }
 
@@ -333,12 +337,27 @@ impl LearnedSound {
             *t = 10f64.powf(db / 10.0);
         }
         self.level_offset_db = self.voice.level_sd_db * self.deviate();
-        self.gains = self.solve(&target).map(f64::sqrt);
+        let weights = self.solve(&target);
+        let in_bands: f64 = (0..BANDS)
+            .map(|i| {
+                (0..BANDS)
+                    .map(|j| self.response[i][j] * weights[j])
+                    .sum::<f64>()
+            })
+            .sum();
+        self.band_share = if in_bands > 0.0 { in_bands } else { 1.0 };
+        self.gains = weights.map(f64::sqrt);
     }
 
-    /// The current breath's level (its RMS over its length), dBFS.
+    /// The current breath's level (its mean square in the bands over its length), dBFS.
     pub fn level_db(&self) -> f64 {
         self.voice.level_db() + self.level_offset_db
+    }
+
+    /// The RMS over its length (all of the sound, in and out of the bands) that puts the
+    /// current breath at [`LearnedSound::level_db`], dBFS.
+    pub fn rms_db(&self) -> f64 {
+        self.level_db() - 10.0 * self.band_share.log10()
     }
 
     /// The next sample (unit power).
@@ -425,23 +444,76 @@ mod tests {
 
     #[test]
     fn learning_takes_the_floor_out_and_falls_back_to_the_priors_with_few_breaths() {
+        let fs = 16_000.0;
         let tilt: Bands = std::array::from_fn(|k| 10f64.powf(-(k as f64) / 10.0));
         let floor = [1e-3; BANDS];
         let b = HeardBreath {
             powers: std::array::from_fn(|k| tilt[k] + floor[k]),
-            mean_square: 0.02,
             length_s: 0.5,
         };
-        let v = LearnedVoice::learn(&[b, b], &floor, 0.01, -20.0).expect("two breaths");
+        let v = LearnedVoice::learn(&[b, b], &floor, -20.0, fs).expect("two breaths");
         let want = shape_db(&tilt);
         assert!(distance_db(&v.shape_db, &want) < 1e-9, "{:?}", v.shape_db);
         assert_eq!(v.shape_sd_db, [SHAPE_SD_PRIOR_DB; BANDS]);
-        // 0.02 − 0.01 = 0.01: −20 dBFS, 0 dB under −20 dB speech.
+        // The level is the tilt's alone, in the bands.
+        let level = band_level_db(&tilt, fs) + 20.0;
         assert!(
-            v.level_re_speech_db.abs() < 1e-9,
-            "{}",
+            (v.level_re_speech_db - level).abs() < 1e-9,
+            "{} vs {level}",
             v.level_re_speech_db
         );
-        assert!(LearnedVoice::learn(&[], &floor, 0.0, -20.0).is_none());
+        assert!(LearnedVoice::learn(&[], &floor, -20.0, fs).is_none());
+    }
+
+    #[test]
+    fn a_breath_is_learned_at_the_level_its_own_sound_has_in_the_bands() {
+        // A recording whose quiet frames hold rumble under 250 Hz as loud as the breaths (the
+        // Keele clips): a breath is a third-octave noise 30 dB over the floor in every band.
+        // Learned from its samples, its level is that of the same noise alone.
+        let fs = 16_000.0;
+        let mut rng = SeededRng::new(9);
+        let mut noise = |n: usize, amp: f64| -> Vec<f32> {
+            (0..n)
+                .map(|_| ((rng.uniform() * 2.0 - 1.0) * amp) as f32)
+                .collect()
+        };
+        let breath = noise(8000, 1e-2);
+        let floor_bands: Bands = band_powers(&noise(8000, 1e-2 * 10f64.powf(-1.5)), fs);
+        let rumble: Vec<f32> = (0..8000)
+            .map(|i| (0.02 * (2.0 * PI * 40.0 * i as f64 / fs).sin()) as f32)
+            .collect();
+        let heard: Vec<f32> = breath.iter().zip(&rumble).map(|(b, r)| b + r).collect();
+        let b = HeardBreath {
+            powers: band_powers(&heard, fs),
+            length_s: 0.5,
+        };
+        let v = LearnedVoice::learn(&[b; 3], &floor_bands, -20.0, fs).expect("breaths");
+        let alone = band_level_db(&band_powers(&breath, fs), fs) + 20.0;
+        assert!(
+            (v.level_re_speech_db - alone).abs() < 0.3,
+            "learned {} vs the breath alone {alone}",
+            v.level_re_speech_db
+        );
+    }
+
+    #[test]
+    fn a_drawn_breath_has_the_learned_level_in_the_bands() {
+        // A dark voice (much of its power under 250 Hz and over 6.3 kHz is outside the bands).
+        let fs = 16_000.0;
+        let shape: Bands = std::array::from_fn(|k| -1.5 * k as f64);
+        let mut s = LearnedSound::new(
+            voice(shape_db(&shape.map(|d| 10f64.powf(d / 10.0))), 0.0),
+            4,
+        );
+        s.prepare(fs);
+        let x = render(&mut s, 4 * fs as usize);
+        let gain = 10f64.powf(s.rms_db() / 20.0);
+        let scaled: Vec<f32> = x.iter().map(|v| (f64::from(*v) * gain) as f32).collect();
+        let got = band_level_db(&band_powers(&scaled, fs), fs);
+        assert!(
+            (got - s.level_db()).abs() < 0.5,
+            "{got} vs the drawn level {}",
+            s.level_db()
+        );
     }
 }

@@ -7,6 +7,12 @@
 //! ([`FloorEstimate`], bounded memory); a breath's band powers have it subtracted
 //! ([`without_floor`]).
 //!
+//! A breath's **level** is its mean square in these bands ([`band_level_db`]), with the floor
+//! taken out per band for a real breath: the learned voice learns it and the evaluations score
+//! inserted against real breaths with it, so both mean the same thing. (A full-band mean square
+//! would count the rumble and DC drift under 250 Hz that a recording's quiet frames hold and a
+//! breath does not.)
+//!
 //! Band powers: Hann frames of [`frame_len`] samples (at least 25 ms, a power of two: 512 at
 //! 16 and 20 kHz) every half frame, powers averaged over the sound and summed per band (edges
 //! at the centre × 2^(±1/6)). [`BandAnalyzer::new`] allocates (an FFT plan): not for the audio
@@ -126,6 +132,16 @@ pub fn band_powers(x: &[f32], rate_hz: f64) -> Bands {
     BandAnalyzer::new(rate_hz).powers(x)
 }
 
+/// The mean square in the bands of a sound whose band powers ([`BandAnalyzer::powers`] at
+/// `rate_hz`) are `powers`, dB re full scale: the level of a breath (see the module docs).
+pub fn band_level_db(powers: &Bands, rate_hz: f64) -> f64 {
+    let n = frame_len(rate_hz) as f64;
+    // Parseval with the periodic Hann window (sum of squares 3N/8): a one-sided bin's power
+    // |X|² is a mean square of 2 |X|² / (N · 3N/8).
+    let mean_square = powers.iter().sum::<f64>() * 16.0 / (3.0 * n * n);
+    10.0 * mean_square.max(1e-20).log10()
+}
+
 /// Band levels as dB relative to their own mean (the shape of the spectrum).
 pub fn shape_db(powers: &Bands) -> Bands {
     let db = powers.map(|p| 10.0 * p.max(1e-20).log10());
@@ -163,13 +179,12 @@ const FLOOR_LOWEST_DB: f64 = -150.0;
 const FLOOR_SHARE: f64 = 0.05;
 
 /// The room's noise floor per band, learned frame by frame in bounded memory: the mean band
-/// powers (and mean square) of the quietest 5 % of the frames (by total band power, to within
+/// powers of the quietest 5 % of the frames (by total band power, to within
 /// a 0.5 dB histogram bin; digitally silent frames are left out).
 #[derive(Debug, Clone)]
 pub struct FloorEstimate {
     count: Vec<u64>,
     sums: Vec<Bands>,
-    squares: Vec<f64>,
     frames: u64,
 }
 
@@ -178,15 +193,14 @@ impl Default for FloorEstimate {
         Self {
             count: vec![0; FLOOR_BINS],
             sums: vec![[0.0; BANDS]; FLOOR_BINS],
-            squares: vec![0.0; FLOOR_BINS],
             frames: 0,
         }
     }
 }
 
 impl FloorEstimate {
-    /// Adds one frame: its band powers and its mean square.
-    pub fn add(&mut self, bands: &Bands, mean_square: f64) {
+    /// Adds one frame's band powers.
+    pub fn add(&mut self, bands: &Bands) {
         let total: f64 = bands.iter().sum();
         if total <= 1e-15 {
             return;
@@ -194,29 +208,27 @@ impl FloorEstimate {
         let db = 10.0 * total.log10();
         let bin = (((db - FLOOR_LOWEST_DB) / FLOOR_BIN_DB).max(0.0) as usize).min(FLOOR_BINS - 1);
         self.count[bin] += 1;
-        self.squares[bin] += mean_square;
         for (s, p) in self.sums[bin].iter_mut().zip(bands) {
             *s += p;
         }
         self.frames += 1;
     }
 
-    /// The floor's band powers and mean square (0 before any frame).
-    pub fn floor(&self) -> (Bands, f64) {
+    /// The floor's band powers (0 before any frame).
+    pub fn floor(&self) -> Bands {
         let want = ((self.frames as f64 * FLOOR_SHARE).ceil() as u64).max(1);
-        let (mut n, mut bands, mut square) = (0u64, [0.0; BANDS], 0.0);
+        let (mut n, mut bands) = (0u64, [0.0; BANDS]);
         for bin in 0..FLOOR_BINS {
             if n >= want {
                 break;
             }
             n += self.count[bin];
-            square += self.squares[bin];
             for (b, s) in bands.iter_mut().zip(&self.sums[bin]) {
                 *b += s;
             }
         }
         let n = n.max(1) as f64;
-        (bands.map(|b| b / n), square / n)
+        bands.map(|b| b / n)
     }
 }
 
@@ -226,9 +238,9 @@ pub fn noise_floor(x: &[f32], rate_hz: f64) -> Bands {
     let mut a = BandAnalyzer::new(rate_hz);
     let mut est = FloorEstimate::default();
     for c in x.chunks_exact(a.frame()) {
-        est.add(&a.powers(c), 0.0);
+        est.add(&a.powers(c));
     }
-    est.floor().0
+    est.floor()
 }
 
 /// Band powers of a sound in a room with `floor` band powers: the floor subtracted in power,
@@ -273,6 +285,22 @@ mod tests {
             }
         }
         assert_eq!(frame_len(16_000.0), 512);
+    }
+
+    #[test]
+    fn the_band_level_of_white_noise_is_its_mean_square_in_the_bands() {
+        let mut rng = crate::rng::SeededRng::new(5);
+        for rate in [16_000.0, 48_000.0] {
+            // Unit-variance white noise: its share of the band 222.7 Hz–7.07 kHz of rate / 2.
+            let x: Vec<f32> = (0..rate as usize)
+                .map(|_| ((rng.uniform() * 2.0 - 1.0) * 3f64.sqrt()) as f32)
+                .collect();
+            let edge = band_edge_ratio();
+            let share =
+                (BAND_CENTRES_HZ[BANDS - 1] * edge - BAND_CENTRES_HZ[0] / edge) / (rate / 2.0);
+            let got = band_level_db(&band_powers(&x, rate), rate);
+            assert!((got - 10.0 * share.log10()).abs() < 0.2, "{rate}: {got}");
+        }
     }
 
     #[test]

@@ -344,9 +344,9 @@ impl BreathVoice {
         if let (Some(l), false) = (self.learned.as_mut(), sampled) {
             l.start();
             self.use_learned = true;
-            // The learned level is the breath's RMS over its length: the plateau is louder by
+            // The learned level is the breath's level over its length: the plateau is louder by
             // the envelope's mean square (summed once per breath, no allocation).
-            let rms = 10f64.powf((l.level_db() + self.learned_offset_db) / 20.0);
+            let rms = 10f64.powf((l.rms_db() + self.learned_offset_db) / 20.0);
             let env = self.env.as_ref().expect("set above");
             let mean_square =
                 (0..length_samples).map(|i| env.at(i).powi(2)).sum::<f64>() / length_samples as f64;

@@ -73,8 +73,7 @@ impl VoiceLearner {
                 self.chunk.push(x);
                 if self.chunk.len() == self.bands.frame() {
                     let p = self.bands.powers(&self.chunk);
-                    let ms = mean_square(&self.chunk);
-                    self.floor.add(&p, ms);
+                    self.floor.add(&p);
                     self.chunk.clear();
                 }
             }
@@ -122,7 +121,6 @@ impl VoiceLearner {
             .extend((a..b).map(|i| self.ring[(i % n) as usize]));
         self.heard.push(HeardBreath {
             powers: self.bands.powers(&self.scratch),
-            mean_square: mean_square(&self.scratch),
             length_s: end_s - start_s,
         });
     }
@@ -141,12 +139,11 @@ impl VoiceLearner {
         for f in &frames {
             self.on_frame(f);
         }
-        let (floor_powers, floor_square) = self.floor.floor();
         Ok(LearnedVoice::learn(
             &self.heard,
-            &floor_powers,
-            floor_square,
+            &self.floor.floor(),
             self.speech_db(),
+            self.rate_hz,
         ))
     }
 
@@ -162,10 +159,6 @@ impl VoiceLearner {
         }
         f64::NAN
     }
-}
-
-fn mean_square(x: &[f32]) -> f64 {
-    x.iter().map(|&v| f64::from(v).powi(2)).sum::<f64>() / x.len().max(1) as f64
 }
 
 /// The voice learned from the whole of `mono` at `rate_hz` with `config`'s analysis and phrase

@@ -17,9 +17,12 @@
 //! - **Scores** ([`score`]): a cut breath is *put back* when an inserted breath overlaps its
 //!   span widened by 0.15 s on each side (each inserted breath counts for one cut breath). An
 //!   inserted breath that puts none back and overlaps no breath inserted in the render of the
-//!   uncut clip (same voice) is *extra*. For each breath put back: its level (RMS of what the
-//!   engine added, output − input, over the inserted span) against the real breath's RMS over
-//!   its label, dB; its duration against the label's; the third-octave shape distance
+//!   uncut clip (same voice) is *extra*. For each breath put back: its level against the real
+//!   breath's, dB, both measured the same way: the mean square in the third-octave bands
+//!   ([`pneuma_core::breathing::third_octave::band_level_db`]) of what the engine added (output
+//!   − input) over the inserted span, and of the real breath over its label with the clip's
+//!   noise floor taken out per band (what the engine adds holds no floor); its duration against
+//!   the label's; the third-octave shape distance
 //!   ([`pneuma_core::breathing::third_octave`], 250 Hz–6.3 kHz, each shape relative to its own
 //!   mean level) of the inserted breath to the real one it replaces (the real one's band powers
 //!   with the clip's noise floor taken out). For scale, per speaker: the median distance
@@ -32,14 +35,14 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use pneuma_core::breathing::third_octave::{
-    band_powers, distance_db, frame_len, noise_floor, shape_db, without_floor, Bands,
+    band_level_db, band_powers, distance_db, frame_len, noise_floor, shape_db, without_floor, Bands,
 };
 use pneuma_core::engine::offline::Rendered;
 
 use crate::breath_sounds::detect::speaker_of;
 use crate::data::{read_labels, DataError};
 use crate::labels::{Label, LabelKind, LabelledSets};
-use crate::stats::{median, rms_db};
+use crate::stats::median;
 use pneuma_core::engine::voice_learning::learn_voice;
 use pneuma_core::engine::EngineConfig;
 
@@ -93,6 +96,8 @@ struct Clip {
     breaths: Vec<(f64, f64)>,
     /// Each breath's shape, floor taken out.
     real_shapes: Vec<Bands>,
+    /// Each breath's level (floor taken out), dBFS.
+    real_levels_db: Vec<f64>,
 }
 
 /// What one cut breath gave.
@@ -145,12 +150,17 @@ fn load(data: &Path, labels_path: &Path) -> Result<Vec<Clip>, String> {
             ls.sort_by(|a, b| a.start_s.total_cmp(&b.start_s));
             let floor = noise_floor(&audio, rate_hz);
             let breaths: Vec<(f64, f64)> = ls.iter().map(|l| (l.start_s, l.end_s)).collect();
-            let real_shapes = breaths
+            let real_powers: Vec<Bands> = breaths
                 .iter()
                 .map(|&span| {
                     let p = band_powers(samples_of(&audio, rate_hz, span), rate_hz);
-                    shape_db(&without_floor(&p, &floor))
+                    without_floor(&p, &floor)
                 })
+                .collect();
+            let real_shapes = real_powers.iter().map(shape_db).collect();
+            let real_levels_db = real_powers
+                .iter()
+                .map(|p| band_level_db(p, rate_hz))
                 .collect();
             Ok(Clip {
                 speaker: speaker_of(&name),
@@ -159,6 +169,7 @@ fn load(data: &Path, labels_path: &Path) -> Result<Vec<Clip>, String> {
                 audio,
                 breaths,
                 real_shapes,
+                real_levels_db,
             })
         })
         .collect()
@@ -233,14 +244,14 @@ fn score(
         used[j] = true;
         let b = &out.breaths[j];
         let x = samples_of(&added, rate, (b.start_s, b.end_s));
-        let real = samples_of(&clip.audio, rate, spans[k]);
+        let powers = band_powers(x, rate);
         let shape = if x.len() >= frame_len(rate) / 2 {
-            shape_db(&band_powers(x, rate))
+            shape_db(&powers)
         } else {
             [f64::NAN; pneuma_core::breathing::third_octave::BANDS]
         };
         result.restored.push(Some(Restored {
-            level_db: rms_db(x) - rms_db(real),
+            level_db: band_level_db(&powers, rate) - clip.real_levels_db[i],
             duration_ratio: (b.end_s - b.start_s) / (spans[k].1 - spans[k].0),
             shape,
             distance_db: distance_db(&shape, &clip.real_shapes[i]),
@@ -301,11 +312,6 @@ fn print_voice(clip: &Clip) -> Result<(), String> {
     let mut config = EngineConfig::default();
     config.placement.whole_file = true;
     let v = learn_voice(&config, &clip.audio, clip.rate_hz).map_err(|e| e.to_string())?;
-    let levels: Vec<f64> = clip
-        .breaths
-        .iter()
-        .map(|&s| rms_db(samples_of(&clip.audio, clip.rate_hz, s)))
-        .collect();
     let lengths: Vec<f64> = clip.breaths.iter().map(|(s, e)| e - s).collect();
     match v {
         Some(v) => println!(
@@ -315,7 +321,7 @@ fn print_voice(clip: &Clip) -> Result<(), String> {
             v.level_re_speech_db,
             v.length_s,
             clip.breaths.len(),
-            median(&levels) - v.speech_db,
+            median(&clip.real_levels_db) - v.speech_db,
             median(&lengths)
         ),
         None => println!("  {:<14} heard none: built-in voice", clip.name),
