@@ -11,9 +11,9 @@
 use pneuma_core::speech::{SpeechAnalysis, SpeechModel};
 
 use pneuma_eval::podcast::fit::{fit, THRESHOLD};
-use pneuma_eval::podcast::recipe::{self, Class, Episode, EPISODES, SEED};
+use pneuma_eval::podcast::recipe::{Class, Episode, EPISODES, SEED};
 use pneuma_eval::podcast::sources::MUSIC;
-use pneuma_eval::podcast::{self, fit_rows, label_frame, percent, python, Exclusion, FrameTally};
+use pneuma_eval::podcast::{self, fit_rows, label_frame, percent, Exclusion, FrameTally};
 
 const OUTPUT: &str = "assets/models/speech.txt";
 
@@ -44,19 +44,7 @@ fn tally(t: &mut FrameTally, episode: &Episode, a: &SpeechAnalysis, model: &Spee
 }
 
 fn run(root: &std::path::Path, data: &std::path::Path, check: bool) -> Result<i32, String> {
-    if !data.join("music").is_dir() {
-        return Err(format!(
-            "{} has no music/: the podcast recipe needs ../shared/data beside the checkout (or --data DIR)",
-            data.display()
-        ));
-    }
-    let mut worker = python::Worker::start(
-        &root.join(python::VENV_PYTHON),
-        &root.join("target/podcast-scratch"),
-        &["parselmouth", "numpy"],
-    )?;
-    let lib = recipe::library(data, &mut |a| worker.praat(a))?;
-    let episodes = recipe::episodes(&lib);
+    let (_worker, episodes) = podcast::episodes_with_worker(root, data, &[])?;
     let any = SpeechModel::shipped();
     let analysed = episodes
         .iter()

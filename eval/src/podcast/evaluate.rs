@@ -29,7 +29,7 @@ use pneuma_core::speech::{SpanJudge, SpeechAnalysis, SpeechModel};
 use super::fit::fit;
 use super::recipe::{self, Class, Condition, Episode};
 use super::sources::{FRAMES_PER_S, HOP, MUSIC, RATE_HZ};
-use super::{analyse, fit_rows, percent, python, Exclusion, FrameTally};
+use super::{analyse, fit_rows, percent, Exclusion, FrameTally};
 use crate::data::workspace_root;
 
 /// A breath counts as on speech (or inside a span) past this much overlap, seconds.
@@ -245,27 +245,12 @@ pub type Target = (String, String, bool);
 fn breath_targets(mode: Mode, t: &BreathTally) -> Vec<Target> {
     let share = |(a, n): (usize, usize)| a as f64 / n.max(1) as f64;
     let m = mode.name();
+    let none = |what: &str, n: usize| (format!("{m}: breaths {what} = 0"), n.to_string(), n == 0);
     vec![
-        (
-            format!("{m}: breaths in music-only spans = 0"),
-            t.music.to_string(),
-            t.music == 0,
-        ),
-        (
-            format!("{m}: breaths in singing = 0"),
-            t.singing.to_string(),
-            t.singing == 0,
-        ),
-        (
-            format!("{m}: breaths in noise-only spans = 0"),
-            t.noise.to_string(),
-            t.noise == 0,
-        ),
-        (
-            format!("{m}: breaths on speech = 0"),
-            t.on_speech.to_string(),
-            t.on_speech == 0,
-        ),
+        none("in music-only spans", t.music),
+        none("in singing", t.singing),
+        none("in noise-only spans", t.noise),
+        none("on speech", t.on_speech),
         (
             format!("{m}: pauses >= 0.4 s with a breath, clean speech >= 0.90"),
             format!("{:.2}", share(t.pauses[0])),
@@ -324,19 +309,7 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
         .data
         .clone()
         .unwrap_or_else(|| root.join("../shared/data"));
-    if !data.join("music").is_dir() {
-        return Err(format!(
-            "{} has no music/: the podcast recipe needs ../shared/data beside the checkout (or --data DIR)",
-            data.display()
-        ));
-    }
-    let mut worker = python::Worker::start(
-        &root.join(python::VENV_PYTHON),
-        &root.join("target/podcast-scratch"),
-        &["parselmouth", "numpy", "onnxruntime"],
-    )?;
-    let lib = recipe::library(&data, &mut |a| worker.praat(a))?;
-    let episodes = recipe::episodes(&lib);
+    let (mut worker, episodes) = super::episodes_with_worker(&root, &data, &["onnxruntime"])?;
     let shipped = SpeechModel::shipped();
     let analysed = episodes
         .iter()

@@ -12,6 +12,8 @@ pub mod python;
 pub mod recipe;
 pub mod sources;
 
+use std::path::Path;
+
 use pneuma_core::analysis::AnalysisConfig;
 use pneuma_core::speech::{self, SpeechAnalysis, SpeechModel};
 
@@ -52,6 +54,32 @@ impl FrameTally {
             t.1 += 1;
         }
     }
+}
+
+/// The recipe's episodes from `data` (the shared data folder) with a Python worker started for
+/// them: the recipe needs Praat (parselmouth, numpy); `extra_modules` are what the caller asks
+/// of the worker beside it (`onnxruntime` for Silero). `root` is the checkout (its virtualenv
+/// and scratch folder).
+pub fn episodes_with_worker(
+    root: &Path,
+    data: &Path,
+    extra_modules: &[&str],
+) -> Result<(python::Worker, Vec<Episode>), String> {
+    if !data.join("music").is_dir() {
+        return Err(format!(
+            "{} has no music/: the podcast recipe needs ../shared/data beside the checkout (or --data DIR)",
+            data.display()
+        ));
+    }
+    let mut modules = vec!["parselmouth", "numpy"];
+    modules.extend_from_slice(extra_modules);
+    let mut worker = python::Worker::start(
+        &root.join(python::VENV_PYTHON),
+        &root.join("target/podcast-scratch"),
+        &modules,
+    )?;
+    let lib = recipe::library(data, &mut |a| worker.praat(a))?;
+    Ok((worker, recipe::episodes(&lib)))
 }
 
 /// `(a, n)` as a percentage (0 for no frames).
