@@ -35,6 +35,19 @@ pub fn format_of_index(index: usize) -> OscFormat {
         .unwrap_or(formats[OSC_FORMAT.default as usize])
 }
 
+/// A voiced control frame `index` at 120 frames a second whose f0 tells the frames apart, for
+/// the senders' tests.
+#[cfg(test)]
+pub(crate) fn test_frame(index: u64) -> pneuma_core::ControlFrame {
+    pneuma_core::ControlFrame {
+        index,
+        time_s: index as f64 / 120.0,
+        f0_hz: 100.0 + index as f32,
+        voiced: true,
+        ..Default::default()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

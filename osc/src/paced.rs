@@ -243,6 +243,7 @@ impl<C: Clock> FrameSink for PacedSender<C> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_frame;
     use pneuma_testkit::osc::decode;
 
     /// A clock that only moves when slept on; records every wait.
@@ -262,16 +263,6 @@ mod tests {
         fn sleep_s(&mut self, seconds: f64) {
             self.waits_s.push(seconds);
             self.now_s += seconds.max(0.0);
-        }
-    }
-
-    fn frame(index: u64) -> ControlFrame {
-        ControlFrame {
-            index,
-            time_s: index as f64 / 120.0,
-            f0_hz: 100.0 + index as f32,
-            voiced: true,
-            ..Default::default()
         }
     }
 
@@ -314,7 +305,7 @@ mod tests {
         )
         .unwrap();
         for i in 0..24 {
-            tx.frame(&frame(i), 0);
+            tx.frame(&test_frame(i), 0);
         }
         // 23 periods of 1/120 s at 4x: the clock waited 23/480 s in all, one period each.
         let clock = tx.clock();
@@ -348,7 +339,7 @@ mod tests {
             PacedSender::open("127.0.0.1", port, OscFormat::Vmc, Speed::Times(4.0)).unwrap();
         let start = Instant::now();
         for i in 0..25 {
-            tx.frame(&frame(i), 0);
+            tx.frame(&test_frame(i), 0);
         }
         // A lower bound only (a busy machine may be slower, never faster): 24 periods at 4x.
         assert!(start.elapsed().as_secs_f64() >= 24.0 / 480.0 - 1e-3);

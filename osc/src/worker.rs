@@ -239,6 +239,7 @@ fn run<S: OscSettings>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_frame;
 
     use pneuma_core::encode::osc::TimeTag;
     use pneuma_testkit::osc::{decode, Message, OscType};
@@ -255,16 +256,6 @@ mod tests {
         }
         fn format(&self) -> OscFormat {
             *self.format.lock().unwrap()
-        }
-    }
-
-    fn frame(index: u64) -> ControlFrame {
-        ControlFrame {
-            index,
-            time_s: index as f64 / 120.0,
-            f0_hz: 100.0 + index as f32,
-            voiced: true,
-            ..Default::default()
         }
     }
 
@@ -286,7 +277,7 @@ mod tests {
             format: Mutex::new(OscFormat::Pneuma),
         });
         let (mut feed, worker, stats) = start(settings.clone()).unwrap();
-        feed.push(&frame(1));
+        feed.push(&test_frame(1));
         let msgs = receive(&a);
         assert_eq!(msgs[0].address, "/pneuma/frame");
         assert_eq!(msgs[1].args, vec![OscType::Float(101.0)]);
@@ -301,7 +292,7 @@ mod tests {
         let mut buf = [0u8; 2048];
         let mut got = None;
         for i in 2..100 {
-            feed.push(&frame(i));
+            feed.push(&test_frame(i));
             if let Ok(n) = b.recv(&mut buf) {
                 got = Some(decode(&buf[..n]).unwrap());
                 break;
@@ -326,7 +317,7 @@ mod tests {
         // Push as fast as possible until the queue overflows: the feed never blocks.
         let mut pushed = 0u64;
         while stats.dropped_full.load(Ordering::Relaxed) == 0 && pushed < 10_000_000 {
-            feed.push(&frame(pushed));
+            feed.push(&test_frame(pushed));
             pushed += 1;
         }
         assert!(
