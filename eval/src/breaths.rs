@@ -167,16 +167,17 @@ pub fn render_offline(
     Ok(offline::render(&mut engine, input, &[1024]))
 }
 
-/// Renders mono-or-more `input` as `pneuma render` does (the default settings, the whole-file
-/// lookahead) with the breath voice learned from `learn_from` (`None`: the built-in voice),
-/// the engine's seed moved by `seed_offset`.
+/// Renders mono-or-more `input` as `pneuma render` does (the whole-file lookahead) with
+/// `config` (`EngineConfig::default()`: the default settings), the breath voice learned from
+/// `learn_from` (`None`: the built-in voice) and the engine's seed moved by `seed_offset`.
 pub fn render_with_voice(
+    config: &EngineConfig,
     input: &[Vec<f32>],
     rate_hz: f64,
     learn_from: Option<&[f32]>,
     seed_offset: u64,
 ) -> Result<offline::Rendered, String> {
-    let mut config = EngineConfig::default();
+    let mut config = config.clone();
     config.placement.whole_file = true;
     config.seed = config.seed.wrapping_add(seed_offset);
     let mut engine = Engine::new(config.clone(), HeadModel::default_model().clone())

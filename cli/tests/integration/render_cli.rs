@@ -304,8 +304,15 @@ fn broken_input_fails_cleanly_and_keeps_existing_output() {
 
 #[test]
 fn help_shows_every_range_in_ascii() {
+    // Lines wrap at the terminal's width (100 columns without one): compare words only.
+    let words = |out: &[u8]| {
+        String::from_utf8_lossy(out)
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
     let o = support::pneuma(&["render", "--help"]);
-    let help = String::from_utf8_lossy(&o.stdout);
+    let help = words(&o.stdout);
     assert!(!help.contains('\u{2212}'), "Unicode minus in help");
     for want in [
         "-40 to -6 dB; default -22 dB",
@@ -320,7 +327,7 @@ fn help_shows_every_range_in_ascii() {
         );
     }
     let o = support::pneuma(&["speak", "--help"]);
-    let help = String::from_utf8_lossy(&o.stdout);
+    let help = words(&o.stdout);
     for want in ["0.5 to 2", "0.05 to 1", "--output"] {
         assert!(help.contains(want), "`{want}` not in speak --help:\n{help}");
     }

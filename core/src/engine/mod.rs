@@ -50,6 +50,7 @@ mod stereo;
 pub mod voice_learning;
 
 pub use config::{EngineConfig, EngineError, PlacementConfig, PlacementMode, OFFLINE_LOOKAHEAD_S};
+pub use placement::BREATH_LENGTH_SCALE;
 pub use speech_track::SpeechSummary;
 
 use crate::analysis::{Analyzer, FeatureFrame};

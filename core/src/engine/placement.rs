@@ -48,6 +48,12 @@ const CATCH_SLACK_S: f32 = 0.3;
 const CATCH_MARGIN_S: f64 = 0.01;
 /// Least speech left that an onset plans its expiration over, seconds.
 const MIN_LEFT_S: f32 = 0.5;
+/// How long a breath is against the breathing parameters' inspiration (see
+/// [`breath_length_s`]): chosen leave-one-speaker-out on the labelled real breaths of
+/// `../shared/data` (`pneuma eval restore`, its breath-length fit: cut, restored, duration
+/// against the real breath), from ×1.0 to ×1.6, where a breath after a long pause reaches
+/// [`MAX_BREATH_S`].
+pub const BREATH_LENGTH_SCALE: f64 = 1.6;
 /// Longest breath, in inspiration lengths of the breathing parameters.
 const MAX_BREATH_INSPIRATIONS: f64 = 2.5;
 /// Longest breath, seconds: real inhalations are rarely longer (median about 0.35 s), however
@@ -111,14 +117,15 @@ impl Default for Seen {
     }
 }
 
-/// Length of a full breath, seconds: the breathing parameters' inspiration, longer in longer
+/// Length of a full breath, seconds: the breathing parameters' inspiration (scaled by
+/// [`BREATH_LENGTH_SCALE`]), longer in longer
 /// pauses (up to `LONGEST_PAUSE_EFFECT_S`) and for longer coming groups (`volume` 0..1 of the
 /// lung), at most `MAX_BREATH_INSPIRATIONS` inspirations and `MAX_BREATH_S`. Whatever fits in
 /// the pause is used of it.
 pub(crate) fn breath_length_s(inspiration_s: f64, pause_s: f64, volume: f64) -> f64 {
     let v = volume.clamp(0.0, 1.0);
     let pause_s = pause_s.clamp(0.0, LONGEST_PAUSE_EFFECT_S);
-    (inspiration_s * (0.5 + 0.3 * pause_s) * (0.75 + 0.25 * v))
+    (BREATH_LENGTH_SCALE * inspiration_s * (0.5 + 0.3 * pause_s) * (0.75 + 0.25 * v))
         .min(MAX_BREATH_INSPIRATIONS * inspiration_s)
         .min(MAX_BREATH_S)
 }

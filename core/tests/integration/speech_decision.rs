@@ -307,9 +307,10 @@ fn a_long_silence_gets_a_normal_inhalation_before_the_next_phrase() {
         assert_eq!(before_second.len(), 1, "{silence_s} s: {:?}", r.breaths);
         let b = before_second[0];
         let length_s = b.end_s - b.start_s;
+        // Real inhalations are rarely over 0.8 s (the longest breath, to a sample).
         assert!(
-            (0.3..=0.8).contains(&length_s),
-            "{silence_s} s of silence: a breath of {length_s:.2} s"
+            (0.3..=0.8 + 1e-4).contains(&length_s),
+            "{silence_s} s of silence: a breath of {length_s:.4} s"
         );
         // It lies just before the phrase, not somewhere in the silence.
         assert!(spans[1].0 - b.end_s < 0.1, "{b:?} vs onset {}", spans[1].0);

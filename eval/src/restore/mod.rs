@@ -47,6 +47,7 @@ use pneuma_core::engine::voice_learning::learn_voice;
 use pneuma_core::engine::EngineConfig;
 
 mod cut;
+mod length_fit;
 mod report;
 
 pub use cut::Cut;
@@ -182,9 +183,10 @@ pub fn samples_of(x: &[f32], rate_hz: f64, (start_s, end_s): (f64, f64)) -> &[f3
     &x[a..b]
 }
 
-/// Renders `input` as `pneuma render` does, with `voice` (`uncut`: the recording before the
-/// cut, for [`Voice::FromUncut`]) and the engine's seed moved by `seed_offset`.
+/// Renders `input` as `pneuma render` does with `config`, with `voice` (`uncut`: the recording
+/// before the cut, for [`Voice::FromUncut`]) and the engine's seed moved by `seed_offset`.
 fn render(
+    config: &EngineConfig,
     input: &[f32],
     uncut: &[f32],
     rate_hz: f64,
@@ -197,6 +199,7 @@ fn render(
         Voice::FromUncut => Some(uncut),
     };
     crate::breaths::render_with_voice(
+        config,
         std::slice::from_ref(&input.to_vec()),
         rate_hz,
         learn_from,
@@ -278,8 +281,10 @@ fn score(
         .count();
 }
 
-/// Renders and scores every clip for one (cut, run, voice): results per speaker.
+/// Renders (with `config`) and scores every clip for one (cut, run, voice): results per
+/// speaker.
 fn experiment(
+    config: &EngineConfig,
     clips: &[Clip],
     cut: Cut,
     run: Run,
@@ -299,7 +304,7 @@ fn experiment(
         // vary as breaths within one render do.
         for (k, set) in sets.into_iter().enumerate() {
             let input = cut.apply(&clip.audio, clip.rate_hz, &clip.breaths, &set);
-            let out = render(&input, &clip.audio, clip.rate_hz, voice, k as u64)
+            let out = render(config, &input, &clip.audio, clip.rate_hz, voice, k as u64)
                 .map_err(|e| format!("{}: {e}", clip.name))?;
             score(clip, cut, &set, &input, &out, uncut, r);
         }
@@ -339,11 +344,12 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
         clips.len()
     );
     println!("\nvoice learned from each uncut clip (breaths heard; level re speech; length) vs its labelled breaths (level re the same speech level; length):");
+    let config = EngineConfig::default();
     let mut uncut: BTreeMap<(String, Voice), Vec<(f64, f64)>> = BTreeMap::new();
     for clip in &clips {
         print_voice(clip)?;
         for voice in [Voice::BuiltIn, Voice::Learned, Voice::FromUncut] {
-            let out = render(&clip.audio, &clip.audio, clip.rate_hz, voice, 0)?;
+            let out = render(&config, &clip.audio, &clip.audio, clip.rate_hz, voice, 0)?;
             let spans = out.breaths.iter().map(|b| (b.start_s, b.end_s)).collect();
             uncut.insert((clip.name.clone(), voice), spans);
         }
@@ -401,7 +407,7 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
     ];
     let mut all_met = true;
     for (cut, run, voice, what) in plan {
-        let per = experiment(&clips, cut, run, voice, &uncut)?;
+        let per = experiment(&config, &clips, cut, run, voice, &uncut)?;
         let run_name = match run {
             Run::AllAtOnce => "all cut at once",
             Run::OneAtATime => "one cut at a time",
@@ -418,5 +424,6 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
             }
         }
     }
+    length_fit::run(&clips, &uncut)?;
     Ok(all_met || !args.check)
 }
