@@ -34,7 +34,9 @@
 //! - Levels: every speech clip at [`VOICE_DB`] (its speech level); music so that its mean
 //!   power over the excerpt's frames within 40 dB of its loudest is the voice's level (minus
 //!   the bed's depth); noise by its mean power against the SNR. A white dither at
-//!   [`DITHER_DB`] everywhere.
+//!   [`DITHER_DB`] everywhere. A music part's role (what a breath in it is counted as) covers
+//!   its frames from the first to the last that sound ([`SILENT_EDGE_DB`]): a sting whose
+//!   excerpt ends in a rest ends where its sound does.
 //! - Speech clips: four successive seeded permutations of the 19 clips, used in order.
 
 use pneuma_core::rng::SeededRng;
@@ -52,6 +54,10 @@ pub const EPISODES: usize = 12;
 pub const VOICE_DB: f64 = -26.0;
 /// The dither, dBFS RMS.
 pub const DITHER_DB: f64 = -96.0;
+/// A music part's first and last frames this far or more under the voice's level hold none of
+/// its sound (a rest at the edge of an excerpt, or its fade's end): they are the silence beside
+/// the part, not the part standing alone, dB (−86 dBFS, 10 dB over the dither).
+pub const SILENT_EDGE_DB: f64 = 60.0;
 
 /// What a frame holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -199,7 +205,8 @@ pub struct Labels {
     pub class: Vec<Option<Class>>,
     /// The music piece sounding (index in [`MUSIC`]).
     pub piece: Vec<Option<usize>>,
-    /// Its role.
+    /// Its role, where its sound is (none on a music part's silent first and last frames,
+    /// [`SILENT_EDGE_DB`]).
     pub role: Vec<Option<Role>>,
     /// The speaker's index, inside a clip.
     pub speaker: Vec<Option<usize>>,
@@ -456,6 +463,20 @@ impl Builder {
     }
 }
 
+/// The label frames of a music part `x` from its first to its last that sound (over
+/// [`SILENT_EDGE_DB`] under the voice); empty when none does.
+fn sounding_frames(x: &[f32]) -> std::ops::Range<usize> {
+    let levels = frame_levels_db(x);
+    let sounding = |l: &f64| *l > VOICE_DB - SILENT_EDGE_DB;
+    match (
+        levels.iter().position(sounding),
+        levels.iter().rposition(sounding),
+    ) {
+        (Some(first), Some(last)) => first..last + 1,
+        _ => 0..0,
+    }
+}
+
 /// Builds episode `index`, drawing from `rng` and taking clips from `clip_cycle`.
 fn build(
     lib: &Library,
@@ -491,9 +512,12 @@ fn build(
         let start = b.pos;
         let n = b.add(start, &x);
         let sung = (piece == sung_piece).then(|| sung_frames(&times));
+        let sounding = sounding_frames(&x);
         for k in 0..n {
             b.labels.piece[start + k] = Some(piece);
-            b.labels.role[start + k] = Some(role);
+            if sounding.contains(&k) {
+                b.labels.role[start + k] = Some(role);
+            }
             if sung.as_ref().is_some_and(|s| s[k]) {
                 b.labels.class[start + k] = Some(Class::Singing);
             }
@@ -740,4 +764,28 @@ pub fn library(data: &std::path::Path, praat: &mut sources::Praat<'_>) -> Result
         clips,
         music,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A part at the voice's level framed by `quiet_db` (dBFS) noise before and after.
+    fn part(quiet_db: f64) -> Vec<f32> {
+        let mut rng = SeededRng::new(7);
+        let mut x = Vec::new();
+        for (frames, db) in [(10, quiet_db), (20, VOICE_DB), (12, quiet_db)] {
+            let g = db_gain(db);
+            x.extend((0..frames * HOP).map(|_| g * rng.normal() as f32));
+        }
+        x
+    }
+
+    #[test]
+    fn a_part_sounds_from_its_first_to_its_last_audible_frame() {
+        assert_eq!(sounding_frames(&part(DITHER_DB)), 10..30);
+        // Quiet music (50 dB under the voice) still sounds: only silence is cut off.
+        assert_eq!(sounding_frames(&part(VOICE_DB - 50.0)), 0..42);
+        assert_eq!(sounding_frames(&vec![0.0; 5 * HOP]), 0..0);
+    }
 }
