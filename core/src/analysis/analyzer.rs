@@ -1,8 +1,9 @@
 //! [`Analyzer`]: the streaming analysis front end that owns the frame clock, the decimator, the
 //! pitch estimator, the level meter, the voicing tracker and the speaker normalisation.
 //!
-//! Samples go in one by one (a block is a loop), so the frames depend only on the sample
-//! sequence, never on how it was cut into blocks: any partition gives bit-identical frames.
+//! Every sum runs over the samples in their order, whatever runs they arrive in, so the frames
+//! depend only on the sample sequence, never on how it was cut into blocks: any partition gives
+//! bit-identical frames.
 //! Samples before the start of the stream count as zeros; a frame is emitted as soon as the last
 //! sample of its analysis window has arrived (see [`Analyzer::latency_s`]).
 
