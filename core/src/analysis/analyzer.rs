@@ -1,8 +1,9 @@
 //! [`Analyzer`]: the streaming analysis front end that owns the frame clock, the decimator, the
 //! pitch estimator, the level meter, the voicing tracker and the speaker normalisation.
 //!
-//! Samples go in one by one (a block is a loop), so the frames depend only on the sample
-//! sequence, never on how it was cut into blocks: any partition gives bit-identical frames.
+//! Every sum runs over the samples in their order, whatever runs they arrive in, so the frames
+//! depend only on the sample sequence, never on how it was cut into blocks: any partition gives
+//! bit-identical frames.
 //! Samples before the start of the stream count as zeros; a frame is emitted as soon as the last
 //! sample of its analysis window has arrived (see [`Analyzer::latency_s`]).
 
@@ -84,8 +85,6 @@ struct State {
     silence_db: f32,
     /// Decimated samples (and completed bins) so far.
     produced: u64,
-    acc_sum: f64,
-    acc_sq: f64,
     window: Vec<f32>,
     rms_bins: usize,
     samples_in: u64,
@@ -152,8 +151,6 @@ impl Analyzer {
             mask: cap - 1,
             silence_db: c.silence_db,
             produced: 0,
-            acc_sum: 0.0,
-            acc_sq: 0.0,
             window: vec![0.0; window_len],
             rms_bins,
             samples_in: 0,
@@ -303,8 +300,6 @@ impl State {
         self.bin_sum.fill(0.0);
         self.bin_sq.fill(0.0);
         self.produced = 0;
-        self.acc_sum = 0.0;
-        self.acc_sq = 0.0;
         self.samples_in = 0;
         self.next_frame = 0;
         self.plan_next();
@@ -326,8 +321,10 @@ impl State {
     }
 
     /// Takes `block`; calls `on_frame` with each completed frame and the index in `block` of
-    /// the sample that completed it. Runs up to the decimator's next output go in at once,
-    /// with the level sums on locals: the same sums in the same order as sample by sample.
+    /// the sample that completed it. The samples go into the decimator's history in runs as
+    /// long as it holds (clamped on the way, a pass that vectorises); each decimated sample
+    /// then takes its level sums over its own input samples there, in their order: the same
+    /// sums as sample by sample, for any cutting of the input into blocks.
     #[inline]
     fn push_block(
         &mut self,
@@ -336,38 +333,44 @@ impl State {
     ) {
         let mut done = 0;
         while done < block.len() {
-            let n = self.decimator.until_output().min(block.len() - done);
-            let run = &block[done..done + n];
-            done += n;
-            let (mut sum, mut sq) = (self.acc_sum, self.acc_sq);
-            let y = self.decimator.push_run(run, |x| {
-                let x = if x.is_finite() {
+            // The fed samples' offsets (from 1) that complete a decimated sample.
+            let mut completes = self.decimator.until_output();
+            let n = self.decimator.feed(&block[done..], |x| {
+                if x.is_finite() {
                     x.clamp(-INPUT_LIMIT, INPUT_LIMIT)
                 } else {
                     0.0
-                };
-                sum += x as f64;
-                sq += (x as f64) * (x as f64);
-                x
+                }
             });
-            self.acc_sum = sum;
-            self.acc_sq = sq;
-            if let Some(y) = y {
-                self.close_slot(y, &mut |f: &FeatureFrame, v: &VoicingFeatures| {
-                    on_frame(f, v, done - 1)
+            while let Some((y, inputs)) = self.decimator.output() {
+                let (mut sum, mut sq) = (0.0f64, 0.0f64);
+                for &x in inputs {
+                    sum += x as f64;
+                    sq += (x as f64) * (x as f64);
+                }
+                let at = done + completes - 1;
+                self.close_slot(y, sum, sq, &mut |f: &FeatureFrame, v: &VoicingFeatures| {
+                    on_frame(f, v, at)
                 });
+                completes += self.factor;
             }
+            done += n;
         }
     }
 
-    /// Stores decimated sample `y` and its level sums, and emits the frames it completes.
-    fn close_slot(&mut self, y: f32, on_frame: &mut impl FnMut(&FeatureFrame, &VoicingFeatures)) {
+    /// Stores decimated sample `y` and the level sums of its input samples, and emits the
+    /// frames it completes.
+    fn close_slot(
+        &mut self,
+        y: f32,
+        sum: f64,
+        sq: f64,
+        on_frame: &mut impl FnMut(&FeatureFrame, &VoicingFeatures),
+    ) {
         let slot = self.produced as usize & self.mask;
         self.ring[slot] = self.highpass.process(y);
-        self.bin_sum[slot] = self.acc_sum;
-        self.bin_sq[slot] = self.acc_sq;
-        self.acc_sum = 0.0;
-        self.acc_sq = 0.0;
+        self.bin_sum[slot] = sum;
+        self.bin_sq[slot] = sq;
         self.produced += 1;
         while self.produced as i64 >= self.next_ready {
             let (frame, features) = self.analyse_next();

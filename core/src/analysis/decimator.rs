@@ -23,7 +23,10 @@ pub(crate) fn factor_for(sample_rate_hz: f64) -> usize {
 /// back to the start.
 const HISTORY_SPAN: usize = 2048;
 
-/// Streaming decimator by an integer factor.
+/// Streaming decimator by an integer factor. Samples go in as whole runs ([`Decimator::feed`],
+/// mapped on their way into the history in one pass that vectorises); the outputs they complete
+/// are then taken one by one ([`Decimator::output`]), each with the `factor` input samples that
+/// completed it.
 #[derive(Debug, Clone)]
 pub(crate) struct Decimator {
     factor: usize,
@@ -31,7 +34,9 @@ pub(crate) struct Decimator {
     /// Linear history; `history[end - taps.len()..end]` are the newest samples, oldest first.
     history: Vec<f32>,
     end: usize,
-    phase: usize,
+    /// Where the next output's inputs end in `history` (`end < next_end` once every output fed
+    /// so far has been taken).
+    next_end: usize,
 }
 
 impl Decimator {
@@ -52,7 +57,7 @@ impl Decimator {
             taps,
             history: vec![0.0; len - 1 + HISTORY_SPAN],
             end: len - 1,
-            phase: 0,
+            next_end: len - 1 + factor,
         }
     }
 
@@ -60,7 +65,7 @@ impl Decimator {
     pub(crate) fn reset(&mut self) {
         self.history.fill(0.0);
         self.end = self.taps.len() - 1;
-        self.phase = 0;
+        self.next_end = self.end + self.factor;
     }
 
     /// Group delay in input samples.
@@ -73,53 +78,65 @@ impl Decimator {
         polynomial_power(self.taps.iter().map(|&h| h as f64), f_hz, rate_hz)
     }
 
-    /// Input samples still to come before the next output (1..=factor).
+    /// Input samples still to come before the next output (1..=factor, when every output fed
+    /// so far has been taken).
     #[inline]
     pub(crate) fn until_output(&self) -> usize {
-        self.factor - self.phase
+        self.next_end.saturating_sub(self.end)
     }
 
     /// Feeds one input sample; returns an output sample every `factor` inputs (the first on the
     /// `factor`-th input, so output `j` ends at input `(j + 1) * factor - 1`).
     #[cfg(test)]
     pub(crate) fn push(&mut self, x: f32) -> Option<f32> {
-        self.push_run(&[x], |x| x)
+        self.feed(&[x], |x| x);
+        self.output().map(|(y, _)| y)
     }
 
-    /// Feeds the run `xs`, each sample mapped through `each` on its way in (in order, once);
-    /// `xs` must not be longer than [`Decimator::until_output`] (a longer run is cut there).
-    /// Returns the output sample when the run completes one. The same outputs as feeding the
-    /// samples one by one, for any cutting of the input into runs; the per-sample work runs
-    /// on locals (the history index and the caller's `each`), not on fields in memory.
-    #[inline(always)]
-    pub(crate) fn push_run(&mut self, xs: &[f32], mut each: impl FnMut(f32) -> f32) -> Option<f32> {
-        debug_assert!(
-            xs.len() <= self.until_output(),
-            "a run longer than until_output() would drop samples"
-        );
-        let xs = &xs[..xs.len().min(self.until_output())];
-        if self.factor == 1 {
-            return xs.first().map(|&x| each(x));
+    /// Takes samples from the start of `xs` into the history, each mapped through `each` (in
+    /// order, once), as many as the history holds before its next move (at least one for a
+    /// non-empty `xs`); returns how many it took. Take the outputs they complete
+    /// ([`Decimator::output`]) before the next call: the history's move keeps only what the
+    /// next output needs. The same outputs for any cutting of the input into runs.
+    #[inline]
+    pub(crate) fn feed(&mut self, xs: &[f32], each: impl Fn(f32) -> f32) -> usize {
+        debug_assert!(self.end < self.next_end, "outputs left untaken before feed");
+        if self.end == self.history.len() {
+            // Full: keep the next output's inputs fed so far (fewer than taps.len()), at the
+            // start (HISTORY_SPAN ≥ factor, so a whole output's run fits after them).
+            let from = self.next_end - self.taps.len();
+            self.history.copy_within(from..self.end, 0);
+            self.end -= from;
+            self.next_end -= from;
         }
-        let len = self.taps.len();
-        if self.end + xs.len() > self.history.len() {
-            // Full: keep the newest len − 1 samples, at the start (HISTORY_SPAN ≥ factor, so
-            // the run fits after them).
-            self.history.copy_within(self.end + 1 - len..self.end, 0);
-            self.end = len - 1;
-        }
-        let start = self.end;
-        for (h, &x) in self.history[start..start + xs.len()].iter_mut().zip(xs) {
+        let n = xs.len().min(self.history.len() - self.end);
+        for (h, &x) in self.history[self.end..self.end + n]
+            .iter_mut()
+            .zip(&xs[..n])
+        {
             *h = each(x);
         }
-        self.end = start + xs.len();
-        self.phase += xs.len();
-        if self.phase < self.factor {
+        self.end += n;
+        n
+    }
+
+    /// The next output, if its inputs have all been fed, and those `factor` inputs (as
+    /// mapped by [`Decimator::feed`]), oldest first.
+    #[inline(always)]
+    pub(crate) fn output(&mut self) -> Option<(f32, &[f32])> {
+        let end = self.next_end;
+        if end > self.end {
             return None;
         }
-        self.phase = 0;
-        // The taps are symmetric, so their order against the samples does not matter.
-        Some(dot(&self.history[self.end - len..self.end], &self.taps))
+        self.next_end += self.factor;
+        let inputs = &self.history[end - self.factor..end];
+        let y = if self.factor == 1 {
+            inputs[0]
+        } else {
+            // The taps are symmetric, so their order against the samples does not matter.
+            dot(&self.history[end - self.taps.len()..end], &self.taps)
+        };
+        Some((y, inputs))
     }
 }
 
@@ -277,19 +294,28 @@ mod tests {
                 .collect();
             let mut runs = Decimator::new(factor);
             let (mut got, mut rest, mut k) = (Vec::new(), &x[..], 0usize);
+            let mut fed = Vec::new();
             while !rest.is_empty() {
-                // Runs of 1, 2, 3, ... samples, each cut at the next output.
+                // Runs of 1, 2, 3, ..., 7 and 1000 samples.
                 k += 1;
-                let n = (k % 7 + 1).min(runs.until_output()).min(rest.len());
-                let mut seen = 0;
-                got.extend(runs.push_run(&rest[..n], |v| {
-                    seen += 1;
-                    v
-                }));
-                assert_eq!(seen, n);
-                rest = &rest[n..];
+                let n = if k % 8 == 0 { 1000 } else { k % 8 }.min(rest.len());
+                let taken = runs.feed(&rest[..n], |v| 2.0 * v);
+                assert!(taken >= 1 && taken <= n);
+                fed.extend_from_slice(&rest[..taken]);
+                while let Some((y, inputs)) = runs.output() {
+                    got.push(y);
+                    // The inputs of output j are inputs j·factor .. (j + 1)·factor, mapped.
+                    let j = got.len() - 1;
+                    let want_in: Vec<f32> = fed[j * factor..(j + 1) * factor]
+                        .iter()
+                        .map(|v| 2.0 * v)
+                        .collect();
+                    assert_eq!(inputs, &want_in[..], "factor {factor} output {j}");
+                }
+                rest = &rest[taken..];
             }
-            let got: Vec<u32> = got.into_iter().map(f32::to_bits).collect();
+            // Mapped by 2 (exact in binary), so the outputs are twice the plain ones.
+            let got: Vec<u32> = got.into_iter().map(|y| (y / 2.0).to_bits()).collect();
             assert_eq!(got, want, "factor {factor}");
         }
     }

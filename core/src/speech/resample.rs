@@ -187,10 +187,9 @@ impl ToSileroRate {
     pub fn process(&mut self, input: &[f32], mut out: impl FnMut(f32)) {
         let mut rest = input;
         while !rest.is_empty() {
-            let n = rest.len().min(self.decimator.until_output());
-            let (run, tail) = rest.split_at(n);
-            rest = tail;
-            if let Some(y) = self.decimator.push_run(run, |x| x) {
+            let n = self.decimator.feed(rest, |x| x);
+            rest = &rest[n..];
+            while let Some((y, _)) = self.decimator.output() {
                 match &mut self.fractional {
                     Some(f) => f.push(y, &mut out),
                     None => out(y),

@@ -10,11 +10,11 @@ pub struct PitchEstimate {
     pub clarity: f32,
 }
 
-/// Key maxima of one NSDF curve up to lag `last`, shortest lag first, into `out`
-/// (count in `n`); a maximum whose refined lag lies outside `lag_range` (the f0 range) is no
-/// candidate, and the returned value is the highest clarity among those above the range
-/// (shorter than its shortest period; 0 if none); when `out` is full the weakest kept lobe
-/// gives way to a stronger one.
+/// Key maxima of one NSDF curve (at least `last + 2` lags long) up to lag `last`, shortest lag
+/// first, into `out` (count in `count`); a maximum whose refined lag lies outside `lag_range`
+/// (the f0 range) is no candidate, and the returned value is the highest clarity among those
+/// above the range (shorter than its shortest period; 0 if none); when `out` is full the
+/// weakest kept lobe gives way to a stronger one.
 pub(super) fn key_maxima(
     n: &[f32],
     rate_hz: f64,
@@ -24,6 +24,9 @@ pub(super) fn key_maxima(
     count: &mut usize,
 ) -> f32 {
     let mut above_range = 0.0f32;
+    // Every lag read below is at most `last + 1`: with the curve cut there, the reads need no
+    // bounds checks.
+    let n = &n[..last + 2];
     // Skip the lobe around lag 0: start after the first negative-going zero crossing.
     let mut tau = 1;
     while tau <= last && n[tau] > 0.0 {

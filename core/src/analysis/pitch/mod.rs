@@ -105,7 +105,8 @@ pub struct NsdfPitch {
 #[derive(Debug, Clone, Copy)]
 struct FrameKnown<'a> {
     stats: &'a FrameStats,
-    heard: Option<&'a [Vec<f32>; 4]>,
+    /// The four windows as heard and their energies.
+    heard: Option<(&'a [Vec<f32>; 4], [f64; 4])>,
 }
 
 impl<'a> FrameKnown<'a> {
@@ -118,7 +119,7 @@ impl<'a> FrameKnown<'a> {
         };
         Known {
             stats,
-            heard: self.heard.map(|h| &h[k][..]),
+            heard: self.heard.map(|(h, e)| (&h[k][..], e[k])),
         }
     }
 }
@@ -289,12 +290,12 @@ impl NsdfPitch {
 
     /// [`NsdfPitch::analyse`] and both [`NsdfPitch::edge_clarity`] calls on one window at once,
     /// bit-identical to making those calls one after the other, but faster: the statistics of
-    /// all four windows come from one [`FrameStats`] (the oldest short window's sum shared).
+    /// all four windows come from one [`FrameStats`] (the oldest short window's sum shared),
+    /// behind the low-pass taken on the way while `hear_frame` hears the four windows.
     /// Also gives the window's plain sum of squares and its energy as the NSDF heard it.
     pub(crate) fn analyse_frame(&mut self, window: &[f32]) -> FrameAnalysis {
-        let short_len = self.short.as_ref().map(|(s, _)| s.window_len);
-        let stats = match short_len {
-            Some(len) if window.len() == self.long.window_len => FrameStats::of(window, len),
+        let short_len = match self.short.as_ref().map(|(s, _)| s.window_len) {
+            Some(len) if window.len() == self.long.window_len => len,
             _ => {
                 let chosen = self.analyse(window);
                 return FrameAnalysis {
@@ -306,15 +307,20 @@ impl NsdfPitch {
                 };
             }
         };
-        // Behind the low-pass, the four windows are heard at once (see `hear_frame`).
+        // Behind the low-pass, the four windows are heard at once, their statistics taken on
+        // the way (see `hear_frame`).
         let mut heard = std::mem::take(&mut self.frame_heard);
         let filter = self.long.filter.filter(|_| heard[0].len() == window.len());
-        if let (Some(filter), Some(len)) = (filter, short_len) {
-            hear_frame(filter, window, &stats, len, &mut heard);
-        }
+        let (stats, energies) = match filter {
+            Some(filter) => {
+                let (stats, energies) = hear_frame(filter, window, short_len, &mut heard);
+                (stats, Some(energies))
+            }
+            None => (FrameStats::of(window, short_len), None),
+        };
         let frame = FrameKnown {
             stats: &stats,
-            heard: filter.map(|_| &heard),
+            heard: energies.map(|e| (&heard, e)),
         };
         let chosen = self.analyse_with(window, Some(&frame));
         let analysis = FrameAnalysis {

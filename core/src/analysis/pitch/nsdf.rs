@@ -7,9 +7,11 @@ use std::sync::Arc;
 use realfft::num_complex::Complex;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 
-use super::super::biquad::Biquad;
+use super::super::biquad::{Biquad, BiquadLanes};
 use super::super::breath_band::{BandLevels, BandSpectrum};
-use super::sums::{short_starts, FrameStats, Lanes, WindowStats};
+use super::sums::{
+    frame_means, short_starts, square_sum, FrameStats, Lanes, LanesX4, WindowStats, LANES,
+};
 
 /// The low band (Hz) whose share of the voice band's energy ([`super::NsdfPitch::low_band`]) tells
 /// voiced sounds (energy in the first formant region) from fricatives and hiss.
@@ -56,12 +58,12 @@ pub(super) struct Nsdf {
     pub(super) heard_energy: f64,
 }
 
-/// A window's statistics, and the window as the NSDF hears it when that is known already
-/// ([`hear_frame`]).
+/// A window's statistics, and the window as the NSDF hears it with its energy (Σ h², in
+/// [`Lanes`]) when those are known already ([`hear_frame`]).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Known<'a> {
     pub(super) stats: WindowStats,
-    pub(super) heard: Option<&'a [f32]>,
+    pub(super) heard: Option<(&'a [f32], f64)>,
 }
 
 /// One step of the NSDF's hearing: the centred sample `t` through `filter` (from its state).
@@ -77,45 +79,86 @@ fn hear(mut filter: Biquad, time: &[f32], heard: &mut [f32]) {
     }
 }
 
-/// The long window of a frame and its three short windows (oldest end, centre, newest end, of
-/// `short_len` samples) as the NSDF hears them: each centred on its mean in `stats` and
-/// filtered from rest through `filter`, into `heard` (long, oldest, centre, newest). The same
-/// samples as [`hear`] gives each window alone, but the four recursions run in one loop: each
-/// output waits on the one before it in its own window only, so the four overlap where one
-/// window after another would each wait out its whole chain.
+/// `x²` in f64.
+#[inline(always)]
+fn square(x: f32) -> f64 {
+    (x as f64) * (x as f64)
+}
+
+/// The statistics of a frame's four windows ([`FrameStats::of`]) and the windows as the NSDF
+/// hears them: the long window and its three short windows (oldest end, centre, newest end, of
+/// `short_len` samples), each centred on its mean and filtered from rest through `filter`, into
+/// `heard` (long, oldest, centre, newest), with their energies Σ h² (in that order). The same
+/// bits as [`FrameStats::of`], [`hear`] and the [`Lanes`] sums one window after another, but in
+/// one loop: the four recursions run side by side in [`BiquadLanes`] over the short windows'
+/// length, and the long window's recursion alone after that; each output waits on the one
+/// before it in its own window only, and the sums of squares (in the same lanes in the same
+/// order) fill the time the recursions wait.
 pub(super) fn hear_frame(
     filter: Biquad,
     window: &[f32],
-    stats: &FrameStats,
     short_len: usize,
     heard: &mut [Vec<f32>; 4],
-) {
-    let means = [
-        stats.long.mean,
-        stats.short[0].mean,
-        stats.short[1].mean,
-        stats.short[2].mean,
-    ];
-    let [a, b, c] = short_starts(window.len(), short_len);
-    let shorts = [a, b, c].map(|s| &window[s..s + short_len]);
+) -> (FrameStats, [f64; 4]) {
+    let (w, len) = (window.len(), short_len);
+    let means = frame_means(window, len);
+    let [a, b, c] = short_starts(w, len);
+    let (head, tail) = window.split_at(len);
+    let (oldest_in, centre_in, newest_in) = (
+        &window[a..a + len],
+        &window[b..b + len],
+        &window[c..c + len],
+    );
     let [long, oldest, centre, newest] = heard;
-    let (long_head, long_rest) = long.split_at_mut(short_len);
-    let mut f = [filter; 4];
-    for (i, (((l, o), c), n)) in long_head
-        .iter_mut()
-        .zip(&mut oldest[..short_len])
-        .zip(&mut centre[..short_len])
-        .zip(&mut newest[..short_len])
-        .enumerate()
-    {
-        *l = hear_one(&mut f[0], window[i] - means[0]);
-        *o = hear_one(&mut f[1], shorts[0][i] - means[1]);
-        *c = hear_one(&mut f[2], shorts[1][i] - means[2]);
-        *n = hear_one(&mut f[3], shorts[2][i] - means[3]);
+    let (long_head, long_rest) = long[..w].split_at_mut(len);
+    let (oldest, centre, newest) = (&mut oldest[..len], &mut centre[..len], &mut newest[..len]);
+    let mut lanes = BiquadLanes::<4>::new(filter);
+    let (mut energy, mut heard_energy) = (LanesX4::default(), LanesX4::default());
+    for i in 0..len {
+        let x = head[i];
+        let t = [
+            x - means[0],
+            oldest_in[i] - means[1],
+            centre_in[i] - means[2],
+            newest_in[i] - means[3],
+        ];
+        let y = lanes.process(t.map(|t| t as f64));
+        let h = y.map(|y| y as f32);
+        long_head[i] = h[0];
+        oldest[i] = h[1];
+        centre[i] = h[2];
+        newest[i] = h[3];
+        let lane = i % LANES;
+        energy.add_at(lane, t.map(square));
+        heard_energy.add_at(lane, h.map(square));
     }
-    for (h, &x) in long_rest.iter_mut().zip(&window[short_len..]) {
-        *h = hear_one(&mut f[0], x - means[0]);
+    let mut f = lanes.lane(0);
+    let (mut long_energy, mut long_heard) = (energy.run(0), heard_energy.run(0));
+    for (i, (h, &x)) in long_rest.iter_mut().zip(tail).enumerate() {
+        let t = x - means[0];
+        *h = hear_one(&mut f, t);
+        let lane = (len + i) % LANES;
+        long_energy.add_at(lane, square(t));
+        long_heard.add_at(lane, square(*h));
     }
+    let stats = FrameStats {
+        long: WindowStats {
+            mean: means[0],
+            energy: long_energy.total(),
+        },
+        short: [1, 2, 3].map(|k| WindowStats {
+            mean: means[k],
+            energy: energy.run(k).total(),
+        }),
+        square_sum: square_sum(window),
+    };
+    let energies = [
+        long_heard.total(),
+        heard_energy.run(1).total(),
+        heard_energy.run(2).total(),
+        heard_energy.run(3).total(),
+    ];
+    (stats, energies)
 }
 
 /// m(τ) into `norm` for τ = 0, 1, ...: `m0` at lag 0, then at each lag the squares of the
@@ -209,15 +252,21 @@ impl Nsdf {
             self.curve.fill(0.0);
             return false;
         }
-        if let Some(filter) = self.filter {
-            match known.heard {
-                Some(heard) => self.heard.copy_from_slice(heard),
-                None => hear(filter, &self.time[..w], &mut self.heard),
+        // The window as the NSDF hears it (behind the low-pass), from `known` or heard here.
+        let heard: Option<&[f32]> = match (self.filter, known.heard) {
+            (None, _) => None,
+            (Some(_), Some((heard, e))) => {
+                self.heard_energy = e;
+                Some(heard)
             }
-            let mut e = Lanes::default();
-            e.add(&self.heard, |h| (h as f64) * (h as f64));
-            self.heard_energy = e.total();
-        }
+            (Some(filter), None) => {
+                hear(filter, &self.time[..w], &mut self.heard);
+                let mut e = Lanes::default();
+                e.add(&self.heard, square);
+                self.heard_energy = e.total();
+                Some(&self.heard)
+            }
+        };
         // r(τ) by FFT: |X|² then inverse. Plans and buffers are sized in new(), so the only
         // failure is impossible here; fall back to "no pitch" rather than panic.
         if self
@@ -265,8 +314,7 @@ impl Nsdf {
         // `time`, so the ends are read from the window itself, or from the filtered window).
         // The running sum first, then the lags' divisions, which do not wait on each other.
         let m0 = 2.0 * self.heard_energy;
-        let top = if self.filter.is_some() {
-            let heard = &self.heard;
+        let top = if let Some(heard) = heard {
             norms(&mut self.norm, m0, w, |i| heard[i]);
             HEARD_NSDF_MAX
         } else {

@@ -42,7 +42,7 @@ pub(super) fn square_sum(window: &[f32]) -> f64 {
 }
 
 /// Lanes of [`Lanes`].
-const LANES: usize = 8;
+pub(super) const LANES: usize = 8;
 
 /// A sum in f64 over a run of samples kept as [`LANES`] partial sums (sample `i` of the run
 /// into lane `i % LANES`, each lane in sample order) and added up at the end in a fixed tree:
@@ -70,11 +70,38 @@ impl Lanes {
         self.0 = l;
     }
 
+    /// Adds `v` into lane `lane` (`< LANES`): the sample at index `i` of the run goes into
+    /// lane `i % LANES`, in sample order, as [`Lanes::add`] does.
+    #[inline(always)]
+    pub(super) fn add_at(&mut self, lane: usize, v: f64) {
+        self.0[lane] += v;
+    }
+
     /// The sum: the lanes added pairwise.
     #[inline]
     pub(super) fn total(&self) -> f64 {
         let l = self.0;
         ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]))
+    }
+}
+
+/// [`Lanes`] of four runs of one length at once, sample by sample: sample `i` of each run goes
+/// into its lane `i % LANES` ([`LanesX4::add_at`]), the four runs' values in one vector.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct LanesX4([[f64; 4]; LANES]);
+
+impl LanesX4 {
+    /// Adds `v[k]` into lane `lane` of run `k`.
+    #[inline(always)]
+    pub(super) fn add_at(&mut self, lane: usize, v: [f64; 4]) {
+        for (l, v) in self.0[lane].iter_mut().zip(v) {
+            *l += v;
+        }
+    }
+
+    /// Run `k`'s sums so far, to go on with alone.
+    pub(super) fn run(&self, k: usize) -> Lanes {
+        Lanes(self.0.map(|l| l[k]))
     }
 }
 
@@ -100,34 +127,46 @@ pub(super) fn short_starts(w: usize, short_len: usize) -> [usize; 3] {
 impl FrameStats {
     /// The short windows start at [`short_starts`]; requires `short_len <= window.len()`.
     pub(super) fn of(window: &[f32], short_len: usize) -> Self {
-        let (w, len) = (window.len(), short_len);
-        let starts = short_starts(w, len);
-        let shorts = starts.map(|a| &window[a..a + len]);
-        let plain = |x: f32| x as f64;
-        let mut sums = [Lanes::default(); 3];
-        for (s, part) in sums.iter_mut().zip(shorts) {
-            s.add(part, plain);
-        }
-        let mut long = Lanes::default();
-        if len.is_multiple_of(LANES) {
-            // The long window's run so far is the oldest short window's.
-            long = sums[0];
-            long.add(&window[len..], plain);
-        } else {
-            long.add(window, plain);
-        }
-        let mean_long = (long.total() / w.max(1) as f64) as f32;
-        let means = sums.map(|s| (s.total() / len.max(1) as f64) as f32);
+        let means = frame_means(window, short_len);
+        let shorts = short_starts(window.len(), short_len).map(|a| &window[a..a + short_len]);
         Self {
             long: WindowStats {
-                mean: mean_long,
-                energy: energy_about(window, mean_long),
+                mean: means[0],
+                energy: energy_about(window, means[0]),
             },
             short: [0, 1, 2].map(|k| WindowStats {
-                mean: means[k],
-                energy: energy_about(shorts[k], means[k]),
+                mean: means[k + 1],
+                energy: energy_about(shorts[k], means[k + 1]),
             }),
             square_sum: square_sum(window),
         }
     }
+}
+
+/// The means of the long window and of its three short windows (long, oldest end, centre,
+/// newest end), each exactly its [`WindowStats::of`] mean, the oldest short window's sum shared
+/// with the long window's.
+pub(super) fn frame_means(window: &[f32], short_len: usize) -> [f32; 4] {
+    let (w, len) = (window.len(), short_len);
+    let shorts = short_starts(w, len).map(|a| &window[a..a + len]);
+    let plain = |x: f32| x as f64;
+    let mut sums = [Lanes::default(); 3];
+    for (s, part) in sums.iter_mut().zip(shorts) {
+        s.add(part, plain);
+    }
+    let mut long = Lanes::default();
+    if len.is_multiple_of(LANES) {
+        // The long window's run so far is the oldest short window's.
+        long = sums[0];
+        long.add(&window[len..], plain);
+    } else {
+        long.add(window, plain);
+    }
+    let mean = |s: &Lanes, n: usize| (s.total() / n.max(1) as f64) as f32;
+    [
+        mean(&long, w),
+        mean(&sums[0], len),
+        mean(&sums[1], len),
+        mean(&sums[2], len),
+    ]
 }

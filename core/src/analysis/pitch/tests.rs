@@ -213,14 +213,17 @@ fn a_low_voice_has_edge_cues_at_its_onset() {
 #[test]
 fn the_fused_frame_analysis_is_bit_identical_to_the_calls_one_by_one() {
     // Voices from 60 to 400 Hz (beyond and within the short window's reach), with onsets,
-    // offsets, noise, a DC offset and silence, at the internal rates of 8, 44.1 and 48 kHz,
-    // with and without the low-pass.
+    // offsets, noise, a DC offset and silence, at the internal rates of 8, 44.1, 48 and
+    // 22.05 kHz, with and without the low-pass.
     for (rate, n, short, low_pass) in [
         (8_000.0, 320, 160, false),
         (8_820.0, 353, 176, false),
         (12_000.0, 480, 240, false),
         (8_000.0, 320, 160, true),
         (8_820.0, 353, 176, true),
+        // Windows of lengths that are not whole multiples of the sums' lanes.
+        (11_025.0, 441, 221, true),
+        (11_025.0, 441, 221, false),
     ] {
         let mut fused = NsdfPitch::with_short_window(rate, n, short, 50.0, 600.0, 0.88);
         let mut plain = NsdfPitch::with_short_window(rate, n, short, 50.0, 600.0, 0.88);
