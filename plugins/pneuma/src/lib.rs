@@ -36,9 +36,9 @@
 //! - Parameters and persisted settings: [`params`]; a parameter of core's settings table takes
 //!   its name, range, default, unit and step from it, and hosts file it under the table's group
 //!   (VST3 units, CLAP modules): Breathing, Breaths & timing, Head, Analysis, MIDI CC, OSC
-//!   ([`params::unit_of`]). CLAP remote-control pages (a layout for hardware controllers):
-//!   "Breathing",
-//!   "Breaths & timing", "Head", "Output", "CC map 1", "CC map 2" (every parameter but bypass).
+//!   ([`params::unit_of`]). CLAP remote-control pages (a layout for hardware controllers): one
+//!   per group, in the same order, eight controls to a page, every parameter but bypass
+//!   ([`params::remote`]).
 //!
 //! Real-time: `process()` never allocates, locks, blocks, logs or does I/O. The crate enables
 //! nice-plug's `assert_process_allocs` (debug builds abort on an allocation in `process()`) and
@@ -540,52 +540,15 @@ impl ClapPlugin for Pneuma {
     ];
 
     fn remote_controls(&self, context: &mut impl RemoteControlsContext) {
-        let p = &self.params;
-        // Every parameter but bypass (the host's own switch) on one page, pages of at most 8.
+        // One page per group of core's table, derived from the parameters (`params::remote`).
         context.add_section("Pneuma", |section| {
-            section.add_page("Breathing", |page| {
-                page.add_param(&p.preset);
-                page.add_param(&p.thorax_vs_abdomen);
-                page.add_param(&p.capacity_lung);
-                page.add_param(&p.mouth_vs_nose);
-                page.add_param(&p.breath_sound);
-                page.add_param(&p.opening);
-                page.add_param(&p.speaking_loudness);
-                page.add_param(&p.inspiration_length_s);
-            });
-            section.add_page("Breaths & timing", |page| {
-                page.add_param(&p.insert_breaths);
-                page.add_param(&p.speech_only);
-                page.add_param(&p.breath_level_db);
-                page.add_param(&p.min_pause_s);
-                page.add_param(&p.mode);
-                page.add_param(&p.lookahead_s);
-                page.add_param(&p.frame_rate_hz);
-            });
-            section.add_page("Head", |page| {
-                page.add_param(&p.head_amount);
-                page.add_param(&p.head_max_pitch_deg);
-                page.add_param(&p.head_max_yaw_deg);
-                page.add_param(&p.head_max_roll_deg);
-                page.add_param(&p.neck_amplitude_deg);
-            });
-            section.add_page("Output", |page| {
-                page.add_param(&p.midi_enabled);
-                page.add_param(&p.midi_channel);
-                page.add_param(&p.cc_14bit);
-                page.add_param(&p.cc_head_range_deg);
-                page.add_param(&p.osc_enabled);
-                page.add_param(&p.osc_format);
-                page.add_param(&p.osc_port);
-            });
-            let ccs = p.cc_params();
-            let (first, rest) = ccs.split_at(8);
-            section.add_page("CC map 1", |page| {
-                first.iter().for_each(|c| page.add_param(*c))
-            });
-            section.add_page("CC map 2", |page| {
-                rest.iter().for_each(|c| page.add_param(*c))
-            });
+            for (name, members) in params::remote::pages(self.params.as_ref()) {
+                section.add_page(name, |page| {
+                    members
+                        .into_iter()
+                        .for_each(|(_, ptr)| params::remote::add(page, ptr))
+                });
+            }
         });
     }
 }

@@ -36,6 +36,7 @@ use pneuma_core::head::HeadConfig;
 use pneuma_core::settings::{self, analysis, breathing, head, output, placement, Kind, Setting};
 
 pub mod layout;
+pub mod remote;
 pub mod standalone;
 
 /// Breathing preset: `Custom` uses the individual breathing controls, the others replace them.
