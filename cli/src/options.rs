@@ -301,6 +301,42 @@ impl Progress {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use pneuma_core::settings::Kind;
+
+    /// The user guide's option tables give every option of the settings table the table's
+    /// range and default, in the option's unit (the guide is written by hand; this holds it to
+    /// the table).
+    #[test]
+    fn the_cli_guide_gives_each_setting_option_the_tables_range_and_default() {
+        let guide = include_str!("../../docs/guide/cli.md").replace('\u{2212}', "-");
+        for f in SETTING_FLAGS {
+            let rows: Vec<&str> = guide
+                .lines()
+                .filter(|l| l.starts_with(&format!("| `{}`", f.flag)))
+                .collect();
+            assert!(!rows.is_empty(), "{}: no row in docs/guide/cli.md", f.flag);
+            for row in rows {
+                // | option | default | range / values | what it does |
+                let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+                let (default, range) = (cells[2].replace('`', ""), cells[3].replace('`', ""));
+                match f.setting.kind {
+                    Kind::Choice(names) => {
+                        assert_eq!(range, names.join(", "), "{row}");
+                        assert_eq!(default, f.setting.default_text(f.unit), "{row}");
+                    }
+                    _ => {
+                        let want = f.setting.range_text(f.unit);
+                        assert!(range.starts_with(&want), "{row}: the table says {want}");
+                        // A default in words ("the preset's", "none (...)") is the door's own.
+                        if default.starts_with(|c: char| c.is_ascii_digit() || c == '-') {
+                            let d = f.setting.default_text(f.unit);
+                            assert!(d.starts_with(&default), "{row}: the table says {d}");
+                        }
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn numbers_accept_the_unicode_minus() {

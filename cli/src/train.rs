@@ -19,6 +19,8 @@ use pneuma_eval::data::DataError;
 use pneuma_eval::head::{print_clip_table, print_variant_ranks};
 use thiserror::Error;
 
+use crate::options::FRAME_RATE;
+
 /// Errors of training.
 #[derive(Debug, Error)]
 pub enum TrainCliError {
@@ -28,6 +30,9 @@ pub enum TrainCliError {
     /// Training failed.
     #[error(transparent)]
     Train(#[from] pneuma_core::head::TrainError),
+    /// An option is out of its range (the message names the option and the range).
+    #[error("{0}")]
+    Option(String),
     /// Writing the model failed.
     #[error("cannot write {path}: {source}")]
     Write {
@@ -60,8 +65,8 @@ pub struct Args {
     /// EM seed.
     #[arg(long, default_value_t = 2015)]
     pub seed: u64,
-    /// Feature frame rate in Hz.
-    #[arg(long, default_value_t = 120.0)]
+    /// Feature frames per second (the table's `frame_rate_hz`).
+    #[arg(long, help = FRAME_RATE.help(), default_value_t = FRAME_RATE.default_value())]
     pub frame_rate: f64,
     /// SD of the Gaussian smoothing of the training motion in milliseconds (tracking-jitter
     /// removal; 0 = none), 0 to 500.
@@ -97,7 +102,9 @@ pub fn run(
     data_description: &str,
 ) -> Result<(String, CrossValidation), TrainCliError> {
     let config = AnalysisConfig {
-        frame_rate_hz: args.frame_rate,
+        frame_rate_hz: FRAME_RATE
+            .check(args.frame_rate)
+            .map_err(TrainCliError::Option)?,
         ..AnalysisConfig::default()
     };
     let clips = load_clips(&args.data, &config)?;
