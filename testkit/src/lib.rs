@@ -8,6 +8,8 @@
 //! - [`resample`]: resampling through rubato (tests present the example voice at host rates);
 //! - [`osc`]: an OSC decoder independent of Pneuma's encoder (rosc), so the encoder's tests do
 //!   not check it against itself;
+//! - [`python`]: a Python with the third-party modules a test checks output with, or a visible
+//!   skip (a failure when the run requires it);
 //! - [`vmc`]: the third-party VMC receiver (python-osc + vmcp) the OSC tests send to.
 //!
 //! The level helper is core's own [`pneuma_core::analysis::rms`] (the CLI uses it too).
@@ -18,6 +20,7 @@
 //! copy reaches core's tests.
 
 pub mod osc;
+pub mod python;
 pub mod resample;
 pub mod signals;
 pub mod vmc;

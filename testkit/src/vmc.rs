@@ -10,11 +10,16 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+use crate::python::Tools;
 use crate::voice::workspace_root;
 
-/// How to make the receiver's Python.
-const HOW_TO_INSTALL: &str = "no Python with python-osc and vmcp: run `python3 -m venv \
-    target/vmc-venv && target/vmc-venv/bin/pip install python-osc==1.10.2 vmcp==1.0.6`";
+/// The receiver's Python.
+const RECEIVER: Tools = Tools {
+    env_var: "PNEUMA_VMC_PYTHON",
+    venv: "target/vmc-venv",
+    modules: "pythonosc, vmcp",
+    pip: "python-osc==1.10.2 vmcp==1.0.6",
+};
 
 /// Longest wait for the receiver to listen.
 const START_TIMEOUT: Duration = Duration::from_secs(30);
@@ -22,21 +27,7 @@ const START_TIMEOUT: Duration = Duration::from_secs(30);
 /// A Python with python-osc and vmcp, or `None` (the test named `test` then skips, saying how to
 /// get one; under `PNEUMA_REQUIRE_VMC` it panics instead).
 pub fn receiver_python(test: &str) -> Option<PathBuf> {
-    let python = std::env::var_os("PNEUMA_VMC_PYTHON")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| workspace_root().join("target/vmc-venv/bin/python"));
-    let ok = Command::new(&python)
-        .args(["-c", "import pythonosc, vmcp"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    assert!(
-        ok || std::env::var_os("PNEUMA_REQUIRE_VMC").is_none(),
-        "{test}: {HOW_TO_INSTALL}"
-    );
-    if !ok {
-        eprintln!("SKIPPED {test}: {HOW_TO_INSTALL}");
-    }
-    ok.then_some(python)
+    RECEIVER.python(test, std::env::var_os("PNEUMA_REQUIRE_VMC").is_some())
 }
 
 /// A running receiver, listening.

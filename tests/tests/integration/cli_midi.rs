@@ -13,25 +13,10 @@ use pneuma_testkit::voice::workspace_root;
 use pneuma_tests::bundle::plugin_path;
 use pneuma_tests::host::Plugin;
 
-/// A Python with `mido`, or `None` (the test then skips visibly; under CI=true it fails).
+/// A Python with mido (and bvh, in the same environment), or `None` (the test then skips
+/// visibly; under CI=true it fails).
 fn python_tools(test: &str) -> Option<PathBuf> {
-    let python = std::env::var_os("PNEUMA_PYTHON_TOOLS")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| workspace_root().join("target/cli-venv/bin/python"));
-    let ok = Command::new(&python)
-        .args(["-c", "import mido"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
-    assert!(
-        ok || !ci,
-        "{test}: {} has no mido; .ci/run makes it",
-        python.display()
-    );
-    if !ok {
-        eprintln!("SKIPPED {test}: no Python with mido (python3 -m venv target/cli-venv && target/cli-venv/bin/pip install mido==1.3.3 bvh==0.3)");
-    }
-    ok.then_some(python)
+    pneuma_testkit::python::FILE_READERS.python(test, pneuma_testkit::python::ci())
 }
 
 /// `(time_s, value)` per controller.

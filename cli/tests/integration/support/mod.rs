@@ -17,9 +17,8 @@ pub fn tool_or_skip(program: &str, version_arg: &str, test: &str) -> bool {
     {
         return true;
     }
-    let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
     assert!(
-        !ci,
+        !pneuma_testkit::python::ci(),
         "{test}: {program} is not installed but CI=true: install it (apt-get install {program})"
     );
     eprintln!("SKIPPED {test}: {program} is not installed (apt-get install {program})");
@@ -204,28 +203,7 @@ pub fn breaths_csv(path: &Path) -> Vec<(f64, f64)> {
 /// `PNEUMA_PYTHON_TOOLS`, else the venv `.ci/run` makes (`target/cli-venv`). `None` skips the
 /// test visibly, except under CI=true, where it fails.
 pub fn python_tools(test: &str) -> Option<PathBuf> {
-    let python = std::env::var_os("PNEUMA_PYTHON_TOOLS")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/cli-venv/bin/python")
-        });
-    let ok = Command::new(&python)
-        .args(["-c", "import mido, bvh"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
-    assert!(
-        ok || !ci,
-        "{test}: {} lacks mido/bvh but CI=true; .ci/run makes target/cli-venv",
-        python.display()
-    );
-    if !ok {
-        eprintln!(
-            "SKIPPED {test}: no Python with mido and bvh (python3 -m venv target/cli-venv && \
-             target/cli-venv/bin/pip install mido==1.3.3 bvh==0.3)"
-        );
-    }
-    ok.then_some(python)
+    pneuma_testkit::python::FILE_READERS.python(test, pneuma_testkit::python::ci())
 }
 
 /// Runs `cli/tests/tools/<script>` with `python` and `args`; its standard output.
