@@ -28,6 +28,9 @@ use pneuma_core::engine::{EngineConfig, BREATH_LENGTH_SCALE};
 use super::{experiment, Clip, Cut, Run, SpeakerResult, Voice};
 use crate::stats::median;
 
+/// The renders the fit scores: gated, every breath cut at once, the built-in voice.
+pub const RENDERS: (Cut, Run, Voice) = (Cut::Gated, Run::AllAtOnce, Voice::BuiltIn);
+
 /// Values of [`BREATH_LENGTH_SCALE`] tried.
 pub const LENGTH_SCALES: [f64; 4] = [1.0, 1.2, 1.4, 1.6];
 
@@ -51,28 +54,21 @@ fn pooled(by_speaker: &BTreeMap<String, Vec<f64>>, keep: impl Fn(&str) -> bool) 
     median(&all)
 }
 
-/// Renders the grid, prints each point's fitted ratio and every speaker's fold, and returns
-/// the held-out median duration ratio.
+/// Renders the grid (`shipped`: the [`RENDERS`] already made with the shipped settings),
+/// prints each point's fitted ratio and every speaker's fold, and returns the held-out median
+/// duration ratio.
 pub fn run(
     clips: &[Clip],
     uncut: &BTreeMap<(String, Voice), Vec<(f64, f64)>>,
+    shipped: &BTreeMap<String, SpeakerResult>,
 ) -> Result<f64, String> {
-    let shipped = EngineConfig::default();
-    let mut scales = vec![BREATH_LENGTH_SCALE];
-    scales.extend(LENGTH_SCALES.iter().filter(|&&s| s != BREATH_LENGTH_SCALE));
-    let mut grid: Vec<(f64, BTreeMap<String, Vec<f64>>)> = Vec::new();
-    for &scale in &scales {
-        let mut config = shipped.clone();
+    let mut grid = vec![(BREATH_LENGTH_SCALE, ratios(shipped))];
+    for &scale in LENGTH_SCALES.iter().filter(|&&s| s != BREATH_LENGTH_SCALE) {
+        let mut config = EngineConfig::default();
         config.breathing.inspiration_length_s *= (scale / BREATH_LENGTH_SCALE) as f32;
         // Extra breaths are not scored here: the uncut renders are the shipped settings'.
-        let per = experiment(
-            &config,
-            clips,
-            Cut::Gated,
-            Run::AllAtOnce,
-            Voice::BuiltIn,
-            uncut,
-        )?;
+        let (cut, run, voice) = RENDERS;
+        let per = experiment(&config, clips, cut, run, voice, uncut)?;
         grid.push((scale, ratios(&per)));
     }
     println!(

@@ -406,6 +406,7 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
         ),
     ];
     let mut all_met = true;
+    let mut shipped_length = None;
     for (cut, run, voice, what) in plan {
         let per = experiment(&config, &clips, cut, run, voice, &uncut)?;
         let run_name = match run {
@@ -423,7 +424,11 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
                 all_met &= ok;
             }
         }
+        if (cut, run, voice) == length_fit::RENDERS {
+            shipped_length = Some(per);
+        }
     }
-    length_fit::run(&clips, &uncut)?;
+    let shipped_length = shipped_length.expect("the plan renders the length fit's case");
+    length_fit::run(&clips, &uncut, &shipped_length)?;
     Ok(all_met || !args.check)
 }
