@@ -34,7 +34,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 pub use error::{install_interrupt_handler, RenderError, EXIT_INTERRUPTED, INTERRUPTED};
-pub use pipeline::{lossy_note, run, RenderSummary};
+pub use pipeline::{describe_voice, lossy_note, run, RenderSummary};
 pub use plan::{output_container, Args};
 
 /// Runs `pneuma render` from parsed arguments: one input with a progress bar when a terminal
@@ -114,7 +114,7 @@ fn render_one(args: &Args, input: &Path) -> ExitCode {
 }
 
 /// The summary of one render on standard error: the input's format, breaths, frames, clipped
-/// samples, what a lossy input became, and the files written.
+/// samples, what a lossy input became, the files written and the breath voice.
 fn print_summary(input: &Path, s: &RenderSummary) {
     eprintln!(
         "rendered {} ({}, {}): {}, {}{}{}",
@@ -136,6 +136,7 @@ fn print_summary(input: &Path, s: &RenderSummary) {
     if let Some(osc) = &s.osc {
         eprintln!("  {osc}");
     }
+    eprintln!("  {}", describe_voice(s.voice));
     for f in &s.findings {
         eprintln!("warning: {}", f.message());
     }

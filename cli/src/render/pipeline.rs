@@ -18,6 +18,7 @@ use pneuma_core::encode::midi_cc::CcMap;
 use pneuma_core::encode::midi_file::MidiFileSink;
 use pneuma_core::encode::sink::{FrameSink, Resample, TextSink};
 use pneuma_core::engine::offline::{self, TailFrames};
+use pneuma_core::engine::VoiceStatus;
 use pneuma_core::{BreathEvent, ControlFrame};
 use pneuma_io::{AudioSource, InputFormat};
 
@@ -56,6 +57,25 @@ pub struct RenderSummary {
     pub findings: Vec<Finding>,
     /// What was sent as OSC (`--osc`), for the summary.
     pub osc: Option<String>,
+    /// Where the inserted breaths took their voice from, at the end of the render.
+    pub voice: VoiceStatus,
+}
+
+/// The summary's line on the breath voice.
+pub fn describe_voice(voice: VoiceStatus) -> String {
+    let breaths = |n| crate::options::count(n, "breath");
+    match voice {
+        VoiceStatus::Fixed { breaths: n } => format!("breath voice: learned from {}", breaths(n)),
+        VoiceStatus::Learning { breaths: 0 } | VoiceStatus::BuiltIn => {
+            "breath voice: built-in (no breath of the speaker's was learned)".into()
+        }
+        VoiceStatus::Learning { breaths: n } => {
+            format!(
+                "breath voice: learned as the render went ({} heard)",
+                breaths(n)
+            )
+        }
+    }
 }
 
 /// What a lossy input became, for the summary: `" (MP3 input written as FLAC: …)"`.
@@ -150,6 +170,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         },
     )?;
     let found = findings(&energy, &engine.speech_summary());
+    let voice = engine.voice_status();
     let (controls, bvh, kept, midi, osc) = sinks;
     let osc = outputs
         .osc
@@ -201,6 +222,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         clipped,
         findings: found,
         osc,
+        voice,
     })
 }
 

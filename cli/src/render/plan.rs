@@ -527,17 +527,14 @@ fn prepared_engine(
 ) -> Result<Engine, RenderError> {
     let model =
         crate::options::load_head_model(args.head_model.as_deref()).map_err(RenderError::Input)?;
-    let voice = match super::voice::source(
+    let voice = super::voice::mode(
         args.built_in_breath,
         args.breath_like.as_deref(),
         input,
         &config,
-    ) {
-        Some(from) => super::voice::learn(from, &config, input)?,
-        None => None,
-    };
+    )?;
     let mut engine = Engine::new(config, model)?;
-    engine.set_learned_voice(voice);
+    engine.set_voice_mode(voice);
     engine.prepare(
         info.sample_rate_hz as f64,
         BLOCK_FRAMES,

@@ -1,14 +1,14 @@
-//! The breath voice of a whole-file render: learned from the recording itself before the
-//! render (a first pass over the file through [`VoiceLearner`]), or from `--breath-like FILE`
-//! (another take of the same speaker), or none (`--built-in-breath`, a render as the plugin
-//! with `--lookahead-ms`, or standard input, which cannot be read twice): then the built-in
-//! voice.
+//! The breath voice of a render ([`mode`]): learned from the recording itself before a
+//! whole-file render (a first pass over the file through [`VoiceLearner`]), or from
+//! `--breath-like FILE` (another take of the same speaker) in any mode, or built in
+//! (`--built-in-breath`, or no breath heard). A render as the plugin (`--lookahead-ms`, `--live`)
+//! or from standard input (which cannot be read twice) learns as it goes, as the plugin does.
 
 use std::path::Path;
 
 use pneuma_core::breathing::learned::LearnedVoice;
 use pneuma_core::engine::voice_learning::VoiceLearner;
-use pneuma_core::engine::EngineConfig;
+use pneuma_core::engine::{BreathVoiceMode, EngineConfig};
 use pneuma_io::AudioSource;
 
 use super::error::RenderError;
@@ -16,35 +16,36 @@ use super::error::RenderError;
 /// Frames read per block of the learning pass.
 const BLOCK_FRAMES: usize = 8192;
 
-/// Where the voice of a render of `input` with `config` is learned from (`None`: built in):
-/// `breath_like` (`--breath-like FILE`) or the input itself, unless `built_in`
-/// (`--built-in-breath`).
-pub fn source<'a>(
+/// The breath voice of a render of `input` with `config`: built in with `built_in`
+/// (`--built-in-breath`); learned from `breath_like` (`--breath-like FILE`); learned from the
+/// input before a whole-file render; learned as it goes otherwise. A file in which no breath is
+/// heard gives the built-in voice.
+pub fn mode(
     built_in: bool,
-    breath_like: Option<&'a Path>,
-    input: &'a Path,
+    breath_like: Option<&Path>,
+    input: &Path,
     config: &EngineConfig,
-) -> Option<&'a Path> {
-    if built_in || !config.placement.whole_file {
-        return None;
-    }
-    match breath_like {
-        Some(p) => Some(p),
-        None if input.as_os_str() == "-" => None,
-        None => Some(input),
-    }
+) -> Result<BreathVoiceMode, RenderError> {
+    let from = match breath_like {
+        _ if built_in => return Ok(BreathVoiceMode::BuiltIn),
+        Some(p) => p,
+        None if config.placement.whole_file && input.as_os_str() != "-" => input,
+        None => return Ok(BreathVoiceMode::Learn),
+    };
+    Ok(learn(from, config, input)?.map_or(BreathVoiceMode::BuiltIn, BreathVoiceMode::Fixed))
 }
 
 /// Learns the breath voice from `path` with `config`'s analysis and phrase settings for a
 /// render of `input`: from another recording, the level under the speech is then taken
-/// against `input`'s own speech level. `None` when no breath was heard.
+/// against `input`'s own speech level (not for standard input). `None` when no breath was heard.
 pub fn learn(
     path: &Path,
     config: &EngineConfig,
     input: &Path,
 ) -> Result<Option<LearnedVoice>, RenderError> {
     let voice = learn_file(path, config)?;
-    if path == input {
+    // Standard input cannot be read twice: the voice keeps the other take's speech level.
+    if path == input || input.as_os_str() == "-" {
         return Ok(voice);
     }
     let speech_db = learn_file_speech_db(input, config)?;

@@ -68,8 +68,9 @@ pub struct HeardBreath {
     pub length_s: f64,
 }
 
-/// A breath voice learned from a recording (see the module docs).
-#[derive(Debug, Clone, PartialEq)]
+/// A breath voice learned from a recording (see the module docs). Plain data: saved with a
+/// plugin's state when the user freezes it (serde).
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct LearnedVoice {
     /// Breaths it was learned from.
     pub breaths: usize,
@@ -90,7 +91,8 @@ pub struct LearnedVoice {
 }
 
 fn median(v: &mut [f64]) -> f64 {
-    v.sort_by(f64::total_cmp);
+    // Unstable sort: in place, no allocation (the median is the same).
+    v.sort_unstable_by(f64::total_cmp);
     let n = v.len();
     match n {
         0 => f64::NAN,
@@ -99,9 +101,30 @@ fn median(v: &mut [f64]) -> f64 {
     }
 }
 
-fn sd(v: &[f64]) -> f64 {
-    let m = v.iter().sum::<f64>() / v.len() as f64;
-    (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() as f64 - 1.0).max(1.0)).sqrt()
+fn sd(v: impl Iterator<Item = f64> + Clone) -> f64 {
+    let n = v.clone().count() as f64;
+    let m = v.clone().sum::<f64>() / n;
+    (v.map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt()
+}
+
+/// Working memory of [`LearnedVoice::learn_with`] for up to `capacity` breaths: made once, so
+/// a stream can learn again at every breath without allocating.
+#[derive(Debug, Clone, Default)]
+pub struct LearnScratch {
+    shapes: Vec<Bands>,
+    levels: Vec<f64>,
+    lengths: Vec<f64>,
+}
+
+impl LearnScratch {
+    /// Room for `capacity` breaths. Allocates.
+    pub fn with_capacity(capacity: usize) -> Self {
+        Self {
+            shapes: Vec::with_capacity(capacity),
+            levels: Vec::with_capacity(capacity),
+            lengths: Vec::with_capacity(capacity),
+        }
+    }
 }
 
 impl LearnedVoice {
@@ -113,47 +136,65 @@ impl LearnedVoice {
         speech_db: f64,
         rate_hz: f64,
     ) -> Option<Self> {
+        let mut scratch = LearnScratch::with_capacity(breaths.len());
+        Self::learn_with(breaths, floor_powers, speech_db, rate_hz, &mut scratch)
+    }
+
+    /// [`LearnedVoice::learn`] in `scratch`: allocation-free while `breaths` fits its capacity.
+    pub fn learn_with(
+        breaths: &[HeardBreath],
+        floor_powers: &Bands,
+        speech_db: f64,
+        rate_hz: f64,
+        scratch: &mut LearnScratch,
+    ) -> Option<Self> {
         if breaths.is_empty() || !speech_db.is_finite() {
             return None;
         }
-        let clean: Vec<Bands> = breaths
-            .iter()
-            .map(|b| without_floor(&b.powers, floor_powers))
-            .collect();
-        let shapes: Vec<Bands> = clean.iter().map(shape_db).collect();
+        let LearnScratch {
+            shapes,
+            levels,
+            lengths,
+        } = scratch;
+        shapes.clear();
+        levels.clear();
+        lengths.clear();
+        for b in breaths {
+            let clean = without_floor(&b.powers, floor_powers);
+            shapes.push(shape_db(&clean));
+            levels.push(band_level_db(&clean, rate_hz) - speech_db);
+            lengths.push(b.length_s);
+        }
         let n = breaths.len();
         let mean: Bands =
             std::array::from_fn(|k| shapes.iter().map(|s| s[k]).sum::<f64>() / n as f64);
         let spread = n >= MIN_FOR_SPREAD;
         let shape_sd_db: Bands = std::array::from_fn(|k| {
             if spread {
-                sd(&shapes.iter().map(|s| s[k]).collect::<Vec<_>>()).min(MAX_SD_DB)
+                sd(shapes.iter().map(|s| s[k])).min(MAX_SD_DB)
             } else {
                 SHAPE_SD_PRIOR_DB
             }
         });
-        let levels: Vec<f64> = clean
-            .iter()
-            .map(|p| band_level_db(p, rate_hz) - speech_db)
-            .collect();
-        let lengths: Vec<f64> = breaths.iter().map(|b| b.length_s).collect();
+        let level_sd_db = if spread {
+            sd(levels.iter().copied()).min(MAX_SD_DB)
+        } else {
+            LEVEL_SD_PRIOR_DB
+        };
+        let length_sd_s = if spread {
+            sd(lengths.iter().copied())
+        } else {
+            0.2 * lengths[0]
+        };
         Some(Self {
             breaths: n,
             shape_db: mean,
             shape_sd_db,
-            level_re_speech_db: median(&mut levels.clone()),
-            level_sd_db: if spread {
-                sd(&levels).min(MAX_SD_DB)
-            } else {
-                LEVEL_SD_PRIOR_DB
-            },
+            level_re_speech_db: median(levels),
+            level_sd_db,
             speech_db,
-            length_s: median(&mut lengths.clone()),
-            length_sd_s: if spread {
-                sd(&lengths)
-            } else {
-                0.2 * lengths[0]
-            },
+            length_s: median(lengths),
+            length_sd_s,
         })
     }
 
@@ -236,6 +277,12 @@ impl LearnedSound {
     /// The voice it draws from.
     pub fn voice(&self) -> &LearnedVoice {
         &self.voice
+    }
+
+    /// Draws from `voice` from the next breath on (a voice learned further while streaming).
+    /// Allocation-free; the noise goes on where it was.
+    pub fn set_voice(&mut self, voice: LearnedVoice) {
+        self.voice = voice;
     }
 
     /// Designs the filters for `fs` Hz and computes their band responses; resets.

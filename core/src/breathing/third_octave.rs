@@ -64,6 +64,7 @@ pub struct BandAnalyzer {
     bins: Vec<Option<usize>>,
     input: Vec<f64>,
     spectrum: Vec<Complex<f64>>,
+    scratch: Vec<Complex<f64>>,
 }
 
 impl std::fmt::Debug for BandAnalyzer {
@@ -88,6 +89,7 @@ impl BandAnalyzer {
                 .collect(),
             input: fft.make_input_vec(),
             spectrum: fft.make_output_vec(),
+            scratch: fft.make_scratch_vec(),
             fft,
         }
     }
@@ -110,7 +112,7 @@ impl BandAnalyzer {
                 *v = x.get(start + i).map_or(0.0, |s| f64::from(*s)) * self.window[i];
             }
             self.fft
-                .process(&mut self.input, &mut self.spectrum)
+                .process_with_scratch(&mut self.input, &mut self.spectrum, &mut self.scratch)
                 .expect("buffers made by the plan");
             for (c, b) in self.spectrum.iter().zip(&self.bins) {
                 if let Some(b) = b {
@@ -199,6 +201,13 @@ impl Default for FloorEstimate {
 }
 
 impl FloorEstimate {
+    /// Forgets every frame (allocation-free).
+    pub fn clear(&mut self) {
+        self.count.fill(0);
+        self.sums.fill([0.0; BANDS]);
+        self.frames = 0;
+    }
+
     /// Adds one frame's band powers.
     pub fn add(&mut self, bands: &Bands) {
         let total: f64 = bands.iter().sum();

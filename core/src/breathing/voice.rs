@@ -185,8 +185,11 @@ pub struct BreathVoice {
     flutter_norm: f64,
     xfade: usize,
     kind: BreathKind,
-    /// The voice learned from the recording, when there is one.
+    /// The sound of a learned voice (made by [`BreathVoice::set_learned`], so a voice learned
+    /// while streaming can take it over without allocating).
     learned: Option<LearnedSound>,
+    /// Breaths are drawn from `learned` (a voice is in use).
+    learned_on: bool,
     /// The current breath is drawn from `learned`.
     use_learned: bool,
     /// Level of a learned breath relative to the learned level, dB (the user's level).
@@ -214,6 +217,7 @@ impl BreathVoice {
             xfade: 0,
             kind: BreathKind::Mixed,
             learned: None,
+            learned_on: false,
             use_learned: false,
             learned_offset_db: 0.0,
         }
@@ -260,21 +264,36 @@ impl BreathVoice {
     }
 
     /// Draws breaths from `voice` (learned from the recording) instead of the procedural sound
-    /// (`None`: back to it); a user sample still wins. Allocation-free apart from the voice
-    /// itself; call it off the audio thread.
+    /// (`None`: back to it); a user sample still wins. Makes the learned sound either way, so
+    /// [`BreathVoice::use_learned`] can switch voices later without allocating; call it off
+    /// the audio thread.
     pub fn set_learned(&mut self, voice: Option<LearnedVoice>) {
-        self.learned = voice.map(|v| {
-            let mut l = LearnedSound::new(v, self.seed ^ 0x6C65_6172_6E65_6421);
-            if self.sample_rate_hz > 0.0 {
-                l.prepare(self.sample_rate_hz);
+        let mut l = LearnedSound::new(voice.unwrap_or_default(), self.seed ^ 0x6C65_6172_6E65_6421);
+        if self.sample_rate_hz > 0.0 {
+            l.prepare(self.sample_rate_hz);
+        }
+        self.learned = Some(l);
+        self.learned_on = voice.is_some();
+    }
+
+    /// Draws breaths from `voice` from the next breath on (`None`: the procedural sound), in
+    /// the sound [`BreathVoice::set_learned`] made (without it, nothing changes).
+    /// Allocation-free: for a voice learned while streaming.
+    pub fn use_learned(&mut self, voice: Option<&LearnedVoice>) {
+        if let Some(l) = self.learned.as_mut() {
+            if let Some(v) = voice {
+                l.set_voice(*v);
             }
-            l
-        });
+            self.learned_on = voice.is_some();
+        }
     }
 
     /// The learned voice in use, if any.
     pub fn learned(&self) -> Option<&LearnedVoice> {
-        self.learned.as_ref().map(LearnedSound::voice)
+        self.learned
+            .as_ref()
+            .filter(|_| self.learned_on)
+            .map(LearnedSound::voice)
     }
 
     /// Level of learned breaths relative to the learned level, dB (the user's breath level
@@ -341,7 +360,7 @@ impl BreathVoice {
         };
         let sampled = !self.slots[dominant as usize].fitted.is_empty();
         self.use_learned = false;
-        if let (Some(l), false) = (self.learned.as_mut(), sampled) {
+        if let (Some(l), false, true) = (self.learned.as_mut(), sampled, self.learned_on) {
             l.start();
             self.use_learned = true;
             // The learned level is the breath's level over its length: the plateau is louder by

@@ -48,10 +48,12 @@ mod schedule;
 mod speech_track;
 mod stereo;
 pub mod voice_learning;
+mod voice_track;
 
 pub use config::{EngineConfig, EngineError, PlacementConfig, PlacementMode, OFFLINE_LOOKAHEAD_S};
 pub use placement::BREATH_LENGTH_SCALE;
 pub use speech_track::SpeechSummary;
+pub use voice_track::{BreathVoiceMode, VoiceStatus};
 
 use crate::analysis::{Analyzer, FeatureFrame};
 use crate::breathing::learned::LearnedVoice;
@@ -69,6 +71,7 @@ use placement::{EventContext, Placement};
 use schedule::{Queue, Schedule};
 use speech_track::SpeechTrack;
 use stereo::StereoImage;
+use voice_track::VoiceTrack;
 
 /// Most channels a stream may have.
 pub const MAX_CHANNELS: usize = 8;
@@ -145,6 +148,10 @@ struct Stream {
     speech: SpeechTrack,
     breaths: BreathTrack,
     cycle: CycleTrack,
+    /// Learns the breath voice as the stream goes (fed only in [`BreathVoiceMode::Learn`]).
+    voice: VoiceTrack,
+    /// The voice is being learned ([`BreathVoiceMode::Learn`]).
+    learning: bool,
     pending: Queue<Pending>,
     /// Breaths already in the input (start, end in input seconds), heard in pauses and not yet
     /// collected by [`Engine::take_existing_breaths`].
@@ -185,8 +192,8 @@ pub struct Engine {
     pending: Option<EngineConfig>,
     model: HeadModel,
     samples: [Option<BreathSample>; 2],
-    /// The breath voice learned from the recording (`None`: the built-in voice).
-    learned: Option<LearnedVoice>,
+    /// Where inserted breaths take their voice from.
+    voice_mode: BreathVoiceMode,
     /// The speech decision's model (`None`: the shipped one).
     speech_model: Option<SpeechModel>,
     stream: Option<Stream>,
@@ -204,7 +211,7 @@ impl Engine {
             pending: None,
             model: head_model,
             samples: [None, None],
-            learned: None,
+            voice_mode: BreathVoiceMode::default(),
             speech_model: None,
             stream: None,
         })
@@ -249,12 +256,61 @@ impl Engine {
     }
 
     /// Draws inserted breaths from `voice`, learned from the speaker's recording
-    /// ([`voice_learning`]; `None`: the built-in voice). Allocates: not for the audio thread.
-    /// Takes effect at once when prepared (the offline render sets it before streaming).
+    /// ([`voice_learning`]): [`BreathVoiceMode::Fixed`]; `None`: [`BreathVoiceMode::BuiltIn`].
     pub fn set_learned_voice(&mut self, voice: Option<LearnedVoice>) {
-        self.learned = voice.clone();
+        self.set_voice_mode(voice.map_or(BreathVoiceMode::BuiltIn, BreathVoiceMode::Fixed));
+    }
+
+    /// Where inserted breaths take their voice from, from the next breath on. Switching to
+    /// [`BreathVoiceMode::Learn`] starts learning afresh. Allocation-free once prepared (the
+    /// plugin switches on the audio thread).
+    pub fn set_voice_mode(&mut self, mode: BreathVoiceMode) {
+        self.voice_mode = mode;
         if let Some(s) = &mut self.stream {
-            s.breaths.voice_mut().set_learned(voice);
+            let learning = mode == BreathVoiceMode::Learn;
+            if learning && !s.learning {
+                s.voice.reset();
+            }
+            s.learning = learning;
+            let voice = match &self.voice_mode {
+                BreathVoiceMode::Fixed(v) => Some(v),
+                BreathVoiceMode::Learn => s.voice.voice(),
+                BreathVoiceMode::BuiltIn => None,
+            };
+            s.breaths.voice_mut().use_learned(voice);
+        }
+    }
+
+    /// Where inserted breaths take their voice from.
+    pub fn voice_mode(&self) -> &BreathVoiceMode {
+        &self.voice_mode
+    }
+
+    /// Freezes the voice learned so far: it becomes [`BreathVoiceMode::Fixed`], kept through
+    /// resets, and is returned (to be saved); with nothing learned yet the built-in voice is
+    /// kept fixed (`None`). A mode that is not learning stays as it is. Allocation-free.
+    pub fn freeze_voice(&mut self) -> Option<LearnedVoice> {
+        match self.voice_mode {
+            BreathVoiceMode::Learn => {
+                let learned = self.stream.as_ref().and_then(|s| s.voice.voice().copied());
+                self.set_voice_mode(
+                    learned.map_or(BreathVoiceMode::BuiltIn, BreathVoiceMode::Fixed),
+                );
+                learned
+            }
+            BreathVoiceMode::Fixed(v) => Some(v),
+            BreathVoiceMode::BuiltIn => None,
+        }
+    }
+
+    /// What the breath voice is doing (learning and how many breaths it heard, fixed, built in).
+    pub fn voice_status(&self) -> VoiceStatus {
+        match &self.voice_mode {
+            BreathVoiceMode::BuiltIn => VoiceStatus::BuiltIn,
+            BreathVoiceMode::Fixed(v) => VoiceStatus::Fixed { breaths: v.breaths },
+            BreathVoiceMode::Learn => VoiceStatus::Learning {
+                breaths: self.stream.as_ref().map_or(0, |s| s.voice.heard()),
+            },
         }
     }
 
@@ -265,9 +321,13 @@ impl Engine {
         self.speech_model = model;
     }
 
-    /// The learned breath voice in use, if any.
+    /// The learned breath voice in use, if any (fixed, or learned so far).
     pub fn learned_voice(&self) -> Option<&LearnedVoice> {
-        self.learned.as_ref()
+        match &self.voice_mode {
+            BreathVoiceMode::Fixed(v) => Some(v),
+            BreathVoiceMode::Learn => self.stream.as_ref().and_then(|s| s.voice.voice()),
+            BreathVoiceMode::BuiltIn => None,
+        }
     }
 
     /// Allocates everything for a stream at `sample_rate_hz` (8–768 kHz) with blocks of at most
@@ -302,7 +362,10 @@ impl Engine {
         {
             voice.set_sample(slot, sample.clone());
         }
-        voice.set_learned(self.learned.clone());
+        voice.set_learned(match self.voice_mode {
+            BreathVoiceMode::Fixed(v) => Some(v),
+            _ => None,
+        });
         let mode = c.placement.mode;
         let live = mode == PlacementMode::Live;
         let latency = match mode {
@@ -351,6 +414,8 @@ impl Engine {
             ),
             breaths: BreathTrack::new(voice, sample_rate_hz, latency, live, max_block),
             cycle: CycleTrack::new(&c.breathing.map(), sample_rate_hz, frame_rate_hz, live),
+            voice: VoiceTrack::new(sample_rate_hz),
+            learning: self.voice_mode == BreathVoiceMode::Learn,
             pending: Queue::with_capacity(max_pending),
             existing: Queue::with_capacity(EXISTING_BREATHS_KEPT),
             schedule: Schedule::new(max_actions),
@@ -378,6 +443,11 @@ impl Engine {
             s.speech.reset();
             s.breaths.reset();
             s.cycle.reset();
+            // Learning restarts with the stream; a fixed voice stays.
+            if s.learning {
+                s.voice.reset();
+                s.breaths.voice_mut().use_learned(None);
+            }
             s.pending.clear();
             s.existing.clear();
             s.schedule.reset();
@@ -584,11 +654,17 @@ impl Stream {
         for k in 0..count {
             let (f, i) = self.completed[k];
             self.speech.push(&self.mono[fed..=i]);
+            if self.learning {
+                self.voice.push(&self.mono[fed..=i]);
+            }
             fed = i + 1;
             self.speech.frame(&f);
             self.on_frame(config, &f, base + i as u64, i, channels);
         }
         self.speech.push(&self.mono[fed..n]);
+        if self.learning {
+            self.voice.push(&self.mono[fed..n]);
+        }
         // 3. Output: the delayed input. 4. Breaths.
         for (c, chan) in audio.iter_mut().take(channels).enumerate() {
             self.delay.read(c, base, &mut chan[start..start + n]);
@@ -652,6 +728,9 @@ impl Stream {
         channels: usize,
     ) {
         let head = self.head.process(f, self.frame_rate_hz);
+        if self.learning {
+            self.voice.frame(f);
+        }
         if self.placement.on_frame(f) {
             self.stereo.learn(i, channels);
         }
@@ -703,6 +782,11 @@ impl Stream {
             } = e
             {
                 self.existing.push_back(span);
+                if self.learning {
+                    if let Some(v) = self.voice.hear(span) {
+                        self.breaths.voice_mut().use_learned(Some(&v));
+                    }
+                }
             }
             self.placement.on_event(&ctx, e, &mut self.schedule);
         }

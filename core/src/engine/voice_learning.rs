@@ -1,43 +1,183 @@
-//! Learning the speaker's breath voice from a recording before a whole-file render
-//! ([`VoiceLearner`]): the recording streams through the engine's analysis and phrase tracker
-//! (the same settings, so the breaths heard are the ones the render will hear), every breath
-//! heard in a pause (`Pause::breath_s`) is measured in third-octave bands from a ring of the
-//! last [`RING_S`] seconds of audio, the room's floor is estimated frame by frame, and the
-//! speech level is the median RMS of the voiced frames. [`VoiceLearner::finish`] turns them
-//! into a [`LearnedVoice`] (none when no breath was heard: the built-in voice stays).
+//! Learning the speaker's breath voice from a recording: what the whole-file learner
+//! ([`VoiceLearner`], before a render) and the stream's learner (the engine's voice track, as
+//! it goes) share is the [`BreathListener`], which hears the recording's third-octave band
+//! powers on a fixed grid of frames, the room's floor and the speech level, and measures a
+//! breath the phrase tracker reports (`Pause::breath_s`) from the frames of its span.
 //!
-//! Memory is bounded by the ring, the floor's histogram and one record per heard breath.
-//! Allocates: offline only (the plugin and `render --lookahead-ms` keep the built-in voice).
+//! Memory is bounded by the listener's ring of band powers ([`RING_S`]), the floor's and the
+//! level's histograms and, offline, one record per heard breath (the stream keeps the last
+//! [`MAX_HEARD`]).
 
 use super::{EngineConfig, EngineError};
 use crate::analysis::{Analyzer, FeatureFrame};
-use crate::breathing::learned::{HeardBreath, LearnedVoice};
-use crate::breathing::third_octave::{BandAnalyzer, FloorEstimate};
+use crate::breathing::learned::{HeardBreath, LearnScratch, LearnedVoice};
+use crate::breathing::third_octave::{BandAnalyzer, Bands, FloorEstimate, BANDS};
 use crate::phrase::{PhraseEvent, PhraseTracker};
 
-/// Audio kept to measure a breath once the tracker reports it, seconds.
+/// How far back a breath can be measured once the tracker reports it, seconds.
 pub const RING_S: f64 = 30.0;
-/// Block the analysis is fed in.
+/// Breaths a stream learns from: the last this many heard.
+pub const MAX_HEARD: usize = 64;
+/// Block the whole-file learner feeds the analysis in.
 const BLOCK: usize = 4096;
 /// Speech-level histogram: 0.1 dB bins from −120 to 0 dBFS.
 const LEVEL_BINS: usize = 1200;
 
-/// See the module docs.
+/// The recording as a breath learner hears it (see the module docs). Frame `k` of the grid
+/// covers samples `k·hop .. k·hop + frame` (hop = half a frame, Hann window,
+/// [`BandAnalyzer`]); the even frames, back to back, feed the floor. Allocation-free after
+/// [`BreathListener::new`]; any block partition hears the same.
+#[derive(Debug)]
+pub struct BreathListener {
+    rate_hz: f64,
+    bands: BandAnalyzer,
+    hop: usize,
+    /// The last frame of samples (a ring indexed by sample count).
+    recent: Vec<f32>,
+    /// One frame in order, for the analyzer.
+    frame_buf: Vec<f32>,
+    /// Samples heard.
+    fed: u64,
+    /// Band powers of the last grid frames (a ring indexed by frame).
+    powers: Vec<Bands>,
+    /// Grid frames completed.
+    frames: u64,
+    floor: FloorEstimate,
+    voiced_levels: Vec<u64>,
+}
+
+impl BreathListener {
+    /// A listener at `rate_hz`. Allocates.
+    pub fn new(rate_hz: f64) -> Self {
+        let bands = BandAnalyzer::new(rate_hz);
+        let frame = bands.frame();
+        let hop = frame / 2;
+        Self {
+            rate_hz,
+            hop,
+            recent: vec![0.0; frame],
+            frame_buf: vec![0.0; frame],
+            fed: 0,
+            powers: vec![[0.0; BANDS]; (RING_S * rate_hz / hop as f64).ceil() as usize + 1],
+            frames: 0,
+            floor: FloorEstimate::default(),
+            voiced_levels: vec![0; LEVEL_BINS],
+            bands,
+        }
+    }
+
+    /// Forgets everything heard.
+    pub fn reset(&mut self) {
+        self.recent.fill(0.0);
+        self.fed = 0;
+        self.frames = 0;
+        self.floor.clear();
+        self.voiced_levels.fill(0);
+    }
+
+    /// Hears the next mono samples (non-finite ones as 0).
+    pub fn push(&mut self, mono: &[f32]) {
+        let frame = self.recent.len();
+        for &x in mono {
+            let x = if x.is_finite() { x } else { 0.0 };
+            self.recent[(self.fed % frame as u64) as usize] = x;
+            self.fed += 1;
+            if self.fed >= frame as u64 && (self.fed - frame as u64).is_multiple_of(self.hop as u64) {
+                let at = (self.fed % frame as u64) as usize;
+                let (old, new) = self.recent.split_at(at);
+                self.frame_buf[..new.len()].copy_from_slice(new);
+                self.frame_buf[new.len()..].copy_from_slice(old);
+                let p = self.bands.powers(&self.frame_buf);
+                if self.frames.is_multiple_of(2) {
+                    self.floor.add(&p);
+                }
+                let n = self.powers.len() as u64;
+                self.powers[(self.frames % n) as usize] = p;
+                self.frames += 1;
+            }
+        }
+    }
+
+    /// Hears one analysis frame: a voiced frame's level counts towards the speech level.
+    pub fn frame(&mut self, f: &FeatureFrame) {
+        if f.voiced && f.rms_db.is_finite() {
+            let bin = ((f64::from(f.rms_db) + 120.0) * 10.0).clamp(0.0, LEVEL_BINS as f64 - 1.0);
+            self.voiced_levels[bin as usize] += 1;
+        }
+    }
+
+    /// The breath at `(start_s, end_s)`: the mean band powers of the grid frames whose centre
+    /// lies in the span (the frame nearest its middle when none does), of those completed and
+    /// still held. `None` when none is.
+    pub fn measure(&self, (start_s, end_s): (f64, f64)) -> Option<HeardBreath> {
+        let half = (self.recent.len() / 2) as f64;
+        let hop = self.hop as f64;
+        let (a, b) = (start_s * self.rate_hz - half, end_s * self.rate_hz - half);
+        let mut lo = (a / hop).ceil().max(0.0) as u64;
+        let mut hi = ((b / hop).ceil().max(0.0) as u64).max(lo);
+        if hi == lo {
+            lo = ((0.5 * (a + b) / hop).round().max(0.0)) as u64;
+            hi = lo + 1;
+        }
+        let held_from = self.frames.saturating_sub(self.powers.len() as u64);
+        let (lo, hi) = (lo.max(held_from), hi.min(self.frames));
+        if hi <= lo {
+            return None;
+        }
+        let n = self.powers.len() as u64;
+        let mut sum = [0.0; BANDS];
+        for k in lo..hi {
+            for (s, p) in sum.iter_mut().zip(&self.powers[(k % n) as usize]) {
+                *s += p;
+            }
+        }
+        Some(HeardBreath {
+            powers: sum.map(|s| s / (hi - lo) as f64),
+            length_s: end_s - start_s,
+        })
+    }
+
+    /// The room's floor: band powers.
+    pub fn floor(&self) -> Bands {
+        self.floor.floor()
+    }
+
+    /// The median level of the voiced frames so far, dBFS (NaN before any).
+    pub fn speech_db(&self) -> f64 {
+        let total: u64 = self.voiced_levels.iter().sum();
+        let mut seen = 0;
+        for (bin, c) in self.voiced_levels.iter().enumerate() {
+            seen += c;
+            if total > 0 && 2 * seen >= total {
+                return bin as f64 / 10.0 - 120.0 + 0.05;
+            }
+        }
+        f64::NAN
+    }
+
+    /// The voice of `heard` in this room against this speech level.
+    pub fn learn(&self, heard: &[HeardBreath], scratch: &mut LearnScratch) -> Option<LearnedVoice> {
+        LearnedVoice::learn_with(
+            heard,
+            &self.floor(),
+            self.speech_db(),
+            self.rate_hz,
+            scratch,
+        )
+    }
+}
+
+/// Learns the voice of a whole recording before a render: the recording streams through the
+/// engine's analysis and phrase tracker (the same settings, so the breaths heard are the ones
+/// the render will hear) and a [`BreathListener`], fed as the engine feeds its own (the samples
+/// that complete each frame, then the frame). Allocates.
 #[derive(Debug)]
 pub struct VoiceLearner {
-    rate_hz: f64,
     analyzer: Analyzer,
     tracker: PhraseTracker,
-    bands: BandAnalyzer,
-    floor: FloorEstimate,
-    ring: Vec<f32>,
-    /// Samples fed so far.
-    fed: u64,
-    /// The floor's frame being filled.
-    chunk: Vec<f32>,
+    listener: BreathListener,
     heard: Vec<HeardBreath>,
-    voiced_levels: Vec<u64>,
-    scratch: Vec<f32>,
+    frames: Vec<(FeatureFrame, usize)>,
 }
 
 impl VoiceLearner {
@@ -46,53 +186,37 @@ impl VoiceLearner {
         let mut analyzer = Analyzer::new(config.analysis.clone())?;
         analyzer.prepare(rate_hz, BLOCK)?;
         let tracker = PhraseTracker::new(config.phrase, config.analysis.frame_rate_hz)?;
-        let bands = BandAnalyzer::new(rate_hz);
         Ok(Self {
-            rate_hz,
             analyzer,
             tracker,
-            chunk: Vec::with_capacity(bands.frame()),
-            bands,
-            floor: FloorEstimate::default(),
-            ring: vec![0.0; (RING_S * rate_hz).ceil() as usize],
-            fed: 0,
+            listener: BreathListener::new(rate_hz),
             heard: Vec::new(),
-            voiced_levels: vec![0; LEVEL_BINS],
-            scratch: Vec::new(),
+            frames: Vec::new(),
         })
     }
 
     /// Feeds the next mono samples of the recording.
     pub fn feed(&mut self, mono: &[f32]) -> Result<(), EngineError> {
         for block in mono.chunks(BLOCK) {
-            for &x in block {
-                let x = if x.is_finite() { x } else { 0.0 };
-                let n = self.ring.len() as u64;
-                self.ring[(self.fed % n) as usize] = x;
-                self.fed += 1;
-                self.chunk.push(x);
-                if self.chunk.len() == self.bands.frame() {
-                    let p = self.bands.powers(&self.chunk);
-                    self.floor.add(&p);
-                    self.chunk.clear();
-                }
-            }
-            let mut frames: Vec<FeatureFrame> = Vec::new();
+            self.frames.clear();
+            let frames = &mut self.frames;
             self.analyzer
-                .process(block, |f| frames.push(*f))
+                .process_indexed(block, |f, i| frames.push((*f, i)))
                 .map_err(EngineError::from)?;
-            for f in &frames {
-                self.on_frame(f);
+            let mut fed = 0;
+            for k in 0..self.frames.len() {
+                let (f, i) = self.frames[k];
+                self.listener.push(&block[fed..=i]);
+                fed = i + 1;
+                self.on_frame(&f);
             }
+            self.listener.push(&block[fed..]);
         }
         Ok(())
     }
 
     fn on_frame(&mut self, f: &FeatureFrame) {
-        if f.voiced && f.rms_db.is_finite() {
-            let bin = ((f64::from(f.rms_db) + 120.0) * 10.0).clamp(0.0, LEVEL_BINS as f64 - 1.0);
-            self.voiced_levels[bin as usize] += 1;
-        }
+        self.listener.frame(f);
         let mut spans: [Option<(f64, f64)>; 3] = [None; 3];
         let mut k = 0;
         self.tracker.update(f, |e| {
@@ -104,25 +228,10 @@ impl VoiceLearner {
             }
         });
         for span in spans.into_iter().flatten() {
-            self.measure(span);
+            if let Some(b) = self.listener.measure(span) {
+                self.heard.push(b);
+            }
         }
-    }
-
-    /// Measures the breath at `(start_s, end_s)` if the ring still holds it.
-    fn measure(&mut self, (start_s, end_s): (f64, f64)) {
-        let a = (start_s * self.rate_hz).round().max(0.0) as u64;
-        let b = ((end_s * self.rate_hz).round() as u64).min(self.fed);
-        let n = self.ring.len() as u64;
-        if b <= a || self.fed - a > n {
-            return;
-        }
-        self.scratch.clear();
-        self.scratch
-            .extend((a..b).map(|i| self.ring[(i % n) as usize]));
-        self.heard.push(HeardBreath {
-            powers: self.bands.powers(&self.scratch),
-            length_s: end_s - start_s,
-        });
     }
 
     /// Breaths heard so far.
@@ -139,25 +248,13 @@ impl VoiceLearner {
         for f in &frames {
             self.on_frame(f);
         }
-        Ok(LearnedVoice::learn(
-            &self.heard,
-            &self.floor.floor(),
-            self.speech_db(),
-            self.rate_hz,
-        ))
+        let mut scratch = LearnScratch::with_capacity(self.heard.len());
+        Ok(self.listener.learn(&self.heard, &mut scratch))
     }
 
     /// The median level of the voiced frames so far, dBFS (NaN before any).
     pub fn speech_db(&self) -> f64 {
-        let total: u64 = self.voiced_levels.iter().sum();
-        let mut seen = 0;
-        for (bin, c) in self.voiced_levels.iter().enumerate() {
-            seen += c;
-            if total > 0 && 2 * seen >= total {
-                return bin as f64 / 10.0 - 120.0 + 0.05;
-            }
-        }
-        f64::NAN
+        self.listener.speech_db()
     }
 }
 

@@ -1,0 +1,108 @@
+//! The stream part that learns the breath voice as the audio goes (the plugin, live mode and
+//! `render --lookahead-ms`): every breath the phrase tracker hears in a pause is measured by a
+//! [`BreathListener`] and the voice is learned again from the last [`MAX_HEARD`] of them, in
+//! memory made at `prepare`. What the engine does with the voice (learn, keep one fixed, the
+//! built-in one) is [`BreathVoiceMode`].
+
+use super::voice_learning::{BreathListener, MAX_HEARD};
+use crate::analysis::FeatureFrame;
+use crate::breathing::learned::{HeardBreath, LearnScratch, LearnedVoice};
+
+/// Where inserted breaths take their voice from. The fixed voice is held inline (not boxed):
+/// a plugin freezes it on the audio thread, where nothing may allocate.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum BreathVoiceMode {
+    /// The built-in voice; nothing is learned.
+    BuiltIn,
+    /// Learned from the stream as it goes (the built-in voice until the first breath is
+    /// heard); learning restarts with the stream ([`super::Engine::reset`]).
+    #[default]
+    Learn,
+    /// One voice, kept through resets: learned from the whole file before a render, from
+    /// another take (`--breath-like`), or frozen by the user ([`super::Engine::freeze_voice`]).
+    Fixed(LearnedVoice),
+}
+
+/// What the breath voice is doing, for a display.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VoiceStatus {
+    /// The built-in voice, nothing learned.
+    BuiltIn,
+    /// Learning: `breaths` heard since the stream started (the built-in voice while 0).
+    Learning {
+        /// Breaths heard.
+        breaths: usize,
+    },
+    /// A fixed voice learned from `breaths` breaths.
+    Fixed {
+        /// Breaths it was learned from.
+        breaths: usize,
+    },
+}
+
+/// See the module docs.
+#[derive(Debug)]
+pub(super) struct VoiceTrack {
+    listener: BreathListener,
+    /// The last [`MAX_HEARD`] breaths heard (a ring once full).
+    heard: Vec<HeardBreath>,
+    /// Breaths heard since the last reset.
+    count: usize,
+    scratch: LearnScratch,
+    voice: Option<LearnedVoice>,
+}
+
+impl VoiceTrack {
+    /// A track at `rate_hz`. Allocates.
+    pub(super) fn new(rate_hz: f64) -> Self {
+        Self {
+            listener: BreathListener::new(rate_hz),
+            heard: Vec::with_capacity(MAX_HEARD),
+            count: 0,
+            scratch: LearnScratch::with_capacity(MAX_HEARD),
+            voice: None,
+        }
+    }
+
+    /// Forgets every breath and the room.
+    pub(super) fn reset(&mut self) {
+        self.listener.reset();
+        self.heard.clear();
+        self.count = 0;
+        self.voice = None;
+    }
+
+    /// Hears the next mono samples.
+    pub(super) fn push(&mut self, mono: &[f32]) {
+        self.listener.push(mono);
+    }
+
+    /// Hears one analysis frame.
+    pub(super) fn frame(&mut self, f: &FeatureFrame) {
+        self.listener.frame(f);
+    }
+
+    /// A breath heard at `span` (seconds): the voice learned again, if it changed.
+    pub(super) fn hear(&mut self, span: (f64, f64)) -> Option<LearnedVoice> {
+        let breath = self.listener.measure(span)?;
+        if self.heard.len() < MAX_HEARD {
+            self.heard.push(breath);
+        } else {
+            self.heard[self.count % MAX_HEARD] = breath;
+        }
+        self.count += 1;
+        self.voice = self.listener.learn(&self.heard, &mut self.scratch);
+        self.voice
+    }
+
+    /// Breaths heard since the stream started.
+    pub(super) fn heard(&self) -> usize {
+        self.count
+    }
+
+    /// The voice learned so far.
+    pub(super) fn voice(&self) -> Option<&LearnedVoice> {
+        self.voice.as_ref()
+    }
+}
