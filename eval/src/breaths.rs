@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 
 use pneuma_core::breathing::RESERVE_LUNG;
 use pneuma_core::engine::voice_learning::learn_voice;
-use pneuma_core::engine::{offline, Engine, EngineConfig};
+use pneuma_core::engine::{offline, BreathVoiceMode, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
 use pneuma_core::ControlFrame;
 use pneuma_io::wav::read_mono;
@@ -146,9 +146,9 @@ pub fn measure(
     fig
 }
 
-/// Renders `input` (one `Vec` per channel, at `rate_hz`) offline with the default settings
-/// and `lookahead_ms` (`None`: the offline render's whole-file lookahead, as `pneuma render`
-/// without `--lookahead-ms`).
+/// Renders `input` (one `Vec` per channel, at `rate_hz`) offline with the default settings,
+/// the built-in breath voice and `lookahead_ms` (`None`: the offline render's whole-file
+/// lookahead, as `pneuma render` without `--lookahead-ms`).
 pub fn render_offline(
     input: &[Vec<f32>],
     rate_hz: f64,
@@ -161,6 +161,7 @@ pub fn render_offline(
     }
     let mut engine =
         Engine::new(config, HeadModel::default_model().clone()).map_err(|e| e.to_string())?;
+    engine.set_voice_mode(BreathVoiceMode::BuiltIn);
     engine
         .prepare(rate_hz, 1024, input.len())
         .map_err(|e| e.to_string())?;
@@ -182,10 +183,32 @@ pub fn render_with_voice(
     config.seed = config.seed.wrapping_add(seed_offset);
     let mut engine = Engine::new(config.clone(), HeadModel::default_model().clone())
         .map_err(|e| e.to_string())?;
-    if let Some(mono) = learn_from {
-        let voice = learn_voice(&config, mono, rate_hz).map_err(|e| e.to_string())?;
-        engine.set_learned_voice(voice);
-    }
+    let voice = match learn_from {
+        Some(mono) => learn_voice(&config, mono, rate_hz).map_err(|e| e.to_string())?,
+        None => None,
+    };
+    engine.set_learned_voice(voice);
+    engine
+        .prepare(rate_hz, 1024, input.len())
+        .map_err(|e| e.to_string())?;
+    Ok(offline::render(&mut engine, input, &[1024]))
+}
+
+/// Renders mono-or-more `input` as the plugin does (`pneuma render --lookahead-ms`, `config`'s
+/// lookahead): the breath voice learned as the stream goes, from the breaths heard before each
+/// inserted one; the engine's seed moved by `seed_offset`.
+pub fn render_learning_as_it_goes(
+    config: &EngineConfig,
+    input: &[Vec<f32>],
+    rate_hz: f64,
+    seed_offset: u64,
+) -> Result<offline::Rendered, String> {
+    let mut config = config.clone();
+    config.placement.whole_file = false;
+    config.seed = config.seed.wrapping_add(seed_offset);
+    let mut engine =
+        Engine::new(config, HeadModel::default_model().clone()).map_err(|e| e.to_string())?;
+    engine.set_voice_mode(BreathVoiceMode::Learn);
     engine
         .prepare(rate_hz, 1024, input.len())
         .map_err(|e| e.to_string())?;

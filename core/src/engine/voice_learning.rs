@@ -82,7 +82,8 @@ impl BreathListener {
             let x = if x.is_finite() { x } else { 0.0 };
             self.recent[(self.fed % frame as u64) as usize] = x;
             self.fed += 1;
-            if self.fed >= frame as u64 && (self.fed - frame as u64).is_multiple_of(self.hop as u64) {
+            if self.fed >= frame as u64 && (self.fed - frame as u64).is_multiple_of(self.hop as u64)
+            {
                 let at = (self.fed % frame as u64) as usize;
                 let (old, new) = self.recent.split_at(at);
                 self.frame_buf[..new.len()].copy_from_slice(new);

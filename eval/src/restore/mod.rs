@@ -13,7 +13,10 @@
 //! - **Voices** ([`Voice`]): the built-in breath voice; the voice `pneuma render` learns from
 //!   the recording it renders (cut one at a time, the breath being restored is not in the
 //!   recording: a **held-out** figure); the voice learned from the uncut recording, the
-//!   restored breath included (a **fitted** figure, the `--breath-like` of the raw take).
+//!   restored breath included (a **fitted** figure, the `--breath-like` of the raw take); the
+//!   voice the plugin (and `pneuma render --lookahead-ms`) learns as the stream goes, with its
+//!   default lookahead, from the breaths heard before each inserted one (held out: the breath
+//!   restored is cut). Only the whole-file learned voice is checked against the targets.
 //! - **Scores** ([`score`]): a cut breath is *put back* when an inserted breath overlaps its
 //!   span widened by 0.15 s on each side (each inserted breath counts for one cut breath). An
 //!   inserted breath that puts none back and overlaps no breath inserted in the render of the
@@ -85,6 +88,9 @@ pub enum Voice {
     Learned,
     /// Learned from the uncut recording (the breath restored included: fitted).
     FromUncut,
+    /// Learned as the stream goes, as the plugin and `pneuma render --lookahead-ms` do (the
+    /// default lookahead): from the breaths heard before each inserted one (held out).
+    AsItGoes,
 }
 
 /// One labelled clip.
@@ -197,6 +203,14 @@ fn render(
         Voice::BuiltIn => None,
         Voice::Learned => Some(input),
         Voice::FromUncut => Some(uncut),
+        Voice::AsItGoes => {
+            return crate::breaths::render_learning_as_it_goes(
+                config,
+                std::slice::from_ref(&input.to_vec()),
+                rate_hz,
+                seed_offset,
+            )
+        }
     };
     crate::breaths::render_with_voice(
         config,
@@ -348,7 +362,12 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
     let mut uncut: BTreeMap<(String, Voice), Vec<(f64, f64)>> = BTreeMap::new();
     for clip in &clips {
         print_voice(clip)?;
-        for voice in [Voice::BuiltIn, Voice::Learned, Voice::FromUncut] {
+        for voice in [
+            Voice::BuiltIn,
+            Voice::Learned,
+            Voice::FromUncut,
+            Voice::AsItGoes,
+        ] {
             let out = render(&config, &clip.audio, &clip.audio, clip.rate_hz, voice, 0)?;
             let spans = out.breaths.iter().map(|b| (b.start_s, b.end_s)).collect();
             uncut.insert((clip.name.clone(), voice), spans);
@@ -391,6 +410,18 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
             Run::OneAtATime,
             Voice::Learned,
             "learned, HELD OUT",
+        ),
+        (
+            Cut::Gated,
+            Run::OneAtATime,
+            Voice::AsItGoes,
+            "learned as it goes (plugin, lookahead), HELD OUT",
+        ),
+        (
+            Cut::Attenuated,
+            Run::OneAtATime,
+            Voice::AsItGoes,
+            "learned as it goes (plugin, lookahead), HELD OUT",
         ),
         (
             Cut::Gated,
