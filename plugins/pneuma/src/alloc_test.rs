@@ -23,12 +23,27 @@ use nice_plug::prelude::*;
 use crate::Pneuma;
 
 /// What the host context saw: CC events (preallocated), latency changes and restart requests.
-struct Host {
+pub(crate) struct Host {
     api: PluginApi,
-    transport: Transport,
+    pub(crate) transport: Transport,
     cc_events: Vec<(u32, u8)>,
     latency: std::cell::Cell<Option<u32>>,
     restart_requests: std::cell::Cell<u32>,
+}
+
+impl Host {
+    /// A host for `api` at `rate_hz`, the transport playing.
+    pub(crate) fn playing(api: PluginApi, rate_hz: f32) -> Self {
+        let mut transport = Transport::new(rate_hz);
+        transport.playing = true;
+        Self {
+            api,
+            transport,
+            cc_events: Vec::with_capacity(1 << 16),
+            latency: None.into(),
+            restart_requests: 0.into(),
+        }
+    }
 }
 
 impl ProcessContext<Pneuma> for Host {
@@ -64,9 +79,9 @@ impl ProcessContext<Pneuma> for Host {
     fn set_current_voice_capacity(&self, _capacity: u32) {}
 }
 
-struct Activation {
-    api: PluginApi,
-    latency: std::cell::Cell<u32>,
+pub(crate) struct Activation {
+    pub(crate) api: PluginApi,
+    pub(crate) latency: std::cell::Cell<u32>,
 }
 
 impl ActivateContext<Pneuma> for Activation {
@@ -88,7 +103,7 @@ const PROBE_TEST: &str = "alloc_test::the_guard_catches_an_allocation";
 
 /// Runs the probe in a child process once per test binary; `Err` says why the guard did not
 /// catch its allocation.
-fn guard_catches_allocations() -> Result<(), String> {
+pub(crate) fn guard_catches_allocations() -> Result<(), String> {
     static VERDICT: OnceLock<Result<(), String>> = OnceLock::new();
     VERDICT
         .get_or_init(|| {
@@ -135,7 +150,7 @@ fn the_guard_catches_an_allocation() {
     }
 }
 
-fn set(plugin: &Pneuma, id: &str, normalized: f32) {
+pub(crate) fn set(plugin: &Pneuma, id: &str, normalized: f32) {
     let ptr = plugin
         .params
         .param_map()
@@ -193,14 +208,7 @@ fn real_process_never_allocates(api: PluginApi) {
         "lookahead latency reported"
     );
 
-    let mut host = Host {
-        api,
-        transport: Transport::new(48_000.0),
-        cc_events: Vec::with_capacity(1 << 16),
-        latency: None.into(),
-        restart_requests: 0.into(),
-    };
-    host.transport.playing = true;
+    let mut host = Host::playing(api, 48_000.0);
     let mut left = vec![0.0f32; 512];
     let mut right = vec![0.0f32; 512];
     let mut phase = 0.0f32;
@@ -276,11 +284,11 @@ fn real_process_never_allocates(api: PluginApi) {
 }
 
 /// The activation context by value (the trait takes `&mut impl ActivateContext`).
-fn activation_ctx(a: &Activation) -> ActivationRef<'_> {
+pub(crate) fn activation_ctx(a: &Activation) -> ActivationRef<'_> {
     ActivationRef(a)
 }
 
-struct ActivationRef<'a>(&'a Activation);
+pub(crate) struct ActivationRef<'a>(&'a Activation);
 
 impl ActivateContext<Pneuma> for ActivationRef<'_> {
     fn plugin_api(&self) -> PluginApi {

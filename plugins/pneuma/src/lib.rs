@@ -7,6 +7,11 @@
 //!   loaded when an engine is built (WAV, mixed to mono); a file that cannot be used is logged and
 //!   the procedural breath stays. A path changed while active (a project or preset loaded) builds
 //!   a new engine with the new file ([`rebuild`]).
+//! - Breath voice: learned as the audio goes (as `pneuma render --lookahead-ms`), restarting
+//!   with the stream; or learned from the persisted `breath_like` recording when an engine is
+//!   built ([`breath_like`], as `render --breath-like`). The `freeze_breath_voice` switch keeps
+//!   the voice learned so far for every playback after it, saved in the state as
+//!   `breath_voice` ([`voice`]); the editor shows what the voice does.
 //! - Activation never fails, at any sample rate a host uses (1 Hz … 768 kHz, odd rates): where
 //!   the engine cannot run at that rate, the audio passes untouched (latency 0) and the controls
 //!   go to rest once ([`send_rest_pose`]: one CC message per controller, one OSC frame).
@@ -51,10 +56,14 @@
 mod alloc_test;
 #[cfg(test)]
 mod automation_compat;
+pub mod breath_like;
 pub mod editor;
 pub mod params;
 pub mod rebuild;
 mod transport;
+pub mod voice;
+#[cfg(test)]
+mod voice_test;
 
 use std::num::NonZeroU32;
 use std::sync::Arc;
@@ -72,6 +81,7 @@ use pneuma_core::ControlFrame;
 use pneuma_osc::worker::{self as osc_sender, OscFeed, OscSettings, OscStats, OscWorker};
 use rebuild::{EngineSlot, SlotEvent};
 use transport::{JumpDetector, PreRoll};
+use voice::{VoiceFreeze, VoiceShown};
 
 impl OscSettings for PneumaParams {
     fn target(&self) -> (String, u16) {
@@ -143,6 +153,8 @@ pub struct Pneuma {
     /// The audio side of the editor's data path ([`editor::feed`]).
     view: EditorFeed,
     view_shared: Arc<EditorShared>,
+    /// The freeze switch and the saved breath voice on the audio thread ([`voice`]).
+    voice: VoiceFreeze,
 }
 
 impl Default for Pneuma {
@@ -164,6 +176,7 @@ impl Default for Pneuma {
             pre_roll: PreRoll::default(),
             view,
             view_shared,
+            voice: VoiceFreeze::default(),
         }
     }
 }
@@ -188,7 +201,7 @@ impl Pneuma {
     /// structural settings ([`EngineSlot::follow`]); the host hears of its latency, or is asked
     /// for a restart, and the editor shows it. Never allocates, frees or blocks.
     fn follow_structure(&mut self, context: &mut impl ProcessContext<Self>, block: usize) {
-        let (view, at_rest) = (&mut self.view, &mut self.at_rest);
+        let (view, at_rest, voice) = (&mut self.view, &mut self.at_rest, &mut self.voice);
         self.slot.follow(block, |event| match event {
             SlotEvent::Swapped {
                 latency,
@@ -199,9 +212,27 @@ impl Pneuma {
                 // The editor shows the latency the swapped-in engine costs.
                 view.activated(running, latency, sample_rate_hz);
                 *at_rest = false;
+                voice.engine_changed();
             }
             SlotEvent::RestartWanted => context.request_restart(),
         });
+    }
+
+    /// Audio thread, start of a block: the freeze switch and the saved breath voice reach the
+    /// engine ([`voice`]). Never allocates, locks or waits.
+    fn follow_voice(&mut self) {
+        let freeze = self.params.freeze_breath_voice.value();
+        let (engine, built) = self.slot.engine_and_voice();
+        self.voice
+            .follow(engine, built, &self.params.breath_voice, freeze);
+    }
+
+    /// What the editor shows of the breath voice.
+    fn voice_shown(&mut self) -> VoiceShown {
+        match self.slot.engine_mut() {
+            Some(engine) => self.voice.shown(engine),
+            None => VoiceShown::NoEngine,
+        }
     }
 
     /// Runs the engine (or the pass-through where there is none) over `audio`, sending its
@@ -390,6 +421,7 @@ impl Plugin for Pneuma {
         self.view
             .activated(self.slot.is_running(), latency, buffer_config.sample_rate);
         self.at_rest = false;
+        self.voice.engine_changed();
         self.mono = MonoSource::new(audio_io_layout);
         // One millisecond of tolerance for rounded host positions (at least one sample).
         self.pre_roll = PreRoll::default();
@@ -429,12 +461,17 @@ impl Plugin for Pneuma {
         let transport = context.transport();
         let pos = transport.pos_samples();
         let playing = transport.playing;
+        // Before a transport start or jump resets the stream: a freeze takes the voice learned
+        // up to here, not the empty one after the reset.
+        self.follow_voice();
         let jumped = self.jumps.check(playing, pos, buffer.samples());
         if jumped {
             self.reset_streams();
             self.pre_roll.start(pos, self.slot.latency_samples());
         }
         self.follow_structure(context, buffer.samples());
+        // A new engine takes the frozen voice before its first block.
+        self.follow_voice();
         let changes = &self.params.changes;
         if ChangeFlags::take(&changes.cc_map) {
             // An invalid map (two signals on one controller, a 14-bit controller over 31) keeps
@@ -520,6 +557,8 @@ impl Plugin for Pneuma {
                 self.at_rest = false;
             }
         }
+        let shown = self.voice_shown();
+        shown.store(&self.view.status().breath_voice);
         self.view.end_block(self.osc_stats.as_deref(), cc_lost);
         ProcessStatus::Normal
     }

@@ -2,8 +2,9 @@
 //!
 //! Every `#[id]` is saved in host projects, presets and automation: never change one. The table
 //! of ids is in [`PARAM_IDS`] (a test holds the struct to it). Settings that are not numbers
-//! (the OSC host, breath sample paths) are persisted fields (`#[persist]`), saved and restored with
-//! the state but not automatable.
+//! (the OSC host, breath sample paths, the breath-like recording, the frozen breath voice
+//! ([`breath_voice`])) are persisted fields (`#[persist]`), saved and restored with the state but
+//! not automatable.
 //!
 //! A parameter with the id of a setting of core's table ([`pneuma_core::settings`]) takes its
 //! name, default, range, unit and step from the table ([`float_param`], [`int_param`],
@@ -35,6 +36,7 @@ use pneuma_core::engine::{EngineConfig, PlacementMode};
 use pneuma_core::head::HeadConfig;
 use pneuma_core::settings::{self, analysis, breathing, head, output, placement, Kind, Setting};
 
+pub mod breath_voice;
 pub mod layout;
 pub mod remote;
 pub mod standalone;
@@ -98,7 +100,7 @@ impl From<OscFormatChoice> for OscFormat {
 /// Parameters added after the settings table (issue 34): sessions and automation saved before
 /// them do not hold them and load with their defaults. The compatibility tests check every
 /// other parameter against what the plugin saved before.
-pub const ADDED_SINCE_SETTINGS_TABLE: &[&str] = &["speech_only"];
+pub const ADDED_SINCE_SETTINGS_TABLE: &[&str] = &["speech_only", "freeze_breath_voice"];
 
 /// Every parameter id, in declaration order.
 pub const PARAM_IDS: &[&str] = &[
@@ -114,6 +116,7 @@ pub const PARAM_IDS: &[&str] = &[
     "neck_amplitude_deg",
     "breath_level_db",
     "insert_breaths",
+    "freeze_breath_voice",
     "speech_only",
     "min_pause_s",
     "mode",
@@ -151,6 +154,12 @@ pub const PLUGIN_ONLY: &[(&str, &str, &str)] = &[
         "preset",
         "breathing",
         "a choice among core's breathing presets (Preset::ALL) or the custom controls",
+    ),
+    (
+        "freeze_breath_voice",
+        "placement",
+        "keeps the breath voice learned so far in the saved state (a session's choice; the CLI \
+         learns from the whole file or --breath-like)",
     ),
     (
         "midi_enabled",
@@ -266,6 +275,11 @@ pub struct PneumaParams {
     /// `insert_breaths`).
     #[id = "insert_breaths"]
     pub insert_breaths: BoolParam,
+    /// Keeps the breath voice learned so far (or the built-in one, when nothing was learned)
+    /// for every playback from now on, saved in the state as `breath_voice`; off: learning
+    /// restarts. Read by the audio thread every block ([`crate::voice`]). Default off.
+    #[id = "freeze_breath_voice"]
+    pub freeze_breath_voice: BoolParam,
     /// Breaths only into pauses of speech (off: every pause, as `render --any-sound`). New
     /// engine (the table's `speech_only`).
     #[id = "speech_only"]
@@ -363,6 +377,14 @@ pub struct PneumaParams {
     /// Path of a nose breath WAV replacing the procedural nose breath (empty = none).
     #[persist = "breath_sample_nose"]
     pub breath_sample_nose: SamplePath,
+    /// Path of a recording of the same speaker (the raw take before editing) the breath voice
+    /// is learned from when an engine is built, as `render --breath-like` (empty = none: the
+    /// voice is learned as the audio goes).
+    #[persist = "breath_like"]
+    pub breath_like: SamplePath,
+    /// The frozen breath voice (`None`: not frozen), written by the audio thread.
+    #[persist = "breath_voice"]
+    pub breath_voice: breath_voice::SavedVoice,
     /// The editor window's size and zoom.
     #[persist = "editor_layout"]
     pub editor_layout: Arc<RwLock<layout::EditorLayout>>,
@@ -422,9 +444,9 @@ fn raise<T>(flags: &Arc<ChangeFlags>, raises: Raises) -> Arc<dyn Fn(T) + Send + 
     })
 }
 
-/// A persisted breath-sample path that counts its changes, so the audio thread notices a
-/// restored state (a project or preset loaded while active) without taking a lock, and asks
-/// the host for the re-activation that loads the new file.
+/// A persisted file path (a breath sample, the breath-like recording) that counts its changes,
+/// so the audio thread notices a restored state (a project or preset loaded while active)
+/// without taking a lock and has an engine built that reads the new file ([`crate::rebuild`]).
 #[derive(Debug, Default)]
 pub struct SamplePath {
     path: RwLock<String>,
@@ -558,6 +580,7 @@ impl Default for PneumaParams {
             breath_level_db: engine(float_param(&placement::BREATH_LEVEL_DB)),
             insert_breaths: switch_param(&placement::INSERT_BREATHS)
                 .with_callback(raise(&flags, Raises::Engine)),
+            freeze_breath_voice: BoolParam::new("Freeze breath voice", false),
             speech_only: switch_param(&placement::SPEECH_ONLY)
                 .with_callback(raise(&flags, Raises::Structure)),
             min_pause_s: engine(float_param(&placement::MIN_PAUSE_S)),
@@ -614,6 +637,8 @@ impl Default for PneumaParams {
             )),
             breath_sample_mouth: SamplePath::default(),
             breath_sample_nose: SamplePath::default(),
+            breath_like: SamplePath::default(),
+            breath_voice: breath_voice::SavedVoice::default(),
             editor_layout: Arc::default(),
             changes: flags,
         }

@@ -1,5 +1,5 @@
-//! Settings that need a new engine (mode, lookahead, frame rate, breath-sample files) take
-//! effect while the plugin stays active.
+//! Settings that need a new engine (mode, lookahead, frame rate, breath-sample files, the
+//! breath-like recording) take effect while the plugin stays active.
 //!
 //! Hosts do not reliably re-activate a plugin that asks for it: Ardour 7 answers VST3's
 //! `restartComponent(kLatencyChanged)` by reading the latency again, never by re-activating, and
@@ -11,7 +11,9 @@
 //!    flag and a thread unpark).
 //! 2. [`EngineBuilder::run`] (on that thread: allocates, reads files) drops the engines the
 //!    audio thread retired, builds an engine for the current parameters and the stream the
-//!    plugin was activated for, and hands it over through a lock-free queue ([`Built`]).
+//!    plugin was activated for, and hands it over through a lock-free queue ([`Built`]). Its
+//!    breath voice: the one learned from the breath-like recording ([`crate::breath_like`]),
+//!    else learned as the audio goes; the frozen one when the freeze is on ([`crate::voice`]).
 //! 3. The audio thread ([`EngineSlot::follow`], through [`SwapEnds`]) takes it at the start of
 //!    a block, swaps it in, reports its latency to the host (VST3:
 //!    `restartComponent(kLatencyChanged)`; CLAP: a restart request, as the CLAP latency
@@ -39,10 +41,11 @@ use std::time::Duration;
 
 use nice_plug::nice_error;
 use pneuma_core::breathing::SampleSlot;
-use pneuma_core::engine::{Engine, EngineConfig, EngineError};
+use pneuma_core::engine::{BreathVoiceMode, Engine, EngineConfig, EngineError};
 use pneuma_core::head::HeadModel;
 use rtrb::{Consumer, Producer, RingBuffer};
 
+use crate::breath_like::VoiceCache;
 use crate::load_breath_sample;
 use crate::params::{ChangeFlags, PneumaParams};
 
@@ -56,14 +59,14 @@ const QUEUE_ENGINES: usize = 8;
 /// What an engine is built from that needs a new engine (and maybe a new latency) when it
 /// changes: the engine settings' stream part (core's
 /// [`pneuma_core::engine::EngineConfig::stream_differs`] decides, the one list of those fields)
-/// and the breath-sample files. Two are equal when neither differs. The audio thread compares
+/// and the files (breath samples, the breath-like recording). Two are equal when neither differs. The audio thread compares
 /// them only when a structural parameter raised its change flag, a build came back, or a
 /// sample path changed (building an `EngineConfig` does not allocate).
 #[derive(Debug, Clone)]
 pub struct Structural {
     /// The engine settings (only their stream part counts).
     pub config: EngineConfig,
-    /// Changes of the breath-sample paths (the files are read when an engine is built).
+    /// Changes of the file paths (the files are read when an engine is built).
     pub sample_generation: u64,
 }
 
@@ -84,9 +87,11 @@ impl Structural {
     }
 }
 
-/// The breath-sample paths' change count (lock-free).
+/// The file paths' change count: breath samples and the breath-like recording (lock-free).
 pub fn sample_generation(p: &PneumaParams) -> u64 {
-    p.breath_sample_mouth.generation() + p.breath_sample_nose.generation()
+    p.breath_sample_mouth.generation()
+        + p.breath_sample_nose.generation()
+        + p.breath_like.generation()
 }
 
 /// The stream the plugin was activated for.
@@ -122,6 +127,8 @@ pub struct Built {
     pub engine: Option<Box<Engine>>,
     /// The structural settings it was built with.
     pub structural: Structural,
+    /// Its breath voice without the freeze: the breath-like file's, or learning.
+    pub voice: BreathVoiceMode,
     /// The activation it was built for.
     pub epoch: u64,
 }
@@ -133,6 +140,8 @@ pub struct EngineBuilder {
     stream: Mutex<Option<StreamSpec>>,
     done: Mutex<Producer<Built>>,
     retired: Mutex<Consumer<Box<Engine>>>,
+    /// The voice learned from the breath-like file, kept across builds.
+    breath_like: VoiceCache,
 }
 
 /// The audio thread's ends of the hand-over queues.
@@ -167,21 +176,27 @@ impl EngineBuilder {
             stream: Mutex::new(None),
             done: Mutex::new(done),
             retired: Mutex::new(retired),
+            breath_like: VoiceCache::default(),
         });
         (builder, SwapEnds { built, retire })
     }
 
-    /// An engine for the current parameters and breath samples, prepared for `stream`, with the
-    /// structural settings it was built from. Allocates and reads files: not for the audio
-    /// thread. A breath sample that cannot be used is logged and the procedural breath stays.
-    pub fn build(&self, stream: &StreamSpec) -> (Result<Engine, EngineError>, Structural) {
+    /// An engine for the current parameters, breath samples and breath voice, prepared for
+    /// `stream`, with the structural settings it was built from and its voice without the
+    /// freeze. Allocates and reads files: not for the audio thread. A breath sample or
+    /// breath-like file that cannot be used is logged and the procedural breath, or learning as
+    /// the audio goes, stays.
+    pub fn build(
+        &self,
+        stream: &StreamSpec,
+    ) -> (Result<Engine, EngineError>, Structural, BreathVoiceMode) {
         // Read before the settings: a change in between only causes one more build.
         let structural = Structural::of(&self.params);
+        let config = self.params.engine_config();
+        let voice = self.breath_like_voice(&config);
         let engine = (|| {
-            let mut engine = Engine::new(
-                self.params.engine_config(),
-                HeadModel::default_model().clone(),
-            )?;
+            let mut engine = Engine::new(config, HeadModel::default_model().clone())?;
+            engine.set_voice_mode(crate::voice::build_mode(&self.params, voice));
             for (slot, path) in [
                 (SampleSlot::Mouth, &self.params.breath_sample_mouth),
                 (SampleSlot::Nose, &self.params.breath_sample_nose),
@@ -194,7 +209,23 @@ impl EngineBuilder {
             engine.prepare(stream.sample_rate_hz, stream.max_block, stream.channels)?;
             Ok(engine)
         })();
-        (engine, structural)
+        (engine, structural, voice)
+    }
+
+    /// The voice learned from the breath-like file (the built-in one when no breath is heard
+    /// in it), or learning as the audio goes without one or when it cannot be used (logged).
+    fn breath_like_voice(&self, config: &EngineConfig) -> BreathVoiceMode {
+        let path = self.params.breath_like.get();
+        if path.trim().is_empty() {
+            return BreathVoiceMode::Learn;
+        }
+        match self.breath_like.learn(path.trim(), config) {
+            Ok(voice) => voice.map_or(BreathVoiceMode::BuiltIn, BreathVoiceMode::Fixed),
+            Err(e) => {
+                nice_error!("Pneuma: {e}");
+                BreathVoiceMode::Learn
+            }
+        }
     }
 
     /// Remembers the stream of a new activation (background builds prepare for it).
@@ -213,7 +244,7 @@ impl EngineBuilder {
 
     /// [`EngineBuilder::build`], boxed; an engine that cannot run is logged and `None`.
     pub fn build_boxed(&self, stream: &StreamSpec) -> Built {
-        let (engine, structural) = self.build(stream);
+        let (engine, structural, voice) = self.build(stream);
         let engine = match engine {
             Ok(engine) => Some(Box::new(engine)),
             Err(e) => {
@@ -224,6 +255,7 @@ impl EngineBuilder {
         Built {
             engine,
             structural,
+            voice,
             epoch: stream.epoch,
         }
     }
@@ -368,6 +400,8 @@ pub struct EngineSlot {
     /// `None` before activation and where the engine cannot run at the host's sample rate.
     /// Boxed so that swapping engines on the audio thread moves a pointer and frees nothing.
     engine: Option<Box<Engine>>,
+    /// The running engine's breath voice without the freeze ([`Built::voice`]).
+    voice: BreathVoiceMode,
     /// Builds engines: at activation, and on `worker` when structural settings change.
     builder: Arc<EngineBuilder>,
     /// The build thread (started at the first activation).
@@ -403,6 +437,7 @@ impl EngineSlot {
         Self {
             params,
             engine: None,
+            voice: BreathVoiceMode::default(),
             builder,
             worker: None,
             swap,
@@ -420,6 +455,11 @@ impl EngineSlot {
     /// The running engine.
     pub fn engine_mut(&mut self) -> Option<&mut Engine> {
         self.engine.as_deref_mut()
+    }
+
+    /// The running engine and its breath voice without the freeze ([`Built::voice`]).
+    pub fn engine_and_voice(&mut self) -> (Option<&mut Engine>, &BreathVoiceMode) {
+        (self.engine.as_deref_mut(), &self.voice)
     }
 
     /// Whether an engine runs (none before activation or at a rate it cannot run at).
@@ -484,6 +524,7 @@ impl EngineSlot {
             .and_then(|w| w.build_and_wait(&mut self.swap, epoch))
             .unwrap_or_else(|| self.builder.build_boxed(&stream));
         self.engine = built.engine;
+        self.voice = built.voice;
         self.reported_latency = self.latency_samples();
         self.latency_only_at_activation = latency_only_at_activation;
         self.held = None;
@@ -535,6 +576,7 @@ impl EngineSlot {
         }
         let old = std::mem::replace(&mut self.engine, built.engine);
         self.swap.retire(old);
+        self.voice = built.voice;
         self.prepared = Some(built.structural);
         // Live settings that changed while it was built.
         self.apply_live_settings();

@@ -8,6 +8,7 @@ use pneuma_testkit::voice::example_voice_at;
 use pneuma_tests::bundle::plugin_path;
 use pneuma_tests::host::{param_hash, CcEvent, Plugin};
 
+mod breath_voice;
 mod plugin_state;
 
 const CLAP_ID: &str = "org.pneuma.pneuma";
@@ -26,6 +27,7 @@ const PARAM_IDS: &[&str] = &[
     "neck_amplitude_deg",
     "breath_level_db",
     "insert_breaths",
+    "freeze_breath_voice",
     "speech_only",
     "min_pause_s",
     "mode",

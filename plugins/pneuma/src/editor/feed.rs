@@ -6,7 +6,8 @@
 //!   breaths already in the input, each through its own preallocated single-producer
 //!   single-consumer `rtrb` ring.
 //! - [`OutputStatus`]: counters and flags the audio thread stores with relaxed atomics once a
-//!   block (OSC bundles sent, failed, dropped; CC messages the host lost; engine running; latency).
+//!   block (OSC bundles sent, failed, dropped; CC messages the host lost; engine running; latency;
+//!   what the breath voice does).
 //! - The audio side ([`EditorFeed`]) pushes only while the editor is open
 //!   ([`EditorShared::is_open`]: the egui window's own flag, or [`EditorShared::open`]; without
 //!   the `editor` feature there is no window and only the latter);
@@ -75,6 +76,8 @@ pub struct OutputStatus {
     pub latency_samples: AtomicU32,
     /// The host's sample rate, Hz (rounded).
     pub sample_rate_hz: AtomicU32,
+    /// What the breath voice does ([`crate::voice::VoiceShown`], stored once a block).
+    pub breath_voice: AtomicU64,
 }
 
 /// The GUI's end, shared by the plugin and its editor (created once with the plugin).

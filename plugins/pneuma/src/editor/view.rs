@@ -1,11 +1,13 @@
 //! The editor window: an egui app (nice-plug-egui) that drains the data path into its
 //! [`History`] on every repaint and draws the timeline, the head and breathing, the main
-//! controls, the breath-sample picker and the output status.
+//! controls, the breath-sample and breath-like pickers, the breath voice's status and the
+//! output status.
 //!
 //! Layout (resizable; the size and zoom are saved with the plugin state):
 //! - top: the timeline of the last 10 s;
 //! - bottom left: head pose (a drawn head and the three angles) and the breathing signals;
-//! - bottom middle: the main controls and the breath-sample picker;
+//! - bottom middle: the main controls, the breath voice (freeze, what it does, the breath-like
+//!   recording) and the breath-sample picker;
 //! - bottom right: output status (OSC target, format, counters) and the MIDI CC map.
 
 use std::sync::atomic::Ordering;
@@ -15,6 +17,7 @@ use std::time::Duration;
 
 use egui::{Align2, Color32, FontId, RichText, Sense, Stroke, Ui, Vec2};
 use nice_plug::context::gui::GuiContext;
+use nice_plug::prelude::Param;
 use nice_plug_egui::resizable_window::ResizableWindow;
 use nice_plug_egui::widgets::ParamSlider;
 use nice_plug_egui::NiceEguiApp;
@@ -26,17 +29,51 @@ use super::feed::EditorShared;
 use super::history::History;
 use super::{timeline, EditorLayout};
 use crate::params::{ModeChoice, PneumaParams, SamplePath};
+use crate::voice::VoiceShown;
 
 const ERROR_COLOUR: Color32 = Color32::from_rgb(255, 110, 100);
 const OK_COLOUR: Color32 = Color32::from_rgb(120, 210, 130);
 
-/// A breath-sample slot: the path being typed, the check running off the GUI thread, and its
-/// last result.
+/// A file check's result: the path to use and what to say, or why the file cannot be used.
+type Checked = Result<(String, String), String>;
+
+/// A file check (runs on its own thread): a breath sample's or the breath-like recording's.
+type CheckFile = Box<dyn FnOnce(String) -> Checked + Send>;
+
+/// A breath sample: read as the engine will, the path and what to say, or why not.
+fn check_sample(path: String) -> Checked {
+    match crate::load_breath_sample(&path) {
+        Ok(Some(_)) => Ok((path, "loaded (used from the next activation)".to_owned())),
+        Ok(None) => Ok((String::new(), "built-in breath".to_owned())),
+        Err(e) => Err(format!(
+            "{e}. Choose a WAV file of one breath (mono or stereo, 0.1–5 s), or clear the field \
+             for the built-in breath."
+        )),
+    }
+}
+
+/// The breath-like recording: its voice learned as an engine will learn it (`config`).
+fn check_breath_like(path: String, config: &pneuma_core::engine::EngineConfig) -> Checked {
+    if path.is_empty() {
+        return Ok((
+            path,
+            "none: the voice is learned as the audio goes".to_owned(),
+        ));
+    }
+    match crate::breath_like::learn(&path, config) {
+        Ok(Some(v)) => Ok((path, format!("voice learned from {} breaths", v.breaths))),
+        Ok(None) => Ok((path, "no breath heard in it: the built-in voice".to_owned())),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// A file slot (a breath sample, the breath-like recording): the path being typed, the check
+/// running off the GUI thread, and its last result.
 struct SamplePicker {
     label: &'static str,
     text: String,
-    checking: Option<Receiver<Result<String, String>>>,
-    result: Option<Result<String, String>>,
+    checking: Option<Receiver<Checked>>,
+    result: Option<Checked>,
 }
 
 impl SamplePicker {
@@ -49,23 +86,15 @@ impl SamplePicker {
         }
     }
 
-    /// Starts reading the file on its own thread (a WAV read never runs on the GUI or audio
+    /// Starts checking the file on its own thread (a file read never runs on the GUI or audio
     /// thread).
-    fn check(&mut self) {
+    fn check(&mut self, check: CheckFile) {
         let (tx, rx) = mpsc::channel();
         let path = self.text.trim().to_owned();
         let spawned = std::thread::Builder::new()
-            .name("pneuma-sample-check".into())
+            .name("pneuma-file-check".into())
             .spawn(move || {
-                let result = match crate::load_breath_sample(&path) {
-                    Ok(Some(_)) => Ok(path),
-                    Ok(None) => Ok(String::new()),
-                    Err(e) => Err(format!(
-                        "{e}. Choose a WAV file of one breath (mono or stereo, 0.1–5 s), or clear \
-                         the field for the built-in breath."
-                    )),
-                };
-                let _ = tx.send(result);
+                let _ = tx.send(check(path));
             });
         match spawned {
             Ok(_) => self.checking = Some(rx),
@@ -83,7 +112,7 @@ impl SamplePicker {
         };
         self.checking = None;
         let changed = match &result {
-            Ok(p) if *p != path.get() => {
+            Ok((p, _)) if *p != path.get() => {
                 path.set_path(p.clone());
                 true
             }
@@ -93,28 +122,26 @@ impl SamplePicker {
         changed
     }
 
-    fn ui(&mut self, ui: &mut Ui) {
+    /// Draws the slot; a click on Load (or Enter) starts `check`.
+    fn ui(&mut self, ui: &mut Ui, hint: &str, check: impl FnOnce() -> CheckFile) {
         ui.horizontal(|ui| {
             ui.label(self.label);
             let edit = ui.add(
                 egui::TextEdit::singleline(&mut self.text)
-                    .hint_text("built-in (path to a WAV)")
+                    .hint_text(hint)
                     .desired_width(ui.available_width() - 60.0),
             );
             let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
             if (ui.button("Load").clicked() || enter) && self.checking.is_none() {
-                self.check();
+                self.check(check());
             }
         });
         match &self.result {
             _ if self.checking.is_some() => {
                 ui.small("reading…");
             }
-            Some(Ok(p)) if p.is_empty() => {
-                ui.small(RichText::new("built-in breath").color(OK_COLOUR));
-            }
-            Some(Ok(_)) => {
-                ui.small(RichText::new("loaded (used from the next activation)").color(OK_COLOUR));
+            Some(Ok((_, said))) => {
+                ui.small(RichText::new(said).color(OK_COLOUR));
             }
             Some(Err(e)) => {
                 ui.add(egui::Label::new(RichText::new(e).small().color(ERROR_COLOUR)).wrap());
@@ -132,6 +159,7 @@ pub struct EditorApp {
     history: History,
     gui: Option<GuiContext>,
     pickers: [SamplePicker; 2],
+    breath_like: SamplePicker,
 }
 
 impl EditorApp {
@@ -145,6 +173,7 @@ impl EditorApp {
             SamplePicker::new("Mouth", &params.breath_sample_mouth),
             SamplePicker::new("Nose", &params.breath_sample_nose),
         ];
+        let breath_like = SamplePicker::new("Learn from", &params.breath_like);
         Self {
             params,
             shared,
@@ -152,6 +181,7 @@ impl EditorApp {
             history: History::default(),
             gui: None,
             pickers,
+            breath_like,
         }
     }
 
@@ -222,6 +252,31 @@ impl EditorApp {
             ui.end_row();
         });
         ui.separator();
+        ui.strong("Breath voice");
+        let shown = VoiceShown::load(&self.shared.status.breath_voice);
+        ui.small(shown.text());
+        let mut freeze = p.freeze_breath_voice.value();
+        if ui
+            .checkbox(&mut freeze, p.freeze_breath_voice.name())
+            .on_hover_text(
+                "Keep this voice for every playback and bounce (saved with the project); off: \
+                 learn again from the next playback",
+            )
+            .changed()
+        {
+            setter.begin_set_parameter(&p.freeze_breath_voice);
+            setter.set_parameter(&p.freeze_breath_voice, freeze);
+            setter.end_set_parameter(&p.freeze_breath_voice);
+        }
+        // The breath-like recording: a new engine learns from it (no restart needed).
+        self.breath_like.poll(&p.breath_like);
+        let config = p.engine_config();
+        self.breath_like.ui(
+            ui,
+            "learn as the audio goes (path to another take)",
+            move || Box::new(move |path| check_breath_like(path, &config)),
+        );
+        ui.separator();
         ui.strong("Breath samples");
         let mut changed = false;
         for (picker, path) in self
@@ -230,7 +285,7 @@ impl EditorApp {
             .zip([&p.breath_sample_mouth, &p.breath_sample_nose])
         {
             changed |= picker.poll(path);
-            picker.ui(ui);
+            picker.ui(ui, "built-in (path to a WAV)", || Box::new(check_sample));
         }
         if changed {
             // The engine loads samples at activation.

@@ -39,6 +39,7 @@ fn hosts_see_every_parameter_in_a_unit_of_one_contiguous_run() {
     assert_eq!(unit_of("cc_loudness"), "MIDI CC");
     assert_eq!(unit_of("mode"), "Breaths & timing");
     assert_eq!(unit_of("preset"), "Breathing");
+    assert_eq!(unit_of("freeze_breath_voice"), "Breaths & timing");
 }
 
 #[test]
@@ -82,8 +83,8 @@ fn parameters_of_the_table_take_its_range_default_and_names() {
         assert_eq!(name, s.label, "{id}");
         checked += 1;
     }
-    // All but bypass, preset, the two output switches and the CC controllers.
-    assert_eq!(checked, PARAM_IDS.len() - 4 - SIGNAL_COUNT);
+    // All but bypass, preset, the freeze switch, the two output switches and the CC controllers.
+    assert_eq!(checked, PARAM_IDS.len() - 5 - SIGNAL_COUNT);
     // The choices' ids are the table's names, in its order.
     assert_eq!(ModeChoice::ids().expect("ids"), placement::MODE.names());
     assert_eq!(
@@ -226,7 +227,13 @@ fn each_change_raises_its_flag_and_only_that() {
     // Bypass keeps the audio path but stops the breaths.
     assert!(!params.engine_config().placement.insert_breaths);
     // Every parameter raises a flag except the ones the audio thread reads each block.
-    let read_each_block = ["midi_enabled", "osc_enabled", "osc_port", "osc_format"];
+    let read_each_block = [
+        "midi_enabled",
+        "osc_enabled",
+        "osc_port",
+        "osc_format",
+        "freeze_breath_voice",
+    ];
     for (id, ptr, _) in params.param_map() {
         // SAFETY: as above.
         unsafe {
@@ -243,12 +250,22 @@ fn persisted_settings_round_trip() {
     let params = PneumaParams::default();
     *params.osc_host.write().unwrap() = "192.168.1.20".into();
     params.breath_sample_nose.set_path("/tmp/nose.wav".into());
+    params.breath_like.set_path("/tmp/raw take.wav".into());
+    let frozen = Some(breath_voice::FrozenVoice::BuiltIn);
+    let seen = params.breath_voice.restores();
+    params.breath_voice.try_store(frozen, seen);
     let saved = params.serialize_fields();
     let fresh = PneumaParams::default();
     let before = fresh.breath_sample_nose.generation();
     fresh.deserialize_fields(&saved);
     assert_eq!(fresh.osc_host(), "192.168.1.20");
     assert_eq!(fresh.breath_sample_nose.get(), "/tmp/nose.wav");
+    assert_eq!(fresh.breath_like.get(), "/tmp/raw take.wav");
+    assert_eq!(fresh.breath_voice.get(), frozen);
+    assert!(
+        fresh.breath_voice.restores() > 0,
+        "a restored voice is seen as a restore"
+    );
     let after = fresh.breath_sample_nose.generation();
     assert!(after > before, "a restored path is seen as a change");
     // Restoring the same path again is no change (no needless restart).

@@ -30,6 +30,7 @@ const SET: &[(&str, &str, &str)] = &[
     ("neck_amplitude_deg", "7.5", r#"{"f32":7.5}"#),
     ("breath_level_db", "-30", r#"{"f32":-30.0}"#),
     ("insert_breaths", "Off", r#"{"bool":false}"#),
+    ("freeze_breath_voice", "On", r#"{"bool":true}"#),
     ("speech_only", "Off", r#"{"bool":false}"#),
     ("min_pause_s", "0.6", r#"{"f32":0.6}"#),
     ("mode", "Live", r#"{"string":"live"}"#),

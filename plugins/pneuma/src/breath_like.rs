@@ -1,0 +1,105 @@
+//! The breath voice learned from another recording of the speaker (the persisted path
+//! `breath_like`, the plugin's `render --breath-like`): read and learned off the audio thread
+//! when an engine is built ([`crate::rebuild`]) and by the editor's file check.
+//!
+//! The whole file streams through core's [`learn_voice`] with the engine's analysis and phrase
+//! settings, so the breaths heard are the ones the engine would hear. The voice keeps the file's
+//! level under its speech (the stream's speech is not known before it plays). A file in which no
+//! breath is heard gives the built-in voice, as the CLI's `--breath-like` does; a file that
+//! cannot be read gives an error (the engine then learns as the audio goes).
+//!
+//! [`VoiceCache`] keeps the last voice learned, so engines rebuilt for other settings (mode,
+//! lookahead) and re-activations do not read the file again: it is read again only when the
+//! path, the file's modification time or the analysis or phrase settings change.
+
+use std::path::Path;
+use std::sync::Mutex;
+use std::time::SystemTime;
+
+use pneuma_core::analysis::AnalysisConfig;
+use pneuma_core::breathing::learned::LearnedVoice;
+use pneuma_core::engine::voice_learning::learn_voice;
+use pneuma_core::engine::EngineConfig;
+use pneuma_core::phrase::PhraseConfig;
+
+/// Why no voice was learned from a breath-like file.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BreathLikeError {
+    /// The file could not be read or decoded.
+    #[error(
+        "breath-like file {path}: {reason}. Choose a recording of the same speaker (WAV, FLAC, \
+         …), or clear the field to learn the voice as the audio goes"
+    )]
+    Read {
+        /// The path.
+        path: String,
+        /// What went wrong.
+        reason: String,
+    },
+    /// The engine's analysis does not take the file's sample rate.
+    #[error("breath-like file {path}: cannot analyse it: {reason}")]
+    Analysis {
+        /// The path.
+        path: String,
+        /// What went wrong.
+        reason: String,
+    },
+}
+
+/// The voice of the recording at `path` (`None`: no breath heard in it: the built-in voice)
+/// with `config`'s analysis and phrase settings. Reads the whole file: not for the audio thread.
+pub fn learn(path: &str, config: &EngineConfig) -> Result<Option<LearnedVoice>, BreathLikeError> {
+    let (mono, rate_hz) =
+        pneuma_io::read_mono(Path::new(path)).map_err(|e| BreathLikeError::Read {
+            path: path.to_owned(),
+            reason: e.to_string(),
+        })?;
+    learn_voice(config, &mono, f64::from(rate_hz)).map_err(|e| BreathLikeError::Analysis {
+        path: path.to_owned(),
+        reason: e.to_string(),
+    })
+}
+
+/// What a learned voice depends on.
+#[derive(Debug, Clone, PartialEq)]
+struct Key {
+    path: String,
+    modified: Option<SystemTime>,
+    analysis: AnalysisConfig,
+    phrase: PhraseConfig,
+}
+
+impl Key {
+    fn of(path: &str, config: &EngineConfig) -> Self {
+        Self {
+            path: path.to_owned(),
+            modified: std::fs::metadata(path).and_then(|m| m.modified()).ok(),
+            analysis: config.analysis.clone(),
+            phrase: config.phrase,
+        }
+    }
+}
+
+type Learned = Result<Option<LearnedVoice>, BreathLikeError>;
+
+/// The last voice learned from a breath-like file (see the module docs).
+#[derive(Debug, Default)]
+pub struct VoiceCache {
+    last: Mutex<Option<(Key, Learned)>>,
+}
+
+impl VoiceCache {
+    /// [`learn`], or the voice learned before from the same file and settings.
+    pub fn learn(&self, path: &str, config: &EngineConfig) -> Learned {
+        let key = Key::of(path, config);
+        let mut last = self.last.lock().unwrap_or_else(|p| p.into_inner());
+        if let Some((k, learned)) = last.as_ref() {
+            if *k == key {
+                return learned.clone();
+            }
+        }
+        let learned = learn(path, config);
+        *last = Some((key, learned.clone()));
+        learned
+    }
+}

@@ -1,0 +1,216 @@
+//! Test-only: the freeze switch through the real [`Plugin::process`] (under nice-plug's
+//! allocation guard, as [`crate::alloc_test`]): a speaker who breathes is learned, the freeze
+//! keeps that voice (saved in the persisted `breath_voice`) for two identical playbacks, and
+//! turning it off learns afresh; nothing allocates while learning or when the switch moves.
+//! (Save and reload through a real host: `tests/tests/integration/plugin_clap.rs`.)
+
+#![allow(unsafe_code)]
+
+use std::num::NonZeroU32;
+
+use nice_plug::prelude::*;
+use pneuma_testkit::signals;
+
+use crate::alloc_test::{activation_ctx, guard_catches_allocations, set, Activation, Host};
+use crate::params::breath_voice::FrozenVoice;
+use crate::voice::VoiceShown;
+use crate::Pneuma;
+
+const RATE_HZ: f32 = 48_000.0;
+const BLOCK: usize = 512;
+
+/// A plugin, activated mono at [`RATE_HZ`], with breaths into every pause (the generated
+/// speaker's sustained vowels are not speech to the speech decision).
+fn plugin() -> Pneuma {
+    activated(Pneuma::default())
+}
+
+/// `plugin` activated as [`plugin`] does.
+fn activated(mut plugin: Pneuma) -> Pneuma {
+    set(&plugin, "speech_only", 0.0);
+    let layout = AudioIOLayout {
+        main_input_channels: NonZeroU32::new(1),
+        main_output_channels: NonZeroU32::new(1),
+        ..AudioIOLayout::const_default()
+    };
+    let config = BufferConfig {
+        sample_rate: RATE_HZ,
+        min_buffer_size: None,
+        max_buffer_size: BLOCK as u32,
+        process_mode: ProcessMode::Realtime,
+    };
+    let activation = Activation {
+        api: PluginApi::Clap,
+        latency: 0.into(),
+    };
+    assert!(plugin.activate(&layout, &config, &mut activation_ctx(&activation)));
+    plugin
+}
+
+/// Plays `signal` from position 0 (a transport start: the stream restarts) through the real
+/// `process` under the allocation guard; the output.
+fn play(plugin: &mut Pneuma, host: &mut Host, signal: &[f32]) -> Vec<f32> {
+    play_from(plugin, host, signal, 0)
+}
+
+/// Plays `signal` from position `start` (where the last block ended: no jump, the stream goes
+/// on).
+fn play_from(plugin: &mut Pneuma, host: &mut Host, signal: &[f32], start: usize) -> Vec<f32> {
+    let mut out = Vec::with_capacity(signal.len());
+    let mut block = vec![0.0f32; BLOCK];
+    for (i, chunk) in signal.chunks(BLOCK).enumerate() {
+        let n = chunk.len();
+        block[..n].copy_from_slice(chunk);
+        host.transport.pos_samples = Some((start + i * BLOCK) as i64);
+        let mut buffer = Buffer::default();
+        // SAFETY: the slice lives until the end of this iteration, past `process`.
+        unsafe {
+            buffer.set_slices(n, |slices| {
+                slices.clear();
+                slices.push(&mut block[..n]);
+            });
+        }
+        let mut aux = AuxiliaryBuffers {
+            inputs: &mut [],
+            outputs: &mut [],
+        };
+        nice_assert_no_alloc::assert_no_alloc(|| {
+            plugin.process(&mut buffer, &mut aux, host);
+        });
+        drop(buffer);
+        out.extend_from_slice(&block[..n]);
+    }
+    out
+}
+
+fn shown(plugin: &Pneuma) -> VoiceShown {
+    VoiceShown::load(&plugin.editor_shared().status.breath_voice)
+}
+
+#[test]
+fn a_frozen_voice_plays_the_same_every_time_and_unfreezing_learns_afresh() {
+    if let Err(e) = guard_catches_allocations() {
+        panic!("{e}");
+    }
+    let rate = f64::from(RATE_HZ);
+    let breathing = signals::phrases_with_breaths(rate, 16.0, 5);
+    let breathless = signals::phrases_with_pauses(rate, 10.0, 60.0, 5);
+    let mut plugin = plugin();
+    let mut host = Host::playing(PluginApi::Clap, RATE_HZ);
+
+    play(&mut plugin, &mut host, &breathing);
+    let VoiceShown::Learning { breaths } = shown(&plugin) else {
+        panic!("learning: {:?}", shown(&plugin));
+    };
+    assert!(breaths >= 4, "{breaths} breaths heard");
+    assert_eq!(plugin.params.breath_voice.get(), None, "nothing frozen yet");
+    // Learning restarts with every playback: the built-in voice at first.
+    let learning_again = play(&mut plugin, &mut host, &breathless);
+    assert_eq!(shown(&plugin), VoiceShown::Learning { breaths: 0 });
+
+    // Learn again, then freeze while the stream goes on (the switch moves between blocks, as
+    // automation does).
+    play(&mut plugin, &mut host, &breathing);
+    set(&plugin, "freeze_breath_voice", 1.0);
+    play_from(
+        &mut plugin,
+        &mut host,
+        &breathless[..BLOCK],
+        breathing.len(),
+    );
+    assert_eq!(shown(&plugin), VoiceShown::Frozen { breaths });
+    let Some(FrozenVoice::Learned(voice)) = plugin.params.breath_voice.get() else {
+        panic!("saved: {:?}", plugin.params.breath_voice.get());
+    };
+    assert_eq!(voice.breaths, breaths);
+
+    let one = play(&mut plugin, &mut host, &breathless);
+    let two = play(&mut plugin, &mut host, &breathless);
+    assert!(
+        one.iter()
+            .zip(&two)
+            .all(|(a, b)| a.to_bits() == b.to_bits()),
+        "two playbacks of a frozen voice differ"
+    );
+    assert!(
+        one != learning_again,
+        "the frozen voice sounds like the built-in one"
+    );
+    assert_eq!(shown(&plugin), VoiceShown::Frozen { breaths });
+
+    // Off: learning restarts, the saved voice is gone.
+    set(&plugin, "freeze_breath_voice", 0.0);
+    play_from(
+        &mut plugin,
+        &mut host,
+        &breathless[..BLOCK],
+        breathless.len(),
+    );
+    assert_eq!(shown(&plugin), VoiceShown::Learning { breaths: 0 });
+    assert_eq!(plugin.params.breath_voice.get(), None);
+    let three = play(&mut plugin, &mut host, &breathless);
+    assert!(
+        three == learning_again,
+        "unfrozen, a playback learns from nothing again"
+    );
+
+    // Frozen with nothing learned: the built-in voice, kept.
+    set(&plugin, "freeze_breath_voice", 1.0);
+    play_from(
+        &mut plugin,
+        &mut host,
+        &breathless[..BLOCK],
+        breathless.len(),
+    );
+    assert_eq!(shown(&plugin), VoiceShown::FrozenBuiltIn);
+    assert_eq!(plugin.params.breath_voice.get(), Some(FrozenVoice::BuiltIn));
+}
+
+#[test]
+fn an_engine_learns_the_voice_of_the_breath_like_file_and_a_bad_file_leaves_learning() {
+    let rate = f64::from(RATE_HZ);
+    let dir = std::env::temp_dir().join(format!("pneuma-breath-like-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let take = dir.join("take.wav");
+    let spec = hound::WavSpec {
+        channels: 1,
+        sample_rate: RATE_HZ as u32,
+        bits_per_sample: 32,
+        sample_format: hound::SampleFormat::Float,
+    };
+    let mut w = hound::WavWriter::create(&take, spec).unwrap();
+    for s in signals::phrases_with_breaths(rate, 16.0, 9) {
+        w.write_sample(s).unwrap();
+    }
+    w.finalize().unwrap();
+    let learned = crate::breath_like::learn(take.to_str().unwrap(), &Default::default())
+        .unwrap()
+        .expect("breaths heard in the take");
+    assert!(learned.breaths >= 4, "{} breaths", learned.breaths);
+
+    let from_file = Pneuma::default();
+    from_file
+        .params
+        .breath_like
+        .set_path(take.to_string_lossy().into_owned());
+    let mut from_file = activated(from_file);
+    let mut host = Host::playing(PluginApi::Clap, RATE_HZ);
+    let breathless = signals::phrases_with_pauses(rate, 4.0, 60.0, 5);
+    play(&mut from_file, &mut host, &breathless);
+    assert_eq!(
+        shown(&from_file),
+        VoiceShown::BreathLike {
+            breaths: learned.breaths
+        }
+    );
+
+    let missing = Pneuma::default();
+    missing
+        .params
+        .breath_like
+        .set_path(dir.join("missing.wav").to_string_lossy().into_owned());
+    let mut missing = activated(missing);
+    play(&mut missing, &mut host, &breathless);
+    assert_eq!(shown(&missing), VoiceShown::Learning { breaths: 0 });
+    let _ = std::fs::remove_dir_all(&dir);
+}
