@@ -20,6 +20,7 @@
 
 use std::path::{Path, PathBuf};
 
+use pneuma_core::breathing::reference::ReferenceVoice;
 use pneuma_core::breathing::RESERVE_LUNG;
 use pneuma_core::engine::voice_learning::learn_voice;
 use pneuma_core::engine::{offline, BreathVoiceMode, Engine, EngineConfig};
@@ -168,6 +169,28 @@ pub fn render_offline(
     Ok(offline::render(&mut engine, input, &[1024]))
 }
 
+/// The built-in breath voice of a render.
+#[derive(Debug, Clone, PartialEq)]
+pub enum BuiltIn {
+    /// The shipped one.
+    Shipped,
+    /// This one (fitted without the speakers scored).
+    Given(Box<ReferenceVoice>),
+    /// The procedural sound of earlier versions.
+    Procedural,
+}
+
+impl BuiltIn {
+    /// Gives `engine` this built-in voice.
+    fn apply(&self, engine: &mut Engine) {
+        match self {
+            BuiltIn::Shipped => {}
+            BuiltIn::Given(r) => engine.set_reference_voice(Some(**r)),
+            BuiltIn::Procedural => engine.set_reference_voice(None),
+        }
+    }
+}
+
 /// Renders mono-or-more `input` as `pneuma render` does (the whole-file lookahead) with
 /// `config` (`EngineConfig::default()`: the default settings), the breath voice learned from
 /// `learn_from` (`None`: the built-in voice) and the engine's seed moved by `seed_offset`.
@@ -176,6 +199,7 @@ pub fn render_with_voice(
     input: &[Vec<f32>],
     rate_hz: f64,
     learn_from: Option<&[f32]>,
+    built_in: &BuiltIn,
     seed_offset: u64,
 ) -> Result<offline::Rendered, String> {
     let mut config = config.clone();
@@ -188,6 +212,7 @@ pub fn render_with_voice(
         None => None,
     };
     engine.set_learned_voice(voice);
+    built_in.apply(&mut engine);
     engine
         .prepare(rate_hz, 1024, input.len())
         .map_err(|e| e.to_string())?;
@@ -196,11 +221,12 @@ pub fn render_with_voice(
 
 /// Renders mono-or-more `input` as the plugin does (`pneuma render --lookahead-ms`, `config`'s
 /// lookahead): the breath voice learned as the stream goes, from the breaths heard before each
-/// inserted one; the engine's seed moved by `seed_offset`.
+/// inserted one (`built_in` before the first); the engine's seed moved by `seed_offset`.
 pub fn render_learning_as_it_goes(
     config: &EngineConfig,
     input: &[Vec<f32>],
     rate_hz: f64,
+    built_in: &BuiltIn,
     seed_offset: u64,
 ) -> Result<offline::Rendered, String> {
     let mut config = config.clone();
@@ -209,6 +235,7 @@ pub fn render_learning_as_it_goes(
     let mut engine =
         Engine::new(config, HeadModel::default_model().clone()).map_err(|e| e.to_string())?;
     engine.set_voice_mode(BreathVoiceMode::Learn);
+    built_in.apply(&mut engine);
     engine
         .prepare(rate_hz, 1024, input.len())
         .map_err(|e| e.to_string())?;

@@ -5,6 +5,7 @@
 
 mod silero_weights;
 mod structure;
+mod train_breath_voice;
 mod train_default;
 mod train_speech;
 mod train_voicing;
@@ -56,6 +57,7 @@ fn main() -> nice_plug_xtask::Result<()> {
         Some("silero-weights") => std::process::exit(silero_weights::main(&args[1..])),
         Some("train-speech") => std::process::exit(train_speech::main(&args[1..])),
         Some("train-default") => std::process::exit(train_default::main(&args[1..])),
+        Some("train-breath-voice") => std::process::exit(train_breath_voice::main(&args[1..])),
         Some("check-structure") => std::process::exit(structure::main(&args[1..])),
         _ => nice_plug_xtask::main(),
     }

@@ -13,6 +13,7 @@ mod filters;
 pub mod learned;
 mod params;
 mod presets;
+pub mod reference;
 mod sample;
 mod syllables;
 pub mod third_octave;

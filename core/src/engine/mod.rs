@@ -57,6 +57,7 @@ pub use voice_track::{BreathVoiceMode, VoiceStatus};
 
 use crate::analysis::{Analyzer, FeatureFrame};
 use crate::breathing::learned::LearnedVoice;
+use crate::breathing::reference::ReferenceVoice;
 use crate::breathing::{BreathSample, BreathVoice, SampleSlot};
 use crate::control::{BreathEvent, ControlFrame, HeadAngles};
 use crate::encode::sink::FrameSink;
@@ -148,10 +149,15 @@ struct Stream {
     speech: SpeechTrack,
     breaths: BreathTrack,
     cycle: CycleTrack,
-    /// Learns the breath voice as the stream goes (fed only in [`BreathVoiceMode::Learn`]).
+    /// Learns the breath voice and the channel's colour as the stream goes (fed unless the
+    /// voice is fixed).
     voice: VoiceTrack,
+    /// The voice is not fixed: the track listens (its colour or its learned voice is used).
+    listening: bool,
     /// The voice is being learned ([`BreathVoiceMode::Learn`]).
     learning: bool,
+    /// The built-in voice (`None`: the procedural sound).
+    reference: Option<ReferenceVoice>,
     pending: Queue<Pending>,
     /// Breaths already in the input (start, end in input seconds), heard in pauses and not yet
     /// collected by [`Engine::take_existing_breaths`].
@@ -194,6 +200,8 @@ pub struct Engine {
     samples: [Option<BreathSample>; 2],
     /// Where inserted breaths take their voice from.
     voice_mode: BreathVoiceMode,
+    /// The built-in voice (`None`: the procedural sound).
+    reference: Option<ReferenceVoice>,
     /// The speech decision's model (`None`: the shipped one).
     speech_model: Option<SpeechModel>,
     stream: Option<Stream>,
@@ -212,6 +220,7 @@ impl Engine {
             model: head_model,
             samples: [None, None],
             voice_mode: BreathVoiceMode::default(),
+            reference: Some(*ReferenceVoice::shipped()),
             speech_model: None,
             stream: None,
         })
@@ -267,17 +276,25 @@ impl Engine {
     pub fn set_voice_mode(&mut self, mode: BreathVoiceMode) {
         self.voice_mode = mode;
         if let Some(s) = &mut self.stream {
-            let learning = mode == BreathVoiceMode::Learn;
-            if learning && !s.learning {
+            let listening = !matches!(mode, BreathVoiceMode::Fixed(_));
+            if (listening && !s.listening) || (mode == BreathVoiceMode::Learn && !s.learning) {
                 s.voice.reset();
             }
-            s.learning = learning;
-            let voice = match &self.voice_mode {
-                BreathVoiceMode::Fixed(v) => Some(v),
-                BreathVoiceMode::Learn => s.voice.voice(),
-                BreathVoiceMode::BuiltIn => None,
-            };
-            s.breaths.voice_mut().use_learned(voice);
+            s.listening = listening;
+            s.learning = mode == BreathVoiceMode::Learn;
+            s.refresh_voice(&self.voice_mode);
+        }
+    }
+
+    /// The built-in voice: `Some` (the shipped [`ReferenceVoice`] by default, coloured by the
+    /// channel) or `None` (the procedural sound of earlier versions). For evaluations that
+    /// judge a voice fitted without the speakers they score; a plugin or a user never needs
+    /// it. Allocation-free.
+    pub fn set_reference_voice(&mut self, reference: Option<ReferenceVoice>) {
+        self.reference = reference;
+        if let Some(s) = &mut self.stream {
+            s.reference = reference;
+            s.refresh_voice(&self.voice_mode);
         }
     }
 
@@ -415,7 +432,9 @@ impl Engine {
             breaths: BreathTrack::new(voice, sample_rate_hz, latency, live, max_block),
             cycle: CycleTrack::new(&c.breathing.map(), sample_rate_hz, frame_rate_hz, live),
             voice: VoiceTrack::new(sample_rate_hz),
+            listening: !matches!(self.voice_mode, BreathVoiceMode::Fixed(_)),
             learning: self.voice_mode == BreathVoiceMode::Learn,
+            reference: self.reference,
             pending: Queue::with_capacity(max_pending),
             existing: Queue::with_capacity(EXISTING_BREATHS_KEPT),
             schedule: Schedule::new(max_actions),
@@ -443,10 +462,10 @@ impl Engine {
             s.speech.reset();
             s.breaths.reset();
             s.cycle.reset();
-            // Learning restarts with the stream; a fixed voice stays.
-            if s.learning {
+            // Learning (and the channel's colour) restarts with the stream; a fixed voice stays.
+            if s.listening {
                 s.voice.reset();
-                s.breaths.voice_mut().use_learned(None);
+                s.refresh_voice(&self.voice_mode);
             }
             s.pending.clear();
             s.existing.clear();
@@ -594,6 +613,15 @@ impl Engine {
 }
 
 impl Stream {
+    /// Sets the breath voice for `mode`: fixed, or the track's current one.
+    fn refresh_voice(&mut self, mode: &BreathVoiceMode) {
+        let v = match mode {
+            BreathVoiceMode::Fixed(v) => Some(*v),
+            _ => self.voice.current(self.learning, self.reference.as_ref()),
+        };
+        self.breaths.voice_mut().use_learned(v.as_ref());
+    }
+
     /// One block of at most `max_block` samples (see the module docs for the steps).
     fn process_block(
         &mut self,
@@ -654,7 +682,7 @@ impl Stream {
         for k in 0..count {
             let (f, i) = self.completed[k];
             self.speech.push(&self.mono[fed..=i]);
-            if self.learning {
+            if self.listening {
                 self.voice.push(&self.mono[fed..=i]);
             }
             fed = i + 1;
@@ -662,7 +690,7 @@ impl Stream {
             self.on_frame(config, &f, base + i as u64, i, channels);
         }
         self.speech.push(&self.mono[fed..n]);
-        if self.learning {
+        if self.listening {
             self.voice.push(&self.mono[fed..n]);
         }
         // 3. Output: the delayed input. 4. Breaths.
@@ -728,7 +756,7 @@ impl Stream {
         channels: usize,
     ) {
         let head = self.head.process(f, self.frame_rate_hz);
-        if self.learning {
+        if self.listening {
             self.voice.frame(f);
         }
         if self.placement.on_frame(f) {
@@ -783,10 +811,14 @@ impl Stream {
             {
                 self.existing.push_back(span);
                 if self.learning {
-                    if let Some(v) = self.voice.hear(span) {
-                        self.breaths.voice_mut().use_learned(Some(&v));
-                    }
+                    self.voice.hear(span);
                 }
+            }
+            // Before the placement hears of a new phrase: the voice as learned, or coloured by
+            // the speech, so far.
+            if self.listening && matches!(e, PhraseEvent::Start { .. }) {
+                let v = self.voice.current(self.learning, self.reference.as_ref());
+                self.breaths.voice_mut().use_learned(v.as_ref());
             }
             self.placement.on_event(&ctx, e, &mut self.schedule);
         }

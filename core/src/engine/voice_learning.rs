@@ -1,8 +1,10 @@
 //! Learning the speaker's breath voice from a recording: what the whole-file learner
 //! ([`VoiceLearner`], before a render) and the stream's learner (the engine's voice track, as
 //! it goes) share is the [`BreathListener`], which hears the recording's third-octave band
-//! powers on a fixed grid of frames, the room's floor and the speech level, and measures a
-//! breath the phrase tracker reports (`Pause::breath_s`) from the frames of its span.
+//! powers on a fixed grid of frames, the room's floor, the speech level and the voiced speech's
+//! long-term spectrum (which colours the built-in voice,
+//! [`crate::breathing::reference::ReferenceVoice`]), and measures a breath the phrase tracker
+//! reports (`Pause::breath_s`) from the frames of its span.
 //!
 //! Memory is bounded by the listener's ring of band powers ([`RING_S`]), the floor's and the
 //! level's histograms and, offline, one record per heard breath (the stream keeps the last
@@ -22,6 +24,9 @@ pub const MAX_HEARD: usize = 64;
 const BLOCK: usize = 4096;
 /// Speech-level histogram: 0.1 dB bins from −120 to 0 dBFS.
 const LEVEL_BINS: usize = 1200;
+/// Voiced frames under which the speech level is the loudest of them, not their median (the
+/// first frames of a stream's first phrase are its rising onset; as the placement's rule).
+const EARLY_VOICED_FRAMES: u64 = 50;
 
 /// The recording as a breath learner hears it (see the module docs). Frame `k` of the grid
 /// covers samples `k·hop .. k·hop + frame` (hop = half a frame, Hann window,
@@ -44,6 +49,12 @@ pub struct BreathListener {
     frames: u64,
     floor: FloorEstimate,
     voiced_levels: Vec<u64>,
+    /// The last analysis frame heard was voiced: grid frames completed now count towards the
+    /// speech's long-term spectrum.
+    voiced_now: bool,
+    /// Sum of the band powers of the grid frames completed while voiced, and their count.
+    speech_sum: Bands,
+    speech_frames: u64,
 }
 
 impl BreathListener {
@@ -62,6 +73,9 @@ impl BreathListener {
             frames: 0,
             floor: FloorEstimate::default(),
             voiced_levels: vec![0; LEVEL_BINS],
+            voiced_now: false,
+            speech_sum: [0.0; BANDS],
+            speech_frames: 0,
             bands,
         }
     }
@@ -73,6 +87,9 @@ impl BreathListener {
         self.frames = 0;
         self.floor.clear();
         self.voiced_levels.fill(0);
+        self.voiced_now = false;
+        self.speech_sum = [0.0; BANDS];
+        self.speech_frames = 0;
     }
 
     /// Hears the next mono samples (non-finite ones as 0).
@@ -92,6 +109,12 @@ impl BreathListener {
                 if self.frames.is_multiple_of(2) {
                     self.floor.add(&p);
                 }
+                if self.voiced_now {
+                    for (s, x) in self.speech_sum.iter_mut().zip(&p) {
+                        *s += x;
+                    }
+                    self.speech_frames += 1;
+                }
                 let n = self.powers.len() as u64;
                 self.powers[(self.frames % n) as usize] = p;
                 self.frames += 1;
@@ -99,8 +122,10 @@ impl BreathListener {
         }
     }
 
-    /// Hears one analysis frame: a voiced frame's level counts towards the speech level.
+    /// Hears one analysis frame: a voiced frame's level counts towards the speech level, and
+    /// the grid frames completed until the next one towards the speech's long-term spectrum.
     pub fn frame(&mut self, f: &FeatureFrame) {
+        self.voiced_now = f.voiced;
         if f.voiced && f.rms_db.is_finite() {
             let bin = ((f64::from(f.rms_db) + 120.0) * 10.0).clamp(0.0, LEVEL_BINS as f64 - 1.0);
             self.voiced_levels[bin as usize] += 1;
@@ -138,14 +163,32 @@ impl BreathListener {
         })
     }
 
+    /// The long-term third-octave spectrum of the voiced speech so far, dB per band (NaN
+    /// before any).
+    pub fn speech_ltas_db(&self) -> Bands {
+        let n = self.speech_frames as f64;
+        self.speech_sum.map(|p| {
+            if n > 0.0 && p > 0.0 {
+                10.0 * (p / n).log10()
+            } else {
+                f64::NAN
+            }
+        })
+    }
+
     /// The room's floor: band powers.
     pub fn floor(&self) -> Bands {
         self.floor.floor()
     }
 
-    /// The median level of the voiced frames so far, dBFS (NaN before any).
+    /// The median level of the voiced frames so far, dBFS (NaN before any); while there are
+    /// fewer than [`EARLY_VOICED_FRAMES`], the loudest.
     pub fn speech_db(&self) -> f64 {
         let total: u64 = self.voiced_levels.iter().sum();
+        if total > 0 && total < EARLY_VOICED_FRAMES {
+            let top = self.voiced_levels.iter().rposition(|&c| c > 0).unwrap_or(0);
+            return top as f64 / 10.0 - 120.0 + 0.05;
+        }
         let mut seen = 0;
         for (bin, c) in self.voiced_levels.iter().enumerate() {
             seen += c;
@@ -256,6 +299,11 @@ impl VoiceLearner {
     /// The median level of the voiced frames so far, dBFS (NaN before any).
     pub fn speech_db(&self) -> f64 {
         self.listener.speech_db()
+    }
+
+    /// The long-term third-octave spectrum of the voiced speech so far, dB per band.
+    pub fn speech_ltas_db(&self) -> Bands {
+        self.listener.speech_ltas_db()
     }
 }
 

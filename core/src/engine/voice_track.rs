@@ -5,15 +5,18 @@
 //! built-in one) is [`BreathVoiceMode`].
 
 use super::voice_learning::{BreathListener, MAX_HEARD};
+use super::PlacementConfig;
 use crate::analysis::FeatureFrame;
 use crate::breathing::learned::{HeardBreath, LearnScratch, LearnedVoice};
+use crate::breathing::reference::ReferenceVoice;
 
 /// Where inserted breaths take their voice from. The fixed voice is held inline (not boxed):
 /// a plugin freezes it on the audio thread, where nothing may allocate.
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum BreathVoiceMode {
-    /// The built-in voice; nothing is learned.
+    /// The built-in voice ([`ReferenceVoice`], coloured by the channel as the stream goes);
+    /// no breath is learned.
     BuiltIn,
     /// Learned from the stream as it goes (the built-in voice until the first breath is
     /// heard); learning restarts with the stream ([`super::Engine::reset`]).
@@ -83,9 +86,11 @@ impl VoiceTrack {
         self.listener.frame(f);
     }
 
-    /// A breath heard at `span` (seconds): the voice learned again, if it changed.
-    pub(super) fn hear(&mut self, span: (f64, f64)) -> Option<LearnedVoice> {
-        let breath = self.listener.measure(span)?;
+    /// A breath heard at `span` (seconds): the voice is learned again.
+    pub(super) fn hear(&mut self, span: (f64, f64)) {
+        let Some(breath) = self.listener.measure(span) else {
+            return;
+        };
         if self.heard.len() < MAX_HEARD {
             self.heard.push(breath);
         } else {
@@ -93,7 +98,6 @@ impl VoiceTrack {
         }
         self.count += 1;
         self.voice = self.listener.learn(&self.heard, &mut self.scratch);
-        self.voice
     }
 
     /// Breaths heard since the stream started.
@@ -104,5 +108,28 @@ impl VoiceTrack {
     /// The voice learned so far.
     pub(super) fn voice(&self) -> Option<&LearnedVoice> {
         self.voice.as_ref()
+    }
+
+    /// The voice breaths take now when not fixed: the one learned so far (`learning`), else
+    /// `reference` coloured by the speech heard so far, at the default breath level (the
+    /// user's level moves it as it moves a learned voice's; `None` before any voiced speech, or
+    /// without a reference: the procedural sound).
+    pub(super) fn current(
+        &self,
+        learning: bool,
+        reference: Option<&ReferenceVoice>,
+    ) -> Option<LearnedVoice> {
+        if let (true, Some(v)) = (learning, self.voice) {
+            return Some(v);
+        }
+        let speech_db = self.listener.speech_db();
+        let r = reference?;
+        speech_db.is_finite().then(|| {
+            r.coloured(
+                &self.listener.speech_ltas_db(),
+                speech_db,
+                f64::from(PlacementConfig::default().breath_level_db),
+            )
+        })
     }
 }

@@ -382,3 +382,56 @@ fn learning_restarts_with_the_stream_and_a_frozen_voice_stays_through_resets() {
     assert_eq!(early.freeze_voice(), None);
     assert_eq!(early.voice_status(), VoiceStatus::BuiltIn);
 }
+
+/// Least-squares slope over the bands of `d`, dB per band.
+fn tilt_db_per_band(d: &Bands) -> f64 {
+    let mid = (BANDS as f64 - 1.0) / 2.0;
+    let (num, den) = (0..BANDS).fold((0.0, 0.0), |(n, q), k| {
+        let x = k as f64 - mid;
+        (n + x * d[k], q + x * x)
+    });
+    num / den
+}
+
+#[test]
+fn without_breaths_the_built_in_voice_is_coloured_as_the_channel_colours_the_speech() {
+    // One recording without breaths, and the same through a tilting EQ (a first-order
+    // pre-emphasis: darker lows, brighter highs). The built-in voice's breaths tilt as the
+    // speech does. (The generated vowel falls far more steeply than real speech: two
+    // pre-emphases first bring it within the colouring's range of real channels.)
+    let emphasis = |x: &[f32], a: f32| -> Vec<f32> {
+        (0..x.len())
+            .map(|i| x[i] - a * if i > 0 { x[i - 1] } else { 0.0 })
+            .collect()
+    };
+    let plain = emphasis(&emphasis(&speaker(12.0, false), 0.9), 0.9);
+    let tilted = emphasis(&plain, 0.4);
+    let run = |x: &[f32]| {
+        let mut e = stream_engine(BreathVoiceMode::Learn);
+        let out = offline::render(&mut e, std::slice::from_ref(&x.to_vec()), &[1024]);
+        assert_eq!(e.voice_status(), VoiceStatus::Learning { breaths: 0 });
+        let shapes: Vec<Bands> = out
+            .breaths
+            .iter()
+            .map(|b| {
+                let span = (b.start_s * RATE_HZ) as usize..(b.end_s * RATE_HZ) as usize;
+                let s: Vec<f32> = span.map(|i| out.audio[0][i] - x[i]).collect();
+                shape_db(&band_powers(&s, RATE_HZ))
+            })
+            .collect();
+        assert!(shapes.len() >= 4, "{} breaths", shapes.len());
+        (mean_shape(&shapes), shape_db(&band_powers(x, RATE_HZ)))
+    };
+    let (breath_a, speech_a) = run(&plain);
+    let (breath_b, speech_b) = run(&tilted);
+    let speech_tilt = tilt_db_per_band(&std::array::from_fn(|k| speech_b[k] - speech_a[k]));
+    let breath_tilt = tilt_db_per_band(&std::array::from_fn(|k| breath_b[k] - breath_a[k]));
+    assert!(
+        speech_tilt > 0.3,
+        "the EQ tilts the speech by {speech_tilt:.2} dB/band"
+    );
+    assert!(
+        (breath_tilt - speech_tilt).abs() < 0.1 * speech_tilt.abs() + 0.05,
+        "speech tilted {speech_tilt:.2} dB/band, the breaths {breath_tilt:.2}"
+    );
+}

@@ -23,6 +23,7 @@
 
 use std::collections::BTreeMap;
 
+use pneuma_core::breathing::reference::ReferenceVoice;
 use pneuma_core::engine::{EngineConfig, BREATH_LENGTH_SCALE};
 
 use super::{experiment, Clip, Cut, Run, SpeakerResult, Voice};
@@ -60,6 +61,7 @@ fn pooled(by_speaker: &BTreeMap<String, Vec<f64>>, keep: impl Fn(&str) -> bool) 
 pub fn run(
     clips: &[Clip],
     uncut: &BTreeMap<(String, Voice), Vec<(f64, f64)>>,
+    held_out: &BTreeMap<String, ReferenceVoice>,
     shipped: &BTreeMap<String, SpeakerResult>,
 ) -> Result<f64, String> {
     let mut grid = vec![(BREATH_LENGTH_SCALE, ratios(shipped))];
@@ -68,7 +70,7 @@ pub fn run(
         config.breathing.inspiration_length_s *= (scale / BREATH_LENGTH_SCALE) as f32;
         // Extra breaths are not scored here: the uncut renders are the shipped settings'.
         let (cut, run, voice) = RENDERS;
-        let per = experiment(&config, clips, cut, run, voice, uncut)?;
+        let per = experiment(&config, clips, cut, run, voice, uncut, held_out)?;
         grid.push((scale, ratios(&per)));
     }
     println!(

@@ -43,14 +43,18 @@ use pneuma_core::breathing::third_octave::{
 use pneuma_core::engine::offline::Rendered;
 
 use crate::breath_sounds::detect::speaker_of;
+use crate::breaths::BuiltIn;
 use crate::data::{read_labels, DataError};
-use crate::labels::{Label, LabelKind, LabelledSets};
+pub use crate::labels::LabelledSets;
+use crate::labels::{Label, LabelKind};
 use crate::stats::median;
-use pneuma_core::engine::voice_learning::learn_voice;
+use pneuma_core::breathing::reference::ReferenceVoice;
+use pneuma_core::engine::voice_learning::{learn_voice, VoiceLearner};
 use pneuma_core::engine::EngineConfig;
 
 mod cut;
 mod length_fit;
+pub mod reference;
 mod report;
 
 pub use cut::Cut;
@@ -82,8 +86,15 @@ pub enum Run {
 /// The breath voice a render uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Voice {
-    /// The built-in voice.
+    /// The shipped built-in voice (fitted on every labelled speaker, the one scored included).
     BuiltIn,
+    /// The built-in voice fitted without the speaker scored, coloured by the channel (held
+    /// out).
+    BuiltInHeldOut,
+    /// The same, not coloured.
+    BuiltInHeldOutPlain,
+    /// The procedural built-in voice of earlier versions.
+    Procedural,
     /// Learned from the recording rendered (as `pneuma render` does).
     Learned,
     /// Learned from the uncut recording (the breath restored included: fitted).
@@ -94,11 +105,15 @@ pub enum Voice {
 }
 
 /// One labelled clip.
-struct Clip {
+pub struct Clip {
     name: String,
     speaker: String,
     rate_hz: f64,
     audio: Vec<f32>,
+    /// Its speech level as the engine's learner measures it, dBFS.
+    speech_db: f64,
+    /// Its voiced speech's long-term third-octave spectrum, dB per band.
+    speech_ltas_db: Bands,
     /// The clear breaths, in time order.
     breaths: Vec<(f64, f64)>,
     /// Each breath's shape, floor taken out.
@@ -169,7 +184,14 @@ fn load(data: &Path, labels_path: &Path) -> Result<Vec<Clip>, String> {
                 .iter()
                 .map(|p| band_level_db(p, rate_hz))
                 .collect();
+            let mut config = EngineConfig::default();
+            config.placement.whole_file = true;
+            let mut learner =
+                VoiceLearner::new(&config, rate_hz).map_err(|e| format!("{name}: {e}"))?;
+            learner.feed(&audio).map_err(|e| format!("{name}: {e}"))?;
             Ok(Clip {
+                speech_db: learner.speech_db(),
+                speech_ltas_db: learner.speech_ltas_db(),
                 speaker: speaker_of(&name),
                 name,
                 rate_hz,
@@ -190,17 +212,33 @@ pub fn samples_of(x: &[f32], rate_hz: f64, (start_s, end_s): (f64, f64)) -> &[f3
 }
 
 /// Renders `input` as `pneuma render` does with `config`, with `voice` (`uncut`: the recording
-/// before the cut, for [`Voice::FromUncut`]) and the engine's seed moved by `seed_offset`.
+/// before the cut, for [`Voice::FromUncut`]; `held_out`: the built-in voice fitted without the
+/// clip's speaker) and the engine's seed moved by `seed_offset`.
+#[allow(clippy::too_many_arguments)]
 fn render(
     config: &EngineConfig,
     input: &[f32],
     uncut: &[f32],
     rate_hz: f64,
     voice: Voice,
+    held_out: &ReferenceVoice,
     seed_offset: u64,
 ) -> Result<Rendered, String> {
+    let built_in = match voice {
+        Voice::BuiltInHeldOut => BuiltIn::Given(Box::new(*held_out)),
+        Voice::BuiltInHeldOutPlain => BuiltIn::Given(Box::new(ReferenceVoice {
+            colour_by_channel: false,
+            ..*held_out
+        })),
+        Voice::Procedural => BuiltIn::Procedural,
+        // Learning as it goes: the held-out built-in voice until the first breath is heard.
+        Voice::AsItGoes => BuiltIn::Given(Box::new(*held_out)),
+        _ => BuiltIn::Shipped,
+    };
     let learn_from = match voice {
-        Voice::BuiltIn => None,
+        Voice::BuiltIn | Voice::BuiltInHeldOut | Voice::BuiltInHeldOutPlain | Voice::Procedural => {
+            None
+        }
         Voice::Learned => Some(input),
         Voice::FromUncut => Some(uncut),
         Voice::AsItGoes => {
@@ -208,6 +246,7 @@ fn render(
                 config,
                 std::slice::from_ref(&input.to_vec()),
                 rate_hz,
+                &built_in,
                 seed_offset,
             )
         }
@@ -217,6 +256,7 @@ fn render(
         std::slice::from_ref(&input.to_vec()),
         rate_hz,
         learn_from,
+        &built_in,
         seed_offset,
     )
 }
@@ -304,6 +344,7 @@ fn experiment(
     run: Run,
     voice: Voice,
     uncut_renders: &BTreeMap<(String, Voice), Vec<(f64, f64)>>,
+    held_out: &BTreeMap<String, ReferenceVoice>,
 ) -> Result<BTreeMap<String, SpeakerResult>, String> {
     let mut per: BTreeMap<String, SpeakerResult> = BTreeMap::new();
     for clip in clips {
@@ -318,8 +359,17 @@ fn experiment(
         // vary as breaths within one render do.
         for (k, set) in sets.into_iter().enumerate() {
             let input = cut.apply(&clip.audio, clip.rate_hz, &clip.breaths, &set);
-            let out = render(config, &input, &clip.audio, clip.rate_hz, voice, k as u64)
-                .map_err(|e| format!("{}: {e}", clip.name))?;
+            let h = &held_out[&clip.speaker];
+            let out = render(
+                config,
+                &input,
+                &clip.audio,
+                clip.rate_hz,
+                voice,
+                h,
+                k as u64,
+            )
+            .map_err(|e| format!("{}: {e}", clip.name))?;
             score(clip, cut, &set, &input, &out, uncut, r);
         }
     }
@@ -348,10 +398,46 @@ fn print_voice(clip: &Clip) -> Result<(), String> {
     Ok(())
 }
 
+/// Every labelled clip of `sets`.
+pub fn load_all(sets: &LabelledSets) -> Result<Vec<Clip>, String> {
+    let mut clips = load(&sets.data, &sets.labels)?;
+    clips.extend(load(&sets.keele, &sets.keele_labels)?);
+    Ok(clips)
+}
+
+/// For each speaker, the built-in voice fitted on the others.
+fn held_out_references(clips: &[Clip]) -> Result<BTreeMap<String, ReferenceVoice>, String> {
+    let mut out = BTreeMap::new();
+    for c in clips {
+        if !out.contains_key(&c.speaker) {
+            let r = reference::fit(clips.iter().filter(|o| o.speaker != c.speaker))
+                .ok_or("no other speaker's breath to fit the built-in voice on")?;
+            out.insert(c.speaker.clone(), r);
+        }
+    }
+    Ok(out)
+}
+
+/// Prints each clip's channel tilt against its held-out reference.
+fn print_reference(clips: &[Clip], held_out: &BTreeMap<String, ReferenceVoice>) {
+    println!("
+channel colouring of the built-in voice (speech tilt against the speakers it was fitted on, dB per third octave):");
+    for c in clips {
+        let r = &held_out[&c.speaker];
+        println!(
+            "  {:<14} {:+.2}   (fitted on {} speakers, {} breaths: level {:+.1} dB re speech)",
+            c.name,
+            r.tilt_db_per_band(&c.speech_ltas_db),
+            r.speakers,
+            r.voice.breaths,
+            r.voice.level_re_speech_db
+        );
+    }
+}
+
 /// Runs the evaluation and prints the report; `Ok(false)` when a held-out target is missed.
 pub fn run(args: &RestoreArgs) -> Result<bool, String> {
-    let mut clips = load(&args.sets.data, &args.sets.labels)?;
-    clips.extend(load(&args.sets.keele, &args.sets.keele_labels)?);
+    let clips = load_all(&args.sets)?;
     let breaths: usize = clips.iter().map(|c| c.breaths.len()).sum();
     println!(
         "{breaths} clear labelled breaths in {} clips; put back = an inserted breath within {PUT_BACK_S} s",
@@ -359,39 +445,68 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
     );
     println!("\nvoice learned from each uncut clip (breaths heard; level re speech; length) vs its labelled breaths (level re the same speech level; length):");
     let config = EngineConfig::default();
+    let held_out = held_out_references(&clips)?;
+    print_reference(&clips, &held_out);
     let mut uncut: BTreeMap<(String, Voice), Vec<(f64, f64)>> = BTreeMap::new();
     for clip in &clips {
         print_voice(clip)?;
         for voice in [
             Voice::BuiltIn,
+            Voice::BuiltInHeldOut,
+            Voice::BuiltInHeldOutPlain,
+            Voice::Procedural,
             Voice::Learned,
             Voice::FromUncut,
             Voice::AsItGoes,
         ] {
-            let out = render(&config, &clip.audio, &clip.audio, clip.rate_hz, voice, 0)?;
+            let h = &held_out[&clip.speaker];
+            let out = render(&config, &clip.audio, &clip.audio, clip.rate_hz, voice, h, 0)?;
             let spans = out.breaths.iter().map(|b| (b.start_s, b.end_s)).collect();
             uncut.insert((clip.name.clone(), voice), spans);
         }
     }
     let plan = [
-        (Cut::Gated, Run::AllAtOnce, Voice::BuiltIn, "built-in voice"),
+        (
+            Cut::Gated,
+            Run::AllAtOnce,
+            Voice::Procedural,
+            "procedural voice (before)",
+        ),
+        (
+            Cut::Gated,
+            Run::AllAtOnce,
+            Voice::BuiltInHeldOutPlain,
+            "built-in voice fitted without the speaker, not coloured, HELD OUT",
+        ),
+        (
+            Cut::Gated,
+            Run::AllAtOnce,
+            Voice::BuiltInHeldOut,
+            "built-in voice fitted without the speaker, coloured by the channel, HELD OUT",
+        ),
+        (
+            Cut::Gated,
+            Run::AllAtOnce,
+            Voice::BuiltIn,
+            "built-in voice as shipped (fitted on all, FITTED)",
+        ),
         (
             Cut::Attenuated,
             Run::AllAtOnce,
             Voice::BuiltIn,
-            "built-in voice",
+            "built-in voice as shipped (FITTED)",
         ),
         (
             Cut::Shortened,
             Run::AllAtOnce,
             Voice::BuiltIn,
-            "built-in voice",
+            "built-in voice as shipped (FITTED)",
         ),
         (
             Cut::Gated,
             Run::OneAtATime,
             Voice::BuiltIn,
-            "built-in voice",
+            "built-in voice as shipped (FITTED)",
         ),
         (
             Cut::Gated,
@@ -439,7 +554,7 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
     let mut all_met = true;
     let mut shipped_length = None;
     for (cut, run, voice, what) in plan {
-        let per = experiment(&config, &clips, cut, run, voice, &uncut)?;
+        let per = experiment(&config, &clips, cut, run, voice, &uncut, &held_out)?;
         let run_name = match run {
             Run::AllAtOnce => "all cut at once",
             Run::OneAtATime => "one cut at a time",
@@ -460,6 +575,6 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
         }
     }
     let shipped_length = shipped_length.expect("the plan renders the length fit's case");
-    length_fit::run(&clips, &uncut, &shipped_length)?;
+    length_fit::run(&clips, &uncut, &held_out, &shipped_length)?;
     Ok(all_met || !args.check)
 }
