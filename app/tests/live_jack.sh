@@ -24,6 +24,13 @@ cleanup() {
 }
 trap cleanup EXIT
 
+# A JACK server killed without its cleanup (an interrupted run) leaves its entry in the shared
+# registry, and jackd refuses to start once the registry is full ("Too many servers already
+# active"): with no jackd running, stale entries are removed first.
+if ! pgrep -x jackd >/dev/null 2>&1; then
+  rm -f /dev/shm/jack-shm-registry /dev/shm/jack_sem.* /dev/shm/jack_db-* /dev/shm/jack-[0-9]* 2>/dev/null || true
+fi
+
 # A dummy JACK server at the voice's rate (16 kHz), 256-sample periods.
 jackd --no-realtime -n "$server" -d dummy -r 16000 -p 256 >"$out/jackd.log" 2>&1 &
 pids+=($!)
