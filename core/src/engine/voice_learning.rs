@@ -37,10 +37,9 @@ pub struct BreathListener {
     rate_hz: f64,
     bands: BandAnalyzer,
     hop: usize,
-    /// The last frame of samples (a ring indexed by sample count).
-    recent: Vec<f32>,
-    /// One frame in order, for the analyzer.
-    frame_buf: Vec<f32>,
+    /// The frame being filled, in order: its first `filled` samples are heard.
+    window: Vec<f32>,
+    filled: usize,
     /// Samples heard.
     fed: u64,
     /// Band powers of the last grid frames (a ring indexed by frame).
@@ -66,8 +65,8 @@ impl BreathListener {
         Self {
             rate_hz,
             hop,
-            recent: vec![0.0; frame],
-            frame_buf: vec![0.0; frame],
+            window: vec![0.0; frame],
+            filled: 0,
             fed: 0,
             powers: vec![[0.0; BANDS]; (RING_S * rate_hz / hop as f64).ceil() as usize + 1],
             frames: 0,
@@ -82,7 +81,7 @@ impl BreathListener {
 
     /// Forgets everything heard.
     pub fn reset(&mut self) {
-        self.recent.fill(0.0);
+        self.filled = 0;
         self.fed = 0;
         self.frames = 0;
         self.floor.clear();
@@ -94,32 +93,44 @@ impl BreathListener {
 
     /// Hears the next mono samples (non-finite ones as 0).
     pub fn push(&mut self, mono: &[f32]) {
-        let frame = self.recent.len();
-        for &x in mono {
-            let x = if x.is_finite() { x } else { 0.0 };
-            self.recent[(self.fed % frame as u64) as usize] = x;
-            self.fed += 1;
-            if self.fed >= frame as u64 && (self.fed - frame as u64).is_multiple_of(self.hop as u64)
+        let (frame, hop) = (self.window.len(), self.hop);
+        let mut rest = mono;
+        while !rest.is_empty() {
+            let n = (frame - self.filled).min(rest.len());
+            for (w, &x) in self.window[self.filled..self.filled + n]
+                .iter_mut()
+                .zip(&rest[..n])
             {
-                let at = (self.fed % frame as u64) as usize;
-                let (old, new) = self.recent.split_at(at);
-                self.frame_buf[..new.len()].copy_from_slice(new);
-                self.frame_buf[new.len()..].copy_from_slice(old);
-                let p = self.bands.powers(&self.frame_buf);
-                if self.frames.is_multiple_of(2) {
-                    self.floor.add(&p);
-                }
-                if self.voiced_now {
-                    for (s, x) in self.speech_sum.iter_mut().zip(&p) {
-                        *s += x;
-                    }
-                    self.speech_frames += 1;
-                }
-                let n = self.powers.len() as u64;
-                self.powers[(self.frames % n) as usize] = p;
-                self.frames += 1;
+                *w = if x.is_finite() { x } else { 0.0 };
+            }
+            self.filled += n;
+            self.fed += n as u64;
+            rest = &rest[n..];
+            if self.filled == frame {
+                self.complete_frame();
+                // The next frame starts a hop later.
+                self.window.copy_within(hop.., 0);
+                self.filled = frame - hop;
             }
         }
+    }
+
+    /// The window holds grid frame `self.frames`: its band powers to the ring, the floor (even
+    /// frames) and the speech spectrum (while voiced).
+    fn complete_frame(&mut self) {
+        let p = self.bands.powers(&self.window);
+        if self.frames.is_multiple_of(2) {
+            self.floor.add(&p);
+        }
+        if self.voiced_now {
+            for (s, x) in self.speech_sum.iter_mut().zip(&p) {
+                *s += x;
+            }
+            self.speech_frames += 1;
+        }
+        let n = self.powers.len() as u64;
+        self.powers[(self.frames % n) as usize] = p;
+        self.frames += 1;
     }
 
     /// Hears one analysis frame: a voiced frame's level counts towards the speech level, and
@@ -136,7 +147,7 @@ impl BreathListener {
     /// lies in the span (the frame nearest its middle when none does), of those completed and
     /// still held. `None` when none is.
     pub fn measure(&self, (start_s, end_s): (f64, f64)) -> Option<HeardBreath> {
-        let half = (self.recent.len() / 2) as f64;
+        let half = (self.window.len() / 2) as f64;
         let hop = self.hop as f64;
         let (a, b) = (start_s * self.rate_hz - half, end_s * self.rate_hz - half);
         let mut lo = (a / hop).ceil().max(0.0) as u64;
