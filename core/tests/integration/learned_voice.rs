@@ -19,7 +19,8 @@ use pneuma_testkit::signals;
 use crate::support::watched;
 
 const RATE_HZ: f64 = 16_000.0;
-/// The speaker's breath filter: band-limited noise, 700 Hz to 3 kHz.
+/// The speaker's breath filter (`signals::phrases_with_breaths`): band-limited noise, 500 Hz to
+/// 5 kHz.
 const BREATH_BAND_HZ: (f64, f64) = (500.0, 5000.0);
 
 fn rms(x: &[f32]) -> f64 {
@@ -36,33 +37,14 @@ fn config() -> EngineConfig {
 }
 
 /// 1.5 s phrases every 2 s (`phrases_with_pauses`); with `breaths`, each pause holds a 0.3 s
-/// inhalation of the speaker's breath noise, 24 dB under the speech, with raised-cosine ends.
+/// inhalation of the speaker's breath noise (`BREATH_BAND_HZ`), 24 dB under the speech
+/// (`phrases_with_breaths`).
 fn speaker(seconds: f64, breaths: bool) -> Vec<f32> {
-    let mut x = signals::phrases_with_pauses(RATE_HZ, seconds, 60.0, 5);
     if breaths {
-        let speech = rms(&x[..(1.4 * RATE_HZ) as usize]);
-        let n = (0.3 * RATE_HZ) as usize;
-        let mut t = 1.62;
-        let mut seed = 11;
-        while t + 0.3 < seconds {
-            let b = signals::band_noise(
-                n,
-                RATE_HZ,
-                BREATH_BAND_HZ,
-                speech * 10f64.powf(-24.0 / 20.0),
-                seed,
-            );
-            let start = (t * RATE_HZ) as usize;
-            for (i, v) in b.iter().enumerate() {
-                let u = i as f64 / n as f64;
-                let ramp = (std::f64::consts::PI * u).sin().powf(0.5);
-                x[start + i] += v * ramp as f32;
-            }
-            t += 2.0;
-            seed += 1;
-        }
+        signals::phrases_with_breaths(RATE_HZ, seconds, 5)
+    } else {
+        signals::phrases_with_pauses(RATE_HZ, seconds, 60.0, 5)
     }
-    x
 }
 
 /// The filter's own shape: a long stretch of its noise.
