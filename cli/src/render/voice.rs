@@ -17,9 +17,10 @@ use super::error::RenderError;
 const BLOCK_FRAMES: usize = 8192;
 
 /// The breath voice of a render of `input` with `config`: built in with `built_in`
-/// (`--built-in-breath`); learned from `breath_like` (`--breath-like FILE`); learned from the
-/// input before a whole-file render; learned as it goes otherwise. A file in which no breath is
-/// heard gives the built-in voice.
+/// (`--built-in-breath`); learned from `breath_like` (`--breath-like FILE`: before a
+/// whole-file render its level is set against the input's speech, otherwise held against it as
+/// the render goes, as the plugin does); learned from the input before a whole-file render;
+/// learned as it goes otherwise. A file in which no breath is heard gives the built-in voice.
 pub fn mode(
     built_in: bool,
     breath_like: Option<&Path>,
@@ -28,6 +29,13 @@ pub fn mode(
 ) -> Result<BreathVoiceMode, RenderError> {
     let from = match breath_like {
         _ if built_in => return Ok(BreathVoiceMode::BuiltIn),
+        // As the plugin with a breath-like file: the take's level under its speech, held
+        // against the stream's speech as it goes.
+        Some(p) if !config.placement.whole_file => {
+            return Ok(
+                learn_file(p, config)?.map_or(BreathVoiceMode::BuiltIn, BreathVoiceMode::Like)
+            )
+        }
         Some(p) => p,
         None if config.placement.whole_file && input.as_os_str() != "-" => input,
         None => return Ok(BreathVoiceMode::Learn),

@@ -305,7 +305,9 @@ impl Engine {
 
     /// Freezes the voice learned so far: it becomes [`BreathVoiceMode::Fixed`], kept through
     /// resets, and is returned (to be saved); with nothing learned yet the built-in voice is
-    /// kept fixed (`None`). A mode that is not learning stays as it is. Allocation-free.
+    /// kept fixed (`None`). Another take's voice ([`BreathVoiceMode::Like`]) is fixed at its
+    /// level against the speech heard so far. A fixed or built-in voice stays as it is.
+    /// Allocation-free.
     pub fn freeze_voice(&mut self) -> Option<LearnedVoice> {
         match self.voice_mode {
             BreathVoiceMode::Learn => {
@@ -316,6 +318,16 @@ impl Engine {
                 learned
             }
             BreathVoiceMode::Fixed(v) => Some(v),
+            BreathVoiceMode::Like(v) => {
+                // Its level as it stands against this stream's speech.
+                let anchored = self
+                    .stream
+                    .as_ref()
+                    .and_then(|s| s.voice.current(&self.voice_mode, None))
+                    .unwrap_or(v);
+                self.set_voice_mode(BreathVoiceMode::Fixed(anchored));
+                Some(anchored)
+            }
             BreathVoiceMode::BuiltIn => None,
         }
     }
@@ -324,7 +336,9 @@ impl Engine {
     pub fn voice_status(&self) -> VoiceStatus {
         match &self.voice_mode {
             BreathVoiceMode::BuiltIn => VoiceStatus::BuiltIn,
-            BreathVoiceMode::Fixed(v) => VoiceStatus::Fixed { breaths: v.breaths },
+            BreathVoiceMode::Fixed(v) | BreathVoiceMode::Like(v) => {
+                VoiceStatus::Fixed { breaths: v.breaths }
+            }
             BreathVoiceMode::Learn => VoiceStatus::Learning {
                 breaths: self.stream.as_ref().map_or(0, |s| s.voice.heard()),
             },
@@ -341,7 +355,7 @@ impl Engine {
     /// The learned breath voice in use, if any (fixed, or learned so far).
     pub fn learned_voice(&self) -> Option<&LearnedVoice> {
         match &self.voice_mode {
-            BreathVoiceMode::Fixed(v) => Some(v),
+            BreathVoiceMode::Fixed(v) | BreathVoiceMode::Like(v) => Some(v),
             BreathVoiceMode::Learn => self.stream.as_ref().and_then(|s| s.voice.voice()),
             BreathVoiceMode::BuiltIn => None,
         }
@@ -606,7 +620,7 @@ impl Engine {
                 n,
                 channels,
             };
-            s.process_block(&self.config, audio, block, on_control);
+            s.process_block(&self.config, &self.voice_mode, audio, block, on_control);
             done += n;
         }
     }
@@ -615,10 +629,7 @@ impl Engine {
 impl Stream {
     /// Sets the breath voice for `mode`: fixed, or the track's current one.
     fn refresh_voice(&mut self, mode: &BreathVoiceMode) {
-        let v = match mode {
-            BreathVoiceMode::Fixed(v) => Some(*v),
-            _ => self.voice.current(self.learning, self.reference.as_ref()),
-        };
+        let v = self.voice.current(mode, self.reference.as_ref());
         self.breaths.voice_mut().use_learned(v.as_ref());
     }
 
@@ -626,6 +637,7 @@ impl Stream {
     fn process_block(
         &mut self,
         config: &EngineConfig,
+        voice_mode: &BreathVoiceMode,
         audio: &mut [&mut [f32]],
         block: Block,
         on_control: &mut dyn FnMut(&ControlFrame, usize),
@@ -687,7 +699,7 @@ impl Stream {
             }
             fed = i + 1;
             self.speech.frame(&f);
-            self.on_frame(config, &f, base + i as u64, i, channels);
+            self.on_frame(config, voice_mode, &f, base + i as u64, i, channels);
         }
         self.speech.push(&self.mono[fed..n]);
         if self.listening {
@@ -747,9 +759,11 @@ impl Stream {
     }
 
     /// One analysis frame, completed by input sample `now` (index `i` in the block).
+    #[allow(clippy::too_many_arguments)]
     fn on_frame(
         &mut self,
         config: &EngineConfig,
+        voice_mode: &BreathVoiceMode,
         f: &FeatureFrame,
         now: u64,
         i: usize,
@@ -817,7 +831,7 @@ impl Stream {
             // Before the placement hears of a new phrase: the voice as learned, or coloured by
             // the speech, so far.
             if self.listening && matches!(e, PhraseEvent::Start { .. }) {
-                let v = self.voice.current(self.learning, self.reference.as_ref());
+                let v = self.voice.current(voice_mode, self.reference.as_ref());
                 self.breaths.voice_mut().use_learned(v.as_ref());
             }
             self.placement.on_event(&ctx, e, &mut self.schedule);

@@ -22,9 +22,15 @@ pub enum BreathVoiceMode {
     /// heard); learning restarts with the stream ([`super::Engine::reset`]).
     #[default]
     Learn,
-    /// One voice, kept through resets: learned from the whole file before a render, from
-    /// another take (`--breath-like`), or frozen by the user ([`super::Engine::freeze_voice`]).
+    /// One voice, kept through resets: learned from the whole file before a render (or from
+    /// another take, its level moved to the file's speech), or frozen by the user
+    /// ([`super::Engine::freeze_voice`]).
     Fixed(LearnedVoice),
+    /// A voice learned from another take of the speaker (`--breath-like`, the plugin's
+    /// breath-like file) while streaming: its shape as learned, its level under the speech kept
+    /// against this stream's speech level as it goes (the take may have been recorded louder
+    /// or quieter).
+    Like(LearnedVoice),
 }
 
 /// What the breath voice is doing, for a display.
@@ -110,19 +116,23 @@ impl VoiceTrack {
         self.voice.as_ref()
     }
 
-    /// The voice breaths take now when not fixed: the one learned so far (`learning`), else
-    /// `reference` coloured by the speech heard so far, at the default breath level (the
-    /// user's level moves it as it moves a learned voice's; `None` before any voiced speech, or
-    /// without a reference: the procedural sound).
+    /// The voice breaths take now in `mode`: a fixed one; another take's against the speech
+    /// heard so far; the one learned so far; else `reference` coloured by the speech heard so
+    /// far, at the default breath level (the user's level moves it as it moves a learned
+    /// voice's; `None` before any voiced speech, or without a reference: the procedural
+    /// sound).
     pub(super) fn current(
         &self,
-        learning: bool,
+        mode: &BreathVoiceMode,
         reference: Option<&ReferenceVoice>,
     ) -> Option<LearnedVoice> {
-        if let (true, Some(v)) = (learning, self.voice) {
-            return Some(v);
-        }
         let speech_db = self.listener.speech_db();
+        match (mode, self.voice) {
+            (BreathVoiceMode::Fixed(v), _) => return Some(*v),
+            (BreathVoiceMode::Like(v), _) => return Some(v.against_speech_db(speech_db)),
+            (BreathVoiceMode::Learn, Some(v)) => return Some(v),
+            _ => {}
+        }
         let r = reference?;
         speech_db.is_finite().then(|| {
             r.coloured(

@@ -417,3 +417,43 @@ fn without_breaths_the_built_in_voice_is_coloured_as_the_channel_colours_the_spe
         "speech tilted {speech_tilt:.2} dB/band, the breaths {breath_tilt:.2}"
     );
 }
+
+#[test]
+fn another_takes_voice_keeps_its_level_under_this_streams_speech() {
+    // The take the voice is learned from, and a recording of the same speaker 12 dB quieter
+    // whose breaths were edited out: breaths drawn from the take's voice lie as far under this
+    // recording's speech as the take's lie under its own (`Like`), where a voice fixed at the
+    // take's levels would be 12 dB too loud.
+    let take = speaker(14.0, true);
+    let v = learn_voice(&config(), &take, RATE_HZ)
+        .expect("settings")
+        .expect("the take's breaths are heard");
+    let quiet: Vec<f32> = speaker(12.0, false).iter().map(|x| x * 0.25).collect();
+    let median_level = |mode: BreathVoiceMode| {
+        let mut e = stream_engine(mode);
+        let out = offline::render(&mut e, std::slice::from_ref(&quiet), &[1024]);
+        let mut levels: Vec<f64> = out
+            .breaths
+            .iter()
+            .map(|b| {
+                let span = (b.start_s * RATE_HZ) as usize..(b.end_s * RATE_HZ) as usize;
+                let s: Vec<f32> = span.map(|i| out.audio[0][i] - quiet[i]).collect();
+                band_level_db(&band_powers(&s, RATE_HZ), RATE_HZ)
+            })
+            .collect();
+        assert!(levels.len() >= 4, "{} breaths", levels.len());
+        levels.sort_by(f64::total_cmp);
+        levels[levels.len() / 2]
+    };
+    let like = median_level(BreathVoiceMode::Like(v));
+    let fixed = median_level(BreathVoiceMode::Fixed(v));
+    let want = v.level_db() - 12.04;
+    assert!(
+        (like - want).abs() < 2.0,
+        "Like: {like:.1} dBFS, the take's level under this speech {want:.1}"
+    );
+    assert!(
+        (fixed - like - 12.04).abs() < 1.0,
+        "Fixed {fixed:.1} vs Like {like:.1} dBFS"
+    );
+}

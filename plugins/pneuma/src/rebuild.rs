@@ -220,7 +220,7 @@ impl EngineBuilder {
             return BreathVoiceMode::Learn;
         }
         match self.breath_like.learn(path.trim(), config) {
-            Ok(voice) => voice.map_or(BreathVoiceMode::BuiltIn, BreathVoiceMode::Fixed),
+            Ok(voice) => voice.map_or(BreathVoiceMode::BuiltIn, BreathVoiceMode::Like),
             Err(e) => {
                 nice_error!("Pneuma: {e}");
                 BreathVoiceMode::Learn
