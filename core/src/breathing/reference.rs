@@ -27,8 +27,11 @@ use super::third_octave::{Bands, BANDS};
 const SHIPPED: &str = include_str!("../../../assets/models/breath_voice.json");
 /// The file format's version.
 pub const VERSION: u32 = 1;
-/// Largest tilt the colouring applies, dB per third-octave band.
+/// Largest tilt the colouring applies, dB per third-octave band (set before any measurement:
+/// ±7 dB from the middle band to either end).
 pub const MAX_TILT_DB_PER_BAND: f64 = 1.0;
+/// Fewest bands holding speech for a tilt.
+pub const MIN_TILT_BANDS: usize = 5;
 
 /// See the module docs.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -61,18 +64,26 @@ impl ReferenceVoice {
     }
 
     /// The tilt of `speech_ltas_db` (a recording's voiced speech, dB per band, any offset)
-    /// against the reference's, dB per band (0 without colouring or before any speech).
+    /// against the reference's, dB per band, over the bands that hold speech (at 8 kHz the top
+    /// ones lie above the Nyquist frequency); 0 without colouring, before any speech, or with
+    /// fewer than [`MIN_TILT_BANDS`] bands.
     pub fn tilt_db_per_band(&self, speech_ltas_db: &Bands) -> f64 {
-        if !self.colour_by_channel || speech_ltas_db.iter().any(|d| !d.is_finite()) {
+        let bands = || {
+            speech_ltas_db
+                .iter()
+                .zip(&self.speech_ltas_db)
+                .enumerate()
+                .filter(|(_, (a, _))| a.is_finite())
+                .map(|(k, (a, r))| (k as f64, a - r))
+        };
+        let n = bands().count();
+        if !self.colour_by_channel || n < MIN_TILT_BANDS {
             return 0.0;
         }
-        let mid = (BANDS as f64 - 1.0) / 2.0;
-        let (mut num, mut den) = (0.0, 0.0);
-        for (k, (a, r)) in speech_ltas_db.iter().zip(&self.speech_ltas_db).enumerate() {
-            let x = k as f64 - mid;
-            num += x * (a - r);
-            den += x * x;
-        }
+        let mid = bands().map(|(x, _)| x).sum::<f64>() / n as f64;
+        let (num, den) = bands().fold((0.0, 0.0), |(num, den), (x, d)| {
+            (num + (x - mid) * d, den + (x - mid).powi(2))
+        });
         (num / den).clamp(-MAX_TILT_DB_PER_BAND, MAX_TILT_DB_PER_BAND)
     }
 
@@ -139,6 +150,16 @@ mod tests {
         let steep: Bands = std::array::from_fn(|k| 10.0 * k as f64);
         assert_eq!(v.tilt_db_per_band(&steep), MAX_TILT_DB_PER_BAND);
         assert_eq!(v.tilt_db_per_band(&[f64::NAN; BANDS]), 0.0);
+        // At 8 kHz the top bands hold nothing: the tilt of the others.
+        let mut low = v.speech_ltas_db;
+        for (k, d) in low.iter_mut().enumerate() {
+            *d = if k < BANDS - 3 {
+                *d + 0.5 * k as f64
+            } else {
+                f64::NAN
+            };
+        }
+        assert!((v.tilt_db_per_band(&low) - 0.5).abs() < 1e-9);
         let plain = ReferenceVoice {
             colour_by_channel: false,
             ..*v

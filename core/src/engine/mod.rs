@@ -149,11 +149,9 @@ struct Stream {
     speech: SpeechTrack,
     breaths: BreathTrack,
     cycle: CycleTrack,
-    /// Learns the breath voice and the channel's colour as the stream goes (fed unless the
-    /// voice is fixed).
+    /// Learns the breath voice and the channel's colour as the stream goes (always fed, so a
+    /// switch of mode mid-stream finds it in step with the stream).
     voice: VoiceTrack,
-    /// The voice is not fixed: the track listens (its colour or its learned voice is used).
-    listening: bool,
     /// The voice is being learned ([`BreathVoiceMode::Learn`]).
     learning: bool,
     /// The built-in voice (`None`: the procedural sound).
@@ -276,11 +274,11 @@ impl Engine {
     pub fn set_voice_mode(&mut self, mode: BreathVoiceMode) {
         self.voice_mode = mode;
         if let Some(s) = &mut self.stream {
-            let listening = !matches!(mode, BreathVoiceMode::Fixed(_));
-            if (listening && !s.listening) || (mode == BreathVoiceMode::Learn && !s.learning) {
-                s.voice.reset();
+            // Into learning: the breaths learned before are forgotten, the room and the speech
+            // heard so far are kept.
+            if mode == BreathVoiceMode::Learn && !s.learning {
+                s.voice.forget_breaths();
             }
-            s.listening = listening;
             s.learning = mode == BreathVoiceMode::Learn;
             s.refresh_voice(&self.voice_mode);
         }
@@ -446,7 +444,6 @@ impl Engine {
             breaths: BreathTrack::new(voice, sample_rate_hz, latency, live, max_block),
             cycle: CycleTrack::new(&c.breathing.map(), sample_rate_hz, frame_rate_hz, live),
             voice: VoiceTrack::new(sample_rate_hz),
-            listening: !matches!(self.voice_mode, BreathVoiceMode::Fixed(_)),
             learning: self.voice_mode == BreathVoiceMode::Learn,
             reference: self.reference,
             pending: Queue::with_capacity(max_pending),
@@ -477,10 +474,8 @@ impl Engine {
             s.breaths.reset();
             s.cycle.reset();
             // Learning (and the channel's colour) restarts with the stream; a fixed voice stays.
-            if s.listening {
-                s.voice.reset();
-                s.refresh_voice(&self.voice_mode);
-            }
+            s.voice.reset();
+            s.refresh_voice(&self.voice_mode);
             s.pending.clear();
             s.existing.clear();
             s.schedule.reset();
@@ -694,17 +689,13 @@ impl Stream {
         for k in 0..count {
             let (f, i) = self.completed[k];
             self.speech.push(&self.mono[fed..=i]);
-            if self.listening {
-                self.voice.push(&self.mono[fed..=i]);
-            }
+            self.voice.push(&self.mono[fed..=i]);
             fed = i + 1;
             self.speech.frame(&f);
             self.on_frame(config, voice_mode, &f, base + i as u64, i, channels);
         }
         self.speech.push(&self.mono[fed..n]);
-        if self.listening {
-            self.voice.push(&self.mono[fed..n]);
-        }
+        self.voice.push(&self.mono[fed..n]);
         // 3. Output: the delayed input. 4. Breaths.
         for (c, chan) in audio.iter_mut().take(channels).enumerate() {
             self.delay.read(c, base, &mut chan[start..start + n]);
@@ -770,9 +761,7 @@ impl Stream {
         channels: usize,
     ) {
         let head = self.head.process(f, self.frame_rate_hz);
-        if self.listening {
-            self.voice.frame(f);
-        }
+        self.voice.frame(f);
         if self.placement.on_frame(f) {
             self.stereo.learn(i, channels);
         }
@@ -830,7 +819,9 @@ impl Stream {
             }
             // Before the placement hears of a new phrase: the voice as learned, or coloured by
             // the speech, so far.
-            if self.listening && matches!(e, PhraseEvent::Start { .. }) {
+            if !matches!(voice_mode, BreathVoiceMode::Fixed(_))
+                && matches!(e, PhraseEvent::Start { .. })
+            {
                 let v = self.voice.current(voice_mode, self.reference.as_ref());
                 self.breaths.voice_mut().use_learned(v.as_ref());
             }

@@ -77,6 +77,11 @@ impl VoiceTrack {
     /// Forgets every breath and the room.
     pub(super) fn reset(&mut self) {
         self.listener.reset();
+        self.forget_breaths();
+    }
+
+    /// Forgets the breaths learned (learning starts again), keeping the room and the speech.
+    pub(super) fn forget_breaths(&mut self) {
         self.heard.clear();
         self.count = 0;
         self.voice = None;

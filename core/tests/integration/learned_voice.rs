@@ -457,3 +457,50 @@ fn another_takes_voice_keeps_its_level_under_this_streams_speech() {
         "Fixed {fixed:.1} vs Like {like:.1} dBFS"
     );
 }
+
+#[test]
+fn learning_resumes_when_switched_on_mid_stream() {
+    // A plugin user turns the freeze off during playback (fixed → learn), or the voice was
+    // built in (built-in → learn): the breaths after the switch are heard and learned, as a
+    // stream learning from the start hears them.
+    let x = speaker(30.0, true);
+    let switch_at = 160_000; // 10 s in, on a block boundary
+    let run = |before: BreathVoiceMode| {
+        let mut e = stream_engine(before);
+        let mut buf = x.clone();
+        for (k, chunk) in buf.chunks_mut(1000).enumerate() {
+            if k * 1000 == switch_at {
+                e.set_voice_mode(BreathVoiceMode::Learn);
+                assert_eq!(e.voice_status(), VoiceStatus::Learning { breaths: 0 });
+            }
+            e.process(&mut [chunk], &mut |_, _| {});
+        }
+        e.voice_status()
+    };
+    let mut from_start = stream_engine(BreathVoiceMode::Learn);
+    let mut buf = x.clone();
+    let mut heard_before_switch = 0;
+    for (k, chunk) in buf.chunks_mut(1000).enumerate() {
+        if k * 1000 == switch_at {
+            if let VoiceStatus::Learning { breaths } = from_start.voice_status() {
+                heard_before_switch = breaths;
+            }
+        }
+        from_start.process(&mut [chunk], &mut |_, _| {});
+    }
+    let VoiceStatus::Learning { breaths: all } = from_start.voice_status() else {
+        panic!("{:?}", from_start.voice_status());
+    };
+    let after_switch = all - heard_before_switch;
+    assert!(after_switch >= 5, "{after_switch} breaths after 10 s");
+    let frozen = dark_voice();
+    for before in [BreathVoiceMode::BuiltIn, BreathVoiceMode::Fixed(frozen)] {
+        assert_eq!(
+            run(before),
+            VoiceStatus::Learning {
+                breaths: after_switch
+            },
+            "switched from {before:?}"
+        );
+    }
+}

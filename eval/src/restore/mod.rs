@@ -231,9 +231,11 @@ fn render(
             ..*held_out
         })),
         Voice::Procedural => BuiltIn::Procedural,
-        // Learning as it goes: the held-out built-in voice until the first breath is heard.
-        Voice::AsItGoes => BuiltIn::Given(Box::new(*held_out)),
-        _ => BuiltIn::Shipped,
+        // The shipped built-in voice is fitted on every speaker, the one scored included: only
+        // its own row uses it. Every other voice falls back (nothing heard yet, or at all) on
+        // the built-in voice fitted without the speaker.
+        Voice::BuiltIn => BuiltIn::Shipped,
+        _ => BuiltIn::Given(Box::new(*held_out)),
     };
     let learn_from = match voice {
         Voice::BuiltIn | Voice::BuiltInHeldOut | Voice::BuiltInHeldOutPlain | Voice::Procedural => {
