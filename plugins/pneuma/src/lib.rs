@@ -380,6 +380,12 @@ impl Plugin for Pneuma {
     type Editor = editor::PneumaEditor;
     type BackgroundTask = ();
 
+    /// A state saved before a parameter or field existed loads it at its default
+    /// ([`params::migrate`]), never at the value the instance held before.
+    fn filter_state(state: &mut PluginState) {
+        params::migrate::fill_defaults(state);
+    }
+
     fn params(&self) -> Arc<dyn Params> {
         // Filed under units (VST3) / modules (CLAP) for the hosts' generic views.
         Arc::new(params::HostParams(self.params.clone()))

@@ -38,6 +38,7 @@ use pneuma_core::settings::{self, analysis, breathing, head, output, placement, 
 
 pub mod breath_voice;
 pub mod layout;
+pub mod migrate;
 pub mod remote;
 pub mod standalone;
 
