@@ -160,9 +160,28 @@ pub fn render_offline(
     if let Some(ms) = lookahead_ms {
         config.placement.lookahead_s = ms / 1000.0;
     }
+    render_in(
+        config,
+        input,
+        rate_hz,
+        BreathVoiceMode::BuiltIn,
+        &BuiltIn::Shipped,
+    )
+}
+
+/// Renders `input` offline with `config` (the default head model, blocks of 1024), the breath
+/// voice `mode` and the built-in voice `built_in`.
+fn render_in(
+    config: EngineConfig,
+    input: &[Vec<f32>],
+    rate_hz: f64,
+    mode: BreathVoiceMode,
+    built_in: &BuiltIn,
+) -> Result<offline::Rendered, String> {
     let mut engine =
         Engine::new(config, HeadModel::default_model().clone()).map_err(|e| e.to_string())?;
-    engine.set_voice_mode(BreathVoiceMode::BuiltIn);
+    engine.set_voice_mode(mode);
+    built_in.apply(&mut engine);
     engine
         .prepare(rate_hz, 1024, input.len())
         .map_err(|e| e.to_string())?;
@@ -205,18 +224,12 @@ pub fn render_with_voice(
     let mut config = config.clone();
     config.placement.whole_file = true;
     config.seed = config.seed.wrapping_add(seed_offset);
-    let mut engine = Engine::new(config.clone(), HeadModel::default_model().clone())
-        .map_err(|e| e.to_string())?;
     let voice = match learn_from {
         Some(mono) => learn_voice(&config, mono, rate_hz).map_err(|e| e.to_string())?,
         None => None,
     };
-    engine.set_learned_voice(voice);
-    built_in.apply(&mut engine);
-    engine
-        .prepare(rate_hz, 1024, input.len())
-        .map_err(|e| e.to_string())?;
-    Ok(offline::render(&mut engine, input, &[1024]))
+    let mode = voice.map_or(BreathVoiceMode::BuiltIn, BreathVoiceMode::Fixed);
+    render_in(config, input, rate_hz, mode, built_in)
 }
 
 /// Renders mono-or-more `input` as the plugin does (`pneuma render --lookahead-ms`, `config`'s
@@ -232,14 +245,7 @@ pub fn render_learning_as_it_goes(
     let mut config = config.clone();
     config.placement.whole_file = false;
     config.seed = config.seed.wrapping_add(seed_offset);
-    let mut engine =
-        Engine::new(config, HeadModel::default_model().clone()).map_err(|e| e.to_string())?;
-    engine.set_voice_mode(BreathVoiceMode::Learn);
-    built_in.apply(&mut engine);
-    engine
-        .prepare(rate_hz, 1024, input.len())
-        .map_err(|e| e.to_string())?;
-    Ok(offline::render(&mut engine, input, &[1024]))
+    render_in(config, input, rate_hz, BreathVoiceMode::Learn, built_in)
 }
 
 /// Renders `path` offline with the default settings and `lookahead_ms` (see

@@ -72,7 +72,7 @@ use placement::{EventContext, Placement};
 use schedule::{Queue, Schedule};
 use speech_track::SpeechTrack;
 use stereo::StereoImage;
-use voice_track::VoiceTrack;
+use voice_track::{VoiceChoice, VoiceTrack};
 
 /// Most channels a stream may have.
 pub const MAX_CHANNELS: usize = 8;
@@ -152,10 +152,6 @@ struct Stream {
     /// Learns the breath voice and the channel's colour as the stream goes (always fed, so a
     /// switch of mode mid-stream finds it in step with the stream).
     voice: VoiceTrack,
-    /// The voice is being learned ([`BreathVoiceMode::Learn`]).
-    learning: bool,
-    /// The built-in voice (`None`: the procedural sound).
-    reference: Option<ReferenceVoice>,
     pending: Queue<Pending>,
     /// Breaths already in the input (start, end in input seconds), heard in pauses and not yet
     /// collected by [`Engine::take_existing_breaths`].
@@ -196,10 +192,8 @@ pub struct Engine {
     pending: Option<EngineConfig>,
     model: HeadModel,
     samples: [Option<BreathSample>; 2],
-    /// Where inserted breaths take their voice from.
-    voice_mode: BreathVoiceMode,
-    /// The built-in voice (`None`: the procedural sound).
-    reference: Option<ReferenceVoice>,
+    /// Where inserted breaths take their voice from, and the built-in voice.
+    breath_voice: VoiceChoice,
     /// The speech decision's model (`None`: the shipped one).
     speech_model: Option<SpeechModel>,
     stream: Option<Stream>,
@@ -217,8 +211,10 @@ impl Engine {
             pending: None,
             model: head_model,
             samples: [None, None],
-            voice_mode: BreathVoiceMode::default(),
-            reference: Some(*ReferenceVoice::shipped()),
+            breath_voice: VoiceChoice {
+                mode: BreathVoiceMode::default(),
+                reference: Some(*ReferenceVoice::shipped()),
+            },
             speech_model: None,
             stream: None,
         })
@@ -272,15 +268,15 @@ impl Engine {
     /// [`BreathVoiceMode::Learn`] starts learning afresh. Allocation-free once prepared (the
     /// plugin switches on the audio thread).
     pub fn set_voice_mode(&mut self, mode: BreathVoiceMode) {
-        self.voice_mode = mode;
+        let was_learning = self.breath_voice.learning();
+        self.breath_voice.mode = mode;
         if let Some(s) = &mut self.stream {
             // Into learning: the breaths learned before are forgotten, the room and the speech
             // heard so far are kept.
-            if mode == BreathVoiceMode::Learn && !s.learning {
+            if self.breath_voice.learning() && !was_learning {
                 s.voice.forget_breaths();
             }
-            s.learning = mode == BreathVoiceMode::Learn;
-            s.refresh_voice(&self.voice_mode);
+            s.refresh_voice(&self.breath_voice);
         }
     }
 
@@ -289,16 +285,15 @@ impl Engine {
     /// judge a voice fitted without the speakers they score; a plugin or a user never needs
     /// it. Allocation-free.
     pub fn set_reference_voice(&mut self, reference: Option<ReferenceVoice>) {
-        self.reference = reference;
+        self.breath_voice.reference = reference;
         if let Some(s) = &mut self.stream {
-            s.reference = reference;
-            s.refresh_voice(&self.voice_mode);
+            s.refresh_voice(&self.breath_voice);
         }
     }
 
     /// Where inserted breaths take their voice from.
     pub fn voice_mode(&self) -> &BreathVoiceMode {
-        &self.voice_mode
+        &self.breath_voice.mode
     }
 
     /// Freezes the voice learned so far: it becomes [`BreathVoiceMode::Fixed`], kept through
@@ -307,7 +302,7 @@ impl Engine {
     /// level against the speech heard so far. A fixed or built-in voice stays as it is.
     /// Allocation-free.
     pub fn freeze_voice(&mut self) -> Option<LearnedVoice> {
-        match self.voice_mode {
+        match self.breath_voice.mode {
             BreathVoiceMode::Learn => {
                 let learned = self.stream.as_ref().and_then(|s| s.voice.voice().copied());
                 self.set_voice_mode(
@@ -321,7 +316,7 @@ impl Engine {
                 let anchored = self
                     .stream
                     .as_ref()
-                    .and_then(|s| s.voice.current(&self.voice_mode, None))
+                    .and_then(|s| s.voice.current(&self.breath_voice))
                     .unwrap_or(v);
                 self.set_voice_mode(BreathVoiceMode::Fixed(anchored));
                 Some(anchored)
@@ -332,7 +327,7 @@ impl Engine {
 
     /// What the breath voice is doing (learning and how many breaths it heard, fixed, built in).
     pub fn voice_status(&self) -> VoiceStatus {
-        match &self.voice_mode {
+        match &self.breath_voice.mode {
             BreathVoiceMode::BuiltIn => VoiceStatus::BuiltIn,
             BreathVoiceMode::Fixed(v) | BreathVoiceMode::Like(v) => {
                 VoiceStatus::Fixed { breaths: v.breaths }
@@ -352,7 +347,7 @@ impl Engine {
 
     /// The learned breath voice in use, if any (fixed, or learned so far).
     pub fn learned_voice(&self) -> Option<&LearnedVoice> {
-        match &self.voice_mode {
+        match &self.breath_voice.mode {
             BreathVoiceMode::Fixed(v) | BreathVoiceMode::Like(v) => Some(v),
             BreathVoiceMode::Learn => self.stream.as_ref().and_then(|s| s.voice.voice()),
             BreathVoiceMode::BuiltIn => None,
@@ -391,7 +386,7 @@ impl Engine {
         {
             voice.set_sample(slot, sample.clone());
         }
-        voice.set_learned(match self.voice_mode {
+        voice.set_learned(match self.breath_voice.mode {
             BreathVoiceMode::Fixed(v) => Some(v),
             _ => None,
         });
@@ -444,8 +439,6 @@ impl Engine {
             breaths: BreathTrack::new(voice, sample_rate_hz, latency, live, max_block),
             cycle: CycleTrack::new(&c.breathing.map(), sample_rate_hz, frame_rate_hz, live),
             voice: VoiceTrack::new(sample_rate_hz),
-            learning: self.voice_mode == BreathVoiceMode::Learn,
-            reference: self.reference,
             pending: Queue::with_capacity(max_pending),
             existing: Queue::with_capacity(EXISTING_BREATHS_KEPT),
             schedule: Schedule::new(max_actions),
@@ -475,7 +468,7 @@ impl Engine {
             s.cycle.reset();
             // Learning (and the channel's colour) restarts with the stream; a fixed voice stays.
             s.voice.reset();
-            s.refresh_voice(&self.voice_mode);
+            s.refresh_voice(&self.breath_voice);
             s.pending.clear();
             s.existing.clear();
             s.schedule.reset();
@@ -615,16 +608,16 @@ impl Engine {
                 n,
                 channels,
             };
-            s.process_block(&self.config, &self.voice_mode, audio, block, on_control);
+            s.process_block(&self.config, &self.breath_voice, audio, block, on_control);
             done += n;
         }
     }
 }
 
 impl Stream {
-    /// Sets the breath voice for `mode`: fixed, or the track's current one.
-    fn refresh_voice(&mut self, mode: &BreathVoiceMode) {
-        let v = self.voice.current(mode, self.reference.as_ref());
+    /// Sets the breath voice `choice` gives now: fixed, or the track's current one.
+    fn refresh_voice(&mut self, choice: &VoiceChoice) {
+        let v = self.voice.current(choice);
         self.breaths.voice_mut().use_learned(v.as_ref());
     }
 
@@ -632,7 +625,7 @@ impl Stream {
     fn process_block(
         &mut self,
         config: &EngineConfig,
-        voice_mode: &BreathVoiceMode,
+        breath_voice: &VoiceChoice,
         audio: &mut [&mut [f32]],
         block: Block,
         on_control: &mut dyn FnMut(&ControlFrame, usize),
@@ -692,7 +685,7 @@ impl Stream {
             self.voice.push(&self.mono[fed..=i]);
             fed = i + 1;
             self.speech.frame(&f);
-            self.on_frame(config, voice_mode, &f, base + i as u64, i, channels);
+            self.on_frame(config, breath_voice, &f, base + i as u64, i, channels);
         }
         self.speech.push(&self.mono[fed..n]);
         self.voice.push(&self.mono[fed..n]);
@@ -754,7 +747,7 @@ impl Stream {
     fn on_frame(
         &mut self,
         config: &EngineConfig,
-        voice_mode: &BreathVoiceMode,
+        breath_voice: &VoiceChoice,
         f: &FeatureFrame,
         now: u64,
         i: usize,
@@ -813,16 +806,16 @@ impl Stream {
             } = e
             {
                 self.existing.push_back(span);
-                if self.learning {
+                if breath_voice.learning() {
                     self.voice.hear(span);
                 }
             }
             // Before the placement hears of a new phrase: the voice as learned, or coloured by
             // the speech, so far.
-            if !matches!(voice_mode, BreathVoiceMode::Fixed(_))
+            if !matches!(breath_voice.mode, BreathVoiceMode::Fixed(_))
                 && matches!(e, PhraseEvent::Start { .. })
             {
-                let v = self.voice.current(voice_mode, self.reference.as_ref());
+                let v = self.voice.current(breath_voice);
                 self.breaths.voice_mut().use_learned(v.as_ref());
             }
             self.placement.on_event(&ctx, e, &mut self.schedule);

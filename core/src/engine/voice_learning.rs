@@ -195,16 +195,18 @@ impl BreathListener {
     /// The median level of the voiced frames so far, dBFS (NaN before any); while there are
     /// fewer than [`EARLY_VOICED_FRAMES`], the loudest.
     pub fn speech_db(&self) -> f64 {
+        // A bin's centre, dBFS.
+        let db = |bin: usize| bin as f64 / 10.0 - 120.0 + 0.05;
         let total: u64 = self.voiced_levels.iter().sum();
         if total > 0 && total < EARLY_VOICED_FRAMES {
             let top = self.voiced_levels.iter().rposition(|&c| c > 0).unwrap_or(0);
-            return top as f64 / 10.0 - 120.0 + 0.05;
+            return db(top);
         }
         let mut seen = 0;
         for (bin, c) in self.voiced_levels.iter().enumerate() {
             seen += c;
             if total > 0 && 2 * seen >= total {
-                return bin as f64 / 10.0 - 120.0 + 0.05;
+                return db(bin);
             }
         }
         f64::NAN

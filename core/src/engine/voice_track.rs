@@ -33,6 +33,21 @@ pub enum BreathVoiceMode {
     Like(LearnedVoice),
 }
 
+/// The engine's choice of breath voice: the mode and the built-in voice (`None`: the
+/// procedural sound).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct VoiceChoice {
+    pub(super) mode: BreathVoiceMode,
+    pub(super) reference: Option<ReferenceVoice>,
+}
+
+impl VoiceChoice {
+    /// The voice is being learned ([`BreathVoiceMode::Learn`]).
+    pub(super) fn learning(&self) -> bool {
+        self.mode == BreathVoiceMode::Learn
+    }
+}
+
 /// What the breath voice is doing, for a display.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum VoiceStatus {
@@ -121,24 +136,20 @@ impl VoiceTrack {
         self.voice.as_ref()
     }
 
-    /// The voice breaths take now in `mode`: a fixed one; another take's against the speech
-    /// heard so far; the one learned so far; else `reference` coloured by the speech heard so
-    /// far, at the default breath level (the user's level moves it as it moves a learned
-    /// voice's; `None` before any voiced speech, or without a reference: the procedural
-    /// sound).
-    pub(super) fn current(
-        &self,
-        mode: &BreathVoiceMode,
-        reference: Option<&ReferenceVoice>,
-    ) -> Option<LearnedVoice> {
+    /// The voice breaths take now for `choice`: a fixed one; another take's against the speech
+    /// heard so far; the one learned so far; else the built-in voice coloured by the speech
+    /// heard so far, at the default breath level (the user's level moves it as it moves a
+    /// learned voice's; `None` before any voiced speech, or without a built-in voice: the
+    /// procedural sound).
+    pub(super) fn current(&self, choice: &VoiceChoice) -> Option<LearnedVoice> {
         let speech_db = self.listener.speech_db();
-        match (mode, self.voice) {
+        match (&choice.mode, self.voice) {
             (BreathVoiceMode::Fixed(v), _) => return Some(*v),
             (BreathVoiceMode::Like(v), _) => return Some(v.against_speech_db(speech_db)),
             (BreathVoiceMode::Learn, Some(v)) => return Some(v),
             _ => {}
         }
-        let r = reference?;
+        let r = choice.reference.as_ref()?;
         speech_db.is_finite().then(|| {
             r.coloured(
                 &self.listener.speech_ltas_db(),

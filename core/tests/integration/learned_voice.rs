@@ -14,6 +14,7 @@ use pneuma_core::breathing::third_octave::{
 use pneuma_core::engine::voice_learning::learn_voice;
 use pneuma_core::engine::{offline, BreathVoiceMode, Engine, EngineConfig, VoiceStatus};
 use pneuma_core::head::HeadModel;
+use pneuma_core::BreathEvent;
 use pneuma_testkit::signals;
 
 use crate::support::watched;
@@ -51,6 +52,12 @@ fn speaker(seconds: f64, breaths: bool) -> Vec<f32> {
 fn filter_shape() -> Bands {
     let long = signals::band_noise(RATE_HZ as usize * 20, RATE_HZ, BREATH_BAND_HZ, 0.1, 99);
     shape_db(&band_powers(&long, RATE_HZ))
+}
+
+/// What the engine added to `input` over breath `b` of `out`.
+fn added(out: &offline::Rendered, input: &[f32], b: &BreathEvent) -> Vec<f32> {
+    let span = (b.start_s * RATE_HZ) as usize..(b.end_s * RATE_HZ) as usize;
+    span.map(|i| out.audio[0][i] - input[i]).collect()
 }
 
 fn worst_band_db(a: &Bands, b: &Bands) -> f64 {
@@ -265,8 +272,7 @@ fn a_stream_learns_the_breath_as_it_goes_and_inserts_breaths_in_that_voice() {
             .iter()
             .filter(|b| b.start_s > 10.5)
             .map(|b| {
-                let span = (b.start_s * RATE_HZ) as usize..(b.end_s * RATE_HZ) as usize;
-                let s: Vec<f32> = span.map(|i| out.audio[0][i] - x[i]).collect();
+                let s = added(out, &x, b);
                 shape_db(&band_powers(&s, RATE_HZ))
             })
             .collect();
@@ -396,8 +402,7 @@ fn without_breaths_the_built_in_voice_is_coloured_as_the_channel_colours_the_spe
             .breaths
             .iter()
             .map(|b| {
-                let span = (b.start_s * RATE_HZ) as usize..(b.end_s * RATE_HZ) as usize;
-                let s: Vec<f32> = span.map(|i| out.audio[0][i] - x[i]).collect();
+                let s = added(&out, x, b);
                 shape_db(&band_powers(&s, RATE_HZ))
             })
             .collect();
@@ -436,8 +441,7 @@ fn another_takes_voice_keeps_its_level_under_this_streams_speech() {
             .breaths
             .iter()
             .map(|b| {
-                let span = (b.start_s * RATE_HZ) as usize..(b.end_s * RATE_HZ) as usize;
-                let s: Vec<f32> = span.map(|i| out.audio[0][i] - quiet[i]).collect();
+                let s = added(&out, &quiet, b);
                 band_level_db(&band_powers(&s, RATE_HZ), RATE_HZ)
             })
             .collect();
