@@ -115,6 +115,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         input_format,
         tags,
         mut engine,
+        replayed_samples,
         outputs,
     } = job;
     if let Some(files) = &outputs.files {
@@ -152,7 +153,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
     let mut interleaved = Vec::with_capacity(BLOCK_FRAMES * input_channels.0);
     let mut energy = ChannelEnergy::default();
     let mut pass = AudioPass::new(audio, &outputs.audio, info, progress);
-    offline::stream(
+    let streamed = offline::stream(
         &mut engine,
         channels,
         &[BLOCK_FRAMES],
@@ -169,6 +170,17 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
             pass.write(planar, range)
         },
     )?;
+    // The learning pass and the render read the input apart: a file changed in between would
+    // be rendered with another file's analysis.
+    if replayed_samples.is_some_and(|n| n != streamed.input_samples)
+        || engine.dropped().unanalysed_samples > 0
+    {
+        return Err(RenderError::Input(
+            "the input changed while it was rendered (its length is not the one analysed \
+             first): render it again once nothing writes to it"
+                .into(),
+        ));
+    }
     let found = findings(&energy, &engine.speech_summary());
     let voice = engine.voice_status();
     let (controls, bvh, kept, midi, osc) = sinks;

@@ -33,6 +33,8 @@
 //!   policies), with the speech level and utterance estimate they use.
 //! - [`BreathTrack`](breath_track): carries out breath actions, renders and records breaths.
 //! - [`CycleTrack`](cycle_track): steps the breathing cycle at each emitted control frame.
+//! - [`replay`]: a whole-file learning pass's analysis, handed out instead of the analyzer's
+//!   ([`Engine::replay_analysis`]), so a render that learns first analyses its file once.
 //!
 //! Every decision depends on the sample sequence only, so any block partition gives identical
 //! output and control frames. `process` never allocates.
@@ -44,6 +46,7 @@ mod delay;
 mod gate;
 pub mod offline;
 mod placement;
+pub mod replay;
 mod schedule;
 mod speech_track;
 mod stereo;
@@ -69,6 +72,7 @@ use cycle_track::CycleTrack;
 use delay::DelayLine;
 use gate::InputGate;
 use placement::{EventContext, Placement};
+use replay::{AnalysisRecord, Replay};
 use schedule::{Queue, Schedule};
 use speech_track::SpeechTrack;
 use stereo::StereoImage;
@@ -108,6 +112,9 @@ pub struct Dropped {
     pub existing_breaths: u64,
     /// Blocks the analysis refused (it is prepared for every block `process` hands it).
     pub analysis_blocks: u64,
+    /// Samples fed past the end of a replayed analysis ([`Engine::replay_analysis`]): they
+    /// were not analysed (the input was longer than the learning pass heard).
+    pub unanalysed_samples: u64,
 }
 
 impl Dropped {
@@ -140,6 +147,9 @@ struct Stream {
     /// Samples from an input sample to the last frame that depends on it being emitted.
     tail: usize,
     analyzer: Analyzer,
+    /// The analysis of a learning pass, handed out instead of the analyzer's
+    /// ([`Engine::replay_analysis`]).
+    replay: Option<Replay>,
     tracker: PhraseTracker,
     head: HeadSynth,
     delay: DelayLine,
@@ -167,6 +177,32 @@ struct Stream {
     lost: Lost,
 }
 
+/// A stream's delays, in samples at its rate, from its settings and its analysis's delay.
+#[derive(Debug, Clone, Copy)]
+struct Timing {
+    /// The lookahead (lookahead mode), 0 in live mode.
+    latency: usize,
+    /// Silence to feed after the input so every frame of it is emitted and every breath
+    /// scheduled in it has played: the latency, the analysis delay and one frame.
+    tail: usize,
+}
+
+impl Timing {
+    fn of(c: &EngineConfig, sample_rate_hz: f64, analysis_latency_s: f64) -> Self {
+        let latency = match c.placement.mode {
+            PlacementMode::Lookahead => {
+                (c.placement.effective_lookahead_s() as f64 * sample_rate_hz).round() as usize
+            }
+            PlacementMode::Live => 0,
+        };
+        let tail = latency
+            + (analysis_latency_s * sample_rate_hz).ceil() as usize
+            + (sample_rate_hz / c.analysis.frame_rate_hz).ceil() as usize
+            + 1;
+        Self { latency, tail }
+    }
+}
+
 /// What [`Engine::reset`] clears at the stream level (the parts clear their own).
 #[derive(Debug, Clone, Copy, Default)]
 struct StreamState {
@@ -181,6 +217,7 @@ struct Lost {
     frames: u64,
     phrase_events: u64,
     analysis_blocks: u64,
+    unanalysed_samples: u64,
 }
 
 /// The streaming engine. See the module docs.
@@ -242,6 +279,7 @@ impl Engine {
                 breaths: s.breaths.dropped(),
                 existing_breaths: s.existing.dropped(),
                 analysis_blocks: s.lost.analysis_blocks,
+                unanalysed_samples: s.lost.unanalysed_samples,
             })
     }
 
@@ -392,15 +430,10 @@ impl Engine {
         });
         let mode = c.placement.mode;
         let live = mode == PlacementMode::Live;
-        let latency = match mode {
-            PlacementMode::Lookahead => {
-                (c.placement.effective_lookahead_s() as f64 * sample_rate_hz).round() as usize
-            }
-            PlacementMode::Live => 0,
-        };
+        let analysis_latency_s = analyzer.latency_s().unwrap_or(0.05);
+        let Timing { latency, tail } = Timing::of(c, sample_rate_hz, analysis_latency_s);
         let frames_per_block =
             (max_block as f64 * frame_rate_hz / sample_rate_hz).ceil() as usize + 4;
-        let analysis_latency_s = analyzer.latency_s().unwrap_or(0.05);
         let max_pending = ((latency as f64 / sample_rate_hz + analysis_latency_s + 0.1)
             * frame_rate_hz
             + max_block as f64 / sample_rate_hz * frame_rate_hz)
@@ -415,11 +448,9 @@ impl Engine {
             max_block,
             live,
             frame_rate_hz,
-            tail: latency
-                + (analysis_latency_s * sample_rate_hz).ceil() as usize
-                + (sample_rate_hz / frame_rate_hz).ceil() as usize
-                + 1,
+            tail,
             analyzer,
+            replay: None,
             tracker,
             head,
             delay: DelayLine::new(channels, latency, max_block),
@@ -457,6 +488,9 @@ impl Engine {
     pub fn reset(&mut self) {
         if let Some(s) = &mut self.stream {
             s.analyzer.reset();
+            if let Some(r) = &mut s.replay {
+                r.reset();
+            }
             s.tracker.reset();
             s.head.reset();
             s.delay.reset();
@@ -489,6 +523,23 @@ impl Engine {
     /// the end.
     pub fn tail_samples(&self) -> u64 {
         self.stream.as_ref().map_or(0, |s| s.tail as u64)
+    }
+
+    /// Replays `record` (a whole-file learning pass's analysis of this stream, see
+    /// [`replay`]) instead of analysing the stream again, from the stream's start (and again
+    /// after each [`Engine::reset`]), until the next [`Engine::prepare`]. The output is the
+    /// same as without it when the record was made from the same input with this engine's
+    /// settings and rate; samples past its end are not analysed
+    /// ([`Dropped::unanalysed_samples`]). The built-in voice is coloured by the whole input's
+    /// speech the record carries from the first breath on, and unless the mode is
+    /// [`BreathVoiceMode::Learn`] the voice track does not listen (an offline render keeps
+    /// its voice from start to end). Does nothing before `prepare`.
+    pub fn replay_analysis(&mut self, record: AnalysisRecord) {
+        if let Some(s) = &mut self.stream {
+            s.voice.set_whole(record.speech());
+            s.replay = Some(Replay::new(record));
+            s.refresh_voice(&self.breath_voice);
+        }
     }
 
     /// What the speech decision heard since the last [`Engine::prepare`] or
@@ -663,14 +714,21 @@ impl Stream {
         let mut count = 0;
         let mut beyond = 0u64;
         let completed = &mut self.completed;
-        let analysed = self.analyzer.process_indexed(&self.mono[..n], |f, i| {
+        let mut keep = |f: &FeatureFrame, i: usize| {
             if count < completed.len() {
                 completed[count] = (*f, i);
                 count += 1;
             } else {
                 beyond += 1;
             }
-        });
+        };
+        let analysed = match &mut self.replay {
+            Some(r) => {
+                self.lost.unanalysed_samples += r.block(base, n, &mut keep);
+                Ok(())
+            }
+            None => self.analyzer.process_indexed(&self.mono[..n], &mut keep),
+        };
         // The analyzer is prepared for this block size and `completed` holds every frame a
         // block can complete: neither loss can happen unless a bound is wrong.
         debug_assert!(analysed.is_ok(), "analysis refused a block: {analysed:?}");
@@ -678,17 +736,24 @@ impl Stream {
         self.lost.analysis_blocks += u64::from(analysed.is_err());
         self.lost.frames += beyond;
         // The speech decision hears the samples that complete each frame, then the frame.
+        // A replayed stream learns nothing as it goes: the learning pass heard the speech
+        // that colours a voice (see `Engine::replay_analysis`).
+        let listen = self.replay.is_none() || breath_voice.learning();
         let mut fed = 0;
         for k in 0..count {
             let (f, i) = self.completed[k];
             self.speech.push(&self.mono[fed..=i]);
-            self.voice.push(&self.mono[fed..=i]);
+            if listen {
+                self.voice.push(&self.mono[fed..=i]);
+            }
             fed = i + 1;
             self.speech.frame(&f);
             self.on_frame(config, breath_voice, &f, base + i as u64, i, channels);
         }
         self.speech.push(&self.mono[fed..n]);
-        self.voice.push(&self.mono[fed..n]);
+        if listen {
+            self.voice.push(&self.mono[fed..n]);
+        }
         // 3. Output: the delayed input. 4. Breaths.
         for (c, chan) in audio.iter_mut().take(channels).enumerate() {
             self.delay.read(c, base, &mut chan[start..start + n]);

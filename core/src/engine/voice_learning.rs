@@ -10,7 +10,8 @@
 //! level's histograms and, offline, one record per heard breath (the stream keeps the last
 //! [`MAX_HEARD`]).
 
-use super::{EngineConfig, EngineError};
+use super::replay::{AnalysisRecord, WholeSpeech};
+use super::{EngineConfig, EngineError, Timing};
 use crate::analysis::{Analyzer, FeatureFrame};
 use crate::breathing::learned::{HeardBreath, LearnScratch, LearnedVoice};
 use crate::breathing::third_octave::{BandAnalyzer, Bands, FloorEstimate, BANDS};
@@ -227,7 +228,10 @@ impl BreathListener {
 /// Learns the voice of a whole recording before a render: the recording streams through the
 /// engine's analysis and phrase tracker (the same settings, so the breaths heard are the ones
 /// the render will hear) and a [`BreathListener`], fed as the engine feeds its own (the samples
-/// that complete each frame, then the frame). Allocates.
+/// that complete each frame, then the frame). At the end the analysis and the tracker hear the
+/// engine's tail of silence, as the render's engine does. Made with
+/// [`VoiceLearner::recording`], it keeps the analysis for the render to replay
+/// ([`super::Engine::replay_analysis`]). Allocates.
 #[derive(Debug)]
 pub struct VoiceLearner {
     analyzer: Analyzer,
@@ -235,6 +239,24 @@ pub struct VoiceLearner {
     listener: BreathListener,
     heard: Vec<HeardBreath>,
     frames: Vec<(FeatureFrame, usize)>,
+    /// Samples fed so far (input, then tail).
+    fed: u64,
+    /// The engine's tail of silence after the input, samples.
+    tail: u64,
+    /// The mono mix of an interleaved block.
+    mono: Vec<f32>,
+    record: Option<AnalysisRecord>,
+}
+
+/// What a [`VoiceLearner`] learned from a whole recording.
+#[derive(Debug, Clone)]
+pub struct Learned {
+    /// The voice of the breaths heard (`None`: none was).
+    pub voice: Option<LearnedVoice>,
+    /// The median level of the voiced frames, dBFS (NaN without any).
+    pub speech_db: f64,
+    /// The analysis, for a learner made with [`VoiceLearner::recording`].
+    pub record: Option<AnalysisRecord>,
 }
 
 impl VoiceLearner {
@@ -243,32 +265,79 @@ impl VoiceLearner {
         let mut analyzer = Analyzer::new(config.analysis.clone())?;
         analyzer.prepare(rate_hz, BLOCK)?;
         let tracker = PhraseTracker::new(config.phrase, config.analysis.frame_rate_hz)?;
+        let tail = Timing::of(config, rate_hz, analyzer.latency_s().unwrap_or(0.05)).tail;
         Ok(Self {
             analyzer,
             tracker,
             listener: BreathListener::new(rate_hz),
             heard: Vec::new(),
             frames: Vec::new(),
+            fed: 0,
+            tail: tail as u64,
+            mono: Vec::new(),
+            record: None,
+        })
+    }
+
+    /// A learner that also keeps its analysis ([`Learned::record`]) for an engine prepared
+    /// with `config` at `rate_hz` to replay.
+    pub fn recording(config: &EngineConfig, rate_hz: f64) -> Result<Self, EngineError> {
+        Ok(Self {
+            record: Some(AnalysisRecord::default()),
+            ..Self::new(config, rate_hz)?
         })
     }
 
     /// Feeds the next mono samples of the recording.
     pub fn feed(&mut self, mono: &[f32]) -> Result<(), EngineError> {
         for block in mono.chunks(BLOCK) {
-            self.frames.clear();
-            let frames = &mut self.frames;
-            self.analyzer
-                .process_indexed(block, |f, i| frames.push((*f, i)))
-                .map_err(EngineError::from)?;
-            let mut fed = 0;
-            for k in 0..self.frames.len() {
-                let (f, i) = self.frames[k];
+            self.feed_block(block, false)?;
+        }
+        Ok(())
+    }
+
+    /// Feeds the next `channels`-interleaved samples of the recording, mixed to mono as the
+    /// engine mixes them ([`mix_to_mono`]).
+    pub fn feed_interleaved(
+        &mut self,
+        interleaved: &[f32],
+        channels: usize,
+    ) -> Result<(), EngineError> {
+        let mut mono = std::mem::take(&mut self.mono);
+        mix_to_mono(interleaved, channels, &mut mono);
+        let fed = self.feed(&mono);
+        self.mono = mono;
+        fed
+    }
+
+    /// One block of at most [`BLOCK`] samples: the input (heard by the listener too) or the
+    /// tail of silence after it (`tail`: the analysis and the tracker only, so the silence
+    /// does not pull the room's floor down).
+    fn feed_block(&mut self, block: &[f32], tail: bool) -> Result<(), EngineError> {
+        self.frames.clear();
+        let frames = &mut self.frames;
+        self.analyzer
+            .process_indexed(block, |f, i| frames.push((*f, i)))
+            .map_err(EngineError::from)?;
+        let mut fed = 0;
+        for k in 0..self.frames.len() {
+            let (f, i) = self.frames[k];
+            if !tail {
                 self.listener.push(&block[fed..=i]);
-                fed = i + 1;
-                self.on_frame(&f);
             }
+            fed = i + 1;
+            if let Some(r) = &mut self.record {
+                r.push(f, self.fed + i as u64);
+            }
+            self.on_frame(&f);
+        }
+        if !tail {
             self.listener.push(&block[fed..]);
         }
+        if let Some(r) = &mut self.record {
+            r.heard(block.len() as u64, tail);
+        }
+        self.fed += block.len() as u64;
         Ok(())
     }
 
@@ -296,17 +365,29 @@ impl VoiceLearner {
         self.heard.len()
     }
 
-    /// Ends the recording and learns the voice (`None`: no breath was heard).
-    pub fn finish(mut self) -> Result<Option<LearnedVoice>, EngineError> {
-        let mut frames: Vec<FeatureFrame> = Vec::new();
-        self.analyzer
-            .finish(|f| frames.push(*f))
-            .map_err(EngineError::from)?;
-        for f in &frames {
-            self.on_frame(f);
+    /// Ends the recording (the engine's tail of silence through the analysis and the tracker)
+    /// and learns the voice.
+    pub fn finish(mut self) -> Result<Learned, EngineError> {
+        let zeros = vec![0.0; BLOCK];
+        let mut left = self.tail;
+        while left > 0 {
+            let n = left.min(BLOCK as u64) as usize;
+            self.feed_block(&zeros[..n], true)?;
+            left -= n as u64;
         }
         let mut scratch = LearnScratch::with_capacity(self.heard.len());
-        Ok(self.listener.learn(&self.heard, &mut scratch))
+        let speech = WholeSpeech {
+            ltas_db: self.listener.speech_ltas_db(),
+            speech_db: self.listener.speech_db(),
+        };
+        if let Some(r) = &mut self.record {
+            r.set_speech(speech);
+        }
+        Ok(Learned {
+            voice: self.listener.learn(&self.heard, &mut scratch),
+            speech_db: speech.speech_db,
+            record: self.record,
+        })
     }
 
     /// The median level of the voiced frames so far, dBFS (NaN before any).
@@ -320,6 +401,27 @@ impl VoiceLearner {
     }
 }
 
+/// Mixes `channels`-interleaved samples to mono into `out` (replaced) exactly as the engine
+/// mixes its input for analysis: non-finite samples as 0, the channels summed in order, then
+/// scaled by `1 / channels`. A learning pass whose analysis a render replays must hear the
+/// same samples bit for bit.
+pub fn mix_to_mono(interleaved: &[f32], channels: usize, out: &mut Vec<f32>) {
+    let channels = channels.max(1);
+    let clean = |x: f32| if x.is_finite() { x } else { 0.0 };
+    let inv = 1.0 / channels as f32;
+    out.clear();
+    out.extend(interleaved.chunks_exact(channels).map(|frame| {
+        let mut m = clean(frame[0]);
+        for &x in &frame[1..] {
+            m += clean(x);
+        }
+        if channels > 1 {
+            m *= inv;
+        }
+        m
+    }));
+}
+
 /// The voice learned from the whole of `mono` at `rate_hz` with `config`'s analysis and phrase
 /// settings (see [`VoiceLearner`]).
 pub fn learn_voice(
@@ -329,5 +431,5 @@ pub fn learn_voice(
 ) -> Result<Option<LearnedVoice>, EngineError> {
     let mut l = VoiceLearner::new(config, rate_hz)?;
     l.feed(mono)?;
-    l.finish()
+    Ok(l.finish()?.voice)
 }

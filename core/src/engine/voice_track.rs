@@ -4,6 +4,7 @@
 //! memory made at `prepare`. What the engine does with the voice (learn, keep one fixed, the
 //! built-in one) is [`BreathVoiceMode`].
 
+use super::replay::WholeSpeech;
 use super::voice_learning::{BreathListener, MAX_HEARD};
 use super::PlacementConfig;
 use crate::analysis::FeatureFrame;
@@ -75,6 +76,9 @@ pub(super) struct VoiceTrack {
     count: usize,
     scratch: LearnScratch,
     voice: Option<LearnedVoice>,
+    /// The speech of the whole stream, heard before it (a replayed learning pass): the voice's
+    /// colour and level against the speech come from it, not from the speech heard so far.
+    whole: Option<WholeSpeech>,
 }
 
 impl VoiceTrack {
@@ -86,7 +90,13 @@ impl VoiceTrack {
             count: 0,
             scratch: LearnScratch::with_capacity(MAX_HEARD),
             voice: None,
+            whole: None,
         }
+    }
+
+    /// The speech of the whole stream is `whole`, heard before it (kept through resets).
+    pub(super) fn set_whole(&mut self, whole: WholeSpeech) {
+        self.whole = Some(whole);
     }
 
     /// Forgets every breath and the room.
@@ -142,7 +152,10 @@ impl VoiceTrack {
     /// learned voice's; `None` before any voiced speech, or without a built-in voice: the
     /// procedural sound).
     pub(super) fn current(&self, choice: &VoiceChoice) -> Option<LearnedVoice> {
-        let speech_db = self.listener.speech_db();
+        let (speech_db, ltas_db) = match &self.whole {
+            Some(w) => (w.speech_db, w.ltas_db),
+            None => (self.listener.speech_db(), self.listener.speech_ltas_db()),
+        };
         match (&choice.mode, self.voice) {
             (BreathVoiceMode::Fixed(v), _) => return Some(*v),
             (BreathVoiceMode::Like(v), _) => return Some(v.against_speech_db(speech_db)),
@@ -152,7 +165,7 @@ impl VoiceTrack {
         let r = choice.reference.as_ref()?;
         speech_db.is_finite().then(|| {
             r.coloured(
-                &self.listener.speech_ltas_db(),
+                &ltas_db,
                 speech_db,
                 f64::from(PlacementConfig::default().breath_level_db),
             )

@@ -24,6 +24,7 @@ mod head_train;
 mod learned_voice;
 mod live_mode;
 mod no_alloc;
+mod replayed_analysis;
 mod speech_decision;
 mod speech_silero;
 mod voicing_signals;

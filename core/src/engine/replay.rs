@@ -1,0 +1,181 @@
+//! A recorded analysis: the feature frames a whole-file learning pass
+//! ([`super::voice_learning::VoiceLearner::recording`]) computed, each with the stream sample
+//! that completed it ([`AnalysisRecord`]), handed to the render's engine
+//! ([`super::Engine::replay_analysis`]) so that a render that learns the voice from the whole
+//! file first analyses the file once, not twice.
+//!
+//! The learning pass hears what the engine would: the same mono mix
+//! ([`super::voice_learning::mix_to_mono`]), the same analysis settings and rate, the input
+//! followed by the engine's tail of silence ([`super::Engine::tail_samples`]). The analysis is
+//! the same for any block partition, so the replayed frames are the ones the engine's own
+//! analyzer would compute, bit for bit, and so is the render.
+//!
+//! The record also carries the speech of the whole input ([`WholeSpeech`]): a replayed render
+//! colours the built-in voice with it instead of listening as it goes.
+//!
+//! Memory: one frame per analysis frame of the file (about 26 MB per hour at 100 frames/s).
+
+use crate::analysis::FeatureFrame;
+use crate::breathing::third_octave::{Bands, BANDS};
+
+/// The frames of one stream's analysis, in order, each with the index of the stream sample
+/// that completed it (the input's samples, then its tail of silence).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct AnalysisRecord {
+    frames: Vec<(FeatureFrame, u64)>,
+    /// Samples of input heard (before the tail).
+    input_samples: u64,
+    /// Samples heard in all: the input and the tail.
+    samples: u64,
+    /// The speech of the whole input as the learning pass heard it.
+    speech: WholeSpeech,
+}
+
+/// The speech of a whole input, heard before it is rendered: what colours the built-in voice
+/// ([`crate::breathing::reference::ReferenceVoice::coloured`]) and sets a voice's level
+/// against the speech when the render does not listen as it goes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WholeSpeech {
+    /// The long-term third-octave spectrum of the voiced speech, dB per band (NaN without).
+    pub ltas_db: Bands,
+    /// The median level of the voiced frames, dBFS (NaN without any).
+    pub speech_db: f64,
+}
+
+impl Default for WholeSpeech {
+    fn default() -> Self {
+        Self {
+            ltas_db: [f64::NAN; BANDS],
+            speech_db: f64::NAN,
+        }
+    }
+}
+
+impl AnalysisRecord {
+    /// Samples of input the record was made from (its tail of silence not counted): a render
+    /// that reads another length (the file changed in between) must not replay it.
+    pub fn input_samples(&self) -> u64 {
+        self.input_samples
+    }
+
+    /// Samples the record covers: the input and its tail of silence.
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
+    /// Frames recorded.
+    pub fn frames(&self) -> usize {
+        self.frames.len()
+    }
+
+    /// The speech of the whole input.
+    pub fn speech(&self) -> WholeSpeech {
+        self.speech
+    }
+
+    /// The learning pass heard `speech` in the whole input.
+    pub(super) fn set_speech(&mut self, speech: WholeSpeech) {
+        self.speech = speech;
+    }
+
+    /// Records `frame`, completed by stream sample `at` (not before the last one's).
+    pub(super) fn push(&mut self, frame: FeatureFrame, at: u64) {
+        debug_assert!(self.frames.last().is_none_or(|&(_, last)| last <= at));
+        self.frames.push((frame, at));
+    }
+
+    /// `n` more samples heard: input ones, or (`tail`) the silence after it.
+    pub(super) fn heard(&mut self, n: u64, tail: bool) {
+        self.samples += n;
+        if !tail {
+            self.input_samples += n;
+        }
+    }
+}
+
+/// The engine's place in a record: the next frame to hand out.
+#[derive(Debug)]
+pub(super) struct Replay {
+    record: AnalysisRecord,
+    next: usize,
+}
+
+impl Replay {
+    pub(super) fn new(record: AnalysisRecord) -> Self {
+        Self { record, next: 0 }
+    }
+
+    /// Back to the stream's start.
+    pub(super) fn reset(&mut self) {
+        self.next = 0;
+    }
+
+    /// The frames completed by the samples `base..base + n` of the stream, each with its
+    /// sample's offset in the block. Returns how many of those samples lie past the record
+    /// (they get no frames). Never allocates.
+    pub(super) fn block(
+        &mut self,
+        base: u64,
+        n: usize,
+        mut on_frame: impl FnMut(&FeatureFrame, usize),
+    ) -> u64 {
+        let end = base + n as u64;
+        while let Some((f, at)) = self.record.frames.get(self.next) {
+            if *at >= end {
+                break;
+            }
+            if *at >= base {
+                on_frame(f, (*at - base) as usize);
+            }
+            self.next += 1;
+        }
+        end.saturating_sub(self.record.samples.max(base))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(index: u64) -> FeatureFrame {
+        FeatureFrame {
+            index,
+            ..FeatureFrame::default()
+        }
+    }
+
+    #[test]
+    fn hands_out_each_frame_once_at_its_offset_in_any_partition() {
+        let mut r = AnalysisRecord::default();
+        for (k, at) in [3u64, 9, 10, 25].into_iter().enumerate() {
+            r.push(frame(k as u64), at);
+        }
+        r.heard(20, false);
+        r.heard(10, true);
+        assert_eq!((r.input_samples(), r.samples(), r.frames()), (20, 30, 4));
+        for blocks in [vec![30], vec![1, 7, 2, 20], vec![10, 10, 10]] {
+            let mut replay = Replay::new(r.clone());
+            let (mut got, mut base) = (Vec::new(), 0u64);
+            for n in blocks {
+                let past = replay.block(base, n, |f, i| got.push((f.index, base + i as u64)));
+                assert_eq!(past, 0);
+                base += n as u64;
+            }
+            assert_eq!(got, vec![(0, 3), (1, 9), (2, 10), (3, 25)]);
+            replay.reset();
+            let mut again = 0;
+            replay.block(0, 30, |_, _| again += 1);
+            assert_eq!(again, 4, "reset rewinds to the start");
+        }
+    }
+
+    #[test]
+    fn counts_the_samples_past_the_record() {
+        let mut r = AnalysisRecord::default();
+        r.heard(100, false);
+        let mut replay = Replay::new(r);
+        assert_eq!(replay.block(0, 64, |_, _| {}), 0);
+        assert_eq!(replay.block(64, 64, |_, _| {}), 28);
+        assert_eq!(replay.block(128, 64, |_, _| {}), 64);
+    }
+}
