@@ -205,16 +205,28 @@ pub fn phrases_with_pauses(sample_rate_hz: f64, length_s: f64, snr_db: f64, seed
 /// pause from 1.62 s on, every 2 s: breath noise (500–5000 Hz) 24 dB under the first phrase's
 /// RMS, with raised-cosine ends. For tests of a breath voice learned from the speaker.
 pub fn phrases_with_breaths(sample_rate_hz: f64, length_s: f64, seed: u64) -> Vec<f32> {
+    phrases_with_breaths_through(sample_rate_hz, length_s, seed, &[(500.0, 5000.0)])
+}
+
+/// [`phrases_with_breaths`] whose `k`-th breath is noise in the band `bands[k % bands.len()]`
+/// (Hz): with two bands, two speakers taking turns (an interview).
+pub fn phrases_with_breaths_through(
+    sample_rate_hz: f64,
+    length_s: f64,
+    seed: u64,
+    bands: &[(f64, f64)],
+) -> Vec<f32> {
     let mut x = phrases_with_pauses(sample_rate_hz, length_s, 60.0, seed);
     let speech = rms(&x[..(1.4 * sample_rate_hz) as usize]);
     let n = (0.3 * sample_rate_hz) as usize;
     let mut t = 1.62;
     let mut breath_seed = seed.wrapping_add(6);
+    let mut k = 0;
     while t + 0.3 < length_s {
         let b = band_noise(
             n,
             sample_rate_hz,
-            (500.0, 5000.0),
+            bands[k % bands.len()],
             speech * 10f64.powf(-24.0 / 20.0),
             breath_seed,
         );
@@ -225,6 +237,7 @@ pub fn phrases_with_breaths(sample_rate_hz: f64, length_s: f64, seed: u64) -> Ve
         }
         t += 2.0;
         breath_seed += 1;
+        k += 1;
     }
     x
 }

@@ -508,3 +508,58 @@ fn learning_resumes_when_switched_on_mid_stream() {
         );
     }
 }
+
+#[test]
+fn two_voices_in_one_recording_learn_one_voice_between_them() {
+    // An interview: two speakers take turns, one breathing darker (300 Hz–3 kHz), one brighter
+    // (1–6 kHz). Pneuma learns one voice from every breath it hears: on the labelled breaths
+    // of eleven real speakers such a blend lies nearer each speaker's breaths than the
+    // built-in voice does, and one speaker's own breaths split as far apart as two speakers'
+    // (`pneuma eval restore`, DESIGN.md). The blend lies between the two voices, and its spread
+    // covers both.
+    let (dark_hz, bright_hz) = ((300.0, 3000.0), (1000.0, 6000.0));
+    let learn = |bands: &[(f64, f64)]| {
+        let x = signals::phrases_with_breaths_through(RATE_HZ, 24.0, 5, bands);
+        learn_voice(&config(), &x, RATE_HZ)
+            .expect("settings")
+            .expect("breaths heard")
+    };
+    let (dark, bright, both) = (
+        learn(&[dark_hz]),
+        learn(&[bright_hz]),
+        learn(&[dark_hz, bright_hz]),
+    );
+    assert!(
+        both.breaths >= dark.breaths.min(bright.breaths),
+        "{} breaths from both",
+        both.breaths
+    );
+    let apart = distance_db(&dark.shape_db, &bright.shape_db);
+    assert!(apart > 3.0, "the two voices lie {apart:.1} dB apart");
+    for (name, one) in [("dark", &dark), ("bright", &bright)] {
+        let d = distance_db(&both.shape_db, &one.shape_db);
+        assert!(
+            d < 0.75 * apart,
+            "the blend lies {d:.1} dB from the {name} voice, the voices {apart:.1} dB apart"
+        );
+    }
+    for k in 0..BANDS {
+        let (lo, hi) = (
+            dark.shape_db[k].min(bright.shape_db[k]),
+            dark.shape_db[k].max(bright.shape_db[k]),
+        );
+        assert!(
+            both.shape_db[k] > lo - 1.5 && both.shape_db[k] < hi + 1.5,
+            "band {k}: blend {:.1} dB outside the two voices {lo:.1}..{hi:.1}",
+            both.shape_db[k]
+        );
+    }
+    let mean_sd = |v: &LearnedVoice| v.shape_sd_db.iter().sum::<f64>() / BANDS as f64;
+    assert!(
+        mean_sd(&both) > mean_sd(&dark).max(mean_sd(&bright)),
+        "spread: blend {:.2} dB, dark {:.2}, bright {:.2}",
+        mean_sd(&both),
+        mean_sd(&dark),
+        mean_sd(&bright)
+    );
+}

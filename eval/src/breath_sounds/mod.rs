@@ -40,7 +40,7 @@ use crate::data::{read_labels, wav_files, DataError};
 use crate::labels::{score, Counts, Label, LabelKind, LabelledSets};
 use crate::stats::{median, rms_db};
 use pneuma_core::breathing::third_octave::{
-    band_powers, distance_db, frame_len, mean_shape, noise_floor, shape_db, without_floor,
+    band_powers, distance_db, frame_len, mean_shape, noise_floor, shape_db, without_floor, Bands,
     BAND_CENTRES_HZ,
 };
 
@@ -199,15 +199,7 @@ pub fn run(args: &BreathSoundArgs) -> Result<bool, String> {
         .iter()
         .map(|s| distance_db(s, &real_mean))
         .collect();
-    let real_spread: Vec<f64> = (0..real_shapes.len())
-        .map(|i| {
-            let others: Vec<_> = (0..real_shapes.len())
-                .filter(|&j| j != i)
-                .map(|j| real_shapes[j])
-                .collect();
-            distance_db(&real_shapes[i], &mean_shape(&others))
-        })
-        .collect();
+    let real_spread = to_the_others_db(&real_shapes);
     println!(
         "\nlog-spectral distance, mean inserted vs mean real: {:.1} dB",
         distance_db(&ins_mean, &real_mean)
@@ -230,6 +222,19 @@ pub fn run(args: &BreathSoundArgs) -> Result<bool, String> {
         (&args.sets.data, &args.sets.labels),
         (&args.sets.keele, &args.sets.keele_labels),
     ])
+}
+
+/// The distance of each of `shapes` to the mean of the others, dB.
+pub fn to_the_others_db(shapes: &[Bands]) -> Vec<f64> {
+    (0..shapes.len())
+        .map(|i| {
+            let others: Vec<Bands> = (0..shapes.len())
+                .filter(|&j| j != i)
+                .map(|j| shapes[j])
+                .collect();
+            distance_db(&shapes[i], &mean_shape(&others))
+        })
+        .collect()
 }
 
 fn bands_row(v: &[f64], decimals: usize) -> String {

@@ -33,6 +33,8 @@
 //!   shapes (the median distance of each to the mean of its set).
 //! - **Left in** (`left_in`): the uncut clips rendered, the real breaths heard and the
 //!   inserted breaths over a labelled one (doubled).
+//! - **Two voices** (`two_voices`): every pair of speakers' breaths pooled, as in an
+//!   interview: the blend a learner learns from them against the built-in voice.
 //!
 //! `--check` checks the targets on the held-out figures (see [`targets`]).
 
@@ -59,6 +61,7 @@ mod left_in;
 mod length_fit;
 pub mod reference;
 mod report;
+mod two_voices;
 
 pub use cut::Cut;
 use left_in::UncutRender;
@@ -616,6 +619,7 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
             all_met &= ok || voice != Voice::Learned;
         }
     }
+    two_voices::report(&clips)?;
     let shipped_length = shipped_length.expect("the plan renders the length fit's case");
     length_fit::run(&clips, &uncut, &held_out, &shipped_length)?;
     Ok(all_met || !args.check)
