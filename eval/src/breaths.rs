@@ -22,7 +22,8 @@ use std::path::{Path, PathBuf};
 
 use pneuma_core::breathing::reference::ReferenceVoice;
 use pneuma_core::breathing::RESERVE_LUNG;
-use pneuma_core::engine::voice_learning::learn_voice;
+use pneuma_core::engine::replay::AnalysisRecord;
+use pneuma_core::engine::voice_learning::{learn_voice, Learned, VoiceLearner};
 use pneuma_core::engine::{offline, BreathVoiceMode, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
 use pneuma_core::ControlFrame;
@@ -160,13 +161,32 @@ pub fn render_offline(
     if let Some(ms) = lookahead_ms {
         config.placement.lookahead_s = ms / 1000.0;
     }
+    // A whole-file render hears the file first (`pneuma render --built-in-breath`).
+    let record = match lookahead_ms {
+        None => heard(&config, input, rate_hz)?.record,
+        Some(_) => None,
+    };
     render_in(
         config,
         input,
         rate_hz,
-        BreathVoiceMode::BuiltIn,
+        (BreathVoiceMode::BuiltIn, record),
         &BuiltIn::Shipped,
     )
+}
+
+/// What a whole-file render's learning pass hears of `input` (one `Vec` per channel, mixed
+/// as the engine mixes them), with its analysis recorded for the render to replay.
+fn heard(config: &EngineConfig, input: &[Vec<f32>], rate_hz: f64) -> Result<Learned, String> {
+    let mut l = VoiceLearner::recording(config, rate_hz).map_err(|e| e.to_string())?;
+    let channels = input.len().max(1);
+    let len = input.iter().map(Vec::len).min().unwrap_or(0);
+    let interleaved: Vec<f32> = (0..len)
+        .flat_map(|i| input.iter().map(move |c| c[i]))
+        .collect();
+    l.feed_interleaved(&interleaved, channels)
+        .map_err(|e| e.to_string())?;
+    l.finish().map_err(|e| e.to_string())
 }
 
 /// Renders `input` offline with `config` (the default head model, blocks of 1024), the breath
@@ -175,7 +195,7 @@ fn render_in(
     config: EngineConfig,
     input: &[Vec<f32>],
     rate_hz: f64,
-    mode: BreathVoiceMode,
+    (mode, record): (BreathVoiceMode, Option<AnalysisRecord>),
     built_in: &BuiltIn,
 ) -> Result<offline::Rendered, String> {
     let mut engine =
@@ -185,7 +205,14 @@ fn render_in(
     engine
         .prepare(rate_hz, 1024, input.len())
         .map_err(|e| e.to_string())?;
-    Ok(offline::render(&mut engine, input, &[1024]))
+    if let Some(record) = record {
+        engine.replay_analysis(record).map_err(|e| e.to_string())?;
+    }
+    let out = offline::render(&mut engine, input, &[1024]);
+    if engine.replay_verified() == Some(false) {
+        return Err("the replayed analysis is not of this input".into());
+    }
+    Ok(out)
 }
 
 /// The built-in breath voice of a render.
@@ -210,9 +237,11 @@ impl BuiltIn {
     }
 }
 
-/// Renders mono-or-more `input` as `pneuma render` does (the whole-file lookahead) with
-/// `config` (`EngineConfig::default()`: the default settings), the breath voice learned from
-/// `learn_from` (`None`: the built-in voice) and the engine's seed moved by `seed_offset`.
+/// Renders mono-or-more `input` as `pneuma render` does (the whole-file lookahead, the input
+/// heard first and its analysis replayed, so the built-in voice is coloured by the whole
+/// input's speech) with `config` (`EngineConfig::default()`: the default settings), the breath
+/// voice learned from `learn_from` (`None`: the built-in voice) and the engine's seed moved by
+/// `seed_offset`.
 pub fn render_with_voice(
     config: &EngineConfig,
     input: &[Vec<f32>],
@@ -224,12 +253,13 @@ pub fn render_with_voice(
     let mut config = config.clone();
     config.placement.whole_file = true;
     config.seed = config.seed.wrapping_add(seed_offset);
+    let heard = heard(&config, input, rate_hz)?;
     let voice = match learn_from {
         Some(mono) => learn_voice(&config, mono, rate_hz).map_err(|e| e.to_string())?,
         None => None,
     };
     let mode = voice.map_or(BreathVoiceMode::BuiltIn, BreathVoiceMode::Fixed);
-    render_in(config, input, rate_hz, mode, built_in)
+    render_in(config, input, rate_hz, (mode, heard.record), built_in)
 }
 
 /// Renders mono-or-more `input` as the plugin does (`pneuma render --lookahead-ms`, `config`'s
@@ -245,7 +275,13 @@ pub fn render_learning_as_it_goes(
     let mut config = config.clone();
     config.placement.whole_file = false;
     config.seed = config.seed.wrapping_add(seed_offset);
-    render_in(config, input, rate_hz, BreathVoiceMode::Learn, built_in)
+    render_in(
+        config,
+        input,
+        rate_hz,
+        (BreathVoiceMode::Learn, None),
+        built_in,
+    )
 }
 
 /// Renders `path` offline with the default settings and `lookahead_ms` (see

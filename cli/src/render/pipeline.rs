@@ -115,7 +115,6 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         input_format,
         tags,
         mut engine,
-        replayed_samples,
         outputs,
     } = job;
     if let Some(files) = &outputs.files {
@@ -153,7 +152,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
     let mut interleaved = Vec::with_capacity(BLOCK_FRAMES * input_channels.0);
     let mut energy = ChannelEnergy::default();
     let mut pass = AudioPass::new(audio, &outputs.audio, info, progress);
-    let streamed = offline::stream(
+    offline::stream(
         &mut engine,
         channels,
         &[BLOCK_FRAMES],
@@ -171,12 +170,11 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         },
     )?;
     // The learning pass and the render read the input apart: a file changed in between would
-    // be rendered with another file's analysis.
-    if replayed_samples.is_some_and(|n| n != streamed.input_samples)
-        || engine.dropped().unanalysed_samples > 0
-    {
+    // be rendered with another file's analysis (nothing is committed; to standard output the
+    // audio has gone, the exit status says it failed).
+    if engine.replay_verified() == Some(false) {
         return Err(RenderError::Input(
-            "the input changed while it was rendered (its length is not the one analysed \
+            "the input changed while it was rendered (its samples are not the ones analysed \
              first): render it again once nothing writes to it"
                 .into(),
         ));

@@ -326,9 +326,6 @@ pub struct Job {
     pub tags: Tags,
     /// The engine, prepared for the rendered rate and channels, with the breath samples.
     pub engine: Engine,
-    /// The input samples the learning pass heard when the engine replays its analysis: the
-    /// render must read as many.
-    pub replayed_samples: Option<u64>,
     /// Where the outputs go.
     pub outputs: OutputPlan,
 }
@@ -412,7 +409,7 @@ impl Job {
             }
             info.channels = 1;
         }
-        let (engine, replayed_samples) = prepared_engine(args, input, config, &info)?;
+        let engine = prepared_engine(args, input, config, &info)?;
         let mut outputs = OutputPlan::new(args, input, container)?;
         outputs.mp3 = mp3;
         Ok(Self {
@@ -422,7 +419,6 @@ impl Job {
             info,
             source,
             engine,
-            replayed_samples,
             outputs,
         })
     }
@@ -523,13 +519,13 @@ fn check_input_shape(args: &Args, info: &WavInfo) -> Result<(), RenderError> {
 
 /// The engine for `config` with the head model and breath samples `args` name and the breath
 /// voice learned for `input` ([`super::voice`]), prepared for the input's rate and channels,
-/// replaying the learning pass's analysis when there was one (and the input samples it heard).
+/// replaying the learning pass's analysis when there was one.
 fn prepared_engine(
     args: &Args,
     input: &Path,
     config: EngineConfig,
     info: &WavInfo,
-) -> Result<(Engine, Option<u64>), RenderError> {
+) -> Result<Engine, RenderError> {
     let model =
         crate::options::load_head_model(args.head_model.as_deref()).map_err(RenderError::Input)?;
     let voice = super::voice::mode(
@@ -546,15 +542,13 @@ fn prepared_engine(
         BLOCK_FRAMES,
         info.channels as usize,
     )?;
-    let replayed_samples = voice.record.map(|record| {
-        let n = record.input_samples();
-        engine.replay_analysis(record);
-        n
-    });
+    if let Some(record) = voice.record {
+        engine.replay_analysis(record)?;
+    }
     for (slot, sample) in breath_samples(args)? {
         engine.set_breath_sample(slot, Some(sample));
     }
-    Ok((engine, replayed_samples))
+    Ok(engine)
 }
 
 /// The breath samples `args` name: `--breath-mouth`, `--breath-nose`, then the `mouth` and

@@ -2,8 +2,9 @@
 //! whole-file render (a first pass over the file through [`VoiceLearner`], whose analysis the
 //! render then replays instead of analysing the file again), or from
 //! `--breath-like FILE` (another take of the same speaker) in any mode, or built in
-//! (`--built-in-breath`, or no breath heard). A render as the plugin (`--lookahead-ms`, `--live`)
-//! or from standard input (which cannot be read twice) learns as it goes, as the plugin does.
+//! (`--built-in-breath`, or no breath heard; coloured by the whole file's speech). A render as
+//! the plugin (`--lookahead-ms`, `--mode live`) or from standard input (which cannot be read
+//! twice) learns as it goes, as the plugin does.
 
 use std::path::Path;
 
@@ -27,8 +28,10 @@ pub struct VoicePlan {
     pub record: Option<AnalysisRecord>,
 }
 
-/// The breath voice of a render of `input` (channel `pick` of it, or all mixed) with `config`:
-/// built in with `built_in` (`--built-in-breath`); learned from `breath_like`
+/// The breath voice of a render of `input` (channel `pick` of it, or all mixed) with `config`,
+/// and for a whole-file render of a file its learning pass's analysis (always: the built-in
+/// voice too is coloured by the whole file's speech then): built in with `built_in`
+/// (`--built-in-breath`); learned from `breath_like`
 /// (`--breath-like FILE`: before a whole-file render its level is set against the input's
 /// speech, otherwise held against it as the render goes, as the plugin does); learned from the
 /// input before a whole-file render; learned as it goes otherwise. A file in which no breath is
@@ -46,11 +49,9 @@ pub fn mode(
     let whole_file = config.placement.whole_file
         && config.placement.mode == PlacementMode::Lookahead
         && input.as_os_str() != "-";
-    if built_in {
-        return Ok(streaming(BreathVoiceMode::BuiltIn));
-    }
     if !whole_file {
         return Ok(streaming(match breath_like {
+            _ if built_in => BreathVoiceMode::BuiltIn,
             // As the plugin with a breath-like file: the take's level under its speech, held
             // against the stream's speech as it goes.
             Some(p) => learn(p, None, config, false)?
@@ -59,8 +60,11 @@ pub fn mode(
             None => BreathVoiceMode::Learn,
         }));
     }
+    // A whole-file render hears the whole input first, whatever its voice: the analysis to
+    // replay, and the speech that colours the built-in voice.
     let heard = learn(input, pick, config, true)?;
     let voice = match breath_like {
+        _ if built_in => None,
         Some(p) => learn(p, None, config, false)?
             .voice
             .map(|v| v.against_speech_db(heard.speech_db)),

@@ -34,18 +34,19 @@ fn u32_at(b: &[u8], at: usize) -> u32 {
 
 #[test]
 fn standard_input_and_output_carry_the_same_audio_as_files() {
-    // The built-in voice on both sides: a file's render learns (or colours) its breath voice
-    // from the whole file first, which standard input, read once, cannot.
+    // Both sides as the plugin (`--lookahead-ms`): a file's whole-file render hears the whole
+    // file before it places anything (the breath voice and its colour), which standard input,
+    // read once, cannot.
     let dir = tempfile::tempdir().expect("temp");
     assert_ok(&render(
         &example_voice_path(),
         &dir.path().join("file"),
-        &["--no-plot", "--built-in-breath"],
+        &["--no-plot", "--lookahead-ms", "500"],
     ));
     let want = samples(&dir.path().join("file/voice.wav"));
     let bytes = std::fs::read(example_voice_path()).expect("voice");
     let o = pneuma_with_stdin(
-        &["render", "-", "-o", "-", "--quiet", "--built-in-breath"],
+        &["render", "-", "-o", "-", "--quiet", "--lookahead-ms", "500"],
         &bytes,
     );
     assert_ok(&o);
@@ -67,7 +68,8 @@ fn standard_input_and_output_carry_the_same_audio_as_files() {
             dir.path().join("named").to_str().expect("utf8"),
             "--quiet",
             "--no-plot",
-            "--built-in-breath",
+            "--lookahead-ms",
+            "500",
         ],
         &bytes,
     );
@@ -91,14 +93,14 @@ fn a_flac_through_a_pipe_renders_like_the_file() {
     let dir = tempfile::tempdir().expect("temp");
     let flac = dir.path().join("voice.flac");
     ffmpeg_encode(&example_voice_path(), &flac, &[]);
-    // The built-in voice on both sides (see above).
+    // Both as the plugin (see above).
     assert_ok(&render(
         &example_voice_path(),
         &dir.path().join("file"),
-        &["--no-plot", "--built-in-breath"],
+        &["--no-plot", "--lookahead-ms", "500"],
     ));
     let o = pneuma_with_stdin(
-        &["render", "-", "-o", "-", "--quiet", "--built-in-breath"],
+        &["render", "-", "-o", "-", "--quiet", "--lookahead-ms", "500"],
         &std::fs::read(&flac).expect("flac"),
     );
     assert_ok(&o);

@@ -351,6 +351,21 @@ pub enum EngineError {
     /// Block size.
     #[error("maximum block size {0} is not supported: use 1..=65536 samples")]
     MaxBlock(usize),
+    /// A recorded analysis made for another stream.
+    #[error(
+        "the recorded analysis is of {record_hz} Hz at {record_fps} frames/s, the stream is \
+         {stream_hz} Hz at {stream_fps} frames/s: record it again with the render's settings"
+    )]
+    ReplayMismatch {
+        /// The record's sample rate.
+        record_hz: f64,
+        /// The record's frame rate.
+        record_fps: f64,
+        /// The stream's sample rate.
+        stream_hz: f64,
+        /// The stream's frame rate.
+        stream_fps: f64,
+    },
 }
 
 #[cfg(test)]

@@ -36,8 +36,9 @@
 //! - [`replay`]: a whole-file learning pass's analysis, handed out instead of the analyzer's
 //!   ([`Engine::replay_analysis`]), so a render that learns first analyses its file once.
 //!
-//! Every decision depends on the sample sequence only, so any block partition gives identical
-//! output and control frames. `process` never allocates.
+//! Every decision depends on the sample sequence only (and, replayed, on the analysis recorded
+//! from that sequence), so any block partition gives identical output and control frames.
+//! `process` never allocates.
 
 mod breath_track;
 mod config;
@@ -94,9 +95,10 @@ pub(crate) struct Pending {
 const EXISTING_BREATHS_KEPT: usize = 16;
 
 /// What the engine had to drop since the last [`Engine::prepare`], counted so that no loss is
-/// silent. Every count but `breaths` stays 0 unless an internal bound is wrong (debug builds
-/// assert it); `breaths` grows when a caller lets more than 64 finished breaths pile up
-/// without [`Engine::take_breaths`].
+/// silent. Every count but `breaths` and `unanalysed_samples` stays 0 unless an internal bound
+/// is wrong (debug builds assert it); `breaths` grows when a caller lets more than 64 finished
+/// breaths pile up without [`Engine::take_breaths`], `unanalysed_samples` when a stream runs
+/// past a replayed analysis ([`Engine::replay_analysis`]).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Dropped {
     /// Feature frames completed in one block beyond the block's frame buffer.
@@ -530,16 +532,39 @@ impl Engine {
     /// after each [`Engine::reset`]), until the next [`Engine::prepare`]. The output is the
     /// same as without it when the record was made from the same input with this engine's
     /// settings and rate; samples past its end are not analysed
-    /// ([`Dropped::unanalysed_samples`]). The built-in voice is coloured by the whole input's
-    /// speech the record carries from the first breath on, and unless the mode is
+    /// ([`Dropped::unanalysed_samples`]), and [`Engine::replay_verified`] says whether the
+    /// stream heard exactly the recorded samples. The built-in voice is coloured by the whole
+    /// input's speech the record carries from the first breath on, and unless the mode is
     /// [`BreathVoiceMode::Learn`] the voice track does not listen (an offline render keeps
-    /// its voice from start to end). Does nothing before `prepare`.
-    pub fn replay_analysis(&mut self, record: AnalysisRecord) {
-        if let Some(s) = &mut self.stream {
-            s.voice.set_whole(record.speech());
-            s.replay = Some(Replay::new(record));
-            s.refresh_voice(&self.breath_voice);
+    /// its voice from start to end: a switch into learning later would hear the stream only
+    /// from the switch on). A [`Engine::reset`] rewinds the replay to the stream's start: only
+    /// for a stream that starts the same input again. Does nothing before `prepare`; a record
+    /// of another sample or frame rate is refused.
+    pub fn replay_analysis(&mut self, record: AnalysisRecord) -> Result<(), EngineError> {
+        let Some(s) = &mut self.stream else {
+            return Ok(());
+        };
+        let (record_hz, record_fps) = record.rates();
+        if record_hz != s.sample_rate_hz || record_fps != s.frame_rate_hz {
+            return Err(EngineError::ReplayMismatch {
+                record_hz,
+                record_fps,
+                stream_hz: s.sample_rate_hz,
+                stream_fps: s.frame_rate_hz,
+            });
         }
+        s.voice.set_whole(record.speech());
+        s.replay = Some(Replay::new(record));
+        s.refresh_voice(&self.breath_voice);
+        Ok(())
+    }
+
+    /// With a replayed analysis: whether the stream, from its start, heard exactly the samples
+    /// the record was made from (the input and its tail: a render checks it at the end, and a
+    /// file changed between the learning pass and the render fails it). `None` without one.
+    pub fn replay_verified(&self) -> Option<bool> {
+        let s = self.stream.as_ref()?;
+        s.replay.as_ref().map(Replay::verified)
     }
 
     /// What the speech decision heard since the last [`Engine::prepare`] or
@@ -724,6 +749,7 @@ impl Stream {
         };
         let analysed = match &mut self.replay {
             Some(r) => {
+                r.hear(&self.mono[..n]);
                 self.lost.unanalysed_samples += r.block(base, n, &mut keep);
                 Ok(())
             }

@@ -22,6 +22,11 @@ use crate::breathing::third_octave::{Bands, BANDS};
 /// that completed it (the input's samples, then its tail of silence).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct AnalysisRecord {
+    /// The stream's sample rate and analysis frame rate.
+    rate_hz: f64,
+    frame_rate_hz: f64,
+    /// The samples heard, in order ([`SampleHash`]).
+    hash: SampleHash,
     frames: Vec<(FeatureFrame, u64)>,
     /// Samples of input heard (before the tail).
     input_samples: u64,
@@ -51,7 +56,40 @@ impl Default for WholeSpeech {
     }
 }
 
+/// A running FNV-1a hash of samples (their bits), the same for any partition: tells a replay
+/// whether the engine hears the samples its record was made from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct SampleHash(u64);
+
+impl Default for SampleHash {
+    fn default() -> Self {
+        Self(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl SampleHash {
+    fn add(&mut self, samples: &[f32]) {
+        for x in samples {
+            self.0 = (self.0 ^ u64::from(x.to_bits())).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+}
+
 impl AnalysisRecord {
+    /// An empty record of a stream at `rate_hz` analysed at `frame_rate_hz`.
+    pub(super) fn new(rate_hz: f64, frame_rate_hz: f64) -> Self {
+        Self {
+            rate_hz,
+            frame_rate_hz,
+            ..Self::default()
+        }
+    }
+
+    /// The stream's sample rate and analysis frame rate.
+    pub fn rates(&self) -> (f64, f64) {
+        (self.rate_hz, self.frame_rate_hz)
+    }
+
     /// Samples of input the record was made from (its tail of silence not counted): a render
     /// that reads another length (the file changed in between) must not replay it.
     pub fn input_samples(&self) -> u64 {
@@ -84,8 +122,10 @@ impl AnalysisRecord {
         self.frames.push((frame, at));
     }
 
-    /// `n` more samples heard: input ones, or (`tail`) the silence after it.
-    pub(super) fn heard(&mut self, n: u64, tail: bool) {
+    /// More `samples` heard: input ones, or (`tail`) the silence after it.
+    pub(super) fn heard(&mut self, samples: &[f32], tail: bool) {
+        let n = samples.len() as u64;
+        self.hash.add(samples);
         self.samples += n;
         if !tail {
             self.input_samples += n;
@@ -98,16 +138,38 @@ impl AnalysisRecord {
 pub(super) struct Replay {
     record: AnalysisRecord,
     next: usize,
+    /// The samples the engine heard since the stream's start, and how many.
+    heard: SampleHash,
+    samples: u64,
 }
 
 impl Replay {
     pub(super) fn new(record: AnalysisRecord) -> Self {
-        Self { record, next: 0 }
+        Self {
+            record,
+            next: 0,
+            heard: SampleHash::default(),
+            samples: 0,
+        }
     }
 
     /// Back to the stream's start.
     pub(super) fn reset(&mut self) {
         self.next = 0;
+        self.heard = SampleHash::default();
+        self.samples = 0;
+    }
+
+    /// The engine heard `mono` (the mix the analysis would hear).
+    pub(super) fn hear(&mut self, mono: &[f32]) {
+        self.heard.add(mono);
+        self.samples += mono.len() as u64;
+    }
+
+    /// Whether the engine has heard, from the stream's start, exactly the samples the record
+    /// was made from (its input and tail, no more, no fewer).
+    pub(super) fn verified(&self) -> bool {
+        self.samples == self.record.samples && self.heard == self.record.hash
     }
 
     /// The frames completed by the samples `base..base + n` of the stream, each with its
@@ -137,6 +199,30 @@ impl Replay {
 mod tests {
     use super::*;
 
+    #[test]
+    fn the_hash_knows_the_samples_in_any_partition() {
+        let x: Vec<f32> = (0..1000).map(|i| (i as f32 * 0.01).sin()).collect();
+        let mut r = AnalysisRecord::new(16_000.0, 100.0);
+        r.heard(&x, false);
+        for blocks in [vec![1000], vec![3, 500, 497], vec![1; 1000]] {
+            let mut replay = Replay::new(r.clone());
+            let mut at = 0;
+            for n in blocks {
+                replay.hear(&x[at..at + n]);
+                at += n;
+            }
+            assert!(replay.verified());
+        }
+        let mut other = x.clone();
+        other[500] += 1e-6;
+        let mut replay = Replay::new(r.clone());
+        replay.hear(&other);
+        assert!(!replay.verified(), "one sample changed");
+        let mut short = Replay::new(r);
+        short.hear(&x[..999]);
+        assert!(!short.verified(), "one sample missing");
+    }
+
     fn frame(index: u64) -> FeatureFrame {
         FeatureFrame {
             index,
@@ -150,8 +236,8 @@ mod tests {
         for (k, at) in [3u64, 9, 10, 25].into_iter().enumerate() {
             r.push(frame(k as u64), at);
         }
-        r.heard(20, false);
-        r.heard(10, true);
+        r.heard(&[0.5; 20], false);
+        r.heard(&[0.0; 10], true);
         assert_eq!((r.input_samples(), r.samples(), r.frames()), (20, 30, 4));
         for blocks in [vec![30], vec![1, 7, 2, 20], vec![10, 10, 10]] {
             let mut replay = Replay::new(r.clone());
@@ -172,7 +258,7 @@ mod tests {
     #[test]
     fn counts_the_samples_past_the_record() {
         let mut r = AnalysisRecord::default();
-        r.heard(100, false);
+        r.heard(&[0.1; 100], false);
         let mut replay = Replay::new(r);
         assert_eq!(replay.block(0, 64, |_, _| {}), 0);
         assert_eq!(replay.block(64, 64, |_, _| {}), 28);

@@ -283,7 +283,7 @@ impl VoiceLearner {
     /// with `config` at `rate_hz` to replay.
     pub fn recording(config: &EngineConfig, rate_hz: f64) -> Result<Self, EngineError> {
         Ok(Self {
-            record: Some(AnalysisRecord::default()),
+            record: Some(AnalysisRecord::new(rate_hz, config.analysis.frame_rate_hz)),
             ..Self::new(config, rate_hz)?
         })
     }
@@ -335,7 +335,7 @@ impl VoiceLearner {
             self.listener.push(&block[fed..]);
         }
         if let Some(r) = &mut self.record {
-            r.heard(block.len() as u64, tail);
+            r.heard(block, tail);
         }
         self.fed += block.len() as u64;
         Ok(())

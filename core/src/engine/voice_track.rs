@@ -16,7 +16,8 @@ use crate::breathing::reference::ReferenceVoice;
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum BreathVoiceMode {
-    /// The built-in voice ([`ReferenceVoice`], coloured by the channel as the stream goes);
+    /// The built-in voice ([`ReferenceVoice`], coloured by the channel as the stream goes, or
+    /// by the whole input's speech when a learning pass heard it first);
     /// no breath is learned.
     BuiltIn,
     /// Learned from the stream as it goes (the built-in voice until the first breath is
@@ -148,7 +149,7 @@ impl VoiceTrack {
 
     /// The voice breaths take now for `choice`: a fixed one; another take's against the speech
     /// heard so far; the one learned so far; else the built-in voice coloured by the speech
-    /// heard so far, at the default breath level (the user's level moves it as it moves a
+    /// heard so far (the whole stream's, [`VoiceTrack::set_whole`]), at the default breath level (the user's level moves it as it moves a
     /// learned voice's; `None` before any voiced speech, or without a built-in voice: the
     /// procedural sound).
     pub(super) fn current(&self, choice: &VoiceChoice) -> Option<LearnedVoice> {

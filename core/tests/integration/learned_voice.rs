@@ -11,7 +11,7 @@ use pneuma_core::breathing::learned::LearnedVoice;
 use pneuma_core::breathing::third_octave::{
     band_level_db, band_powers, distance_db, mean_shape, shape_db, Bands, BANDS,
 };
-use pneuma_core::engine::voice_learning::learn_voice;
+use pneuma_core::engine::voice_learning::{learn_voice, VoiceLearner};
 use pneuma_core::engine::{offline, BreathVoiceMode, Engine, EngineConfig, VoiceStatus};
 use pneuma_core::head::HeadModel;
 use pneuma_core::BreathEvent;
@@ -394,33 +394,56 @@ fn without_breaths_the_built_in_voice_is_coloured_as_the_channel_colours_the_spe
     };
     let plain = emphasis(&emphasis(&speaker(12.0, false), 0.9), 0.9);
     let tilted = emphasis(&plain, 0.4);
-    let run = |x: &[f32]| {
-        let mut e = stream_engine(BreathVoiceMode::Learn);
-        let out = offline::render(&mut e, std::slice::from_ref(&x.to_vec()), &[1024]);
-        assert_eq!(e.voice_status(), VoiceStatus::Learning { breaths: 0 });
-        let shapes: Vec<Bands> = out
-            .breaths
-            .iter()
-            .map(|b| {
-                let s = added(&out, x, b);
-                shape_db(&band_powers(&s, RATE_HZ))
-            })
-            .collect();
-        assert!(shapes.len() >= 4, "{} breaths", shapes.len());
-        (mean_shape(&shapes), shape_db(&band_powers(x, RATE_HZ)))
-    };
-    let (breath_a, speech_a) = run(&plain);
-    let (breath_b, speech_b) = run(&tilted);
-    let speech_tilt = tilt_db_per_band(&std::array::from_fn(|k| speech_b[k] - speech_a[k]));
-    let breath_tilt = tilt_db_per_band(&std::array::from_fn(|k| breath_b[k] - breath_a[k]));
-    assert!(
-        speech_tilt > 0.3,
-        "the EQ tilts the speech by {speech_tilt:.2} dB/band"
-    );
-    assert!(
+    // As the plugin (coloured by the speech heard so far), and as a whole-file render
+    // (coloured by the whole file's, heard by its learning pass and replayed).
+    for whole_file in [false, true] {
+        let run = |x: &[f32]| {
+            let mut e = if whole_file {
+                let mut e =
+                    Engine::new(config(), HeadModel::default_model().clone()).expect("config");
+                e.set_voice_mode(BreathVoiceMode::BuiltIn);
+                e.prepare(RATE_HZ, 1024, 1).expect("prepare");
+                let mut l = VoiceLearner::recording(&config(), RATE_HZ).expect("config");
+                l.feed(x).expect("prepared");
+                let learned = l.finish().expect("prepared");
+                assert_eq!(learned.voice, None, "no breath to learn");
+                e.replay_analysis(learned.record.expect("recorded"))
+                    .expect("same rates");
+                e
+            } else {
+                stream_engine(BreathVoiceMode::Learn)
+            };
+            let out = offline::render(&mut e, std::slice::from_ref(&x.to_vec()), &[1024]);
+            if whole_file {
+                assert_eq!(e.voice_status(), VoiceStatus::BuiltIn);
+                assert_eq!(e.replay_verified(), Some(true));
+            } else {
+                assert_eq!(e.voice_status(), VoiceStatus::Learning { breaths: 0 });
+            }
+            let shapes: Vec<Bands> = out
+                .breaths
+                .iter()
+                .map(|b| {
+                    let s = added(&out, x, b);
+                    shape_db(&band_powers(&s, RATE_HZ))
+                })
+                .collect();
+            assert!(shapes.len() >= 4, "{} breaths", shapes.len());
+            (mean_shape(&shapes), shape_db(&band_powers(x, RATE_HZ)))
+        };
+        let (breath_a, speech_a) = run(&plain);
+        let (breath_b, speech_b) = run(&tilted);
+        let speech_tilt = tilt_db_per_band(&std::array::from_fn(|k| speech_b[k] - speech_a[k]));
+        let breath_tilt = tilt_db_per_band(&std::array::from_fn(|k| breath_b[k] - breath_a[k]));
+        assert!(
+            speech_tilt > 0.3,
+            "the EQ tilts the speech by {speech_tilt:.2} dB/band"
+        );
+        assert!(
         (breath_tilt - speech_tilt).abs() < 0.1 * speech_tilt.abs() + 0.05,
-        "speech tilted {speech_tilt:.2} dB/band, the breaths {breath_tilt:.2}"
+        "whole file {whole_file}: speech tilted {speech_tilt:.2} dB/band, the breaths {breath_tilt:.2}"
     );
+    }
 }
 
 #[test]

@@ -85,7 +85,7 @@ fn a_replayed_learning_pass_renders_as_analysing_again_for_any_channels_and_part
         );
         for blocks in [vec![1024], vec![37, 512, 3]] {
             let mut e = engine(mode, channels);
-            e.replay_analysis(record.clone());
+            e.replay_analysis(record.clone()).expect("same rates");
             let replayed = offline::render(&mut e, &x, &blocks);
             assert!(
                 replayed.audio == analysed.audio,
@@ -102,6 +102,7 @@ fn a_replayed_learning_pass_renders_as_analysing_again_for_any_channels_and_part
                 "{channels} channels, blocks {blocks:?}: the control frames differ"
             );
             assert!(e.dropped().is_none(), "{:?}", e.dropped());
+            assert_eq!(e.replay_verified(), Some(true));
         }
     }
 }
@@ -111,7 +112,8 @@ fn a_replayed_render_never_allocates() {
     let x = recording(2, 8.0);
     let learned = learn(&x, 4096);
     let mut e = engine(BreathVoiceMode::Fixed(learned.voice.expect("heard")), 2);
-    e.replay_analysis(learned.record.expect("recorded"));
+    e.replay_analysis(learned.record.expect("recorded"))
+        .expect("same rates");
     let (mut left, mut right) = (x[0].clone(), x[1].clone());
     let mut silence = [vec![0.0f32; 1000], vec![0.0f32; 1000]];
     let mut breaths = 0;
@@ -137,14 +139,36 @@ fn an_input_longer_than_the_replayed_analysis_is_counted_not_analysed() {
     let learned = learn(&short, 4096);
     let record = learned.record.expect("recorded");
     let mut e = engine(BreathVoiceMode::BuiltIn, 1);
-    e.replay_analysis(record.clone());
+    e.replay_analysis(record.clone()).expect("same rates");
     offline::render(&mut e, &x, &[1024]);
     let past = e.dropped().unanalysed_samples;
+    assert_eq!(e.replay_verified(), Some(false), "not the samples recorded");
     // The record covers the first half and its tail of silence; the rest was not analysed.
     let expected = x[0].len() as u64 + e.tail_samples() - record.samples();
     assert_eq!(past, expected);
     let mut same = engine(BreathVoiceMode::BuiltIn, 1);
-    same.replay_analysis(record);
+    same.replay_analysis(record).expect("same rates");
     offline::render(&mut same, &short, &[1024]);
     assert_eq!(same.dropped().unanalysed_samples, 0);
+    assert_eq!(same.replay_verified(), Some(true));
+}
+
+#[test]
+fn a_record_of_another_rate_or_other_samples_is_refused() {
+    let x = recording(1, 6.0);
+    let record = learn(&x, 4096).record.expect("recorded");
+    let mut other_rate = Engine::new(config(), HeadModel::default_model().clone()).expect("config");
+    other_rate.prepare(2.0 * RATE_HZ, 1024, 1).expect("prepare");
+    let err = other_rate
+        .replay_analysis(record.clone())
+        .expect_err("another rate");
+    assert!(err.to_string().contains("record it again"), "{err}");
+    // The same length, one sample changed (a file rewritten between the passes).
+    let mut changed = x.clone();
+    changed[0][12_345] += 0.01;
+    let mut e = engine(BreathVoiceMode::BuiltIn, 1);
+    e.replay_analysis(record).expect("same rates");
+    offline::render(&mut e, &changed, &[1024]);
+    assert_eq!(e.dropped().unanalysed_samples, 0);
+    assert_eq!(e.replay_verified(), Some(false));
 }

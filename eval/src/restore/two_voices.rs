@@ -1,11 +1,16 @@
 //! Two voices in one recording (an interview): what a voice learned from both speakers'
 //! breaths is worth to each of them. For every pair of labelled speakers, their breaths pooled
 //! (as a whole-file learner hears an interview), each speaker's breaths are scored against:
-//! - the **blend**: the mean shape of the pooled breaths and their median level under the
-//!   speech (what `LearnedVoice` learns from them);
-//! - the **built-in voice** fitted without either speaker (what a rule that refused to learn
-//!   from disagreeing breaths would fall back on), at the default breath level;
+//! - the **blend**: the mean shape of the pooled breaths but the one scored, and their
+//!   median level under the speech (what `LearnedVoice` learns from them);
+//! - the **built-in voice** fitted without either speaker and coloured by both speakers'
+//!   speech, as the engine plays it (what a rule that refused to learn from disagreeing
+//!   breaths would fall back on), at the default breath level;
 //! - the speaker's **own** other breaths (leave one out: the best a learner could do).
+//!
+//! Shapes: medians over the speakers of a pair, over all pairs (own: over the speakers).
+//! Levels are each clip's against its own speech (two speakers mixed at different levels
+//! were not measured).
 //!
 //! And whether the breaths tell two voices apart at all: the separation [`split`] finds in
 //! each speaker's breaths alone against a pair's pooled ones (two-means from the two shapes
@@ -98,11 +103,13 @@ pub fn split(shapes: &[Bands], side: &mut [bool]) -> Option<Split> {
     })
 }
 
-/// One speaker's breaths: shapes and levels under the clip's speech, dB.
+/// One speaker's breaths: shapes and levels under the clip's speech, dB; and the speaker's
+/// voiced speech's long-term spectrum (the mean of their clips', dB per band).
 #[derive(Default)]
 struct Breaths {
     shapes: Vec<Bands>,
     levels_db: Vec<f64>,
+    ltas: Vec<Bands>,
 }
 
 /// Median distance of each of `shapes` to `to`, dB.
@@ -124,6 +131,7 @@ pub fn report(clips: &[Clip]) -> Result<(f64, f64), String> {
         b.shapes.extend(c.real_shapes.iter().copied());
         b.levels_db
             .extend(c.real_levels_db.iter().map(|l| l - c.speech_db));
+        b.ltas.push(c.speech_ltas_db);
     }
     let speakers: Vec<&str> = by.keys().copied().collect();
     let default_level_db = f64::from(PlacementConfig::default().breath_level_db);
@@ -142,7 +150,6 @@ pub fn report(clips: &[Clip]) -> Result<(f64, f64), String> {
             let pooled: Vec<Bands> = a.shapes.iter().chain(&b.shapes).copied().collect();
             side.resize(side.len().max(pooled.len()), false);
             pooled_sep.extend(split(&pooled, &mut side).map(|x| x.separation));
-            let blend_shape = mean_shape(&pooled);
             let levels: Vec<f64> = a.levels_db.iter().chain(&b.levels_db).copied().collect();
             let blend_level_db = median(&levels);
             let without = reference::fit(
@@ -151,9 +158,30 @@ pub fn report(clips: &[Clip]) -> Result<(f64, f64), String> {
                     .filter(|c| c.speaker != speakers[i] && c.speaker != speakers[j]),
             )
             .ok_or("no other speaker's breath to fit the built-in voice on")?;
-            for x in [a, b] {
-                blend.push(distance_to(&x.shapes, &blend_shape));
-                built_in.push(distance_to(&x.shapes, &without.voice.shape_db));
+            // The built-in voice as the engine plays it: coloured by the interview's speech
+            // (both speakers' long-term spectra).
+            let ltas: Vec<Bands> = a.ltas.iter().chain(&b.ltas).copied().collect();
+            let coloured = without.coloured(&mean_shape(&ltas), 0.0, default_level_db);
+            for (x, other) in [(a, b), (b, a)] {
+                // Each breath against the blend learned from all the others (never from itself).
+                let to_blend: Vec<f64> = x
+                    .shapes
+                    .iter()
+                    .enumerate()
+                    .map(|(k, s)| {
+                        let rest: Vec<Bands> = x
+                            .shapes
+                            .iter()
+                            .enumerate()
+                            .filter(|&(m, _)| m != k)
+                            .map(|(_, t)| *t)
+                            .chain(other.shapes.iter().copied())
+                            .collect();
+                        distance_db(s, &mean_shape(&rest))
+                    })
+                    .collect();
+                blend.push(median(&to_blend));
+                built_in.push(distance_to(&x.shapes, &coloured.shape_db));
                 let own_level = median(&x.levels_db);
                 blend_level.push((blend_level_db - own_level).abs());
                 built_in_level.push((default_level_db - own_level).abs());
