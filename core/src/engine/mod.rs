@@ -44,6 +44,7 @@ mod breath_track;
 mod config;
 mod cycle_track;
 mod delay;
+mod dropped;
 mod gate;
 pub mod offline;
 mod placement;
@@ -55,6 +56,7 @@ pub mod voice_learning;
 mod voice_track;
 
 pub use config::{EngineConfig, EngineError, PlacementConfig, PlacementMode, OFFLINE_LOOKAHEAD_S};
+pub use dropped::Dropped;
 pub use placement::BREATH_LENGTH_SCALE;
 pub use speech_track::SpeechSummary;
 pub use voice_track::{BreathVoiceMode, VoiceStatus};
@@ -71,6 +73,7 @@ use crate::speech::SpeechModel;
 use breath_track::{Block, BreathTrack};
 use cycle_track::CycleTrack;
 use delay::DelayLine;
+use dropped::Lost;
 use gate::InputGate;
 use placement::{EventContext, Placement};
 use replay::{AnalysisRecord, Replay};
@@ -93,38 +96,6 @@ pub(crate) struct Pending {
 
 /// Breaths already in the input kept for [`Engine::take_existing_breaths`].
 const EXISTING_BREATHS_KEPT: usize = 16;
-
-/// What the engine had to drop since the last [`Engine::prepare`], counted so that no loss is
-/// silent. Every count but `breaths` and `unanalysed_samples` stays 0 unless an internal bound
-/// is wrong (debug builds assert it); `breaths` grows when a caller lets more than 64 finished
-/// breaths pile up without [`Engine::take_breaths`], `unanalysed_samples` when a stream runs
-/// past a replayed analysis ([`Engine::replay_analysis`]).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Dropped {
-    /// Feature frames completed in one block beyond the block's frame buffer.
-    pub frames: u64,
-    /// Phrase events beyond three reported at one frame.
-    pub phrase_events: u64,
-    /// Control frames, breath actions and breathing-cycle actions pushed out of full queues.
-    pub scheduled: u64,
-    /// Finished breaths pushed out before [`Engine::take_breaths`] collected them.
-    pub breaths: u64,
-    /// Breaths heard in the input pushed out before [`Engine::take_existing_breaths`]
-    /// collected them.
-    pub existing_breaths: u64,
-    /// Blocks the analysis refused (it is prepared for every block `process` hands it).
-    pub analysis_blocks: u64,
-    /// Samples fed past the end of a replayed analysis ([`Engine::replay_analysis`]): they
-    /// were not analysed (the input was longer than the learning pass heard).
-    pub unanalysed_samples: u64,
-}
-
-impl Dropped {
-    /// True when nothing was dropped.
-    pub fn is_none(&self) -> bool {
-        *self == Self::default()
-    }
-}
 
 /// What [`Engine::set_config`] did with a new configuration.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -210,16 +181,6 @@ impl Timing {
 struct StreamState {
     /// Samples taken in (input timeline) = samples given out (output timeline).
     position: u64,
-}
-
-/// Losses [`Dropped`] reports besides the queues' own counts (kept from `prepare` on, through
-/// `reset`).
-#[derive(Debug, Clone, Copy, Default)]
-struct Lost {
-    frames: u64,
-    phrase_events: u64,
-    analysis_blocks: u64,
-    unanalysed_samples: u64,
 }
 
 /// The streaming engine. See the module docs.

@@ -149,9 +149,9 @@ impl VoiceTrack {
 
     /// The voice breaths take now for `choice`: a fixed one; another take's against the speech
     /// heard so far; the one learned so far; else the built-in voice coloured by the speech
-    /// heard so far (the whole stream's, [`VoiceTrack::set_whole`]), at the default breath level (the user's level moves it as it moves a
-    /// learned voice's; `None` before any voiced speech, or without a built-in voice: the
-    /// procedural sound).
+    /// heard so far (the whole stream's, [`VoiceTrack::set_whole`]), at the default breath
+    /// level (the user's level moves it as it moves a learned voice's; `None` before any
+    /// voiced speech, or without a built-in voice: the procedural sound).
     pub(super) fn current(&self, choice: &VoiceChoice) -> Option<LearnedVoice> {
         let (speech_db, ltas_db) = match &self.whole {
             Some(w) => (w.speech_db, w.ltas_db),
