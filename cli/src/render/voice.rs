@@ -92,6 +92,7 @@ fn learn(
     } else {
         VoiceLearner::new(config, rate_hz)?
     };
+    learner.expect_samples(source.info().frames);
     let (mut interleaved, mut picked) = (Vec::new(), Vec::new());
     while source.read_interleaved(BLOCK_FRAMES, &mut interleaved)? > 0 {
         match pick {

@@ -288,6 +288,16 @@ impl VoiceLearner {
         })
     }
 
+    /// The recording holds `samples` samples (a file's announced length): a recording learner
+    /// makes room for its analysis at once (with the tail) instead of growing it by doubling,
+    /// which at its last step held twice the frames. A hint only: any length is taken.
+    pub fn expect_samples(&mut self, samples: u64) {
+        let tail = self.tail;
+        if let Some(r) = &mut self.record {
+            r.reserve_for(samples + tail);
+        }
+    }
+
     /// Feeds the next mono samples of the recording.
     pub fn feed(&mut self, mono: &[f32]) -> Result<(), EngineError> {
         for block in mono.chunks(BLOCK) {
