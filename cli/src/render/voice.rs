@@ -67,7 +67,7 @@ pub fn mode(
         _ if built_in => None,
         Some(p) => learn(p, None, config, false)?
             .voice
-            .map(|v| v.against_speech_db(heard.speech_db)),
+            .map(|v| v.against_speech_db(heard.speech.speech_db)),
         None => heard.voice,
     };
     Ok(VoicePlan {

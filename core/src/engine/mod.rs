@@ -82,6 +82,15 @@ use speech_track::SpeechTrack;
 use stereo::StereoImage;
 use voice_track::{VoiceChoice, VoiceTrack};
 
+/// A sample as the engine hears it: a non-finite one (NaN, ±∞) as 0.
+pub(crate) fn clean_sample(x: f32) -> f32 {
+    if x.is_finite() {
+        x
+    } else {
+        0.0
+    }
+}
+
 /// Most channels a stream may have.
 pub const MAX_CHANNELS: usize = 8;
 
@@ -674,7 +683,7 @@ impl Stream {
             channels,
         } = block;
         // 1. Clean input into the delay line and the stereo image; mono mix; live input gate.
-        let clean = |x: &f32| if x.is_finite() { *x } else { 0.0 };
+        let clean = |x: &f32| clean_sample(*x);
         for (c, chan) in audio.iter().take(channels).enumerate() {
             let input = &chan[start..start + n];
             self.delay.write(c, base, input.iter().map(clean));

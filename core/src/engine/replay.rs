@@ -29,9 +29,7 @@ pub struct AnalysisRecord {
     /// The samples heard, in order ([`SampleHash`]).
     hash: SampleHash,
     frames: Vec<(FeatureFrame, u64)>,
-    /// Samples of input heard (before the tail).
-    input_samples: u64,
-    /// Samples heard in all: the input and the tail.
+    /// Samples heard in all: the input and its tail of silence.
     samples: u64,
     /// The speech of the whole input as the learning pass heard it.
     speech: WholeSpeech,
@@ -91,12 +89,6 @@ impl AnalysisRecord {
         (self.rate_hz, self.frame_rate_hz)
     }
 
-    /// Samples of input the record was made from (its tail of silence not counted): a render
-    /// that reads another length (the file changed in between) must not replay it.
-    pub fn input_samples(&self) -> u64 {
-        self.input_samples
-    }
-
     /// Samples the record covers: the input and its tail of silence.
     pub fn samples(&self) -> u64 {
         self.samples
@@ -130,14 +122,10 @@ impl AnalysisRecord {
         self.frames.push((frame, at));
     }
 
-    /// More `samples` heard: input ones, or (`tail`) the silence after it.
-    pub(super) fn heard(&mut self, samples: &[f32], tail: bool) {
-        let n = samples.len() as u64;
+    /// More `samples` heard (the input's, then its tail of silence).
+    pub(super) fn heard(&mut self, samples: &[f32]) {
         self.hash.add(samples);
-        self.samples += n;
-        if !tail {
-            self.input_samples += n;
-        }
+        self.samples += samples.len() as u64;
     }
 }
 
@@ -211,7 +199,7 @@ mod tests {
     fn the_hash_knows_the_samples_in_any_partition() {
         let x: Vec<f32> = (0..1000).map(|i| (i as f32 * 0.01).sin()).collect();
         let mut r = AnalysisRecord::new(16_000.0, 100.0);
-        r.heard(&x, false);
+        r.heard(&x);
         for blocks in [vec![1000], vec![3, 500, 497], vec![1; 1000]] {
             let mut replay = Replay::new(r.clone());
             let mut at = 0;
@@ -244,9 +232,9 @@ mod tests {
         for (k, at) in [3u64, 9, 10, 25].into_iter().enumerate() {
             r.push(frame(k as u64), at);
         }
-        r.heard(&[0.5; 20], false);
-        r.heard(&[0.0; 10], true);
-        assert_eq!((r.input_samples(), r.samples(), r.frames()), (20, 30, 4));
+        r.heard(&[0.5; 20]);
+        r.heard(&[0.0; 10]);
+        assert_eq!((r.samples(), r.frames()), (30, 4));
         for blocks in [vec![30], vec![1, 7, 2, 20], vec![10, 10, 10]] {
             let mut replay = Replay::new(r.clone());
             let (mut got, mut base) = (Vec::new(), 0u64);
@@ -266,7 +254,7 @@ mod tests {
     #[test]
     fn counts_the_samples_past_the_record() {
         let mut r = AnalysisRecord::default();
-        r.heard(&[0.1; 100], false);
+        r.heard(&[0.1; 100]);
         let mut replay = Replay::new(r);
         assert_eq!(replay.block(0, 64, |_, _| {}), 0);
         assert_eq!(replay.block(64, 64, |_, _| {}), 28);

@@ -11,7 +11,7 @@
 //! [`MAX_HEARD`]).
 
 use super::replay::{AnalysisRecord, WholeSpeech};
-use super::{EngineConfig, EngineError, Timing};
+use super::{clean_sample, EngineConfig, EngineError, Timing};
 use crate::analysis::{Analyzer, FeatureFrame};
 use crate::breathing::learned::{HeardBreath, LearnScratch, LearnedVoice};
 use crate::breathing::third_octave::{BandAnalyzer, Bands, FloorEstimate, BANDS};
@@ -102,7 +102,7 @@ impl BreathListener {
                 .iter_mut()
                 .zip(&rest[..n])
             {
-                *w = if x.is_finite() { x } else { 0.0 };
+                *w = clean_sample(x);
             }
             self.filled += n;
             self.fed += n as u64;
@@ -188,6 +188,14 @@ impl BreathListener {
         })
     }
 
+    /// The speech heard so far: its long-term spectrum and level.
+    pub fn speech(&self) -> WholeSpeech {
+        WholeSpeech {
+            ltas_db: self.speech_ltas_db(),
+            speech_db: self.speech_db(),
+        }
+    }
+
     /// The room's floor: band powers.
     pub fn floor(&self) -> Bands {
         self.floor.floor()
@@ -253,8 +261,8 @@ pub struct VoiceLearner {
 pub struct Learned {
     /// The voice of the breaths heard (`None`: none was).
     pub voice: Option<LearnedVoice>,
-    /// The median level of the voiced frames, dBFS (NaN without any).
-    pub speech_db: f64,
+    /// The speech of the whole recording (its median voiced level, dBFS: NaN without any).
+    pub speech: WholeSpeech,
     /// The analysis, for a learner made with [`VoiceLearner::recording`].
     pub record: Option<AnalysisRecord>,
 }
@@ -345,7 +353,7 @@ impl VoiceLearner {
             self.listener.push(&block[fed..]);
         }
         if let Some(r) = &mut self.record {
-            r.heard(block, tail);
+            r.heard(block);
         }
         self.fed += block.len() as u64;
         Ok(())
@@ -386,16 +394,13 @@ impl VoiceLearner {
             left -= n as u64;
         }
         let mut scratch = LearnScratch::with_capacity(self.heard.len());
-        let speech = WholeSpeech {
-            ltas_db: self.listener.speech_ltas_db(),
-            speech_db: self.listener.speech_db(),
-        };
+        let speech = self.listener.speech();
         if let Some(r) = &mut self.record {
             r.set_speech(speech);
         }
         Ok(Learned {
             voice: self.listener.learn(&self.heard, &mut scratch),
-            speech_db: speech.speech_db,
+            speech,
             record: self.record,
         })
     }
@@ -417,13 +422,12 @@ impl VoiceLearner {
 /// same samples bit for bit.
 pub fn mix_to_mono(interleaved: &[f32], channels: usize, out: &mut Vec<f32>) {
     let channels = channels.max(1);
-    let clean = |x: f32| if x.is_finite() { x } else { 0.0 };
     let inv = 1.0 / channels as f32;
     out.clear();
     out.extend(interleaved.chunks_exact(channels).map(|frame| {
-        let mut m = clean(frame[0]);
+        let mut m = clean_sample(frame[0]);
         for &x in &frame[1..] {
-            m += clean(x);
+            m += clean_sample(x);
         }
         if channels > 1 {
             m *= inv;

@@ -153,10 +153,8 @@ impl VoiceTrack {
     /// level (the user's level moves it as it moves a learned voice's; `None` before any
     /// voiced speech, or without a built-in voice: the procedural sound).
     pub(super) fn current(&self, choice: &VoiceChoice) -> Option<LearnedVoice> {
-        let (speech_db, ltas_db) = match &self.whole {
-            Some(w) => (w.speech_db, w.ltas_db),
-            None => (self.listener.speech_db(), self.listener.speech_ltas_db()),
-        };
+        let WholeSpeech { ltas_db, speech_db } =
+            self.whole.unwrap_or_else(|| self.listener.speech());
         match (&choice.mode, self.voice) {
             (BreathVoiceMode::Fixed(v), _) => return Some(*v),
             (BreathVoiceMode::Like(v), _) => return Some(v.against_speech_db(speech_db)),

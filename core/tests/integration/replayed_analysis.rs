@@ -75,8 +75,12 @@ fn a_replayed_learning_pass_renders_as_analysing_again_for_any_channels_and_part
         let record = learned
             .record
             .expect("a recording learner keeps its analysis");
-        assert_eq!(record.input_samples(), x[0].len() as u64);
         let mode = BreathVoiceMode::Fixed(voice);
+        assert_eq!(
+            record.samples(),
+            x[0].len() as u64 + engine(mode, channels).tail_samples(),
+            "the input and the engine's tail"
+        );
         let analysed = offline::render(&mut engine(mode, channels), &x, &[1024]);
         assert!(
             analysed.breaths.len() >= 2,

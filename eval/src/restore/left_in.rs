@@ -10,6 +10,7 @@
 use std::collections::BTreeMap;
 
 use super::{Clip, Voice};
+use crate::stats::overlaps;
 
 /// A render of an uncut clip: its inserted breaths and the breaths it heard in the input.
 #[derive(Debug, Clone, Default)]
@@ -51,10 +52,6 @@ impl LeftIn {
     pub fn heard_share(&self) -> f64 {
         self.heard as f64 / self.labelled.max(1) as f64
     }
-}
-
-fn overlaps((a0, a1): (f64, f64), (b0, b1): (f64, f64)) -> bool {
-    a0 < b1 && b0 < a1
 }
 
 /// The figures of one clip's uncut render.
