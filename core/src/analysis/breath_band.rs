@@ -66,6 +66,13 @@ impl BandLevels {
     pub fn low_over_mid_db(&self) -> f32 {
         self.low_db - self.mid_db
     }
+
+    /// The mid and high bands together (0.5–3.5 kHz, where breath noise lies), dBFS: a
+    /// breath's level apart from the hum and rumble that can carry a room's full-band level.
+    pub fn breath_bands_db(&self) -> f32 {
+        let power = |db: f32| 10f64.powf(f64::from(db.clamp(-120.0, 40.0)) / 10.0);
+        (10.0 * (power(self.mid_db) + power(self.high_db)).log10()) as f32
+    }
 }
 
 /// The bins of each band in a power spectrum of a fixed FFT length, with each bin's weight.

@@ -42,6 +42,16 @@ impl FloorBands {
         }
     }
 
+    /// How far the frame's breath bands (mid and high together, 0.5–3.5 kHz) stand over the
+    /// room's, dB (−∞ before the room is learnt).
+    pub(super) fn breath_bands_over_room_db(&self, b: &BandLevels) -> f32 {
+        let room = self.power[1] + self.power[2];
+        if self.learnt == 0 || room <= 0.0 {
+            return f32::NEG_INFINITY;
+        }
+        b.breath_bands_db() - (10.0 * room.log10()) as f32
+    }
+
     /// (high over mid, low over mid) of the frame's band powers with the room's taken out
     /// (never below a tenth of the frame's own power), dB, within ±40 dB so one odd frame
     /// cannot swing a run's mean.

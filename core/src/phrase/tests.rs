@@ -19,12 +19,14 @@ fn frame(index: u64, rms_db: f32, voiced: bool) -> FeatureFrame {
     }
 }
 
-/// Band levels of broadband breath noise at `rms_db`: most energy in the mid band.
+/// Band levels of broadband breath noise at `rms_db`: most energy in the mid band, the high
+/// band 2 dB inside the shipped breath shape's limit.
 fn breathy(rms_db: f32) -> BandLevels {
+    let mid_db = rms_db - 1.5;
     BandLevels {
         low_db: rms_db - 12.0,
-        mid_db: rms_db - 1.5,
-        high_db: rms_db - 6.0,
+        mid_db,
+        high_db: mid_db + PhraseConfig::default().breath_max_high_over_mid_db - 2.0,
     }
 }
 
@@ -138,13 +140,7 @@ fn unvoiced_noise_bursts_do_not_start_phrases_but_count_as_breath() {
 
 /// The pauses' `breath_s` of a script's phrase starts.
 fn breaths_of(script: &[(usize, f32, bool)]) -> Vec<Option<(f64, f64)>> {
-    run(script)
-        .iter()
-        .filter_map(|e| match e {
-            PhraseEvent::Start { pause, .. } => Some(pause.breath_s),
-            _ => None,
-        })
-        .collect()
+    breaths_edited(script, |_, _| {})
 }
 
 #[test]
@@ -180,31 +176,86 @@ fn breaths_with_bands(
     (from, to): (u64, u64),
     bands: impl Fn(f32) -> BandLevels,
 ) -> Vec<Option<(f64, f64)>> {
-    run_edited(script, |i, f| {
+    breaths_edited(script, |i, f| {
         if (from..to).contains(&i) {
             f.bands = bands(f.band_db);
         }
     })
-    .into_iter()
-    .filter_map(|e| match e {
-        PhraseEvent::Start { pause, .. } => Some(pause.breath_s),
-        _ => None,
-    })
-    .collect()
+}
+
+/// The pauses' `breath_s` of a script whose frames `edit` changes (given the frame number).
+fn breaths_edited(
+    script: &[(usize, f32, bool)],
+    edit: impl Fn(u64, &mut FeatureFrame),
+) -> Vec<Option<(f64, f64)>> {
+    run_edited(script, edit)
+        .into_iter()
+        .filter_map(|e| match e {
+            PhraseEvent::Start { pause, .. } => Some(pause.breath_s),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Two phrases at −20 dB (frames 100..200 and 305..405) in a room at `room_db`, with an
+/// unvoiced burst at `burst_db` in the pause between them (frames 240..275).
+fn burst_between_phrases(room_db: f32, burst_db: f32) -> [(usize, f32, bool); 7] {
+    [
+        (100, room_db, false),
+        (100, -20.0, true),
+        (40, room_db, false),
+        (35, burst_db, false),
+        (30, room_db, false),
+        (100, -20.0, true),
+        (50, room_db, false),
+    ]
+}
+
+#[test]
+fn a_breath_over_a_humming_room_is_heard_in_its_own_bands() {
+    // A room whose hum (100-400 Hz) carries its level: a breath adds 20 dB in the mid and
+    // high bands but only 3 dB to the voice-band level, under the 6 dB breath margin.
+    let room = BandLevels {
+        low_db: -50.2,
+        mid_db: -70.0,
+        high_db: -80.0,
+    };
+    let breath = BandLevels {
+        mid_db: -50.0,
+        high_db: -50.0 + PhraseConfig::default().breath_max_high_over_mid_db - 2.0,
+        ..room
+    };
+    let script = burst_between_phrases(-50.0, -47.0);
+    let with = |burst_bands: BandLevels| {
+        breaths_edited(&script, |i, f| {
+            if !f.voiced {
+                f.bands = if (240..275).contains(&i) {
+                    burst_bands
+                } else {
+                    room
+                };
+            }
+        })
+    };
+    let heard = with(breath);
+    assert_eq!(heard.len(), 2, "{heard:?}");
+    let (start_s, end_s) = heard[1].expect("the breath heard over the hum");
+    assert!(
+        (start_s - 2.40).abs() < 0.021 && (end_s - 2.75).abs() < 0.021,
+        "breath at {start_s}..{end_s} s, want 2.40..2.75"
+    );
+    // The same 3 dB rise in the hum's own band alone is the room, not a breath.
+    let louder_hum = BandLevels {
+        low_db: -47.0,
+        ..room
+    };
+    assert_eq!(with(louder_hum)[1], None);
 }
 
 #[test]
 fn a_burst_shaped_like_a_sibilant_or_a_vowel_tail_is_no_breath() {
-    // The breath-like burst of frames 240..275 (22 dB under speech) of the test above.
-    let script = [
-        (100, -70.0, false),
-        (100, -20.0, true),
-        (40, -70.0, false),
-        (35, -48.0, false),
-        (30, -70.0, false),
-        (100, -20.0, true),
-        (50, -70.0, false),
-    ];
+    // A breath-like burst 22 dB under speech.
+    let script = burst_between_phrases(-70.0, -48.0);
     let burst = (240, 275);
     assert!(breaths_with_bands(&script, burst, breathy)[1].is_some());
     // /s/: the high band 10 dB over the mid band.

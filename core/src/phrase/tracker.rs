@@ -88,6 +88,8 @@ pub struct PhraseTracker {
     breath_rules: BreathRules,
     /// Noise floor (minimum statistics).
     floor: NoiseFloor,
+    /// Noise floor of the breath bands alone (minimum statistics, the same window).
+    breath_floor: NoiseFloor,
     /// Weight of one frame in the room's band levels (from [`FLOOR_BAND_TAU_S`]).
     floor_band_weight: f64,
     /// History ring of the last `history.len()` frames.
@@ -120,6 +122,7 @@ impl PhraseTracker {
                 max_low_over_mid_db: config.breath_max_low_over_mid_db,
             },
             floor: NoiseFloor::with_blocks(frames(FLOOR_BLOCK_S) as usize, FLOOR_BLOCKS),
+            breath_floor: NoiseFloor::with_blocks(frames(FLOOR_BLOCK_S) as usize, FLOOR_BLOCKS),
             config,
             frame_rate_hz,
             floor_band_weight: 1.0 / (FLOOR_BAND_TAU_S * frame_rate_hz).max(1.0),
@@ -131,6 +134,7 @@ impl PhraseTracker {
     /// Clears all state (start of a new stream).
     pub fn reset(&mut self) {
         self.floor.reset();
+        self.breath_floor.reset();
         self.history
             .iter_mut()
             .for_each(|f| *f = FrameFacts::default());
@@ -206,16 +210,26 @@ impl PhraseTracker {
             && rms_db > c.silence_db;
         let voiced = frame.voiced && rms_db > c.silence_db;
         let active = voiced || loud;
-        let breath_level = rms_db >= s.floor_db + c.breath_margin_db && rms_db > c.silence_db;
         // The room's own band levels, learnt on frames at the floor, are taken out of the
         // frame's band powers: what is left is the shape of the sound over the room.
+        // A frame whose breath bands stand out over their own running minimum does not teach
+        // the room: where hum carries the full-band level, a breath lies within the full-band
+        // floor's margin and would otherwise be learnt as the room.
+        let breath_bands_db = frame.bands.breath_bands_db();
+        let breath_floor_db = self.breath_floor.update(Some(breath_bands_db));
         if !voiced
             && rms_db <= s.floor_db + FLOOR_BAND_WITHIN_DB
             && rms_db <= speech_level_db - FLOOR_BAND_UNDER_SPEECH_DB
+            && breath_bands_db < breath_floor_db + c.breath_margin_db
         {
             s.floor_bands.learn(&frame.bands, self.floor_band_weight);
         }
         let (high_over_mid_db, low_over_mid_db) = s.floor_bands.excess_shape_db(&frame.bands);
+        // A breath is loud enough over the room in the full band, or in its own bands: where
+        // hum or rumble carries the room's level, a breath adds little to the full band.
+        let breath_level = (rms_db >= s.floor_db + c.breath_margin_db
+            || s.floor_bands.breath_bands_over_room_db(&frame.bands) >= c.breath_margin_db)
+            && rms_db > c.silence_db;
         FrameFacts {
             active,
             over_floor,
