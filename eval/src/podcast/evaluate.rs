@@ -7,7 +7,10 @@
 //!   segments; not a bed's lead-in, which is a pause of the speech under it), those on speech
 //!   (overlapping the clean track's speech truth by more than [`OVERLAP_S`]), and the pauses of
 //!   [`MIN_PAUSE_S`] or more between two phrases of a segment that got a breath (an inserted
-//!   one centred in it, or a real one the engine heard there), by condition.
+//!   one centred in it, or a real one the engine heard there: on a hand-labelled span of a
+//!   Keele or styletalk clip, or anywhere in an unlabelled PTDB clip,
+//!   [`RealBreaths`](super::real_breaths::RealBreaths)), by condition; and the breaths heard
+//!   in labelled clips, on a label or not.
 //! - **Frames**: the engine's frame decision (Silero's segments, each judged by the stacked
 //!   model over its first half second) against the speech truth, per music piece (recall on
 //!   the speech under its beds, speech called on its music and singing) and per class, beside
@@ -27,6 +30,7 @@ use pneuma_core::speech::segments::segments;
 use pneuma_core::speech::{SpanJudge, SpeechAnalysis, SpeechModel};
 
 use super::fit::fit;
+use super::real_breaths::{segment_at, RealBreaths};
 use super::recipe::{self, Class, Condition, Episode};
 use super::sources::{FRAMES_PER_S, HOP, MUSIC, RATE_HZ};
 use super::{analyse, fit_rows, percent, Exclusion, FrameTally};
@@ -47,6 +51,10 @@ pub struct PodcastArgs {
     /// The shared data folder (keele, ptdb, styletalk, music) [default: ../shared/data].
     #[arg(long, value_name = "DIR")]
     pub data: Option<PathBuf>,
+    /// Folder with the breath labels of the Keele and styletalk clips
+    /// [default: assets/labels].
+    #[arg(long, value_name = "DIR")]
+    pub labels: Option<PathBuf>,
     /// Exit non-zero when a held-out target is missed.
     #[arg(long)]
     pub check: bool,
@@ -85,6 +93,9 @@ struct BreathTally {
     near_voicing: usize,
     /// (with a breath, pauses) for clean speech, deep beds, shallow beds, noise.
     pauses: [(usize, usize); 4],
+    /// Breaths the engine heard in labelled clips: (on a labelled real breath, elsewhere), by
+    /// the same kinds.
+    heard: [(usize, usize); 4],
     audio_s: f64,
     wall_s: f64,
 }
@@ -151,6 +162,16 @@ fn overlap_s(a: f64, b: f64, frames: usize, on: impl Fn(usize) -> bool) -> f64 {
         .sum()
 }
 
+/// The index in [`PAUSE_KINDS`] of a segment's `condition`.
+fn kind_of(condition: Condition) -> usize {
+    match condition {
+        Condition::Clean => 0,
+        Condition::Bed(db) if db >= DEEP_BED_DB => 1,
+        Condition::Bed(_) => 2,
+        Condition::Noise(..) => 3,
+    }
+}
+
 /// The pauses of [`MIN_PAUSE_S`] or more between two speech frames of each segment, in label
 /// frames, with the kind of [`PAUSE_KINDS`] their segment's condition gives.
 fn pauses(episode: &Episode) -> Vec<(usize, usize, usize)> {
@@ -158,12 +179,7 @@ fn pauses(episode: &Episode) -> Vec<(usize, usize, usize)> {
     let min = (MIN_PAUSE_S * FRAMES_PER_S).round() as usize;
     let mut out = Vec::new();
     for seg in &episode.segments {
-        let kind = match seg.condition {
-            Condition::Clean => 0,
-            Condition::Bed(db) if db >= DEEP_BED_DB => 1,
-            Condition::Bed(_) => 2,
-            Condition::Noise(..) => 3,
-        };
+        let kind = kind_of(seg.condition);
         let (a, b) = seg.frames;
         let mut last_speech: Option<usize> = None;
         for (k, &speech) in truth.iter().enumerate().take(b).skip(a) {
@@ -201,8 +217,21 @@ fn render(episode: &Episode, mode: Mode, model: &SpeechModel) -> Result<offline:
 }
 
 impl BreathTally {
-    fn add(&mut self, episode: &Episode, out: &offline::Rendered) {
+    fn add(&mut self, episode: &Episode, out: &offline::Rendered, real: &RealBreaths) {
         let l = &episode.labels;
+        // A breath the engine heard is real unless the clip's labels say it is not.
+        let mut heard_real = Vec::new();
+        for &span in &out.existing_breaths {
+            let judged = segment_at(episode, span).and_then(|seg| {
+                let on = real.on_label(seg, span)?;
+                let (yes, no) = &mut self.heard[kind_of(seg.condition)];
+                *if on { yes } else { no } += 1;
+                Some(on)
+            });
+            if judged != Some(false) {
+                heard_real.push(span);
+            }
+        }
         let n = episode.frames();
         let alone = |k: usize, class: Class| {
             l.class[k] == Some(class) && l.role[k].is_some_and(|r| r.stands_alone())
@@ -227,10 +256,7 @@ impl BreathTally {
                 let mid = 0.5 * (br.start_s + br.end_s);
                 mid >= a_s && mid < b_s
             });
-            let real = out
-                .existing_breaths
-                .iter()
-                .any(|&(s, e)| s < b_s && e > a_s);
+            let real = heard_real.iter().any(|&(s, e)| s < b_s && e > a_s);
             self.pauses[kind].0 += usize::from(inserted || real);
             self.pauses[kind].1 += 1;
         }
@@ -330,6 +356,11 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
         tally(&mut frames[2], e, &silero);
     }
 
+    let labels = args
+        .labels
+        .clone()
+        .unwrap_or_else(|| root.join("assets/labels"));
+    let real = RealBreaths::load(&labels)?;
     let mut breaths = [[BreathTally::default(); 2]; 2]; // [mode][held, fitted]
     for (mi, mode) in Mode::ALL.into_iter().enumerate() {
         for (e, m) in episodes.iter().zip(&held_models) {
@@ -338,7 +369,7 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
                 let out =
                     render(e, mode, model).map_err(|err| format!("episode {}: {err}", e.index))?;
                 breaths[mi][which].wall_s += t0.elapsed().as_secs_f64();
-                breaths[mi][which].add(e, &out);
+                breaths[mi][which].add(e, &out, &real);
             }
         }
     }
@@ -389,6 +420,11 @@ fn print_report(episodes: &[Episode], frames: &[FrameTally; 3], breaths: &[[Brea
     for (i, kind) in PAUSE_KINDS.iter().enumerate() {
         row(&format!("pauses >= 0.4 s with a breath, {kind}"), &|t| {
             format!("{}/{}", t.pauses[i].0, t.pauses[i].1)
+        });
+    }
+    for (i, kind) in PAUSE_KINDS.iter().enumerate() {
+        row(&format!("heard breaths on a label / not, {kind}"), &|t| {
+            format!("{}/{}", t.heard[i].0, t.heard[i].1)
         });
     }
     row("render speed, x real time", &|t| {

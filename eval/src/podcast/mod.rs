@@ -9,6 +9,7 @@
 pub mod evaluate;
 pub mod fit;
 pub mod python;
+pub mod real_breaths;
 pub mod recipe;
 pub mod sources;
 

@@ -155,6 +155,8 @@ pub struct SpeakerResult {
     pub extra: usize,
     /// The speaker's real shapes.
     pub real_shapes: Vec<Bands>,
+    /// The speaker's real breath levels, each against its clip's speech level, dB.
+    pub real_levels_re_speech_db: Vec<f64>,
 }
 
 fn load(data: &Path, labels_path: &Path) -> Result<Vec<Clip>, String> {
@@ -374,6 +376,8 @@ fn experiment(
     for clip in clips {
         let r = per.entry(clip.speaker.clone()).or_default();
         r.real_shapes.extend_from_slice(&clip.real_shapes);
+        r.real_levels_re_speech_db
+            .extend(clip.real_levels_db.iter().map(|l| l - clip.speech_db));
         let uncut = &uncut_renders[&(clip.name.clone(), voice)];
         let sets: Vec<Vec<usize>> = match run {
             Run::AllAtOnce => vec![(0..clip.breaths.len()).collect()],
