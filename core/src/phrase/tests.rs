@@ -253,6 +253,61 @@ fn a_breath_over_a_humming_room_is_heard_in_its_own_bands() {
 }
 
 #[test]
+fn a_gated_silence_does_not_teach_the_room_that_it_is_silent() {
+    // A hissing room (its high band carries its level), a pause an editor gated to digital
+    // silence for 3 s, a 3 s phrase, then a pause with a breath over the hiss. The breath
+    // alone sits 2 dB inside the shape limit; with the hiss left in, its high band stands over
+    // its mid band. Had the gated frames taught the room, the room would be 13 dB too quiet
+    // when the breath comes.
+    let room = BandLevels {
+        low_db: -80.0,
+        mid_db: -72.0,
+        high_db: -52.0,
+    };
+    let breath_mid_db = -50.0;
+    let breath_high_db = breath_mid_db + PhraseConfig::default().breath_max_high_over_mid_db - 2.0;
+    let power_sum_db =
+        |a: f32, b: f32| 10.0 * (10f32.powf(a / 10.0) + 10f32.powf(b / 10.0)).log10();
+    let breath_over_room = BandLevels {
+        low_db: power_sum_db(room.low_db, breath_mid_db - 12.0),
+        mid_db: power_sum_db(room.mid_db, breath_mid_db),
+        high_db: power_sum_db(room.high_db, breath_high_db),
+    };
+    let script = [
+        (100, -55.0, false),
+        (100, -20.0, true),
+        (300, -120.0, false), // gated: frames 200..500
+        (300, -20.0, true),
+        (40, -55.0, false),
+        (35, -46.0, false), // the breath: frames 840..875
+        (30, -55.0, false),
+        (100, -20.0, true),
+        (50, -55.0, false),
+    ];
+    let heard = breaths_edited(&script, |i, f| {
+        if f.voiced {
+            return;
+        }
+        f.bands = match i {
+            200..500 => BandLevels {
+                low_db: f32::NEG_INFINITY,
+                mid_db: f32::NEG_INFINITY,
+                high_db: f32::NEG_INFINITY,
+            },
+            840..875 => breath_over_room,
+            _ => room,
+        };
+    });
+    assert_eq!(heard.len(), 3, "{heard:?}");
+    let (start_s, end_s) =
+        heard[2].unwrap_or_else(|| panic!("the breath after the gated pause is heard: {heard:?}"));
+    assert!(
+        (start_s - 8.40).abs() < 0.021 && (end_s - 8.75).abs() < 0.021,
+        "breath at {start_s}..{end_s} s, want 8.40..8.75"
+    );
+}
+
+#[test]
 fn a_burst_shaped_like_a_sibilant_or_a_vowel_tail_is_no_breath() {
     // A breath-like burst 22 dB under speech.
     let script = burst_between_phrases(-70.0, -48.0);

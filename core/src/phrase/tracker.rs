@@ -214,10 +214,14 @@ impl PhraseTracker {
         // frame's band powers: what is left is the shape of the sound over the room.
         // A frame whose breath bands stand out over their own running minimum does not teach
         // the room: where hum carries the full-band level, a breath lies within the full-band
-        // floor's margin and would otherwise be learnt as the room.
+        // floor's margin and would otherwise be learnt as the room. Silence (under the
+        // tracker's silence level: a pause an editor gated, or a room too quiet to colour a
+        // breath) teaches it nothing either: a room learnt as silent from a gated pause
+        // leaves its hiss in the next breath's shape once the sound comes back.
         let breath_bands_db = frame.bands.breath_bands_db();
         let breath_floor_db = self.breath_floor.update(Some(breath_bands_db));
         if !voiced
+            && rms_db > c.silence_db
             && rms_db <= s.floor_db + FLOOR_BAND_WITHIN_DB
             && rms_db <= speech_level_db - FLOOR_BAND_UNDER_SPEECH_DB
             && breath_bands_db < breath_floor_db + c.breath_margin_db

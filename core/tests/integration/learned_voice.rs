@@ -535,17 +535,18 @@ fn learning_resumes_when_switched_on_mid_stream() {
 #[test]
 fn two_voices_in_one_recording_learn_one_voice_between_them() {
     // An interview: two speakers take turns, one breathing darker (300 Hz–3 kHz), one brighter
-    // (1–6 kHz). Pneuma learns one voice from every breath it hears: on the labelled breaths
+    // (800 Hz–5 kHz; a breath with nothing under 1 kHz stands over the shipped breath shape
+    // limit and is not heard in a quiet room). Pneuma learns one voice from every breath it hears: on the labelled breaths
     // of eleven real speakers such a blend lies nearer each speaker's breaths than the
     // built-in voice does, and one speaker's own breaths split as far apart as two speakers'
     // (`pneuma eval restore`, DESIGN.md). The blend lies between the two voices, and its spread
     // covers both.
-    let (dark_hz, bright_hz) = ((300.0, 3000.0), (1000.0, 6000.0));
+    let (dark_hz, bright_hz) = ((300.0, 3000.0), (800.0, 5000.0));
     let learn = |bands: &[(f64, f64)]| {
         let x = signals::phrases_with_breaths_through(RATE_HZ, 24.0, 5, bands);
         learn_voice(&config(), &x, RATE_HZ)
             .expect("settings")
-            .expect("breaths heard")
+            .unwrap_or_else(|| panic!("breaths heard {bands:?}"))
     };
     let (dark, bright, both) = (
         learn(&[dark_hz]),
@@ -558,6 +559,8 @@ fn two_voices_in_one_recording_learn_one_voice_between_them() {
         both.breaths
     );
     let apart = distance_db(&dark.shape_db, &bright.shape_db);
+    eprintln!("DBG {} {} {}", dark.breaths, bright.breaths, both.breaths);
+    eprintln!("DBG {} {} {}", dark.breaths, bright.breaths, both.breaths);
     assert!(apart > 3.0, "the two voices lie {apart:.1} dB apart");
     for (name, one) in [("dark", &dark), ("bright", &bright)] {
         let d = distance_db(&both.shape_db, &one.shape_db);
