@@ -1,7 +1,8 @@
 //! Breaths already in a pause: runs of breath-like frames (unvoiced, over the floor by the
 //! breath margin, not active), judged by their length, their spectral shape over the room and,
-//! when a run starts at the phrase's offset, by rising over its lowest point (a reverberant tail
-//! only falls).
+//! when a run starts at the phrase's offset, by rising over its lowest point, in the voice band or
+//! in the breath's own bands (a reverberant tail only falls; in a room whose hum carries the voice
+//! band's level a breath rises little there, as it adds little to it).
 
 use super::facts::FrameFacts;
 
@@ -29,9 +30,10 @@ struct BreathRun {
     /// The run continues the phrase's decay (it starts at the offset): a reverberant tail
     /// unless its level rises again.
     from_tail: bool,
-    /// Lowest level of the run so far, dBFS.
+    /// Lowest level of the run so far, in the voice band and in the breath bands, dBFS.
     min_db: f32,
-    /// The run's level rose [`BREATH_RISE_DB`] over its lowest point.
+    min_bands_db: f32,
+    /// The run's level rose [`BREATH_RISE_DB`] over its lowest point (in either band).
     rose: bool,
     /// Sums over the run of its frames' high-over-mid and low-over-mid band levels, dB.
     high_sum: f32,
@@ -83,6 +85,7 @@ impl PauseBreaths {
                 run.start = index;
                 run.from_tail = last_offset == Some(index);
                 run.min_db = f.level_db;
+                run.min_bands_db = f.breath_bands_db;
                 run.rose = false;
                 run.high_sum = 0.0;
                 run.low_sum = 0.0;
@@ -91,7 +94,10 @@ impl PauseBreaths {
             run.high_sum += f.high_over_mid_db;
             run.low_sum += f.low_over_mid_db;
             run.min_db = run.min_db.min(f.level_db);
-            if f.level_db >= run.min_db + BREATH_RISE_DB {
+            run.min_bands_db = run.min_bands_db.min(f.breath_bands_db);
+            if f.level_db >= run.min_db + BREATH_RISE_DB
+                || f.breath_bands_db >= run.min_bands_db + BREATH_RISE_DB
+            {
                 run.rose = true;
             }
         } else {

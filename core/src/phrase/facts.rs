@@ -9,6 +9,8 @@ pub(super) struct FrameFacts {
     pub(super) voiced: bool,
     /// The voice-band level the decisions use, dBFS.
     pub(super) level_db: f32,
+    /// The level of the breath's own bands (0.5–3.5 kHz), dBFS.
+    pub(super) breath_bands_db: f32,
     /// Over the floor by `breath_margin_db` (and not silence): loud enough for a breath run.
     pub(super) breath_level: bool,
     /// The frame's high band over its mid band, dB ([`crate::analysis::BandLevels`]).

@@ -253,6 +253,66 @@ fn a_breath_over_a_humming_room_is_heard_in_its_own_bands() {
 }
 
 #[test]
+fn a_breath_right_after_a_tail_rises_in_its_own_bands_over_a_humming_room() {
+    // A room whose hum (100-400 Hz) carries the voice-band level, -50 dBFS. The phrase's tail
+    // falls to the hum in the voice band while its breath bands still stand over the room, and
+    // a breath follows at once: it lifts the voice band 2 dB over the hum (under the 3 dB a
+    // run starting at the offset must rise to be more than a tail) but its own bands 10 dB.
+    let room = BandLevels {
+        low_db: -50.2,
+        mid_db: -70.0,
+        high_db: -80.0,
+    };
+    let tail_mid_db = [-44.0, -50.0, -56.0, -60.0];
+    let script = [
+        (100, -50.0, false),
+        (100, -20.0, true),
+        (5, -42.0, false), // the tail: frames 200..220
+        (5, -46.0, false),
+        (5, -50.0, false),
+        (5, -50.0, false),
+        (35, -48.0, false), // the breath: frames 220..255
+        (30, -50.0, false),
+        (100, -20.0, true),
+        (50, -50.0, false),
+    ];
+    let heard = |breath_mid_db: f32| {
+        breaths_edited(&script, |i, f| {
+            if f.voiced {
+                return;
+            }
+            f.bands = match i {
+                200..220 => {
+                    let mid_db = tail_mid_db[(i as usize - 200) / 5];
+                    BandLevels {
+                        mid_db,
+                        high_db: mid_db - 10.0,
+                        ..room
+                    }
+                }
+                220..255 => BandLevels {
+                    mid_db: breath_mid_db,
+                    high_db: breath_mid_db + PhraseConfig::default().breath_max_high_over_mid_db
+                        - 2.0,
+                    ..room
+                },
+                _ => room,
+            };
+        })
+    };
+    let with_breath = heard(-50.0);
+    assert_eq!(with_breath.len(), 2, "{with_breath:?}");
+    let (start_s, end_s) = with_breath[1]
+        .unwrap_or_else(|| panic!("the breath after the tail is heard: {with_breath:?}"));
+    assert!(
+        (2.0..2.2).contains(&start_s) && (end_s - 2.55).abs() < 0.021,
+        "breath at {start_s}..{end_s} s, want from the offset in the tail to 2.55 s"
+    );
+    // The tail alone, going on falling in its own bands: no breath.
+    assert_eq!(heard(-64.0)[1], None);
+}
+
+#[test]
 fn a_gated_silence_does_not_teach_the_room_that_it_is_silent() {
     // A hissing room (its high band carries its level), a pause an editor gated to digital
     // silence for 3 s, a 3 s phrase, then a pause with a breath over the hiss. The breath

@@ -239,6 +239,7 @@ impl PhraseTracker {
             over_floor,
             voiced,
             level_db: rms_db,
+            breath_bands_db,
             breath_level,
             high_over_mid_db,
             low_over_mid_db,
