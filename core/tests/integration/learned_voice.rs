@@ -559,8 +559,6 @@ fn two_voices_in_one_recording_learn_one_voice_between_them() {
         both.breaths
     );
     let apart = distance_db(&dark.shape_db, &bright.shape_db);
-    eprintln!("DBG {} {} {}", dark.breaths, bright.breaths, both.breaths);
-    eprintln!("DBG {} {} {}", dark.breaths, bright.breaths, both.breaths);
     assert!(apart > 3.0, "the two voices lie {apart:.1} dB apart");
     for (name, one) in [("dark", &dark), ("bright", &bright)] {
         let d = distance_db(&both.shape_db, &one.shape_db);
