@@ -1,6 +1,6 @@
 //! The room's band levels: an exponential average of the breath bands' powers over frames at
-//! the noise floor (never silence, under the tracker's `silence_db`), and the shape of a frame's band powers above them (what tells a breath from
-//! a sibilant, a vowel's tail or rumble).
+//! the noise floor (never silence, under the tracker's `silence_db`), and the shape of a frame's
+//! band powers above them (what tells a breath from a sibilant, a vowel's tail or rumble).
 
 use crate::analysis::BandLevels;
 

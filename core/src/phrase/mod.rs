@@ -19,11 +19,11 @@
 //!   `breath_margin_db` over the floor but are not active (a noise burst well under the speech
 //!   level) and that has a breath's spectral shape: with the room's band levels (an average of
 //!   [`FeatureFrame::bands`] over frames at the floor and over `silence_db`) taken out of each
-//!   frame's band powers,
-//!   the run's mean high-over-mid level is at most `breath_max_high_over_mid_db` (not a
-//!   sibilant) and its low-over-mid at most `breath_max_low_over_mid_db` (not a vowel's tail or
-//!   rumble). A run that starts at the phrase's offset must also rise 3 dB over its lowest
-//!   point, in the voice band or in the breath's own bands (a reverberant tail only falls).
+//!   frame's band powers, the run's mean high-over-mid level is at most
+//!   `breath_max_high_over_mid_db` (not a sibilant) and its low-over-mid at most
+//!   `breath_max_low_over_mid_db` (not a vowel's tail or rumble). A run that starts at the
+//!   phrase's offset must also rise 3 dB over its lowest point, in the voice band or in the
+//!   breath's own bands (a reverberant tail only falls).
 //!
 //! Events are reported when they are certain, with the times they refer to (which lie in the
 //! past): a consumer with lookahead (the engine's delay line) places breaths exactly, a live

@@ -26,8 +26,14 @@ fn breathy(rms_db: f32) -> BandLevels {
     BandLevels {
         low_db: rms_db - 12.0,
         mid_db,
-        high_db: mid_db + PhraseConfig::default().breath_max_high_over_mid_db - 2.0,
+        high_db: breath_high_db(mid_db),
     }
+}
+
+/// The high band of a breath whose mid band is at `mid_db`: 2 dB inside the shipped breath
+/// shape's limit.
+fn breath_high_db(mid_db: f32) -> f32 {
+    mid_db + PhraseConfig::default().breath_max_high_over_mid_db - 2.0
 }
 
 /// Runs a scripted level/voicing sequence at 100 frames/s and collects the start and end
@@ -197,6 +203,18 @@ fn breaths_edited(
         .collect()
 }
 
+/// The pauses' `breath_s` of a script whose unvoiced frames carry `bands(frame number)`.
+fn breaths_with_pause_bands(
+    script: &[(usize, f32, bool)],
+    bands: impl Fn(u64) -> BandLevels,
+) -> Vec<Option<(f64, f64)>> {
+    breaths_edited(script, |i, f| {
+        if !f.voiced {
+            f.bands = bands(i);
+        }
+    })
+}
+
 /// Two phrases at −20 dB (frames 100..200 and 305..405) in a room at `room_db`, with an
 /// unvoiced burst at `burst_db` in the pause between them (frames 240..275).
 fn burst_between_phrases(room_db: f32, burst_db: f32) -> [(usize, f32, bool); 7] {
@@ -222,18 +240,16 @@ fn a_breath_over_a_humming_room_is_heard_in_its_own_bands() {
     };
     let breath = BandLevels {
         mid_db: -50.0,
-        high_db: -50.0 + PhraseConfig::default().breath_max_high_over_mid_db - 2.0,
+        high_db: breath_high_db(-50.0),
         ..room
     };
     let script = burst_between_phrases(-50.0, -47.0);
     let with = |burst_bands: BandLevels| {
-        breaths_edited(&script, |i, f| {
-            if !f.voiced {
-                f.bands = if (240..275).contains(&i) {
-                    burst_bands
-                } else {
-                    room
-                };
+        breaths_with_pause_bands(&script, |i| {
+            if (240..275).contains(&i) {
+                burst_bands
+            } else {
+                room
             }
         })
     };
@@ -277,27 +293,21 @@ fn a_breath_right_after_a_tail_rises_in_its_own_bands_over_a_humming_room() {
         (50, -50.0, false),
     ];
     let heard = |breath_mid_db: f32, breath_low_db: f32| {
-        breaths_edited(&script, |i, f| {
-            if f.voiced {
-                return;
-            }
-            f.bands = match i {
-                200..220 => {
-                    let mid_db = tail_mid_db[(i as usize - 200) / 5];
-                    BandLevels {
-                        mid_db,
-                        high_db: mid_db - 10.0,
-                        ..room
-                    }
+        breaths_with_pause_bands(&script, |i| match i {
+            200..220 => {
+                let mid_db = tail_mid_db[(i as usize - 200) / 5];
+                BandLevels {
+                    mid_db,
+                    high_db: mid_db - 10.0,
+                    ..room
                 }
-                220..255 => BandLevels {
-                    low_db: breath_low_db,
-                    mid_db: breath_mid_db,
-                    high_db: breath_mid_db + PhraseConfig::default().breath_max_high_over_mid_db
-                        - 2.0,
-                },
-                _ => room,
-            };
+            }
+            220..255 => BandLevels {
+                low_db: breath_low_db,
+                mid_db: breath_mid_db,
+                high_db: breath_high_db(breath_mid_db),
+            },
+            _ => room,
         })
     };
     let with_breath = heard(-50.0, room.low_db);
@@ -326,13 +336,12 @@ fn a_gated_silence_does_not_teach_the_room_that_it_is_silent() {
         high_db: -52.0,
     };
     let breath_mid_db = -50.0;
-    let breath_high_db = breath_mid_db + PhraseConfig::default().breath_max_high_over_mid_db - 2.0;
     let power_sum_db =
         |a: f32, b: f32| 10.0 * (10f32.powf(a / 10.0) + 10f32.powf(b / 10.0)).log10();
     let breath_over_room = BandLevels {
         low_db: power_sum_db(room.low_db, breath_mid_db - 12.0),
         mid_db: power_sum_db(room.mid_db, breath_mid_db),
-        high_db: power_sum_db(room.high_db, breath_high_db),
+        high_db: power_sum_db(room.high_db, breath_high_db(breath_mid_db)),
     };
     let script = [
         (100, -55.0, false),
@@ -345,19 +354,10 @@ fn a_gated_silence_does_not_teach_the_room_that_it_is_silent() {
         (100, -20.0, true),
         (50, -55.0, false),
     ];
-    let heard = breaths_edited(&script, |i, f| {
-        if f.voiced {
-            return;
-        }
-        f.bands = match i {
-            200..500 => BandLevels {
-                low_db: f32::NEG_INFINITY,
-                mid_db: f32::NEG_INFINITY,
-                high_db: f32::NEG_INFINITY,
-            },
-            840..875 => breath_over_room,
-            _ => room,
-        };
+    let heard = breaths_with_pause_bands(&script, |i| match i {
+        200..500 => BandLevels::FLOOR,
+        840..875 => breath_over_room,
+        _ => room,
     });
     assert_eq!(heard.len(), 3, "{heard:?}");
     let (start_s, end_s) =

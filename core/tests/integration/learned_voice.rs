@@ -536,11 +536,11 @@ fn learning_resumes_when_switched_on_mid_stream() {
 fn two_voices_in_one_recording_learn_one_voice_between_them() {
     // An interview: two speakers take turns, one breathing darker (300 Hz–3 kHz), one brighter
     // (800 Hz–5 kHz; a breath with nothing under 1 kHz stands over the shipped breath shape
-    // limit and is not heard in a quiet room). Pneuma learns one voice from every breath it hears: on the labelled breaths
-    // of eleven real speakers such a blend lies nearer each speaker's breaths than the
-    // built-in voice does, and one speaker's own breaths split as far apart as two speakers'
-    // (`pneuma eval restore`, DESIGN.md). The blend lies between the two voices, and its spread
-    // covers both.
+    // limit and is not heard in a quiet room). Pneuma learns one voice from every breath it
+    // hears: on the labelled breaths of eleven real speakers such a blend lies nearer each
+    // speaker's breaths than the built-in voice does, and one speaker's own breaths split as far
+    // apart as two speakers' (`pneuma eval restore`, DESIGN.md). The blend lies between the
+    // two voices, and its spread covers both.
     let (dark_hz, bright_hz) = ((300.0, 3000.0), (800.0, 5000.0));
     let learn = |bands: &[(f64, f64)]| {
         let x = signals::phrases_with_breaths_through(RATE_HZ, 24.0, 5, bands);
