@@ -5,7 +5,9 @@
 //! - **Breaths** (from real renders of the mixes): those inside music-only spans, singing and
 //!   noise-only spans standing alone (intros, stings, the sung passage, outros, noise between
 //!   segments; not a bed's lead-in, which is a pause of the speech under it), those on speech
-//!   (overlapping the clean track's speech truth by more than [`OVERLAP_S`]), and the pauses of
+//!   (overlapping the clean track's speech truth by more than [`OVERLAP_S`]), those over a
+//!   labelled clear breath of the input by as much (a second breath on a real one the engine
+//!   did not hear), and the pauses of
 //!   [`MIN_PAUSE_S`] or more between two phrases of a segment that got a breath (an inserted
 //!   one centred in it, or a real one the engine heard there: on a hand-labelled span of a
 //!   Keele or styletalk clip, or anywhere in an unlabelled PTDB clip,
@@ -91,6 +93,8 @@ struct BreathTally {
     /// Those of `on_speech` on truth frames within 80 ms of voicing (the rest are on frames
     /// that are speech by their level alone: within 15 dB of the speech level).
     near_voicing: usize,
+    /// Overlapping a labelled clear breath of the input: a second breath over a real one.
+    on_real_breath: usize,
     /// (with a breath, pauses) for clean speech, deep beds, shallow beds, noise.
     pauses: [(usize, usize); 4],
     /// Breaths the engine heard in labelled clips: (on a labelled real breath, elsewhere), by
@@ -236,6 +240,7 @@ impl BreathTally {
         let alone = |k: usize, class: Class| {
             l.class[k] == Some(class) && l.role[k].is_some_and(|r| r.stands_alone())
         };
+        let real_breath = real.breath_frames(episode);
         for b in &out.breaths {
             self.inserted += 1;
             let (a, e) = (b.start_s, b.end_s);
@@ -245,10 +250,10 @@ impl BreathTally {
                 usize::from(overlap_s(a, e, n, |k| alone(k, Class::Singing)) > OVERLAP_S);
             self.noise +=
                 usize::from(overlap_s(a, e, n, |k| alone(k, Class::NoiseOnly)) > OVERLAP_S);
-            let ov = overlap_s(a, e, n, |k| l.truth[k]);
             let near = |k: usize| l.truth[k] && l.near_voicing[k];
             self.near_voicing += usize::from(overlap_s(a, e, n, near) > OVERLAP_S);
-            self.on_speech += usize::from(ov > OVERLAP_S);
+            self.on_speech += usize::from(overlap_s(a, e, n, |k| l.truth[k]) > OVERLAP_S);
+            self.on_real_breath += usize::from(overlap_s(a, e, n, |k| real_breath[k]) > OVERLAP_S);
         }
         for (a, b, kind) in pauses(episode) {
             let (a_s, b_s) = (a as f64 / FRAMES_PER_S, b as f64 / FRAMES_PER_S);
@@ -416,6 +421,9 @@ fn print_report(episodes: &[Episode], frames: &[FrameTally; 3], breaths: &[[Brea
     row("on speech (> 30 ms)", &|t| t.on_speech.to_string());
     row("  of them within 80 ms of voicing", &|t| {
         t.near_voicing.to_string()
+    });
+    row("over a labelled real breath (> 30 ms)", &|t| {
+        t.on_real_breath.to_string()
     });
     for (i, kind) in PAUSE_KINDS.iter().enumerate() {
         row(&format!("pauses >= 0.4 s with a breath, {kind}"), &|t| {
