@@ -93,8 +93,9 @@ struct BreathTally {
     /// Those of `on_speech` on truth frames within 80 ms of voicing (the rest are on frames
     /// that are speech by their level alone: within 15 dB of the speech level).
     near_voicing: usize,
-    /// Overlapping a labelled clear breath of the input: a second breath over a real one.
-    on_real_breath: usize,
+    /// Overlapping a labelled clear breath of the input (a second breath over a real one), by
+    /// the kinds of [`PAUSE_KINDS`].
+    on_real_breath: [usize; 4],
     /// (with a breath, pauses) for clean speech, deep beds, shallow beds, noise.
     pauses: [(usize, usize); 4],
     /// Breaths the engine heard in labelled clips: (on a labelled real breath, elsewhere), by
@@ -253,7 +254,11 @@ impl BreathTally {
             let near = |k: usize| l.truth[k] && l.near_voicing[k];
             self.near_voicing += usize::from(overlap_s(a, e, n, near) > OVERLAP_S);
             self.on_speech += usize::from(overlap_s(a, e, n, |k| l.truth[k]) > OVERLAP_S);
-            self.on_real_breath += usize::from(overlap_s(a, e, n, |k| real_breath[k]) > OVERLAP_S);
+            if overlap_s(a, e, n, |k| real_breath[k]) > OVERLAP_S {
+                if let Some(seg) = segment_at(episode, (a, e)) {
+                    self.on_real_breath[kind_of(seg.condition)] += 1;
+                }
+            }
         }
         for (a, b, kind) in pauses(episode) {
             let (a_s, b_s) = (a as f64 / FRAMES_PER_S, b as f64 / FRAMES_PER_S);
@@ -422,9 +427,11 @@ fn print_report(episodes: &[Episode], frames: &[FrameTally; 3], breaths: &[[Brea
     row("  of them within 80 ms of voicing", &|t| {
         t.near_voicing.to_string()
     });
-    row("over a labelled real breath (> 30 ms)", &|t| {
-        t.on_real_breath.to_string()
-    });
+    for (i, kind) in PAUSE_KINDS.iter().enumerate() {
+        row(&format!("over a labelled real breath, {kind}"), &|t| {
+            t.on_real_breath[i].to_string()
+        });
+    }
     for (i, kind) in PAUSE_KINDS.iter().enumerate() {
         row(&format!("pauses >= 0.4 s with a breath, {kind}"), &|t| {
             format!("{}/{}", t.pauses[i].0, t.pauses[i].1)
