@@ -63,7 +63,7 @@ impl RealBreaths {
                 continue;
             };
             let (first, end) = (seg.frames.0, seg.frames.1.min(n));
-            for &(a, b, _) in spans.iter().filter(|s| s.2) {
+            for &(a, b, _) in spans.iter().filter(|&&(_, _, clear)| clear) {
                 let fa = first + (a * FRAMES_PER_S).floor().max(0.0) as usize;
                 let fb = (first + (b * FRAMES_PER_S).ceil() as usize).min(end);
                 out[fa.min(fb)..fb].iter_mut().for_each(|f| *f = true);
