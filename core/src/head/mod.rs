@@ -42,6 +42,7 @@ pub mod inputs;
 pub mod metrics;
 pub mod model_file;
 pub mod paper;
+pub mod real_spread;
 pub mod select;
 pub mod smoother;
 pub mod synth;

@@ -28,7 +28,10 @@ use pneuma_core::head::clip_eval::{
 use pneuma_core::head::evaluate::cross_validate;
 use pneuma_core::head::metrics::{motion_stats, MotionStats};
 use pneuma_core::head::paper::{parse_gmm_xml, PaperSynth, PAPER_MODEL_FILES};
-use pneuma_core::head::targets::{judge, judge_silence, judge_voices, Target};
+use pneuma_core::head::real_spread;
+use pneuma_core::head::targets::{
+    judge, judge_silence, judge_voices, Target, CLIP_RATIO, MAX_MEAN_ANGLE_DEG,
+};
 use pneuma_core::head::train::{synthesize_clip, TrainConfig};
 use pneuma_core::head::{HeadConfig, HeadModel, TrainingClip, UnvoicedBehaviour, Variant};
 use pneuma_core::{AnalysisConfig, FeatureFrame};
@@ -352,6 +355,28 @@ fn write_motion(dir: &Path, clips: &[TrainingClip], evals: &[ClipEval]) -> Resul
     Ok(())
 }
 
+/// Prints how often the clips' real motion meets the per-clip SD and posture limits against
+/// one another ([`real_spread`]): the scale for those two targets.
+fn print_real_spread(clips: &[TrainingClip]) {
+    let (axes, pairs) = real_spread::sd_ratios_within(clips);
+    let windows = real_spread::window_means_within(clips);
+    let (lo, hi) = (CLIP_RATIO.start(), CLIP_RATIO.end());
+    println!(
+        "\nreal heads against one another (no model): another clip's real motion has an SD \
+         ratio in ×{lo}–×{hi} on {} of {} (clip, axis) ({:.0} %), on all three axes for {} of \
+         {} clip pairs; windows of other clips' real motion as long as each clip average within \
+         {MAX_MEAN_ANGLE_DEG}° on every axis in {} of {} ({:.0} %)",
+        axes.within,
+        axes.total,
+        100.0 * axes.fraction(),
+        pairs.within,
+        pairs.total,
+        windows.within,
+        windows.total,
+        100.0 * windows.fraction()
+    );
+}
+
 /// Runs `pneuma eval head`; `Ok(true)` when every target was met.
 pub fn run(args: &HeadArgs) -> Result<bool, String> {
     let config = AnalysisConfig {
@@ -464,6 +489,7 @@ pub fn run(args: &HeadArgs) -> Result<bool, String> {
     if let Some(dir) = &args.paper_models {
         paper_report(dir, &clips, args.keele.as_deref(), &config)?;
     }
+    print_real_spread(&clips);
     println!("\ntargets:");
     let mut all = true;
     for t in &targets {

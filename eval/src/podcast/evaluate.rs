@@ -83,7 +83,7 @@ impl Mode {
 }
 
 /// Breath figures of a set of renders.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 struct BreathTally {
     inserted: usize,
     music: usize,
@@ -93,6 +93,8 @@ struct BreathTally {
     /// Those of `on_speech` on truth frames within 80 ms of voicing (the rest are on frames
     /// that are speech by their level alone: within 15 dB of the speech level).
     near_voicing: usize,
+    /// Each breath of `on_speech`: where it lies and which side of it is on speech.
+    on_speech_at: Vec<String>,
     /// Overlapping a labelled clear breath of the input (a second breath over a real one), by
     /// the kinds of [`PAUSE_KINDS`].
     on_real_breath: [usize; 4],
@@ -253,7 +255,26 @@ impl BreathTally {
                 usize::from(overlap_s(a, e, n, |k| alone(k, Class::NoiseOnly)) > OVERLAP_S);
             let near = |k: usize| l.truth[k] && l.near_voicing[k];
             self.near_voicing += usize::from(overlap_s(a, e, n, near) > OVERLAP_S);
-            self.on_speech += usize::from(overlap_s(a, e, n, |k| l.truth[k]) > OVERLAP_S);
+            let on_speech_s = overlap_s(a, e, n, |k| l.truth[k]);
+            if on_speech_s > OVERLAP_S {
+                self.on_speech += 1;
+                let mid = 0.5 * (a + e);
+                let (first, second) = (
+                    overlap_s(a, mid, n, |k| l.truth[k]),
+                    overlap_s(mid, e, n, |k| l.truth[k]),
+                );
+                let side = match (first > 0.0, second > 0.0) {
+                    (true, false) => "its start",
+                    (false, true) => "its end",
+                    _ => "both halves",
+                };
+                let clip = segment_at(episode, (a, e)).map_or("no clip", |g| g.clip.as_str());
+                self.on_speech_at.push(format!(
+                    "episode {} {a:.2}–{e:.2} s ({clip}): {:.0} ms, {side}",
+                    episode.index,
+                    1e3 * on_speech_s
+                ));
+            }
             if overlap_s(a, e, n, |k| real_breath[k]) > OVERLAP_S {
                 if let Some(seg) = segment_at(episode, (a, e)) {
                     self.on_real_breath[kind_of(seg.condition)] += 1;
@@ -371,7 +392,8 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
         .clone()
         .unwrap_or_else(|| root.join("assets/labels"));
     let real = RealBreaths::load(&labels)?;
-    let mut breaths = [[BreathTally::default(); 2]; 2]; // [mode][held, fitted]
+    // [mode][held, fitted]
+    let mut breaths: [[BreathTally; 2]; 2] = std::array::from_fn(|_| Default::default());
     for (mi, mode) in Mode::ALL.into_iter().enumerate() {
         for (e, m) in episodes.iter().zip(&held_models) {
             for (which, model) in [(0, m), (1, shipped)] {
@@ -427,6 +449,11 @@ fn print_report(episodes: &[Episode], frames: &[FrameTally; 3], breaths: &[[Brea
     row("  of them within 80 ms of voicing", &|t| {
         t.near_voicing.to_string()
     });
+    for (mode, t) in Mode::ALL.iter().zip(breaths) {
+        for at in &t[0].on_speech_at {
+            println!("    on speech, {}, held out: {at}", mode.name());
+        }
+    }
     for (i, kind) in PAUSE_KINDS.iter().enumerate() {
         row(&format!("over a labelled real breath, {kind}"), &|t| {
             t.on_real_breath[i].to_string()

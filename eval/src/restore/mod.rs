@@ -142,6 +142,10 @@ pub struct Restored {
     pub shape: Bands,
     /// Its distance to the real breath it replaces, dB.
     pub distance_db: f64,
+    /// Its start minus the real one's (where the cut left it), seconds: positive is later.
+    pub start_offset_s: f64,
+    /// Its end minus the real one's, seconds.
+    pub end_offset_s: f64,
 }
 
 /// What a set of renders gave for one speaker.
@@ -153,6 +157,8 @@ pub struct SpeakerResult {
     pub restored: Vec<Option<Restored>>,
     /// Inserted breaths that put no breath back and are not in the uncut render.
     pub extra: usize,
+    /// The cut breaths nothing put back: clip, labelled span (seconds, uncut clip).
+    pub missed: Vec<(String, (f64, f64))>,
     /// The speaker's real shapes.
     pub real_shapes: Vec<Bands>,
     /// The speaker's real breath levels, each against its clip's speech level, dB.
@@ -322,6 +328,7 @@ fn score(
         result.cut += 1;
         let Some(j) = best else {
             result.restored.push(None);
+            result.missed.push((clip.name.clone(), clip.breaths[i]));
             continue;
         };
         used[j] = true;
@@ -338,6 +345,8 @@ fn score(
             duration_ratio: (b.end_s - b.start_s) / (spans[k].1 - spans[k].0),
             shape,
             distance_db: distance_db(&shape, &clip.real_shapes[i]),
+            start_offset_s: b.start_s - s,
+            end_offset_s: b.end_s - e,
         }));
     }
     let uncut_moved: Vec<(f64, f64)> = uncut_inserted
@@ -460,6 +469,15 @@ channel colouring of the built-in voice (speech tilt against the speakers it was
             r.voice.breaths,
             r.voice.level_re_speech_db
         );
+    }
+}
+
+/// `items` joined by commas, or "none".
+fn none_or_list(items: &[String]) -> String {
+    if items.is_empty() {
+        "none".into()
+    } else {
+        items.join(", ")
     }
 }
 
@@ -598,6 +616,12 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
         println!("\n== {} , {run_name}, {what}", cut.name());
         let overall = print_table(&per);
         if voice == Voice::Learned && run == Run::OneAtATime {
+            let missed: Vec<String> = per
+                .values()
+                .flat_map(|r| &r.missed)
+                .map(|(clip, (a, b))| format!("{clip} {a:.2}–{b:.2} s"))
+                .collect();
+            println!("  not put back: {}", none_or_list(&missed));
             for (name, ok, text) in targets(&overall, cut) {
                 println!(
                     "  target {name}: {text} {}",

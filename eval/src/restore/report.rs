@@ -38,6 +38,10 @@ pub struct Figures {
     pub spread_real_db: f64,
     /// `spread_inserted_db / spread_real_db` (overall: the median over speakers).
     pub spread_ratio: f64,
+    /// Median start of an inserted breath minus the real one's, seconds (positive: later).
+    pub start_offset_s: f64,
+    /// Median end of an inserted breath minus the real one's, seconds.
+    pub end_offset_s: f64,
 }
 
 /// Median distance of each shape to the mean of `shapes`.
@@ -117,6 +121,8 @@ fn figures(r: &SpeakerResult) -> Figures {
         spread_inserted_db: spread_ins,
         spread_real_db: spread_real,
         spread_ratio: spread_ins / spread_real,
+        start_offset_s: median(&back.iter().map(|b| b.start_offset_s).collect::<Vec<_>>()),
+        end_offset_s: median(&back.iter().map(|b| b.end_offset_s).collect::<Vec<_>>()),
     }
 }
 
@@ -157,6 +163,7 @@ pub fn print_table(per: &BTreeMap<String, SpeakerResult>) -> Figures {
         spread_ratios.push(f.spread_ratio);
         all.cut += r.cut;
         all.extra += r.extra;
+        all.missed.extend_from_slice(&r.missed);
         all.restored.extend_from_slice(&r.restored);
         all.real_shapes.extend_from_slice(&r.real_shapes);
     }
@@ -174,6 +181,11 @@ pub fn print_table(per: &BTreeMap<String, SpeakerResult>) -> Figures {
     overall.distance_ratio = median(&dist_ratios);
     overall.spread_ratio = median(&spread_ratios);
     row("all", &overall);
+    println!(
+        "timing, all: inserted breaths start {:+.0} ms and end {:+.0} ms against the real ones they put back (medians; + is later)",
+        1e3 * overall.start_offset_s,
+        1e3 * overall.end_offset_s
+    );
     println!(
         "(level: inserted − real, dB; ±4dB: share within; ±4R: share of pairs of the speaker's real breaths within ±4 dB of each other; dur: duration ratio; dist: shape distance inserted→replaced, dB; real: real↔real, dB; spr I/R: spread of inserted/real shapes, dB; 'all' ratios are medians over speakers)"
     );
