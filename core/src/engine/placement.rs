@@ -36,6 +36,10 @@ use crate::phrase::{Pause, PhraseEvent};
 
 /// Shortest inhalation worth inserting, seconds.
 const MIN_BREATH_S: f64 = 0.12;
+/// A heard breath beside a gated stretch is a cut one's remnant when it is shorter than this
+/// share of the breath the pause would get: a noise gate that opens for a whole breath leaves
+/// digital silence on both sides of it too, and that breath must not be doubled.
+const REMNANT_SHARE: f64 = 0.5;
 /// Prior of a breath group's speech before any group was heard, seconds.
 pub(crate) const PRIOR_GROUP_S: f32 = 2.5;
 /// Weight of the newest group in the running estimate of a group's speech.
@@ -109,12 +113,45 @@ impl Default for Seen {
                 has_breath: false,
                 breath_s: None,
                 last_activity_end_s: None,
+                gated_s: None,
             },
             gains: [1.0; MAX_CHANNELS],
             level_db: PRIOR_SPEECH_LEVEL_DB,
             speech: None,
         }
     }
+}
+
+/// Where the rest of a breath that a cut or a gate split goes back: into the gated stretch
+/// `gated` that touches the heard part `heard` ([`Pause::gated_s`]), after it or before it, as
+/// long as a breath (`want_s`) less the heard part, inside `(after_s, end_limit_s)` and from
+/// `earliest_s` on. `None` when the heard part is a whole breath (at least [`REMNANT_SHARE`]
+/// of `want_s`) or when less than [`MIN_BREATH_S`] fits. All in seconds.
+fn rest_of_cut_breath(
+    heard: (f64, f64),
+    gated: (f64, f64),
+    want_s: f64,
+    (after_s, end_limit_s): (f64, f64),
+    earliest_s: f64,
+) -> Option<(f64, f64)> {
+    let heard_s = heard.1 - heard.0;
+    if heard_s >= REMNANT_SHARE * want_s {
+        return None;
+    }
+    let rest_s = want_s - heard_s;
+    let (start_s, end_s) = if gated.0 >= heard.0 {
+        // The cut began inside the breath: its rest followed the heard part.
+        let start_s = gated.0.max(heard.1).max(earliest_s);
+        (start_s, (start_s + rest_s).min(gated.1).min(end_limit_s))
+    } else {
+        // The cut ended inside the breath: its start came before the heard part.
+        let end_s = gated.1.min(heard.0).min(end_limit_s);
+        (
+            (end_s - rest_s).max(gated.0).max(after_s).max(earliest_s),
+            end_s,
+        )
+    };
+    (end_s - start_s >= MIN_BREATH_S).then_some((start_s, end_s))
 }
 
 /// Length of a full breath, seconds: the breathing parameters' inspiration (scaled by
@@ -508,14 +545,27 @@ impl Placement {
         // Breaths end before the speech, where Silero heard it start if the tracker's onset is
         // late (a soft onset in noise or under a bed).
         let speech_onset_s = ph.speech_onset_s.min(onset_s);
+        let want_s = breath_length_s(inspiration_s, pause_s, volume as f64);
+        let after_s = if pause.leading && pause.last_activity_end_s.is_none() {
+            quiet_from_s
+        } else {
+            quiet_from_s + p.after_offset_s as f64
+        };
+        // A breath heard beside a gated stretch is what a cut or a gate left of a longer one:
+        // the rest goes back into the stretch, beside it (the sound inserted is that part only;
+        // the inspiration covers both).
+        let mut sound = None;
+        if let (true, Some(heard), Some(gated)) = (usable && speech, pause.breath_s, pause.gated_s)
+        {
+            let end_limit_s = speech_onset_s - p.gap_s as f64;
+            sound = rest_of_cut_breath(heard, gated, want_s, (after_s, end_limit_s), earliest_s);
+            window = match (sound, window) {
+                (Some((a, b)), Some((start_s, end_s))) => Some((start_s.min(a), end_s.max(b))),
+                (sound, window) => window.or(sound),
+            };
+        }
         if usable && speech && window.is_none() {
             let end_s = speech_onset_s - p.gap_s as f64;
-            let after_s = if pause.leading && pause.last_activity_end_s.is_none() {
-                quiet_from_s
-            } else {
-                quiet_from_s + p.after_offset_s as f64
-            };
-            let want_s = breath_length_s(inspiration_s, pause_s, volume as f64);
             let start_s = (end_s - want_s).max(after_s).max(earliest_s);
             if end_s - start_s >= MIN_BREATH_S {
                 window = Some((start_s, end_s));
@@ -555,7 +605,8 @@ impl Placement {
                     group_s,
                 },
             ));
-            if p.insert_breaths && !pause.has_breath {
+            if p.insert_breaths && (!pause.has_breath || sound.is_some()) {
+                let (start_s, end_s) = sound.unwrap_or((start_s, end_s));
                 let start = (start_s * rate).round() as u64;
                 let length = ((end_s - start_s) * rate).round() as usize;
                 schedule.breath.insert_sorted((
@@ -573,5 +624,54 @@ impl Placement {
         schedule
             .cycle
             .insert_sorted((onset_s, CycleAction::UtteranceStarts { left_s }));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_rest_of_a_cut_breath_goes_beside_the_heard_part_into_the_gated_stretch() {
+        // A 0.4 s breath wanted; 0.1 s of it heard before (or after) a gated stretch.
+        let limits = (1.05, 1.56);
+        let after = rest_of_cut_breath((1.0, 1.1), (1.1, 1.6), 0.4, limits, 0.0);
+        assert_eq!(
+            after.map(|(a, b)| (round_ms(a), round_ms(b))),
+            Some((1100, 1400))
+        );
+        let before = rest_of_cut_breath((1.5, 1.6), (1.0, 1.5), 0.4, (1.05, 1.7), 0.0);
+        assert_eq!(
+            before.map(|(a, b)| (round_ms(a), round_ms(b))),
+            Some((1200, 1500))
+        );
+        // Bounded by the onset's gap, the phrase's margin and what the output has passed.
+        let late = rest_of_cut_breath((1.0, 1.1), (1.1, 1.6), 0.4, (1.05, 1.3), 0.0);
+        assert_eq!(
+            late.map(|(a, b)| (round_ms(a), round_ms(b))),
+            Some((1100, 1300))
+        );
+        let passed = rest_of_cut_breath((1.0, 1.1), (1.1, 1.6), 0.4, limits, 1.5);
+        assert_eq!(passed, None, "0.06 s left after what was played");
+        // Too little room, no breath.
+        assert_eq!(
+            rest_of_cut_breath((1.0, 1.1), (1.1, 1.2), 0.4, limits, 0.0),
+            None
+        );
+        // A heard part half a breath long or more is a whole breath (a gate that opened for
+        // it): nothing beside it.
+        assert_eq!(
+            rest_of_cut_breath((0.9, 1.1), (1.1, 1.6), 0.4, limits, 0.0),
+            None
+        );
+        let short = rest_of_cut_breath((0.92, 1.1), (1.1, 1.6), 0.4, limits, 0.0);
+        assert_eq!(
+            short.map(|(a, b)| (round_ms(a), round_ms(b))),
+            Some((1100, 1320))
+        );
+    }
+
+    fn round_ms(s: f64) -> i64 {
+        (s * 1000.0).round() as i64
     }
 }

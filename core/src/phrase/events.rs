@@ -20,6 +20,10 @@ pub struct Pause {
     /// word too short to confirm), seconds; `None` when the pause was quiet. Nothing should be
     /// placed over it.
     pub last_activity_end_s: Option<f64>,
+    /// Digital silence touching the heard breath (`breath_s`), after it or else before it: an
+    /// editor's cut or a closed noise gate took the rest of that breath (a recorded room never
+    /// falls that low), seconds; `None` without a heard breath or without such a stretch.
+    pub gated_s: Option<(f64, f64)>,
 }
 
 impl Pause {

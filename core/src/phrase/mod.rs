@@ -41,6 +41,7 @@ mod config;
 mod events;
 mod facts;
 mod floor_bands;
+mod silent_run;
 #[cfg(test)]
 mod tests;
 mod tracker;

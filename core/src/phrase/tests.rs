@@ -485,3 +485,44 @@ fn an_unvoiced_burst_is_speech_only_near_the_speech_level() {
         );
     }
 }
+
+#[test]
+fn a_breath_cut_short_by_digital_silence_reports_the_gated_stretch_beside_it() {
+    // A breath's first 0.15 s (frames 240..255) heard, the rest of the pause gated to digital
+    // silence (frames 255..305) as an editor's cut leaves it.
+    let pauses = |gated_db: f32| -> Vec<Pause> {
+        run(&[
+            (100, -70.0, false),
+            (100, -20.0, true),
+            (40, -70.0, false),
+            (15, -48.0, false),
+            (50, gated_db, false),
+            (100, -20.0, true),
+            (50, -70.0, false),
+        ])
+        .into_iter()
+        .filter_map(|e| match e {
+            PhraseEvent::Start { pause, .. } => Some(pause),
+            _ => None,
+        })
+        .collect()
+    };
+    let cut = pauses(-120.0);
+    assert_eq!(cut.len(), 2, "{cut:?}");
+    let (heard_from_s, heard_to_s) = cut[1].breath_s.expect("the breath's remnant is heard");
+    let (gated_from_s, gated_to_s) = cut[1].gated_s.expect("the gated stretch is reported");
+    assert!(
+        (heard_from_s - 2.40).abs() < 0.021 && (heard_to_s - 2.55).abs() < 0.021,
+        "heard {heard_from_s}..{heard_to_s} s, want 2.40..2.55"
+    );
+    assert!(
+        (gated_from_s - 2.55).abs() < 0.011 && (gated_to_s - 3.05).abs() < 0.011,
+        "gated {gated_from_s}..{gated_to_s} s, want 2.55..3.05"
+    );
+    assert_eq!(cut[0].gated_s, None, "{cut:?}");
+    // A quiet room (a 16-bit file's floor, the tracker's own silence level and under) is no
+    // cut.
+    for room_db in [-70.0, -80.0, -100.0] {
+        assert_eq!(pauses(room_db)[1].gated_s, None, "room at {room_db} dBFS");
+    }
+}

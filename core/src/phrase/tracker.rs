@@ -10,6 +10,7 @@ use super::facts::FrameFacts;
 use super::floor_bands::{
     FloorBands, FLOOR_BAND_TAU_S, FLOOR_BAND_UNDER_SPEECH_DB, FLOOR_BAND_WITHIN_DB,
 };
+use super::silent_run::{SilentRuns, GATED_DB, TOUCH_S};
 use crate::analysis::noise_floor::NoiseFloor;
 use crate::analysis::FeatureFrame;
 
@@ -26,6 +27,8 @@ struct FrameCounts {
     edge: u64,
     offset: u64,
     run_gap: u64,
+    /// [`TOUCH_S`]: a breath run and digital silence this close touch.
+    touch: u64,
 }
 
 /// The phrase being spoken, or the last one.
@@ -63,6 +66,8 @@ struct TrackerState {
     pause_last_active: Option<u64>,
     /// Breath detection inside the current pause.
     breaths: PauseBreaths,
+    /// The current pause's silent stretches.
+    silent: SilentRuns,
 }
 
 impl Default for TrackerState {
@@ -75,6 +80,7 @@ impl Default for TrackerState {
             candidate: Candidate::default(),
             pause_last_active: None,
             breaths: PauseBreaths::default(),
+            silent: SilentRuns::default(),
         }
     }
 }
@@ -115,6 +121,7 @@ impl PhraseTracker {
                 edge: edge_frames,
                 offset: frames(config.offset_extend_s),
                 run_gap: frames(config.run_gap_s),
+                touch: frames(TOUCH_S as f32),
             },
             breath_rules: BreathRules {
                 min_frames: frames(config.breath_min_s) as u32,
@@ -243,6 +250,7 @@ impl PhraseTracker {
             breath_level,
             high_over_mid_db,
             low_over_mid_db,
+            gated: rms_db <= GATED_DB,
         }
     }
 
@@ -273,11 +281,13 @@ impl PhraseTracker {
         s.pause_last_active = None;
         // Breath detection restarts from the offset (frames since are in the ring).
         s.breaths.restart();
+        s.silent.restart();
         for k in offset..=i {
             let f = self.facts(k);
             let s = &mut self.state;
             s.breaths
                 .track(k, f, s.phrase.last_offset, &self.breath_rules);
+            s.silent.track(k, f.gated);
         }
         on_event(PhraseEvent::End {
             onset_s: self.time_s(self.state.phrase.onset),
@@ -288,6 +298,7 @@ impl PhraseTracker {
     /// Frame `i` in a pause: look for a candidate phrase, and for breaths.
     fn in_pause_frame(&mut self, i: u64, f: FrameFacts, on_event: &mut impl FnMut(PhraseEvent)) {
         let s = &mut self.state;
+        s.silent.track(i, f.gated);
         if f.active {
             if s.candidate.start.is_none() {
                 s.candidate.start = Some(i);
@@ -347,6 +358,9 @@ impl PhraseTracker {
             has_breath: breath.is_some(),
             breath_s: breath.map(|(a, b)| (self.time_s(a), self.time_s(b))),
             last_activity_end_s: s.pause_last_active.map(|k| self.time_s(k + 1)),
+            gated_s: breath
+                .and_then(|b| s.silent.beside(b, onset, self.counts.touch))
+                .map(|(a, b)| (self.time_s(a), self.time_s(b))),
         };
         let s = &mut self.state;
         s.phrase.inside = true;

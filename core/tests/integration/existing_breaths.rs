@@ -1,6 +1,7 @@
 //! Breaths already in the input: a breath-like noise burst in a pause between two phrases is
 //! reported by `Engine::take_existing_breaths` with its time, and no breath is inserted over it;
-//! the same phrases with a quiet pause report none.
+//! the same phrases with a quiet pause report none. A burst an editor's cut left short (digital
+//! silence where the rest of it was) gets the rest put back beside it.
 
 use pneuma_core::engine::{offline, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
@@ -108,4 +109,30 @@ fn the_breathing_cycle_breathes_in_with_the_breath_already_there() {
              the breath at {BURST_S:?}"
         );
     }
+}
+
+#[test]
+fn a_breath_cut_short_by_digital_silence_gets_its_rest_put_back_beside_it() {
+    // The burst's first 0.15 s, then the cut: digital silence to the next phrase (the pause is
+    // zeros around the burst in `phrases`).
+    let mut cut = phrases(true);
+    let cut_at = ((BURST_S.0 + 0.15) * RATE_HZ) as usize;
+    cut[cut_at..(BURST_S.1 * RATE_HZ) as usize].fill(0.0);
+    let (existing, inserted) = run(&cut);
+    assert_eq!(existing.len(), 1, "the remnant is heard: {existing:?}");
+    let remnant_end_s = existing[0].1;
+    let beside: Vec<_> = inserted
+        .iter()
+        .filter(|&&(a, b)| a >= 1.6 && b <= 2.5)
+        .collect();
+    assert_eq!(
+        beside.len(),
+        1,
+        "one breath put back in the pause: {inserted:?}"
+    );
+    let (start_s, end_s) = *beside[0];
+    assert!(
+        (start_s - remnant_end_s).abs() < 0.06 && end_s - start_s >= 0.12,
+        "put back at {start_s:.3}..{end_s:.3} s, the remnant ends at {remnant_end_s:.3} s"
+    );
 }
