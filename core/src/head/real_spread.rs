@@ -15,6 +15,7 @@
 //! another this often, a miss there says little about the model.
 
 use super::features::TrainingClip;
+use super::metrics::motion_stats;
 use super::targets::{CLIP_RATIO, MAX_MEAN_ANGLE_DEG};
 
 /// A count out of a total.
@@ -33,19 +34,12 @@ impl Share {
     }
 }
 
-/// Population SD of one axis of `pose`, degrees.
-fn sd_deg(pose: &[[f64; 3]], axis: usize) -> f64 {
-    let n = pose.len().max(1) as f64;
-    let mean = pose.iter().map(|p| p[axis]).sum::<f64>() / n;
-    (pose.iter().map(|p| (p[axis] - mean).powi(2)).sum::<f64>() / n).sqrt()
-}
-
 /// Over every ordered pair of different clips (other, this): (axes whose SD ratio other / this
 /// lies in `CLIP_RATIO`, pairs whose three axes all do).
 pub fn sd_ratios_within(clips: &[TrainingClip]) -> (Share, Share) {
     let sds: Vec<[f64; 3]> = clips
         .iter()
-        .map(|c| [0, 1, 2].map(|k| sd_deg(&c.pose_deg, k)))
+        .map(|c| motion_stats(&c.pose_deg, c.frame_rate_hz).sd_deg)
         .collect();
     let (mut axes, mut pairs) = (Share::default(), Share::default());
     for (i, this) in sds.iter().enumerate() {
