@@ -1,7 +1,9 @@
 //! Throughput of the whole engine per instance (analysis, phrase tracking, breathing cycle,
 //! breath sound, head pose, delay line) on 10 s of phrases with pauses, at 48 kHz with
 //! 64-sample blocks (the plugin case, mono and stereo) and 512-sample blocks, in lookahead and
-//! live mode. Multiples of real time = 10 s / time per iteration.
+//! live mode. Multiples of real time = 10 s / time per iteration. Also the cost of
+//! [`Engine::prepare`] at 48, 192 and 768 kHz: a plugin prepares an engine at every activation
+//! and every structural change, so it must not grow with the rate.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use pneuma_core::engine::{Engine, EngineConfig, PlacementMode};
@@ -54,5 +56,18 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
+fn prepare(c: &mut Criterion) {
+    let mut group = c.benchmark_group("engine_prepare");
+    group.sample_size(10);
+    let mut engine =
+        Engine::new(EngineConfig::default(), HeadModel::default_model().clone()).expect("config");
+    for rate in [48_000.0, 192_000.0, 768_000.0] {
+        group.bench_function(BenchmarkId::from_parameter(rate), |b| {
+            b.iter(|| engine.prepare(rate, 512, 2).expect("prepare"))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench, prepare);
 criterion_main!(benches);

@@ -65,14 +65,36 @@ impl Biquad {
         self.z1 = 0.0;
         self.z2 = 0.0;
     }
-    /// Power gain |H|² at `w` radians per sample.
-    pub(super) fn power_gain(&self, w: f64) -> f64 {
-        let (c1, s1, c2, s2) = (w.cos(), w.sin(), (2.0 * w).cos(), (2.0 * w).sin());
+    /// Power gain |H|² at the frequency of `p` (computed once for a bank of filters).
+    pub(super) fn power_gain_at(&self, p: &Phasor) -> f64 {
+        let Phasor { c1, s1, c2, s2 } = *p;
         let num =
             (self.b0 + self.b1 * c1 + self.b2 * c2).powi(2) + (self.b1 * s1 + self.b2 * s2).powi(2);
         let den =
             (1.0 + self.a1 * c1 + self.a2 * c2).powi(2) + (self.a1 * s1 + self.a2 * s2).powi(2);
         num / den
+    }
+}
+
+/// cos and sin of `w` and `2w` at one frequency `w` (radians per sample): what
+/// [`Biquad::power_gain_at`] needs, so a bank of filters shares one set of sines.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Phasor {
+    c1: f64,
+    s1: f64,
+    c2: f64,
+    s2: f64,
+}
+
+impl Phasor {
+    /// The phasor at `w` radians per sample.
+    pub(super) fn at(w: f64) -> Self {
+        Self {
+            c1: w.cos(),
+            s1: w.sin(),
+            c2: (2.0 * w).cos(),
+            s2: (2.0 * w).sin(),
+        }
     }
 }
 

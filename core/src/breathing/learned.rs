@@ -33,7 +33,7 @@
 
 use std::f64::consts::PI;
 
-use super::filters::{Biquad, BUTTER4_Q, HIGHPASS_HZ, LOWPASS_HZ};
+use super::filters::{Biquad, Phasor, BUTTER4_Q, HIGHPASS_HZ, LOWPASS_HZ};
 use super::third_octave::{
     band_edge_ratio, band_level_db, band_of, frame_len, shape_db, without_floor, Bands, BANDS,
     BAND_CENTRES_HZ,
@@ -228,9 +228,9 @@ fn hann_power(d: f64) -> f64 {
     (0.5 * sinc(d) + 0.25 * sinc(d - 1.0) + 0.25 * sinc(d + 1.0)).powi(2) / 0.25
 }
 
-/// Power gain of the 4th-order band limits at `w` rad/sample.
-fn post_power(post: &[Biquad; 4], w: f64) -> f64 {
-    post.iter().map(|b| b.power_gain(w)).product()
+/// Power gain of the 4th-order band limits at the frequency of `p`.
+fn post_power(post: &[Biquad; 4], p: &Phasor) -> f64 {
+    post.iter().map(|b| b.power_gain_at(p)).product()
 }
 
 /// The sound drawn from a [`LearnedVoice`] (see the module docs).
@@ -313,7 +313,11 @@ impl LearnedSound {
             })
             .collect();
         let kernel_sum: f64 = kernel.iter().map(|(_, p)| p).sum();
-        for k in 0..=frame / 2 {
+        // Only the bins inside the bands count: the cost stays the same at every rate. One
+        // phasor per frequency serves the band limits and every band's filter.
+        let lowest = (BAND_CENTRES_HZ[0] / edge / bin_hz).floor() as usize;
+        let highest = (BAND_CENTRES_HZ[BANDS - 1] * edge / bin_hz).ceil() as usize;
+        for k in lowest..=highest.min(frame / 2) {
             let Some(i) = band_of(k as f64 * bin_hz) else {
                 continue;
             };
@@ -322,9 +326,10 @@ impl LearnedSound {
                 if !(0.0..=0.5 * fs).contains(&hz) {
                     continue;
                 }
-                let post = post_power(&self.post, w_of(hz));
+                let at = Phasor::at(w_of(hz));
+                let post = post_power(&self.post, &at);
                 for j in 0..BANDS {
-                    self.response[i][j] += self.bank[j].power_gain(w_of(hz)) * post * weight
+                    self.response[i][j] += self.bank[j].power_gain_at(&at) * post * weight
                         / kernel_sum
                         * bin_hz
                         * density;
@@ -332,12 +337,16 @@ impl LearnedSound {
             }
         }
         let df = 0.5 * fs / STEPS_TOTAL as f64;
+        let steps: Vec<(Phasor, f64)> = (0..STEPS_TOTAL)
+            .map(|s| {
+                let at = Phasor::at(w_of((s as f64 + 0.5) * df));
+                (at, post_power(&self.post, &at))
+            })
+            .collect();
         for j in 0..BANDS {
-            self.total[j] = (0..STEPS_TOTAL)
-                .map(|s| {
-                    let w = w_of((s as f64 + 0.5) * df);
-                    self.bank[j].power_gain(w) * post_power(&self.post, w)
-                })
+            self.total[j] = steps
+                .iter()
+                .map(|(at, post)| self.bank[j].power_gain_at(at) * post)
                 .sum::<f64>()
                 * df
                 * density;
