@@ -45,9 +45,12 @@ rm -rf "$PNEUMA_ARDOUR_SESSION" "$PNEUMA_ARDOUR_OUT"
 mkdir -p "$PNEUMA_ARDOUR_OUT"
 # The reference CLAP host loads the same release build Ardour plays (tests/src/bundle.rs).
 export PNEUMA_CLAP="${PNEUMA_CLAP:-$root/target/bundled/Pneuma.clap}"
+# The workspace's default members, as the test command builds them: `-p pneuma-tests` alone
+# would resolve the dependencies' features for that package and recompile them (a minute in
+# CI). The other members' `integration` binaries hold no `ardour::` test and run none.
 check() {
-  PNEUMA_ARDOUR_OUT="$PNEUMA_ARDOUR_OUT" cargo test --quiet -p pneuma-tests --test integration -- \
-    --ignored --exact "ardour::$1" --nocapture
+  PNEUMA_ARDOUR_OUT="$PNEUMA_ARDOUR_OUT" cargo test --quiet --manifest-path "$root/Cargo.toml" \
+    --test integration -- --ignored --exact "ardour::$1" --nocapture
 }
 lua() {
   # ardour7-lua exits 0 after a Lua error: the scripts print a marker, checked here.

@@ -46,7 +46,8 @@ pub(crate) struct Args {
     /// ones included) instead of the held-out one; both are printed either way.
     #[arg(long)]
     pub(crate) judge_fitted: bool,
-    /// Skip the `pitch-detection` baselines (faster while tuning; `--check` needs them).
+    /// Skip the `pitch-detection` baselines (faster; `--check` on PTDB-style data needs them,
+    /// the clean-data targets compare with Praat only).
     #[arg(long)]
     pub(crate) no_baselines: bool,
     /// Evaluate clean data sets (no noise in their clip names) without the generated noise.
