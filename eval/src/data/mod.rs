@@ -167,6 +167,22 @@ pub fn analyse_file(path: &Path, config: &AnalysisConfig) -> Result<Vec<FeatureF
     Ok(analyse(&samples, f64::from(rate), config)?)
 }
 
+/// Writes `audio` at `rate_hz` to `path` as a mono 32-bit float WAV; the error names the file.
+pub fn write_mono_wav(path: &Path, audio: &[f32], rate_hz: u32) -> Result<(), String> {
+    let spec = hound::WavSpec {
+        channels: 1,
+        sample_rate: rate_hz,
+        bits_per_sample: 32,
+        sample_format: hound::SampleFormat::Float,
+    };
+    let err = |e: hound::Error| format!("{}: {e}", path.display());
+    let mut w = hound::WavWriter::create(path, spec).map_err(err)?;
+    for &x in audio {
+        w.write_sample(x).map_err(err)?;
+    }
+    w.finalize().map_err(err)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -293,17 +293,6 @@ pub(crate) fn write_scratch_wav(
     rate: u32,
 ) -> Result<PathBuf, String> {
     let path = scratch.join("generated.wav");
-    let spec = hound::WavSpec {
-        channels: 1,
-        sample_rate: rate,
-        bits_per_sample: 32,
-        sample_format: hound::SampleFormat::Float,
-    };
-    let err = |e: hound::Error| format!("{}: {e}", path.display());
-    let mut w = hound::WavWriter::create(&path, spec).map_err(err)?;
-    for &x in audio {
-        w.write_sample(x).map_err(err)?;
-    }
-    w.finalize().map_err(err)?;
+    crate::data::write_mono_wav(&path, audio, rate)?;
     Ok(path)
 }

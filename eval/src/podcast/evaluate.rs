@@ -60,6 +60,10 @@ pub struct PodcastArgs {
     /// Exit non-zero when a held-out target is missed.
     #[arg(long)]
     pub check: bool,
+    /// Also write the episodes here (the mix, the speech alone, the labels per 10 ms frame),
+    /// to listen to and to render with `pneuma render`; outside the repository.
+    #[arg(long, value_name = "DIR")]
+    pub write: Option<PathBuf>,
 }
 
 /// How a render places breaths.
@@ -375,6 +379,14 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
         .clone()
         .unwrap_or_else(|| root.join("../shared/data"));
     let (mut worker, episodes) = super::episodes_with_worker(&root, &data, &["onnxruntime"])?;
+    let labels = args
+        .labels
+        .clone()
+        .unwrap_or_else(|| root.join("assets/labels"));
+    let real = RealBreaths::load(&labels)?;
+    if let Some(dir) = &args.write {
+        super::export::write_episodes(dir, &episodes, &real)?;
+    }
     let shipped = SpeechModel::shipped();
     let analysed = episodes
         .iter()
@@ -395,11 +407,6 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
         tally(&mut frames[2], e, &silero);
     }
 
-    let labels = args
-        .labels
-        .clone()
-        .unwrap_or_else(|| root.join("assets/labels"));
-    let real = RealBreaths::load(&labels)?;
     // [mode][held, fitted]
     let mut breaths: [[BreathTally; 2]; 2] = std::array::from_fn(|_| Default::default());
     for (mi, mode) in Mode::ALL.into_iter().enumerate() {

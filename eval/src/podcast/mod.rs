@@ -1,12 +1,14 @@
 //! The podcast material of issue 30: the seeded recipe of episodes from `../shared/data`
 //! ([`recipe`], [`sources`]), the Python baselines ([`python`]), the stacked model's fit
-//! ([`fit`]), which frames a model may be fitted on, and `pneuma eval podcast` ([`evaluate`]).
+//! ([`fit`]), which frames a model may be fitted on, and `pneuma eval podcast` ([`evaluate`];
+//! its episodes as files: [`export`]).
 //!
 //! **Held out** means: an episode is judged by a model fitted without any frame of the music
 //! pieces it holds, of its noise type and of its speakers (and without the episode itself).
 //! The sung piece is never fitted on, by any model.
 
 pub mod evaluate;
+pub mod export;
 pub mod fit;
 pub mod python;
 pub mod real_breaths;
