@@ -274,11 +274,7 @@ impl BreathTally {
                 };
                 let clip = segment_at(episode, (a, e)).map_or("no clip".to_string(), |g| {
                     let at_s = g.frames.0 as f64 / FRAMES_PER_S;
-                    let condition = match g.condition {
-                        Condition::Clean => "clean".to_string(),
-                        Condition::Bed(db) => format!("bed {db:.0} dB down"),
-                        Condition::Noise(noise, snr) => format!("{} {snr:.0} dB", noise.name()),
-                    };
+                    let condition = g.condition.describe();
                     format!("{} {:.2}–{:.2} s, {condition}", g.clip, a - at_s, e - at_s)
                 });
                 self.on_speech_at.push(format!(

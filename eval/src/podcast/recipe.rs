@@ -178,6 +178,17 @@ pub enum Condition {
     Noise(Noise, f64),
 }
 
+impl Condition {
+    /// Its description in reports: `clean`, `bed 24 dB down`, `pink 18 dB`.
+    pub fn describe(self) -> String {
+        match self {
+            Condition::Clean => "clean".to_string(),
+            Condition::Bed(db) => format!("bed {db:.0} dB down"),
+            Condition::Noise(noise, snr) => format!("{} {snr:.0} dB", noise.name()),
+        }
+    }
+}
+
 /// One speech segment of an episode.
 #[derive(Debug, Clone)]
 pub struct Segment {

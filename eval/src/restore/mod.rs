@@ -127,6 +127,12 @@ impl Voice {
     }
 }
 
+/// A row `--judged-only` keeps: a judged voice, but not the voice learned from a file with every
+/// breath cut (a row of earlier work).
+fn is_judged_row(run: Run, voice: Voice) -> bool {
+    voice.is_judged() && (run, voice) != (Run::AllAtOnce, Voice::Learned)
+}
+
 /// One labelled clip.
 pub struct Clip {
     name: String,
@@ -627,9 +633,7 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
     let mut all_met = true;
     let mut shipped_length = None;
     for (cut, run, voice, what) in plan {
-        if args.judged_only
-            && !(voice.is_judged() && (run, voice) != (Run::AllAtOnce, Voice::Learned))
-        {
+        if args.judged_only && !is_judged_row(run, voice) {
             continue;
         }
         let per = experiment(&config, &clips, cut, run, voice, &uncut, &held_out)?;
