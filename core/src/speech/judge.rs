@@ -1,10 +1,10 @@
-//! Judging a span of sound as speech: the mean speech probability (the stacked model's) of its
-//! first [`JUDGE_WINDOW_S`], against the model's threshold. One rule for the two kinds of span
-//! the engine judges: the phrase tracker's phrases (where breaths go) and Silero's segments
-//! (the frame decision it reports).
+//! Judging a span of sound as speech: the mean speech probability (the stacked model's) of a
+//! window of [`JUDGE_WINDOW_S`], against the model's threshold. The phrase tracker's phrases
+//! (where breaths go) are judged by their first window ([`SpanJudge`]); Silero's segments (the
+//! frame decision) are speech from their first window that is ([`speech_from`]).
 //!
-//! The first half second, not the whole span: the tracker merges a music lead-in with the
-//! speech after it into one phrase, and speech shows itself within a syllable or two.
+//! A half second, not the whole span: the tracker merges a music lead-in with the speech after
+//! it into one phrase, and speech shows itself within a syllable or two.
 
 /// How much of a span's start is judged, seconds.
 pub const JUDGE_WINDOW_S: f64 = 0.5;
@@ -73,6 +73,41 @@ impl SpanJudge {
     }
 }
 
+/// Where the span `[start_s, end_s)` becomes speech: the start of its first window of
+/// [`JUDGE_WINDOW_S`] (cut at `end_s`) whose mean probability reaches `threshold`, the windows
+/// starting at `start_s` and at each frame of the span after it; `None` when none does.
+/// `frames`: `(time_s, p)` in time order. Speech that follows a music or noise lead-in inside
+/// one span is speech from where it shows itself, not vetoed with the lead-in; a span whose
+/// first window is speech is speech from its start.
+pub fn speech_from(
+    frames: impl Iterator<Item = (f64, f32)> + Clone,
+    start_s: f64,
+    end_s: f64,
+    threshold: f32,
+) -> Option<f64> {
+    let starts = std::iter::once(start_s).chain(
+        frames
+            .clone()
+            .map(|(t, _)| t)
+            .filter(move |&t| t > start_s && t < end_s),
+    );
+    for w in starts {
+        let mut judge = SpanJudge::new(w);
+        let window = frames
+            .clone()
+            .skip_while(|&(t, _)| t < w)
+            .take_while(|&(t, _)| t < end_s.min(w + JUDGE_WINDOW_S));
+        for (t, p) in window {
+            judge.add(t, p);
+        }
+        judge.close();
+        if judge.is_speech(threshold) == Some(true) {
+            return Some(w);
+        }
+    }
+    None
+}
+
 /// The last frames' speech probabilities (a ring, allocated once), so that a span reported
 /// after its start (a phrase onset is confirmed tens of milliseconds late, a Silero segment
 /// a chunk late) is judged from its start.
@@ -109,7 +144,7 @@ impl RecentSpeech {
     }
 
     /// The kept frames, oldest first.
-    pub fn iter(&self) -> impl Iterator<Item = (f64, f32)> + '_ {
+    pub fn iter(&self) -> impl Iterator<Item = (f64, f32)> + Clone + '_ {
         let n = self.ring.len();
         (0..self.len).map(move |k| self.ring[(self.next + n - self.len + k) % n])
     }

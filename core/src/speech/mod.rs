@@ -12,10 +12,11 @@
 //!   and singing Silero takes for speech.
 //! - [`detector`]: the three together, fed the stream's mono samples and its analysis frames:
 //!   a [`SpeechFrame`] per frame.
-//! - [`judge`]: a span of sound (a tracker phrase, a Silero segment) is speech when the mean
-//!   speech probability of its first half second reaches the model's threshold.
+//! - [`judge`]: a tracker phrase is speech when the mean speech probability of its first half
+//!   second reaches the model's threshold; a Silero segment is speech from its first half
+//!   second that does.
 //! - [`segments`]: Silero's segments (the package's hysteresis) judged that way: the frame
-//!   decision the engine reports.
+//!   decision `pneuma eval podcast` scores.
 //!
 //! Everything is causal, allocation-free after `new`, and depends on the sample sequence only
 //! (chunk boundaries count from the stream start), so any block partition gives the same
@@ -31,7 +32,7 @@ pub mod silero;
 pub mod weights;
 
 pub use detector::{SpeechDetector, SpeechFrame};
-pub use judge::{RecentSpeech, SpanJudge, JUDGE_WINDOW_S};
+pub use judge::{speech_from, RecentSpeech, SpanJudge, JUDGE_WINDOW_S};
 pub use model::{SpeechFeatures, SpeechModel, SpeechModelError, SPEECH_FEATURES};
 pub use segments::SegmentTrack;
 

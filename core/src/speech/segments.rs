@@ -1,4 +1,4 @@
-//! Silero's speech segments and the frame decision the engine reports.
+//! Silero's speech segments and the frame decision judged on them.
 //!
 //! [`Hysteresis`] is the rule of the `silero-vad` package's `get_speech_timestamps` (version
 //! 6.2.3, its defaults) on the chunk probabilities, step by step: a segment starts at the first
@@ -8,9 +8,13 @@
 //! is split between its two segments). [`segments`] is the same rule on a whole signal (the
 //! evaluation's Silero baseline); [`SegmentTrack`] follows it on a stream and judges each
 //! segment by the stacked model ([`judge`](super::judge)): a frame is **speech** when it lies in
-//! a segment whose first half second the model calls speech.
+//! a segment at or after the start of the segment's first half-second window the model calls
+//! speech ([`speech_from`]; a segment whose first window is speech keeps its padding before
+//! it). Silero joins a music or noise lead-in and the speech right after it into one segment:
+//! the lead-in does not veto the speech. The podcast evaluation scores this decision
+//! (offline, through [`speech_from`]); the engine itself judges the tracker's phrases.
 
-use super::judge::{RecentSpeech, SpanJudge, JUDGE_WINDOW_S};
+use super::judge::{speech_from, RecentSpeech, JUDGE_WINDOW_S};
 use super::silero::{CHUNK, SILERO_RATE_HZ};
 
 /// Probability that starts (or keeps) a segment.
@@ -136,31 +140,40 @@ struct Tracked {
     start_s: f64,
     /// `None` while it lasts.
     end_s: Option<f64>,
-    judge: SpanJudge,
+    /// The start of the next window to judge while none has been called speech.
+    next_window_s: f64,
+    /// Where the segment is speech from ([`speech_from`]), once a window has been called speech.
+    speech_from_s: Option<f64>,
 }
 
 /// Segments kept for frames still to be decided.
 const KEPT_SEGMENTS: usize = 32;
-/// Frames kept to judge a segment from its start (it is known a chunk late), seconds.
+/// Frames kept to judge a segment's windows (its start is known a chunk late, its end after
+/// [`MIN_SILENCE_S`] of quiet and a chunk), seconds.
 const RECENT_S: f64 = 1.0;
 
 /// Silero's segments on a stream, each judged by the stacked model. See the module docs.
 /// Allocation-free after `new`.
 #[derive(Debug, Clone)]
 pub struct SegmentTrack {
+    threshold: f32,
     hysteresis: Hysteresis,
     /// Newest last; at most [`KEPT_SEGMENTS`].
     segments: Vec<Tracked>,
     recent: RecentSpeech,
+    /// The time of the last frame heard.
+    latest_s: Option<f64>,
 }
 
 impl SegmentTrack {
-    /// A track for frames at `frame_rate_hz`. Allocates.
-    pub fn new(frame_rate_hz: f64) -> Self {
+    /// A track for frames at `frame_rate_hz` judging with the model's `threshold`. Allocates.
+    pub fn new(frame_rate_hz: f64, threshold: f32) -> Self {
         Self {
+            threshold,
             hysteresis: Hysteresis::default(),
             segments: Vec::with_capacity(KEPT_SEGMENTS),
             recent: RecentSpeech::new(RECENT_S, frame_rate_hz),
+            latest_s: None,
         }
     }
 
@@ -169,6 +182,7 @@ impl SegmentTrack {
         self.hysteresis = Hysteresis::default();
         self.segments.clear();
         self.recent.reset();
+        self.latest_s = None;
     }
 
     /// Chunk `index` with Silero's probability `p`; `at_s` maps a 16 kHz sample to stream
@@ -183,8 +197,10 @@ impl SegmentTrack {
                 self.segments.push(Tracked {
                     start_s,
                     end_s: None,
-                    judge: self.recent.judge_from(start_s),
+                    next_window_s: start_s,
+                    speech_from_s: None,
                 });
+                self.judge_open_windows();
             }
             Some(Edge::End { end, kept, .. }) => {
                 if !kept {
@@ -192,14 +208,17 @@ impl SegmentTrack {
                 } else if let Some(last) = self.segments.last_mut() {
                     let end_s = at_s(end);
                     last.end_s = Some(end_s);
-                    // Frames heard after the end (while its quiet was confirmed) do not count.
-                    if end_s < last.start_s + JUDGE_WINDOW_S {
-                        let mut j = SpanJudge::new(last.start_s);
-                        for (t, q) in self.recent.iter().filter(|&(t, _)| t < end_s) {
-                            j.add(t, q);
-                        }
-                        j.close();
-                        last.judge = j;
+                    // Windows judged with frames heard after the end (while its quiet was
+                    // confirmed) are judged again without them, each cut at the end.
+                    let first_cut = std::iter::once(last.start_s)
+                        .chain(self.recent.iter().map(|(t, _)| t))
+                        .filter(|&w| w >= last.start_s)
+                        .find(|&w| w + JUDGE_WINDOW_S > end_s)
+                        .unwrap_or(end_s);
+                    if last.speech_from_s.is_none_or(|w| w >= first_cut) {
+                        let from = last.next_window_s.min(first_cut);
+                        let frames = self.recent.iter().filter(|&(t, _)| t >= from);
+                        last.speech_from_s = speech_from(frames, from, end_s, self.threshold);
                     }
                 }
             }
@@ -210,20 +229,50 @@ impl SegmentTrack {
     /// The next analysis frame with its speech probability.
     pub fn on_frame(&mut self, time_s: f64, speech_p: f32) {
         self.recent.push(time_s, speech_p);
-        if let Some(last) = self.segments.last_mut() {
-            if last.end_s.is_none() {
-                last.judge.add(time_s, speech_p);
+        self.latest_s = Some(time_s);
+        self.judge_open_windows();
+    }
+
+    /// Judges the open segment's windows that the frames heard so far complete, in order,
+    /// until one is speech.
+    fn judge_open_windows(&mut self) {
+        let Some(latest_s) = self.latest_s else {
+            return;
+        };
+        let Some(last) = self.segments.last_mut() else {
+            return;
+        };
+        if last.end_s.is_some() {
+            return;
+        }
+        while last.speech_from_s.is_none() && latest_s >= last.next_window_s + JUDGE_WINDOW_S {
+            let w = last.next_window_s;
+            if self
+                .recent
+                .mean_between(w, w + JUDGE_WINDOW_S)
+                .is_some_and(|m| m >= self.threshold)
+            {
+                last.speech_from_s = Some(w);
+            } else {
+                match self.recent.iter().map(|(t, _)| t).find(|&t| t > w) {
+                    Some(next) => last.next_window_s = next,
+                    None => break,
+                }
             }
         }
     }
 
     /// Whether a frame at `time_s` is speech as far as the stream has been heard: inside a
-    /// segment (with its padding) whose start the model calls speech (`threshold`).
-    pub fn speech_at(&self, time_s: f64, threshold: f32) -> bool {
+    /// segment (with its padding) from where the model calls it speech ([`speech_from`]).
+    pub fn speech_at(&self, time_s: f64) -> bool {
         let n = self.segments.len();
         (0..n).any(|i| {
             let s = &self.segments[i];
+            let Some(from_s) = s.speech_from_s else {
+                return false;
+            };
             let lo = match i.checked_sub(1).and_then(|j| self.segments[j].end_s) {
+                _ if from_s > s.start_s => from_s,
                 Some(prev_end) if s.start_s - prev_end < 2.0 * PAD_S => {
                     s.start_s - (s.start_s - prev_end) / 2.0
                 }
@@ -236,7 +285,7 @@ impl SegmentTrack {
                 (Some(end), _) => end + PAD_S,
                 (None, _) => f64::INFINITY,
             };
-            time_s >= lo && time_s < hi && s.judge.is_speech(threshold).unwrap_or(false)
+            time_s >= lo && time_s < hi
         })
     }
 }
@@ -289,36 +338,120 @@ mod tests {
         );
     }
 
+    /// Feeds `t` chunks and frames (100 frames/s) in time order: `silero` per 32 ms chunk,
+    /// `stacked(frame)` per frame, for `seconds` from where the feed stands.
+    struct Feed {
+        chunk: u64,
+        frame: u64,
+    }
+
+    impl Feed {
+        fn run(&mut self, t: &mut SegmentTrack, seconds: f64, silero: f32, stacked: f32) {
+            self.run_with(t, seconds, |_| silero, |_| stacked);
+        }
+
+        fn run_with(
+            &mut self,
+            t: &mut SegmentTrack,
+            seconds: f64,
+            silero: impl Fn(u64) -> f32,
+            stacked: impl Fn(u64) -> f32,
+        ) {
+            let at = |s: u64| s as f64 / SILERO_RATE_HZ;
+            let chunk_s = CHUNK as f64 / SILERO_RATE_HZ;
+            let end = seconds + self.chunk as f64 * chunk_s;
+            while (self.chunk + 1) as f64 * chunk_s <= end + 1e-9 {
+                let chunk_end_s = (self.chunk + 1) as f64 * chunk_s;
+                while (self.frame as f64) / 100.0 < chunk_end_s {
+                    t.on_frame(self.frame as f64 / 100.0, stacked(self.frame));
+                    self.frame += 1;
+                }
+                t.on_chunk(self.chunk, silero(self.chunk), at);
+                self.chunk += 1;
+            }
+        }
+    }
+
     #[test]
     fn a_frame_is_speech_in_a_segment_whose_start_the_model_calls_speech() {
-        let at = |s: u64| s as f64 / SILERO_RATE_HZ;
-        let mut t = SegmentTrack::new(100.0);
-        let mut chunk = 0u64;
-        let mut frame = 0u64;
-        // Feed chunks and frames in time order: Silero p per chunk, stacked p per frame.
-        let mut run = |t: &mut SegmentTrack, seconds: f64, silero: f32, stacked: f32| {
-            let end = seconds + chunk as f64 * CHUNK as f64 / SILERO_RATE_HZ;
-            while (chunk + 1) as f64 * CHUNK as f64 / SILERO_RATE_HZ <= end + 1e-9 {
-                let chunk_end_s = (chunk + 1) as f64 * CHUNK as f64 / SILERO_RATE_HZ;
-                while (frame as f64) / 100.0 < chunk_end_s {
-                    t.on_frame(frame as f64 / 100.0, stacked);
-                    frame += 1;
-                }
-                t.on_chunk(chunk, silero, at);
-                chunk += 1;
-            }
-        };
-        run(&mut t, 0.64, 0.0, 0.1);
-        run(&mut t, 0.96, 0.95, 0.9); // speech: Silero and the model agree
-        run(&mut t, 0.64, 0.0, 0.1);
-        run(&mut t, 0.96, 0.8, 0.2); // singing: Silero says speech, the model does not
-        run(&mut t, 0.64, 0.0, 0.1);
-        assert!(!t.speech_at(0.3, 0.5));
-        assert!(t.speech_at(0.62, 0.5), "padding before the segment");
-        assert!(t.speech_at(1.0, 0.5));
-        assert!(!t.speech_at(2.0, 0.5), "the quiet between");
-        assert!(!t.speech_at(2.8, 0.5), "a segment the model rejects");
+        let mut t = SegmentTrack::new(100.0, 0.5);
+        let mut f = Feed { chunk: 0, frame: 0 };
+        f.run(&mut t, 0.64, 0.0, 0.1);
+        f.run(&mut t, 0.96, 0.95, 0.9); // speech: Silero and the model agree
+        f.run(&mut t, 0.64, 0.0, 0.1);
+        f.run(&mut t, 0.96, 0.8, 0.2); // singing: Silero says speech, the model does not
+        f.run(&mut t, 0.64, 0.0, 0.1);
+        assert!(!t.speech_at(0.3));
+        assert!(t.speech_at(0.62), "padding before the segment");
+        assert!(t.speech_at(1.0));
+        assert!(!t.speech_at(2.0), "the quiet between");
+        assert!(!t.speech_at(2.8), "a segment the model rejects");
         t.reset();
-        assert!(!t.speech_at(1.0, 0.5));
+        assert!(!t.speech_at(1.0));
+    }
+
+    #[test]
+    fn speech_after_a_lead_in_in_the_same_segment_is_speech_from_where_it_shows() {
+        // One Silero segment from 0.64 s: 1.28 s of music the model rejects, then 1.28 s of
+        // speech, then quiet.
+        let mut t = SegmentTrack::new(100.0, 0.5);
+        let mut f = Feed { chunk: 0, frame: 0 };
+        f.run(&mut t, 0.64, 0.0, 0.1);
+        f.run(&mut t, 1.28, 0.8, 0.1);
+        f.run(&mut t, 1.28, 0.95, 0.95);
+        f.run(&mut t, 0.64, 0.0, 0.1);
+        assert!(!t.speech_at(0.7), "the lead-in's start");
+        assert!(!t.speech_at(1.5), "the lead-in");
+        assert!(t.speech_at(2.0), "the speech after it");
+        assert!(t.speech_at(3.1), "the speech's end");
+        assert!(!t.speech_at(3.5), "the quiet after");
+        // The first window whose mean reaches 0.5 starts at 1.66 s: 26 frames of the lead-in
+        // (0.1) and 24 of speech (0.95), mean 0.508; from 1.65 s, 27 and 23: 0.491.
+        assert_eq!(t.segments[0].speech_from_s, Some(1.66));
+    }
+
+    #[test]
+    fn the_streamed_judgement_is_the_offline_one() {
+        // Random runs of Silero and model probabilities; every segment's judgement on the
+        // stream (windows judged as they complete, judged again when the end cuts them)
+        // against `speech_from` on the whole record.
+        let mut rng = crate::rng::SeededRng::new(32);
+        let n_chunks = 900u64;
+        let mut silero = Vec::new();
+        while (silero.len() as u64) < n_chunks {
+            let p = if rng.uniform() < 0.5 { 0.9 } else { 0.1 };
+            let len = 1 + (rng.uniform() * 30.0) as usize;
+            silero.extend(std::iter::repeat_n(p as f32, len));
+        }
+        let n_frames = (n_chunks as f64 * CHUNK as f64 / SILERO_RATE_HZ * 100.0) as usize + 10;
+        let mut stacked = Vec::new();
+        while stacked.len() < n_frames {
+            let p = rng.uniform() as f32;
+            let len = 1 + (rng.uniform() * 40.0) as usize;
+            stacked.extend(std::iter::repeat_n(p, len));
+        }
+        let mut t = SegmentTrack::new(100.0, 0.5);
+        let mut f = Feed { chunk: 0, frame: 0 };
+        let seconds = n_chunks as f64 * CHUNK as f64 / SILERO_RATE_HZ;
+        f.run_with(
+            &mut t,
+            seconds,
+            |c| silero[c as usize],
+            |k| stacked[k as usize],
+        );
+        let frames: Vec<(f64, f32)> = (0..f.frame)
+            .map(|k| (k as f64 / 100.0, stacked[k as usize]))
+            .collect();
+        let closed: Vec<&Tracked> = t.segments.iter().filter(|s| s.end_s.is_some()).collect();
+        assert!(closed.len() >= 10, "{} segments", closed.len());
+        assert!(closed.len() < KEPT_SEGMENTS);
+        let mut later = 0;
+        for s in closed {
+            let end_s = s.end_s.unwrap_or(f64::NAN);
+            let offline = speech_from(frames.iter().copied(), s.start_s, end_s, 0.5);
+            assert_eq!(s.speech_from_s, offline, "segment {}-{end_s}", s.start_s);
+            later += usize::from(offline.is_some_and(|w| w > s.start_s));
+        }
+        assert!(later >= 1, "no segment judged speech after its start");
     }
 }

@@ -13,8 +13,8 @@
 //!   Keele or styletalk clip, or anywhere in an unlabelled PTDB clip,
 //!   [`RealBreaths`](super::real_breaths::RealBreaths)), by condition; and the breaths heard
 //!   in labelled clips, on a label or not.
-//! - **Frames**: the engine's frame decision (Silero's segments, each judged by the stacked
-//!   model over its first half second) against the speech truth, per music piece (recall on
+//! - **Frames**: the frame decision (Silero's segments, each speech from the first half second
+//!   the stacked model calls speech, [`speech_from`]) against the speech truth, per music piece (recall on
 //!   the speech under its beds, speech called on its music and singing) and per class, beside
 //!   Silero VAD in onnxruntime with the `silero-vad` package's segment rule.
 //!
@@ -29,7 +29,7 @@ use std::time::Instant;
 use pneuma_core::engine::{offline, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
 use pneuma_core::speech::segments::segments;
-use pneuma_core::speech::{SpanJudge, SpeechAnalysis, SpeechModel};
+use pneuma_core::speech::{speech_from, SpeechAnalysis, SpeechModel};
 
 use super::fit::fit;
 use super::real_breaths::{segment_at, RealBreaths};
@@ -137,23 +137,34 @@ fn frames_in(spans: &[(u64, u64)], frames: usize) -> Vec<bool> {
     out
 }
 
-/// The engine's frame decision with `model`: Silero's segments (of the engine's own Silero)
-/// each judged by the model over its first half second.
+/// The engine's frame decision with `model`: Silero's segments (of the engine's own Silero),
+/// each speech from its first half second the model calls speech ([`speech_from`]).
 fn pneuma_frames(episode: &Episode, a: &SpeechAnalysis, model: &SpeechModel) -> Vec<bool> {
     let n = episode.audio.len() as u64;
+    let probs: Vec<(f64, f32)> = a
+        .frames
+        .iter()
+        .zip(&a.speech)
+        .map(|(f, sp)| (f.time_s, model.probability(&sp.features)))
+        .collect();
     let kept: Vec<(u64, u64)> = segments(&a.chunks, n)
         .into_iter()
-        .filter(|&(s, e)| {
+        .filter_map(|(s, e)| {
             let (start_s, end_s) = (s as f64 / RATE_HZ, e as f64 / RATE_HZ);
-            let mut judge = SpanJudge::new(start_s);
-            for (f, sp) in a.frames.iter().zip(&a.speech) {
-                if f.time_s >= end_s {
-                    break;
-                }
-                judge.add(f.time_s, model.probability(&sp.features));
-            }
-            judge.close();
-            judge.is_speech(model.threshold()).unwrap_or(false)
+            let first = probs.partition_point(|&(t, _)| t < start_s);
+            let last = probs.partition_point(|&(t, _)| t < end_s);
+            let from_s = speech_from(
+                probs[first..last].iter().copied(),
+                start_s,
+                end_s,
+                model.threshold(),
+            )?;
+            let from = if from_s > start_s {
+                (from_s * RATE_HZ) as u64
+            } else {
+                s
+            };
+            Some((from, e))
         })
         .collect();
     frames_in(&kept, episode.frames())
