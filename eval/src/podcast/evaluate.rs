@@ -12,7 +12,9 @@
 //!   one centred in it, or a real one the engine heard there: on a hand-labelled span of a
 //!   Keele or styletalk clip, or anywhere in an unlabelled PTDB clip,
 //!   [`RealBreaths`](super::real_breaths::RealBreaths)), by condition; and the breaths heard
-//!   in labelled clips, on a label or not.
+//!   in labelled clips, on a label or not. Held out, each breath on speech is listed, and
+//!   (offline) each pause of clean speech or under a deep bed left without a breath, with what
+//!   the engine heard in it.
 //! - **Frames**: the frame decision (Silero's segments, each speech from the first half second
 //!   the stacked model calls speech, [`speech_from`]) against the speech truth, per music piece (recall on
 //!   the speech under its beds, speech called on its music and singing) and per class, beside
@@ -99,6 +101,9 @@ struct BreathTally {
     near_voicing: usize,
     /// Each breath of `on_speech`: where it lies and which side of it is on speech.
     on_speech_at: Vec<String>,
+    /// Each pause of clean speech or under a deep bed (the judged kinds) without a breath:
+    /// where it lies and what the engine heard in it.
+    missed_pauses_at: Vec<String>,
     /// Overlapping a labelled clear breath of the input (a second breath over a real one), by
     /// the kinds of [`PAUSE_KINDS`].
     on_real_breath: [usize; 4],
@@ -218,6 +223,21 @@ fn pauses(episode: &Episode) -> Vec<(usize, usize, usize)> {
     out
 }
 
+/// Where `[a_s, b_s)` of `episode` lies: the episode's span, the clip's span and its condition.
+fn place(episode: &Episode, a_s: f64, b_s: f64) -> String {
+    let clip = segment_at(episode, (a_s, b_s)).map_or("no clip".to_string(), |g| {
+        let at_s = g.frames.0 as f64 / FRAMES_PER_S;
+        let condition = g.condition.describe();
+        format!(
+            "{} {:.2}–{:.2} s, {condition}",
+            g.clip,
+            a_s - at_s,
+            b_s - at_s
+        )
+    });
+    format!("episode {} {a_s:.2}–{b_s:.2} s ({clip})", episode.index)
+}
+
 /// Renders `episode` in `mode` with `model` judging speech.
 fn render(episode: &Episode, mode: Mode, model: &SpeechModel) -> Result<offline::Rendered, String> {
     let mut config = EngineConfig::default();
@@ -243,6 +263,7 @@ impl BreathTally {
         let l = &episode.labels;
         // A breath the engine heard is real unless the clip's labels say it is not.
         let mut heard_real = Vec::new();
+        let mut heard_off_label = Vec::new();
         for &span in &out.existing_breaths {
             let judged = segment_at(episode, span).and_then(|seg| {
                 let on = real.on_label(seg, span)?;
@@ -250,7 +271,9 @@ impl BreathTally {
                 *if on { yes } else { no } += 1;
                 Some(on)
             });
-            if judged != Some(false) {
+            if judged == Some(false) {
+                heard_off_label.push(span);
+            } else {
                 heard_real.push(span);
             }
         }
@@ -283,14 +306,9 @@ impl BreathTally {
                     (false, true) => "its end",
                     _ => "both halves",
                 };
-                let clip = segment_at(episode, (a, e)).map_or("no clip".to_string(), |g| {
-                    let at_s = g.frames.0 as f64 / FRAMES_PER_S;
-                    let condition = g.condition.describe();
-                    format!("{} {:.2}–{:.2} s, {condition}", g.clip, a - at_s, e - at_s)
-                });
                 self.on_speech_at.push(format!(
-                    "episode {} {a:.2}–{e:.2} s ({clip}): {:.0} ms, {side}",
-                    episode.index,
+                    "{}: {:.0} ms, {side}",
+                    place(episode, a, e),
                     1e3 * on_speech_s
                 ));
             }
@@ -308,6 +326,22 @@ impl BreathTally {
             });
             let real = heard_real.iter().any(|&(s, e)| s < b_s && e > a_s);
             self.pauses[kind].0 += usize::from(inserted || real);
+            if !(inserted || real) && kind <= 1 {
+                let off_label = heard_off_label.iter().find(|&&(s, e)| s < b_s && e > a_s);
+                let labelled = (a..b).any(|k| real_breath[k]);
+                let heard = match (off_label, labelled) {
+                    (Some((s, e)), _) => {
+                        format!("a breath heard off the labels at {s:.2}–{e:.2} s")
+                    }
+                    (None, true) => "a labelled real breath the engine did not hear".to_string(),
+                    (None, false) => "no breath heard".to_string(),
+                };
+                self.missed_pauses_at.push(format!(
+                    "{} ({:.2} s): {heard}",
+                    place(episode, a_s, b_s),
+                    b_s - a_s
+                ));
+            }
             self.pauses[kind].1 += 1;
         }
         self.audio_s += episode.audio.len() as f64 / RATE_HZ;
@@ -485,6 +519,9 @@ fn print_report(episodes: &[Episode], frames: &[FrameTally; 3], breaths: &[[Brea
         row(&format!("pauses >= 0.4 s with a breath, {kind}"), &|t| {
             format!("{}/{}", t.pauses[i].0, t.pauses[i].1)
         });
+    }
+    for at in &breaths[0][0].missed_pauses_at {
+        println!("    no breath, {}, held out: {at}", Mode::ALL[0].name());
     }
     for (i, kind) in PAUSE_KINDS.iter().enumerate() {
         row(&format!("heard breaths on a label / not, {kind}"), &|t| {
