@@ -526,3 +526,47 @@ fn a_breath_cut_short_by_digital_silence_reports_the_gated_stretch_beside_it() {
         assert_eq!(pauses(room_db)[1].gated_s, None, "room at {room_db} dBFS");
     }
 }
+
+#[test]
+fn digital_silence_between_two_rooms_does_not_teach_the_noise_floor() {
+    // A segment in a room at -50 dB, 4 s of digital silence (an edit), a segment in a room at
+    // -55 dB whose pause is 0.5 s of room tone. The floor after the silence is the rooms'
+    // (-55 dB), not the silence's: the room tone is no sound over the floor, and the pause
+    // keeps its length.
+    let script = [
+        (100, -50.0, false),
+        (100, -20.0, true),
+        (100, -50.0, false),
+        (400, -120.0, false),
+        (100, -55.0, false),
+        (100, -20.0, true),
+        (50, -55.0, false),
+        (100, -20.0, true),
+        (100, -55.0, false),
+    ];
+    let mut t = PhraseTracker::new(PhraseConfig::default(), 100.0).unwrap();
+    let mut events = Vec::new();
+    let mut i = 0u64;
+    let mut floor_after_silence_db = f32::NAN;
+    for &(n, db, v) in &script {
+        for _ in 0..n {
+            t.update(&frame(i, db, v), |e| events.push(e));
+            if i == 710 {
+                floor_after_silence_db = t.noise_floor_db();
+            }
+            i += 1;
+        }
+    }
+    assert_eq!(floor_after_silence_db, -55.0);
+    let starts: Vec<Pause> = events
+        .iter()
+        .filter_map(|e| match e {
+            PhraseEvent::Start { pause, .. } => Some(*pause),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(starts.len(), 3, "{events:?}");
+    let last = starts[2];
+    assert!((last.end_s - 9.5).abs() < 0.011, "{last:?}");
+    assert!((last.length_s() - 0.5).abs() < 0.021, "{last:?}");
+}

@@ -57,6 +57,8 @@ struct Candidate {
 struct TrackerState {
     /// The noise floor's latest value, dBFS.
     floor_db: f32,
+    /// A frame over the silence level has been heard.
+    heard_sound: bool,
     /// The room's band levels.
     floor_bands: FloorBands,
     frames_seen: u64,
@@ -74,6 +76,7 @@ impl Default for TrackerState {
     fn default() -> Self {
         Self {
             floor_db: f32::NEG_INFINITY,
+            heard_sound: false,
             floor_bands: FloorBands::default(),
             frames_seen: 0,
             phrase: PhraseState::default(),
@@ -205,7 +208,16 @@ impl PhraseTracker {
         } else {
             -120.0
         };
-        s.floor_db = self.floor.update(Some(rms_db));
+        // Silence (under the silence level: an edit, a closed gate) does not teach the floor
+        // once sound has been heard: the floor holds, and the room after a cut is measured
+        // against the rooms before it. A floor learnt from the silence put a room tone that
+        // follows it over the floor for the window's length, and a phrase's edges ran over the
+        // whole pause.
+        let silent = rms_db <= c.silence_db;
+        if !(silent && s.heard_sound) {
+            s.floor_db = self.floor.update(Some(rms_db));
+        }
+        s.heard_sound |= !silent;
         let speech_level_db = if frame.speech_level_db.is_finite() {
             frame.speech_level_db
         } else {
