@@ -55,6 +55,16 @@ fn run_edited(
     script: &[(usize, f32, bool)],
     edit: impl Fn(u64, &mut FeatureFrame),
 ) -> Vec<PhraseEvent> {
+    run_probed(script, edit, |_, _| {})
+}
+
+/// All events of a script whose frames `edit` changes; `probe` sees the tracker after each
+/// frame (given the frame number).
+fn run_probed(
+    script: &[(usize, f32, bool)],
+    edit: impl Fn(u64, &mut FeatureFrame),
+    mut probe: impl FnMut(u64, &PhraseTracker),
+) -> Vec<PhraseEvent> {
     let mut t = PhraseTracker::new(PhraseConfig::default(), 100.0).unwrap();
     let mut events = Vec::new();
     let mut i = 0u64;
@@ -63,6 +73,7 @@ fn run_edited(
             let mut f = frame(i, db, v);
             edit(i, &mut f);
             t.update(&f, |e| events.push(e));
+            probe(i, &t);
             i += 1;
         }
     }
@@ -544,19 +555,16 @@ fn digital_silence_between_two_rooms_does_not_teach_the_noise_floor() {
         (100, -20.0, true),
         (100, -55.0, false),
     ];
-    let mut t = PhraseTracker::new(PhraseConfig::default(), 100.0).unwrap();
-    let mut events = Vec::new();
-    let mut i = 0u64;
     let mut floor_after_silence_db = f32::NAN;
-    for &(n, db, v) in &script {
-        for _ in 0..n {
-            t.update(&frame(i, db, v), |e| events.push(e));
+    let events = run_probed(
+        &script,
+        |_, _| {},
+        |i, t| {
             if i == 710 {
                 floor_after_silence_db = t.noise_floor_db();
             }
-            i += 1;
-        }
-    }
+        },
+    );
     assert_eq!(floor_after_silence_db, -55.0);
     let starts: Vec<Pause> = events
         .iter()
