@@ -208,16 +208,17 @@ impl PhraseTracker {
         } else {
             -120.0
         };
-        // Silence (under the silence level: an edit, a closed gate) does not teach the floor
-        // once sound has been heard: the floor holds, and the room after a cut is measured
-        // against the rooms before it. A floor learnt from the silence put a room tone that
-        // follows it over the floor for the window's length, and a phrase's edges ran over the
-        // whole pause.
-        let silent = rms_db <= c.silence_db;
-        if !(silent && s.heard_sound) {
+        // Digital silence (under [`GATED_DB`]: an edit's zeros, a closed gate; never a room)
+        // does not teach the floor once sound has been heard: the floor holds, and the room
+        // after a cut is measured against the rooms before it. A floor learnt from the silence
+        // put a room tone that follows it over the floor for the window's length, and a
+        // phrase's edges ran over the whole pause. (The tracker's silence level would also
+        // take a quiet room's pauses for silence and lift the floor over them.)
+        let gated = rms_db <= GATED_DB;
+        if !(gated && s.heard_sound) {
             s.floor_db = self.floor.update(Some(rms_db));
         }
-        s.heard_sound |= !silent;
+        s.heard_sound |= !gated;
         let speech_level_db = if frame.speech_level_db.is_finite() {
             frame.speech_level_db
         } else {
@@ -262,7 +263,7 @@ impl PhraseTracker {
             breath_level,
             high_over_mid_db,
             low_over_mid_db,
-            gated: rms_db <= GATED_DB,
+            gated,
         }
     }
 
