@@ -45,6 +45,17 @@ fn run(script: &[(usize, f32, bool)]) -> Vec<PhraseEvent> {
         .collect()
 }
 
+/// The pauses of `events`' phrase starts, in order.
+fn pauses_of(events: &[PhraseEvent]) -> Vec<Pause> {
+    events
+        .iter()
+        .filter_map(|e| match e {
+            PhraseEvent::Start { pause, .. } => Some(*pause),
+            _ => None,
+        })
+        .collect()
+}
+
 /// All events, activity included.
 fn run_all(script: &[(usize, f32, bool)]) -> Vec<PhraseEvent> {
     run_edited(script, |_, _| {})
@@ -134,13 +145,7 @@ fn unvoiced_noise_bursts_do_not_start_phrases_but_count_as_breath() {
         (100, -20.0, true),
         (50, -70.0, false),
     ]);
-    let starts: Vec<_> = ev
-        .iter()
-        .filter_map(|e| match e {
-            PhraseEvent::Start { pause, .. } => Some(*pause),
-            _ => None,
-        })
-        .collect();
+    let starts = pauses_of(&ev);
     assert_eq!(starts.len(), 2, "{ev:?}");
     assert!(starts[1].has_breath, "{ev:?}");
     // Its span: the burst's frames 240..275.
@@ -434,14 +439,7 @@ fn a_loud_unvoiced_burst_in_a_pause_is_reported_and_bounds_the_pause() {
         })
         .collect();
     assert!(activity.iter().any(|t| (t - 2.3).abs() < 0.011), "{ev:?}");
-    let last = ev
-        .iter()
-        .rev()
-        .find_map(|e| match e {
-            PhraseEvent::Start { pause, .. } => Some(*pause),
-            _ => None,
-        })
-        .unwrap();
+    let last = *pauses_of(&ev).last().unwrap();
     let end = last.last_activity_end_s.expect("the burst is reported");
     assert!((end - 2.38).abs() < 0.011, "{last:?}");
 }
@@ -502,7 +500,7 @@ fn a_breath_cut_short_by_digital_silence_reports_the_gated_stretch_beside_it() {
     // A breath's first 0.15 s (frames 240..255) heard, the rest of the pause gated to digital
     // silence (frames 255..305) as an editor's cut leaves it.
     let pauses = |gated_db: f32| -> Vec<Pause> {
-        run(&[
+        pauses_of(&run(&[
             (100, -70.0, false),
             (100, -20.0, true),
             (40, -70.0, false),
@@ -510,13 +508,7 @@ fn a_breath_cut_short_by_digital_silence_reports_the_gated_stretch_beside_it() {
             (50, gated_db, false),
             (100, -20.0, true),
             (50, -70.0, false),
-        ])
-        .into_iter()
-        .filter_map(|e| match e {
-            PhraseEvent::Start { pause, .. } => Some(pause),
-            _ => None,
-        })
-        .collect()
+        ]))
     };
     let cut = pauses(-120.0);
     assert_eq!(cut.len(), 2, "{cut:?}");
@@ -566,13 +558,7 @@ fn digital_silence_between_two_rooms_does_not_teach_the_noise_floor() {
         },
     );
     assert_eq!(floor_after_silence_db, -55.0);
-    let starts: Vec<Pause> = events
-        .iter()
-        .filter_map(|e| match e {
-            PhraseEvent::Start { pause, .. } => Some(*pause),
-            _ => None,
-        })
-        .collect();
+    let starts = pauses_of(&events);
     assert_eq!(starts.len(), 3, "{events:?}");
     let last = starts[2];
     assert!((last.end_s - 9.5).abs() < 0.011, "{last:?}");

@@ -57,7 +57,7 @@ struct Candidate {
 struct TrackerState {
     /// The noise floor's latest value, dBFS.
     floor_db: f32,
-    /// A frame over the silence level has been heard.
+    /// A frame that is not digital silence (over [`GATED_DB`]) has been heard.
     heard_sound: bool,
     /// The room's band levels.
     floor_bands: FloorBands,
