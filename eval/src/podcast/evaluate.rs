@@ -189,6 +189,27 @@ fn overlap_s(a: f64, b: f64, frames: usize, on: impl Fn(usize) -> bool) -> f64 {
         .sum()
 }
 
+/// The runs of `breath` frames (a labelled real breath each) that overlap `truth` by more than
+/// [`OVERLAP_S`], and all runs: the speakers' own breaths judged as an inserted one is.
+fn runs_on_speech(breath: &[bool], truth: &[bool]) -> (usize, usize) {
+    let n = breath.len().min(truth.len());
+    let (mut on, mut all, mut k) = (0, 0, 0);
+    while k < n {
+        if !breath[k] {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        while k < n && breath[k] {
+            k += 1;
+        }
+        all += 1;
+        let (a, b) = (start as f64 / FRAMES_PER_S, k as f64 / FRAMES_PER_S);
+        on += usize::from(overlap_s(a, b, n, |j| truth[j]) > OVERLAP_S);
+    }
+    (on, all)
+}
+
 /// The index in [`PAUSE_KINDS`] of a segment's `condition`.
 fn kind_of(condition: Condition) -> usize {
     match condition {
@@ -461,7 +482,11 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
             }
         }
     }
-    print_report(&episodes, &frames, &breaths);
+    let real_on_speech = episodes.iter().fold((0, 0), |(on, all), e| {
+        let (o, a) = runs_on_speech(&real.breath_frames(e), &e.labels.truth);
+        (on + o, all + a)
+    });
+    print_report(&episodes, &frames, &breaths, real_on_speech);
 
     let mut targets = Vec::new();
     for (mi, mode) in Mode::ALL.into_iter().enumerate() {
@@ -471,7 +496,13 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
     Ok(print_targets(&targets))
 }
 
-fn print_report(episodes: &[Episode], frames: &[FrameTally; 3], breaths: &[[BreathTally; 2]; 2]) {
+/// `real_on_speech`: the labelled real breaths on speech, of all ([`runs_on_speech`]).
+fn print_report(
+    episodes: &[Episode],
+    frames: &[FrameTally; 3],
+    breaths: &[[BreathTally; 2]; 2],
+    real_on_speech: (usize, usize),
+) {
     let minutes: f64 = episodes
         .iter()
         .map(|e| e.audio.len() as f64 / RATE_HZ)
@@ -505,6 +536,10 @@ fn print_report(episodes: &[Episode], frames: &[FrameTally; 3], breaths: &[[Brea
     row("  of them within 80 ms of voicing", &|t| {
         t.near_voicing.to_string()
     });
+    println!(
+        "  the speakers' labelled real breaths on speech, the same truth: {} of {}",
+        real_on_speech.0, real_on_speech.1
+    );
     for (mode, t) in Mode::ALL.iter().zip(breaths) {
         for at in &t[0].on_speech_at {
             println!("    on speech, {}, held out: {at}", mode.name());
@@ -585,6 +620,19 @@ mod tests {
         let half = overlap_s(0.075, 0.2, 100, on);
         assert!((half - 0.025).abs() < 1e-9, "{half}");
         assert_eq!(overlap_s(0.2, 0.3, 100, on), 0.0);
+    }
+
+    #[test]
+    fn a_real_breath_is_on_speech_when_it_overlaps_the_truth_by_more_than_30_ms() {
+        // Three breaths: frames 10..20 (truth from 16: 40 ms over), 30..40 (truth 38..40:
+        // 20 ms), 50..55 (no truth).
+        let breath: Vec<bool> = (0..60)
+            .map(|k| (10..20).contains(&k) || (30..40).contains(&k) || (50..55).contains(&k))
+            .collect();
+        let truth: Vec<bool> = (0..60)
+            .map(|k| (16..25).contains(&k) || (38..45).contains(&k))
+            .collect();
+        assert_eq!(runs_on_speech(&breath, &truth), (1, 3));
     }
 
     #[test]
