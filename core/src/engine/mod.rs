@@ -861,14 +861,15 @@ impl Stream {
                 pause:
                     crate::phrase::Pause {
                         breath_s: Some(span),
+                        breath_clean_s,
                         ..
                     },
                 ..
             } = e
             {
                 self.existing.push_back(span);
-                if breath_voice.learning() {
-                    self.voice.hear(span);
+                if let (true, Some(clean)) = (breath_voice.learning(), breath_clean_s) {
+                    self.voice.hear(clean);
                 }
             }
             // Before the placement hears of a new phrase: the voice as learned, or coloured by

@@ -112,6 +112,7 @@ impl Default for Seen {
                 leading: true,
                 has_breath: false,
                 breath_s: None,
+                breath_clean_s: None,
                 last_activity_end_s: None,
                 gated_s: None,
             },

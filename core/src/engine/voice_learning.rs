@@ -4,7 +4,8 @@
 //! powers on a fixed grid of frames, the room's floor, the speech level and the voiced speech's
 //! long-term spectrum (which colours the built-in voice,
 //! [`crate::breathing::reference::ReferenceVoice`]), and measures a breath the phrase tracker
-//! reports (`Pause::breath_s`) from the frames of its span.
+//! reports (`Pause::breath_clean_s`: the breath without a loud blip it spans) from the frames
+//! of its span.
 //!
 //! Memory is bounded by the listener's ring of band powers ([`RING_S`]), the floor's and the
 //! level's histograms and, offline, one record per heard breath (the stream keeps the last
@@ -366,7 +367,7 @@ impl VoiceLearner {
         self.tracker.update(f, |e| {
             if let PhraseEvent::Start { pause, .. } = e {
                 if k < spans.len() {
-                    spans[k] = pause.breath_s;
+                    spans[k] = pause.breath_clean_s;
                     k += 1;
                 }
             }

@@ -38,6 +38,8 @@ struct BreathRun {
     /// Sums over the run of its frames' high-over-mid and low-over-mid band levels, dB.
     high_sum: f32,
     low_sum: f32,
+    /// The first active frame heard while the run went on (an unvoiced blip it spans).
+    blip: Option<u64>,
 }
 
 impl BreathRun {
@@ -59,7 +61,20 @@ pub(super) struct PauseBreaths {
     run: BreathRun,
     /// Frames (start, end) of the last breath run long enough to count, in this pause.
     span: Option<(u64, u64)>,
+    /// The same run's end at its first blip, if it spans one.
+    span_blip: Option<u64>,
     seen: bool,
+}
+
+/// A breath heard in a pause, as frames (start, end).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct HeardRun {
+    /// The breath.
+    pub(super) span: (u64, u64),
+    /// The part of it before its first blip (an active frame it spans), when long enough to
+    /// count: a voice learns from this part only, as a blip's power would outweigh the breath's
+    /// in the span's mean.
+    pub(super) clean: Option<(u64, u64)>,
 }
 
 impl PauseBreaths {
@@ -68,6 +83,15 @@ impl PauseBreaths {
         self.run.frames = 0;
         self.seen = false;
         self.span = None;
+        self.span_blip = None;
+    }
+
+    /// An active frame at `index` (a candidate phrase starts on it): a run going on spans a blip
+    /// if it resumes after it.
+    pub(super) fn blip(&mut self, index: u64) {
+        if self.run.frames > 0 && self.run.blip.is_none() {
+            self.run.blip = Some(index);
+        }
     }
 
     /// Takes frame `index` with its facts `f`; `last_offset` is the frame the pause began at
@@ -89,6 +113,7 @@ impl PauseBreaths {
                 run.rose = false;
                 run.high_sum = 0.0;
                 run.low_sum = 0.0;
+                run.blip = None;
             }
             run.frames += 1;
             run.high_sum += f.high_over_mid_db;
@@ -101,30 +126,42 @@ impl PauseBreaths {
                 run.rose = true;
             }
         } else {
-            if run.frames >= rules.min_frames && run.counts(rules) {
-                self.seen = true;
-                self.span = Some((run.start, index));
-            }
-            run.frames = 0;
+            self.close(index, rules);
         }
     }
 
-    /// The breath of the pause that a phrase starting at frame `onset` ends, as frames (start,
-    /// end): the last run that counted, or a run still going on with the part before the
-    /// onset long enough; `None` when the pause holds no breath.
-    pub(super) fn at_onset(&self, onset: u64, rules: &BreathRules) -> Option<(u64, u64)> {
+    /// Ends the run going on (if any) before frame `index`: judged, and the pause's breath
+    /// when it counts. The tracker also ends it before a voiced run of active frames that died
+    /// in the pause (a word too short to confirm): breath heard again after such a word is a
+    /// new run, never one breath spanning the word.
+    pub(super) fn close(&mut self, index: u64, rules: &BreathRules) {
+        let run = &mut self.run;
+        if run.frames >= rules.min_frames && run.counts(rules) {
+            self.seen = true;
+            self.span = Some((run.start, index));
+            self.span_blip = run.blip;
+        }
+        run.frames = 0;
+    }
+
+    /// The breath of the pause that a phrase starting at frame `onset` ends: a run still going
+    /// on with the part before the onset long enough, or else the last run that counted, cut
+    /// at the onset (the onset moves back over a quiet consonant) and still long enough; `None`
+    /// when the pause holds no breath.
+    pub(super) fn at_onset(&self, onset: u64, rules: &BreathRules) -> Option<HeardRun> {
         let run = &self.run;
-        let running = run.frames > 0
-            && run.counts(rules)
-            && onset.saturating_sub(run.start) >= rules.min_frames as u64;
-        let has_breath = self.seen || running;
-        let span = if running {
-            Some((run.start, onset))
-        } else {
-            self.span
-        };
-        let breath = span.filter(|_| has_breath);
-        debug_assert_eq!(breath.is_some(), has_breath, "a breath has its span");
-        breath
+        let min = rules.min_frames as u64;
+        let (span, blip) =
+            if run.frames > 0 && run.counts(rules) && onset.saturating_sub(run.start) >= min {
+                ((run.start, onset), run.blip)
+            } else {
+                let (a, b) = self.span.filter(|_| self.seen)?;
+                ((a, b.min(onset)), self.span_blip)
+            };
+        let long_enough = |&(a, b): &(u64, u64)| b >= a + min;
+        long_enough(&span).then(|| HeardRun {
+            span,
+            clean: Some((span.0, blip.map_or(span.1, |k| k.min(span.1)))).filter(long_enough),
+        })
     }
 }

@@ -16,6 +16,11 @@ pub struct Pause {
     /// The last breath-like burst heard inside the pause (start, end), seconds; `Some` exactly
     /// when `has_breath`.
     pub breath_s: Option<(f64, f64)>,
+    /// The part of `breath_s` before the first active frame it spans (an unvoiced blip louder
+    /// than a breath: the run of breath-like frames went on after it), when long enough to
+    /// count as a breath; all of it without a blip. What a breath voice learns from: a blip's
+    /// power would outweigh the breath's in the span's mean.
+    pub breath_clean_s: Option<(f64, f64)>,
     /// End of the last activity inside the pause that did not become a phrase (a noise burst, a
     /// word too short to confirm), seconds; `None` when the pause was quiet. Nothing should be
     /// placed over it.

@@ -564,3 +564,48 @@ fn digital_silence_between_two_rooms_does_not_teach_the_noise_floor() {
     assert!((last.end_s - 9.5).abs() < 0.011, "{last:?}");
     assert!((last.length_s() - 0.5).abs() < 0.021, "{last:?}");
 }
+
+/// The pause of a script: a phrase, a breath-like run (2.3–2.5 s), a loud burst of 8 frames
+/// (2.5–2.58 s) whose middle `voiced` frames are voiced (too few to confirm a phrase),
+/// breath-like frames again (2.58–2.73 s), quiet, a phrase.
+fn pause_around_a_burst(voiced: usize) -> Pause {
+    let side = (8 - voiced) / 2;
+    let ev = run(&[
+        (100, -70.0, false),
+        (100, -20.0, true),
+        (30, -70.0, false),
+        (20, -48.0, false),
+        (side, -22.0, false),
+        (voiced, -22.0, true),
+        (8 - voiced - side, -22.0, false),
+        (15, -48.0, false),
+        (40, -70.0, false),
+        (100, -20.0, true),
+        (50, -70.0, false),
+    ]);
+    *pauses_of(&ev).last().unwrap()
+}
+
+/// `span` lies at (`a`, `b`) seconds, within a frame.
+fn at(span: Option<(f64, f64)>, a: f64, b: f64) -> bool {
+    span.is_some_and(|(x, y)| (x - a).abs() < 0.011 && (y - b).abs() < 0.011)
+}
+
+#[test]
+fn a_breath_heard_again_after_a_short_word_is_not_one_breath_over_the_word() {
+    // The voiced burst closes the first run: the pause's breath is that run, never a span
+    // reaching over the word (such a span was learnt as one breath as loud as the speech).
+    let pause = pause_around_a_burst(2);
+    assert!(at(pause.breath_s, 2.3, 2.5), "{pause:?}");
+    assert!(at(pause.breath_clean_s, 2.3, 2.5), "{pause:?}");
+}
+
+#[test]
+fn an_unvoiced_blip_inside_a_breath_leaves_the_breath_whole() {
+    // A breath's loudest moment may reach the activity level without voicing: the run goes
+    // on after it (a gated cut after the breath then touches the breath it belongs to), and
+    // a voice learns from the part before the blip only.
+    let pause = pause_around_a_burst(0);
+    assert!(at(pause.breath_s, 2.3, 2.73), "{pause:?}");
+    assert!(at(pause.breath_clean_s, 2.3, 2.5), "{pause:?}");
+}

@@ -314,6 +314,7 @@ impl PhraseTracker {
         s.silent.track(i, f.gated);
         if f.active {
             if s.candidate.start.is_none() {
+                s.breaths.blip(i);
                 s.candidate.start = Some(i);
                 s.candidate.voiced = 0;
                 on_event(PhraseEvent::Activity {
@@ -325,10 +326,15 @@ impl PhraseTracker {
             if f.voiced {
                 s.candidate.voiced += 1;
             }
-        } else if let Some(_start) = s.candidate.start {
+        } else if let Some(start) = s.candidate.start {
             if i - s.candidate.last_active > self.counts.run_gap {
                 // The run died out without enough voicing: noise or a word too short to
-                // confirm. Nothing may be placed over it.
+                // confirm. Nothing may be placed over it. A breath run it interrupted ends
+                // where it began if it held voicing (a voice is never part of an inhalation);
+                // an unvoiced blip (a breath's own loudest moment) leaves the breath whole.
+                if s.candidate.voiced > 0 {
+                    s.breaths.close(start, &self.breath_rules);
+                }
                 s.pause_last_active = Some(s.candidate.last_active);
                 s.candidate.start = None;
                 s.candidate.voiced = 0;
@@ -363,17 +369,20 @@ impl PhraseTracker {
             onset -= 1;
         }
         // A breath run still going counts only with the part before the onset.
-        let breath = s.breaths.at_onset(onset, &self.breath_rules);
+        let heard = s.breaths.at_onset(onset, &self.breath_rules);
+        let breath = heard.map(|h| h.span);
+        let seconds = |(a, b): (u64, u64)| (self.time_s(a), self.time_s(b));
         let pause = Pause {
             start_s: self.time_s(s.phrase.last_offset.unwrap_or(0)),
             end_s: self.time_s(onset),
             leading: s.phrase.last_offset.is_none(),
             has_breath: breath.is_some(),
-            breath_s: breath.map(|(a, b)| (self.time_s(a), self.time_s(b))),
+            breath_s: breath.map(seconds),
+            breath_clean_s: heard.and_then(|h| h.clean).map(seconds),
             last_activity_end_s: s.pause_last_active.map(|k| self.time_s(k + 1)),
             gated_s: breath
                 .and_then(|b| s.silent.beside(b, onset, self.counts.touch))
-                .map(|(a, b)| (self.time_s(a), self.time_s(b))),
+                .map(seconds),
         };
         let s = &mut self.state;
         s.phrase.inside = true;
