@@ -194,6 +194,13 @@ pub fn check_output_folder(option: &str, dir: &Path) -> Result<(), String> {
     if names_folder(dir) {
         return Ok(());
     }
+    if dir.exists() {
+        return Err(format!(
+            "{option} {} is an existing file, but {option} names the output folder (the files \
+             inside are named after the input); give a folder, e.g. {option} out",
+            dir.display()
+        ));
+    }
     let file_like = dir.extension().and_then(|e| e.to_str()).is_some_and(|e| {
         pneuma_io::AUDIO_EXTENSIONS
             .iter()
@@ -410,6 +417,11 @@ mod tests {
         let dir = tempfile::tempdir().expect("temp dir");
         assert!(check_output_folder("-o", &dir.path().join("name.wav")).is_err());
         assert!(check_output_folder("-o", &dir.path().join("out")).is_ok());
+        // An existing file of any name is not a folder to write into.
+        let existing = dir.path().join("notes");
+        std::fs::write(&existing, b"x").unwrap();
+        let err = check_output_folder("-o", &existing).unwrap_err();
+        assert!(err.contains("is an existing file"), "{err}");
         assert!(check_output_folder("-o", &dir.path().join("controls.CSV")).is_err());
         let dotted = dir.path().join("take.wav");
         std::fs::create_dir(&dotted).expect("dir");

@@ -108,6 +108,13 @@ pub fn run(
         ..AnalysisConfig::default()
     };
     let clips = load_clips(&args.data, &config)?;
+    if clips.len() < 2 {
+        return Err(TrainCliError::Option(format!(
+            "{} holds one clip; training needs at least two (each is left out in turn to choose \
+             the model's variant on motion it was not fitted on): add a clip",
+            args.data.display()
+        )));
+    }
     let cfg = TrainConfig {
         components: args.components,
         pose_components: args.pose_components,
@@ -130,6 +137,15 @@ pub fn main(args: Args) -> ExitCode {
         crate::options::check_range("--motion-smoothing-ms", smoothing_ms, 0.0, 500.0, "ms")
     {
         eprintln!("error: {e}");
+        return ExitCode::FAILURE;
+    }
+    // Told before the training, not after it.
+    if args.output.is_dir() {
+        eprintln!(
+            "error: -o {} is a folder; give the model file to write, e.g. -o {}",
+            args.output.display(),
+            args.output.join("head_model.json").display()
+        );
         return ExitCode::FAILURE;
     }
     let desc = format!("clips of {}", args.data.display());

@@ -211,7 +211,11 @@ fn text_start(head: &[u8]) -> Option<String> {
         && valid
             .chars()
             .all(|c| !c.is_control() || matches!(c, '\t' | '\r' | '\n'));
-    text.then(|| valid.chars().take(24).collect::<String>().trim().to_owned())
+    // On one line (an error message quotes it; a batch table shows it in a cell).
+    text.then(|| {
+        let start: String = valid.chars().take(24).collect();
+        start.split_whitespace().collect::<Vec<_>>().join(" ")
+    })
 }
 
 /// Bytes looked at to recognise a format.
@@ -617,6 +621,8 @@ mod tests {
     #[test]
     fn text_is_told_apart_from_binary_data() {
         assert_eq!(text_start(b"show notes\n"), Some("show notes".into()));
+        // Quoted on one line: line breaks and tabs become single spaces.
+        assert_eq!(text_start(b"abc\ndef\r\n\tghi"), Some("abc def ghi".into()));
         assert_eq!(text_start("épisode €".as_bytes()), Some("épisode €".into()));
         // A character cut by the end of the bytes looked at.
         assert!(text_start(&"abcd€".as_bytes()[..6]).is_some());

@@ -136,7 +136,7 @@ fn print_summary(input: &Path, s: &RenderSummary) {
     if let Some(osc) = &s.osc {
         eprintln!("  {osc}");
     }
-    eprintln!("  {}", describe_voice(s.voice));
+    eprintln!("  {}", describe_voice(s.voice, &s.breaths));
     for f in &s.findings {
         eprintln!("warning: {}", f.message());
     }

@@ -19,7 +19,7 @@ use pneuma_core::encode::midi_file::MidiFileSink;
 use pneuma_core::encode::sink::{FrameSink, Resample, TextSink};
 use pneuma_core::engine::offline::{self, TailFrames};
 use pneuma_core::engine::VoiceStatus;
-use pneuma_core::{BreathEvent, ControlFrame};
+use pneuma_core::{BreathEvent, BreathKind, ControlFrame};
 use pneuma_io::{AudioSource, InputFormat};
 
 use super::error::{interrupted, out_err, RenderError};
@@ -61,8 +61,30 @@ pub struct RenderSummary {
     pub voice: VoiceStatus,
 }
 
-/// The summary's line on the breath voice.
-pub fn describe_voice(voice: VoiceStatus) -> String {
+/// The summary's line on the breath voice, given the breaths inserted (those played from the
+/// user's breath samples use no voice).
+pub fn describe_voice(voice: VoiceStatus, inserted: &[BreathEvent]) -> String {
+    let breaths = |n| crate::options::count(n, "breath");
+    let from_samples = inserted
+        .iter()
+        .filter(|b| b.kind == BreathKind::Sample)
+        .count();
+    if from_samples > 0 && from_samples == inserted.len() {
+        return "breath sound: your breath samples".into();
+    }
+    let samples_note = if from_samples > 0 {
+        format!(
+            " ({from_samples} of {} from your breath samples)",
+            breaths(inserted.len())
+        )
+    } else {
+        String::new()
+    };
+    describe_voice_status(voice) + &samples_note
+}
+
+/// The breath voice's own part of [`describe_voice`].
+fn describe_voice_status(voice: VoiceStatus) -> String {
     let breaths = |n| crate::options::count(n, "breath");
     match voice {
         VoiceStatus::Fixed { breaths: n } => format!("breath voice: learned from {}", breaths(n)),
@@ -601,6 +623,33 @@ impl FrameSink for Kept {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_voice_line_names_the_users_samples_when_they_sounded() {
+        let breath = |kind| BreathEvent {
+            start_s: 1.0,
+            end_s: 1.4,
+            kind,
+            peak_db: -30.0,
+        };
+        let samples = [breath(BreathKind::Sample), breath(BreathKind::Sample)];
+        assert_eq!(
+            describe_voice(VoiceStatus::BuiltIn, &samples),
+            "breath sound: your breath samples"
+        );
+        let some = [breath(BreathKind::Sample), breath(BreathKind::Mixed)];
+        let line = describe_voice(VoiceStatus::Fixed { breaths: 3 }, &some);
+        assert!(
+            line.starts_with("breath voice: learned from 3 breaths"),
+            "{line}"
+        );
+        assert!(
+            line.ends_with("(1 of 2 breaths from your breath samples)"),
+            "{line}"
+        );
+        let none = describe_voice(VoiceStatus::BuiltIn, &[breath(BreathKind::Mixed)]);
+        assert!(none.starts_with("breath voice: built-in"), "{none}");
+    }
 
     #[test]
     fn an_envelope_of_unknown_length_stays_bounded_and_keeps_the_extremes() {

@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use pneuma_core::breathing::{BreathSample, Preset, SampleSlot};
-use pneuma_core::engine::{Engine, EngineConfig, EngineError};
+use pneuma_core::engine::{Engine, EngineConfig, EngineError, PlacementMode};
 use pneuma_io::{AudioSource, InputFormat, Tags};
 
 use super::error::RenderError;
@@ -190,6 +190,14 @@ impl Args {
             .parse(&self.mode)
             .map_err(|e| RenderError::Input(render_for(&SETTING_FLAGS, &e)))?;
         set(&MODE, mode)?;
+        if self.lookahead_ms.is_some() && c.placement.mode == PlacementMode::Live {
+            return Err(RenderError::Input(
+                "--lookahead-ms sets lookahead mode's delay, and live mode has none: drop \
+                 --lookahead-ms to render live, or --mode live to render with the plugin's \
+                 lookahead"
+                    .into(),
+            ));
+        }
         c.placement.whole_file = self.lookahead_ms.is_none();
         c.placement.insert_breaths = !self.no_breaths;
         c.placement.speech_only = !self.any_sound;

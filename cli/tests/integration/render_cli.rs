@@ -282,6 +282,22 @@ fn broken_input_fails_cleanly_and_keeps_existing_output() {
         assert!(err.contains(want), "{option}: {err}");
         assert!(!err.contains("_s`") && !err.contains("writable"), "{err}");
     }
+    // A lookahead is refused in live mode, which has none.
+    let o = render(&good, &out, &["--mode", "live", "--lookahead-ms", "300"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("live mode has none"),
+        "{err}"
+    );
+    // An existing file is not a folder to write into.
+    let file = dir.path().join("notes");
+    std::fs::write(&file, b"x").unwrap();
+    let o = render(&good, &file, &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("is an existing file"),
+        "{err}"
+    );
     // A Unicode minus pasted from the docs is a minus.
     let o = render(&good, &out, &["--breath-level-db", "\u{2212}30"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

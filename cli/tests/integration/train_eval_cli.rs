@@ -152,6 +152,19 @@ fn clear_errors_for_bad_data_and_models() {
 
     let data = dir.path().join("data");
     std::fs::create_dir(&data).unwrap();
+    // A folder as the model file is refused before any training.
+    let out = pneuma(&[
+        "train",
+        "--data",
+        data.to_str().unwrap(),
+        "-o",
+        dir.path().to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("is a folder; give the model file"),
+        "{err}"
+    );
     let out = pneuma(&["eval", "head", "--data", data.to_str().unwrap()]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("no <clip>.wav + <clip>.head.csv pairs"));
@@ -183,6 +196,14 @@ fn clear_errors_for_bad_data_and_models() {
     let out = pneuma(&["eval", "head", "--data", data.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("roll_deg"), "{err}");
+    // One clip leaves nothing to hold out: refused, saying so.
+    write_clip(&data, "one", 0.0, 1);
+    let out = pneuma(&["train", "--data", data.to_str().unwrap(), "-o", "x.json"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("holds one clip"),
+        "{err}"
+    );
 
     let bad_model = dir.path().join("bad.json");
     std::fs::write(

@@ -79,7 +79,7 @@ pub struct RestoreArgs {
     /// Exit non-zero when a held-out target is missed.
     #[arg(long)]
     pub check: bool,
-    /// Only the held-out rows the issue reports (the learned voice cut three ways, the plugin's
+    /// Only the held-out rows the targets judge (the learned voice cut three ways, the plugin's
     /// voice learned as it goes, the built-in voice fitted without the speaker, the breaths left
     /// in): about half the time. Leaves out the fitted and earlier voices, the two-voice
     /// comparison and the length grid.
