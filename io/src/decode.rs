@@ -29,6 +29,7 @@ use symphonia::core::io::{MediaSource, MediaSourceStream, MediaSourceStreamOptio
 use symphonia::core::meta::{ChapterGroupItem, MetadataOptions, RawValue, StandardTag, Tag};
 use thiserror::Error;
 
+use crate::mp4_edit::{audio_edit, Edit};
 use crate::{AudioInfo, Chapter, InputFormat, Tags};
 
 /// Errors of the symphonia path.
@@ -101,6 +102,10 @@ pub struct DecodedSource {
     pending: Vec<f32>,
     pending_at: usize,
     frames_read: u64,
+    /// An MP4 file's edit list: the priming dropped, the length kept ([`crate::mp4_edit`]).
+    edit: Option<Edit>,
+    /// Decoded frames dropped as priming so far.
+    skipped: u64,
     ended: bool,
 }
 
@@ -305,8 +310,24 @@ impl DecodedSource {
             pending: Vec::new(),
             pending_at: 0,
             frames_read: 0,
+            edit: None,
+            skipped: 0,
             ended: false,
         })
+    }
+
+    /// An MP4 opened from the regular file at `path` (read again, apart from symphonia): its
+    /// audio track's edit list drops the encoder's priming and ends the audio where the
+    /// recording ends ([`crate::mp4_edit`]). Call before reading; nothing changes for other
+    /// formats or without a plain edit list.
+    pub fn read_edit_list(&mut self, path: &Path) {
+        if self.format != InputFormat::Mp4 || self.frames_read > 0 {
+            return;
+        }
+        self.edit = audio_edit(path, self.info.sample_rate_hz);
+        if let Some(e) = self.edit {
+            self.info.frames = e.keep;
+        }
     }
 
     /// What the stream holds (`frames` is what the container announces, 0 if it does not).
@@ -399,10 +420,10 @@ impl DecodedSource {
             });
         }
         if let Some(n) = self.announced {
-            if self.frames_read + self.max_packet_frames + LENGTH_SLACK_FRAMES < n {
+            let decoded = self.frames_read + self.skipped;
+            if decoded + self.max_packet_frames + LENGTH_SLACK_FRAMES < n {
                 return Err(self.damaged(format!(
-                    "the header announces {n} sample frames but the audio ends after {}",
-                    self.frames_read
+                    "the header announces {n} sample frames but the audio ends after {decoded}"
                 )));
             }
         }
@@ -430,8 +451,23 @@ impl DecodedSource {
                 self.finish_stream()?;
                 break;
             }
-            let take =
+            let mut take =
                 (max_frames * channels - out.len()).min(self.pending.len() - self.pending_at);
+            if let Some(e) = self.edit {
+                // The priming goes; the recording ends where the edit says.
+                let prime = (e.skip - self.skipped).min(self.pending_frames());
+                if prime > 0 {
+                    self.pending_at += prime as usize * channels;
+                    self.skipped += prime;
+                    continue;
+                }
+                let room = e.keep.saturating_sub(self.frames_read);
+                if room == 0 {
+                    self.finish_stream()?;
+                    break;
+                }
+                take = take.min(room as usize * channels);
+            }
             out.extend_from_slice(&self.pending[self.pending_at..self.pending_at + take]);
             self.pending_at += take;
             self.frames_read += (take / channels) as u64;

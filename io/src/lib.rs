@@ -22,6 +22,7 @@
 
 pub mod decode;
 pub mod g711;
+pub mod mp4_edit;
 pub mod wav;
 
 use std::io::{Cursor, Read};
@@ -271,7 +272,10 @@ impl AudioSource {
         if (format != InputFormat::Wav || adpcm.is_some()) && file_len.is_some() {
             // A regular file is opened again: symphonia seeks in it (trailing tags, MP4 boxes).
             let file = std::fs::File::open(path).map_err(open_err)?;
-            let source = DecodedSource::open(path, Box::new(file), format);
+            let source = DecodedSource::open(path, Box::new(file), format).map(|mut s| {
+                s.read_edit_list(path);
+                s
+            });
             return match (source, adpcm) {
                 // An ADPCM header symphonia cannot read is a WAV problem: say which format.
                 (Err(DecodeError::Unknown { reason, .. }), Some(tag)) => {
