@@ -68,9 +68,12 @@ impl PythonWorker {
         })
     }
 
-    /// The scratch file `name` beside the script (where requests put their inputs and outputs).
+    /// The scratch file `name` beside the script (where requests put their inputs and outputs),
+    /// named for this process: two evaluations running at once never share one. Removed when
+    /// the worker is dropped.
     pub fn scratch_file(&self, name: &str) -> PathBuf {
-        self.script.with_file_name(name)
+        self.script
+            .with_file_name(format!("{}{name}", scratch_prefix()))
     }
 
     /// Sends `job`'s request `fields` (joined by tabs after the job's name) and waits for its
@@ -101,7 +104,21 @@ impl Drop for PythonWorker {
         // Killing it ends the worker's loop whatever it was doing.
         let _ = self.child.kill();
         let _ = self.child.wait();
+        let prefix = scratch_prefix();
+        let Some(dir) = self.script.parent() else {
+            return;
+        };
+        for entry in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+            if entry.file_name().to_string_lossy().starts_with(&prefix) {
+                let _ = std::fs::remove_file(entry.path());
+            }
+        }
     }
+}
+
+/// The start of this process's scratch file names.
+fn scratch_prefix() -> String {
+    format!("{}-", std::process::id())
 }
 
 #[cfg(test)]
@@ -155,6 +172,15 @@ for line in sys.stdin:
         assert_eq!(err, "fail on f.wav: boom");
         w.request("echo", &["second", &out_text], "").expect("ok");
         assert_eq!(std::fs::read_to_string(&out).expect("written"), "second");
+        // The scratch files are this process's, and go with the worker.
+        assert!(out
+            .file_name()
+            .unwrap()
+            .to_string_lossy()
+            .starts_with(&scratch_prefix()));
+        drop(w);
+        assert!(!out.exists(), "{}", out.display());
+        assert!(dir.path().join("echo.py").exists());
     }
 
     #[test]
