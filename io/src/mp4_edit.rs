@@ -36,6 +36,17 @@ pub fn audio_edit(path: &Path, rate_hz: u32) -> Option<Edit> {
     edit_in_moov(&moov, rate_hz)
 }
 
+/// The size and header length, bytes, of the box whose first bytes are `head` (up to 16) with
+/// `left` bytes from its start to the end of its parent; `None` when it does not fit.
+fn box_extent(head: &[u8], left: u64) -> Option<(u64, u64)> {
+    let (size, header) = match u32_at(head, 0)? {
+        0 => (left, 8),
+        1 => (u64_at(head, 8)?, 16),
+        n => (n, 8),
+    };
+    (size >= header && size <= left).then_some((size, header))
+}
+
 /// The body of the first top-level box of `kind`.
 fn read_top_box(file: &mut std::fs::File, kind: &[u8; 4]) -> Option<Vec<u8>> {
     let len = file.metadata().ok()?.len();
@@ -43,25 +54,16 @@ fn read_top_box(file: &mut std::fs::File, kind: &[u8; 4]) -> Option<Vec<u8>> {
     while at + 8 <= len {
         file.seek(SeekFrom::Start(at)).ok()?;
         let mut head = [0u8; 16];
-        file.read_exact(&mut head[..8]).ok()?;
-        let size32 = u32::from_be_bytes(head[..4].try_into().ok()?) as u64;
-        let (size, header) = match size32 {
-            0 => (len - at, 8),
-            1 => {
-                file.read_exact(&mut head[8..16]).ok()?;
-                (u64::from_be_bytes(head[8..16].try_into().ok()?), 16)
-            }
-            n => (n, 8),
-        };
-        if size < header || at + size > len {
-            return None;
-        }
+        let n = (len - at).min(16) as usize;
+        file.read_exact(&mut head[..n]).ok()?;
+        let (size, header) = box_extent(&head[..n], len - at)?;
         if &head[4..8] == kind {
             let body = size - header;
             if body > MAX_MOOV_BYTES {
                 return None;
             }
             let mut out = vec![0u8; body as usize];
+            file.seek(SeekFrom::Start(at + header)).ok()?;
             file.read_exact(&mut out).ok()?;
             return Some(out);
         }
@@ -75,21 +77,8 @@ fn children(body: &[u8]) -> impl Iterator<Item = (&[u8], &[u8])> {
     let mut at = 0usize;
     std::iter::from_fn(move || {
         let head = body.get(at..at + 8)?;
-        let size32 = u32::from_be_bytes(head[..4].try_into().ok()?) as usize;
-        let (size, header) = match size32 {
-            0 => (body.len() - at, 8),
-            1 => {
-                let large = body.get(at + 8..at + 16)?;
-                (
-                    usize::try_from(u64::from_be_bytes(large.try_into().ok()?)).ok()?,
-                    16,
-                )
-            }
-            n => (n, 8),
-        };
-        if size < header || at.checked_add(size)? > body.len() {
-            return None;
-        }
+        let (size, header) = box_extent(&body[at..], (body.len() - at) as u64)?;
+        let (size, header) = (size as usize, header as usize);
         let item = (&head[4..8], &body[at + header..at + size]);
         at += size;
         Some(item)

@@ -64,7 +64,6 @@ pub struct RenderSummary {
 /// The summary's line on the breath voice, given the breaths inserted (those played from the
 /// user's breath samples use no voice).
 pub fn describe_voice(voice: VoiceStatus, inserted: &[BreathEvent]) -> String {
-    let breaths = |n| crate::options::count(n, "breath");
     let from_samples = inserted
         .iter()
         .filter(|b| b.kind == BreathKind::Sample)
@@ -75,7 +74,7 @@ pub fn describe_voice(voice: VoiceStatus, inserted: &[BreathEvent]) -> String {
     let samples_note = if from_samples > 0 {
         format!(
             " ({from_samples} of {} from your breath samples)",
-            breaths(inserted.len())
+            crate::options::count(inserted.len(), "breath")
         )
     } else {
         String::new()

@@ -59,11 +59,9 @@ impl BreathRun {
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct PauseBreaths {
     run: BreathRun,
-    /// Frames (start, end) of the last breath run long enough to count, in this pause.
-    span: Option<(u64, u64)>,
-    /// The same run's end at its first blip, if it spans one.
-    span_blip: Option<u64>,
-    seen: bool,
+    /// The last breath run long enough to count, in this pause: frames (start, end), and its
+    /// first blip if it spans one.
+    counted: Option<((u64, u64), Option<u64>)>,
 }
 
 /// A breath heard in a pause, as frames (start, end).
@@ -81,9 +79,7 @@ impl PauseBreaths {
     /// A new pause: nothing heard yet.
     pub(super) fn restart(&mut self) {
         self.run.frames = 0;
-        self.seen = false;
-        self.span = None;
-        self.span_blip = None;
+        self.counted = None;
     }
 
     /// An active frame at `index` (a candidate phrase starts on it): a run going on spans a blip
@@ -137,9 +133,7 @@ impl PauseBreaths {
     pub(super) fn close(&mut self, index: u64, rules: &BreathRules) {
         let run = &mut self.run;
         if run.frames >= rules.min_frames && run.counts(rules) {
-            self.seen = true;
-            self.span = Some((run.start, index));
-            self.span_blip = run.blip;
+            self.counted = Some(((run.start, index), run.blip));
         }
         run.frames = 0;
     }
@@ -155,8 +149,8 @@ impl PauseBreaths {
             if run.frames > 0 && run.counts(rules) && onset.saturating_sub(run.start) >= min {
                 ((run.start, onset), run.blip)
             } else {
-                let (a, b) = self.span.filter(|_| self.seen)?;
-                ((a, b.min(onset)), self.span_blip)
+                let ((a, b), blip) = self.counted?;
+                ((a, b.min(onset)), blip)
             };
         let long_enough = |&(a, b): &(u64, u64)| b >= a + min;
         long_enough(&span).then(|| HeardRun {
