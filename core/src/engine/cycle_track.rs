@@ -4,8 +4,7 @@
 //! inspiration fills the lung for its group, each phrase spends the air left over the speech
 //! left in the group, and a pause inside a group holds the breath.
 
-use super::schedule::{CycleAction, Schedule};
-use super::Pending;
+use super::schedule::{CycleAction, Pending, Schedule};
 use crate::breathing::{BreathCycle, LowLevelParams};
 use crate::control::BreathingState;
 
@@ -83,6 +82,7 @@ impl CycleTrack {
                     self.speaking = true;
                     self.cycle.expire_group(left_s);
                 }
+                CycleAction::OtherSoundStarts => self.speaking = false,
                 CycleAction::SpeechStopped => {
                     self.speaking = false;
                     self.cycle.pause_in_group();

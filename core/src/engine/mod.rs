@@ -40,6 +40,7 @@
 //! from that sequence), so any block partition gives identical output and control frames.
 //! `process` never allocates.
 
+mod body_gate;
 mod breath_track;
 mod config;
 mod cycle_track;
@@ -65,11 +66,12 @@ use crate::analysis::{Analyzer, FeatureFrame};
 use crate::breathing::learned::LearnedVoice;
 use crate::breathing::reference::ReferenceVoice;
 use crate::breathing::{BreathSample, BreathVoice, SampleSlot};
-use crate::control::{BreathEvent, ControlFrame, HeadAngles};
+use crate::control::{BreathEvent, ControlFrame};
 use crate::encode::sink::FrameSink;
 use crate::head::{HeadModel, HeadSynth};
 use crate::phrase::{PhraseEvent, PhraseTracker};
 use crate::speech::SpeechModel;
+use body_gate::BodyGate;
 use breath_track::{Block, BreathTrack};
 use cycle_track::CycleTrack;
 use delay::DelayLine;
@@ -77,7 +79,7 @@ use dropped::Lost;
 use gate::InputGate;
 use placement::{EventContext, Placement};
 use replay::{AnalysisRecord, Replay};
-use schedule::{Queue, Schedule};
+use schedule::{Pending, Queue, Schedule};
 use speech_track::SpeechTrack;
 use stereo::StereoImage;
 use voice_track::{VoiceChoice, VoiceTrack};
@@ -93,15 +95,6 @@ pub(crate) fn clean_sample(x: f32) -> f32 {
 
 /// Most channels a stream may have.
 pub const MAX_CHANNELS: usize = 8;
-
-/// A feature frame waiting for the output to reach it.
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct Pending {
-    pub(crate) frame: FeatureFrame,
-    pub(crate) head: HeadAngles,
-    /// Output sample index from which it may be emitted.
-    pub(crate) emit_at: u64,
-}
 
 /// Breaths already in the input kept for [`Engine::take_existing_breaths`].
 const EXISTING_BREATHS_KEPT: usize = 16;
@@ -190,6 +183,7 @@ impl Timing {
 struct StreamState {
     /// Samples taken in (input timeline) = samples given out (output timeline).
     position: u64,
+    body: BodyGate,
 }
 
 /// The streaming engine. See the module docs.
@@ -776,6 +770,13 @@ impl Stream {
             }
             let breathing = self.cycle.step(&p, &mut self.schedule);
             let f = &p.frame;
+            // Music, singing or noise judged not speech: the head rests as in a silence.
+            let other_sound = p.other_sound;
+            let head = if other_sound {
+                self.head.process_other_sound(f, self.frame_rate_hz)
+            } else {
+                self.head.process(f, self.frame_rate_hz)
+            };
             let frame = ControlFrame {
                 index: f.index,
                 time_s: f.time_s,
@@ -783,9 +784,9 @@ impl Stream {
                 voiced: f.voiced,
                 rms_db: f.rms_db,
                 level_db: f.level_db,
-                speaking: self.cycle.speaking(),
+                speaking: self.cycle.speaking() && !other_sound,
                 breathing,
-                head: p.head,
+                head,
             };
             on_control(&frame, start + offset);
         }
@@ -814,7 +815,6 @@ impl Stream {
         i: usize,
         channels: usize,
     ) {
-        let head = self.head.process(f, self.frame_rate_hz);
         self.voice.frame(f);
         if self.placement.on_frame(f) {
             self.stereo.learn(i, channels);
@@ -823,7 +823,7 @@ impl Stream {
         let emit_at = (frame_pos + self.delay.latency() as u64).max(now);
         self.pending.push_back(Pending {
             frame: *f,
-            head,
+            other_sound: false,
             emit_at,
         });
         // The tracker reports at most an end, an activity and a start per frame.
@@ -838,16 +838,20 @@ impl Stream {
         debug_assert!(count <= events.len(), "{count} phrase events at one frame");
         self.lost.phrase_events += count.saturating_sub(events.len()) as u64;
         // The speech decision judges the phrases first (an end's judgement is kept apart from
-        // the phrase a start in the same frame begins).
+        // the phrase a start in the same frame begins), then the body gate flags the frames.
+        let mut ended = None;
         for e in events.iter().flatten() {
             match *e {
                 PhraseEvent::Start { onset_s, .. } => self.speech.phrase_started(onset_s),
                 PhraseEvent::End { onset_s, offset_s } => {
-                    self.speech.phrase_ended(onset_s, offset_s);
+                    ended = Some((onset_s, self.speech.phrase_ended(onset_s, offset_s)));
                 }
                 PhraseEvent::Activity { .. } => {}
             }
         }
+        self.state
+            .body
+            .frame(&self.speech, ended, &mut self.pending, now, self.live);
         let ctx = EventContext {
             config,
             now,

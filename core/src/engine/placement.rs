@@ -27,9 +27,9 @@
 //!   before the pause is over, and a breath started earlier lands on the next word); it sizes
 //!   each breath for the running estimate of a group instead.
 
-use super::schedule::{BreathAction, CycleAction, Queue, Schedule};
+use super::schedule::{BreathAction, CycleAction, Pending, Queue, Schedule};
 use super::speech_track::SpeechTrack;
-use super::{EngineConfig, Pending, PlacementMode, MAX_CHANNELS};
+use super::{EngineConfig, PlacementMode, MAX_CHANNELS};
 use crate::analysis::FeatureFrame;
 use crate::breathing::MIN_LUNG_VOLUME;
 use crate::phrase::{Pause, PhraseEvent};
@@ -492,6 +492,18 @@ impl Placement {
         }
     }
 
+    /// Lookahead mode: whether phrase `ph` itself (just taken from the front) is speech, so that
+    /// the body speaks it: its judgement once it ended or its window was heard; while less of
+    /// it is visible, when what is visible is speech or Silero heard speech in it (a voice
+    /// under a bed is not taken for the bed).
+    fn phrase_is_speech(ctx: &EventContext, ph: &Seen) -> bool {
+        match (ph.speech, ctx.speech.current()) {
+            (Some(speech), _) | (None, Some((speech, true))) => speech,
+            (None, Some((visible, false))) => visible || ctx.speech.silero_heard(),
+            (None, None) => ctx.speech.silero_heard(),
+        }
+    }
+
     /// Decides the pause of the oldest undecided phrase: a breath, a catch breath or none, and
     /// the phrase's share of its group.
     fn decide_front(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
@@ -509,6 +521,7 @@ impl Placement {
             self.state.group_spoken_s += (pause.start_s - prev).max(0.0) as f32;
         }
         self.state.last_onset_s = Some(onset_s);
+        let spoken = Self::phrase_is_speech(ctx, &ph);
         let (known_s, complete) = self.known_group_s(now_s, p.min_pause_s as f64);
         self.seen.pop_front();
         let coming_s = if complete {
@@ -535,9 +548,9 @@ impl Placement {
             ((ctx.now + 1).saturating_sub(self.latency)).max(self.state.breath_end) as f64 / rate;
         let volume = (coming_s / map.length_utterance_s.max(1e-3)).clamp(MIN_LUNG_VOLUME, 1.0);
         let mut window = None;
-        // A breath already in the pause drives the cycle: the inspiration lies on it (and no
-        // sound is inserted, below), whatever the pause's length.
-        if let Some((from_s, to_s)) = pause.breath_s {
+        // A breath already in a pause of speech drives the cycle: the inspiration lies on it
+        // (and no sound is inserted, below), whatever the pause's length.
+        if let (true, Some((from_s, to_s))) = (speech, pause.breath_s) {
             let start_s = from_s.max(earliest_s);
             if to_s - start_s >= self.hop_s {
                 window = Some((start_s, to_s));
@@ -580,7 +593,7 @@ impl Placement {
                 .max(earliest_s);
             if speech && end_s - start_s >= p.catch_breath_min_s as f64 - 1e-9 {
                 window = Some((start_s, end_s));
-            } else if pause.leading && self.state.group_planned_s <= 0.0 {
+            } else if pause.leading && spoken && self.state.group_planned_s <= 0.0 {
                 // Speech from the very start of the stream: the speaker breathed before it.
                 let group_s = self.new_group(config, coming_s);
                 let at_s = earliest_s.min(onset_s).max(0.0);
@@ -621,10 +634,14 @@ impl Placement {
                 self.state.breath_end = start + length as u64;
             }
         }
-        let left_s = self.group_left_s();
-        schedule
-            .cycle
-            .insert_sorted((onset_s, CycleAction::UtteranceStarts { left_s }));
+        let action = if spoken {
+            CycleAction::UtteranceStarts {
+                left_s: self.group_left_s(),
+            }
+        } else {
+            CycleAction::OtherSoundStarts
+        };
+        schedule.cycle.insert_sorted((onset_s, action));
     }
 }
 

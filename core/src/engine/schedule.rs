@@ -1,5 +1,6 @@
-//! What the placement schedules and the breath track and the breathing cycle carry out: breath
-//! actions on the input timeline (samples), breathing-cycle actions (seconds), both in
+//! What waits for the output: the analysed frames ([`Pending`]), and what the placement
+//! schedules and the breath track and the breathing cycle carry out: breath actions on the
+//! input timeline (samples), breathing-cycle actions (seconds); all in
 //! [`Queue`]s, a fixed-capacity queue for the audio thread: it never grows after
 //! `with_capacity`, a push into a full queue drops the oldest entry (and counts it), and sorted
 //! insertion keeps scheduled actions in time order.
@@ -7,6 +8,18 @@
 use std::collections::VecDeque;
 
 use super::MAX_CHANNELS;
+use crate::analysis::FeatureFrame;
+
+/// A feature frame waiting for the output to reach it.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Pending {
+    pub(crate) frame: FeatureFrame,
+    /// The frame lies in sound judged not speech ([`super::body_gate::BodyGate`]): the body
+    /// neither speaks nor moves its head for it.
+    pub(crate) other_sound: bool,
+    /// Output sample index from which it may be emitted.
+    pub(crate) emit_at: u64,
+}
 
 /// A breath action on the input timeline (sample index).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -41,6 +54,9 @@ pub(crate) enum CycleAction {
     BreathedIn { group_s: f32 },
     /// A phrase starts with `left_s` seconds of speech left in its breath group.
     UtteranceStarts { left_s: f32 },
+    /// A phrase judged not speech starts (music, singing, noise): the body neither speaks nor
+    /// breathes out for it.
+    OtherSoundStarts,
     /// A phrase ended (the breath is held while the pause lasts).
     SpeechStopped,
 }
@@ -108,6 +124,10 @@ impl<T: Copy> Queue<T> {
 
     pub(crate) fn iter(&self) -> impl Iterator<Item = &T> {
         self.items.iter()
+    }
+
+    pub(crate) fn iter_mut(&mut self) -> impl Iterator<Item = &mut T> {
+        self.items.iter_mut()
     }
 
     pub(crate) fn front(&self) -> Option<&T> {

@@ -172,6 +172,11 @@ impl SpeechTrack {
         Some((j.is_speech(self.threshold)?, j.is_complete()))
     }
 
+    /// Onset of the phrase being spoken, seconds (`None` between phrases).
+    pub(crate) fn current_onset_s(&self) -> Option<f64> {
+        self.state.phrase.map(|j| j.start_s())
+    }
+
     /// Silero's probability reached its own threshold (0.5) in what was heard of the phrase
     /// being spoken (always true when the decision is off). The stacked model's threshold needs
     /// more than a phrase's first chunks; Silero's own is what a phrase's first 0.1 s can say.

@@ -219,6 +219,19 @@ impl HeadSynth {
         &self.model
     }
 
+    /// The head pose for a frame of sound that is not this speaker's speech (music, singing,
+    /// noise, as the speech decision judged it): the head returns to its rest pose as in a long
+    /// silence, whatever it hears (the output smoothing carries it on for a few tenths of a
+    /// second first, as when speech stops). Never allocates.
+    pub fn process_other_sound(&mut self, frame: &FeatureFrame, frame_rate_hz: f64) -> HeadAngles {
+        self.unvoiced_s = AT_REST_S;
+        let unvoiced = FeatureFrame {
+            voiced: false,
+            ..*frame
+        };
+        self.process(&unvoiced, frame_rate_hz)
+    }
+
     /// The head pose for one feature frame at `frame_rate_hz` frames per second. Never
     /// allocates; non-finite features count as an unvoiced frame at the lowest level, and a
     /// non-finite or non-positive frame rate counts as 120 Hz.
@@ -390,6 +403,32 @@ mod tests {
             band_db: -20.0,
             bands: Default::default(),
         }
+    }
+
+    #[test]
+    fn other_sound_sends_the_head_back_to_rest_whatever_it_hears() {
+        let mut s =
+            HeadSynth::new(HeadModel::default_model().clone(), HeadConfig::default()).unwrap();
+        let away = |a: HeadAngles| a.pitch_deg.hypot(a.yaw_deg).hypot(a.roll_deg);
+        let mut last = 0.0;
+        for i in 0..360 {
+            last = away(s.process(&voiced(i, 4.0 * (i as f32 * 0.05).sin(), 0.0), 120.0));
+        }
+        assert!(last > 0.5, "the speech moved the head {last}° only");
+        // Loud voiced music with a moving pitch: the head only settles back, once the output
+        // smoothing has carried it on (as when speech stops: a few tenths of a second).
+        let start = last;
+        for i in 360..960 {
+            let music = voiced(i, 6.0 * (i as f32 * 0.2).sin(), 6.0);
+            let now = away(s.process_other_sound(&music, 120.0));
+            if i < 420 {
+                assert!(now <= start + 2.0, "frame {i}: {now}° from {start}°");
+            } else {
+                assert!(now <= last + 1e-4, "frame {i}: {now}° after {last}°");
+            }
+            last = now;
+        }
+        assert!(last < 0.1, "{last}° from rest after 5 s");
     }
 
     #[test]

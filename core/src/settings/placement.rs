@@ -61,8 +61,9 @@ pub static SPEECH_ONLY: Setting = Setting {
     scope: Scope::Stream,
     help: "Breaths only into pauses of speech: the speech decision (Silero VAD and two cues of \
            Pneuma's own) keeps them out of music, singing, noise and silence with no speech \
-           beside them. Off: every pause the phrase tracker finds (breaths between sung \
-           phrases, generated test signals); `pneuma render --any-sound`",
+           beside them, and the body does not talk along with those (no speaking flag, no \
+           breathing out, the head at rest). Off: every pause the phrase tracker finds \
+           (breaths between sung phrases, generated test signals); `pneuma render --any-sound`",
     why: "on or off",
 };
 

@@ -82,6 +82,9 @@ fn the_breathing_cycle_breathes_in_with_the_breath_already_there() {
     for whole_file in [false, true] {
         let mut c = EngineConfig::default();
         c.placement.whole_file = whole_file;
+        // Steady tones are no speech, and a breath between two phrases that are not speech
+        // does not drive the cycle: the decision is off, as in `run`.
+        c.placement.speech_only = false;
         let mut engine = Engine::new(c, HeadModel::default_model().clone()).expect("engine");
         engine.prepare(RATE_HZ, 256, 1).expect("prepare");
         let r = pneuma_core::engine::offline::render(&mut engine, &[phrases(true)], &[256]);

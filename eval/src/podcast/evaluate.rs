@@ -28,6 +28,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
+use pneuma_core::control::ControlFrame;
 use pneuma_core::engine::{offline, Engine, EngineConfig};
 use pneuma_core::head::HeadModel;
 use pneuma_core::speech::segments::segments;
@@ -112,6 +113,10 @@ struct BreathTally {
     /// Breaths the engine heard in labelled clips: (on a labelled real breath, elsewhere), by
     /// the same kinds.
     heard: [(usize, usize); 4],
+    /// The body's control frames: (speaking, all) and (head moving, all) on speech truth frames
+    /// and on music-only, singing and noise-only frames standing alone ([`BODY_CLASSES`]).
+    speaking: [(usize, usize); 4],
+    moving: [(usize, usize); 4],
     audio_s: f64,
     wall_s: f64,
 }
@@ -122,6 +127,16 @@ const PAUSE_KINDS: [&str; 4] = [
     "under beds < 20 dB down",
     "in noise",
 ];
+
+/// The frames the body's figures are kept apart for: speech truth, then sound standing alone.
+const BODY_CLASSES: [&str; 4] = ["speech", "music-only", "singing", "noise-only"];
+
+/// A head turning away from its rest pose faster than this is moving, degrees per second (real
+/// heads in speech move at 8–38 °/s on average, issue 32).
+const MOVING_DEG_S: f64 = 2.0;
+
+/// Most of the body's frames on music, singing or noise standing alone that may speak or move.
+const MOST_BODY_SHARE: f64 = 0.05;
 
 /// The frames of `episode` called speech by `called` (one per label frame).
 fn tally(t: &mut FrameTally, episode: &Episode, called: &[bool]) {
@@ -339,6 +354,7 @@ impl BreathTally {
                 }
             }
         }
+        self.add_body(episode, out);
         for (a, b, kind) in pauses(episode) {
             let (a_s, b_s) = (a as f64 / FRAMES_PER_S, b as f64 / FRAMES_PER_S);
             let inserted = out.breaths.iter().any(|br| {
@@ -369,6 +385,53 @@ impl BreathTally {
     }
 }
 
+impl BreathTally {
+    /// The speaking flag and the head's motion of `out`'s control frames, by [`BODY_CLASSES`].
+    fn add_body(&mut self, episode: &Episode, out: &offline::Rendered) {
+        let l = &episode.labels;
+        let n = episode.frames();
+        let class_of = |k: usize| {
+            let alone = |class: Class| {
+                l.class[k] == Some(class) && l.role[k].is_some_and(|r| r.stands_alone())
+            };
+            if l.truth[k] {
+                Some(0)
+            } else if alone(Class::MusicOnly) {
+                Some(1)
+            } else if alone(Class::Singing) {
+                Some(2)
+            } else if alone(Class::NoiseOnly) {
+                Some(3)
+            } else {
+                None
+            }
+        };
+        for pair in out.frames.windows(2) {
+            let (a, b) = (&pair[0].0, &pair[1].0);
+            let c = super::label_frame(b.time_s, n).and_then(class_of);
+            let (Some(c), true) = (c, b.time_s > a.time_s) else {
+                continue;
+            };
+            // Away from the rest pose: a head settling back to rest after the speech (a sting
+            // right after the last phrase) does not follow the sound.
+            let away = |f: &ControlFrame| {
+                let h = &f.head;
+                f64::from(h.pitch_deg.hypot(h.yaw_deg).hypot(h.roll_deg))
+            };
+            let moving = (away(b) - away(a)) / (b.time_s - a.time_s) > MOVING_DEG_S;
+            self.speaking[c].0 += usize::from(b.speaking);
+            self.speaking[c].1 += 1;
+            self.moving[c].0 += usize::from(moving);
+            self.moving[c].1 += 1;
+        }
+    }
+}
+
+/// `a` of `n` in per cent.
+fn body_percent((a, n): (usize, usize)) -> f64 {
+    100.0 * a as f64 / n.max(1) as f64
+}
+
 /// A target: its name, the figure, met.
 pub type Target = (String, String, bool);
 
@@ -377,7 +440,7 @@ fn breath_targets(mode: Mode, t: &BreathTally) -> Vec<Target> {
     let share = |(a, n): (usize, usize)| a as f64 / n.max(1) as f64;
     let m = mode.name();
     let none = |what: &str, n: usize| (format!("{m}: breaths {what} = 0"), n.to_string(), n == 0);
-    vec![
+    let mut targets = vec![
         none("in music-only spans", t.music),
         none("in singing", t.singing),
         none("in noise-only spans", t.noise),
@@ -392,7 +455,23 @@ fn breath_targets(mode: Mode, t: &BreathTally) -> Vec<Target> {
             format!("{:.2}", share(t.pauses[1])),
             share(t.pauses[1]) >= 0.8,
         ),
-    ]
+    ];
+    for (c, class) in BODY_CLASSES.iter().enumerate().skip(1) {
+        for (what, tally) in [
+            ("speaking", t.speaking[c]),
+            ("head leaving rest", t.moving[c]),
+        ] {
+            targets.push((
+                format!(
+                    "{m}: {what} on {class} frames <= {:.0} %",
+                    100.0 * MOST_BODY_SHARE
+                ),
+                format!("{:.1} %", 100.0 * share(tally)),
+                share(tally) <= MOST_BODY_SHARE,
+            ));
+        }
+    }
+    targets
 }
 
 /// The frame targets: per music piece, recall no lower than Silero's and speech called on its
@@ -562,6 +641,15 @@ fn print_report(
         row(&format!("heard breaths on a label / not, {kind}"), &|t| {
             format!("{}/{}", t.heard[i].0, t.heard[i].1)
         });
+    }
+    for (c, class) in BODY_CLASSES.iter().enumerate() {
+        row(&format!("body: speaking on {class} frames"), &|t| {
+            format!("{:.1}%", body_percent(t.speaking[c]))
+        });
+        row(
+            &format!("body: head leaving rest > 2 deg/s, {class}"),
+            &|t| format!("{:.1}%", body_percent(t.moving[c])),
+        );
     }
     row("render speed, x real time", &|t| {
         format!("{:.0}", t.audio_s / t.wall_s.max(1e-9))

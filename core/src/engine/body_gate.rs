@@ -1,0 +1,84 @@
+//! The body gate: which control frames lie in sound that is not this speaker's speech (music,
+//! singing, noise, as the speech decision judges a phrase), where the body neither speaks nor
+//! moves its head (the engine sends the head to rest and clears the speaking flag).
+//!
+//! A phrase is judged on its first `JUDGE_WINDOW_S` ([`SpeechTrack::current`]), or as a whole
+//! when it ends sooner. Until then a phrase keeps the judgement of the one before (a pause after
+//! music stays with the music), unless Silero hears speech in it (speech after music is not
+//! held back for a window; Silero takes singing and some noise for speech, which then move the
+//! body until the judgement). With a lookahead a stream starts as not speech (no speaker heard
+//! yet: a voiced blip in a music intro does not move the head), live mode as speech. Whenever
+//! the flag of a phrase changes, the frames from its onset that still wait for the output take
+//! it: with a lookahead (the plugin's 500 ms, a render's 8 s) a phrase is gated by its own
+//! judgement from its first frames or nearly; live mode (nothing waits) from the moment it is
+//! judged. Only frames whose emission lies after the analysed sample are changed, so any block
+//! partition gives the same flags. Allocation-free.
+
+use super::schedule::{Pending, Queue};
+use super::speech_track::SpeechTrack;
+
+/// See the module docs.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct BodyGate {
+    /// The last phrase judged (or the one being heard, once Silero heard speech in it) is not
+    /// speech.
+    other_sound: bool,
+    /// Onset of the last phrase whose judgement was applied, seconds.
+    judged_onset_s: Option<f64>,
+    /// The stream's first frame was flagged.
+    started: bool,
+}
+
+impl BodyGate {
+    /// After analysis frame `pending.back()` (completed by input sample `now`) and its phrase
+    /// events, `ended` the phrase that ended at it (onset, judgement): flags that frame and
+    /// re-flags the frames waiting for the output from a phrase's onset when its flag changes;
+    /// `live` mode starts as speech.
+    pub(crate) fn frame(
+        &mut self,
+        speech: &SpeechTrack,
+        ended: Option<(f64, bool)>,
+        pending: &mut Queue<Pending>,
+        now: u64,
+        live: bool,
+    ) {
+        if !self.started {
+            self.started = true;
+            self.other_sound = !live && speech.enabled();
+        }
+        let current = speech.current_onset_s().zip(speech.current());
+        let judged = ended.or(match current {
+            Some((onset_s, (speech, true))) => Some((onset_s, speech)),
+            _ => None,
+        });
+        match judged {
+            Some((onset_s, speech)) if self.judged_onset_s != Some(onset_s) => {
+                self.judged_onset_s = Some(onset_s);
+                self.other_sound = !speech;
+                Self::flag_since(pending, onset_s, now, !speech);
+            }
+            Some(_) => {}
+            None => {
+                // Silero heard speech in the phrase being heard: speech until it is judged.
+                if let (true, Some((onset_s, _))) =
+                    (self.other_sound && speech.silero_heard(), current)
+                {
+                    self.other_sound = false;
+                    Self::flag_since(pending, onset_s, now, false);
+                }
+            }
+        }
+        if let Some(p) = pending.back_mut() {
+            p.other_sound = self.other_sound;
+        }
+    }
+
+    /// Flags the frames from `onset_s` on whose emission lies after input sample `now`.
+    fn flag_since(pending: &mut Queue<Pending>, onset_s: f64, now: u64, other_sound: bool) {
+        for p in pending.iter_mut() {
+            if p.frame.time_s >= onset_s && p.emit_at > now {
+                p.other_sound = other_sound;
+            }
+        }
+    }
+}
