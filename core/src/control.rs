@@ -74,7 +74,8 @@ pub struct ControlFrame {
     pub rms_db: f32,
     /// Level in dB around the speaker's running speech level.
     pub level_db: f32,
-    /// The phrase tracker's decision: inside a phrase (speech) or in a pause.
+    /// Inside a phrase of speech: the phrase tracker's phrase, judged speech by the speech
+    /// decision (0 in a pause, and in music, singing or noise).
     pub speaking: bool,
     /// Breathing state.
     pub breathing: BreathingState,

@@ -2,17 +2,19 @@
 //! singing, noise, as the speech decision judges a phrase), where the body neither speaks nor
 //! moves its head (the engine sends the head to rest and clears the speaking flag).
 //!
-//! A phrase is judged on its first `JUDGE_WINDOW_S` ([`SpeechTrack::current`]), or as a whole
-//! when it ends sooner. Until then a phrase keeps the judgement of the one before (a pause after
-//! music stays with the music), unless Silero hears speech in it (speech after music is not
-//! held back for a window; Silero takes singing and some noise for speech, which then move the
-//! body until the judgement). With a lookahead a stream starts as not speech (no speaker heard
-//! yet: a voiced blip in a music intro does not move the head), live mode as speech. Whenever
-//! the flag of a phrase changes, the frames from its onset that still wait for the output take
-//! it: with a lookahead (the plugin's 500 ms, a render's 8 s) a phrase is gated by its own
-//! judgement from its first frames or nearly; live mode (nothing waits) from the moment it is
-//! judged. Only frames whose emission lies after the analysed sample are changed, so any block
-//! partition gives the same flags. Allocation-free.
+//! A phrase is judged on its first `JUDGE_WINDOW_S` ([`SpeechTrack::current`]), and once more
+//! on its own frames when it ends (the judgement the placement keeps: a phrase shorter than the
+//! window may have been judged on pause frames past its end first). Until it is judged a phrase
+//! keeps the judgement of the one before (a pause after music stays with the music), unless
+//! Silero hears speech in it (speech after music is not held back for a window; Silero takes
+//! singing and some noise for speech, which then move the body until the judgement). With a
+//! lookahead a stream starts as not speech (no speaker heard yet: a voiced blip in a music
+//! intro does not move the head), live mode as speech. Whenever the flag of a phrase changes,
+//! the frames from its onset that still wait for the output take it: with a lookahead (the
+//! plugin's 500 ms, a render's 8 s) a phrase is gated by its own judgement from its first
+//! frames or nearly; live mode (nothing waits) from the moment it is judged. Only frames whose
+//! emission lies after the analysed sample are changed, so any block partition gives the same
+//! flags. Allocation-free.
 
 use super::schedule::{Pending, Queue};
 use super::speech_track::SpeechTrack;
@@ -23,8 +25,8 @@ pub(crate) struct BodyGate {
     /// The last phrase judged (or the one being heard, once Silero heard speech in it) is not
     /// speech.
     other_sound: bool,
-    /// Onset of the last phrase whose judgement was applied, seconds.
-    judged_onset_s: Option<f64>,
+    /// The last phrase judgement applied: the phrase's onset, seconds, and whether it is speech.
+    applied: Option<(f64, bool)>,
     /// The stream's first frame was flagged.
     started: bool,
 }
@@ -52,8 +54,9 @@ impl BodyGate {
             _ => None,
         });
         match judged {
-            Some((onset_s, speech)) if self.judged_onset_s != Some(onset_s) => {
-                self.judged_onset_s = Some(onset_s);
+            // A phrase ended within its window is judged again on its own frames at its end.
+            Some((onset_s, speech)) if self.applied != Some((onset_s, speech)) => {
+                self.applied = Some((onset_s, speech));
                 self.other_sound = !speech;
                 Self::flag_since(pending, onset_s, now, !speech);
             }

@@ -2,7 +2,10 @@
 //! as the output reaches each control frame, keeps the speaking flag, and in live mode stops an
 //! inspiration when the input wakes up. The actions carry the placement's breath-group plan: an
 //! inspiration fills the lung for its group, each phrase spends the air left over the speech
-//! left in the group, and a pause inside a group holds the breath.
+//! left in the group, and a pause inside a group holds the breath. A phrase speaks (and spends
+//! air) only on its frames the body gate does not flag as other sound
+//! ([`Pending::other_sound`]): music, singing or noise inside a phrase neither speaks nor
+//! breathes out, and a phrase judged speech late starts speaking then.
 
 use super::schedule::{CycleAction, Pending, Schedule};
 use crate::breathing::{BreathCycle, LowLevelParams};
@@ -15,6 +18,10 @@ pub(crate) struct CycleTrack {
     sample_rate_hz: f64,
     dt_s: f32,
     live: bool,
+    /// Inside a phrase (from its `UtteranceStarts` to its `SpeechStopped`).
+    in_phrase: bool,
+    /// The phrase's speech left in its group, seconds, for its expiration.
+    left_s: f32,
     speaking: bool,
 }
 
@@ -31,6 +38,8 @@ impl CycleTrack {
             sample_rate_hz,
             dt_s: (1.0 / frame_rate_hz) as f32,
             live,
+            in_phrase: false,
+            left_s: 0.0,
             speaking: false,
         }
     }
@@ -38,6 +47,7 @@ impl CycleTrack {
     /// Back to rest with empty lungs, not speaking.
     pub(crate) fn reset(&mut self) {
         self.cycle.reset();
+        self.in_phrase = false;
         self.speaking = false;
     }
 
@@ -79,16 +89,28 @@ impl CycleTrack {
                     self.cycle.breathed_in(target);
                 }
                 CycleAction::UtteranceStarts { left_s } => {
-                    self.speaking = true;
-                    self.cycle.expire_group(left_s);
+                    self.in_phrase = true;
+                    self.left_s = left_s;
+                    self.speaking = !p.other_sound;
+                    if self.speaking {
+                        self.cycle.expire_group(left_s);
+                    }
                 }
-                CycleAction::OtherSoundStarts => self.speaking = false,
                 CycleAction::SpeechStopped => {
+                    self.in_phrase = false;
                     self.speaking = false;
                     self.cycle.pause_in_group();
                 }
             }
         }
+        // The body gate's flag changed inside a phrase: speech resumes or stops.
+        let speaking = self.in_phrase && !p.other_sound;
+        match (self.speaking, speaking) {
+            (false, true) => self.cycle.expire_group(self.left_s),
+            (true, false) => self.cycle.pause_in_group(),
+            _ => {}
+        }
+        self.speaking = speaking;
         self.cycle.advance(self.dt_s)
     }
 }

@@ -6,8 +6,8 @@
 //! 1. The input is cleaned (non-finite samples become 0), mixed to mono for analysis, and written
 //!    into a per-channel delay line of `latency_samples()` (lookahead mode) or none (live mode).
 //! 2. The analyzer turns the mono signal into feature frames sample by sample; each frame goes to
-//!    the head-pose synthesis and the phrase tracker at once, and waits in a queue until the
-//!    output reaches its time.
+//!    the speech decision and the phrase tracker at once, and waits in a queue until the output
+//!    reaches its time, flagged by the body gate when it lies in sound that is not speech.
 //! 3. Phrase events schedule breaths and breathing-cycle events on the input timeline:
 //!    - lookahead: at a confirmed onset that ends a pause of at least `min_pause_s` with no breath
 //!      in it, an inhalation is placed to end `gap_s` before the onset, no earlier than
@@ -23,7 +23,8 @@
 //! 4. The output is the delayed input, bit for bit, plus the breath sound where a breath plays,
 //!    spread over the channels in the voice's stereo image.
 //! 5. Control frames are emitted when the output reaches their time, with their sample offset in
-//!    the block: the breathing cycle advances by one frame, driven by the scheduled events.
+//!    the block: the breathing cycle advances by one frame, driven by the scheduled events, and
+//!    the head pose is computed (at rest on a frame the body gate flagged).
 //!
 //! ## Parts (each with `new`, `reset` and its step; `prepare` builds them all)
 //! - [`DelayLine`](delay): the per-channel delay (the lookahead).
@@ -33,6 +34,7 @@
 //!   policies), with the speech level and utterance estimate they use.
 //! - [`BreathTrack`](breath_track): carries out breath actions, renders and records breaths.
 //! - [`CycleTrack`](cycle_track): steps the breathing cycle at each emitted control frame.
+//! - [`BodyGate`](body_gate): flags the frames of music, singing and noise for the body.
 //! - [`replay`]: a whole-file learning pass's analysis, handed out instead of the analyzer's
 //!   ([`Engine::replay_analysis`]), so a render that learns first analyses its file once.
 //!
@@ -698,8 +700,9 @@ impl Stream {
             self.gate
                 .process(&self.mono[..n], &mut self.input_active[..n]);
         }
-        // 2. Analysis; each frame goes to the head pose, the phrase tracker and the placement
-        // as of the sample that completed it, so any partition gives the same decisions.
+        // 2. Analysis; each frame goes to the speech decision, the phrase tracker, the placement
+        // and the body gate as of the sample that completed it, so any partition gives the same
+        // decisions.
         let mut count = 0;
         let mut beyond = 0u64;
         let completed = &mut self.completed;

@@ -493,9 +493,9 @@ impl Placement {
     }
 
     /// Lookahead mode: whether phrase `ph` itself (just taken from the front) is speech, so that
-    /// the body speaks it: its judgement once it ended or its window was heard; while less of
-    /// it is visible, when what is visible is speech or Silero heard speech in it (a voice
-    /// under a bed is not taken for the bed).
+    /// a stream that starts with it starts with a breath taken: its judgement once it ended or
+    /// its window was heard; while less of it is visible, when what is visible is speech or
+    /// Silero heard speech in it (a voice under a bed is not taken for the bed).
     fn phrase_is_speech(ctx: &EventContext, ph: &Seen) -> bool {
         match (ph.speech, ctx.speech.current()) {
             (Some(speech), _) | (None, Some((speech, true))) => speech,
@@ -634,14 +634,10 @@ impl Placement {
                 self.state.breath_end = start + length as u64;
             }
         }
-        let action = if spoken {
-            CycleAction::UtteranceStarts {
-                left_s: self.group_left_s(),
-            }
-        } else {
-            CycleAction::OtherSoundStarts
-        };
-        schedule.cycle.insert_sorted((onset_s, action));
+        let left_s = self.group_left_s();
+        schedule
+            .cycle
+            .insert_sorted((onset_s, CycleAction::UtteranceStarts { left_s }));
     }
 }
 

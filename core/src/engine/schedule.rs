@@ -54,9 +54,6 @@ pub(crate) enum CycleAction {
     BreathedIn { group_s: f32 },
     /// A phrase starts with `left_s` seconds of speech left in its breath group.
     UtteranceStarts { left_s: f32 },
-    /// A phrase judged not speech starts (music, singing, noise): the body neither speaks nor
-    /// breathes out for it.
-    OtherSoundStarts,
     /// A phrase ended (the breath is held while the pause lasts).
     SpeechStopped,
 }

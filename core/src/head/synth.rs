@@ -225,6 +225,7 @@ impl HeadSynth {
     /// second first, as when speech stops). Never allocates.
     pub fn process_other_sound(&mut self, frame: &FeatureFrame, frame_rate_hz: f64) -> HeadAngles {
         self.unvoiced_s = AT_REST_S;
+        // Its level is heard as a pause's: a bed under the speech is heard so in the pauses.
         let unvoiced = FeatureFrame {
             voiced: false,
             ..*frame

@@ -351,7 +351,7 @@ fn music_singing_and_noise_move_no_body() {
 }
 
 #[test]
-fn the_head_and_the_speaking_flag_on_speech_are_those_without_the_decision() {
+fn the_body_on_speech_is_the_body_without_the_decision() {
     let (audio, _) = phrases(&PAUSES);
     for mode in [Mode::Offline, Mode::Lookahead, Mode::Live] {
         let on = config(mode);
@@ -368,6 +368,7 @@ fn the_head_and_the_speaking_flag_on_speech_are_those_without_the_decision() {
         for ((fa, _), (fb, _)) in a.frames.iter().zip(&b.frames) {
             assert_eq!(fa.head, fb.head, "{mode:?} at {} s", fa.time_s);
             assert_eq!(fa.speaking, fb.speaking, "{mode:?} at {} s", fa.time_s);
+            assert_eq!(fa.breathing, fb.breathing, "{mode:?} at {} s", fa.time_s);
         }
     }
 }
