@@ -1,5 +1,7 @@
-//! `pneuma analyze IN -o OUT.csv`: streams an audio file (any format `pneuma-io` reads) through the analysis front end and
-//! writes one CSV row per frame (contract in DESIGN.md). Multichannel input is mixed to mono.
+//! `pneuma analyze IN -o OUT.csv`: streams an audio file (any format `pneuma-io` reads) through
+//! the analysis front end and writes one CSV row per frame (contract in DESIGN.md).
+//! Multichannel input is mixed to mono, or one channel is analysed (`--channel`); channels that
+//! cancel in the mix (antiphase) are named in a warning, as `render` does.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -10,6 +12,8 @@ use thiserror::Error;
 
 use crate::options::{render_for, F0_MAX, F0_MIN, FRAME_RATE, SETTING_FLAGS};
 use crate::output::Output;
+use crate::render::findings::{antiphase_message, ChannelEnergy};
+use crate::render::plan::Channel;
 use crate::wav::WavInfo;
 use pneuma_io::{mix_to_mono, AudioSource, ReadError};
 
@@ -27,6 +31,12 @@ pub enum AnalyzeError {
     /// The settings.
     #[error("invalid analysis settings: {0}")]
     Settings(#[from] AnalysisError),
+    /// `--channel` names a channel the input does not have.
+    #[error("--channel right needs two channels, and the input has {channels}: drop --channel")]
+    NoSuchChannel {
+        /// The input's channels.
+        channels: u16,
+    },
     /// The output file.
     #[error("cannot write {path}: {source}{}", crate::output::write_hint(source))]
     Output {
@@ -48,27 +58,50 @@ pub struct AnalyzeSummary {
     pub frames: u64,
     /// Voiced frames among them.
     pub voiced_frames: u64,
+    /// The channels cancel when mixed to mono (nothing was heard).
+    pub antiphase: bool,
 }
 
-/// Analyses an opened audio input into frames, calling `on_frame` for each; returns its format.
-/// (It takes the opened source because a pipe can be opened only once, and `run` checks the
-/// header before it creates the output.)
+/// Analyses an opened audio input into frames (its mono mix, or channel `pick`), calling
+/// `on_frame` for each; returns its format and whether its channels cancel in the mix. (It
+/// takes the opened source because a pipe can be opened only once, and `run` checks the header
+/// before it creates the output.)
 pub fn analyze_source(
     mut src: AudioSource,
     config: AnalysisConfig,
+    pick: Option<Channel>,
     mut on_frame: impl FnMut(&FeatureFrame),
-) -> Result<WavInfo, AnalyzeError> {
+) -> Result<(WavInfo, bool), AnalyzeError> {
     let info = src.info();
+    let channels = info.channels as usize;
+    let pick = pick.map(Channel::index);
+    if pick.is_some_and(|k| k >= channels) {
+        return Err(AnalyzeError::NoSuchChannel {
+            channels: info.channels,
+        });
+    }
     let mut analyzer = Analyzer::new(config)?;
     analyzer.prepare(info.sample_rate_hz as f64, BLOCK_FRAMES)?;
-    let mut block = Vec::with_capacity(BLOCK_FRAMES * info.channels as usize);
+    let mut block = Vec::with_capacity(BLOCK_FRAMES * channels);
     let mut mono = Vec::with_capacity(BLOCK_FRAMES);
+    let mut planar = vec![Vec::with_capacity(BLOCK_FRAMES); channels];
+    let mut energy = ChannelEnergy::default();
     while src.read_interleaved(BLOCK_FRAMES, &mut block)? > 0 {
-        mix_to_mono(&block, info.channels as usize, &mut mono);
-        analyzer.process(&mono, &mut on_frame)?;
+        for (c, chan) in planar.iter_mut().enumerate() {
+            chan.clear();
+            chan.extend(block.iter().skip(c).step_by(channels.max(1)));
+        }
+        energy.add(&planar, planar.first().map_or(0, Vec::len));
+        match pick {
+            Some(k) => analyzer.process(&planar[k], &mut on_frame)?,
+            None => {
+                mix_to_mono(&block, channels, &mut mono);
+                analyzer.process(&mono, &mut on_frame)?;
+            }
+        }
     }
     analyzer.finish(&mut on_frame)?;
-    Ok(info)
+    Ok((info, pick.is_none() && energy.antiphase()))
 }
 
 /// Runs `pneuma analyze`: `output` is a path or `-` for standard output. A file is only
@@ -77,6 +110,7 @@ pub fn run(
     input: &Path,
     output: &Path,
     config: AnalysisConfig,
+    pick: Option<Channel>,
 ) -> Result<AnalyzeSummary, AnalyzeError> {
     let out_err = |source| AnalyzeError::Output {
         path: output.to_owned(),
@@ -101,7 +135,7 @@ pub fn run(
     text.push('\n');
     let (mut frames, mut voiced_frames) = (0u64, 0u64);
     let mut write_error = None;
-    let info = analyze_source(src, config, |f| {
+    let (info, antiphase) = analyze_source(src, config, pick, |f| {
         features_csv::write_row(&mut text, f);
         frames += 1;
         voiced_frames += u64::from(f.voiced);
@@ -120,6 +154,7 @@ pub fn run(
         lossless,
         frames,
         voiced_frames,
+        antiphase,
     })
 }
 
@@ -152,6 +187,10 @@ pub struct Args {
     /// analysis succeeded.
     #[arg(short = 'n', long)]
     pub no_overwrite: bool,
+    /// Analyse one channel of the input (`left` = the first, `right` = the second) instead of
+    /// the mono mix: for a file whose channels cancel when mixed (antiphase).
+    #[arg(long, value_enum)]
+    pub channel: Option<Channel>,
 }
 
 /// The options in the user's terms (the option typed, in its unit), before the analysis
@@ -206,7 +245,12 @@ pub fn main(args: Args) -> ExitCode {
         eprintln!("error: {e}");
         return ExitCode::FAILURE;
     }
-    match run(&args.input, &args.output, analysis_config(&args)) {
+    match run(
+        &args.input,
+        &args.output,
+        analysis_config(&args),
+        args.channel,
+    ) {
         Ok(s) => {
             if args.output.as_os_str() != "-" {
                 eprintln!(
@@ -217,6 +261,9 @@ pub fn main(args: Args) -> ExitCode {
                     s.voiced_frames,
                     args.output.display()
                 );
+            }
+            if s.antiphase {
+                eprintln!("warning: {}", antiphase_message("analyse"));
             }
             ExitCode::SUCCESS
         }

@@ -32,14 +32,19 @@ pub enum Finding {
     },
 }
 
+/// The antiphase warning for a command that `verb`s the input.
+pub fn antiphase_message(verb: &str) -> String {
+    format!(
+        "left and right are in antiphase: {verb} one channel (--channel left or --channel \
+         right); mixed to mono they cancel, so nothing was heard"
+    )
+}
+
 impl Finding {
     /// The summary's line (after `warning: `).
     pub fn message(&self) -> String {
         match self {
-            Finding::Antiphase => "left and right are in antiphase: render one channel \
-                 (--channel left or --channel right); mixed to mono they cancel, so nothing \
-                 was heard"
-                .into(),
+            Finding::Antiphase => antiphase_message("render"),
             Finding::NoSpeech => "no speech found (silence, music or noise): breaths go only \
                  into the pauses of speech, so none was inserted"
                 .into(),

@@ -356,3 +356,65 @@ fn no_overwrite_keeps_an_existing_csv_and_says_so() {
         .expect("read")
         .starts_with("time_s,"));
 }
+
+#[test]
+fn channels_in_antiphase_are_named_and_one_channel_can_be_analysed() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let input = dir.path().join("antiphase.wav");
+    // The second channel is the first inverted: the mono mix is silence.
+    support::write_wav(&input, (16_000, 2, 16, false), &test_signal(16_000), -1.0);
+    let out = dir.path().join("mix.csv");
+    let o = pneuma(&[
+        "analyze",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains("warning: left and right are in antiphase")
+            && stderr.contains("--channel left"),
+        "{stderr}"
+    );
+    let mix = parse_csv(&std::fs::read_to_string(&out).expect("csv"));
+    assert!(mix.iter().all(|r| !r.voiced), "the mix cancels");
+    for channel in ["left", "right"] {
+        let out = dir.path().join(format!("{channel}.csv"));
+        let o = pneuma(&[
+            "analyze",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--channel",
+            channel,
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert!(!String::from_utf8_lossy(&o.stderr).contains("warning"));
+        let rows = parse_csv(&std::fs::read_to_string(&out).expect("csv"));
+        let voiced: Vec<&Row> = rows.iter().filter(|r| r.voiced).collect();
+        assert!(
+            voiced.len() > 40,
+            "{channel}: {} voiced frames",
+            voiced.len()
+        );
+        assert!(voiced.iter().all(|r| (r.f0_hz - 200.0).abs() < 10.0));
+    }
+    // A mono file has no right channel.
+    let mono = dir.path().join("mono.wav");
+    write_wav(&mono, 16_000, 1, 16, false, &test_signal(16_000));
+    let o = pneuma(&[
+        "analyze",
+        mono.to_str().unwrap(),
+        "-o",
+        dir.path().join("m.csv").to_str().unwrap(),
+        "--channel",
+        "right",
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("drop --channel"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
