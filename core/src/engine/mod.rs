@@ -774,8 +774,7 @@ impl Stream {
             let breathing = self.cycle.step(&p, &mut self.schedule);
             let f = &p.frame;
             // Music, singing or noise judged not speech: the head rests as in a silence.
-            let other_sound = p.other_sound;
-            let head = if other_sound {
+            let head = if p.other_sound {
                 self.head.process_other_sound(f, self.frame_rate_hz)
             } else {
                 self.head.process(f, self.frame_rate_hz)
@@ -787,7 +786,7 @@ impl Stream {
                 voiced: f.voiced,
                 rms_db: f.rms_db,
                 level_db: f.level_db,
-                speaking: self.cycle.speaking() && !other_sound,
+                speaking: self.cycle.speaking(),
                 breathing,
                 head,
             };

@@ -115,8 +115,8 @@ struct BreathTally {
     heard: [(usize, usize); 4],
     /// The body's control frames: (speaking, all) and (head moving, all) on speech truth frames
     /// and on music-only, singing and noise-only frames standing alone ([`BODY_CLASSES`]).
-    speaking: [(usize, usize); 4],
-    moving: [(usize, usize); 4],
+    speaking: [(u64, u64); 4],
+    moving: [(u64, u64); 4],
     audio_s: f64,
     wall_s: f64,
 }
@@ -419,17 +419,12 @@ impl BreathTally {
                 f64::from(h.pitch_deg.hypot(h.yaw_deg).hypot(h.roll_deg))
             };
             let moving = (away(b) - away(a)) / (b.time_s - a.time_s) > MOVING_DEG_S;
-            self.speaking[c].0 += usize::from(b.speaking);
+            self.speaking[c].0 += u64::from(b.speaking);
             self.speaking[c].1 += 1;
-            self.moving[c].0 += usize::from(moving);
+            self.moving[c].0 += u64::from(moving);
             self.moving[c].1 += 1;
         }
     }
-}
-
-/// `a` of `n` in per cent.
-fn body_percent((a, n): (usize, usize)) -> f64 {
-    100.0 * a as f64 / n.max(1) as f64
 }
 
 /// A target: its name, the figure, met.
@@ -466,8 +461,8 @@ fn breath_targets(mode: Mode, t: &BreathTally) -> Vec<Target> {
                     "{m}: {what} on {class} frames <= {:.0} %",
                     100.0 * MOST_BODY_SHARE
                 ),
-                format!("{:.1} %", 100.0 * share(tally)),
-                share(tally) <= MOST_BODY_SHARE,
+                format!("{:.1} %", percent(tally)),
+                percent(tally) <= 100.0 * MOST_BODY_SHARE,
             ));
         }
     }
@@ -644,11 +639,11 @@ fn print_report(
     }
     for (c, class) in BODY_CLASSES.iter().enumerate() {
         row(&format!("body: speaking on {class} frames"), &|t| {
-            format!("{:.1}%", body_percent(t.speaking[c]))
+            format!("{:.1}%", percent(t.speaking[c]))
         });
         row(
-            &format!("body: head leaving rest > 2 deg/s, {class}"),
-            &|t| format!("{:.1}%", body_percent(t.moving[c])),
+            &format!("body: head leaving rest > {MOVING_DEG_S} deg/s, {class}"),
+            &|t| format!("{:.1}%", percent(t.moving[c])),
         );
     }
     row("render speed, x real time", &|t| {
