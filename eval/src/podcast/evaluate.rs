@@ -524,6 +524,10 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
         super::export::write_episodes(dir, &episodes, &real)?;
     }
     let shipped = SpeechModel::shipped();
+    eprintln!(
+        "{} episodes built; analysing them and fitting a held-out speech model for each ...",
+        episodes.len()
+    );
     let analysed = episodes
         .iter()
         .map(|e| analyse(e, shipped))
@@ -535,6 +539,7 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
     }
 
     let mut frames = [FrameTally::default(); 3]; // held, fitted, Silero
+    eprintln!("Silero VAD on the episodes ...");
     for ((e, a), m) in episodes.iter().zip(&analysed).zip(&held_models) {
         let probs = worker.silero(&e.audio)?;
         let silero = frames_in(&segments(&probs, e.audio.len() as u64), e.frames());
@@ -546,6 +551,7 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
     // [mode][held, fitted]
     let mut breaths: [[BreathTally; 2]; 2] = std::array::from_fn(|_| Default::default());
     for (mi, mode) in Mode::ALL.into_iter().enumerate() {
+        eprintln!("rendering the episodes, {} ...", mode.name());
         for (e, m) in episodes.iter().zip(&held_models) {
             for (which, model) in [(0, m), (1, shipped)] {
                 let t0 = Instant::now();

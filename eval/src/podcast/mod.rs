@@ -81,6 +81,10 @@ pub fn episodes_with_worker(
         &root.join("target/podcast-scratch"),
         &modules,
     )?;
+    eprintln!(
+        "building the podcast episodes from {} (Praat's pitch on the speech clips) ...",
+        data.display()
+    );
     let lib = recipe::library(data, &mut |a| worker.praat(a))?;
     Ok((worker, recipe::episodes(&lib)))
 }
