@@ -427,6 +427,18 @@ impl Placement {
             if out_s + 2.0 * self.hop_s < front.pause.start_s {
                 break;
             }
+            // A phrase too little heard to tell speech from music (Silero needs a few chunks)
+            // waits while the shortest breath still fits before it: the breath gets shorter,
+            // the pause before music none.
+            let last_start_s = front.speech_onset_s.min(front.onset_s)
+                - ctx.config.placement.gap_s as f64
+                - MIN_BREATH_S;
+            if front.speech.is_none()
+                && ctx.speech.too_early_to_tell(front.onset_s)
+                && out_s + 2.0 * self.hop_s < last_start_s
+            {
+                break;
+            }
             self.decide_front(ctx, schedule);
         }
     }
@@ -474,8 +486,10 @@ impl Placement {
     /// pause of speech, so that a breath may go into it. The phrase after it is judged by its
     /// first half second once that has been heard (offline: always). While less of it is
     /// visible (the plugin's short lookahead), the pause counts when what is visible is speech
-    /// or the phrase before the pause was speech; before any phrase has been judged (the
-    /// stream's first), when Silero alone took the visible start for speech.
+    /// or the phrase before the pause was speech, unless what is visible is long enough to
+    /// have shown speech and did not ([`SpeechTrack::heard_no_speech`]: music after the last
+    /// words); before any phrase has been judged (the stream's first), when Silero alone took
+    /// the visible start for speech.
     fn pause_of_speech(&self, ctx: &EventContext, ph: &Seen) -> bool {
         if let Some(speech) = ph.speech {
             return speech;
@@ -486,6 +500,9 @@ impl Placement {
             Some((speech, false)) => speech,
             None => false,
         };
+        if ctx.speech.heard_no_speech() {
+            return false;
+        }
         match self.state.prev_speech {
             Some(before) => visible || before,
             None => visible || ctx.speech.silero_heard(),

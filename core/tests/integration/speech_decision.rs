@@ -5,7 +5,8 @@
 //! `music_singing_and_noise_get_no_breath_in_any_mode`); speech-like phrases get a breath in
 //! every pause of 0.4 s or more and none on a phrase, offline, with the plugin's lookahead and
 //! live, and over a steady drone 16 dB under them keep every breath the engine places without
-//! the decision; a long silence before a phrase gets a normal inhalation, not a sigh; any
+//! the decision; music after the last phrase gets no breath before it, offline and with the
+//! plugin's lookahead; a long silence before a phrase gets a normal inhalation, not a sigh; any
 //! block partition gives the same output with the decision in place. The body does not speak
 //! along with music, singing or noise (no speaking flag, a head at rest, no inspiration) and
 //! moves on speech as it does without the decision.
@@ -411,6 +412,27 @@ fn a_long_silence_gets_a_normal_inhalation_before_the_next_phrase() {
         );
         // It lies just before the phrase, not somewhere in the silence.
         assert!(spans[1].0 - b.end_s < 0.1, "{b:?} vs onset {}", spans[1].0);
+    }
+}
+
+#[test]
+fn music_after_the_last_phrase_gets_no_breath_before_it() {
+    // Two phrases, a pause, then an outro of chords: the pause after the last words leads into
+    // no speech. With the plugin's lookahead the breath before the chords is decided when a
+    // little of them has been heard: enough to show they are not speech.
+    let (mut audio, spans) = sequence(0.6, &[1.6, 1.2], &[0.8, 1.5]);
+    let last_s = spans[1].1;
+    let music_s = audio.len() as f64 / SR;
+    audio.extend_from_slice(&plucked_chords()[..n(5.0)]);
+    for mode in [Mode::Offline, Mode::Lookahead] {
+        let (r, _) = render(mode, &audio);
+        assert_breath_in_every_pause(&r, &spans, &format!("{mode:?}"));
+        let after: Vec<&BreathEvent> = r.breaths.iter().filter(|b| b.end_s > last_s).collect();
+        assert!(
+            after.is_empty(),
+            "{mode:?}: a breath after the last phrase (ends {last_s:.2} s, chords from \
+             {music_s:.2} s): {after:?}"
+        );
     }
 }
 
