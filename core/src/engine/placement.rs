@@ -5,9 +5,10 @@
 //!
 //! ## Breath groups
 //! A breath serves the speech until the next breath (its *group*), not one phrase. In lookahead
-//! mode a pause is decided as late as possible, when the output reaches it, so the decision
-//! sees as much of the coming speech as the lookahead holds (a whole-file render looks 8 s
-//! ahead); live mode decides at once, with the running estimate.
+//! mode a pause is decided as late as possible, when the output reaches it (or, when the phrase
+//! after it is too little heard to tell speech from music, as late as a breath still fits), so
+//! the decision sees as much of the coming speech as the lookahead holds (a whole-file render
+//! looks 8 s ahead); live mode decides at once, with the running estimate.
 //! - A *usable* pause (at least `min_pause_s`) gets a breath sized for the coming group: the
 //!   speech until the next usable pause as far as it is known, at least the running estimate of
 //!   a group's speech while its end is not in sight, at most two full breaths' utterance
@@ -28,7 +29,7 @@
 //!   each breath for the running estimate of a group instead.
 
 use super::schedule::{BreathAction, CycleAction, Pending, Queue, Schedule};
-use super::speech_track::SpeechTrack;
+use super::speech_track::{SpeechTrack, SILERO_SHOWS_SPEECH_S};
 use super::{EngineConfig, PlacementMode, MAX_CHANNELS};
 use crate::analysis::FeatureFrame;
 use crate::breathing::MIN_LUNG_VOLUME;
@@ -416,7 +417,8 @@ impl Placement {
     }
 
     /// Lookahead mode: decides every pause whose time has come (the output is about to reach
-    /// it), after the events of frame `ctx.now`.
+    /// it, and the phrase after it does not [`Placement::waits`]), after the events of frame
+    /// `ctx.now`.
     pub(crate) fn decide_due(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
         if self.mode == PlacementMode::Live {
             return;
@@ -427,20 +429,34 @@ impl Placement {
             if out_s + 2.0 * self.hop_s < front.pause.start_s {
                 break;
             }
-            // A phrase too little heard to tell speech from music (Silero needs a few chunks)
-            // waits while the shortest breath still fits before it: the breath gets shorter,
-            // the pause before music none.
-            let last_start_s = front.speech_onset_s.min(front.onset_s)
-                - ctx.config.placement.gap_s as f64
-                - MIN_BREATH_S;
-            if front.speech.is_none()
-                && ctx.speech.too_early_to_tell(front.onset_s)
-                && out_s + 2.0 * self.hop_s < last_start_s
-            {
+            if self.waits(ctx, front, out_s) {
                 break;
             }
             self.decide_front(ctx, schedule);
         }
+    }
+
+    /// Whether the front phrase `ph` waits to be decided, the output being at `out_s`: too
+    /// little of it has been heard to tell speech from music ([`SILERO_SHOWS_SPEECH_S`]:
+    /// Silero needs a few chunks), and the shortest breath of either kind the pause may get
+    /// (an inhalation, a catch breath) still fits before it. The breath gets shorter; the
+    /// pause before music gets none ([`SpeechTrack::heard_no_speech`]). A pause holding a heard
+    /// breath does not wait (the inspiration lies on that breath, where it is), nor does one
+    /// whose lookahead cannot hear that much of the phrase before the last moment.
+    fn waits(&self, ctx: &EventContext, ph: &Seen, out_s: f64) -> bool {
+        if ph.speech.is_some()
+            || ph.pause.breath_s.is_some()
+            || !ctx.speech.too_early_to_tell(ph.onset_s)
+        {
+            return false;
+        }
+        let p = &ctx.config.placement;
+        let shortest_s =
+            (p.gap_s as f64 + MIN_BREATH_S).max(CATCH_MARGIN_S + p.catch_breath_min_s as f64);
+        let last_start_s = ph.speech_onset_s.min(ph.onset_s) - shortest_s - 2.0 * self.hop_s;
+        // The input runs ahead of the output by the latency.
+        let heard_then_s = last_start_s + self.latency as f64 / self.sample_rate_hz - ph.onset_s;
+        heard_then_s >= SILERO_SHOWS_SPEECH_S && out_s < last_start_s
     }
 
     /// Speech the current group has left, seconds (at least `MIN_LEFT_S`).
@@ -484,7 +500,8 @@ impl Placement {
 
     /// Lookahead mode: whether the pause before phrase `ph` (just taken from the front) is a
     /// pause of speech, so that a breath may go into it. The phrase after it is judged by its
-    /// first half second once that has been heard (offline: always). While less of it is
+    /// first half second once that has been heard (offline: unless the pause is longer than
+    /// the 8 s lookahead). While less of it is
     /// visible (the plugin's short lookahead), the pause counts when what is visible is speech
     /// or the phrase before the pause was speech, unless what is visible is long enough to
     /// have shown speech and did not ([`SpeechTrack::heard_no_speech`]: music after the last

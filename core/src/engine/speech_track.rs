@@ -4,7 +4,7 @@
 //! the phrases the tracker reports:
 //! - a phrase is speech when the mean probability of its first [`JUDGE_WINDOW_S`] (or of the
 //!   whole phrase when it is shorter) reaches the model's threshold; until that window has been
-//!   heard (the plugin's short lookahead sees about 0.1 s of a phrase when the breath before
+//!   heard (the plugin's short lookahead sees 0.05–0.15 s of a phrase when the breath before
 //!   it must start), by what was heard of it, and Silero's highest probability in it
 //!   ([`SpeechTrack::current`], [`SpeechTrack::silero_heard`]); a phrase heard for
 //!   [`SILERO_SHOWS_SPEECH_S`] with neither taking any of it for speech is not speech yet

@@ -437,6 +437,17 @@ fn music_after_the_last_phrase_gets_no_breath_before_it() {
 }
 
 #[test]
+fn the_shortest_lookahead_keeps_a_breath_in_every_pause_of_speech() {
+    // At 0.3 s a pause cannot wait for 0.15 s of the phrase after it: the breath before
+    // speech is decided as before, never lost to the wait.
+    let (audio, spans) = phrases(&PAUSES);
+    let mut c = config(Mode::Lookahead);
+    c.placement.lookahead_s = 0.3;
+    let (r, _) = render_with(&c, &[audio], &[512]);
+    assert_breath_in_every_pause(&r, &spans, "0.3 s lookahead");
+}
+
+#[test]
 fn any_block_partition_gives_the_same_output_with_the_decision_in_place() {
     // Chords, then speech-like phrases, then singing: the decision says no, yes and no.
     let mut audio = plucked_chords()[..n(4.0)].to_vec();
