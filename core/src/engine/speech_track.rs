@@ -196,33 +196,30 @@ impl SpeechTrack {
         !self.enabled() || self.state.silero_max >= SILERO_THRESHOLD
     }
 
+    /// The phrase being spoken while neither Silero nor the stacked model has taken any of it
+    /// for speech: its onset and how long it has been heard, seconds (`None` once either did,
+    /// before any phrase, and with the decision off). Its window is complete only after
+    /// [`JUDGE_WINDOW_S`] has been heard.
+    fn unspoken(&self) -> Option<(f64, f64)> {
+        let j = self.state.phrase?;
+        (self.enabled() && !self.silero_heard() && j.is_speech(self.threshold) != Some(true))
+            .then(|| (j.start_s(), self.state.last_frame_s - j.start_s()))
+    }
+
     /// The phrase being spoken has been heard for [`SILERO_SHOWS_SPEECH_S`] and neither Silero
-    /// nor the stacked model took any of it for speech (never with the decision off, nor once
-    /// either did): before its window is judged, it is not speech.
+    /// nor the stacked model took any of it for speech: before its window is judged, it is not
+    /// speech.
     pub(crate) fn heard_no_speech(&self) -> bool {
-        let Some(j) = self.state.phrase else {
-            return false;
-        };
-        self.enabled()
-            && !self.silero_heard()
-            && j.is_speech(self.threshold) == Some(false)
-            && self.state.last_frame_s - j.start_s() >= SILERO_SHOWS_SPEECH_S
+        self.unspoken()
+            .is_some_and(|(_, heard_s)| heard_s >= SILERO_SHOWS_SPEECH_S)
     }
 
     /// The phrase starting at `onset_s` is the one being spoken, and too little of it has been
-    /// heard to tell: its window is not complete, neither Silero nor the stacked model took
-    /// any of it for speech, and it has been heard for less than [`SILERO_SHOWS_SPEECH_S`]
-    /// (never with the decision off).
+    /// heard to tell: neither Silero nor the stacked model took any of it for speech, and it
+    /// has been heard for less than [`SILERO_SHOWS_SPEECH_S`].
     pub(crate) fn too_early_to_tell(&self, onset_s: f64) -> bool {
-        let Some(j) = self.state.phrase else {
-            return false;
-        };
-        self.enabled()
-            && j.start_s() == onset_s
-            && !j.is_complete()
-            && !self.silero_heard()
-            && j.is_speech(self.threshold) != Some(true)
-            && self.state.last_frame_s - j.start_s() < SILERO_SHOWS_SPEECH_S
+        self.unspoken()
+            .is_some_and(|(start_s, heard_s)| start_s == onset_s && heard_s < SILERO_SHOWS_SPEECH_S)
     }
 
     /// Where the speech of the phrase the tracker starts at `onset_s` began by Silero: the
