@@ -14,7 +14,13 @@
 //! plugin's 500 ms, a render's 8 s) a phrase is gated by its own judgement from its first
 //! frames or nearly; live mode (nothing waits) from the moment it is judged. Only frames whose
 //! emission lies after the analysed sample are changed, so any block partition gives the same
-//! flags. Allocation-free.
+//! flags. A phrase judged speech goes on to be judged by its voiced frames of the last
+//! [`JUDGE_WINDOW_S`], from the current frame on, and the pause after it by those before its
+//! offset ([`SpeechTrack::voiced_window_is_speech`]): speech that runs into singing stops
+//! speaking. A phrase judged not speech stays so: turned on mid-phrase, the body would speak
+//! with a lung the placement never filled. Allocation-free.
+//!
+//! [`JUDGE_WINDOW_S`]: crate::speech::JUDGE_WINDOW_S
 
 use super::schedule::{Pending, Queue};
 use super::speech_track::SpeechTrack;
@@ -33,13 +39,13 @@ pub(crate) struct BodyGate {
 
 impl BodyGate {
     /// After analysis frame `pending.back()` (completed by input sample `now`) and its phrase
-    /// events, `ended` the phrase that ended at it (onset, judgement): flags that frame and
-    /// re-flags the frames waiting for the output from a phrase's onset when its flag changes;
-    /// `live` mode starts as speech.
+    /// events, `ended` the phrase that ended at it (onset, offset, judgement): flags that frame
+    /// and re-flags the frames waiting for the output from a phrase's onset when its flag
+    /// changes, and from its offset by how it ended; `live` mode starts as speech.
     pub(crate) fn frame(
         &mut self,
         speech: &SpeechTrack,
-        ended: Option<(f64, bool)>,
+        ended: Option<(f64, f64, bool)>,
         pending: &mut Queue<Pending>,
         now: u64,
         live: bool,
@@ -49,7 +55,7 @@ impl BodyGate {
             self.other_sound = !live && speech.enabled();
         }
         let current = speech.current_onset_s().zip(speech.current());
-        let judged = ended.or(match current {
+        let judged = ended.map(|(on, _, s)| (on, s)).or(match current {
             Some((onset_s, (speech, true))) => Some((onset_s, speech)),
             _ => None,
         });
@@ -70,6 +76,22 @@ impl BodyGate {
                     Self::flag_since(pending, onset_s, now, false);
                 }
             }
+        }
+        // A phrase judged speech goes on to be judged by its voiced frames of the last window
+        // (from this frame on), and the pause after it by those before its offset.
+        match (ended, current) {
+            (Some((onset_s, offset_s, true)), _) => {
+                if let Some(s) = speech.voiced_window_is_speech(onset_s, Some(offset_s)) {
+                    self.other_sound = !s;
+                    Self::flag_since(pending, offset_s, now, !s);
+                }
+            }
+            (None, Some((onset_s, (true, true)))) => {
+                if let Some(s) = speech.voiced_window_is_speech(onset_s, None) {
+                    self.other_sound = !s;
+                }
+            }
+            _ => {}
         }
         if let Some(p) = pending.back_mut() {
             p.other_sound = self.other_sound;

@@ -846,7 +846,8 @@ impl Stream {
             match *e {
                 PhraseEvent::Start { onset_s, .. } => self.speech.phrase_started(onset_s),
                 PhraseEvent::End { onset_s, offset_s } => {
-                    ended = Some((onset_s, self.speech.phrase_ended(onset_s, offset_s)));
+                    let speech = self.speech.phrase_ended(onset_s, offset_s);
+                    ended = Some((onset_s, offset_s, speech));
                 }
                 PhraseEvent::Activity { .. } => {}
             }

@@ -74,6 +74,8 @@ pub(crate) struct SpeechTrack {
     recent: RecentSpeech,
     /// Silero's probability of the same frames.
     recent_silero: RecentSpeech,
+    /// The voiced frames among them, with the stacked model's probability.
+    recent_voiced: RecentSpeech,
     state: SpeechTrackState,
 }
 
@@ -109,6 +111,7 @@ impl SpeechTrack {
             silence_db,
             recent: RecentSpeech::new(KEPT_S, frame_rate_hz),
             recent_silero: RecentSpeech::new(KEPT_S, frame_rate_hz),
+            recent_voiced: RecentSpeech::new(KEPT_S, frame_rate_hz),
             state: SpeechTrackState::default(),
         }
     }
@@ -120,6 +123,7 @@ impl SpeechTrack {
         }
         self.recent.reset();
         self.recent_silero.reset();
+        self.recent_voiced.reset();
         self.state = SpeechTrackState::default();
     }
 
@@ -148,6 +152,9 @@ impl SpeechTrack {
         };
         self.recent.push(f.time_s, p);
         self.recent_silero.push(f.time_s, silero_p);
+        if f.voiced {
+            self.recent_voiced.push(f.time_s, p);
+        }
         self.state.last_frame_s = f.time_s;
         if let Some(j) = &mut self.state.phrase {
             j.add(f.time_s, p);
@@ -182,6 +189,28 @@ impl SpeechTrack {
         }
         let j = self.state.phrase?;
         Some((j.is_speech(self.threshold)?, j.is_complete()))
+    }
+
+    /// The phrase from `onset_s` judged by its voiced frames in the last [`JUDGE_WINDOW_S`]
+    /// before `end_s` (its offset), or before now while it is being spoken (`end_s` `None`):
+    /// their mean probability against the threshold. `None` when that window holds no voiced
+    /// frame (a gap between words says nothing); always speech when the decision is off. The
+    /// body follows it on a phrase judged speech: speech that runs into singing or a sting
+    /// stops moving the body once they fill the window. Breath placement keeps the first
+    /// window's judgement.
+    pub(crate) fn voiced_window_is_speech(&self, onset_s: f64, end_s: Option<f64>) -> Option<bool> {
+        if !self.enabled() {
+            return Some(true);
+        }
+        let mean = match end_s {
+            Some(end_s) => self
+                .recent_voiced
+                .mean_between((end_s - JUDGE_WINDOW_S).max(onset_s), end_s),
+            None => self
+                .recent_voiced
+                .mean_since((self.state.last_frame_s - JUDGE_WINDOW_S).max(onset_s)),
+        };
+        mean.map(|m| m >= self.threshold)
     }
 
     /// Onset of the phrase being spoken, seconds (`None` between phrases).

@@ -88,26 +88,31 @@ fn plucked_chords() -> Vec<f32> {
     out
 }
 
-/// Sung lines: a glottal /a/ gliding 220 → 330 Hz with a 5.5 Hz vibrato of half a semitone,
-/// 2.5 s lines separated by 0.8 s of silence; 3 lines.
+/// A sung line: a glottal vowel gliding 220 → 330 Hz over `length_s` with a 5.5 Hz vibrato of
+/// half a semitone.
+fn sung_line(length_s: f64, vowel: Vowel, seed: u64) -> Vec<f32> {
+    test_signals::glottal_vowel(
+        &GlottalVowel {
+            sample_rate_hz: SR,
+            length_s,
+            vowel,
+            jitter: 0.005,
+            shimmer: 0.02,
+            peak: 0.4,
+            seed,
+        },
+        |t| {
+            let glide = 220.0 * 1.5f64.powf(t / length_s);
+            glide * 2f64.powf(0.5 / 12.0 * (2.0 * std::f64::consts::PI * 5.5 * t).sin())
+        },
+    )
+}
+
+/// Sung lines ([`sung_line`], /a/, /i/, /a/) of 2.5 s separated by 0.8 s of silence.
 fn sung_glide() -> Vec<f32> {
     let mut out = vec![0.0f32; n(0.5)];
     for line in 0..3u64 {
-        let v = test_signals::glottal_vowel(
-            &GlottalVowel {
-                sample_rate_hz: SR,
-                length_s: 2.5,
-                vowel: if line == 1 { Vowel::I } else { Vowel::A },
-                jitter: 0.005,
-                shimmer: 0.02,
-                peak: 0.4,
-                seed: 40 + line,
-            },
-            |t| {
-                let glide = 220.0 * 1.5f64.powf(t / 2.5);
-                glide * 2f64.powf(0.5 / 12.0 * (2.0 * std::f64::consts::PI * 5.5 * t).sin())
-            },
-        );
+        let v = sung_line(2.5, if line == 1 { Vowel::I } else { Vowel::A }, 40 + line);
         // Sung lines swell in and out, 0.1 s each.
         let len = v.len();
         out.extend(v.iter().enumerate().map(|(i, x)| {
@@ -348,6 +353,44 @@ fn music_singing_and_noise_move_no_body() {
                 .fold(0.0f32, f32::max);
             assert!(mouth < 1e-3, "{name}, {mode:?}: mouth open {mouth:.2}");
         }
+    }
+}
+
+/// Share of `r`'s frames in `[from_s, to_s)` flagged speaking.
+fn speaking_between(r: &Rendered, from_s: f64, to_s: f64) -> f64 {
+    let (speaking, all) = r
+        .frames
+        .iter()
+        .filter(|(f, _)| f.time_s >= from_s && f.time_s < to_s)
+        .fold((0, 0), |(s, a), (f, _)| {
+            (s + usize::from(f.speaking), a + 1)
+        });
+    speaking as f64 / all.max(1) as f64
+}
+
+#[test]
+fn the_body_stops_speaking_when_a_phrase_of_speech_runs_into_singing() {
+    // Speech running straight into a sung line: one phrase, judged speech by its first half
+    // second (its breaths), and the body follows its voiced frames of the last half second
+    // after that: it stops speaking once the singing fills that window.
+    let lead = vec![0.0f32; n(0.6)];
+    let rest = vec![0.0f32; n(1.0)];
+    let (speech_s, sung_s) = (2.5, 4.0);
+    let speech = crate::generated_phrases::phrase(speech_s, 1);
+    let sung = sung_line(sung_s, Vowel::A, 41);
+    let audio = [&lead[..], &speech, &sung, &rest].concat();
+    for mode in MODES {
+        let (r, _) = render(mode, &audio);
+        let talking = speaking_between(&r, 0.6 + 0.5, 0.6 + speech_s);
+        let singing = speaking_between(&r, 0.6 + speech_s + 1.0, 0.6 + speech_s + sung_s);
+        assert!(
+            talking > 0.8,
+            "{mode:?}: speaking on {talking:.2} of the speech"
+        );
+        assert!(
+            singing < 0.05,
+            "{mode:?}: speaking on {singing:.2} of the singing after its first second"
+        );
     }
 }
 
