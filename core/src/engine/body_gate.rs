@@ -5,7 +5,8 @@
 //! A phrase is judged on its first `JUDGE_WINDOW_S` ([`SpeechTrack::current`]), and once more
 //! on its own frames when it ends (the judgement the placement keeps: a phrase shorter than the
 //! window may have been judged on pause frames past its end first). Until it is judged a phrase
-//! keeps the judgement of the one before (a pause after music stays with the music), unless
+//! keeps the flag the one before left (a pause after music stays with the music; after a
+//! phrase judged speech, the flag of its voiced frames before its offset, below), unless
 //! Silero hears speech in it (speech after music is not held back for a window; Silero takes
 //! singing and some noise for speech, which then move the body until the judgement). With a
 //! lookahead a stream starts as not speech (no speaker heard yet: a voiced blip in a music
@@ -18,7 +19,9 @@
 //! [`JUDGE_WINDOW_S`], from the current frame on, and the pause after it by those before its
 //! offset ([`SpeechTrack::voiced_window_is_speech`]): speech that runs into singing stops
 //! speaking. A phrase judged not speech stays so: turned on mid-phrase, the body would speak
-//! with a lung the placement never filled. Allocation-free.
+//! with a lung the placement never filled. A phrase shorter than the window is judged on all
+//! its frames, its pause on its voiced ones: the two may differ (a blip of noise after a word).
+//! No hysteresis: near the threshold the flag may change from frame to frame. Allocation-free.
 //!
 //! [`JUDGE_WINDOW_S`]: crate::speech::JUDGE_WINDOW_S
 
@@ -28,8 +31,8 @@ use super::speech_track::SpeechTrack;
 /// See the module docs.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct BodyGate {
-    /// The last phrase judged (or the one being heard, once Silero heard speech in it) is not
-    /// speech.
+    /// The frame being flagged lies in sound that is not speech: the last judgement made (of a
+    /// phrase, of its voiced window, or Silero hearing speech in the phrase being heard).
     other_sound: bool,
     /// The last phrase judgement applied: the phrase's onset, seconds, and whether it is speech.
     applied: Option<(f64, bool)>,

@@ -10,7 +10,10 @@
 //!   [`SILERO_SHOWS_SPEECH_S`] with neither taking any of it for speech is not speech yet
 //!   ([`SpeechTrack::heard_no_speech`]);
 //! - live mode, which must decide right after a phrase ends, judges the last
-//!   [`JUDGE_WINDOW_S`] of the finished phrase ([`SpeechTrack::tail_is_speech`]).
+//!   [`JUDGE_WINDOW_S`] of the finished phrase ([`SpeechTrack::tail_is_speech`]);
+//! - for the body, a phrase judged speech is judged again as it goes on, by its voiced frames
+//!   of the last [`JUDGE_WINDOW_S`] (a ring of the voiced frames' probabilities), and its pause
+//!   by those before its offset ([`SpeechTrack::voiced_window_is_speech`]).
 //!
 //! With the decision switched off (`PlacementConfig::speech_only` false) every phrase is
 //! speech and nothing is computed. Allocation-free after `new`; the decisions depend on the
@@ -192,12 +195,13 @@ impl SpeechTrack {
     }
 
     /// The phrase from `onset_s` judged by its voiced frames in the last [`JUDGE_WINDOW_S`]
-    /// before `end_s` (its offset), or before now while it is being spoken (`end_s` `None`):
-    /// their mean probability against the threshold. `None` when that window holds no voiced
-    /// frame (a gap between words says nothing); always speech when the decision is off. The
-    /// body follows it on a phrase judged speech: speech that runs into singing or a sting
-    /// stops moving the body once they fill the window. Breath placement keeps the first
-    /// window's judgement.
+    /// before `end_s` (its offset: `[end_s − window, end_s)`), or up to now while it is being
+    /// spoken (`end_s` `None`: `(now − window, now]`): their mean probability against the
+    /// threshold. `None` when that window holds no voiced frame (a gap between words says
+    /// nothing); always speech when the decision is off. The body follows it on a phrase judged
+    /// speech: speech that runs into singing or a sting stops moving the body once they bring
+    /// the window's mean under the threshold. Breath placement keeps the first window's
+    /// judgement.
     pub(crate) fn voiced_window_is_speech(&self, onset_s: f64, end_s: Option<f64>) -> Option<bool> {
         if !self.enabled() {
             return Some(true);

@@ -158,13 +158,13 @@ impl RecentSpeech {
         j
     }
 
-    /// The mean probability of the kept frames from `from_s` on (`None` when there are none),
+    /// The mean probability of the kept frames after `from_s` (`None` when there are none),
     /// read from the newest back to `from_s` only.
     pub fn mean_since(&self, from_s: f64) -> Option<f32> {
         let n = self.ring.len();
         let (sum, count) = (0..self.len)
             .map(|k| self.ring[(self.next + n - 1 - k) % n])
-            .take_while(|&(t, _)| t >= from_s)
+            .take_while(|&(t, _)| t > from_s)
             .fold((0.0f64, 0u32), |(s, c), (_, p)| (s + f64::from(p), c + 1));
         (count > 0).then(|| (sum / f64::from(count)) as f32)
     }
@@ -218,7 +218,7 @@ mod tests {
         assert_eq!(r.mean_between(2.0, 3.0), None);
         assert!((r.mean_since(0.75).unwrap_or(0.0) - 0.85).abs() < 1e-6);
         assert!((r.mean_since(0.0).unwrap_or(0.0) - 0.75).abs() < 1e-6);
-        assert_eq!(r.mean_since(1.0), None);
+        assert_eq!(r.mean_since(0.9), None);
         r.reset();
         assert_eq!(r.iter().count(), 0);
     }

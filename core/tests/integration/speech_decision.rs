@@ -372,7 +372,7 @@ fn speaking_between(r: &Rendered, from_s: f64, to_s: f64) -> f64 {
 fn the_body_stops_speaking_when_a_phrase_of_speech_runs_into_singing() {
     // Speech running straight into a sung line: one phrase, judged speech by its first half
     // second (its breaths), and the body follows its voiced frames of the last half second
-    // after that: it stops speaking once the singing fills that window.
+    // after that: it stops speaking once the singing brings their mean under the threshold.
     let lead = vec![0.0f32; n(0.6)];
     let rest = vec![0.0f32; n(1.0)];
     let (speech_s, sung_s) = (2.5, 4.0);
@@ -380,7 +380,13 @@ fn the_body_stops_speaking_when_a_phrase_of_speech_runs_into_singing() {
     let sung = sung_line(sung_s, Vowel::A, 41);
     let audio = [&lead[..], &speech, &sung, &rest].concat();
     for mode in MODES {
-        let (r, _) = render(mode, &audio);
+        let (r, summary) = render(mode, &audio);
+        // One phrase, judged speech: the singing is not judged by a window of its own.
+        assert_eq!(
+            (summary.phrases, summary.speech_phrases),
+            (1, 1),
+            "{mode:?}: {summary:?}"
+        );
         let talking = speaking_between(&r, 0.6 + 0.5, 0.6 + speech_s);
         let singing = speaking_between(&r, 0.6 + speech_s + 1.0, 0.6 + speech_s + sung_s);
         assert!(
