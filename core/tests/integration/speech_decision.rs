@@ -388,14 +388,22 @@ fn the_body_stops_speaking_when_a_phrase_of_speech_runs_into_singing() {
             "{mode:?}: {summary:?}"
         );
         let talking = speaking_between(&r, 0.6 + 0.5, 0.6 + speech_s);
-        let singing = speaking_between(&r, 0.6 + speech_s + 1.0, 0.6 + speech_s + sung_s);
+        // With a lookahead the frames of the window judged not speech that still wait for the
+        // output take the judgement: under 5 % of the singing speaks, from its start (8 %
+        // when only the frames from the judgement on take it). Live mode stops from the
+        // moment of the judgement.
+        let settle_s = match mode {
+            Mode::Live => 1.0,
+            Mode::Offline | Mode::Lookahead => 0.0,
+        };
+        let singing = speaking_between(&r, 0.6 + speech_s + settle_s, 0.6 + speech_s + sung_s);
         assert!(
             talking > 0.8,
             "{mode:?}: speaking on {talking:.2} of the speech"
         );
         assert!(
             singing < 0.05,
-            "{mode:?}: speaking on {singing:.2} of the singing after its first second"
+            "{mode:?}: speaking on {singing:.2} of the singing after its first {settle_s} s"
         );
     }
 }
