@@ -16,16 +16,16 @@
 //! frames or nearly; live mode (nothing waits) from the moment it is judged. Only frames whose
 //! emission lies after the analysed sample are changed, so any block partition gives the same
 //! flags. A phrase judged speech goes on to be judged by its voiced frames of the last
-//! [`JUDGE_WINDOW_S`] (when that changes its flag, the frames of the window that still wait
-//! for the output take it), and the pause after it by those before its offset
-//! ([`SpeechTrack::voiced_window_is_speech`]): speech that runs into singing stops speaking. A phrase judged not speech stays so: turned on mid-phrase, the body would speak
-//! with a lung the placement never filled. A phrase shorter than the window is judged on all
+//! `JUDGE_WINDOW_S` (when that changes its flag, the frames of the window that still wait for
+//! the output take it), and the pause after it by those before its offset
+//! ([`SpeechTrack::voiced_window_is_speech`]): speech that runs into singing stops speaking.
+//! A phrase judged not speech stays so: turned on mid-phrase, the body would speak with a lung
+//! the placement never filled. A phrase shorter than the window is judged on all
 //! its frames, its pause on its voiced ones: the two may differ (a blip of noise after a word).
 //! No hysteresis: near the threshold the flag may change from frame to frame. Allocation-free.
 
 use super::schedule::{Pending, Queue};
 use super::speech_track::SpeechTrack;
-use crate::speech::JUDGE_WINDOW_S;
 
 /// See the module docs.
 #[derive(Debug, Clone, Copy, Default)]
@@ -84,19 +84,16 @@ impl BodyGate {
         // its offset.
         match (ended, current) {
             (Some((onset_s, offset_s, true)), _) => {
-                if let Some(s) = speech.voiced_window_is_speech(onset_s, Some(offset_s)) {
+                if let Some((_, s)) = speech.voiced_window_is_speech(onset_s, Some(offset_s)) {
                     self.other_sound = !s;
                     Self::flag_since(pending, offset_s, now, !s);
                 }
             }
             (None, Some((onset_s, (true, true)))) => {
-                if let Some(s) = speech.voiced_window_is_speech(onset_s, None) {
+                if let Some((from_s, s)) = speech.voiced_window_is_speech(onset_s, None) {
                     if self.other_sound == s {
                         self.other_sound = !s;
-                        if let Some(t) = pending.back_mut().map(|p| p.frame.time_s) {
-                            let from_s = (t - JUDGE_WINDOW_S).max(onset_s);
-                            Self::flag_since(pending, from_s, now, !s);
-                        }
+                        Self::flag_since(pending, from_s, now, !s);
                     }
                 }
             }

@@ -197,24 +197,25 @@ impl SpeechTrack {
     /// The phrase from `onset_s` judged by its voiced frames in the last [`JUDGE_WINDOW_S`]
     /// before `end_s` (its offset: `[end_s − window, end_s)`), or up to now while it is being
     /// spoken (`end_s` `None`: `(now − window, now]`): their mean probability against the
-    /// threshold. `None` when that window holds no voiced frame (a gap between words says
-    /// nothing); always speech when the decision is off. The body follows it on a phrase judged
-    /// speech: speech that runs into singing or a sting stops moving the body once they bring
-    /// the window's mean under the threshold. Breath placement keeps the first window's
-    /// judgement.
-    pub(crate) fn voiced_window_is_speech(&self, onset_s: f64, end_s: Option<f64>) -> Option<bool> {
+    /// threshold, with where the window starts, seconds. `None` when that window holds no
+    /// voiced frame (a gap between words says nothing); always speech when the decision is
+    /// off. The body follows it on a phrase judged speech: speech that runs into singing or a
+    /// sting stops moving the body once they bring the window's mean under the threshold.
+    /// Breath placement keeps the first window's judgement.
+    pub(crate) fn voiced_window_is_speech(
+        &self,
+        onset_s: f64,
+        end_s: Option<f64>,
+    ) -> Option<(f64, bool)> {
+        let from_s = (end_s.unwrap_or(self.state.last_frame_s) - JUDGE_WINDOW_S).max(onset_s);
         if !self.enabled() {
-            return Some(true);
+            return Some((from_s, true));
         }
         let mean = match end_s {
-            Some(end_s) => self
-                .recent_voiced
-                .mean_between((end_s - JUDGE_WINDOW_S).max(onset_s), end_s),
-            None => self
-                .recent_voiced
-                .mean_since((self.state.last_frame_s - JUDGE_WINDOW_S).max(onset_s)),
+            Some(end_s) => self.recent_voiced.mean_between(from_s, end_s),
+            None => self.recent_voiced.mean_since(from_s),
         };
-        mean.map(|m| m >= self.threshold)
+        mean.map(|m| (from_s, m >= self.threshold))
     }
 
     /// Onset of the phrase being spoken, seconds (`None` between phrases).

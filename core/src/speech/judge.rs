@@ -162,21 +162,24 @@ impl RecentSpeech {
     /// read from the newest back to `from_s` only.
     pub fn mean_since(&self, from_s: f64) -> Option<f32> {
         let n = self.ring.len();
-        let (sum, count) = (0..self.len)
-            .map(|k| self.ring[(self.next + n - 1 - k) % n])
-            .take_while(|&(t, _)| t > from_s)
-            .fold((0.0f64, 0u32), |(s, c), (_, p)| (s + f64::from(p), c + 1));
-        (count > 0).then(|| (sum / f64::from(count)) as f32)
+        mean_p(
+            (0..self.len)
+                .map(|k| self.ring[(self.next + n - 1 - k) % n])
+                .take_while(|&(t, _)| t > from_s),
+        )
     }
 
     /// The mean probability of the kept frames in `[from_s, to_s)` (`None` when there are none).
     pub fn mean_between(&self, from_s: f64, to_s: f64) -> Option<f32> {
-        let (sum, n) = self
-            .iter()
-            .filter(|&(t, _)| t >= from_s && t < to_s)
-            .fold((0.0f64, 0u32), |(s, n), (_, p)| (s + f64::from(p), n + 1));
-        (n > 0).then(|| (sum / f64::from(n)) as f32)
+        mean_p(self.iter().filter(|&(t, _)| t >= from_s && t < to_s))
     }
+}
+
+/// The mean probability of `frames` (`(time_s, p)`), summed in their order (`None` when there
+/// are none).
+fn mean_p(frames: impl Iterator<Item = (f64, f32)>) -> Option<f32> {
+    let (sum, n) = frames.fold((0.0f64, 0u32), |(s, n), (_, p)| (s + f64::from(p), n + 1));
+    (n > 0).then(|| (sum / f64::from(n)) as f32)
 }
 
 #[cfg(test)]
