@@ -128,7 +128,7 @@ fn figures(r: &SpeakerResult) -> Figures {
 
 fn row(name: &str, f: &Figures) {
     println!(
-        "{name:<14} {:>2} {:>4} {:>5} {:>+6.1} {:>5.0} % {:>5.0} % {:>5.2} {:>6.1} {:>6.1} {:>5.2} {:>6.1} {:>6.1} {:>5.2}",
+        "{name:<14} {:>2} {:>4} {:>5} {:>+6.1} {:>5.0} % {:>5.0} % {:>5.2} {:>6.1} {:>6.1} {:>5.2} {:>6} {:>6} {:>5.2}",
         f.cut,
         f.back,
         f.extra,
@@ -139,10 +139,20 @@ fn row(name: &str, f: &Figures) {
         f.distance_db,
         f.real_to_real_db,
         f.distance_ratio,
-        f.spread_inserted_db,
-        f.spread_real_db,
+        dashed(f.spread_inserted_db),
+        dashed(f.spread_real_db),
         f.spread_ratio
     );
+}
+
+/// A figure with one decimal, or a dash where none applies (the overall row's spreads: shapes
+/// spread within a speaker, not across speakers).
+fn dashed(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.1}")
+    } else {
+        "–".to_string()
+    }
 }
 
 /// Prints one row per speaker and the overall row; returns the overall figures (sums, medians
@@ -251,5 +261,11 @@ mod tests {
         assert_eq!(level_pairs_within(&[0.0, 4.0]), (2, 2));
         assert_eq!(level_pairs_within(&[-1.0]), (0, 0));
         assert_eq!(share((0, 0)), 0.0);
+    }
+
+    #[test]
+    fn a_figure_that_does_not_apply_prints_as_a_dash() {
+        assert_eq!(dashed(f64::NAN), "–");
+        assert_eq!(dashed(1.26), "1.3");
     }
 }
