@@ -1,14 +1,22 @@
-//! [`SilentRuns`]: the stretches of a pause that are digital silence (under [`GATED_DB`]), and
-//! the one that touches the pause's heard breath. A recorded room never falls that low between
-//! phrases, not even a quiet one near a 16-bit file's floor; an editor's cut or a closed noise
-//! gate does, so a breath-like run with such a stretch right beside it is what a cut left of a
-//! breath ([`super::Pause::gated_s`]).
+//! [`SilentRuns`]: the stretches of a pause that are digital silence (under [`GATED_DB`]) or at a
+//! cut's dither ([`CUT_CEILING_DB`]), and the one that touches the pause's heard breath. A
+//! recorded room rarely falls that low between phrases; an editor's cut or a closed noise gate
+//! does, so a breath-like run with such a stretch right beside it is what a cut left of a breath
+//! ([`super::Pause::gated_s`]).
 
 /// Voice-band level under which a frame is digital silence, dBFS: under a 16-bit file's
 /// quantisation noise (about −101 dBFS over the full band), so only zeros (or a cut's dither)
 /// reach it, never a room. A quiet room's pauses near a 16-bit floor lie far over it; the
 /// tracker's own silence level (`phrase_silence_db`, −75 dBFS) would take them for a cut.
 pub(super) const GATED_DB: f32 = -110.0;
+
+/// Voice-band level under which a stretch of a pause is what a cut left (a 16-bit export's TPDF
+/// dither lies at about −96 dBFS over the full band and lower in the voice band; a gate's
+/// residue), dBFS. A recorded room lies that low only when it is within a few dB of a 16-bit
+/// file's least step, or after a denoiser: pauses that quiet are taken as cut (a breath heard
+/// beside one is a remnant, see [`super::Pause::gated_s`]); the noise floor still learns from
+/// them, unlike digital silence ([`GATED_DB`]).
+pub(super) const CUT_CEILING_DB: f32 = -90.0;
 
 /// Most a breath-like run and a stretch of digital silence may lie apart and still touch (a
 /// gate's release, a frame's rounding), seconds.

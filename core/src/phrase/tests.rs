@@ -496,7 +496,7 @@ fn an_unvoiced_burst_is_speech_only_near_the_speech_level() {
 }
 
 #[test]
-fn a_breath_cut_short_by_digital_silence_reports_the_gated_stretch_beside_it() {
+fn a_breath_cut_short_by_digital_silence_or_dither_reports_the_stretch_beside_it() {
     // A breath's first 0.15 s (frames 240..255) heard, the rest of the pause gated to digital
     // silence (frames 255..305) as an editor's cut leaves it.
     let pauses = |gated_db: f32| -> Vec<Pause> {
@@ -523,10 +523,16 @@ fn a_breath_cut_short_by_digital_silence_reports_the_gated_stretch_beside_it() {
         "gated {gated_from_s}..{gated_to_s} s, want 2.55..3.05"
     );
     assert_eq!(cut[0].gated_s, None, "{cut:?}");
-    // A quiet room (a 16-bit file's floor, the tracker's own silence level and under) is no
-    // cut.
-    for room_db in [-70.0, -80.0, -100.0] {
+    // A quiet room (the tracker's own silence level and under) is no cut.
+    for room_db in [-70.0, -80.0] {
         assert_eq!(pauses(room_db)[1].gated_s, None, "room at {room_db} dBFS");
+    }
+    // A cut exported at 16 bits with dither (about -96 dBFS over the full band, lower in the
+    // voice band) is a cut, as digital silence is.
+    for dither_db in [-96.0, -100.0, -105.0] {
+        let dithered = pauses(dither_db);
+        assert_eq!(dithered[1].breath_s, cut[1].breath_s, "{dither_db} dBFS");
+        assert_eq!(dithered[1].gated_s, cut[1].gated_s, "{dither_db} dBFS");
     }
 }
 

@@ -10,7 +10,7 @@ use super::facts::FrameFacts;
 use super::floor_bands::{
     FloorBands, FLOOR_BAND_TAU_S, FLOOR_BAND_UNDER_SPEECH_DB, FLOOR_BAND_WITHIN_DB,
 };
-use super::silent_run::{SilentRuns, GATED_DB, TOUCH_S};
+use super::silent_run::{SilentRuns, CUT_CEILING_DB, GATED_DB, TOUCH_S};
 use crate::analysis::noise_floor::NoiseFloor;
 use crate::analysis::FeatureFrame;
 
@@ -215,6 +215,10 @@ impl PhraseTracker {
         // phrase's edges ran over the whole pause. (The tracker's silence level would also
         // take a quiet room's pauses for silence and lift the floor over them.)
         let gated = rms_db <= GATED_DB;
+        // A cut that left a 16-bit export's dither (or a gate's residue) under the ceiling, once
+        // sound has been heard. It only marks the pause's silent stretches (what a cut left of
+        // a breath); the floor learns from it as from any room.
+        let cut = s.heard_sound && rms_db <= CUT_CEILING_DB;
         if !(gated && s.heard_sound) {
             s.floor_db = self.floor.update(Some(rms_db));
         }
@@ -263,7 +267,7 @@ impl PhraseTracker {
             breath_level,
             high_over_mid_db,
             low_over_mid_db,
-            gated,
+            gated: gated || cut,
         }
     }
 
