@@ -175,7 +175,7 @@ pub struct Args {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Frames per second (the table's `frame_rate_hz`).
-    #[arg(long, help = FRAME_RATE.help(), default_value_t = FRAME_RATE.default_value())]
+    #[arg(long, help = FRAME_RATE.help_saying("Rows (analysis frames) per second of the CSV"), default_value_t = FRAME_RATE.default_value())]
     pub frame_rate: f64,
     /// Lowest f0 searched, Hz (the table's `f0_min_hz`).
     #[arg(long, help = F0_MIN.help(), default_value_t = F0_MIN.default_value() as f32, value_parser = crate::options::number)]

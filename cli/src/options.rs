@@ -42,6 +42,16 @@ impl SettingFlag {
         )
     }
 
+    /// The help text with `what` in place of the table's help (a command that uses the setting
+    /// for less than the table says), the table's range and default after it.
+    pub fn help_saying(&self, what: &str) -> String {
+        format!(
+            "{what} ({}; default {})",
+            self.setting.range_text(self.unit),
+            self.setting.default_text(self.unit)
+        )
+    }
+
     /// The table's default in the option's unit (for clap's `default_value_t`).
     pub fn default_value(&self) -> f64 {
         f64::from(self.setting.default) / self.factor()
@@ -57,6 +67,17 @@ impl SettingFlag {
             .map_err(|e| render_for(&[self], &e))
     }
 }
+
+/// `--breath-mouth` (render, speak).
+pub const BREATH_MOUTH_HELP: &str = "A recording of a mouth inhalation (any input format) that \
+    plays instead of the built-in or learned breath voice, for the mouth's share of each breath \
+    (the preset's mouth share; the nose's share comes from --breath-nose, else the built-in nose \
+    sound)";
+/// `--breath-nose` (render, speak).
+pub const BREATH_NOSE_HELP: &str = "A recording of a nose inhalation (any input format) that \
+    plays instead of the built-in or learned breath voice, for the nose's share of each breath \
+    (the preset's mouth share; the mouth's share comes from --breath-mouth, else the built-in \
+    mouth sound)";
 
 /// `--frame-rate` (render, analyze, speak).
 pub static FRAME_RATE: SettingFlag = SettingFlag {
@@ -301,6 +322,29 @@ impl Progress {
     pub fn finish(&self) {
         if let Some(b) = &self.bar {
             b.finish_and_clear();
+        }
+    }
+}
+
+/// The folders of `output` (and its parents) that do not exist yet, deepest first: a run that
+/// fails or is interrupted removes those it created and left empty.
+pub fn missing_folders(output: &Path) -> Vec<PathBuf> {
+    if output.as_os_str() == "-" {
+        return Vec::new();
+    }
+    output
+        .ancestors()
+        .filter(|p| !p.as_os_str().is_empty())
+        .take_while(|p| !p.exists())
+        .map(Path::to_path_buf)
+        .collect()
+}
+
+/// Removes the `folders` (deepest first) that are empty; stops at the first that is not.
+pub fn remove_empty(folders: &[PathBuf]) {
+    for f in folders {
+        if std::fs::remove_dir(f).is_err() {
+            break;
         }
     }
 }

@@ -57,7 +57,7 @@ pub enum Tts {
 /// Command-line arguments of `pneuma speak`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// The text to speak ("." and "_" mark pauses; see the chunker's docs).
+    /// The text to speak ("." and "_" mark pauses).
     pub text: Option<String>,
     /// Read the text from this file instead.
     #[arg(long, value_name = "FILE", conflicts_with = "text")]
@@ -92,11 +92,11 @@ pub struct Args {
     /// TTS program.
     #[arg(long, value_enum, default_value_t = Tts::Espeak)]
     pub tts: Tts,
-    /// A WAV recording of a mouth inhalation to use instead of the procedural one.
-    #[arg(long, value_name = "WAV")]
+    /// A recording of a mouth inhalation ([`crate::options::BREATH_MOUTH_HELP`]).
+    #[arg(long, value_name = "FILE", help = crate::options::BREATH_MOUTH_HELP)]
     pub breath_mouth: Option<PathBuf>,
-    /// A WAV recording of a nose inhalation to use instead of the procedural one.
-    #[arg(long, value_name = "WAV")]
+    /// A recording of a nose inhalation ([`crate::options::BREATH_NOSE_HELP`]).
+    #[arg(long, value_name = "FILE", help = crate::options::BREATH_NOSE_HELP)]
     pub breath_nose: Option<PathBuf>,
     /// Head-pose model file (JSON); the embedded default model when absent.
     #[arg(long, value_name = "JSON")]
@@ -104,7 +104,7 @@ pub struct Args {
     /// Control frames per second (the table's `frame_rate_hz`).
     #[arg(long, help = FRAME_RATE.help(), default_value_t = FRAME_RATE.default_value())]
     pub frame_rate: f64,
-    /// Also write `speech.bvh` (head, neck and chest motion).
+    /// Also write `speech.bvh` (head, neck and chest motion; a 1.8 m skeleton in metres).
     #[arg(long)]
     pub bvh: bool,
     /// Also write `speech.mid`: the MIDI CC lanes the plugin sends, as in `render --midi`.
@@ -199,14 +199,21 @@ pub struct SpeakSummary {
 
 /// Runs `pneuma speak`.
 pub fn main(args: Args) -> ExitCode {
-    match run(&args) {
+    let created = crate::options::missing_folders(&args.out_dir);
+    let result = run(&args);
+    if result.is_err() {
+        crate::options::remove_empty(&created);
+    }
+    match result {
         Ok(s) => {
             if !args.quiet {
+                // The engine breathes in every pause of the speech, the TTS's own pauses
+                // inside a chunk too: the breaths, not the chunks, count the groups spoken.
                 eprintln!(
-                    "spoke {} ({:.2} s, {}) into {}",
-                    plural(s.chunks.len(), "breath group", "breath groups"),
+                    "spoke {:.2} s with {} (the text cut into {} by the chunker) into {}",
                     s.duration_s,
                     plural(s.breaths.len(), "breath", "breaths"),
+                    plural(s.chunks.len(), "chunk", "chunks"),
                     args.out_dir.display()
                 );
                 if let Some(osc) = &s.osc {

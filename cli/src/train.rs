@@ -9,7 +9,9 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use pneuma_core::head::em::MAX_RESTARTS;
 use pneuma_core::head::evaluate::CrossValidation;
+use pneuma_core::head::gmm::MAX_COMPONENTS;
 use pneuma_core::head::select::train;
 use pneuma_core::head::train::TrainConfig;
 use pneuma_core::head::Variant;
@@ -53,20 +55,20 @@ pub struct Args {
     #[arg(short = 'o', long)]
     pub output: PathBuf,
     /// Components of each voiced velocity and acceleration GMM (the paper: 11).
-    #[arg(long, default_value_t = 11)]
+    #[arg(long, default_value_t = 11, help = format!("Components of each voiced velocity and acceleration GMM (the paper: 11), 1 to {MAX_COMPONENTS}"))]
     pub components: usize,
     /// Components of each pose GMM (roll, pitch, yaw; voiced and unvoiced); 1 keeps the head
     /// at the speaker's mean pose on average.
-    #[arg(long, default_value_t = TrainConfig::default().pose_components)]
+    #[arg(long, default_value_t = TrainConfig::default().pose_components, help = format!("Components of each pose GMM (roll, pitch, yaw; voiced and unvoiced), 1 to {MAX_COMPONENTS}; 1 keeps the head at the speaker's mean pose on average"))]
     pub pose_components: usize,
     /// EM restarts per GMM.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, help = format!("EM restarts per GMM, 1 to {MAX_RESTARTS}"))]
     pub restarts: usize,
     /// EM seed.
     #[arg(long, default_value_t = 2015)]
     pub seed: u64,
     /// Feature frames per second (the table's `frame_rate_hz`).
-    #[arg(long, help = FRAME_RATE.help(), default_value_t = FRAME_RATE.default_value())]
+    #[arg(long, help = FRAME_RATE.help_saying("Analysis frames per second the model is trained at"), default_value_t = FRAME_RATE.default_value())]
     pub frame_rate: f64,
     /// SD of the Gaussian smoothing of the training motion in milliseconds (tracking-jitter
     /// removal; 0 = none), 0 to 500.
@@ -101,6 +103,15 @@ pub fn run(
     args: &Args,
     data_description: &str,
 ) -> Result<(String, CrossValidation), TrainCliError> {
+    // Checked before anything is read: a typo should not wait for the data to load.
+    for (option, value, max) in [
+        ("--components", args.components, MAX_COMPONENTS),
+        ("--pose-components", args.pose_components, MAX_COMPONENTS),
+        ("--restarts", args.restarts, MAX_RESTARTS),
+    ] {
+        crate::options::check_range(option, value as f32, 1.0, max as f32, "")
+            .map_err(TrainCliError::Option)?;
+    }
     let config = AnalysisConfig {
         frame_rate_hz: FRAME_RATE
             .check(args.frame_rate)

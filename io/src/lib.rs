@@ -443,16 +443,12 @@ pub fn skip_reason(path: &Path) -> Option<String> {
             .map(|(_, name)| *name)
     };
     if let Some(name) = unread {
-        let file = path
-            .file_name()
-            .map(|f| f.to_string_lossy())
-            .unwrap_or_default();
-        let stem = path
-            .file_stem()
-            .map(|f| f.to_string_lossy())
-            .unwrap_or_default();
+        // The paths as the batch found them (from where the user typed it), so the command
+        // runs as printed.
         return Some(format!(
-            "{name}, which Pneuma does not read: convert it, e.g. `ffmpeg -i '{file}' '{stem}.flac'`"
+            "{name}, which Pneuma does not read: convert it, e.g. `ffmpeg -i '{}' '{}'`",
+            path.display(),
+            path.with_extension("flac").display()
         ));
     }
     let known_ext = AUDIO_EXTENSIONS.contains(&ext.as_str());
@@ -602,10 +598,15 @@ mod tests {
         opus.extend_from_slice(b"OpusHead");
         let mut asf = ASF_GUID.to_vec();
         asf.resize(30, 0);
-        let opus_reason = skip_reason(&file("ep04.opus", &opus)).expect("opus skipped");
+        let opus_path = file("ep04.opus", &opus);
+        let opus_reason = skip_reason(&opus_path).expect("opus skipped");
         assert!(opus_reason.starts_with("Opus"), "{opus_reason}");
+        // The command names the file where the batch found it, not only its name.
+        let folder = dir.path().display();
         assert!(
-            opus_reason.contains("ffmpeg -i 'ep04.opus' 'ep04.flac'"),
+            opus_reason.contains(&format!(
+                "ffmpeg -i '{folder}/ep04.opus' '{folder}/ep04.flac'"
+            )),
             "{opus_reason}"
         );
         // The same Opus data under another name, and WMA by its header or its name.

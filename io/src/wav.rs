@@ -546,22 +546,27 @@ impl<'a> Header<'a> {
         if n == 0 {
             return Err(WavError::Empty {
                 path: path.to_owned(),
-                detail: "the file is 0 bytes long; record or export it again".into(),
+                detail: "it is 0 bytes long; record or export it again".into(),
             });
         }
-        if n >= 4 && &head[..4] == b"RIFX" {
+        if n < head.len() {
+            // Too short for any header, whatever its bytes are (`hi` typed into a file).
+            return Err(WavError::Empty {
+                path: path.to_owned(),
+                detail: format!(
+                    "it is {n} bytes long, too short to hold any audio; record or export \
+                     it again"
+                ),
+            });
+        }
+        if &head[..4] == b"RIFX" {
             return Err(h.unsupported("big-endian WAV (RIFX)"));
         }
-        let rf64 = match &head[..4.min(n)] {
+        let rf64 = match &head[..4] {
             b"RIFF" => false,
             b"RF64" | b"BW64" => true,
-            _ => return Err(h.format(not_riff(&head[..n]))),
+            _ => return Err(h.format(not_riff(&head))),
         };
-        if n < 12 {
-            return Err(h.format(format!(
-                "the file is {n} bytes long, too short for a WAV header"
-            )));
-        }
         if &head[8..12] != b"WAVE" {
             return Err(h.format(format!(
                 "a RIFF file of form {}, not WAVE",

@@ -48,39 +48,16 @@ pub fn main(args: Args) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
-    let created = missing_folders(&args.output);
+    let created = crate::options::missing_folders(&args.output);
     let code = if args.inputs.len() > 1 || args.inputs[0].is_dir() {
         batch::main(&args, &inputs)
     } else {
         render_one(&args, &inputs[0].path)
     };
     if code != ExitCode::SUCCESS {
-        remove_empty(&created);
+        crate::options::remove_empty(&created);
     }
     code
-}
-
-/// The folders of `output` (and its parents) that do not exist yet, deepest first: a run that
-/// fails or is interrupted removes those it created and left empty.
-fn missing_folders(output: &Path) -> Vec<std::path::PathBuf> {
-    if output.as_os_str() == "-" {
-        return Vec::new();
-    }
-    output
-        .ancestors()
-        .filter(|p| !p.as_os_str().is_empty())
-        .take_while(|p| !p.exists())
-        .map(Path::to_path_buf)
-        .collect()
-}
-
-/// Removes the `folders` (deepest first) that are empty; stops at the first that is not.
-fn remove_empty(folders: &[std::path::PathBuf]) {
-    for f in folders {
-        if std::fs::remove_dir(f).is_err() {
-            break;
-        }
-    }
 }
 
 /// Renders one input with a progress bar; prints its summary or error; the exit code.
@@ -114,7 +91,8 @@ fn render_one(args: &Args, input: &Path) -> ExitCode {
 }
 
 /// The summary of one render on standard error: the input's format, breaths, frames, clipped
-/// samples, what a lossy input became, the files written and the breath voice.
+/// samples, what a lossy input became, the files written and the breath voice of the breaths
+/// inserted.
 fn print_summary(input: &Path, s: &RenderSummary) {
     eprintln!(
         "rendered {} ({}, {}): {}, {}{}{}",
@@ -136,7 +114,10 @@ fn print_summary(input: &Path, s: &RenderSummary) {
     if let Some(osc) = &s.osc {
         eprintln!("  {osc}");
     }
-    eprintln!("  {}", describe_voice(s.voice, &s.breaths));
+    // The voice is worth a line only where a breath was inserted (not with --no-breaths).
+    if !s.breaths.is_empty() {
+        eprintln!("  {}", describe_voice(s.voice, &s.breaths));
+    }
     for f in &s.findings {
         eprintln!("warning: {}", f.message());
     }

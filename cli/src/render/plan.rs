@@ -61,7 +61,7 @@ pub struct Args {
     pub preset: String,
     /// Breath level relative to the speech level, dB (help, range, default: the table's
     /// `breath_level_db`).
-    #[arg(long, help = BREATH_LEVEL.help(), default_value_t = BREATH_LEVEL.default_value() as f32, allow_hyphen_values = true, value_parser = crate::options::number)]
+    #[arg(long, conflicts_with = "no_breaths", help = BREATH_LEVEL.help(), default_value_t = BREATH_LEVEL.default_value() as f32, allow_hyphen_values = true, value_parser = crate::options::number)]
     pub breath_level_db: f32,
     /// Pauses shorter than this get no breath, ms (the table's `min_pause_s`).
     #[arg(long, help = MIN_PAUSE.help(), default_value_t = MIN_PAUSE.default_value() as f32, value_parser = crate::options::number)]
@@ -72,9 +72,10 @@ pub struct Args {
     /// Lookahead of the lookahead mode, ms (the table's `lookahead_s`): renders as the plugin
     /// with that lookahead. Without it the render looks seconds ahead (the engine's whole-file
     /// lookahead).
-    #[arg(long, help = format!("{} Without it the render looks seconds ahead (the engine's whole-file lookahead)", LOOKAHEAD.help()), value_parser = crate::options::number)]
+    #[arg(long, help = LOOKAHEAD.help_with_default(&format!("none: the render looks seconds ahead, the engine's whole-file lookahead; the plugin's is {}", LOOKAHEAD.setting.default_text(LOOKAHEAD.unit))), value_parser = crate::options::number)]
     pub lookahead_ms: Option<f32>,
-    /// Do not insert breaths (controls only; the audio is copied unchanged).
+    /// Do not insert breaths (controls only; the audio samples are written unchanged, the
+    /// input's metadata chunks are not).
     #[arg(long)]
     pub no_breaths: bool,
     /// Breaths in the pauses of any sound, not only of speech (the speech decision off): for
@@ -88,20 +89,20 @@ pub struct Args {
     /// Folder with user breath samples `mouth.wav` and/or `nose.wav` (or .flac, .aiff, … any
     /// input format; the same as giving
     /// them with --breath-mouth and --breath-nose).
-    #[arg(long, value_name = "DIR")]
+    #[arg(long, conflicts_with = "no_breaths", value_name = "DIR")]
     pub breath_samples: Option<PathBuf>,
-    /// A WAV recording of a mouth inhalation to use instead of the procedural one.
-    #[arg(long, value_name = "WAV")]
+    /// A recording of a mouth inhalation ([`crate::options::BREATH_MOUTH_HELP`]).
+    #[arg(long, conflicts_with = "no_breaths", value_name = "FILE", help = crate::options::BREATH_MOUTH_HELP)]
     pub breath_mouth: Option<PathBuf>,
-    /// A WAV recording of a nose inhalation to use instead of the procedural one.
-    #[arg(long, value_name = "WAV")]
+    /// A recording of a nose inhalation ([`crate::options::BREATH_NOSE_HELP`]).
+    #[arg(long, conflicts_with = "no_breaths", value_name = "FILE", help = crate::options::BREATH_NOSE_HELP)]
     pub breath_nose: Option<PathBuf>,
     /// Learn the breath voice from this recording of the same speaker (e.g. the raw take
     /// before its breaths were edited out) instead of from the input.
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, conflicts_with = "no_breaths", value_name = "FILE")]
     pub breath_like: Option<PathBuf>,
     /// Use the built-in breath voice: learn nothing from the recording.
-    #[arg(long, conflicts_with = "breath_like")]
+    #[arg(long, conflicts_with_all = ["breath_like", "no_breaths"])]
     pub built_in_breath: bool,
     /// Head-pose model file (JSON); the embedded default model when absent.
     #[arg(long)]
@@ -112,7 +113,7 @@ pub struct Args {
     /// Control frames per second (the table's `frame_rate_hz`).
     #[arg(long, help = FRAME_RATE.help(), default_value_t = FRAME_RATE.default_value())]
     pub frame_rate: f64,
-    /// Also write `<stem>.bvh` (head and neck motion; a 1.8 m skeleton in metres).
+    /// Also write `<stem>.bvh` (head, neck and chest motion; a 1.8 m skeleton in metres).
     #[arg(long)]
     pub bvh: bool,
     /// Frames per second of the BVH (1 to 1000; default: --frame-rate). Blender's importer

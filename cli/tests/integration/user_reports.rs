@@ -108,7 +108,10 @@ fn every_file_of_a_batch_folder_is_in_the_table() {
     let opus_row = row("ep04.opus");
     assert!(opus_row.contains("skipped"), "{opus_row}");
     assert!(
-        opus_row.contains("Opus") && opus_row.contains("ffmpeg -i 'ep04.opus' 'ep04.flac'"),
+        opus_row.contains("Opus")
+            && opus_row.contains("ffmpeg -i '")
+            && opus_row.contains("episodes/ep04.opus' '")
+            && opus_row.contains("episodes/ep04.flac'"),
         "{opus_row}"
     );
     assert!(row("ep05.wma").contains("skipped"), "{err}");
@@ -419,5 +422,46 @@ fn the_bvh_is_person_sized_in_metres_at_the_asked_frame_rate() {
         stderr(&o).contains("--bvh-fps 0 fps is out of range: use 1 to 1000 fps"),
         "{}",
         stderr(&o)
+    );
+}
+
+#[test]
+fn options_of_the_breath_sound_are_refused_with_no_breaths() {
+    let dir = tempfile::tempdir().expect("temp");
+    let voice = example_voice();
+    let out = dir.path().join("out");
+    for option in [
+        &["--breath-level-db", "-10"][..],
+        &["--breath-like", voice.to_str().expect("utf-8")],
+        &["--built-in-breath"],
+    ] {
+        let o = render(&voice, &out, &[&["--no-breaths"][..], option].concat());
+        assert!(!o.status.success(), "{option:?} was accepted");
+        let err = stderr(&o);
+        assert!(
+            err.contains(option[0]) && err.contains("--no-breaths"),
+            "{err}"
+        );
+    }
+    assert!(!out.exists(), "a refused render made its folder");
+}
+
+#[test]
+fn a_failed_speak_leaves_no_folder_behind() {
+    let dir = tempfile::tempdir().expect("temp");
+    let out = dir.path().join("a/b/c");
+    // No such voice (or no espeak-ng at all): the run fails either way.
+    let o = pneuma(&[
+        "speak",
+        "Hi",
+        "-o",
+        out.to_str().expect("utf-8"),
+        "--voice",
+        "zzqx",
+    ]);
+    assert!(!o.status.success(), "{}", stderr(&o));
+    assert!(
+        !dir.path().join("a").exists(),
+        "the folders it made are left"
     );
 }

@@ -739,6 +739,12 @@ fn bad_headers_fail_with_their_reason() {
             vec!["is not audio: it holds text (\"just some text…\")"],
         ),
         ("tiny", b"RIFF\x04\0".to_vec(), vec!["6 bytes long"]),
+        // Too short for the text rule and for any header: no advice to convert it.
+        (
+            "hi",
+            b"hi\n".to_vec(),
+            vec!["3 bytes long, too short to hold any audio"],
+        ),
         (
             "not_wave",
             riff_with(b"RIFF", 4, &[])

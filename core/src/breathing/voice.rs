@@ -365,12 +365,11 @@ impl BreathVoice {
             release: release.max(1),
             fade: None,
         });
-        let dominant = if m >= 0.5 {
-            SampleSlot::Mouth
-        } else {
-            SampleSlot::Nose
-        };
-        let sampled = !self.slots[dominant as usize].fitted.is_empty();
+        // A user's sample plays its share of every breath and beats a learned voice, whichever
+        // of the two sounds it is (a nose sample with an even mouth share was once left out).
+        let sampled = [(SampleSlot::Mouth, wm), (SampleSlot::Nose, wn)]
+            .iter()
+            .any(|&(slot, w)| w > 0.0 && !self.slots[slot as usize].fitted.is_empty());
         self.use_learned = false;
         if let (Some(l), false, true) = (self.learned.as_mut(), sampled, self.learned_on) {
             l.start();

@@ -66,6 +66,9 @@ pub struct EmConfig {
     pub seed: u64,
 }
 
+/// Most restarts of one fit.
+pub const MAX_RESTARTS: usize = 50;
+
 impl EmConfig {
     /// Defaults for `dim`-dimensional samples and `components` components.
     pub fn new(dim: usize, components: usize) -> Self {
@@ -113,7 +116,13 @@ impl EmConfig {
             MAX_COMPONENTS as f64,
             "1..=32",
         )?;
-        chk("restarts", self.restarts as f64, 1.0, 50.0, "1..=50")?;
+        chk(
+            "restarts",
+            self.restarts as f64,
+            1.0,
+            MAX_RESTARTS as f64,
+            "1..=50",
+        )?;
         chk(
             "max_iterations",
             self.max_iterations as f64,

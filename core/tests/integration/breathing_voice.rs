@@ -3,6 +3,8 @@
 //! without clicks, and no allocation while rendering.
 
 use pneuma_core::analysis::rms;
+use pneuma_core::breathing::learned::LearnedVoice;
+use pneuma_core::breathing::third_octave::BANDS;
 use pneuma_core::breathing::{BreathSample, BreathVoice, SampleSlot};
 use pneuma_core::rng::SeededRng;
 use pneuma_core::BreathKind;
@@ -203,8 +205,63 @@ fn kinds_follow_the_mix() {
     v.set_sample(SampleSlot::Mouth, Some(sample));
     v.start(0.9, 100, 0.1);
     assert_eq!(v.kind(), BreathKind::Sample);
+    // The mouth sample plays its share of a nose breath too.
     v.start(0.1, 100, 0.1);
+    assert_eq!(v.kind(), BreathKind::Sample);
+    v.start(0.0, 100, 0.1);
     assert_eq!(v.kind(), BreathKind::Nose);
+}
+
+#[test]
+fn a_nose_sample_beats_a_learned_voice_at_an_even_mouth_share() {
+    // The neutral preset breathes half through the mouth: a user's nose sample alone must
+    // still be heard, not a voice learned from the recording.
+    let rate = 48_000.0;
+    let n = (0.4 * rate) as usize;
+    let render = |with_sample: bool| {
+        let mut v = BreathVoice::new(2);
+        v.prepare(rate, 256);
+        v.set_learned(Some(LearnedVoice {
+            breaths: 5,
+            shape_db: [0.0; BANDS],
+            shape_sd_db: [0.0; BANDS],
+            level_re_speech_db: -25.0,
+            level_sd_db: 0.0,
+            speech_db: -20.0,
+            length_s: 0.4,
+            length_sd_s: 0.05,
+        }));
+        if with_sample {
+            // A 100 Hz tone stands for the sample: nothing the voices make is periodic.
+            let tone = (0..(0.5 * rate) as usize)
+                .map(|i| 0.3 * (2.0 * std::f32::consts::PI * 100.0 * i as f32 / rate as f32).sin())
+                .collect();
+            let sample = BreathSample::from_mono(tone, rate).unwrap();
+            v.set_sample(SampleSlot::Nose, Some(sample));
+        }
+        v.start(0.5, n, 0.05);
+        let kind = v.kind();
+        let mut out = vec![0.0f32; n];
+        v.render_add(&mut out);
+        (kind, out)
+    };
+    let (learned_kind, learned) = render(false);
+    let (kind, sampled) = render(true);
+    assert_ne!(learned_kind, BreathKind::Sample);
+    assert_eq!(kind, BreathKind::Sample);
+    // The tone's period (480 samples) shows in the plateau's autocorrelation.
+    let periodicity = |x: &[f32]| {
+        let p = &x[n / 3..2 * n / 3 - 480];
+        let q = &x[n / 3 + 480..2 * n / 3];
+        let dot: f64 = p.iter().zip(q).map(|(a, b)| f64::from(a * b)).sum();
+        dot / (rms(p) * rms(q) * p.len() as f64)
+    };
+    assert!(periodicity(&sampled) > 0.3, "{}", periodicity(&sampled));
+    assert!(
+        periodicity(&learned).abs() < 0.1,
+        "{}",
+        periodicity(&learned)
+    );
 }
 
 fn noise(rate: f64, length_s: f64, seed: u64) -> Vec<f32> {
