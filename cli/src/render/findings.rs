@@ -1,6 +1,7 @@
 //! What a render found out about its input that the user should know, though nothing failed
 //! (the exit status stays 0): no speech at all, mostly something else than speech (music,
-//! singing, noise), or channels that cancel when mixed to mono. Each is a [`Finding`]: a line
+//! singing, noise), channels that cancel when mixed to mono, or an input so quiet that the
+//! voicing cannot hear most of its speech. Each is a [`Finding`]: a line
 //! of the summary (`warning: …`) and a short word in the batch table.
 //!
 //! The channel check ([`ChannelEnergy`]) sums each channel's power and the power of their mean
@@ -8,11 +9,17 @@
 //! engine ([`SpeechSummary`]).
 
 use pneuma_core::engine::{SpeechSummary, MAX_CHANNELS};
+use pneuma_core::settings::analysis::SILENCE_DB;
 
 /// The mono mix is this far under the channels' mean power: they cancel, dB.
 const ANTIPHASE_DB: f64 = 20.0;
 /// Channels quieter than this hold nothing to cancel, dBFS (mean power).
 const SILENT_CHANNEL_DB: f64 = -90.0;
+/// An input whose peak lies less than this over the voicing's silence level (`silence_db`:
+/// frames under it are never voiced) is quiet, dB. A voice's peak stands 15–21 dB over the
+/// median RMS of its voiced frames on the speech of `../shared/data`, so at this margin the
+/// median voiced frame lies about 10 dB over the silence level and the softer ones under it.
+const SPEECH_CREST_DB: f64 = 30.0;
 /// Less speech than this share of the frames with sound: no speech found.
 const NO_SPEECH_SHARE: f64 = 0.01;
 /// Less speech than this share of the frames with sound: mostly not speech.
@@ -30,6 +37,16 @@ pub enum Finding {
         /// Share of the frames with sound that are speech, 0..1.
         speech_share: f64,
     },
+    /// The input's peak lies so low that the voicing hears little of any speech in it.
+    Quiet {
+        /// The mono mix's peak, dBFS.
+        peak_db: f64,
+    },
+}
+
+/// The quietest peak at which speech is heard in full, dBFS.
+fn quiet_peak_db() -> f64 {
+    f64::from(SILENCE_DB.default) + SPEECH_CREST_DB
 }
 
 /// The antiphase warning for a command that `verb`s the input.
@@ -53,6 +70,12 @@ impl Finding {
                  with sound): breaths went only into the pauses of the speech",
                 100.0 * speech_share
             ),
+            Finding::Quiet { peak_db } => format!(
+                "the input is very quiet (its peak lies at {peak_db:.0} dBFS): frames under \
+                 {:.0} dBFS are never voiced, so much of its speech goes unheard; normalise it \
+                 first (e.g. `sox IN OUT gain -n -1`) and render it again",
+                SILENCE_DB.default
+            ),
         }
     }
 
@@ -62,6 +85,7 @@ impl Finding {
             Finding::Antiphase => "antiphase",
             Finding::NoSpeech => "no speech",
             Finding::MostlyNotSpeech { .. } => "mostly music",
+            Finding::Quiet { .. } => "quiet",
         }
     }
 }
@@ -72,6 +96,8 @@ pub struct ChannelEnergy {
     channels: usize,
     sum_sq: [f64; MAX_CHANNELS],
     mix_sq: f64,
+    /// Largest magnitude of the mono mix.
+    mix_peak: f64,
     frames: u64,
 }
 
@@ -92,6 +118,7 @@ impl ChannelEnergy {
             }
             mix /= channels as f64;
             self.mix_sq += mix * mix;
+            self.mix_peak = self.mix_peak.max(mix.abs());
         }
         self.frames += n as u64;
     }
@@ -107,12 +134,23 @@ impl ChannelEnergy {
             - 10.0 * (self.channels as f64).log10();
         channels_db > SILENT_CHANNEL_DB && mean_db(self.mix_sq) < channels_db - ANTIPHASE_DB
     }
+
+    /// The mono mix's peak, dBFS (−∞ for silence or no input).
+    pub fn peak_db(&self) -> f64 {
+        20.0 * self.mix_peak.log10()
+    }
 }
 
-/// The findings of a render: the channels, then the speech.
+/// The findings of a render: the channels, then the level, then the speech (a quiet input's
+/// speech findings follow from its level, and are left out).
 pub fn findings(energy: &ChannelEnergy, speech: &SpeechSummary) -> Vec<Finding> {
     if energy.antiphase() {
         return vec![Finding::Antiphase];
+    }
+    let peak_db = energy.peak_db();
+    // Digital silence is no quiet speech: it is said as no speech below.
+    if peak_db.is_finite() && peak_db < quiet_peak_db() {
+        return vec![Finding::Quiet { peak_db }];
     }
     let share = if speech.sound_frames == 0 {
         0.0
@@ -177,5 +215,36 @@ mod tests {
         );
         assert_eq!(findings(&e, &s(900, 700, 8)), []);
         assert!(Finding::Antiphase.message().contains("render one channel"));
+    }
+
+    #[test]
+    fn a_quiet_input_is_said_before_its_speech_and_silence_is_not_quiet() {
+        let speech = SpeechSummary {
+            frames: 1000,
+            sound_frames: 900,
+            speech_frames: 5,
+            phrases: 10,
+            speech_phrases: 1,
+        };
+        let tone = |peak: f32| -> ChannelEnergy {
+            let x: Vec<f32> = (0..4800).map(|i| (i as f32 * 0.05).sin() * peak).collect();
+            let mut e = ChannelEnergy::default();
+            e.add(std::slice::from_ref(&x), x.len());
+            e
+        };
+        // Peak -46 dBFS: quiet; the speech finding it causes is left out.
+        let quiet = findings(&tone(0.005), &speech);
+        assert!(
+            matches!(quiet[..], [Finding::Quiet { peak_db }] if (peak_db + 46.0).abs() < 0.1),
+            "{quiet:?}"
+        );
+        assert!(
+            quiet[0].message().contains("normalise it"),
+            "{}",
+            quiet[0].message()
+        );
+        // Peak -12 dBFS: the speech finding as before; digital silence is no speech, not quiet.
+        assert_eq!(findings(&tone(0.25), &speech), [Finding::NoSpeech]);
+        assert_eq!(findings(&tone(0.0), &speech), [Finding::NoSpeech]);
     }
 }

@@ -615,3 +615,31 @@ fn an_unvoiced_blip_inside_a_breath_leaves_the_breath_whole() {
     assert!(at(pause.breath_s, 2.3, 2.73), "{pause:?}");
     assert!(at(pause.breath_clean_s, 2.3, 2.5), "{pause:?}");
 }
+
+#[test]
+fn a_quiet_take_hears_the_breath_a_loud_one_hears() {
+    // Two phrases with a breath between them in a quiet room, at a normal gain (speech at
+    // -20 dBFS, the breath 30 dB under it at -50, the room at -70) and the same take 35 dB
+    // quieter (the breath at -85 dBFS, under the default silence level of -75).
+    let script = |gain_db: f32| {
+        [
+            (100, -70.0 + gain_db, false),
+            (100, -20.0 + gain_db, true),
+            (30, -70.0 + gain_db, false),
+            (30, -50.0 + gain_db, false),
+            (30, -70.0 + gain_db, false),
+            (100, -20.0 + gain_db, true),
+            (50, -70.0 + gain_db, false),
+        ]
+    };
+    let breath = |gain_db: f32| {
+        let ev = run_edited(&script(gain_db), |_, f| {
+            f.speech_level_db = -20.0 + gain_db;
+            f.level_db = f.rms_db - f.speech_level_db;
+        });
+        pauses_of(&ev).get(1).and_then(|p| p.breath_s)
+    };
+    let loud = breath(0.0).expect("the breath is heard at a normal gain");
+    assert!((loud.0 - 2.3).abs() < 0.03, "{loud:?}");
+    assert_eq!(breath(-35.0), Some(loud));
+}

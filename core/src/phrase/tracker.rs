@@ -52,6 +52,12 @@ struct Candidate {
     voiced: u32,
 }
 
+/// Running speech level (full band, dBFS) at or over which the silence level
+/// (`phrase_silence_db`) holds as set; under it the silence level moves down with the speech.
+/// Every recording in `../shared/data` speaks at −20 to −30 dBFS (median of the voiced frames),
+/// so the rule changes nothing there and keeps a quiet take's soft sounds over its silence.
+const QUIET_SPEECH_DB: f32 = -30.0;
+
 /// What [`PhraseTracker::reset`] clears.
 #[derive(Debug, Clone, Copy)]
 struct TrackerState {
@@ -228,11 +234,19 @@ impl PhraseTracker {
         } else {
             rms_db
         };
-        let over_floor = rms_db >= s.floor_db + c.edge_margin_db && rms_db > c.silence_db;
+        // The silence level holds for speech at [`QUIET_SPEECH_DB`] or louder; in a quieter
+        // recording (a raw take, a low gain) it lies as far under the speech as it would
+        // there, so soft breaths and consonants stay sound as the gain goes down.
+        let silence_db = if frame.speech_level_db.is_finite() {
+            c.silence_db + (frame.speech_level_db - QUIET_SPEECH_DB).min(0.0)
+        } else {
+            c.silence_db
+        };
+        let over_floor = rms_db >= s.floor_db + c.edge_margin_db && rms_db > silence_db;
         let loud = rms_db >= s.floor_db + c.activity_margin_db
             && rms_db >= speech_level_db - c.unvoiced_drop_db
-            && rms_db > c.silence_db;
-        let voiced = frame.voiced && rms_db > c.silence_db;
+            && rms_db > silence_db;
+        let voiced = frame.voiced && rms_db > silence_db;
         let active = voiced || loud;
         // The room's own band levels, learnt on frames at the floor, are taken out of the
         // frame's band powers: what is left is the shape of the sound over the room.
@@ -245,7 +259,7 @@ impl PhraseTracker {
         let breath_bands_db = frame.bands.breath_bands_db();
         let breath_floor_db = self.breath_floor.update(Some(breath_bands_db));
         if !voiced
-            && rms_db > c.silence_db
+            && rms_db > silence_db
             && rms_db <= s.floor_db + FLOOR_BAND_WITHIN_DB
             && rms_db <= speech_level_db - FLOOR_BAND_UNDER_SPEECH_DB
             && breath_bands_db < breath_floor_db + c.breath_margin_db
@@ -257,7 +271,7 @@ impl PhraseTracker {
         // hum or rumble carries the room's level, a breath adds little to the full band.
         let breath_level = (rms_db >= s.floor_db + c.breath_margin_db
             || s.floor_bands.breath_bands_over_room_db(&frame.bands) >= c.breath_margin_db)
-            && rms_db > c.silence_db;
+            && rms_db > silence_db;
         FrameFacts {
             active,
             over_floor,

@@ -151,7 +151,8 @@ pub static PHRASE_SILENCE_DB: Setting = Setting {
     default: -75.0,
     off: None,
     scope: Scope::Stream,
-    help: "Frames under this level are silence whatever the noise floor",
+    help: "Frames under this level are silence whatever the noise floor (for a speaker at a \
+           normal level; under a quiet speaker it moves down with the speech level)",
     why: "from under 24-bit silence to a quiet voice's level",
 };
 
