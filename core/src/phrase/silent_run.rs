@@ -1,7 +1,7 @@
 //! [`SilentRuns`]: the stretches of a pause that are digital silence (under [`GATED_DB`]) or at a
-//! cut's dither ([`CUT_CEILING_DB`]), and the one that touches the pause's heard breath. A
-//! recorded room rarely falls that low between phrases; an editor's cut or a closed noise gate
-//! does, so a breath-like run with such a stretch right beside it is what a cut left of a breath
+//! cut's dither ([`CUT_CEILING_DB`], lower under a quiet speaker), and the one that touches the
+//! pause's heard breath. A recorded room rarely falls that low between phrases; an editor's
+//! cut or a closed noise gate does, so a breath-like run with such a stretch right beside it is what a cut left of a breath
 //! ([`super::Pause::gated_s`]).
 
 /// Voice-band level under which a frame is digital silence, dBFS: under a 16-bit file's
@@ -12,7 +12,9 @@ pub(super) const GATED_DB: f32 = -110.0;
 
 /// Voice-band level under which a stretch of a pause is what a cut left (a 16-bit export's TPDF
 /// dither lies at about −96 dBFS over the full band and lower in the voice band; a gate's
-/// residue), dBFS. A recorded room lies that low only when it is within a few dB of a 16-bit
+/// residue), dBFS, for speech at the tracker's `QUIET_SPEECH_DB` (−30 dBFS) or louder; under a
+/// quieter speaker it moves down with the speech level, so a quiet take's room stays a room.
+/// A recorded room at a normal gain lies that low only when it is within a few dB of a 16-bit
 /// file's least step, or after a denoiser: pauses that quiet are taken as cut (a breath heard
 /// beside one is a remnant, see [`super::Pause::gated_s`]); the noise floor still learns from
 /// them, unlike digital silence ([`GATED_DB`]).

@@ -637,9 +637,12 @@ fn a_quiet_take_hears_the_breath_a_loud_one_hears() {
             f.speech_level_db = -20.0 + gain_db;
             f.level_db = f.rms_db - f.speech_level_db;
         });
-        pauses_of(&ev).get(1).and_then(|p| p.breath_s)
+        pauses_of(&ev).get(1).map(|p| (p.breath_s, p.gated_s))
     };
-    let loud = breath(0.0).expect("the breath is heard at a normal gain");
+    let (loud, gated) = breath(0.0).expect("a pause at a normal gain");
+    let loud = loud.expect("the breath is heard at a normal gain");
     assert!((loud.0 - 2.3).abs() < 0.03, "{loud:?}");
-    assert_eq!(breath(-35.0), Some(loud));
+    assert_eq!(gated, None, "a room is no cut");
+    // The same breath, and the quiet take's room (-105 dBFS) is no cut either.
+    assert_eq!(breath(-35.0), Some((Some(loud), None)));
 }

@@ -53,7 +53,8 @@ struct Candidate {
 }
 
 /// Running speech level (full band, dBFS) at or over which the silence level
-/// (`phrase_silence_db`) holds as set; under it the silence level moves down with the speech.
+/// (`phrase_silence_db`) and a cut's ceiling ([`CUT_CEILING_DB`]) hold as set; under it they
+/// move down with the speech.
 /// Every recording in `../shared/data` speaks at −20 to −30 dBFS (median of the voiced frames),
 /// so the rule changes nothing there and keeps a quiet take's soft sounds over its silence.
 const QUIET_SPEECH_DB: f32 = -30.0;
@@ -221,10 +222,19 @@ impl PhraseTracker {
         // phrase's edges ran over the whole pause. (The tracker's silence level would also
         // take a quiet room's pauses for silence and lift the floor over them.)
         let gated = rms_db <= GATED_DB;
+        // Levels set for speech at [`QUIET_SPEECH_DB`] or louder (the silence level, a cut's
+        // ceiling) move down with a quieter speaker's running speech level: in a raw take or at
+        // a low gain they lie as far under the speech as they would there, so soft breaths and
+        // consonants stay sound and the room stays a room as the gain goes down.
+        let quiet_shift_db = if frame.speech_level_db.is_finite() {
+            (frame.speech_level_db - QUIET_SPEECH_DB).min(0.0)
+        } else {
+            0.0
+        };
         // A cut that left a 16-bit export's dither (or a gate's residue) under the ceiling, once
         // sound has been heard. It only marks the pause's silent stretches (what a cut left of
         // a breath); the floor learns from it as from any room.
-        let cut = s.heard_sound && rms_db <= CUT_CEILING_DB;
+        let cut = s.heard_sound && rms_db <= CUT_CEILING_DB + quiet_shift_db;
         if !(gated && s.heard_sound) {
             s.floor_db = self.floor.update(Some(rms_db));
         }
@@ -234,14 +244,7 @@ impl PhraseTracker {
         } else {
             rms_db
         };
-        // The silence level holds for speech at [`QUIET_SPEECH_DB`] or louder; in a quieter
-        // recording (a raw take, a low gain) it lies as far under the speech as it would
-        // there, so soft breaths and consonants stay sound as the gain goes down.
-        let silence_db = if frame.speech_level_db.is_finite() {
-            c.silence_db + (frame.speech_level_db - QUIET_SPEECH_DB).min(0.0)
-        } else {
-            c.silence_db
-        };
+        let silence_db = c.silence_db + quiet_shift_db;
         let over_floor = rms_db >= s.floor_db + c.edge_margin_db && rms_db > silence_db;
         let loud = rms_db >= s.floor_db + c.activity_margin_db
             && rms_db >= speech_level_db - c.unvoiced_drop_db
