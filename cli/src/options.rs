@@ -76,8 +76,8 @@ pub const BREATH_MOUTH_HELP: &str = "A recording of a mouth inhalation (any inpu
 /// `--breath-nose` (render, speak).
 pub const BREATH_NOSE_HELP: &str = "A recording of a nose inhalation (any input format) that \
     plays instead of the built-in or learned breath voice, for the nose's share of each breath \
-    (one minus the preset's mouth share; the mouth's share comes from --breath-mouth, else the built-in \
-    mouth sound)";
+    (one minus the preset's mouth share; the mouth's share comes from --breath-mouth, else the \
+    built-in mouth sound)";
 
 /// `--frame-rate` (render, analyze, speak).
 pub static FRAME_RATE: SettingFlag = SettingFlag {

@@ -1,8 +1,8 @@
 //! [`SilentRuns`]: the stretches of a pause that are digital silence (under [`GATED_DB`]) or at a
 //! cut's dither ([`CUT_CEILING_DB`], lower under a quiet speaker), and the one that touches the
 //! pause's heard breath. A recorded room rarely falls that low between phrases; an editor's
-//! cut or a closed noise gate does, so a breath-like run with such a stretch right beside it is what a cut left of a breath
-//! ([`super::Pause::gated_s`]).
+//! cut or a closed noise gate does, so a breath-like run with such a stretch right beside it
+//! is what a cut left of a breath ([`super::Pause::gated_s`]).
 
 /// Voice-band level under which a frame is digital silence, dBFS: under a 16-bit file's
 /// quantisation noise (about −101 dBFS over the full band), so only zeros (or a cut's dither)
