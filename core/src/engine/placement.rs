@@ -23,7 +23,9 @@
 //! - A breath already in the pause (the phrase tracker's `Pause::breath_s`) is the group's
 //!   breath: the inspiration lies on it, at its time and length, and no sound is inserted.
 //! - A stream that starts in speech starts with the lung filled for the first group (the
-//!   speaker breathed in before it).
+//!   speaker breathed in before it); so does a stream that starts inside sound (an edit cut
+//!   into a word: its first [`STREAM_EDGE_S`] within [`IN_SOUND_DB`] of the first phrase),
+//!   with no breath inserted before its first phrase.
 //! - Live mode takes no catch breaths under `min_pause_s` (it cannot know a pause's length
 //!   before the pause is over, and a breath started earlier lands on the next word); it sizes
 //!   each breath for the running estimate of a group instead.
@@ -53,6 +55,13 @@ const CATCH_SLACK_S: f32 = 0.3;
 const CATCH_MARGIN_S: f64 = 0.01;
 /// Least speech left that an onset plans its expiration over, seconds.
 const MIN_LEFT_S: f32 = 0.5;
+/// The start of the stream that tells whether it starts inside sound, seconds.
+const STREAM_EDGE_S: f64 = 0.05;
+/// A stream whose first [`STREAM_EDGE_S`] is louder than its first phrase's level less this
+/// starts inside sound (a word or note the edit cut into), not in a pause, dB: a room's tone lies
+/// 30 dB or more under the speech in every recording in `../shared/data`, a word's quietest
+/// consonants 10–20 dB under it.
+const IN_SOUND_DB: f32 = 20.0;
 /// How long a breath is against the breathing parameters' inspiration (see
 /// [`breath_length_s`]): chosen leave-one-speaker-out on the labelled real breaths of
 /// `../shared/data` (`pneuma eval restore`, its breath-length fit: cut, restored, duration
@@ -202,6 +211,8 @@ struct PlacementState {
     breath_end: u64,
     /// The speech judgement of the last phrase decided and ended (lookahead mode).
     prev_speech: Option<bool>,
+    /// Loudest frame of the stream's first [`STREAM_EDGE_S`], dBFS.
+    edge_level_db: f32,
 }
 
 impl Default for PlacementState {
@@ -217,6 +228,7 @@ impl Default for PlacementState {
             last_onset_s: None,
             breath_end: 0,
             prev_speech: None,
+            edge_level_db: f32::NEG_INFINITY,
         }
     }
 }
@@ -253,6 +265,9 @@ impl Placement {
     /// frames the stereo image learns from too).
     pub(crate) fn on_frame(&mut self, f: &FeatureFrame) -> bool {
         let voiced = f.voiced && f.rms_db.is_finite() && f.level_db.is_finite();
+        if f.time_s < STREAM_EDGE_S && f.rms_db.is_finite() {
+            self.state.edge_level_db = self.state.edge_level_db.max(f.rms_db);
+        }
         if voiced {
             let s = &mut self.state;
             s.speech_level_db = f.speech_level_db;
@@ -564,7 +579,12 @@ impl Placement {
             (known_s as f32).max(self.state.group_estimate_s)
         };
         let pause_s = onset_s - pause.start_s;
-        let usable = pause_s >= p.min_pause_s as f64;
+        // A stream that starts inside sound has no pause before its first phrase: the tracker
+        // cannot tell a cut word's end from a room before it has heard the room.
+        let in_sound = pause.leading
+            && pause.last_activity_end_s.is_none()
+            && self.state.edge_level_db > ph.level_db - IN_SOUND_DB;
+        let usable = pause_s >= p.min_pause_s as f64 && !in_sound;
         let speech = self.pause_of_speech(ctx, &ph);
         if ph.speech.is_some() {
             self.state.prev_speech = ph.speech;
@@ -625,7 +645,7 @@ impl Placement {
             let start_s = (end_s - p.catch_breath_max_s as f64)
                 .max(after_s)
                 .max(earliest_s);
-            if speech && end_s - start_s >= p.catch_breath_min_s as f64 - 1e-9 {
+            if speech && !in_sound && end_s - start_s >= p.catch_breath_min_s as f64 - 1e-9 {
                 window = Some((start_s, end_s));
             } else if pause.leading && spoken && self.state.group_planned_s <= 0.0 {
                 // Speech from the very start of the stream: the speaker breathed before it.

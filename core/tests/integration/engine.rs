@@ -286,6 +286,35 @@ fn a_word_too_short_to_confirm_is_never_covered_by_a_breath() {
 }
 
 #[test]
+fn a_stream_cut_inside_a_word_gets_no_breath_before_its_first_phrase() {
+    // The edit cut into a word: the stream starts on its /s/ (10 dB under the speech), then a
+    // 30 ms closure and the phrases. The start is no pause.
+    let (speech, spans) = sequence(0.0, &[1.5, 1.5], &[0.8]);
+    let speech_rms = rms(&speech[..(1.5 * SR) as usize]);
+    let s_len = (0.2 * SR) as usize;
+    let mut audio = signals::band_noise(s_len, SR, (4000.0, 8000.0), speech_rms / 3.16, 7);
+    audio.extend(std::iter::repeat_n(0.0, (0.03 * SR) as usize));
+    let lead_s = audio.len() as f64 / SR;
+    audio.extend(&speech);
+    let r = render(&config(), std::slice::from_ref(&audio), &[512]);
+    let first_onset_s = lead_s + spans[0].0;
+    assert!(
+        r.breaths.iter().all(|b| b.start_s >= first_onset_s),
+        "a breath on the cut word before the first phrase at {first_onset_s:.2} s: {:?}",
+        r.breaths
+    );
+    // The pause between the phrases still gets its breath.
+    let pause = (lead_s + spans[0].1, lead_s + spans[1].0);
+    assert!(
+        r.breaths
+            .iter()
+            .any(|b| b.start_s >= pause.0 && b.end_s <= pause.1),
+        "no breath in the pause {pause:?}: {:?}",
+        r.breaths
+    );
+}
+
+#[test]
 fn the_first_breath_follows_the_level_of_quiet_and_loud_speech() {
     let (audio, spans) = sequence(0.8, &[1.5, 1.5], &[0.8]);
     let speech: Vec<f32> = audio.iter().copied().filter(|x| *x != 0.0).collect();
