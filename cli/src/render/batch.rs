@@ -7,6 +7,8 @@
 //! inside them; two inputs that would write the same output names, `a.wav` and `a.flac`, are
 //! refused before anything runs). Every file of a folder has a row: rendered, failed (why) or
 //! skipped (why: not audio, or a format Pneuma does not read and the command that converts it).
+//! Under the table, the files each render removed because an earlier render left them
+//! ([`super::leftovers`]).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -99,6 +101,19 @@ fn print_table(rows: &[[String; COLUMNS]]) {
     }
 }
 
+/// The lines on the files earlier renders left, after the table: what each render removed,
+/// or kept (`--no-overwrite`).
+fn print_leftovers(results: &[Outcome]) {
+    for s in results.iter().flatten() {
+        if let Some(removed) = s.leftovers.removed_line() {
+            eprintln!("{removed}");
+        }
+        for w in s.leftovers.warnings() {
+            eprintln!("warning: {w}");
+        }
+    }
+}
+
 /// Renders every input that is not skipped; prints the table (every input, skipped ones
 /// with why); the exit code: failure when one failed or none was rendered.
 pub fn main(args: &Args, all: &[Input]) -> ExitCode {
@@ -172,6 +187,9 @@ pub fn main(args: &Args, all: &[Input]) -> ExitCode {
             inputs.len() - failed,
             args.output.display()
         );
+    }
+    if !args.quiet {
+        print_leftovers(&results);
     }
     if results
         .iter()

@@ -1,7 +1,8 @@
 //! What a render found out about its input that the user should know, though nothing failed
 //! (the exit status stays 0): no speech at all, mostly something else than speech (music,
-//! singing, noise), channels that cancel when mixed to mono, or an input so quiet that the
-//! voicing cannot hear most of its speech. Each is a [`Finding`]: a line
+//! singing, noise), channels that cancel when mixed to mono, an input that holds no signal
+//! (digital silence or dither), or an input so quiet that the voicing cannot hear most of its
+//! speech. Each is a [`Finding`]: a line
 //! of the summary (`warning: …`) and a short word in the batch table.
 //!
 //! The channel check ([`ChannelEnergy`]) sums each channel's power and the power of their mean
@@ -37,6 +38,12 @@ pub enum Finding {
         /// Share of the frames with sound that are speech, 0..1.
         speech_share: f64,
     },
+    /// The input holds no signal: its peak lies at the level of dither (digital silence, or
+    /// the dither of an export of silence).
+    NoSignal {
+        /// The mono mix's peak, dBFS (−∞ when every sample is zero).
+        peak_db: f64,
+    },
     /// The input's peak lies so low that the voicing hears little of any speech in it.
     Quiet {
         /// The mono mix's peak, dBFS.
@@ -47,6 +54,21 @@ pub enum Finding {
 /// The quietest peak at which speech is heard in full, dBFS.
 fn quiet_peak_db() -> f64 {
     f64::from(SILENCE_DB.default) + SPEECH_CREST_DB
+}
+
+/// A 16-bit file's least step, full scale.
+const STEP_16_BIT: f64 = 1.0 / 32768.0;
+/// Peaks under this many 16-bit steps are dither: an export of silence with TPDF dither
+/// rounds to one step (sox's default, −90 dBFS) or two (−84 dBFS); four leave 6 dB over that and
+/// lie 26 dB under the quietest speech the measurements render (a Keele take 30 dB down, peak
+/// −52 dBFS). A 24-bit or float file that low may hold a real signal, 78 dB under full scale;
+/// noise-shaped dither (up to −54 dBFS) is not told apart by its peak and is said quiet.
+const DITHER_PEAK_STEPS: f64 = 4.0;
+
+/// The peak under which an input holds no signal (silence or dither only), dBFS: −78 dBFS.
+/// Normalising such an input would raise its dither to full-scale noise.
+fn no_signal_peak_db() -> f64 {
+    20.0 * (DITHER_PEAK_STEPS * STEP_16_BIT).log10()
 }
 
 /// The antiphase warning for a command that `verb`s the input.
@@ -70,6 +92,15 @@ impl Finding {
                  with sound): breaths went only into the pauses of the speech",
                 100.0 * speech_share
             ),
+            Finding::NoSignal { peak_db } if peak_db.is_finite() => format!(
+                "the input holds no signal (silence or dither only, peak {peak_db:.0} dBFS): \
+                 there is no speech to place breaths by, and normalising it would only make \
+                 the dither loud; check that the right file (or channel) was exported"
+            ),
+            Finding::NoSignal { .. } => "the input holds no signal (digital silence: every \
+                 sample is zero): there is no speech to place breaths by; check that the right \
+                 file (or channel) was exported"
+                .into(),
             Finding::Quiet { peak_db } => format!(
                 "the input is very quiet (its peak lies at {peak_db:.0} dBFS): frames under \
                  {:.0} dBFS are never voiced, so much of its speech goes unheard; normalise it \
@@ -85,6 +116,7 @@ impl Finding {
             Finding::Antiphase => "antiphase",
             Finding::NoSpeech => "no speech",
             Finding::MostlyNotSpeech { .. } => "mostly music",
+            Finding::NoSignal { .. } => "no signal",
             Finding::Quiet { .. } => "quiet",
         }
     }
@@ -148,8 +180,11 @@ pub fn findings(energy: &ChannelEnergy, speech: &SpeechSummary) -> Vec<Finding> 
         return vec![Finding::Antiphase];
     }
     let peak_db = energy.peak_db();
-    // Digital silence is no quiet speech: it is said as no speech below.
-    if peak_db.is_finite() && peak_db < quiet_peak_db() {
+    // Silence or dither is no quiet speech: normalising it would make it noise.
+    if peak_db < no_signal_peak_db() {
+        return vec![Finding::NoSignal { peak_db }];
+    }
+    if peak_db < quiet_peak_db() {
         return vec![Finding::Quiet { peak_db }];
     }
     let share = if speech.sound_frames == 0 {
@@ -194,6 +229,14 @@ mod tests {
         assert!(!mono.antiphase());
     }
 
+    /// A mono tone peaking at `peak`.
+    fn tone(peak: f32) -> ChannelEnergy {
+        let x: Vec<f32> = (0..4800).map(|i| (i as f32 * 0.05).sin() * peak).collect();
+        let mut e = ChannelEnergy::default();
+        e.add(std::slice::from_ref(&x), x.len());
+        e
+    }
+
     #[test]
     fn speech_shares_give_no_speech_mostly_music_or_nothing() {
         let s = |sound_frames, speech_frames, speech_phrases| SpeechSummary {
@@ -203,7 +246,7 @@ mod tests {
             phrases: 10,
             speech_phrases,
         };
-        let e = ChannelEnergy::default();
+        let e = tone(0.25);
         assert_eq!(findings(&e, &s(0, 0, 0)), [Finding::NoSpeech]);
         assert_eq!(findings(&e, &s(900, 5, 1)), [Finding::NoSpeech]);
         assert_eq!(findings(&e, &s(900, 300, 0)), [Finding::NoSpeech]);
@@ -226,12 +269,6 @@ mod tests {
             phrases: 10,
             speech_phrases: 1,
         };
-        let tone = |peak: f32| -> ChannelEnergy {
-            let x: Vec<f32> = (0..4800).map(|i| (i as f32 * 0.05).sin() * peak).collect();
-            let mut e = ChannelEnergy::default();
-            e.add(std::slice::from_ref(&x), x.len());
-            e
-        };
         // Peak -46 dBFS: quiet; the speech finding it causes is left out.
         let quiet = findings(&tone(0.005), &speech);
         assert!(
@@ -243,8 +280,34 @@ mod tests {
             "{}",
             quiet[0].message()
         );
-        // Peak -12 dBFS: the speech finding as before; digital silence is no speech, not quiet.
+        // Peak -12 dBFS: the speech finding as before.
         assert_eq!(findings(&tone(0.25), &speech), [Finding::NoSpeech]);
-        assert_eq!(findings(&tone(0.0), &speech), [Finding::NoSpeech]);
+    }
+
+    #[test]
+    fn silence_and_dither_hold_no_signal_and_are_not_told_to_normalise() {
+        let speech = SpeechSummary {
+            frames: 1000,
+            sound_frames: 0,
+            speech_frames: 0,
+            phrases: 0,
+            speech_phrases: 0,
+        };
+        // 16-bit TPDF dither of silence: one or two steps (-90.3, -84.3 dBFS); all zeros.
+        let step = STEP_16_BIT as f32;
+        for (peak, said) in [(step, "peak -90 dBFS"), (2.0 * step, "peak -84 dBFS")] {
+            let found = findings(&tone(peak), &speech);
+            assert!(matches!(found[..], [Finding::NoSignal { .. }]), "{found:?}");
+            let m = found[0].message();
+            assert!(m.contains("holds no signal (silence or dither only") && m.contains(said));
+            assert!(!m.contains("normalise it"), "{m}");
+            assert_eq!(found[0].short(), "no signal");
+        }
+        let zeros = findings(&tone(0.0), &speech);
+        assert!(matches!(zeros[..], [Finding::NoSignal { .. }]), "{zeros:?}");
+        assert!(zeros[0].message().contains("every sample is zero"));
+        // Eight steps (-72 dBFS) over the silence level: quiet, not nothing.
+        let faint = findings(&tone(8.0 * step), &speech);
+        assert!(matches!(faint[..], [Finding::Quiet { .. }]), "{faint:?}");
     }
 }

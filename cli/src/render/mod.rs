@@ -3,7 +3,8 @@
 //! `DIR/<stem>.wav|flac|aiff` (the input with breaths, same rate, channels and bit depth; see
 //! [`output_container`]), `DIR/<stem>.controls.csv`, `DIR/<stem>.breaths.csv`,
 //! `DIR/<stem>.png`, with `--bvh` `DIR/<stem>.bvh` and with `--markers` the editors' marker
-//! files (contracts in DESIGN.md); or, with `-o -`, only the audio as WAV to standard output.
+//! files (contracts in DESIGN.md), removing those an earlier render left that this one does not
+//! write; or, with `-o -`, only the audio as WAV to standard output.
 //!
 //! The engine runs as in the plugin (with `--lookahead-ms` exactly as the plugin; by default
 //! with the engine's whole-file lookahead of seconds). The parts, each using only the ones
@@ -12,6 +13,8 @@
 //! - [`error`]: how a render fails, and Ctrl-C;
 //! - [`findings`]: what a render found that the user should know (no speech, mostly music,
 //!   channels in antiphase): warnings, exit status 0;
+//! - [`leftovers`]: the files an earlier render of the same stem left that this one does not
+//!   write, removed once it is committed (kept and named with `--no-overwrite`);
 //! - [`plan`]: the arguments turned into a checked plan (inputs, engine settings, the engine
 //!   prepared for an input, the output names); nothing is written there;
 //! - [`voice`]: the breath voice learned from the recording (or `--breath-like`) before a
@@ -26,6 +29,7 @@
 pub mod batch;
 pub mod error;
 pub mod findings;
+pub mod leftovers;
 pub mod pipeline;
 pub mod plan;
 pub mod voice;
@@ -114,9 +118,15 @@ fn print_summary(input: &Path, s: &RenderSummary) {
     if let Some(osc) = &s.osc {
         eprintln!("  {osc}");
     }
+    if let Some(removed) = s.leftovers.removed_line() {
+        eprintln!("  {removed}");
+    }
     // The voice is worth a line only where a breath was inserted (not with --no-breaths).
     if !s.breaths.is_empty() {
         eprintln!("  {}", describe_voice(s.voice, &s.breaths));
+    }
+    for w in s.leftovers.warnings() {
+        eprintln!("warning: {w}");
     }
     for f in &s.findings {
         eprintln!("warning: {}", f.message());

@@ -7,7 +7,8 @@
 //! written block by block, the controls stream to their file, and the plot keeps a min/max
 //! envelope of at most a few hundred thousand points ([`Envelope`]). Every output file is
 //! written under a temporary name and renamed into place only when the whole render succeeded
-//! ([`commit_all`]).
+//! ([`commit_all`]); then the files an earlier render left for the same stem, which this one
+//! does not write, are removed ([`super::leftovers`]).
 
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -24,6 +25,7 @@ use pneuma_io::{AudioSource, InputFormat};
 
 use super::error::{interrupted, out_err, RenderError};
 use super::findings::{findings, ChannelEnergy, Finding};
+use super::leftovers::Cleared;
 use super::plan::{Args, FolderFiles, Job, OutputPlan, BLOCK_FRAMES};
 use crate::audio_out::{AudioSink, Container};
 use crate::output::{commit_all, Output, Staged};
@@ -57,6 +59,8 @@ pub struct RenderSummary {
     pub findings: Vec<Finding>,
     /// What was sent as OSC (`--osc`), for the summary.
     pub osc: Option<String>,
+    /// The files an earlier render left that this one does not write: removed, or kept.
+    pub leftovers: Cleared,
     /// Where the inserted breaths took their voice from, at the end of the render.
     pub voice: VoiceStatus,
 }
@@ -242,6 +246,8 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
             vec![outputs.audio.clone()]
         }
     };
+    // Only once this render's files are in place: a failed render changes nothing.
+    let leftovers = super::leftovers::clear(&outputs.leftovers, outputs.keep_leftovers);
     Ok(RenderSummary {
         info,
         input_format,
@@ -253,6 +259,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         clipped,
         findings: found,
         osc,
+        leftovers,
         voice,
     })
 }

@@ -11,6 +11,7 @@ use pneuma_core::engine::{Engine, EngineConfig, EngineError, PlacementMode};
 use pneuma_io::{AudioSource, InputFormat, Tags};
 
 use super::error::RenderError;
+use super::leftovers::Leftover;
 use crate::audio_out::Container;
 use crate::markers::MarkerKind;
 use crate::options::{
@@ -262,15 +263,41 @@ pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<Input>, String> {
     Ok(out)
 }
 
-/// The first two inputs whose outputs would have the same names.
-fn clashing_stems(inputs: &[PathBuf]) -> Option<(&Path, &Path)> {
-    let stem = |p: &Path| p.file_stem().map(|s| s.to_os_string());
-    for (i, a) in inputs.iter().enumerate() {
-        if let Some(b) = inputs[..i].iter().find(|b| stem(b) == stem(a)) {
-            return Some((b, a));
+/// The groups of inputs whose outputs would have the same names (the same output stem), each
+/// with every input of that stem, in the order given; the groups in the order of their first
+/// input.
+fn clashing_stems(inputs: &[PathBuf]) -> Vec<Vec<&Path>> {
+    let mut groups: Vec<(String, Vec<&Path>)> = Vec::new();
+    for p in inputs {
+        let stem = output_stem(p);
+        match groups.iter_mut().find(|(s, _)| *s == stem) {
+            Some((_, group)) => group.push(p),
+            None => groups.push((stem, vec![p])),
         }
     }
-    None
+    groups
+        .into_iter()
+        .map(|(_, g)| g)
+        .filter(|g| g.len() > 1)
+        .collect()
+}
+
+/// The error for clashing inputs: every group on its own line, so one renaming pass fixes all.
+fn clash_message(groups: &[Vec<&Path>], output: &Path) -> String {
+    let lines: Vec<String> = groups
+        .iter()
+        .map(|g| {
+            let names: Vec<String> = g.iter().map(|p| p.display().to_string()).collect();
+            format!("\n  {}", names.join(", "))
+        })
+        .collect();
+    format!(
+        "inputs with the same name would write the same output files in {} ({}):{}\nrename all \
+         but one of each group, or render them into different folders",
+        output.display(),
+        crate::options::count(groups.len(), "group"),
+        lines.concat()
+    )
 }
 
 /// Checks a batch's arguments before anything runs; the number of render threads.
@@ -290,14 +317,9 @@ pub fn check_batch(args: &Args, inputs: &[PathBuf]) -> Result<usize, String> {
                 .into(),
         );
     }
-    if let Some((a, b)) = clashing_stems(inputs) {
-        return Err(format!(
-            "{} and {} would write the same output files in {}; rename one, or render them \
-             into different folders",
-            a.display(),
-            b.display(),
-            args.output.display()
-        ));
+    let clashes = clashing_stems(inputs);
+    if !clashes.is_empty() {
+        return Err(clash_message(&clashes, &args.output));
     }
     let jobs = match args.jobs {
         Some(n) if !(1..=MAX_JOBS).contains(&n) => {
@@ -358,7 +380,81 @@ pub struct FolderFiles {
     pub markers: Vec<(MarkerKind, PathBuf)>,
 }
 
+/// Which of the optional files beside the audio a render writes.
+#[derive(Debug, Clone, Copy)]
+struct Wanted<'a> {
+    plot: bool,
+    bvh: bool,
+    midi: bool,
+    markers: &'a [MarkerKind],
+}
+
+impl Wanted<'static> {
+    /// Every optional file: the names an earlier render of the same stem may have left.
+    fn all() -> Self {
+        Self {
+            plot: true,
+            bvh: true,
+            midi: true,
+            markers: <MarkerKind as clap::ValueEnum>::value_variants(),
+        }
+    }
+}
+
 impl FolderFiles {
+    /// The files Pneuma names `<stem>.<suffix>` in `folder`, those `wanted`: the one naming
+    /// rule of a render's files besides the audio.
+    fn named(folder: &Path, stem: &str, wanted: Wanted<'_>) -> Self {
+        let named = |suffix: &str| folder.join(format!("{stem}.{suffix}"));
+        Self {
+            folder: folder.to_owned(),
+            controls: named("controls.csv"),
+            breaths: named("breaths.csv"),
+            plot: wanted.plot.then(|| named("png")),
+            bvh: wanted.bvh.then(|| named("bvh")),
+            midi: wanted.midi.then(|| named("mid")),
+            markers: wanted
+                .markers
+                .iter()
+                .filter_map(|&k| k.suffix().map(|s| (k, named(s))))
+                .collect(),
+        }
+    }
+
+    /// The optional files, each with what leaves it out of a render, in the user's terms
+    /// (`--no-plot`, `no --bvh`, `no --markers reaper`).
+    fn optional(&self) -> impl Iterator<Item = (&PathBuf, String)> {
+        fn without(option: &str) -> String {
+            format!("no {option}")
+        }
+        fn marker(k: MarkerKind) -> String {
+            let name = clap::ValueEnum::to_possible_value(&k)
+                .map(|v| v.get_name().to_owned())
+                .unwrap_or_default();
+            without(&format!("--markers {name}"))
+        }
+        self.plot
+            .iter()
+            .map(|p| (p, "--no-plot".to_owned()))
+            .chain(self.bvh.iter().map(|p| (p, without("--bvh"))))
+            .chain(self.midi.iter().map(|p| (p, without("--midi"))))
+            .chain(self.markers.iter().map(|(k, p)| (p, marker(*k))))
+    }
+
+    /// The files Pneuma names for this stem that these do not include: what an earlier
+    /// render may have left ([`super::leftovers`]).
+    fn leftovers(&self, stem: &str) -> Vec<Leftover> {
+        let mine: Vec<&PathBuf> = self.paths().collect();
+        Self::named(&self.folder, stem, Wanted::all())
+            .optional()
+            .filter(|(p, _)| !mine.contains(p))
+            .map(|(path, left_out_by)| Leftover {
+                path: path.clone(),
+                left_out_by,
+            })
+            .collect()
+    }
+
     /// Every file of the folder but the audio, in the order they are listed.
     fn paths(&self) -> impl Iterator<Item = &PathBuf> {
         [&self.controls, &self.breaths]
@@ -383,6 +479,11 @@ pub struct OutputPlan {
     pub bvh_fps: Option<f64>,
     /// The other files, `None` with `-o -` (only the audio, to standard output).
     pub files: Option<FolderFiles>,
+    /// The files named for the stem that this render does not write, removed once it is
+    /// committed (kept with `--no-overwrite`).
+    pub leftovers: Vec<Leftover>,
+    /// Keep the leftovers and warn of them (`--no-overwrite`).
+    pub keep_leftovers: bool,
     /// The MP3 encoding when the audio is MP3.
     pub mp3: Option<crate::mp3_out::Mp3Settings>,
     /// Where the frames go as OSC, if anywhere.
@@ -615,33 +716,34 @@ impl OutputPlan {
                 cues,
                 bvh_fps: None,
                 files: None,
+                leftovers: Vec::new(),
+                keep_leftovers: false,
                 mp3: None,
                 osc,
             });
         }
         crate::options::check_output_folder("-o", &args.output).map_err(RenderError::Input)?;
         let stem = output_stem(input);
-        let named = |suffix: &str| args.output.join(format!("{stem}.{suffix}"));
-        let audio = named(container.extension());
+        let audio = args
+            .output
+            .join(format!("{stem}.{}", container.extension()));
         if same_file(input, &audio) {
             return Err(RenderError::Output {
                 path: audio,
                 source: std::io::Error::other("it is the input file; choose another output folder"),
             });
         }
-        let files = FolderFiles {
-            folder: args.output.clone(),
-            controls: named("controls.csv"),
-            breaths: named("breaths.csv"),
-            plot: (!args.no_plot).then(|| named("png")),
-            bvh: args.bvh.then(|| named("bvh")),
-            midi: args.midi.then(|| named("mid")),
-            markers: args
-                .markers
-                .iter()
-                .filter_map(|&k| k.suffix().map(|s| (k, named(s))))
-                .collect(),
+        let wanted = Wanted {
+            plot: !args.no_plot,
+            bvh: args.bvh,
+            midi: args.midi,
+            markers: &args.markers,
         };
+        let files = FolderFiles::named(&args.output, &stem, wanted);
+        // Never the input, whatever its name.
+        let leftovers = (files.leftovers(&stem).into_iter())
+            .filter(|l| !same_file(input, &l.path))
+            .collect();
         if args.no_overwrite {
             let all: Vec<PathBuf> = std::iter::once(&audio)
                 .chain(files.paths())
@@ -655,6 +757,8 @@ impl OutputPlan {
             cues,
             bvh_fps: args.bvh_fps.map(f64::from),
             files: Some(files),
+            leftovers,
+            keep_leftovers: args.no_overwrite,
             mp3: None,
             osc,
         })

@@ -15,5 +15,6 @@ mod render_cli;
 mod speak_cli;
 mod special_outputs;
 mod train_eval_cli;
+mod tryout;
 mod user_reports;
 mod wav_input;

@@ -523,6 +523,9 @@ fn a_render_says_what_it_found_and_renders_one_channel_on_request() {
     support::write_wav(&anti, (rate, 2, 16, false), &voice, -1.0);
     let silence = dir.path().join("silence.wav");
     support::write_wav(&silence, (16_000, 1, 16, false), &vec![0.0; 48_000], 1.0);
+    let noise = dir.path().join("noise.wav");
+    let hiss = pneuma_testkit::signals::white_noise(48_000, 0.05, 7);
+    support::write_wav(&noise, (16_000, 1, 16, false), &hiss, 1.0);
     let run = |input: &Path, out: &str, extra: &[&str]| {
         let out = dir.path().join(out);
         let mut args = vec![
@@ -549,12 +552,18 @@ fn a_render_says_what_it_found_and_renders_one_channel_on_request() {
     let (_, _, rendered_channels) = support::read_audio(&out.join("anti.wav"));
     assert_eq!(rendered_channels, 1);
     assert!(!breaths_csv(&out.join("anti.breaths.csv")).is_empty());
-    let (said, _) = run(&silence, "silence", &[]);
+    let (said, _) = run(&noise, "noise", &[]);
     assert!(said.contains("warning: no speech found"), "{said}");
+    // Digital silence holds nothing to find speech in.
+    let (said, _) = run(&silence, "silence", &[]);
+    assert!(
+        said.contains("warning: the input holds no signal"),
+        "{said}"
+    );
     let (said, _) = run(&example_voice_path(), "voice", &[]);
     assert!(!said.contains("warning:"), "{said}");
     // The batch table has a column for it.
-    let (said, _) = run(&anti, "batch", &[silence.to_str().expect("utf-8")]);
+    let (said, _) = run(&anti, "batch", &[noise.to_str().expect("utf-8")]);
     let header = said.lines().find(|l| l.starts_with("input")).unwrap_or("");
     assert!(header.contains("warnings"), "{said}");
     assert!(

@@ -1,0 +1,231 @@
+//! What a user tryout of `pneuma render` met, end to end: files of an earlier render left
+//! beside a new one's (now removed, or named with `--no-overwrite`), silence or dither told to
+//! be normalised (now said to hold no signal), and a batch's name clashes named one pair a run
+//! (now every group at once).
+
+use std::path::Path;
+
+use crate::support::{assert_ok, pneuma, write_wav};
+use pneuma_testkit::signals::{self as test_signals, GlottalVowel, Vowel};
+
+/// Two glottal-vowel phrases with one pause between them, 16 kHz mono.
+fn two_phrases() -> Vec<f32> {
+    let r = 16_000.0;
+    let phrase = |seed| {
+        test_signals::glottal_vowel(
+            &GlottalVowel {
+                sample_rate_hz: r,
+                length_s: 1.5,
+                vowel: Vowel::A,
+                jitter: 0.01,
+                shimmer: 0.04,
+                peak: 0.5,
+                seed,
+            },
+            |t| 150.0 - 20.0 * t,
+        )
+    };
+    let mut x = phrase(1);
+    x.extend(std::iter::repeat_n(0.0, 12_800));
+    x.extend(phrase(2));
+    x.extend(std::iter::repeat_n(0.0, 3_200));
+    x
+}
+
+/// `pneuma render IN -o OUT --no-progress EXTRA…`: its standard error, after checking it
+/// succeeded.
+fn render_ok(input: &Path, out: &Path, extra: &[&str]) -> String {
+    let mut args = vec![
+        "render",
+        input.to_str().expect("utf-8"),
+        "-o",
+        out.to_str().expect("utf-8"),
+        "--no-progress",
+    ];
+    args.extend_from_slice(extra);
+    let o = pneuma(&args);
+    assert_ok(&o);
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The extras of the first render, whose files the second one does not write.
+const EXTRAS: [&str; 4] = ["--markers", "audacity,reaper", "--bvh", "--midi"];
+/// The files [`EXTRAS`] write for the stem `ep`, with what leaves each out.
+const EXTRA_FILES: [(&str, &str); 4] = [
+    ("ep.breaths.txt", "no --markers audacity"),
+    ("ep.breaths.reaper.csv", "no --markers reaper"),
+    ("ep.bvh", "no --bvh"),
+    ("ep.mid", "no --midi"),
+];
+
+#[test]
+fn a_render_removes_the_files_an_earlier_render_left_and_says_which() {
+    let dir = tempfile::tempdir().expect("temp");
+    let input = dir.path().join("ep.wav");
+    write_wav(&input, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    let out = dir.path().join("out");
+    render_ok(&input, &out, &EXTRAS);
+    // Files no render of `ep` writes stay: the user's, another stem's, another audio format.
+    let bystanders = ["ep.notes.txt", "ep.breaths.txt.bak", "other.bvh", "ep.flac"];
+    for b in bystanders {
+        std::fs::write(out.join(b), "the user's").expect("write");
+    }
+    let err = render_ok(&input, &out, &[]);
+    for (name, why) in EXTRA_FILES {
+        assert!(!out.join(name).exists(), "{name} was left: {err}");
+        let said = format!("{} ({why})", out.join(name).display());
+        assert!(err.contains(&said), "{said} not in: {err}");
+    }
+    assert!(err.contains("  removed "), "{err}");
+    for b in bystanders {
+        assert!(out.join(b).is_file(), "{b} was removed");
+    }
+    assert!(out.join("ep.png").is_file() && out.join("ep.breaths.csv").is_file());
+
+    // --no-overwrite keeps them and names them in a warning (the render's own files are new).
+    render_ok(&input, &out, &EXTRAS);
+    for own in ["ep.wav", "ep.controls.csv", "ep.breaths.csv", "ep.png"] {
+        std::fs::remove_file(out.join(own)).expect("rm");
+    }
+    let err = render_ok(&input, &out, &["--no-overwrite"]);
+    for (name, why) in EXTRA_FILES {
+        assert!(out.join(name).is_file(), "{name} was removed despite -n");
+        assert!(
+            err.contains(&format!("{} ({why})", out.join(name).display())),
+            "{err}"
+        );
+    }
+    assert!(
+        err.contains("warning: ") && err.contains("--no-overwrite keeps them"),
+        "{err}"
+    );
+    assert!(!err.contains("  removed "), "{err}");
+
+    // The plot is one of them when --no-plot leaves it out.
+    let err = render_ok(&input, &out, &["--no-plot"]);
+    assert!(!out.join("ep.png").exists(), "{err}");
+    assert!(err.contains("ep.png (--no-plot)"), "{err}");
+    assert!(out.join("ep.wav").is_file() && out.join("ep.flac").is_file());
+}
+
+#[test]
+fn a_batch_removes_each_inputs_leftovers_and_says_so_under_the_table() {
+    let dir = tempfile::tempdir().expect("temp");
+    let episodes = dir.path().join("episodes");
+    std::fs::create_dir(&episodes).expect("dir");
+    for name in ["a.wav", "b.wav"] {
+        write_wav(
+            &episodes.join(name),
+            (16_000, 1, 16, false),
+            &two_phrases(),
+            1.0,
+        );
+    }
+    let out = dir.path().join("out");
+    render_ok(&episodes, &out, &["--no-plot", "--bvh", "--midi"]);
+    assert!(out.join("a.bvh").is_file() && out.join("b.mid").is_file());
+    let err = render_ok(&episodes, &out, &["--no-plot", "--midi"]);
+    for stem in ["a", "b"] {
+        let bvh = out.join(format!("{stem}.bvh"));
+        assert!(!bvh.exists(), "{stem}.bvh was left: {err}");
+        assert!(
+            err.contains(&format!("removed {} (no --bvh)", bvh.display())),
+            "{err}"
+        );
+        assert!(out.join(format!("{stem}.mid")).is_file(), "{err}");
+    }
+}
+
+/// A 16-bit WAV of `seconds` of `mono` samples drawn from `steps` (in 16-bit steps).
+fn steps_wav(path: &Path, seconds: f32, steps: &[i32]) {
+    let n = (16_000.0 * seconds) as usize;
+    // A fixed pseudo-random walk through `steps` (dither-like, no tone).
+    let mut state = 0x2545_f491_u32;
+    let x: Vec<f32> = (0..n)
+        .map(|_| {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            steps[state as usize % steps.len()] as f32 / 32767.0
+        })
+        .collect();
+    write_wav(path, (16_000, 1, 16, false), &x, 1.0);
+}
+
+#[test]
+fn silence_and_dither_are_said_to_hold_no_signal_not_to_need_normalising() {
+    let dir = tempfile::tempdir().expect("temp");
+    let inputs = dir.path().join("in");
+    std::fs::create_dir(&inputs).expect("dir");
+    // Dither of an export of silence (-1, 0, +1 steps: peak -90 dBFS), and all zeros.
+    steps_wav(&inputs.join("dither.wav"), 3.0, &[-1, 0, 0, 1]);
+    steps_wav(&inputs.join("zeros.wav"), 3.0, &[0]);
+    let out = dir.path().join("out");
+    let err = render_ok(&inputs.join("dither.wav"), &out, &["--no-plot"]);
+    assert!(
+        err.contains("warning: the input holds no signal (silence or dither only, peak -90 dBFS)"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("normalise it") && !err.contains("gain -n"),
+        "{err}"
+    );
+    let err = render_ok(&inputs.join("zeros.wav"), &out, &["--no-plot"]);
+    assert!(
+        err.contains("warning: the input holds no signal (digital silence"),
+        "{err}"
+    );
+    assert!(!err.contains("no speech found"), "{err}");
+    // The batch table says it in its warnings column.
+    let err = render_ok(&inputs, &out, &["--no-plot"]);
+    for name in ["dither.wav", "zeros.wav"] {
+        let row = err.lines().find(|l| l.contains(name)).expect("a row");
+        assert!(row.contains(" ok ") && row.contains("no signal"), "{row}");
+    }
+}
+
+#[test]
+fn a_batch_names_every_clashing_group_at_once() {
+    let dir = tempfile::tempdir().expect("temp");
+    let inputs = dir.path().join("in");
+    std::fs::create_dir(&inputs).expect("dir");
+    let wav = inputs.join("talk.wav");
+    write_wav(&wav, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    let clashing = ["talk.mp3", "talk.flac", "truncated.mp3", "truncated.wav"];
+    for name in clashing {
+        std::fs::copy(&wav, inputs.join(name)).expect("copy");
+    }
+    write_wav(
+        &inputs.join("alone.wav"),
+        (16_000, 1, 16, false),
+        &two_phrases(),
+        1.0,
+    );
+    let out = dir.path().join("out");
+    let o = pneuma(&[
+        "render",
+        inputs.to_str().expect("utf-8"),
+        "-o",
+        out.to_str().expect("utf-8"),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(err.contains("would write the same output files"), "{err}");
+    assert!(err.contains("(2 groups)"), "{err}");
+    let line = |stem: &str| -> Vec<String> {
+        let l = err
+            .lines()
+            .find(|l| l.contains(&format!("{stem}.wav")))
+            .unwrap_or_else(|| panic!("no {stem} group: {err}"));
+        l.trim().split(", ").map(str::to_owned).collect()
+    };
+    let names = |stem: &str, exts: &[&str]| -> Vec<String> {
+        exts.iter()
+            .map(|e| inputs.join(format!("{stem}.{e}")).display().to_string())
+            .collect()
+    };
+    assert_eq!(line("talk"), names("talk", &["flac", "mp3", "wav"]));
+    assert_eq!(line("truncated"), names("truncated", &["mp3", "wav"]));
+    assert!(!err.contains("alone"), "{err}");
+    assert!(!out.exists(), "nothing is rendered");
+}
