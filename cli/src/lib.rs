@@ -10,6 +10,7 @@ pub mod options;
 pub mod osc_out;
 pub mod output;
 pub mod plot;
+pub mod png_mark;
 pub mod render;
 pub mod speak;
 pub mod train;

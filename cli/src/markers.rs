@@ -45,6 +45,27 @@ impl MarkerKind {
             Self::Cue => String::new(),
         }
     }
+
+    /// `lines`, a file's first whole lines, read as [`MarkerKind::file_text`] writes them and
+    /// name at least one breath: Pneuma's mark on its marker files, which hold nothing else
+    /// (every line exactly as Pneuma writes it, the breaths numbered from 1 in order). A file
+    /// of no breaths has no line to tell it by.
+    pub fn wrote(self, lines: &str) -> bool {
+        let mut lines = lines.split_terminator('\n');
+        let row: fn(usize, &str) -> bool = match self {
+            Self::Audacity => is_audacity_line,
+            Self::Reaper if lines.next() == Some(REAPER_HEADER) => is_reaper_row,
+            Self::Reaper | Self::Cue => return false,
+        };
+        let mut rows = 0;
+        for (i, line) in lines.enumerate() {
+            if !row(i, line) {
+                return false;
+            }
+            rows += 1;
+        }
+        rows > 0
+    }
 }
 
 /// The number the `i`-th breath (0-based) goes by in labels and in the plot: from 1.
@@ -54,12 +75,32 @@ pub fn number(i: usize) -> usize {
 
 /// The label of the `i`-th breath (0-based).
 pub fn label(i: usize, b: &BreathEvent) -> String {
-    format!(
-        "breath {} ({}, {:.1} dBFS)",
-        number(i),
-        b.kind.as_str(),
-        b.peak_db
-    )
+    label_text(number(i), b.kind.as_str(), b.peak_db)
+}
+
+/// The label of breath number `n` of kind `kind` (its name) peaking at `peak_db`.
+fn label_text(n: usize, kind: &str, peak_db: f32) -> String {
+    format!("breath {n} ({kind}, {peak_db:.1} dBFS)")
+}
+
+/// `text` is the label [`label`] gives the `i`-th breath (of a kind named in lower-case
+/// letters; the kinds are core's to name).
+fn is_label(i: usize, text: &str) -> bool {
+    let parts = || {
+        let (_, rest) = text.split_once(" (")?;
+        let (kind, peak) = rest.strip_suffix(" dBFS)")?.split_once(", ")?;
+        Some((kind, peak.parse::<f32>().ok()?))
+    };
+    parts().is_some_and(|(kind, peak)| {
+        !kind.is_empty()
+            && kind.bytes().all(|b| b.is_ascii_lowercase())
+            && label_text(number(i), kind, peak) == text
+    })
+}
+
+/// A time in an Audacity label track: seconds with six decimals.
+fn seconds(s: f64) -> String {
+    format!("{s:.6}")
 }
 
 /// An Audacity label track.
@@ -67,35 +108,83 @@ pub fn audacity(breaths: &[BreathEvent]) -> String {
     let mut s = String::new();
     for (i, b) in breaths.iter().enumerate() {
         s.push_str(&format!(
-            "{:.6}\t{:.6}\t{}\n",
-            b.start_s,
-            b.end_s,
+            "{}\t{}\t{}\n",
+            seconds(b.start_s),
+            seconds(b.end_s),
             label(i, b)
         ));
     }
     s
 }
 
+/// `line` is the line [`audacity`] writes for the `i`-th breath.
+fn is_audacity_line(i: usize, line: &str) -> bool {
+    let fields: Vec<&str> = line.split('\t').collect();
+    let [start, end, text] = fields[..] else {
+        return false;
+    };
+    let time = |t: &str| t.parse::<f64>().is_ok_and(|s| seconds(s) == t);
+    time(start) && time(end) && is_label(i, text)
+}
+
 /// `M:SS.mmm`, REAPER's default time display.
 fn minutes(s: f64) -> String {
-    let ms = (s.max(0.0) * 1000.0).round() as u64;
+    minutes_of_ms((s.max(0.0) * 1000.0).round() as u64)
+}
+
+/// `M:SS.mmm` of `ms` milliseconds.
+fn minutes_of_ms(ms: u64) -> String {
     format!("{}:{:02}.{:03}", ms / 60_000, ms / 1000 % 60, ms % 1000)
+}
+
+/// `t` is a time as [`minutes`] writes it.
+fn is_minutes(t: &str) -> bool {
+    let ms = || {
+        let (m, rest) = t.split_once(':')?;
+        let (s, ms) = rest.split_once('.')?;
+        let [m, s, ms] = [m, s, ms].map(|x| x.parse::<u64>().ok());
+        m?.checked_mul(60_000)?
+            .checked_add(s?.checked_mul(1000)?)?
+            .checked_add(ms?)
+    };
+    ms().is_some_and(|ms| minutes_of_ms(ms) == t)
+}
+
+/// The first line of a REAPER region/marker list.
+const REAPER_HEADER: &str = "#,Name,Start,End,Length";
+
+/// A label as a REAPER region's name (commas separate the list's fields).
+fn region_name(label: &str) -> String {
+    label.replace(',', ";")
 }
 
 /// A REAPER region/marker list.
 pub fn reaper(breaths: &[BreathEvent]) -> String {
-    let mut s = String::from("#,Name,Start,End,Length\n");
+    let mut s = format!("{REAPER_HEADER}\n");
     for (i, b) in breaths.iter().enumerate() {
         s.push_str(&format!(
             "R{},{},{},{},{}\n",
-            i + 1,
-            label(i, b).replace(',', ";"),
+            number(i),
+            region_name(&label(i, b)),
             minutes(b.start_s),
             minutes(b.end_s),
             minutes(b.end_s - b.start_s)
         ));
     }
     s
+}
+
+/// `row` is the row [`reaper`] writes for the `i`-th breath.
+fn is_reaper_row(i: usize, row: &str) -> bool {
+    let fields: Vec<&str> = row.split(',').collect();
+    let [region, name, start, end, length] = fields[..] else {
+        return false;
+    };
+    let label = name.replace(';', ",");
+    region == format!("R{}", number(i))
+        && is_label(i, &label)
+        && region_name(&label) == name
+        && [start, end, length].into_iter().all(is_minutes)
 }
 
 /// Cue points at `rate_hz` for the output WAV.
@@ -110,4 +199,67 @@ pub fn cues(breaths: &[BreathEvent], rate_hz: u32) -> Vec<Cue> {
             label: label(i, b),
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pneuma_core::BreathKind;
+
+    fn breaths() -> Vec<BreathEvent> {
+        let b = |start_s: f64, kind, peak_db| BreathEvent {
+            start_s,
+            end_s: start_s + 0.4321,
+            kind,
+            peak_db,
+        };
+        vec![
+            b(1.25, BreathKind::Mouth, -30.04),
+            b(61.0004, BreathKind::Nose, -0.04),
+            b(3725.5, BreathKind::Sample, -41.5),
+        ]
+    }
+
+    #[test]
+    fn the_marker_files_pneuma_writes_carry_its_mark_and_others_do_not() {
+        for kind in [MarkerKind::Audacity, MarkerKind::Reaper] {
+            let text = kind.file_text(&breaths());
+            assert!(kind.wrote(&text), "{kind:?}: {text}");
+            // The first line alone (a file's head cut after a whole line) still reads as Pneuma's.
+            let first_rows = text
+                .lines()
+                .take(2)
+                .map(|l| format!("{l}\n"))
+                .collect::<String>();
+            assert!(kind.wrote(&first_rows), "{kind:?}: {first_rows}");
+            // No breaths: nothing to tell it by.
+            assert!(!kind.wrote(&kind.file_text(&[])), "{kind:?}");
+            // A user's edits: another label, a renumbered breath, a time of another format, a
+            // comma or a tab more, Windows line ends, another kind of file.
+            for (from, to) in [
+                ("breath 2", "take 2"),
+                ("breath 2", "breath 3"),
+                ("(nose", "(Nose"),
+                ("-0.0 dBFS", "-0 dBFS"),
+                ("1.250000", "1.25"),
+                ("1:01.000", "1:1.000"),
+                ("\n", "\r\n"),
+                ("dBFS)", "dBFS),"),
+                ("dBFS)", "dBFS)\t"),
+            ] {
+                let edited = text.replacen(from, to, 1);
+                if edited != text {
+                    assert!(!kind.wrote(&edited), "{kind:?}: {from} -> {to}: {edited}");
+                }
+            }
+            assert!(!MarkerKind::Audacity.wrote(&MarkerKind::Reaper.file_text(&breaths())));
+            assert!(!MarkerKind::Reaper.wrote(&MarkerKind::Audacity.file_text(&breaths())));
+        }
+        assert!(!MarkerKind::Cue.wrote(""));
+        // REAPER's own export of a user's regions.
+        let users = "#,Name,Start,End,Length\nR1,Intro,0:00.000,0:12.500,0:12.500\n";
+        assert!(!MarkerKind::Reaper.wrote(users));
+        // An Audacity label track of the user's.
+        assert!(!MarkerKind::Audacity.wrote("1.000000\t2.000000\tchorus\n"));
+    }
 }

@@ -14,7 +14,8 @@
 //! as red markers at their true peak level over the speech waveform instead of colouring whole
 //! columns. Text uses an embedded subset of DejaVu Sans Condensed
 //! (`cli/assets/fonts`, Bitstream Vera licence), so no system fonts are needed. The file is
-//! written to a temporary file and moved into place when complete ([`crate::output`]).
+//! written to a temporary file and moved into place when complete ([`crate::output`]), with
+//! Pneuma's mark ([`crate::png_mark`]).
 
 use std::path::{Path, PathBuf};
 
@@ -236,7 +237,12 @@ fn draw(
 ) -> Result<(), String> {
     let root = BitMapBackend::new(file, (WIDTH_PX, HEIGHT_PX)).into_drawing_area();
     draw_on(&root, audio, audio_s, controls, breaths)?;
-    root.present().map_err(|x| x.to_string())
+    root.present().map_err(|x| x.to_string())?;
+    drop(root);
+    // Pneuma's mark, which tells this plot from a user's PNG of its name ([`crate::png_mark`]).
+    let png = std::fs::read(file).map_err(|x| x.to_string())?;
+    let marked = crate::png_mark::mark(&png).ok_or("the encoder wrote no PNG header")?;
+    std::fs::write(file, marked).map_err(|x| x.to_string())
 }
 
 /// Draws the plot on `root` ([`WIDTH_PX`] × [`HEIGHT_PX`]).

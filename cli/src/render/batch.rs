@@ -4,11 +4,12 @@
 //! exit code is non-zero when any failed (130 when interrupted).
 //!
 //! The inputs come expanded and checked from [`super::plan`] (folders give every file directly
-//! inside them; two inputs that would write the same output names, `a.wav` and `a.flac`, are
+//! inside them; two inputs that would write the same output names, `a.wav` and `A.flac`, are
 //! refused before anything runs). Every file of a folder has a row: rendered, failed (why) or
 //! skipped (why: not audio, or a format Pneuma does not read and the command that converts it).
 //! Under the table, the files each render removed because an earlier render left them
-//! ([`super::leftovers`]).
+//! ([`super::leftovers`]), also under `--quiet`. The same file met twice (given twice, or given
+//! and in a folder given) is rendered once.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -101,15 +102,17 @@ fn print_table(rows: &[[String; COLUMNS]]) {
     }
 }
 
-/// The lines on the files earlier renders left, after the table: what each render removed,
-/// or kept (`--no-overwrite`).
-fn print_leftovers(results: &[Outcome]) {
+/// The lines on the files earlier renders left, after the table: what each render removed
+/// (even when `quiet`: a removal is never silent), or kept (`--no-overwrite`).
+fn print_leftovers(results: &[Outcome], quiet: bool) {
     for s in results.iter().flatten() {
         if let Some(removed) = s.leftovers.removed_line() {
             eprintln!("{removed}");
         }
-        for w in s.leftovers.warnings() {
-            eprintln!("warning: {w}");
+        if !quiet {
+            for w in s.leftovers.warnings() {
+                eprintln!("warning: {w}");
+            }
         }
     }
 }
@@ -188,9 +191,7 @@ pub fn main(args: &Args, all: &[Input]) -> ExitCode {
             args.output.display()
         );
     }
-    if !args.quiet {
-        print_leftovers(&results);
-    }
+    print_leftovers(&results, args.quiet);
     if results
         .iter()
         .any(|r| matches!(r, Err(RenderError::Interrupted)))

@@ -2,8 +2,8 @@
 //! (the exit status stays 0): no speech at all, mostly something else than speech (music,
 //! singing, noise), channels that cancel when mixed to mono, an input that holds no signal
 //! (digital silence or dither), or an input so quiet that the voicing cannot hear most of its
-//! speech. Each is a [`Finding`]: a line
-//! of the summary (`warning: …`) and a short word in the batch table.
+//! speech. Each is a [`Finding`]: a line of the summary (`warning: …`) and a short word in the
+//! batch table.
 //!
 //! The channel check ([`ChannelEnergy`]) sums each channel's power and the power of their mean
 //! (the mono mix the engine analyses) while the blocks pass; the speech figures come from the
@@ -59,10 +59,10 @@ fn quiet_peak_db() -> f64 {
 /// A 16-bit file's least step, full scale.
 const STEP_16_BIT: f64 = 1.0 / 32768.0;
 /// Peaks under this many 16-bit steps are dither: an export of silence with TPDF dither
-/// rounds to one step (sox's default, −90 dBFS) or two (−84 dBFS); four leave 6 dB over that and
-/// lie 26 dB under the quietest speech the measurements render (a Keele take 30 dB down, peak
-/// −52 dBFS). A 24-bit or float file that low may hold a real signal, 78 dB under full scale;
-/// noise-shaped dither (up to −54 dBFS) is not told apart by its peak and is said quiet.
+/// rounds to one step (sox's default, −90 dBFS) or two (−84 dBFS); four leave 6 dB over that
+/// and lie 26 dB under the quietest speech the measurements render (a Keele take 30 dB down,
+/// peak −52 dBFS). A 24-bit or float file that low may hold a real signal, 78 dB under full
+/// scale; noise-shaped dither (up to −54 dBFS) is not told apart by its peak and is said quiet.
 const DITHER_PEAK_STEPS: f64 = 4.0;
 
 /// The peak under which an input holds no signal (silence or dither only), dBFS: −78 dBFS.

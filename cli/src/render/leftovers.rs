@@ -1,23 +1,29 @@
 //! Files an earlier render left beside this one's outputs: the files Pneuma names for the same
-//! stem in the same folder (the plot, the BVH, the MIDI file, the marker files; see
-//! the plan's `FolderFiles::optional`) that this render does not write. Left in place they
-//! would describe other audio (an editor would import seven breath labels for audio that holds
-//! three), so once the render's own files are committed they are removed and named in the
-//! summary; with `--no-overwrite` they are kept and named in a warning.
+//! stem in the same folder (the plot, the BVH, the MIDI file, the marker files; see the plan's
+//! `FolderFiles::optional`) that this render does not write. Left in place they would describe
+//! other audio (an editor would import seven breath labels for audio that holds three), so once
+//! the render's own files are committed they are removed and named in the summary (even under
+//! `--quiet`: a removal is never silent); with `--no-overwrite` they are kept and named in a
+//! warning.
 //!
-//! Only those exact names are touched, and only regular files (or links) under them: never the
-//! audio of another format (it may be the user's own recording, even the input), never a
-//! folder, never a name the naming rule does not give for that stem.
+//! Only a file Pneuma provably wrote is a leftover: a regular file under one of those exact
+//! names that carries Pneuma's mark for its format ([`super::marks`]). A file of such a name
+//! without the mark is the user's (episode artwork `ep.png`, a motion capture `take1.bvh`) and
+//! is neither touched nor named; so are links, folders, the audio of another format (it may be
+//! the user's own recording, even the input) and every name the naming rule does not give for
+//! that stem.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+
+use super::marks::Optional;
 
 /// A file a render names for its stem but does not write this time.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Leftover {
     /// Its path in the output folder.
     pub path: PathBuf,
-    /// What leaves it out of this render, in the user's terms: `no --bvh`, `--no-plot`.
-    pub left_out_by: String,
+    /// Which of the optional files it is.
+    pub file: Optional,
 }
 
 /// What became of the leftovers that existed after a render.
@@ -31,11 +37,14 @@ pub struct Cleared {
     pub failed: Vec<(Leftover, String)>,
 }
 
-/// Removes the `candidates` that exist (regular files or links), or with `keep`
+/// Removes the `candidates` that exist and carry Pneuma's mark, or with `keep`
 /// (`--no-overwrite`) only notes them; call it once the render's own files are committed.
 pub fn clear(candidates: &[Leftover], keep: bool) -> Cleared {
     let mut done = Cleared::default();
-    for c in candidates.iter().filter(|c| removable(&c.path)) {
+    for c in candidates
+        .iter()
+        .filter(|c| super::marks::is_pneumas(&c.path, c.file))
+    {
         if keep {
             done.kept.push(c.clone());
         } else {
@@ -48,16 +57,11 @@ pub fn clear(candidates: &[Leftover], keep: bool) -> Cleared {
     done
 }
 
-/// `path` is a file or a link (never a folder of that name).
-fn removable(path: &Path) -> bool {
-    std::fs::symlink_metadata(path).is_ok_and(|m| m.is_file() || m.file_type().is_symlink())
-}
-
 /// `out/X.bvh (no --bvh), out/X.png (--no-plot)`.
 fn list(leftovers: &[Leftover]) -> String {
     leftovers
         .iter()
-        .map(|l| format!("{} ({})", l.path.display(), l.left_out_by))
+        .map(|l| format!("{} ({})", l.path.display(), l.file.left_out_by()))
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -98,7 +102,7 @@ impl Cleared {
                 "cannot remove {} ({}), left from an earlier render: {why}; it no longer \
                  matches the audio",
                 l.path.display(),
-                l.left_out_by
+                l.file.left_out_by()
             ));
         }
         w
@@ -108,22 +112,32 @@ impl Cleared {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::markers::MarkerKind;
+    use pneuma_core::encode::bvh;
 
     #[test]
-    fn only_the_existing_files_named_are_removed_or_with_keep_kept() {
+    fn only_the_existing_files_named_that_pneuma_wrote_are_removed_or_with_keep_kept() {
         let dir = tempfile::tempdir().expect("temp");
-        let named = |name: &str, why: &str| Leftover {
+        let named = |name: &str, file| Leftover {
             path: dir.path().join(name),
-            left_out_by: why.into(),
+            file,
         };
         let candidates = [
-            named("x.bvh", "no --bvh"),
-            named("x.mid", "no --midi"),
-            named("x.png", "--no-plot"),
+            named("x.bvh", Optional::Bvh),
+            named("x.mid", Optional::Midi),
+            named("x.png", Optional::Plot),
+            named("x.breaths.txt", Optional::Markers(MarkerKind::Audacity)),
         ];
-        std::fs::write(dir.path().join("x.bvh"), "old").expect("write");
+        let pneumas_bvh = bvh::header(10, 120.0);
+        std::fs::write(dir.path().join("x.bvh"), &pneumas_bvh).expect("write");
+        // The user's: a MIDI file of their own, a folder of a companion's name, a link to a
+        // file Pneuma wrote, another stem's file.
+        std::fs::write(dir.path().join("x.mid"), b"MThd\0\0\0\x06the user's song").expect("write");
         std::fs::create_dir(dir.path().join("x.png")).expect("dir");
-        std::fs::write(dir.path().join("y.bvh"), "another stem's").expect("write");
+        std::fs::write(dir.path().join("y.bvh"), &pneumas_bvh).expect("write");
+        #[cfg(unix)]
+        std::os::unix::fs::symlink(dir.path().join("y.bvh"), dir.path().join("x.breaths.txt"))
+            .expect("link");
         let kept = clear(&candidates, true);
         assert_eq!(kept.kept, [candidates[0].clone()]);
         assert!(kept.removed.is_empty() && kept.removed_line().is_none());
@@ -138,8 +152,10 @@ mod tests {
             "{line}"
         );
         assert!(!dir.path().join("x.bvh").exists());
-        // A folder of a companion's name and another stem's file stay.
+        assert!(dir.path().join("x.mid").is_file());
         assert!(dir.path().join("x.png").is_dir());
         assert!(dir.path().join("y.bvh").is_file());
+        #[cfg(unix)]
+        assert!(std::fs::symlink_metadata(dir.path().join("x.breaths.txt")).is_ok());
     }
 }

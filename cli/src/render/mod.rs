@@ -11,10 +11,13 @@
 //! before it:
 //!
 //! - [`error`]: how a render fails, and Ctrl-C;
-//! - [`findings`]: what a render found that the user should know (no speech, mostly music,
-//!   channels in antiphase): warnings, exit status 0;
+//! - [`findings`]: what a render found that the user should know (no signal, no speech, a
+//!   quiet input, mostly music, channels in antiphase): warnings, exit status 0;
+//! - [`marks`]: Pneuma's mark on each optional file (plot, BVH, MIDI, markers), which tells a
+//!   file it wrote from the user's file of the same name;
 //! - [`leftovers`]: the files an earlier render of the same stem left that this one does not
-//!   write, removed once it is committed (kept and named with `--no-overwrite`);
+//!   write and that carry Pneuma's mark, removed once it is committed and named even under
+//!   `--quiet` (kept and named with `--no-overwrite`);
 //! - [`plan`]: the arguments turned into a checked plan (inputs, engine settings, the engine
 //!   prepared for an input, the output names); nothing is written there;
 //! - [`voice`]: the breath voice learned from the recording (or `--breath-like`) before a
@@ -30,6 +33,7 @@ pub mod batch;
 pub mod error;
 pub mod findings;
 pub mod leftovers;
+pub mod marks;
 pub mod pipeline;
 pub mod plan;
 pub mod voice;
@@ -53,7 +57,7 @@ pub fn main(args: Args) -> ExitCode {
         }
     };
     let created = crate::options::missing_folders(&args.output);
-    let code = if args.inputs.len() > 1 || args.inputs[0].is_dir() {
+    let code = if inputs.len() > 1 || args.inputs.iter().any(|p| p.is_dir()) {
         batch::main(&args, &inputs)
     } else {
         render_one(&args, &inputs[0].path)
@@ -73,6 +77,9 @@ fn render_one(args: &Args, input: &Path) -> ExitCode {
         Ok(s) => {
             if !args.quiet {
                 print_summary(input, &s);
+            } else if let Some(removed) = s.leftovers.removed_line() {
+                // A removal is never silent.
+                eprintln!("{removed}");
             }
             ExitCode::SUCCESS
         }

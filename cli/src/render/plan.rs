@@ -12,6 +12,7 @@ use pneuma_io::{AudioSource, InputFormat, Tags};
 
 use super::error::RenderError;
 use super::leftovers::Leftover;
+use super::marks::Optional;
 use crate::audio_out::Container;
 use crate::markers::MarkerKind;
 use crate::options::{
@@ -140,7 +141,8 @@ pub struct Args {
     /// No progress bar (the summary stays).
     #[arg(long)]
     pub no_progress: bool,
-    /// Print errors only: no progress bar, no summary.
+    /// Print errors only, and the files removed as an earlier render's leftovers (a removal is
+    /// never silent): no progress bar, no summary, no warnings.
     #[arg(long, short)]
     pub quiet: bool,
 }
@@ -228,8 +230,22 @@ pub struct Input {
 /// The inputs of `args`: files as given (each rendered, so a file that is not audio fails with
 /// why), folders expanded to every file directly inside them, sorted by name, hidden files
 /// (`.DS_Store`) left out; a folder's file that is not audio Pneuma reads is listed as skipped.
+/// A file met again (given twice, or given and in a folder given) is left out the second time:
+/// rendering it twice would write the same files twice.
 pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<Input>, String> {
-    let mut out = Vec::new();
+    let mut out: Vec<Input> = Vec::new();
+    let mut seen: Vec<PathBuf> = Vec::new();
+    let mut push = |input: Input| {
+        // Standard input is no file: a second `-` is the batch's to refuse.
+        if input.path.as_os_str() != "-" {
+            let id = std::fs::canonicalize(&input.path).unwrap_or_else(|_| input.path.clone());
+            if seen.contains(&id) {
+                return;
+            }
+            seen.push(id);
+        }
+        out.push(input);
+    };
     for p in args {
         if p.is_dir() {
             let mut found: Vec<PathBuf> = std::fs::read_dir(p)
@@ -249,12 +265,14 @@ pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<Input>, String> {
                 ));
             }
             found.sort();
-            out.extend(found.into_iter().map(|path| Input {
-                skip: pneuma_io::skip_reason(&path),
-                path,
-            }));
+            for path in found {
+                push(Input {
+                    skip: pneuma_io::skip_reason(&path),
+                    path,
+                });
+            }
         } else {
-            out.push(Input {
+            push(Input {
                 path: p.clone(),
                 skip: None,
             });
@@ -263,13 +281,14 @@ pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<Input>, String> {
     Ok(out)
 }
 
-/// The groups of inputs whose outputs would have the same names (the same output stem), each
-/// with every input of that stem, in the order given; the groups in the order of their first
-/// input.
+/// The groups of inputs whose outputs would have the same names (the same output stem, letter
+/// case aside), each with every input of that stem, in the order given; the groups in the order
+/// of their first input. Case is set aside on every system: macOS and Windows file systems
+/// take `Talk.png` and `talk.png` for one file, and a folder rendered on Linux may be read there.
 fn clashing_stems(inputs: &[PathBuf]) -> Vec<Vec<&Path>> {
     let mut groups: Vec<(String, Vec<&Path>)> = Vec::new();
     for p in inputs {
-        let stem = output_stem(p);
+        let stem = output_stem(p).to_lowercase();
         match groups.iter_mut().find(|(s, _)| *s == stem) {
             Some((_, group)) => group.push(p),
             None => groups.push((stem, vec![p])),
@@ -292,8 +311,8 @@ fn clash_message(groups: &[Vec<&Path>], output: &Path) -> String {
         })
         .collect();
     format!(
-        "inputs with the same name would write the same output files in {} ({}):{}\nrename all \
-         but one of each group, or render them into different folders",
+        "inputs with the same name (letter case aside) would write the same output files in {} \
+         ({}):{}\nrename all but one of each group, or render them into different folders",
         output.display(),
         crate::options::count(groups.len(), "group"),
         lines.concat()
@@ -421,24 +440,12 @@ impl FolderFiles {
         }
     }
 
-    /// The optional files, each with what leaves it out of a render, in the user's terms
-    /// (`--no-plot`, `no --bvh`, `no --markers reaper`).
-    fn optional(&self) -> impl Iterator<Item = (&PathBuf, String)> {
-        fn without(option: &str) -> String {
-            format!("no {option}")
-        }
-        fn marker(k: MarkerKind) -> String {
-            let name = clap::ValueEnum::to_possible_value(&k)
-                .map(|v| v.get_name().to_owned())
-                .unwrap_or_default();
-            without(&format!("--markers {name}"))
-        }
-        self.plot
-            .iter()
-            .map(|p| (p, "--no-plot".to_owned()))
-            .chain(self.bvh.iter().map(|p| (p, without("--bvh"))))
-            .chain(self.midi.iter().map(|p| (p, without("--midi"))))
-            .chain(self.markers.iter().map(|(k, p)| (p, marker(*k))))
+    /// The optional files, each with which one it is.
+    fn optional(&self) -> impl Iterator<Item = (&PathBuf, Optional)> {
+        (self.plot.iter().map(|p| (p, Optional::Plot)))
+            .chain(self.bvh.iter().map(|p| (p, Optional::Bvh)))
+            .chain(self.midi.iter().map(|p| (p, Optional::Midi)))
+            .chain(self.markers.iter().map(|(k, p)| (p, Optional::Markers(*k))))
     }
 
     /// The files Pneuma names for this stem that these do not include: what an earlier
@@ -448,9 +455,9 @@ impl FolderFiles {
         Self::named(&self.folder, stem, Wanted::all())
             .optional()
             .filter(|(p, _)| !mine.contains(p))
-            .map(|(path, left_out_by)| Leftover {
+            .map(|(path, file)| Leftover {
                 path: path.clone(),
-                left_out_by,
+                file,
             })
             .collect()
     }
@@ -780,5 +787,46 @@ fn same_file(a: &Path, b: &Path) -> bool {
     match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
         (Ok(x), Ok(y)) => x == y,
         _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stems_that_differ_only_in_case_clash() {
+        let inputs: Vec<PathBuf> = ["a/Talk.wav", "b/talk.mp3", "TALK.flac", "other.wav"]
+            .map(PathBuf::from)
+            .into();
+        let groups = clashing_stems(&inputs);
+        assert_eq!(groups.len(), 1, "{groups:?}");
+        assert_eq!(
+            groups[0],
+            inputs[..3].iter().map(PathBuf::as_path).collect::<Vec<_>>()
+        );
+    }
+
+    #[test]
+    fn a_file_met_twice_is_an_input_once() {
+        let dir = tempfile::tempdir().expect("temp");
+        let ep = dir.path().join("ep.wav");
+        std::fs::write(&ep, "audio").expect("write");
+        let via_dot = dir.path().join(".").join("ep.wav");
+        let dash = PathBuf::from("-");
+        let given = [
+            ep.clone(),
+            dir.path().to_owned(),
+            via_dot,
+            ep.clone(),
+            dash.clone(),
+            dash.clone(),
+        ];
+        let paths: Vec<PathBuf> = expand_inputs(&given)
+            .expect("inputs")
+            .into_iter()
+            .map(|i| i.path)
+            .collect();
+        assert_eq!(paths, [ep, dash.clone(), dash]);
     }
 }

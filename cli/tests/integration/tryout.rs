@@ -1,7 +1,8 @@
 //! What a user tryout of `pneuma render` met, end to end: files of an earlier render left
-//! beside a new one's (now removed, or named with `--no-overwrite`), silence or dither told to
-//! be normalised (now said to hold no signal), and a batch's name clashes named one pair a run
-//! (now every group at once).
+//! beside a new one's (now removed, or named with `--no-overwrite`; only files Pneuma wrote,
+//! never a user's file of such a name or a link, and named even under `--quiet`), silence or
+//! dither told to be normalised (now said to hold no signal), and a batch's name clashes named
+//! one pair a run (now every group at once, letter case aside; a file given twice is no clash).
 
 use std::path::Path;
 
@@ -228,4 +229,131 @@ fn a_batch_names_every_clashing_group_at_once() {
     assert_eq!(line("truncated"), names("truncated", &["mp3", "wav"]));
     assert!(!err.contains("alone"), "{err}");
     assert!(!out.exists(), "nothing is rendered");
+}
+
+/// A file of each name a render may leave, as a user made it: artwork, a motion capture, a
+/// song, label tracks of their own.
+const USERS_FILES: [(&str, &[u8]); 5] = [
+    ("ep.png", b"\x89PNG\r\n\x1a\n the podcast's artwork"),
+    ("ep.bvh", b"HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n"),
+    ("ep.mid", b"MThd\0\0\0\x06\0\x01\0\x02\x01\xe0 the song"),
+    ("ep.breaths.txt", b"1.000000\t2.000000\tchorus\n"),
+    (
+        "ep.breaths.reaper.csv",
+        b"#,Name,Start,End,Length\nR1,Intro,0:00.000,0:12.500,0:12.500\n",
+    ),
+];
+
+#[test]
+fn a_users_files_of_those_names_beside_the_input_stay_and_are_not_named() {
+    let dir = tempfile::tempdir().expect("temp");
+    let input = dir.path().join("ep.wav");
+    write_wav(&input, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    for (name, bytes) in USERS_FILES {
+        std::fs::write(dir.path().join(name), bytes).expect("write");
+    }
+    // Into the input's own folder, the audio as FLAC beside it; no plot, BVH, MIDI or markers.
+    let err = render_ok(&input, dir.path(), &["--format", "flac", "--no-plot"]);
+    assert!(dir.path().join("ep.flac").is_file(), "{err}");
+    for (name, bytes) in USERS_FILES {
+        let now = std::fs::read(dir.path().join(name)).unwrap_or_default();
+        assert_eq!(now, bytes, "{name} was touched: {err}");
+        assert!(!err.contains(name), "{name} named: {err}");
+    }
+    assert!(
+        !err.contains("removed") && !err.contains("earlier render"),
+        "{err}"
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn a_link_of_a_leftovers_name_stays() {
+    let dir = tempfile::tempdir().expect("temp");
+    let input = dir.path().join("ep.wav");
+    write_wav(&input, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    let out = dir.path().join("out");
+    render_ok(&input, &out, &["--bvh"]);
+    // Pneuma's own BVH, kept by the user under another name and linked to as `ep.bvh`.
+    let kept = out.join("take.bvh");
+    std::fs::rename(out.join("ep.bvh"), &kept).expect("rename");
+    std::os::unix::fs::symlink(&kept, out.join("ep.bvh")).expect("link");
+    let err = render_ok(&input, &out, &[]);
+    assert!(
+        std::fs::symlink_metadata(out.join("ep.bvh")).is_ok(),
+        "{err}"
+    );
+    assert!(kept.is_file(), "{err}");
+    assert!(!err.contains("ep.bvh") && !err.contains("removed"), "{err}");
+}
+
+#[test]
+fn quiet_still_names_what_it_removed() {
+    let dir = tempfile::tempdir().expect("temp");
+    let episodes = dir.path().join("episodes");
+    std::fs::create_dir(&episodes).expect("dir");
+    let input = episodes.join("ep.wav");
+    write_wav(&input, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    let out = dir.path().join("out");
+    let removed = format!("removed {} (no --bvh)", out.join("ep.bvh").display());
+    // One input, then a batch (a folder).
+    for given in [&input, &episodes] {
+        render_ok(given, &out, &["--bvh", "--quiet"]);
+        assert!(out.join("ep.bvh").is_file());
+        let err = render_ok(given, &out, &["--quiet"]);
+        assert!(!out.join("ep.bvh").exists(), "{err}");
+        assert!(err.contains(&removed), "{}: {err:?}", given.display());
+        assert!(!err.contains("rendered"), "quiet: {err}");
+    }
+}
+
+#[test]
+fn names_that_differ_only_in_letter_case_clash() {
+    let dir = tempfile::tempdir().expect("temp");
+    let talk = dir.path().join("Talk.wav");
+    write_wav(&talk, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    let lower = dir.path().join("talk.flac");
+    std::fs::copy(&talk, &lower).expect("copy");
+    let out = dir.path().join("out");
+    let o = pneuma(&[
+        "render",
+        talk.to_str().expect("utf-8"),
+        lower.to_str().expect("utf-8"),
+        "-o",
+        out.to_str().expect("utf-8"),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(err.contains("would write the same output files"), "{err}");
+    let group = format!("{}, {}", talk.display(), lower.display());
+    assert!(err.contains(&group), "{err}");
+    assert!(!out.exists(), "nothing is rendered");
+}
+
+#[test]
+fn an_input_given_twice_is_rendered_once() {
+    let dir = tempfile::tempdir().expect("temp");
+    let episodes = dir.path().join("episodes");
+    std::fs::create_dir(&episodes).expect("dir");
+    let input = episodes.join("ep.wav");
+    write_wav(&input, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    let out = dir.path().join("out");
+    let path = input.to_str().expect("utf-8");
+    let folder = episodes.to_str().expect("utf-8");
+    let out_s = out.to_str().expect("utf-8");
+    // Twice as a file: one render and its summary; as a folder and a file in it: a batch of one.
+    for (given, once) in [
+        ([path, path], format!("rendered {path} (")),
+        ([folder, path], "1 rendered, 0 failed, 0 skipped".to_owned()),
+    ] {
+        let o = pneuma(&["render", given[0], given[1], "-o", out_s, "--no-progress"]);
+        assert_ok(&o);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            !err.contains("rename") && !err.contains("same name"),
+            "{err}"
+        );
+        assert_eq!(err.matches(&once).count(), 1, "{once}: {err}");
+        assert!(out.join("ep.wav").is_file(), "{err}");
+    }
 }
