@@ -7,6 +7,7 @@
 //! measured from the TTS audio) and the audio-driven path (the engine: utterance lengths known
 //! offline, estimated live).
 
+pub mod band_limit;
 mod chunker;
 mod cycle;
 mod filters;

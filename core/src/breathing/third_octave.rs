@@ -127,6 +127,12 @@ impl BandAnalyzer {
         }
         bands.map(|p| p / frames as f64)
     }
+
+    /// The power of every FFT bin (0 to half the frame, bin `k` at `k · rate / frame`) of the
+    /// last frame [`BandAnalyzer::powers`] took: the whole spectrum, the bands' and beyond.
+    pub fn last_bin_powers(&self) -> impl Iterator<Item = f64> + '_ {
+        self.spectrum.iter().map(|c| c.norm_sqr())
+    }
 }
 
 /// Mean power per band of `x` at `rate_hz` ([`BandAnalyzer::powers`]).

@@ -24,6 +24,7 @@
 //!
 //! Rendering is allocation-free after [`BreathVoice::prepare`]; an idle voice costs one branch.
 
+use super::band_limit::{self, BandLimit};
 use super::filters::{Biquad, BUTTER4_Q, HIGHPASS_HZ, LOWPASS_HZ};
 use super::learned::{LearnedSound, LearnedVoice};
 use super::sample::fitted_at;
@@ -206,6 +207,10 @@ pub struct BreathVoice {
     use_learned: bool,
     /// Level of a learned breath relative to the learned level, dB (the user's level).
     learned_offset_db: f64,
+    /// The upper edge of the recording's spectrum, Hz, for the next breath.
+    upper_edge_hz: Option<f64>,
+    /// The low-pass of the current breath at that edge ([`band_limit`]).
+    band_limit: BandLimit,
 }
 
 impl BreathVoice {
@@ -232,6 +237,8 @@ impl BreathVoice {
             learned_on: false,
             use_learned: false,
             learned_offset_db: 0.0,
+            upper_edge_hz: None,
+            band_limit: BandLimit::default(),
         }
     }
 
@@ -273,6 +280,21 @@ impl BreathVoice {
         if let Some(l) = self.learned.as_mut() {
             l.reset();
         }
+        self.upper_edge_hz = None;
+        self.band_limit.set(None, self.sample_rate_hz);
+    }
+
+    /// The recording's spectrum ends at `edge_hz` (`None`: not known): breaths from the next
+    /// one on stay under it when it is a band limit ([`band_limit::corner_hz`]), whatever their
+    /// source (built-in, learned or a user's sample). Allocation-free.
+    pub fn set_upper_edge_hz(&mut self, edge_hz: Option<f64>) {
+        self.upper_edge_hz = edge_hz;
+    }
+
+    /// The corner of the low-pass the current (or last) breath passes through, Hz; `None`
+    /// when the recording is not band-limited under the breath's own top.
+    pub fn band_limit_hz(&self) -> Option<f64> {
+        self.band_limit.corner_hz()
     }
 
     /// Draws breaths from `voice` (learned from the recording) instead of the procedural sound
@@ -348,6 +370,8 @@ impl BreathVoice {
             0.0
         };
         let fs = self.sample_rate_hz;
+        self.band_limit
+            .set(band_limit::corner_hz(self.upper_edge_hz, fs), fs);
         let scale = 0.95 + 0.1 * self.rng.uniform();
         self.mouth.design(&MOUTH_BANK, scale, fs);
         self.nose.design(&NOSE_BANK, scale, fs);
@@ -461,7 +485,7 @@ impl BreathVoice {
                         fitted_at(&nose_slot.fitted, env.pos, env.length, self.xfade) as f64
                     };
             }
-            *o += (v * e * self.gain) as f32;
+            *o += self.band_limit.tick(v * e * self.gain) as f32;
             env.pos += 1;
         }
         self.env = Some(env);

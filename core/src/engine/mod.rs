@@ -55,6 +55,7 @@ pub mod replay;
 mod schedule;
 mod speech_track;
 mod stereo;
+mod stream_start;
 pub mod voice_learning;
 mod voice_track;
 
@@ -660,7 +661,9 @@ impl Stream {
     /// Sets the breath voice `choice` gives now: fixed, or the track's current one.
     fn refresh_voice(&mut self, choice: &VoiceChoice) {
         let v = self.voice.current(choice);
-        self.breaths.voice_mut().use_learned(v.as_ref());
+        let voice = self.breaths.voice_mut();
+        voice.use_learned(v.as_ref());
+        voice.set_upper_edge_hz(self.voice.upper_edge_hz());
     }
 
     /// One block of at most `max_block` samples (see the module docs for the steps).
@@ -880,12 +883,13 @@ impl Stream {
                 }
             }
             // Before the placement hears of a new phrase: the voice as learned, or coloured by
-            // the speech, so far.
-            if !matches!(breath_voice.mode, BreathVoiceMode::Fixed(_))
-                && matches!(e, PhraseEvent::Start { .. })
-            {
-                let v = self.voice.current(breath_voice);
-                self.breaths.voice_mut().use_learned(v.as_ref());
+            // the speech, so far, and the recording's bandwidth as heard so far.
+            if matches!(e, PhraseEvent::Start { .. }) {
+                let voice = self.breaths.voice_mut();
+                voice.set_upper_edge_hz(self.voice.upper_edge_hz());
+                if !matches!(breath_voice.mode, BreathVoiceMode::Fixed(_)) {
+                    voice.use_learned(self.voice.current(breath_voice).as_ref());
+                }
             }
             self.placement.on_event(&ctx, e, &mut self.schedule);
         }

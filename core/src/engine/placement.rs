@@ -23,15 +23,16 @@
 //! - A breath already in the pause (the phrase tracker's `Pause::breath_s`) is the group's
 //!   breath: the inspiration lies on it, at its time and length, and no sound is inserted.
 //! - A stream that starts in speech starts with the lung filled for the first group (the
-//!   speaker breathed in before it); so does a stream that starts inside sound (an edit cut
-//!   into a word: its first [`STREAM_EDGE_S`] within [`IN_SOUND_DB`] of the first phrase),
-//!   with no breath inserted before its first phrase.
+//!   speaker breathed in before it), or inspires up to its first onset; so does a stream that
+//!   starts inside sound ([`StreamStart`]: an edit cut into a word), with no breath inserted
+//!   and no heard breath taken before its first phrase.
 //! - Live mode takes no catch breaths under `min_pause_s` (it cannot know a pause's length
 //!   before the pause is over, and a breath started earlier lands on the next word); it sizes
 //!   each breath for the running estimate of a group instead.
 
 use super::schedule::{BreathAction, CycleAction, Pending, Queue, Schedule};
 use super::speech_track::{SpeechTrack, SILERO_SHOWS_SPEECH_S};
+use super::stream_start::StreamStart;
 use super::{EngineConfig, PlacementMode, MAX_CHANNELS};
 use crate::analysis::FeatureFrame;
 use crate::breathing::MIN_LUNG_VOLUME;
@@ -55,13 +56,7 @@ const CATCH_SLACK_S: f32 = 0.3;
 const CATCH_MARGIN_S: f64 = 0.01;
 /// Least speech left that an onset plans its expiration over, seconds.
 const MIN_LEFT_S: f32 = 0.5;
-/// The start of the stream that tells whether it starts inside sound, seconds.
-const STREAM_EDGE_S: f64 = 0.05;
-/// A stream whose first [`STREAM_EDGE_S`] is louder than its first phrase's level less this
-/// starts inside sound (a word or note the edit cut into), not in a pause, dB: a room's tone lies
-/// 30 dB or more under the speech in every recording in `../shared/data`, a word's quietest
-/// consonants 10–20 dB under it.
-const IN_SOUND_DB: f32 = 20.0;
+
 /// How long a breath is against the breathing parameters' inspiration (see
 /// [`breath_length_s`]): chosen leave-one-speaker-out on the labelled real breaths of
 /// `../shared/data` (`pneuma eval restore`, its breath-length fit: cut, restored, duration
@@ -211,8 +206,8 @@ struct PlacementState {
     breath_end: u64,
     /// The speech judgement of the last phrase decided and ended (lookahead mode).
     prev_speech: Option<bool>,
-    /// Loudest frame of the stream's first [`STREAM_EDGE_S`], dBFS.
-    edge_level_db: f32,
+    /// Whether the stream starts inside sound.
+    start: StreamStart,
 }
 
 impl Default for PlacementState {
@@ -228,7 +223,7 @@ impl Default for PlacementState {
             last_onset_s: None,
             breath_end: 0,
             prev_speech: None,
-            edge_level_db: f32::NEG_INFINITY,
+            start: StreamStart::default(),
         }
     }
 }
@@ -265,9 +260,7 @@ impl Placement {
     /// frames the stereo image learns from too).
     pub(crate) fn on_frame(&mut self, f: &FeatureFrame) -> bool {
         let voiced = f.voiced && f.rms_db.is_finite() && f.level_db.is_finite();
-        if f.time_s < STREAM_EDGE_S && f.rms_db.is_finite() {
-            self.state.edge_level_db = self.state.edge_level_db.max(f.rms_db);
-        }
+        self.state.start.frame(f.time_s, f.rms_db);
         if voiced {
             let s = &mut self.state;
             s.speech_level_db = f.speech_level_db;
@@ -299,6 +292,16 @@ impl Placement {
             }
         }
         self.state.speech_level_db
+    }
+
+    /// The level of the speech measured so far, dBFS: the last complete phrase's, else the
+    /// voiced frames of the one being spoken; `None` before any.
+    fn measured_phrase_level_db(&self) -> Option<f32> {
+        let s = &self.state;
+        s.last_phrase_level_db.or_else(|| {
+            (s.phrase_voiced > 0)
+                .then(|| (10.0 * (s.phrase_power / s.phrase_voiced as f64).log10()) as f32)
+        })
     }
 
     /// Plateau RMS (linear) of a breath near speech at `speech_level_db`.
@@ -350,6 +353,7 @@ impl Placement {
                 }
             }
             PhraseEvent::Start { onset_s, pause } => {
+                self.state.start.close();
                 self.state.phrase_power = 0.0;
                 self.state.phrase_voiced = 0;
                 if live {
@@ -583,7 +587,10 @@ impl Placement {
         // cannot tell a cut word's end from a room before it has heard the room.
         let in_sound = pause.leading
             && pause.last_activity_end_s.is_none()
-            && self.state.edge_level_db > ph.level_db - IN_SOUND_DB;
+            && self
+                .state
+                .start
+                .in_sound(self.measured_phrase_level_db().unwrap_or(ph.level_db));
         let usable = pause_s >= p.min_pause_s as f64 && !in_sound;
         let speech = self.pause_of_speech(ctx, &ph);
         if ph.speech.is_some() {
@@ -604,7 +611,7 @@ impl Placement {
         let mut window = None;
         // A breath already in a pause of speech drives the cycle: the inspiration lies on it
         // (and no sound is inserted, below), whatever the pause's length.
-        if let (true, Some((from_s, to_s))) = (speech, pause.breath_s) {
+        if let (true, Some((from_s, to_s))) = (speech && !in_sound, pause.breath_s) {
             let start_s = from_s.max(earliest_s);
             if to_s - start_s >= self.hop_s {
                 window = Some((start_s, to_s));

@@ -44,6 +44,9 @@ pub struct WholeSpeech {
     pub ltas_db: Bands,
     /// The median level of the voiced frames, dBFS (NaN without any).
     pub speech_db: f64,
+    /// The upper edge of the voiced speech's spectrum, Hz (`None` with too little speech):
+    /// inserted breaths stay under it ([`crate::breathing::band_limit`]).
+    pub upper_edge_hz: Option<f64>,
 }
 
 impl Default for WholeSpeech {
@@ -51,6 +54,7 @@ impl Default for WholeSpeech {
         Self {
             ltas_db: [f64::NAN; BANDS],
             speech_db: f64::NAN,
+            upper_edge_hz: None,
         }
     }
 }

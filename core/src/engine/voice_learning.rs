@@ -14,6 +14,7 @@
 use super::replay::{AnalysisRecord, WholeSpeech};
 use super::{clean_sample, EngineConfig, EngineError, Timing};
 use crate::analysis::{Analyzer, FeatureFrame};
+use crate::breathing::band_limit;
 use crate::breathing::learned::{HeardBreath, LearnScratch, LearnedVoice};
 use crate::breathing::third_octave::{BandAnalyzer, Bands, FloorEstimate, BANDS};
 use crate::phrase::{PhraseEvent, PhraseTracker};
@@ -56,6 +57,9 @@ pub struct BreathListener {
     /// Sum of the band powers of the grid frames completed while voiced, and their count.
     speech_sum: Bands,
     speech_frames: u64,
+    /// Sum of the same frames' FFT bin powers (the whole spectrum: its upper edge,
+    /// [`crate::breathing::band_limit`]).
+    speech_bins: Vec<f64>,
 }
 
 impl BreathListener {
@@ -77,6 +81,7 @@ impl BreathListener {
             voiced_now: false,
             speech_sum: [0.0; BANDS],
             speech_frames: 0,
+            speech_bins: vec![0.0; frame / 2 + 1],
             bands,
         }
     }
@@ -91,6 +96,7 @@ impl BreathListener {
         self.voiced_now = false;
         self.speech_sum = [0.0; BANDS];
         self.speech_frames = 0;
+        self.speech_bins.fill(0.0);
     }
 
     /// Hears the next mono samples (non-finite ones as 0).
@@ -126,6 +132,13 @@ impl BreathListener {
         }
         if self.voiced_now {
             for (s, x) in self.speech_sum.iter_mut().zip(&p) {
+                *s += x;
+            }
+            for (s, x) in self
+                .speech_bins
+                .iter_mut()
+                .zip(self.bands.last_bin_powers())
+            {
                 *s += x;
             }
             self.speech_frames += 1;
@@ -189,11 +202,22 @@ impl BreathListener {
         })
     }
 
-    /// The speech heard so far: its long-term spectrum and level.
+    /// The upper edge of the voiced speech's spectrum so far, Hz
+    /// ([`band_limit::upper_edge_hz`]); `None` before [`band_limit::MIN_EDGE_SPEECH_S`] of it.
+    pub fn upper_edge_hz(&self) -> Option<f64> {
+        let heard_s = (self.speech_frames * self.hop as u64) as f64 / self.rate_hz;
+        if heard_s < band_limit::MIN_EDGE_SPEECH_S {
+            return None;
+        }
+        band_limit::upper_edge_hz(&self.speech_bins, self.rate_hz / self.window.len() as f64)
+    }
+
+    /// The speech heard so far: its long-term spectrum, level and upper edge.
     pub fn speech(&self) -> WholeSpeech {
         WholeSpeech {
             ltas_db: self.speech_ltas_db(),
             speech_db: self.speech_db(),
+            upper_edge_hz: self.upper_edge_hz(),
         }
     }
 

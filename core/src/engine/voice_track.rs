@@ -137,6 +137,13 @@ impl VoiceTrack {
         self.voice = self.listener.learn(&self.heard, &mut self.scratch);
     }
 
+    /// The upper edge of the recording's speech spectrum, Hz: the whole stream's when it was
+    /// heard first, else that of the speech heard so far (`None` before enough of it).
+    pub(super) fn upper_edge_hz(&self) -> Option<f64> {
+        self.whole
+            .map_or_else(|| self.listener.upper_edge_hz(), |w| w.upper_edge_hz)
+    }
+
     /// Breaths heard since the stream started.
     pub(super) fn heard(&self) -> usize {
         self.count
@@ -153,8 +160,9 @@ impl VoiceTrack {
     /// level (the user's level moves it as it moves a learned voice's; `None` before any
     /// voiced speech, or without a built-in voice: the procedural sound).
     pub(super) fn current(&self, choice: &VoiceChoice) -> Option<LearnedVoice> {
-        let WholeSpeech { ltas_db, speech_db } =
-            self.whole.unwrap_or_else(|| self.listener.speech());
+        let WholeSpeech {
+            ltas_db, speech_db, ..
+        } = self.whole.unwrap_or_else(|| self.listener.speech());
         match (&choice.mode, self.voice) {
             (BreathVoiceMode::Fixed(v), _) => return Some(*v),
             (BreathVoiceMode::Like(v), _) => return Some(v.against_speech_db(speech_db)),

@@ -315,6 +315,23 @@ fn a_stream_cut_inside_a_word_gets_no_breath_before_its_first_phrase() {
 }
 
 #[test]
+fn a_stream_that_starts_in_steady_room_noise_keeps_its_breath_before_the_first_phrase() {
+    // Room noise 15 dB under the speech from the first sample: no word was cut, the level never
+    // falls; the 0.6 s lead-in gets its breath as a silent one does.
+    let (mut audio, spans) = sequence(0.6, &[1.5, 1.5], &[0.8]);
+    let speech_rms = rms(&audio[(0.6 * SR) as usize..]);
+    let noise = signals::white_noise(audio.len(), speech_rms * 10f64.powf(-0.75), 11);
+    audio.iter_mut().zip(&noise).for_each(|(a, n)| *a += n);
+    let r = render(&config(), std::slice::from_ref(&audio), &[512]);
+    assert!(
+        r.breaths.iter().any(|b| b.end_s <= spans[0].0),
+        "no breath before the first phrase at {:.2} s: {:?}",
+        spans[0].0,
+        r.breaths
+    );
+}
+
+#[test]
 fn the_first_breath_follows_the_level_of_quiet_and_loud_speech() {
     let (audio, spans) = sequence(0.8, &[1.5, 1.5], &[0.8]);
     let speech: Vec<f32> = audio.iter().copied().filter(|x| *x != 0.0).collect();

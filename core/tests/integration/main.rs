@@ -9,6 +9,7 @@ mod generated_phrases;
 mod support;
 
 mod analysis_signals;
+mod band_limit;
 mod breath_groups;
 mod breath_shape;
 mod breathing_chunker;

@@ -1,0 +1,87 @@
+//! Inserted breaths stay inside the recording's bandwidth: speech made at 16 kHz and converted
+//! to 48 kHz holds nothing above 8 kHz, and its breaths hold nothing there either; the same
+//! speech over a room's full-band floor gets full breaths.
+
+use pneuma_core::engine::offline::{self, Rendered};
+use pneuma_core::engine::{Engine, EngineConfig};
+use pneuma_core::head::HeadModel;
+use pneuma_testkit::resample::resample;
+use pneuma_testkit::signals;
+use realfft::RealFftPlanner;
+
+use crate::generated_phrases::sequence;
+
+const RATE_HZ: u32 = 48_000;
+
+fn render(x: &[f32]) -> Rendered {
+    let mut e = Engine::new(EngineConfig::default(), HeadModel::default_model().clone()).unwrap();
+    e.prepare(f64::from(RATE_HZ), 1024, 1).unwrap();
+    offline::render(&mut e, &[x.to_vec()], &[1024])
+}
+
+/// Power of `x` above `split_hz` against its power from 1 kHz to `split_hz`, dB.
+fn above_db(x: &[f32], split_hz: f64) -> f64 {
+    let n = x.len().next_power_of_two();
+    let fft = RealFftPlanner::<f64>::new().plan_fft_forward(n);
+    let mut input: Vec<f64> = x.iter().map(|&v| f64::from(v)).collect();
+    input.resize(n, 0.0);
+    let mut spectrum = fft.make_output_vec();
+    fft.process(&mut input, &mut spectrum).unwrap();
+    let bin_hz = f64::from(RATE_HZ) / n as f64;
+    let (mut band, mut above) = (0.0, 0.0);
+    for (k, c) in spectrum.iter().enumerate() {
+        let hz = k as f64 * bin_hz;
+        if hz >= split_hz {
+            above += c.norm_sqr();
+        } else if hz >= 1_000.0 {
+            band += c.norm_sqr();
+        }
+    }
+    10.0 * (above / band).log10()
+}
+
+/// The breaths after the first phrase (the voice's bandwidth is known by then): what each added
+/// above 9 kHz, dB against its own 1–9 kHz.
+fn breaths_above_db(x: &[f32], r: &Rendered, first_offset_s: f64) -> Vec<f64> {
+    r.breaths
+        .iter()
+        .filter(|b| b.start_s > first_offset_s)
+        .map(|b| {
+            let (a, z) = (
+                (b.start_s * f64::from(RATE_HZ)) as usize,
+                (b.end_s * f64::from(RATE_HZ)) as usize,
+            );
+            let added: Vec<f32> = r.audio[0][a..z]
+                .iter()
+                .zip(&x[a..z])
+                .map(|(o, i)| o - i)
+                .collect();
+            above_db(&added, 9_000.0)
+        })
+        .collect()
+}
+
+#[test]
+fn breaths_in_speech_converted_up_from_16_khz_stay_under_its_band_edge() {
+    let (x16, spans) = sequence(0.6, &[1.5, 1.5, 1.5, 1.5], &[0.8, 0.8, 0.8]);
+    let converted = resample(&x16, 16_000, RATE_HZ);
+    // The same speech over a room's full-band floor, 30 dB under the speech.
+    let speech_rms = pneuma_core::analysis::rms(&x16[(0.6 * 16_000.0) as usize..]);
+    let floor = signals::white_noise(converted.len(), speech_rms * 10f64.powf(-1.5), 5);
+    let full: Vec<f32> = converted.iter().zip(&floor).map(|(a, b)| a + b).collect();
+    let limited = breaths_above_db(&converted, &render(&converted), spans[0].1);
+    let open = breaths_above_db(&full, &render(&full), spans[0].1);
+    assert!(
+        limited.len() >= 3 && open.len() == limited.len(),
+        "{limited:?} {open:?}"
+    );
+    assert!(
+        limited.iter().all(|&db| db < -45.0),
+        "breaths in a recording that ends at 8 kHz reach above 9 kHz: {limited:.1?} dB"
+    );
+    // The breath's own 8 kHz top leaves about -31 dB there.
+    assert!(
+        open.iter().all(|&db| db > -38.0),
+        "breaths over a full-band floor lost their top: {open:.1?} dB"
+    );
+}
