@@ -31,10 +31,19 @@ pub struct BreathSample {
 
 /// The shortest usable sample, seconds.
 pub const MIN_SAMPLE_S: f64 = 0.05;
+/// The longest usable sample, seconds: a breath sample is one inhalation (real ones last
+/// 0.1–1 s; with the room before and after it a recording of one stays under this). A longer
+/// file is something else (a take, a song): only its first breath-length would play, scaled by
+/// the whole file's level.
+pub const MAX_SAMPLE_S: f64 = 3.0;
+/// A sample quieter than this is silence or dither, not an inhalation, dBFS RMS (a quiet
+/// inhalation lies 40–60 dB under full scale; 16-bit dither about 100 dB).
+pub const SILENT_SAMPLE_DB: f64 = -80.0;
 
 impl BreathSample {
     /// A sample from mono samples (full scale ±1) at `sample_rate_hz` (8–192 kHz). Rejects
-    /// empty, too short (< 50 ms), non-finite or silent recordings.
+    /// empty, too short ([`MIN_SAMPLE_S`]), too long ([`MAX_SAMPLE_S`]), non-finite or silent
+    /// ([`SILENT_SAMPLE_DB`]) recordings.
     pub fn from_mono(samples: Vec<f32>, sample_rate_hz: f64) -> Result<Self, BreathingError> {
         if !(8_000.0..=192_000.0).contains(&sample_rate_hz) {
             return Err(BreathingError::BadSample(format!(
@@ -46,6 +55,13 @@ impl BreathSample {
                 "{} samples is shorter than {} ms; use a recording of a whole inhalation",
                 samples.len(),
                 MIN_SAMPLE_S * 1000.0
+            )));
+        }
+        let length_s = samples.len() as f64 / sample_rate_hz;
+        if length_s > MAX_SAMPLE_S {
+            return Err(BreathingError::BadSample(format!(
+                "it is {length_s:.1} s long, and a breath sample is one inhalation (at most \
+                 {MAX_SAMPLE_S} s); cut the breath out of it"
             )));
         }
         if samples.iter().any(|v| !v.is_finite()) {
@@ -60,10 +76,12 @@ impl BreathSample {
             .sum::<f64>()
             / samples.len() as f64)
             .sqrt();
-        if rms < 1e-5 {
-            return Err(BreathingError::BadSample(
-                "it is silent (RMS below −100 dBFS); record an audible inhalation".into(),
-            ));
+        let rms_db = 20.0 * rms.max(1e-12).log10();
+        if rms_db < SILENT_SAMPLE_DB {
+            return Err(BreathingError::BadSample(format!(
+                "it is silent or dither only (RMS {rms_db:.0} dBFS, under {SILENT_SAMPLE_DB} \
+                 dBFS); record an audible inhalation"
+            )));
         }
         let scale = 1.0 / rms;
         let samples = samples
