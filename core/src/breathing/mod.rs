@@ -27,7 +27,7 @@ pub use params::{
     MIN_INSPIRATION_S,
 };
 pub use presets::Preset;
-pub use sample::{BreathSample, SampleSlot};
+pub use sample::{BreathSample, SampleSlot, MAX_SAMPLE_S, MIN_SAMPLE_S};
 pub use syllables::{count_syllables, count_syllables_text};
 pub use voice::BreathVoice;
 

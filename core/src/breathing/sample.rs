@@ -60,7 +60,7 @@ impl BreathSample {
         let length_s = samples.len() as f64 / sample_rate_hz;
         if length_s > MAX_SAMPLE_S {
             return Err(BreathingError::BadSample(format!(
-                "it is {length_s:.1} s long, and a breath sample is one inhalation (at most \
+                "it is {length_s:.2} s long, and a breath sample is one inhalation (at most \
                  {MAX_SAMPLE_S} s); cut the breath out of it"
             )));
         }

@@ -192,6 +192,7 @@ impl BreathTrack {
                     length,
                     gain,
                     gains,
+                    edge_hz,
                     audible,
                     group_s,
                 } => {
@@ -210,6 +211,7 @@ impl BreathTrack {
                         length,
                         gain,
                         gains,
+                        edge_hz,
                     }
                 }
                 other => other,
@@ -219,6 +221,7 @@ impl BreathTrack {
                     length,
                     gain,
                     gains,
+                    edge_hz,
                 } => {
                     // Close the previous breath's record before the new one starts.
                     if self.state.open.is_some() {
@@ -238,6 +241,7 @@ impl BreathTrack {
                         config.placement.breath_level_db - default_level_db,
                     ));
                     self.state.fading = false;
+                    self.voice.set_upper_edge_hz(edge_hz);
                     self.voice.start(mouth, length, gain);
                     self.state.gains = gains;
                     self.state.open = Some(OpenBreath {

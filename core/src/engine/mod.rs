@@ -501,7 +501,8 @@ impl Engine {
     /// settings and rate; samples past its end are not analysed
     /// ([`Dropped::unanalysed_samples`]), and [`Engine::replay_verified`] says whether the
     /// stream heard exactly the recorded samples. The built-in voice is coloured by the whole
-    /// input's speech the record carries from the first breath on, and unless the mode is
+    /// input's speech the record carries, and breaths stay under its band edge, from the first
+    /// breath on, and unless the mode is
     /// [`BreathVoiceMode::Learn`] the voice track does not listen (an offline render keeps
     /// its voice from start to end: a switch into learning later would hear the stream only
     /// from the switch on). A [`Engine::reset`] rewinds the replay to the stream's start: only
@@ -661,9 +662,7 @@ impl Stream {
     /// Sets the breath voice `choice` gives now: fixed, or the track's current one.
     fn refresh_voice(&mut self, choice: &VoiceChoice) {
         let v = self.voice.current(choice);
-        let voice = self.breaths.voice_mut();
-        voice.use_learned(v.as_ref());
-        voice.set_upper_edge_hz(self.voice.upper_edge_hz());
+        self.breaths.voice_mut().use_learned(v.as_ref());
     }
 
     /// One block of at most `max_block` samples (see the module docs for the steps).
@@ -865,6 +864,7 @@ impl Stream {
             breath_playing: self.breaths.playing(),
             pending: &self.pending,
             speech: &self.speech,
+            upper_edge_hz: self.voice.upper_edge_hz(),
         };
         for e in events.into_iter().flatten() {
             if let PhraseEvent::Start {
@@ -883,13 +883,12 @@ impl Stream {
                 }
             }
             // Before the placement hears of a new phrase: the voice as learned, or coloured by
-            // the speech, so far, and the recording's bandwidth as heard so far.
-            if matches!(e, PhraseEvent::Start { .. }) {
-                let voice = self.breaths.voice_mut();
-                voice.set_upper_edge_hz(self.voice.upper_edge_hz());
-                if !matches!(breath_voice.mode, BreathVoiceMode::Fixed(_)) {
-                    voice.use_learned(self.voice.current(breath_voice).as_ref());
-                }
+            // the speech, so far.
+            if !matches!(breath_voice.mode, BreathVoiceMode::Fixed(_))
+                && matches!(e, PhraseEvent::Start { .. })
+            {
+                let v = self.voice.current(breath_voice);
+                self.breaths.voice_mut().use_learned(v.as_ref());
             }
             self.placement.on_event(&ctx, e, &mut self.schedule);
         }

@@ -87,6 +87,8 @@ pub(crate) struct EventContext<'a> {
     pub(crate) pending: &'a Queue<Pending>,
     /// The speech decision's judgements of the phrases.
     pub(crate) speech: &'a SpeechTrack,
+    /// The upper edge of the recording's spectrum as heard so far, Hz.
+    pub(crate) upper_edge_hz: Option<f64>,
 }
 
 /// A phrase the tracker reported whose pause (the one before it) is not decided yet.
@@ -426,6 +428,7 @@ impl Placement {
                         length,
                         gain: Self::breath_gain(config, level_db),
                         gains: ctx.gains,
+                        edge_hz: ctx.upper_edge_hz,
                         audible: p.insert_breaths,
                         group_s,
                     },
@@ -690,6 +693,7 @@ impl Placement {
                         length,
                         gain: Self::breath_gain(config, ph.level_db),
                         gains: ph.gains,
+                        edge_hz: ctx.upper_edge_hz,
                     },
                 ));
                 self.state.breath_end = start + length as u64;

@@ -25,11 +25,13 @@ pub(crate) struct Pending {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum BreathAction {
     /// Start an inhalation of `length` samples with plateau RMS `gain`, spread over the
-    /// channels with `gains`.
+    /// channels with `gains`, under the recording's band edge `edge_hz` as known when it was
+    /// placed (so any block partition plays the same).
     Start {
         length: usize,
         gain: f32,
         gains: [f32; MAX_CHANNELS],
+        edge_hz: Option<f64>,
     },
     /// Live mode: start an inhalation like `Start` unless the input is active at that sample,
     /// and let the breathing cycle inspire with it (`audible` false: the cycle only).
@@ -37,6 +39,7 @@ pub(crate) enum BreathAction {
         length: usize,
         gain: f32,
         gains: [f32; MAX_CHANNELS],
+        edge_hz: Option<f64>,
         audible: bool,
         group_s: f32,
     },

@@ -60,6 +60,8 @@ pub struct BreathListener {
     /// Sum of the same frames' FFT bin powers (the whole spectrum: its upper edge,
     /// [`crate::breathing::band_limit`]).
     speech_bins: Vec<f64>,
+    /// That edge, read again at each voiced grid frame, Hz.
+    edge_hz: Option<f64>,
 }
 
 impl BreathListener {
@@ -82,6 +84,7 @@ impl BreathListener {
             speech_sum: [0.0; BANDS],
             speech_frames: 0,
             speech_bins: vec![0.0; frame / 2 + 1],
+            edge_hz: None,
             bands,
         }
     }
@@ -97,6 +100,7 @@ impl BreathListener {
         self.speech_sum = [0.0; BANDS];
         self.speech_frames = 0;
         self.speech_bins.fill(0.0);
+        self.edge_hz = None;
     }
 
     /// Hears the next mono samples (non-finite ones as 0).
@@ -142,6 +146,13 @@ impl BreathListener {
                 *s += x;
             }
             self.speech_frames += 1;
+            let heard_s = (self.speech_frames * self.hop as u64) as f64 / self.rate_hz;
+            self.edge_hz = (heard_s >= band_limit::MIN_EDGE_SPEECH_S)
+                .then(|| {
+                    let bin_hz = self.rate_hz / self.window.len() as f64;
+                    band_limit::upper_edge_hz(&self.speech_bins, bin_hz)
+                })
+                .flatten();
         }
         let n = self.powers.len() as u64;
         self.powers[(self.frames % n) as usize] = p;
@@ -205,11 +216,7 @@ impl BreathListener {
     /// The upper edge of the voiced speech's spectrum so far, Hz
     /// ([`band_limit::upper_edge_hz`]); `None` before [`band_limit::MIN_EDGE_SPEECH_S`] of it.
     pub fn upper_edge_hz(&self) -> Option<f64> {
-        let heard_s = (self.speech_frames * self.hop as u64) as f64 / self.rate_hz;
-        if heard_s < band_limit::MIN_EDGE_SPEECH_S {
-            return None;
-        }
-        band_limit::upper_edge_hz(&self.speech_bins, self.rate_hz / self.window.len() as f64)
+        self.edge_hz
     }
 
     /// The speech heard so far: its long-term spectrum, level and upper edge.

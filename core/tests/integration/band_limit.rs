@@ -10,13 +10,39 @@ use pneuma_testkit::signals;
 use realfft::RealFftPlanner;
 
 use crate::generated_phrases::sequence;
+use crate::support::streamed_watched;
 
 const RATE_HZ: u32 = 48_000;
 
-fn render(x: &[f32]) -> Rendered {
+/// A stream engine (the plugin's lookahead), prepared.
+fn engine() -> Engine {
     let mut e = Engine::new(EngineConfig::default(), HeadModel::default_model().clone()).unwrap();
-    e.prepare(f64::from(RATE_HZ), 1024, 1).unwrap();
-    offline::render(&mut e, &[x.to_vec()], &[1024])
+    e.prepare(f64::from(RATE_HZ), 4096, 1).unwrap();
+    e
+}
+
+fn render(x: &[f32]) -> Rendered {
+    render_in(x, &[1024])
+}
+
+fn render_in(x: &[f32], blocks: &[usize]) -> Rendered {
+    offline::render(&mut engine(), &[x.to_vec()], blocks)
+}
+
+/// Speech made at 16 kHz, converted to 48 kHz, and where each phrase starts and ends. The
+/// generated vowels carry nothing near 8 kHz, so the phrases get the aspiration noise real
+/// voices have there (2–7.9 kHz, 25 dB under the speech).
+fn converted() -> (Vec<f32>, Vec<(f64, f64)>) {
+    let (mut x16, spans) = sequence(0.6, &[1.5, 1.5, 1.5, 1.5], &[0.8, 0.8, 0.8]);
+    let speech_rms = pneuma_core::analysis::rms(&x16[(0.6 * 16_000.0) as usize..]);
+    let aspiration = signals::band_noise(x16.len(), 16_000.0, (2_000.0, 7_900.0), 1.0, 21);
+    let gain = (speech_rms * 10f64.powf(-1.25)) as f32;
+    for (x, a) in x16.iter_mut().zip(&aspiration) {
+        if *x != 0.0 {
+            *x += gain * a;
+        }
+    }
+    (resample(&x16, 16_000, RATE_HZ), spans)
 }
 
 /// Power of `x` above `split_hz` against its power from 1 kHz to `split_hz`, dB.
@@ -63,16 +89,16 @@ fn breaths_above_db(x: &[f32], r: &Rendered, first_offset_s: f64) -> Vec<f64> {
 
 #[test]
 fn breaths_in_speech_converted_up_from_16_khz_stay_under_its_band_edge() {
-    let (x16, spans) = sequence(0.6, &[1.5, 1.5, 1.5, 1.5], &[0.8, 0.8, 0.8]);
-    let converted = resample(&x16, 16_000, RATE_HZ);
+    let (converted, spans) = converted();
     // The same speech over a room's full-band floor, 30 dB under the speech.
-    let speech_rms = pneuma_core::analysis::rms(&x16[(0.6 * 16_000.0) as usize..]);
+    let lead = (0.6 * f64::from(RATE_HZ)) as usize;
+    let speech_rms = pneuma_core::analysis::rms(&converted[lead..]);
     let floor = signals::white_noise(converted.len(), speech_rms * 10f64.powf(-1.5), 5);
     let full: Vec<f32> = converted.iter().zip(&floor).map(|(a, b)| a + b).collect();
     let limited = breaths_above_db(&converted, &render(&converted), spans[0].1);
     let open = breaths_above_db(&full, &render(&full), spans[0].1);
     assert!(
-        limited.len() >= 3 && open.len() == limited.len(),
+        limited.len() >= 3 && open.len() >= 3,
         "{limited:?} {open:?}"
     );
     assert!(
@@ -84,4 +110,23 @@ fn breaths_in_speech_converted_up_from_16_khz_stay_under_its_band_edge() {
         open.iter().all(|&db| db > -38.0),
         "breaths over a full-band floor lost their top: {open:.1?} dB"
     );
+}
+
+#[test]
+fn band_limited_breaths_are_the_same_for_any_partition_and_never_allocate() {
+    let (x, spans) = converted();
+    let reference = render_in(&x, &[4096]);
+    let above = breaths_above_db(&x, &reference, spans[0].1);
+    assert!(
+        above.len() >= 3 && above.iter().all(|&db| db < -45.0),
+        "{above:.1?}"
+    );
+    for blocks in [vec![1], vec![37, 512, 3], vec![700]] {
+        let r = render_in(&x, &blocks);
+        assert!(r.audio == reference.audio, "blocks {blocks:?}");
+        assert_eq!(r.breaths, reference.breaths, "blocks {blocks:?}");
+    }
+    let (breaths, n) = streamed_watched(&mut engine(), &x, |_| {});
+    assert!(breaths >= 3, "{breaths} breaths");
+    assert_eq!(n, 0, "{n} allocations");
 }

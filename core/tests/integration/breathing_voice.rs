@@ -312,7 +312,7 @@ fn bad_samples_are_rejected_with_reasons() {
     let mut bad = noise(16_000.0, 0.5, 1);
     bad[10] = f32::NAN;
     assert!(BreathSample::from_mono(bad, 16_000.0).is_err());
-    // Dither of a 16-bit export of silence (about -100 dBFS): silent too.
+    // White noise of one 16-bit step (-90 dBFS RMS), as dither leaves: silent too.
     let dither = signals::white_noise(24_000, 1.0 / 32_768.0, 2);
     assert!(BreathSample::from_mono(dither, 48_000.0)
         .unwrap_err()
@@ -320,7 +320,7 @@ fn bad_samples_are_rejected_with_reasons() {
         .contains("silent"));
     // A 40 s take or song is no breath sample; a 2.5 s one is.
     let long = BreathSample::from_mono(noise(16_000.0, 40.0, 3), 16_000.0).unwrap_err();
-    assert!(long.to_string().contains("40.0 s long"), "{long}");
+    assert!(long.to_string().contains("40.00 s long"), "{long}");
     assert!(BreathSample::from_mono(noise(16_000.0, 2.5, 3), 16_000.0).is_ok());
 }
 

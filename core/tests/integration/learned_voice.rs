@@ -17,7 +17,7 @@ use pneuma_core::head::HeadModel;
 use pneuma_core::BreathEvent;
 use pneuma_testkit::signals;
 
-use crate::support::watched;
+use crate::support::{streamed_watched, watched};
 
 const RATE_HZ: f64 = 16_000.0;
 /// The speaker's breath filter (`signals::phrases_with_breaths`): band-limited noise, 500 Hz to
@@ -311,13 +311,7 @@ fn learning_as_it_goes_gives_the_same_output_for_any_partition_and_never_allocat
         assert_eq!(v, voice, "blocks {blocks:?}");
     }
     let mut e = stream_engine(BreathVoiceMode::Learn);
-    let mut buf = x.clone();
-    let mut breaths = 0;
-    let ((), n) = watched(|| {
-        for chunk in buf.chunks_mut(1000) {
-            e.process(&mut [chunk], &mut |_, _| {});
-            e.take_breaths(|_| breaths += 1);
-        }
+    let (breaths, n) = streamed_watched(&mut e, &x, |e| {
         // Freezing and thawing happen on a plugin's audio thread too.
         e.freeze_voice();
         e.set_voice_mode(BreathVoiceMode::Learn);

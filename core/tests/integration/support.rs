@@ -4,6 +4,8 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
+use pneuma_core::engine::Engine;
+
 struct Counting;
 
 thread_local! {
@@ -44,4 +46,24 @@ pub fn watched<R>(f: impl FnOnce() -> R) -> (R, usize) {
     let r = f();
     WATCH.with(|w| w.set(false));
     (r, COUNT.with(|c| c.get()))
+}
+
+/// Streams `x` (mono) through `engine` in blocks of 1000 samples as a host does, taking the
+/// breaths as they finish, then runs `after` on it, all watched: the breaths taken and the
+/// allocations made.
+pub fn streamed_watched(
+    engine: &mut Engine,
+    x: &[f32],
+    after: impl FnOnce(&mut Engine),
+) -> (usize, usize) {
+    let mut buf = x.to_vec();
+    let mut breaths = 0;
+    let ((), n) = watched(|| {
+        for chunk in buf.chunks_mut(1000) {
+            engine.process(&mut [chunk], &mut |_, _| {});
+            engine.take_breaths(|_| breaths += 1);
+        }
+        after(engine);
+    });
+    (breaths, n)
 }

@@ -46,8 +46,10 @@ fn check_sample(path: String) -> Checked {
         Ok(Some(_)) => Ok((path, "loaded (used from the next activation)".to_owned())),
         Ok(None) => Ok((String::new(), "built-in breath".to_owned())),
         Err(e) => Err(format!(
-            "{e}. Choose a WAV file of one breath (mono or stereo, 0.1–5 s), or clear the field \
-             for the built-in breath."
+            "{e}. Choose a WAV file of one breath (mono or stereo, {}–{} s), or clear the field \
+             for the built-in breath.",
+            pneuma_core::breathing::MIN_SAMPLE_S,
+            pneuma_core::breathing::MAX_SAMPLE_S
         )),
     }
 }
