@@ -4,33 +4,22 @@
 //! dither told to be normalised (now said to hold no signal), and a batch's name clashes named
 //! one pair a run (now every group at once, letter case aside; a file given twice is no clash).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use crate::support::{assert_ok, pneuma, write_wav};
-use pneuma_testkit::signals::{self as test_signals, GlottalVowel, Vowel};
+use crate::support::{assert_ok, pneuma, two_phrases, write_wav};
 
-/// Two glottal-vowel phrases with one pause between them, 16 kHz mono.
-fn two_phrases() -> Vec<f32> {
-    let r = 16_000.0;
-    let phrase = |seed| {
-        test_signals::glottal_vowel(
-            &GlottalVowel {
-                sample_rate_hz: r,
-                length_s: 1.5,
-                vowel: Vowel::A,
-                jitter: 0.01,
-                shimmer: 0.04,
-                peak: 0.5,
-                seed,
-            },
-            |t| 150.0 - 20.0 * t,
-        )
-    };
-    let mut x = phrase(1);
-    x.extend(std::iter::repeat_n(0.0, 12_800));
-    x.extend(phrase(2));
-    x.extend(std::iter::repeat_n(0.0, 3_200));
-    x
+/// Writes [`two_phrases`] to `path` as a 16-bit 16 kHz mono WAV.
+fn write_phrases(path: &Path) {
+    write_wav(path, (16_000, 1, 16, false), &two_phrases(), 1.0);
+}
+
+/// A folder `episodes` in `dir` holding `ep.wav` ([`write_phrases`]): the folder and the file.
+fn episodes_folder(dir: &Path) -> (PathBuf, PathBuf) {
+    let episodes = dir.join("episodes");
+    std::fs::create_dir(&episodes).expect("dir");
+    let input = episodes.join("ep.wav");
+    write_phrases(&input);
+    (episodes, input)
 }
 
 /// `pneuma render IN -o OUT --no-progress EXTRA…`: its standard error, after checking it
@@ -63,7 +52,7 @@ const EXTRA_FILES: [(&str, &str); 4] = [
 fn a_render_removes_the_files_an_earlier_render_left_and_says_which() {
     let dir = tempfile::tempdir().expect("temp");
     let input = dir.path().join("ep.wav");
-    write_wav(&input, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    write_phrases(&input);
     let out = dir.path().join("out");
     render_ok(&input, &out, &EXTRAS);
     // Files no render of `ep` writes stay: the user's, another stem's, another audio format.
@@ -115,12 +104,7 @@ fn a_batch_removes_each_inputs_leftovers_and_says_so_under_the_table() {
     let episodes = dir.path().join("episodes");
     std::fs::create_dir(&episodes).expect("dir");
     for name in ["a.wav", "b.wav"] {
-        write_wav(
-            &episodes.join(name),
-            (16_000, 1, 16, false),
-            &two_phrases(),
-            1.0,
-        );
+        write_phrases(&episodes.join(name));
     }
     let out = dir.path().join("out");
     render_ok(&episodes, &out, &["--no-plot", "--bvh", "--midi"]);
@@ -191,17 +175,12 @@ fn a_batch_names_every_clashing_group_at_once() {
     let inputs = dir.path().join("in");
     std::fs::create_dir(&inputs).expect("dir");
     let wav = inputs.join("talk.wav");
-    write_wav(&wav, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    write_phrases(&wav);
     let clashing = ["talk.mp3", "talk.flac", "truncated.mp3", "truncated.wav"];
     for name in clashing {
         std::fs::copy(&wav, inputs.join(name)).expect("copy");
     }
-    write_wav(
-        &inputs.join("alone.wav"),
-        (16_000, 1, 16, false),
-        &two_phrases(),
-        1.0,
-    );
+    write_phrases(&inputs.join("alone.wav"));
     let out = dir.path().join("out");
     let o = pneuma(&[
         "render",
@@ -248,7 +227,7 @@ const USERS_FILES: [(&str, &[u8]); 5] = [
 fn a_users_files_of_those_names_beside_the_input_stay_and_are_not_named() {
     let dir = tempfile::tempdir().expect("temp");
     let input = dir.path().join("ep.wav");
-    write_wav(&input, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    write_phrases(&input);
     for (name, bytes) in USERS_FILES {
         std::fs::write(dir.path().join(name), bytes).expect("write");
     }
@@ -271,7 +250,7 @@ fn a_users_files_of_those_names_beside_the_input_stay_and_are_not_named() {
 fn a_link_of_a_leftovers_name_stays() {
     let dir = tempfile::tempdir().expect("temp");
     let input = dir.path().join("ep.wav");
-    write_wav(&input, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    write_phrases(&input);
     let out = dir.path().join("out");
     render_ok(&input, &out, &["--bvh"]);
     // Pneuma's own BVH, kept by the user under another name and linked to as `ep.bvh`.
@@ -290,10 +269,7 @@ fn a_link_of_a_leftovers_name_stays() {
 #[test]
 fn quiet_still_names_what_it_removed() {
     let dir = tempfile::tempdir().expect("temp");
-    let episodes = dir.path().join("episodes");
-    std::fs::create_dir(&episodes).expect("dir");
-    let input = episodes.join("ep.wav");
-    write_wav(&input, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    let (episodes, input) = episodes_folder(dir.path());
     let out = dir.path().join("out");
     let removed = format!("removed {} (no --bvh)", out.join("ep.bvh").display());
     // One input, then a batch (a folder).
@@ -311,7 +287,7 @@ fn quiet_still_names_what_it_removed() {
 fn names_that_differ_only_in_letter_case_clash() {
     let dir = tempfile::tempdir().expect("temp");
     let talk = dir.path().join("Talk.wav");
-    write_wav(&talk, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    write_phrases(&talk);
     let lower = dir.path().join("talk.flac");
     std::fs::copy(&talk, &lower).expect("copy");
     let out = dir.path().join("out");
@@ -333,10 +309,7 @@ fn names_that_differ_only_in_letter_case_clash() {
 #[test]
 fn an_input_given_twice_is_rendered_once() {
     let dir = tempfile::tempdir().expect("temp");
-    let episodes = dir.path().join("episodes");
-    std::fs::create_dir(&episodes).expect("dir");
-    let input = episodes.join("ep.wav");
-    write_wav(&input, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    let (episodes, input) = episodes_folder(dir.path());
     let out = dir.path().join("out");
     let path = input.to_str().expect("utf-8");
     let folder = episodes.to_str().expect("utf-8");

@@ -8,33 +8,7 @@ use std::process::{Command, Stdio};
 
 use crate::support;
 use pneuma_testkit::voice::example_voice_path as example_voice;
-use support::{assert_ok, breaths_csv, pneuma, render, write_wav};
-
-use pneuma_testkit::signals::{self as test_signals, GlottalVowel, Vowel};
-
-/// Two glottal-vowel phrases with one pause between them, 16 kHz mono.
-fn two_phrases() -> Vec<f32> {
-    let r = 16_000.0;
-    let phrase = |seed| {
-        test_signals::glottal_vowel(
-            &GlottalVowel {
-                sample_rate_hz: r,
-                length_s: 1.5,
-                vowel: Vowel::A,
-                jitter: 0.01,
-                shimmer: 0.04,
-                peak: 0.5,
-                seed,
-            },
-            |t| 150.0 - 20.0 * t,
-        )
-    };
-    let mut x = phrase(1);
-    x.extend(std::iter::repeat_n(0.0, 12_800));
-    x.extend(phrase(2));
-    x.extend(std::iter::repeat_n(0.0, 3_200));
-    x
-}
+use support::{assert_ok, breaths_csv, pneuma, render, two_phrases, write_wav};
 
 fn stderr(o: &std::process::Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

@@ -296,14 +296,20 @@ impl Placement {
         self.state.speech_level_db
     }
 
+    /// Mean power of the voiced frames of the phrase being spoken, dBFS, once it has at least
+    /// `frames` of them.
+    fn spoken_level_db(&self, frames: u32) -> Option<f32> {
+        let s = &self.state;
+        (s.phrase_voiced >= frames.max(1))
+            .then(|| (10.0 * (s.phrase_power / s.phrase_voiced as f64).log10()) as f32)
+    }
+
     /// The level of the speech measured so far, dBFS: the last complete phrase's, else the
     /// voiced frames of the one being spoken; `None` before any.
     fn measured_phrase_level_db(&self) -> Option<f32> {
-        let s = &self.state;
-        s.last_phrase_level_db.or_else(|| {
-            (s.phrase_voiced > 0)
-                .then(|| (10.0 * (s.phrase_power / s.phrase_voiced as f64).log10()) as f32)
-        })
+        self.state
+            .last_phrase_level_db
+            .or_else(|| self.spoken_level_db(1))
     }
 
     /// Plateau RMS (linear) of a breath near speech at `speech_level_db`.
@@ -382,10 +388,8 @@ impl Placement {
                 });
             }
             PhraseEvent::End { onset_s, offset_s } => {
-                let s = &mut self.state;
-                if s.phrase_voiced >= 3 {
-                    s.last_phrase_level_db =
-                        Some((10.0 * (s.phrase_power / s.phrase_voiced as f64).log10()) as f32);
+                if let Some(db) = self.spoken_level_db(3) {
+                    self.state.last_phrase_level_db = Some(db);
                 }
                 schedule
                     .cycle

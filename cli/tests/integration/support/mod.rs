@@ -6,6 +6,8 @@ pub mod episode;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use pneuma_testkit::signals::{self as test_signals, GlottalVowel, Vowel};
+
 /// True when `program` runs (`program version_arg` succeeds). Without it a test skips visibly,
 /// except under `CI=true` (`.ci/run` installs it), where it fails. The Debian package has the
 /// program's name (`espeak-ng`, `ffmpeg`).
@@ -223,4 +225,28 @@ pub fn python_tool(python: &Path, script: &str, args: &[&Path]) -> String {
         String::from_utf8_lossy(&o.stderr)
     );
     String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// Two glottal-vowel phrases with one pause between them, 16 kHz mono.
+pub fn two_phrases() -> Vec<f32> {
+    let r = 16_000.0;
+    let phrase = |seed| {
+        test_signals::glottal_vowel(
+            &GlottalVowel {
+                sample_rate_hz: r,
+                length_s: 1.5,
+                vowel: Vowel::A,
+                jitter: 0.01,
+                shimmer: 0.04,
+                peak: 0.5,
+                seed,
+            },
+            |t| 150.0 - 20.0 * t,
+        )
+    };
+    let mut x = phrase(1);
+    x.extend(std::iter::repeat_n(0.0, 12_800));
+    x.extend(phrase(2));
+    x.extend(std::iter::repeat_n(0.0, 3_200));
+    x
 }
