@@ -35,20 +35,10 @@ fn chunks(png: &[u8]) -> impl Iterator<Item = ([u8; 4], &[u8])> {
     })
 }
 
-/// CRC-32 of PNG chunks (ISO 3309, reflected, polynomial 0xEDB88320).
+/// CRC-32 of PNG chunks (ISO 3309, polynomial 0xEDB88320): `crc32fast`, which the plot's PNG
+/// encoder already builds (through flate2).
 fn crc32(bytes: &[u8]) -> u32 {
-    let mut c = !0u32;
-    for &b in bytes {
-        c ^= u32::from(b);
-        for _ in 0..8 {
-            c = if c & 1 != 0 {
-                0xEDB8_8320 ^ (c >> 1)
-            } else {
-                c >> 1
-            };
-        }
-    }
-    !c
+    crc32fast::hash(bytes)
 }
 
 /// `png` with the mark after its `IHDR` chunk; `None` when `png` does not start with one.

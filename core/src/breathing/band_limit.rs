@@ -101,11 +101,6 @@ impl BandLimit {
         }
     }
 
-    /// The corner in effect, Hz.
-    pub(super) fn corner_hz(&self) -> Option<f64> {
-        self.corner_hz
-    }
-
     /// The next sample through the limit.
     #[inline]
     pub(super) fn tick(&mut self, x: f64) -> f64 {

@@ -291,12 +291,6 @@ impl BreathVoice {
         self.upper_edge_hz = edge_hz;
     }
 
-    /// The corner of the low-pass the current (or last) breath passes through, Hz; `None`
-    /// when the recording is not band-limited under the breath's own top.
-    pub fn band_limit_hz(&self) -> Option<f64> {
-        self.band_limit.corner_hz()
-    }
-
     /// Draws breaths from `voice` (learned from the recording) instead of the procedural sound
     /// (`None`: back to it); a user sample still wins. Makes the learned sound either way, so
     /// [`BreathVoice::use_learned`] can switch voices later without allocating; call it off
