@@ -85,7 +85,7 @@ pub fn analyze_source(
     let mut block = Vec::with_capacity(BLOCK_FRAMES * channels);
     let mut mono = Vec::with_capacity(BLOCK_FRAMES);
     let mut planar = vec![Vec::with_capacity(BLOCK_FRAMES); channels];
-    let mut energy = ChannelEnergy::default();
+    let mut energy = ChannelEnergy::new(info.sample_rate_hz as f64);
     while src.read_interleaved(BLOCK_FRAMES, &mut block)? > 0 {
         for (c, chan) in planar.iter_mut().enumerate() {
             chan.clear();

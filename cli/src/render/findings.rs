@@ -1,16 +1,18 @@
 //! What a render found out about its input that the user should know, though nothing failed
 //! (the exit status stays 0): no speech at all, mostly something else than speech (music,
 //! singing, noise), channels that cancel when mixed to mono, an input that holds no signal
-//! (digital silence or dither), or an input so quiet that the voicing cannot hear most of its
-//! speech. Each is a [`Finding`]: a line of the summary (`warning: …`) and a short word in the
-//! batch table.
+//! (digital silence or dither, noise-shaped too), an input too short to tell speech in, or an
+//! input so quiet that the voicing cannot hear most of its speech. Each is a [`Finding`]: a
+//! line of the summary (`warning: …`) and a short word in the batch table.
 //!
 //! The channel check ([`ChannelEnergy`]) sums each channel's power and the power of their mean
 //! (the mono mix the engine analyses) while the blocks pass; the speech figures come from the
 //! engine ([`SpeechSummary`]).
 
+use pneuma_core::analysis::Biquad;
 use pneuma_core::engine::{SpeechSummary, MAX_CHANNELS};
 use pneuma_core::settings::analysis::SILENCE_DB;
+use pneuma_core::speech::JUDGE_WINDOW_S;
 
 /// The mono mix is this far under the channels' mean power: they cancel, dB.
 const ANTIPHASE_DB: f64 = 20.0;
@@ -43,6 +45,14 @@ pub enum Finding {
     NoSignal {
         /// The mono mix's peak, dBFS (−∞ when every sample is zero).
         peak_db: f64,
+        /// Its sound lies above [`VOICE_BAND_TOP_HZ`] only (noise-shaped dither).
+        shaped: bool,
+    },
+    /// No speech was heard in an input shorter than the speech decision's window
+    /// ([`JUDGE_WINDOW_S`]): too short to tell.
+    TooShort {
+        /// The input's length, seconds.
+        length_s: f64,
     },
     /// The input's peak lies so low that the voicing hears little of any speech in it.
     Quiet {
@@ -62,8 +72,14 @@ const STEP_16_BIT: f64 = 1.0 / 32768.0;
 /// rounds to one step (sox's default, −90 dBFS) or two (−84 dBFS); four leave 6 dB over that
 /// and lie 26 dB under the quietest speech the measurements render (a Keele take 30 dB down,
 /// peak −52 dBFS). A 24-bit or float file that low may hold a real signal, 78 dB under full
-/// scale; noise-shaped dither (up to −54 dBFS) is not told apart by its peak and is said quiet.
+/// scale. Noise-shaped dither (up to −54 dBFS) is told apart by its peak under
+/// [`VOICE_BAND_TOP_HZ`] instead.
 const DITHER_PEAK_STEPS: f64 = 4.0;
+
+/// Top of the band whose peak tells a signal from noise-shaped dither, Hz: shaped dither puts
+/// its power above it (a 16-bit export of silence with sox's `dither -s` peaks at −59 dBFS, its
+/// power rising towards 20 kHz), while every voice holds its strongest sound under it.
+const VOICE_BAND_TOP_HZ: f64 = 4_000.0;
 
 /// The peak under which an input holds no signal (silence or dither only), dBFS: −78 dBFS.
 /// Normalising such an input would raise its dither to full-scale noise.
@@ -92,7 +108,17 @@ impl Finding {
                  with sound): breaths went only into the pauses of the speech",
                 100.0 * speech_share
             ),
-            Finding::NoSignal { peak_db } if peak_db.is_finite() => format!(
+            Finding::NoSignal {
+                peak_db,
+                shaped: true,
+            } => format!(
+                "the input holds no signal (noise-shaped dither only: peak {peak_db:.0} dBFS, \
+                 all of it above {:.0} kHz): there is no speech to place breaths by, and \
+                 normalising it would only make the dither loud; check that the right file \
+                 (or channel) was exported",
+                VOICE_BAND_TOP_HZ / 1000.0
+            ),
+            Finding::NoSignal { peak_db, .. } if peak_db.is_finite() => format!(
                 "the input holds no signal (silence or dither only, peak {peak_db:.0} dBFS): \
                  there is no speech to place breaths by, and normalising it would only make \
                  the dither loud; check that the right file (or channel) was exported"
@@ -101,6 +127,11 @@ impl Finding {
                  sample is zero): there is no speech to place breaths by; check that the right \
                  file (or channel) was exported"
                 .into(),
+            Finding::TooShort { length_s } => format!(
+                "the input is only {length_s:.2} s long: too short to tell speech from other \
+                 sound ({JUDGE_WINDOW_S} s at least) or to hold a pause, so no breath was \
+                 inserted; render the whole recording, not a snippet"
+            ),
             Finding::Quiet { peak_db } => format!(
                 "the input is very quiet (its peak lies at {peak_db:.0} dBFS): frames under \
                  {:.0} dBFS are never voiced, so much of its speech goes unheard; normalise it \
@@ -117,23 +148,43 @@ impl Finding {
             Finding::NoSpeech => "no speech",
             Finding::MostlyNotSpeech { .. } => "mostly music",
             Finding::NoSignal { .. } => "no signal",
+            Finding::TooShort { .. } => "too short",
             Finding::Quiet { .. } => "quiet",
         }
     }
 }
 
 /// Each channel's power and the power of the mono mix, summed over the input.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub struct ChannelEnergy {
     channels: usize,
     sum_sq: [f64; MAX_CHANNELS],
     mix_sq: f64,
     /// Largest magnitude of the mono mix.
     mix_peak: f64,
+    /// The mono mix under [`VOICE_BAND_TOP_HZ`] (a 4th-order Butterworth low-pass), and its
+    /// largest magnitude.
+    voice_band: [Biquad; 2],
+    voice_band_peak: f64,
     frames: u64,
 }
 
 impl ChannelEnergy {
+    /// Nothing summed yet, for an input at `rate_hz`.
+    pub fn new(rate_hz: f64) -> Self {
+        let corner_hz = VOICE_BAND_TOP_HZ.min(0.45 * rate_hz);
+        let section = Biquad::butterworth(corner_hz, rate_hz, false);
+        Self {
+            channels: 0,
+            sum_sq: [0.0; MAX_CHANNELS],
+            mix_sq: 0.0,
+            mix_peak: 0.0,
+            voice_band: [section; 2],
+            voice_band_peak: 0.0,
+            frames: 0,
+        }
+    }
+
     /// Adds one block, one slice per channel (as the engine gets them), `n` frames.
     pub fn add(&mut self, planar: &[Vec<f32>], n: usize) {
         let channels = planar.len().min(MAX_CHANNELS);
@@ -151,6 +202,8 @@ impl ChannelEnergy {
             mix /= channels as f64;
             self.mix_sq += mix * mix;
             self.mix_peak = self.mix_peak.max(mix.abs());
+            let low = self.voice_band.iter_mut().fold(mix, |x, f| f.process(x));
+            self.voice_band_peak = self.voice_band_peak.max(low.abs());
         }
         self.frames += n as u64;
     }
@@ -171,18 +224,33 @@ impl ChannelEnergy {
     pub fn peak_db(&self) -> f64 {
         20.0 * self.mix_peak.log10()
     }
+
+    /// The peak of the mono mix under [`VOICE_BAND_TOP_HZ`], dBFS.
+    pub fn voice_band_peak_db(&self) -> f64 {
+        20.0 * self.voice_band_peak.log10()
+    }
 }
 
-/// The findings of a render: the channels, then the level, then the speech (a quiet input's
-/// speech findings follow from its level, and are left out).
-pub fn findings(energy: &ChannelEnergy, speech: &SpeechSummary) -> Vec<Finding> {
+/// The findings of a render of `length_s` seconds: the channels, then the level, then the
+/// speech (a quiet input's speech findings follow from its level, and are left out).
+pub fn findings(energy: &ChannelEnergy, speech: &SpeechSummary, length_s: f64) -> Vec<Finding> {
     if energy.antiphase() {
         return vec![Finding::Antiphase];
     }
     let peak_db = energy.peak_db();
-    // Silence or dither is no quiet speech: normalising it would make it noise.
+    // Silence or dither is no quiet speech: normalising it would make it noise. Noise-shaped
+    // dither peaks higher, with nothing in the voice's band.
     if peak_db < no_signal_peak_db() {
-        return vec![Finding::NoSignal { peak_db }];
+        return vec![Finding::NoSignal {
+            peak_db,
+            shaped: false,
+        }];
+    }
+    if peak_db < quiet_peak_db() && energy.voice_band_peak_db() < no_signal_peak_db() {
+        return vec![Finding::NoSignal {
+            peak_db,
+            shaped: true,
+        }];
     }
     if peak_db < quiet_peak_db() {
         return vec![Finding::Quiet { peak_db }];
@@ -192,7 +260,9 @@ pub fn findings(energy: &ChannelEnergy, speech: &SpeechSummary) -> Vec<Finding> 
     } else {
         speech.speech_frames as f64 / speech.sound_frames as f64
     };
-    if share < NO_SPEECH_SHARE || speech.speech_phrases == 0 {
+    if (share < NO_SPEECH_SHARE || speech.speech_phrases == 0) && length_s < JUDGE_WINDOW_S {
+        vec![Finding::TooShort { length_s }]
+    } else if share < NO_SPEECH_SHARE || speech.speech_phrases == 0 {
         vec![Finding::NoSpeech]
     } else if share < MOSTLY_OTHER_SHARE {
         vec![Finding::MostlyNotSpeech {
@@ -207,8 +277,11 @@ pub fn findings(energy: &ChannelEnergy, speech: &SpeechSummary) -> Vec<Finding> 
 mod tests {
     use super::*;
 
+    /// A render long enough for the speech decision, seconds.
+    const LONG_S: f64 = 10.0;
+
     fn energy(left: &[f32], right: &[f32]) -> ChannelEnergy {
-        let mut e = ChannelEnergy::default();
+        let mut e = ChannelEnergy::new(48_000.0);
         e.add(&[left.to_vec(), right.to_vec()], left.len());
         e
     }
@@ -224,7 +297,7 @@ mod tests {
         assert!(!energy(&x, &half).antiphase());
         assert!(!energy(&x, &silent).antiphase());
         assert!(!energy(&silent, &silent).antiphase());
-        let mut mono = ChannelEnergy::default();
+        let mut mono = ChannelEnergy::new(48_000.0);
         mono.add(std::slice::from_ref(&x), x.len());
         assert!(!mono.antiphase());
     }
@@ -232,7 +305,7 @@ mod tests {
     /// A mono tone peaking at `peak`.
     fn tone(peak: f32) -> ChannelEnergy {
         let x: Vec<f32> = (0..4800).map(|i| (i as f32 * 0.05).sin() * peak).collect();
-        let mut e = ChannelEnergy::default();
+        let mut e = ChannelEnergy::new(48_000.0);
         e.add(std::slice::from_ref(&x), x.len());
         e
     }
@@ -247,16 +320,26 @@ mod tests {
             speech_phrases,
         };
         let e = tone(0.25);
-        assert_eq!(findings(&e, &s(0, 0, 0)), [Finding::NoSpeech]);
-        assert_eq!(findings(&e, &s(900, 5, 1)), [Finding::NoSpeech]);
-        assert_eq!(findings(&e, &s(900, 300, 0)), [Finding::NoSpeech]);
+        assert_eq!(findings(&e, &s(0, 0, 0), LONG_S), [Finding::NoSpeech]);
+        assert_eq!(findings(&e, &s(900, 5, 1), LONG_S), [Finding::NoSpeech]);
+        assert_eq!(findings(&e, &s(900, 300, 0), LONG_S), [Finding::NoSpeech]);
         assert_eq!(
-            findings(&e, &s(900, 300, 3)),
+            findings(&e, &s(900, 300, 3), LONG_S),
             [Finding::MostlyNotSpeech {
                 speech_share: 300.0 / 900.0
             }]
         );
-        assert_eq!(findings(&e, &s(900, 700, 8)), []);
+        assert_eq!(findings(&e, &s(900, 700, 8), LONG_S), []);
+        // No speech in a snippet shorter than the decision's window: too short, not no speech.
+        let short = findings(&e, &s(3, 0, 0), 0.03);
+        assert_eq!(short, [Finding::TooShort { length_s: 0.03 }]);
+        assert!(
+            short[0].message().contains("only 0.03 s long"),
+            "{}",
+            short[0].message()
+        );
+        // Speech heard in a short input is no finding.
+        assert_eq!(findings(&e, &s(30, 25, 1), 0.3), []);
         assert!(Finding::Antiphase.message().contains("render one channel"));
     }
 
@@ -270,7 +353,7 @@ mod tests {
             speech_phrases: 1,
         };
         // Peak -46 dBFS: quiet; the speech finding it causes is left out.
-        let quiet = findings(&tone(0.005), &speech);
+        let quiet = findings(&tone(0.005), &speech, LONG_S);
         assert!(
             matches!(quiet[..], [Finding::Quiet { peak_db }] if (peak_db + 46.0).abs() < 0.1),
             "{quiet:?}"
@@ -281,7 +364,7 @@ mod tests {
             quiet[0].message()
         );
         // Peak -12 dBFS: the speech finding as before.
-        assert_eq!(findings(&tone(0.25), &speech), [Finding::NoSpeech]);
+        assert_eq!(findings(&tone(0.25), &speech, LONG_S), [Finding::NoSpeech]);
     }
 
     #[test]
@@ -296,18 +379,47 @@ mod tests {
         // 16-bit TPDF dither of silence: one or two steps (-90.3, -84.3 dBFS); all zeros.
         let step = STEP_16_BIT as f32;
         for (peak, said) in [(step, "peak -90 dBFS"), (2.0 * step, "peak -84 dBFS")] {
-            let found = findings(&tone(peak), &speech);
+            let found = findings(&tone(peak), &speech, LONG_S);
             assert!(matches!(found[..], [Finding::NoSignal { .. }]), "{found:?}");
             let m = found[0].message();
             assert!(m.contains("holds no signal (silence or dither only") && m.contains(said));
             assert!(!m.contains("normalise it"), "{m}");
             assert_eq!(found[0].short(), "no signal");
         }
-        let zeros = findings(&tone(0.0), &speech);
+        let zeros = findings(&tone(0.0), &speech, LONG_S);
         assert!(matches!(zeros[..], [Finding::NoSignal { .. }]), "{zeros:?}");
         assert!(zeros[0].message().contains("every sample is zero"));
+        // Noise-shaped dither (white noise differenced twice: its power rises 12 dB per octave
+        // to the Nyquist frequency) peaking at -59 dBFS holds no signal; a voice-band tone at
+        // that peak is quiet.
+        let mut seed = 1u32;
+        let white: Vec<f32> = (0..48_000)
+            .map(|_| {
+                seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                (seed >> 8) as f32 / (1u32 << 24) as f32 - 0.5
+            })
+            .collect();
+        let shaped: Vec<f32> = white.windows(3).map(|w| w[2] - 2.0 * w[1] + w[0]).collect();
+        let top = shaped.iter().fold(0.0f32, |m, v| m.max(v.abs()));
+        let at = 10f32.powf(-59.0 / 20.0) / top;
+        let shaped: Vec<f32> = shaped.iter().map(|v| v * at).collect();
+        let mut e = ChannelEnergy::new(48_000.0);
+        e.add(std::slice::from_ref(&shaped), shaped.len());
+        let found = findings(&e, &speech, LONG_S);
+        assert!(
+            matches!(found[..], [Finding::NoSignal { shaped: true, .. }]),
+            "{found:?}"
+        );
+        assert!(found[0]
+            .message()
+            .contains("noise-shaped dither only: peak -59 dBFS"));
+        let voice_band = findings(&tone(10f32.powf(-59.0 / 20.0)), &speech, LONG_S);
+        assert!(
+            matches!(voice_band[..], [Finding::Quiet { .. }]),
+            "{voice_band:?}"
+        );
         // Eight steps (-72 dBFS) over the silence level: quiet, not nothing.
-        let faint = findings(&tone(8.0 * step), &speech);
+        let faint = findings(&tone(8.0 * step), &speech, LONG_S);
         assert!(matches!(faint[..], [Finding::Quiet { .. }]), "{faint:?}");
     }
 }

@@ -42,7 +42,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 pub use error::{install_interrupt_handler, RenderError, EXIT_INTERRUPTED, INTERRUPTED};
-pub use pipeline::{describe_voice, lossy_note, run, RenderSummary};
+pub use pipeline::{describe_band_limit, describe_voice, lossy_note, run, RenderSummary};
 pub use plan::{output_container, Args};
 
 /// Runs `pneuma render` from parsed arguments: one input with a progress bar when a terminal
@@ -131,6 +131,9 @@ fn print_summary(input: &Path, s: &RenderSummary) {
     // The voice is worth a line only where a breath was inserted (not with --no-breaths).
     if !s.breaths.is_empty() {
         eprintln!("  {}", describe_voice(s.voice, &s.breaths));
+        if let Some(line) = describe_band_limit(s.band_limit_hz) {
+            eprintln!("  {line}");
+        }
     }
     for w in s.leftovers.warnings() {
         eprintln!("warning: {w}");

@@ -63,6 +63,9 @@ pub struct RenderSummary {
     pub leftovers: Cleared,
     /// Where the inserted breaths took their voice from, at the end of the render.
     pub voice: VoiceStatus,
+    /// The low-pass corner the inserted breaths passed through to stay inside the recording's
+    /// bandwidth, Hz, at the end of the render (`None`: no limit).
+    pub band_limit_hz: Option<f64>,
 }
 
 /// The summary's line on the breath voice, given the breaths inserted (those played from the
@@ -101,6 +104,17 @@ fn describe_voice_status(voice: VoiceStatus) -> String {
             )
         }
     }
+}
+
+/// The summary's line on the breaths' band limit, when there was one.
+pub fn describe_band_limit(band_limit_hz: Option<f64>) -> Option<String> {
+    band_limit_hz.map(|hz| {
+        format!(
+            "breaths low-passed at {:.1} kHz, where the recording's sound ends (a call or a \
+             line converted up)",
+            hz / 1000.0
+        )
+    })
 }
 
 /// What a lossy input became, for the summary: `" (MP3 input written as FLAC: …)"`.
@@ -175,7 +189,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
     );
     let channels = info.channels as usize;
     let mut interleaved = Vec::with_capacity(BLOCK_FRAMES * input_channels.0);
-    let mut energy = ChannelEnergy::default();
+    let mut energy = ChannelEnergy::new(info.sample_rate_hz as f64);
     let mut pass = AudioPass::new(audio, &outputs.audio, info, progress);
     offline::stream(
         &mut engine,
@@ -204,8 +218,10 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
                 .into(),
         ));
     }
-    let found = findings(&energy, &engine.speech_summary());
+    let input_s = pass.written as f64 / info.sample_rate_hz as f64;
+    let found = findings(&energy, &engine.speech_summary(), input_s);
     let voice = engine.voice_status();
+    let band_limit_hz = engine.breath_band_limit_hz();
     let (controls, bvh, kept, midi, osc) = sinks;
     let osc = outputs
         .osc
@@ -261,6 +277,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         osc,
         leftovers,
         voice,
+        band_limit_hz,
     })
 }
 
@@ -655,6 +672,13 @@ mod tests {
         );
         let none = describe_voice(VoiceStatus::BuiltIn, &[breath(BreathKind::Mixed)]);
         assert!(none.starts_with("breath voice: built-in"), "{none}");
+    }
+
+    #[test]
+    fn the_band_limit_line_gives_the_corner_in_khz_and_only_with_a_limit() {
+        assert_eq!(describe_band_limit(None), None);
+        let line = describe_band_limit(Some(7_612.5)).expect("a limit gets a line");
+        assert!(line.starts_with("breaths low-passed at 7.6 kHz"), "{line}");
     }
 
     #[test]

@@ -56,6 +56,7 @@ mod schedule;
 mod speech_track;
 mod stereo;
 mod stream_start;
+mod timing;
 pub mod voice_learning;
 mod voice_track;
 
@@ -66,6 +67,7 @@ pub use speech_track::SpeechSummary;
 pub use voice_track::{BreathVoiceMode, VoiceStatus};
 
 use crate::analysis::{Analyzer, FeatureFrame};
+use crate::breathing::band_limit;
 use crate::breathing::learned::LearnedVoice;
 use crate::breathing::reference::ReferenceVoice;
 use crate::breathing::{BreathSample, BreathVoice, SampleSlot};
@@ -85,6 +87,7 @@ use replay::{AnalysisRecord, Replay};
 use schedule::{Pending, Queue, Schedule};
 use speech_track::SpeechTrack;
 use stereo::StereoImage;
+use timing::Timing;
 use voice_track::{VoiceChoice, VoiceTrack};
 
 /// A sample as the engine hears it: a non-finite one (NaN, ±∞) as 0.
@@ -153,32 +156,6 @@ struct Stream {
     completed: Vec<(FeatureFrame, usize)>,
     state: StreamState,
     lost: Lost,
-}
-
-/// A stream's delays, in samples at its rate, from its settings and its analysis's delay.
-#[derive(Debug, Clone, Copy)]
-struct Timing {
-    /// The lookahead (lookahead mode), 0 in live mode.
-    latency: usize,
-    /// Silence to feed after the input so every frame of it is emitted and every breath
-    /// scheduled in it has played: the latency, the analysis delay and one frame.
-    tail: usize,
-}
-
-impl Timing {
-    fn of(c: &EngineConfig, sample_rate_hz: f64, analysis_latency_s: f64) -> Self {
-        let latency = match c.placement.mode {
-            PlacementMode::Lookahead => {
-                (c.placement.effective_lookahead_s() as f64 * sample_rate_hz).round() as usize
-            }
-            PlacementMode::Live => 0,
-        };
-        let tail = latency
-            + (analysis_latency_s * sample_rate_hz).ceil() as usize
-            + (sample_rate_hz / c.analysis.frame_rate_hz).ceil() as usize
-            + 1;
-        Self { latency, tail }
-    }
 }
 
 /// What [`Engine::reset`] clears at the stream level (the parts clear their own).
@@ -542,6 +519,14 @@ impl Engine {
         self.stream
             .as_ref()
             .map_or_else(SpeechSummary::default, |s| s.speech.summary())
+    }
+
+    /// The corner of the low-pass every inserted breath passes through to stay inside the
+    /// recording's bandwidth (a call converted up, a telephone line), Hz, as it stands now;
+    /// `None` without a limit, before it is read, or before `prepare` ([`band_limit`]).
+    pub fn breath_band_limit_hz(&self) -> Option<f64> {
+        let s = self.stream.as_ref()?;
+        band_limit::corner_hz(s.voice.upper_edge_hz(), s.sample_rate_hz)
     }
 
     /// The prepared sample rate.

@@ -87,14 +87,18 @@ fn breaths_above_db(x: &[f32], r: &Rendered, first_offset_s: f64) -> Vec<f64> {
         .collect()
 }
 
+/// `x` (speech after 0.6 s) over a room's full-band floor, 30 dB under the speech.
+fn over_room(x: &[f32]) -> Vec<f32> {
+    let lead = (0.6 * f64::from(RATE_HZ)) as usize;
+    let speech_rms = pneuma_core::analysis::rms(&x[lead..]);
+    let floor = signals::white_noise(x.len(), speech_rms * 10f64.powf(-1.5), 5);
+    x.iter().zip(&floor).map(|(a, b)| a + b).collect()
+}
+
 #[test]
 fn breaths_in_speech_converted_up_from_16_khz_stay_under_its_band_edge() {
     let (converted, spans) = converted();
-    // The same speech over a room's full-band floor, 30 dB under the speech.
-    let lead = (0.6 * f64::from(RATE_HZ)) as usize;
-    let speech_rms = pneuma_core::analysis::rms(&converted[lead..]);
-    let floor = signals::white_noise(converted.len(), speech_rms * 10f64.powf(-1.5), 5);
-    let full: Vec<f32> = converted.iter().zip(&floor).map(|(a, b)| a + b).collect();
+    let full = over_room(&converted);
     let limited = breaths_above_db(&converted, &render(&converted), spans[0].1);
     let open = breaths_above_db(&full, &render(&full), spans[0].1);
     assert!(
@@ -129,4 +133,19 @@ fn band_limited_breaths_are_the_same_for_any_partition_and_never_allocate() {
     let (breaths, n) = streamed_watched(&mut engine(), &x, |_| {});
     assert!(breaths >= 3, "{breaths} breaths");
     assert_eq!(n, 0, "{n} allocations");
+}
+
+#[test]
+fn the_engine_tells_the_band_limit_it_puts_on_breaths_and_none_over_a_full_band_room() {
+    let (converted, _) = converted();
+    let mut e = engine();
+    assert_eq!(e.breath_band_limit_hz(), None, "nothing heard yet");
+    offline::render(&mut e, std::slice::from_ref(&converted), &[1024]);
+    let hz = e
+        .breath_band_limit_hz()
+        .expect("speech from 16 kHz has a limit");
+    assert!((7_000.0..8_000.0).contains(&hz), "{hz} Hz");
+    let mut e = engine();
+    offline::render(&mut e, &[over_room(&converted)], &[1024]);
+    assert_eq!(e.breath_band_limit_hz(), None);
 }
