@@ -411,7 +411,7 @@ impl Engine {
                 }),
                 sample_rate_hz,
                 frame_rate_hz,
-                c.phrase.silence_db,
+                (c.phrase.silence_db, c.phrase.activity_margin_db),
             ),
             breaths: BreathTrack::new(voice, sample_rate_hz, latency, live, max_block),
             cycle: CycleTrack::new(&c.breathing.map(), sample_rate_hz, frame_rate_hz, live),
@@ -727,7 +727,7 @@ impl Stream {
                 self.voice.push(&self.mono[fed..=i]);
             }
             fed = i + 1;
-            self.speech.frame(&f);
+            self.speech.frame(&f, self.tracker.noise_floor_db());
             self.on_frame(config, breath_voice, &f, base + i as u64, i, channels);
         }
         self.speech.push(&self.mono[fed..n]);

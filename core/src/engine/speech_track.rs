@@ -40,7 +40,8 @@ pub(crate) const SILERO_SHOWS_SPEECH_S: f64 = 0.15;
 pub struct SpeechSummary {
     /// Analysis frames.
     pub frames: u64,
-    /// Frames with sound (above the phrase tracker's silence level).
+    /// Frames with sound: above the phrase tracker's silence level and standing its activity
+    /// margin over its noise floor (a steady room or hiss under a voice is no sound here).
     pub sound_frames: u64,
     /// Frames the decision calls speech.
     pub speech_frames: u64,
@@ -74,6 +75,8 @@ pub(crate) struct SpeechTrack {
     detector: Option<SpeechDetector>,
     threshold: f32,
     silence_db: f32,
+    /// How far over the noise floor a frame counts as sound in the summary, dB.
+    sound_margin_db: f32,
     recent: RecentSpeech,
     /// Silero's probability of the same frames.
     recent_silero: RecentSpeech,
@@ -98,12 +101,13 @@ struct SpeechTrackState {
 
 impl SpeechTrack {
     /// A track for a stream at `sample_rate_hz` with frames at `frame_rate_hz` judging with
-    /// `model`; `None` (the decision off) calls everything speech. Allocates.
+    /// `model`; `None` (the decision off) calls everything speech. Its summary counts frames
+    /// over `silence_db` and `sound_margin_db` over the noise floor as sound. Allocates.
     pub(crate) fn new(
         model: Option<SpeechModel>,
         sample_rate_hz: f64,
         frame_rate_hz: f64,
-        silence_db: f32,
+        (silence_db, sound_margin_db): (f32, f32),
     ) -> Self {
         let threshold = model
             .as_ref()
@@ -112,6 +116,7 @@ impl SpeechTrack {
             detector: model.map(|m| SpeechDetector::new(m, sample_rate_hz, frame_rate_hz)),
             threshold,
             silence_db,
+            sound_margin_db,
             recent: RecentSpeech::new(KEPT_S, frame_rate_hz),
             recent_silero: RecentSpeech::new(KEPT_S, frame_rate_hz),
             recent_voiced: RecentSpeech::new(KEPT_S, frame_rate_hz),
@@ -143,9 +148,10 @@ impl SpeechTrack {
         }
     }
 
-    /// The next analysis frame (after the samples that completed it): its speech probability
-    /// (1 when the decision is off).
-    pub(crate) fn frame(&mut self, f: &FeatureFrame) -> f32 {
+    /// The next analysis frame (after the samples that completed it), with the phrase
+    /// tracker's noise floor before it (dBFS, voice band): its speech probability (1 when the
+    /// decision is off).
+    pub(crate) fn frame(&mut self, f: &FeatureFrame, floor_db: f32) -> f32 {
         let (p, silero_p) = match &mut self.detector {
             Some(d) => {
                 let s = d.frame(f.voiced, f.rms_db);
@@ -167,7 +173,7 @@ impl SpeechTrack {
         }
         let s = &mut self.state.summary;
         s.frames += 1;
-        if f.rms_db > self.silence_db {
+        if f.rms_db > self.silence_db && f.band_db >= floor_db + self.sound_margin_db {
             s.sound_frames += 1;
             s.speech_frames += u64::from(p >= self.threshold);
         }

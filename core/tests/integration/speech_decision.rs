@@ -545,3 +545,32 @@ fn any_block_partition_gives_the_same_output_with_the_decision_in_place() {
         }
     }
 }
+
+/// Share of the frames with sound that the decision calls speech.
+fn speech_share(s: &SpeechSummary) -> f64 {
+    s.speech_frames as f64 / s.sound_frames.max(1) as f64
+}
+
+#[test]
+fn a_steady_hiss_around_one_sentence_is_no_sound_but_music_after_it_is() {
+    let (speech, _) = phrases(&PAUSES);
+    let speech_rms = pneuma_core::analysis::rms(&speech[n(0.6)..]);
+    // The sentence with 8 s of room before and after it, all over white noise 40 dB under.
+    let mut hissed = vec![0.0f32; n(8.0)];
+    hissed.extend(&speech);
+    hissed.extend(std::iter::repeat_n(0.0, n(8.0)));
+    let hiss = test_signals::white_noise(hissed.len(), speech_rms * 0.01, 91);
+    for (x, h) in hissed.iter_mut().zip(&hiss) {
+        *x += h;
+    }
+    // The sentence, then 28 s of plucked chords at about its level.
+    let mut with_music = speech.clone();
+    with_music.extend(plucked_chords());
+    with_music.extend(plucked_chords());
+    for mode in MODES {
+        let (_, s) = render(mode, &hissed);
+        assert!(speech_share(&s) > 0.6, "hiss, {mode:?}: {s:?}");
+        let (_, s) = render(mode, &with_music);
+        assert!(speech_share(&s) < 0.4, "music, {mode:?}: {s:?}");
+    }
+}
