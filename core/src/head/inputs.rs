@@ -11,6 +11,12 @@
 //!   input is the mean pose keeps that mean pose on any voice. The means start from the first
 //!   frames heard (no prior) and then forget with [`CENTRING_TIME_S`]. In a long silence the
 //!   unvoiced mean settles on the silence's level, and the model sees an ordinary pause level.
+//!   Another voice (an interview's guest, a character voice) is a new speaker: when the mean
+//!   of the last [`RECENT_TIME_S`] of voiced frames lies [`NEW_SPEAKER_ST`] from the running
+//!   mean f0 (then the voiced level's mean too), or [`NEW_SPEAKER_DB`] from a level's (voiced,
+//!   or the pauses' after a long silence), that mean starts again, as at a stream's start,
+//!   instead of carrying the last voice's register or room into the new one's head for half a
+//!   minute.
 //! - [`InputKind::SpeakerMedian`] (older models): the analyzer's `f0_st` (around the running
 //!   median f0, starting from a 150 Hz prior) and `level_db` (around the speech level, for
 //!   every frame). A voice whose mean lies off its median, the prior's pull in a short clip,
@@ -23,6 +29,15 @@ use crate::analysis::FeatureFrame;
 /// the analyzer's speaker statistics forget over 30 s of speech too
 /// ([`crate::analysis::SpeakerNormConfig`]).
 pub const CENTRING_TIME_S: f64 = 30.0;
+
+/// Time constant of the recent means that tell a new speaker, seconds of voiced frames.
+pub const RECENT_TIME_S: f64 = 2.0;
+/// A recent mean f0 this far from the running mean is a new speaker, semitones: half an
+/// octave. A speaker's phrases wander 1–3 semitones around their mean; men's and women's
+/// voices lie 8–12 apart.
+pub const NEW_SPEAKER_ST: f64 = 6.0;
+/// A recent voiced level this far from the running mean is a new speaker (or microphone), dB.
+pub const NEW_SPEAKER_DB: f64 = 10.0;
 
 /// The normalisation names of [`InputKind::SpeakerMean`] in a model file.
 pub const SPEAKER_MEAN_NAMES: (&str, &str) = ("st_re_speaker_mean", "db_re_speaker_mean");
@@ -72,21 +87,44 @@ pub fn counts_as_voiced(frame: &FeatureFrame) -> bool {
         && frame.level_db.is_finite()
 }
 
-/// A running mean that starts as the plain mean of the values seen and then forgets with a
-/// time constant.
+/// A mean that starts as the plain mean of the values seen and then forgets with `time_s`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-struct RunningMean {
+struct Forgetting {
     mean: f64,
     count: f64,
 }
 
-impl RunningMean {
-    /// Adds `x` and returns `x` minus the mean including it.
-    fn centre(&mut self, x: f64, frame_rate_hz: f64) -> f64 {
+impl Forgetting {
+    /// Adds `x`; the mean including it.
+    fn add(&mut self, x: f64, time_s: f64, frame_rate_hz: f64) -> f64 {
         self.count += 1.0;
-        let a = (1.0 / self.count).max(1.0 / (CENTRING_TIME_S * frame_rate_hz));
+        let a = (1.0 / self.count).max(1.0 / (time_s * frame_rate_hz));
         self.mean += a * (x - self.mean);
-        x - self.mean
+        self.mean
+    }
+}
+
+/// The running mean ([`CENTRING_TIME_S`]) of a speaker's input, which starts again (as at a
+/// stream's start, from the frame that told it) when the recent mean ([`RECENT_TIME_S`]) lies
+/// `new_speaker` or more from it.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct RunningMean {
+    long: Forgetting,
+    recent: Forgetting,
+}
+
+impl RunningMean {
+    /// Adds `x` and returns `x` minus the mean including it, and whether it started again.
+    fn centre(&mut self, x: f64, frame_rate_hz: f64, new_speaker: f64) -> (f64, bool) {
+        let recent = self.recent.add(x, RECENT_TIME_S, frame_rate_hz);
+        let mean = self.long.add(x, CENTRING_TIME_S, frame_rate_hz);
+        let again = (recent - mean).abs() >= new_speaker;
+        if again {
+            *self = Self::default();
+            self.recent.add(x, RECENT_TIME_S, frame_rate_hz);
+            self.long.add(x, CENTRING_TIME_S, frame_rate_hz);
+        }
+        (x - self.long.mean, again)
     }
 }
 
@@ -137,15 +175,21 @@ impl InputTracker {
             }
             InputKind::SpeakerMean if voiced => {
                 let st = super::metrics::f0_semitones(frame.f0_hz as f64);
-                (
-                    self.f0.centre(st, frame_rate_hz),
-                    self.voiced_level.centre(frame.rms_db as f64, frame_rate_hz),
-                )
+                let (f0, new_voice) = self.f0.centre(st, frame_rate_hz, NEW_SPEAKER_ST);
+                // A new voice is new in its level too.
+                if new_voice {
+                    self.voiced_level = RunningMean::default();
+                }
+                let level =
+                    self.voiced_level
+                        .centre(frame.rms_db as f64, frame_rate_hz, NEW_SPEAKER_DB);
+                (f0, level.0)
             }
             InputKind::SpeakerMean if frame.rms_db.is_finite() => (
                 0.0,
                 self.unvoiced_level
-                    .centre(frame.rms_db as f64, frame_rate_hz),
+                    .centre(frame.rms_db as f64, frame_rate_hz, NEW_SPEAKER_DB)
+                    .0,
             ),
             InputKind::SpeakerMean => (0.0, f64::NEG_INFINITY),
         };
@@ -233,6 +277,67 @@ mod tests {
         let nan = t.next(&frame(false, 0.0, f32::NAN), 120.0);
         assert!(!nan.voiced && nan.level_db == mean_norm().level_db_range[0]);
         assert_eq!(t, before);
+    }
+
+    /// Mean f0 and level inputs over `seconds` of a voice at `f0_hz` and `rms_db` (voiced
+    /// 60 % of the frames, pauses at `pause_db`), after `t` has heard what came before.
+    fn voice_means(
+        t: &mut InputTracker,
+        seconds: f64,
+        (f0_hz, rms_db, pause_db): (f32, f32, f32),
+    ) -> [f64; 3] {
+        let (mut sums, mut counts) = ([0.0; 3], [0.0; 3]);
+        for i in 0..(seconds * 120.0) as usize {
+            // Intonation: ±2 semitones over a second, ±3 dB.
+            let swing = ((i % 120) as f32 / 120.0 * std::f32::consts::TAU).sin();
+            let voiced = i % 100 < 60;
+            let f = if voiced {
+                frame(
+                    true,
+                    f0_hz * 2f32.powf(2.0 * swing / 12.0),
+                    rms_db + 3.0 * swing,
+                )
+            } else {
+                frame(false, 0.0, pause_db + swing)
+            };
+            let x = t.next(&f, 120.0);
+            let k = if voiced { [0, 1] } else { [2, 2] };
+            sums[k[0]] += if voiced { x.f0_st } else { x.level_db };
+            sums[1] += if voiced { x.level_db } else { 0.0 };
+            counts[k[0]] += 1.0;
+            counts[1] += if voiced { 1.0 } else { 0.0 };
+        }
+        std::array::from_fn(|k| sums[k] / counts[k])
+    }
+
+    #[test]
+    fn a_new_voice_is_centred_within_seconds_not_half_a_minute() {
+        // A high voice for a minute, then a low, louder one (an octave down, 12 dB up): the
+        // low voice's inputs average near 0 from a few seconds after it starts.
+        let mut t = mean_norm().input_tracker();
+        voice_means(&mut t, 60.0, (220.0, -26.0, -50.0));
+        voice_means(&mut t, 5.0, (110.0, -14.0, -50.0));
+        let after = voice_means(&mut t, 10.0, (110.0, -14.0, -50.0));
+        assert!(after[0].abs() < 1.0 && after[1].abs() < 1.5, "{after:?}");
+        // A speaker's own intonation starts nothing again: the same voice for a minute
+        // averages 0 as before.
+        let mut t = mean_norm().input_tracker();
+        voice_means(&mut t, 10.0, (220.0, -26.0, -50.0));
+        let same = voice_means(&mut t, 50.0, (220.0, -26.0, -50.0));
+        assert!(same.iter().all(|m| m.abs() < 0.2), "{same:?}");
+    }
+
+    #[test]
+    fn pauses_after_a_long_silence_are_ordinary_pauses_within_seconds() {
+        // Speech, 25 s of digital silence, speech again: its pauses (the room, 70 dB over the
+        // silence) read as ordinary pause levels within seconds, not 70 dB loud for half a
+        // minute.
+        let mut t = mean_norm().input_tracker();
+        voice_means(&mut t, 30.0, (220.0, -26.0, -50.0));
+        voice_means(&mut t, 25.0, (0.0, -120.0, -120.0));
+        voice_means(&mut t, 5.0, (110.0, -26.0, -50.0));
+        let after = voice_means(&mut t, 10.0, (110.0, -26.0, -50.0));
+        assert!(after[2].abs() < 1.5, "{after:?}");
     }
 
     #[test]
