@@ -160,6 +160,14 @@ pub enum SpeakError {
         /// What went wrong.
         reason: String,
     },
+    /// espeak-ng does not know the voice asked for (said once, in our words: its own message
+    /// is left out).
+    #[error(
+        "espeak-ng has no voice `{0}`: `espeak-ng --voices` lists the voices it has (give \
+             one of their names or languages, e.g. --voice en-us), or leave --voice out for its \
+             default"
+    )]
+    UnknownVoice(String),
     /// A WAV file (TTS output or breath sample) could not be read.
     #[error(transparent)]
     Audio(#[from] ReadError),
@@ -343,17 +351,15 @@ fn synthesize(
         .wait_with_output()
         .map_err(|e| failed(e.to_string()))?;
     if !out.status.success() {
-        let hint = match (tts, voice) {
-            (Tts::Espeak, Some(v)) => {
-                format!(" (is `{v}` an espeak-ng voice? `espeak-ng --voices` lists them)")
+        let said = String::from_utf8_lossy(&out.stderr);
+        // espeak-ng's only failure that names the voice ("The specified espeak-ng voice does
+        // not exist"): ours says it once, with what to do.
+        if let (Tts::Espeak, Some(v)) = (tts, voice) {
+            if said.to_lowercase().contains("voice") {
+                return Err(SpeakError::UnknownVoice(v.to_owned()));
             }
-            _ => String::new(),
-        };
-        return Err(failed(format!(
-            "{}: {}{hint}",
-            out.status,
-            String::from_utf8_lossy(&out.stderr).trim()
-        )));
+        }
+        return Err(failed(format!("{}: {}", out.status, said.trim())));
     }
     Ok(read_mono(&wav)?)
 }
