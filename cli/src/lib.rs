@@ -4,7 +4,9 @@
 
 pub mod analyze;
 pub mod audio_out;
+pub mod bvh_out;
 pub mod markers;
+pub mod midi_out;
 pub mod mp3_out;
 pub mod options;
 pub mod osc_out;

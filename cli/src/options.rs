@@ -7,7 +7,7 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use pneuma_core::settings::{analysis, breathing, placement, Setting, SettingError, Unit};
+use pneuma_core::settings::{analysis, breathing, output, placement, Setting, SettingError, Unit};
 
 /// A command-line option that gives one setting of core's table
 /// ([`pneuma_core::settings`]), typed in `unit` (`--min-pause-ms` gives `min_pause_s` in
@@ -30,26 +30,19 @@ impl SettingFlag {
 
     /// The help text: the table's help, its range and default in the option's unit.
     pub fn help(&self) -> String {
-        self.help_with_default(&self.setting.default_text(self.unit))
+        table_help(self.setting, self.unit)
     }
 
     /// The help text with the default in words (`the preset's`).
     pub fn help_with_default(&self, default: &str) -> String {
-        format!(
-            "{} ({}; default {default})",
-            self.setting.help,
-            self.setting.range_text(self.unit)
-        )
+        help_text(self.setting.help, self.setting, self.unit, default)
     }
 
     /// The help text with `what` in place of the table's help (a command that uses the setting
-    /// for less than the table says), the table's range and default after it.
+    /// for less, or more, than the table says), the table's range and default after it.
     pub fn help_saying(&self, what: &str) -> String {
-        format!(
-            "{what} ({}; default {})",
-            self.setting.range_text(self.unit),
-            self.setting.default_text(self.unit)
-        )
+        let default = self.setting.default_text(self.unit);
+        help_text(what, self.setting, self.unit, &default)
     }
 
     /// The table's default in the option's unit (for clap's `default_value_t`).
@@ -66,6 +59,18 @@ impl SettingFlag {
             .map(|()| v)
             .map_err(|e| render_for(&[self], &e))
     }
+}
+
+/// The help of an option that gives `setting` in `unit` as it is: the table's help, its range
+/// and its default.
+pub fn table_help(setting: &Setting, unit: Unit) -> String {
+    help_text(setting.help, setting, unit, &setting.default_text(unit))
+}
+
+/// `what` with the range of `setting` in `unit` and `default` after it: every option's help
+/// that comes from the table has this shape.
+fn help_text(what: &str, setting: &Setting, unit: Unit, default: &str) -> String {
+    format!("{what} ({}; default {default})", setting.range_text(unit))
 }
 
 /// `--breath-mouth` (render, speak).
@@ -85,6 +90,18 @@ pub static FRAME_RATE: SettingFlag = SettingFlag {
     setting: &analysis::FRAME_RATE_HZ,
     unit: Unit::Hertz,
 };
+/// `--frame-rate`'s help in `render` and `speak`, where the rate is the analysis' clock too:
+/// another rate may move breaths, which `--bvh-fps` never does.
+pub fn frame_rate_help() -> String {
+    format!(
+        "{}: the rate of the controls CSV, MIDI, OSC and BVH, and the clock the analysis and the \
+         breath placement run on, so another rate can move, add or drop breaths in the audio. \
+         For a scene's frame rate (a BVH at 24 fps) keep it and give --bvh-fps, which \
+         resamples only the BVH",
+        FRAME_RATE.help_saying("Analysis and control frames per second")
+    )
+}
+
 /// `--f0-min` (analyze).
 pub static F0_MIN: SettingFlag = SettingFlag {
     flag: "--f0-min",
@@ -134,8 +151,15 @@ pub static LOUDNESS: SettingFlag = SettingFlag {
     unit: Unit::None,
 };
 
+/// `--midi-head-range-deg` (render, speak).
+pub static MIDI_HEAD_RANGE: SettingFlag = SettingFlag {
+    flag: "--midi-head-range-deg",
+    setting: &output::CC_HEAD_RANGE_DEG,
+    unit: Unit::Degrees,
+};
+
 /// Every option that gives a setting of the table.
-pub static SETTING_FLAGS: [&SettingFlag; 9] = [
+pub static SETTING_FLAGS: [&SettingFlag; 10] = [
     &FRAME_RATE,
     &F0_MIN,
     &F0_MAX,
@@ -145,6 +169,7 @@ pub static SETTING_FLAGS: [&SettingFlag; 9] = [
     &MODE,
     &RATE,
     &LOUDNESS,
+    &MIDI_HEAD_RANGE,
 ];
 
 /// `error` with every setting that one of `flags` gives named as that option, in its unit

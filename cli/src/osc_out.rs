@@ -35,12 +35,7 @@ pub struct OscArgs {
 
 /// The table's help, range and default of `setting`.
 fn setting_help(setting: &Setting) -> String {
-    format!(
-        "{} ({}; default {})",
-        setting.help,
-        setting.range_text(Unit::None),
-        setting.default_text(Unit::None)
-    )
+    crate::options::table_help(setting, Unit::None)
 }
 
 /// `--osc-port` in the table's range.

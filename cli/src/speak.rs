@@ -13,7 +13,8 @@
 //! does, and varies as it does.
 //!
 //! Writes `DIR/speech.wav` (16-bit mono at the TTS rate), `DIR/speech.controls.csv`,
-//! `DIR/speech.breaths.csv` and `DIR/speech.png`; every file is written atomically.
+//! `DIR/speech.breaths.csv` and `DIR/speech.png`, on request `speech.bvh` and `speech.mid`;
+//! every file is written atomically.
 
 use std::io::{Cursor, Write};
 use std::path::{Path, PathBuf};
@@ -24,7 +25,8 @@ use pneuma_core::breathing::{
     chunk_text, BreathSample, BreathingError, BreathingParams, Chunk, LowLevelParams, Preset,
     SampleSlot,
 };
-use pneuma_core::encode::{breaths_csv, bvh, controls_csv};
+use pneuma_core::encode::sink::{FrameSink as _, Resample, TextSink};
+use pneuma_core::encode::{breaths_csv, controls_csv};
 use pneuma_core::engine::{offline, Engine, EngineConfig, EngineError};
 use pneuma_core::{BreathEvent, ControlFrame};
 use thiserror::Error;
@@ -101,15 +103,16 @@ pub struct Args {
     /// Head-pose model file (JSON); the embedded default model when absent.
     #[arg(long, value_name = "JSON")]
     pub head_model: Option<PathBuf>,
-    /// Control frames per second (the table's `frame_rate_hz`).
-    #[arg(long, help = FRAME_RATE.help(), default_value_t = FRAME_RATE.default_value())]
+    /// Analysis and control frames per second (the table's `frame_rate_hz`; help text:
+    /// [`crate::options::frame_rate_help`]).
+    #[arg(long, help = crate::options::frame_rate_help(), default_value_t = FRAME_RATE.default_value())]
     pub frame_rate: f64,
-    /// Also write `speech.bvh` (head, neck and chest motion; a 1.8 m skeleton in metres).
-    #[arg(long)]
-    pub bvh: bool,
-    /// Also write `speech.mid`: the MIDI CC lanes the plugin sends, as in `render --midi`.
-    #[arg(long)]
-    pub midi: bool,
+    /// BVH output as in `render` (`--bvh`, `--bvh-fps`).
+    #[command(flatten)]
+    pub bvh: crate::bvh_out::BvhArgs,
+    /// MIDI file output as in `render` (`--midi`, `--midi-14bit`, `--midi-head-range-deg`).
+    #[command(flatten)]
+    pub midi: crate::midi_out::MidiArgs,
     /// OSC output as in `render` (the frames are sent once the files are written).
     #[command(flatten)]
     pub osc: crate::osc_out::OscArgs,
@@ -160,6 +163,14 @@ pub enum SpeakError {
         /// What went wrong.
         reason: String,
     },
+    /// espeak-ng does not know the voice asked for (said once, in our words: its own message
+    /// is left out).
+    #[error(
+        "espeak-ng has no voice `{0}`: `espeak-ng --voices` lists the voices it has (give \
+             one of their names or languages, e.g. --voice en-us), or leave --voice out for its \
+             default"
+    )]
+    UnknownVoice(String),
     /// A WAV file (TTS output or breath sample) could not be read.
     #[error(transparent)]
     Audio(#[from] ReadError),
@@ -343,17 +354,15 @@ fn synthesize(
         .wait_with_output()
         .map_err(|e| failed(e.to_string()))?;
     if !out.status.success() {
-        let hint = match (tts, voice) {
-            (Tts::Espeak, Some(v)) => {
-                format!(" (is `{v}` an espeak-ng voice? `espeak-ng --voices` lists them)")
+        let said = String::from_utf8_lossy(&out.stderr);
+        // espeak-ng's only failure that names the voice ("The specified espeak-ng voice does
+        // not exist"): ours says it once, with what to do.
+        if let (Tts::Espeak, Some(v)) = (tts, voice) {
+            if said.to_lowercase().contains("voice") {
+                return Err(SpeakError::UnknownVoice(v.to_owned()));
             }
-            _ => String::new(),
-        };
-        return Err(failed(format!(
-            "{}: {}{hint}",
-            out.status,
-            String::from_utf8_lossy(&out.stderr).trim()
-        )));
+        }
+        return Err(failed(format!("{}: {}", out.status, said.trim())));
     }
     Ok(read_mono(&wav)?)
 }
@@ -410,6 +419,8 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     }
     crate::options::check_output_folder("-o", &args.out_dir).map_err(SpeakError::Option)?;
     let osc = args.osc.plan().map_err(SpeakError::Option)?;
+    let bvh_fps = args.bvh.fps().map_err(SpeakError::Option)?;
+    let cc_map = args.midi.map().map_err(SpeakError::Option)?;
     let out = |name: &str| args.out_dir.join(name);
     let names = [
         "speech.wav",
@@ -497,24 +508,24 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
             breaths_csv::write_all(&mut w, &breaths)
         })?,
     ];
-    if args.bvh {
+    if args.bvh.wanted() {
+        let (frame_rate, fps) = (args.frame_rate, bvh_fps.unwrap_or(args.frame_rate));
         staged.push(write_file(&out("speech.bvh"), |w| {
-            let mut text = bvh::header(frames.len(), args.frame_rate);
+            // At the BVH's rate: the frame nearest each instant, as `render` writes it.
+            let n =
+                Resample::<TextSink<&mut dyn Write>>::count(frames.len() as u64, frame_rate, fps);
+            let mut bvh = Resample::new(TextSink::bvh(w, n as usize, fps)?, frame_rate, fps, n);
             for f in &frames {
-                bvh::push_control(&mut text, f);
+                bvh.frame(f, 0);
             }
-            w.write_all(text.as_bytes())
+            bvh.into_inner().into_inner().map(drop)
         })?);
     }
-    if args.midi {
+    if args.midi.wanted() {
         staged.push(write_file(&out("speech.mid"), |w| {
-            use pneuma_core::encode::sink::FrameSink as _;
             let cursor = std::io::Cursor::new(Vec::new());
-            let mut midi = pneuma_core::encode::midi_file::MidiFileSink::new(
-                cursor,
-                pneuma_core::encode::midi_cc::CcMap::default(),
-            )
-            .map_err(std::io::Error::other)?;
+            let mut midi = pneuma_core::encode::midi_file::MidiFileSink::new(cursor, cc_map)
+                .map_err(std::io::Error::other)?;
             for f in &frames {
                 midi.frame(f, 0);
             }
@@ -541,7 +552,6 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     commit_all(staged).map_err(|(path, source)| SpeakError::Output { path, source })?;
     let osc = match osc {
         Some(plan) => {
-            use pneuma_core::encode::sink::FrameSink as _;
             let mut sender = plan.open().map_err(SpeakError::Option)?;
             for f in &frames {
                 sender.frame(f, 0);

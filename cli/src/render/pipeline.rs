@@ -179,7 +179,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
             outputs.bvh_fps.unwrap_or(frame_rate_hz),
         )?,
         Kept::new(frames_total),
-        midi_sink(outputs.files.as_ref())?,
+        midi_sink(outputs.files.as_ref(), outputs.cc_map)?,
         outputs
             .osc
             .as_ref()
@@ -311,13 +311,17 @@ fn bvh_sink(
 /// The BVH's sink: the control frames at the BVH's rate.
 type Bvh = Resample<TextSink<Output>>;
 
-/// The MIDI file with `--midi`: the plugin's CC map, streaming into its file.
-fn midi_sink(files: Option<&FolderFiles>) -> Result<Option<MidiFileSink<Output>>, RenderError> {
+/// The MIDI file with `--midi`: the plugin's CC map with the resolution and head range asked
+/// for (`map`), streaming into its file.
+fn midi_sink(
+    files: Option<&FolderFiles>,
+    map: CcMap,
+) -> Result<Option<MidiFileSink<Output>>, RenderError> {
     let Some(path) = files.and_then(|f| f.midi.as_ref()) else {
         return Ok(None);
     };
     let o = Output::create(path).map_err(out_err(path))?;
-    MidiFileSink::new(o, CcMap::default())
+    MidiFileSink::new(o, map)
         .map(Some)
         .map_err(|e| midi_err(path, e))
 }

@@ -7,6 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use pneuma_core::breathing::{BreathSample, Preset, SampleSlot};
+use pneuma_core::encode::midi_cc::CcMap;
 use pneuma_core::engine::{Engine, EngineConfig, EngineError, PlacementMode};
 use pneuma_io::{AudioSource, InputFormat, Tags};
 
@@ -112,22 +113,16 @@ pub struct Args {
     /// Seed of every random source.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Control frames per second (the table's `frame_rate_hz`).
-    #[arg(long, help = FRAME_RATE.help(), default_value_t = FRAME_RATE.default_value())]
+    /// Analysis and control frames per second (the table's `frame_rate_hz`; help text:
+    /// [`crate::options::frame_rate_help`]).
+    #[arg(long, help = crate::options::frame_rate_help(), default_value_t = FRAME_RATE.default_value())]
     pub frame_rate: f64,
-    /// Also write `<stem>.bvh` (head, neck and chest motion; a 1.8 m skeleton in metres).
-    #[arg(long)]
-    pub bvh: bool,
-    /// Frames per second of the BVH (1 to 1000; default: --frame-rate). Blender's importer
-    /// plays one BVH frame per scene frame: give the scene's rate (24 by default) so the motion
-    /// keeps the audio's duration.
-    #[arg(long, value_name = "FPS", value_parser = crate::options::number)]
-    pub bvh_fps: Option<f32>,
-    /// Also write `<stem>.mid`: the MIDI CC lanes the plugin sends (its default map: CC 2 lung,
-    /// 16-18 head, 19-23 body, 24 speaking, 25 loudness; channel 1), as a Standard MIDI File
-    /// at 120 BPM so a DAW places each change at its second.
-    #[arg(long)]
-    pub midi: bool,
+    /// BVH output (`--bvh`, `--bvh-fps`).
+    #[command(flatten)]
+    pub bvh: crate::bvh_out::BvhArgs,
+    /// MIDI file output (`--midi`, `--midi-14bit`, `--midi-head-range-deg`).
+    #[command(flatten)]
+    pub midi: crate::midi_out::MidiArgs,
     /// OSC output (`--osc`, `--osc-host`, `--osc-port`, `--osc-format`, `--osc-speed`).
     #[command(flatten)]
     pub osc: crate::osc_out::OscArgs,
@@ -173,10 +168,7 @@ impl Args {
             .map_err(|e| RenderError::Input(format!("--preset: {e}")))?;
         // The options in the user's terms (the option typed, in its unit) against the table's
         // ranges first; the engine checks its own settings again.
-        if let Some(fps) = self.bvh_fps {
-            crate::options::check_range("--bvh-fps", fps, 1.0, 1000.0, "fps")
-                .map_err(RenderError::Input)?;
-        }
+        self.bvh.fps().map_err(RenderError::Input)?;
         let mut c = EngineConfig::default();
         let mut set = |flag: &SettingFlag, value: f64| -> Result<(), RenderError> {
             let v = flag.check(value).map_err(RenderError::Input)?;
@@ -484,6 +476,8 @@ pub struct OutputPlan {
     pub cues: bool,
     /// The BVH's frame rate when `--bvh-fps` is given (else the control frames').
     pub bvh_fps: Option<f64>,
+    /// The MIDI file's CC map (`--midi-14bit`, `--midi-head-range-deg`).
+    pub cc_map: CcMap,
     /// The other files, `None` with `-o -` (only the audio, to standard output).
     pub files: Option<FolderFiles>,
     /// The files named for the stem that this render does not write, removed once it is
@@ -550,10 +544,10 @@ fn check_stdout_options(args: &Args) -> Result<(), RenderError> {
                 .into(),
         ));
     }
-    if args.to_stdout() && (args.midi || args.bvh) {
+    if args.to_stdout() && (args.midi.wanted() || args.bvh.wanted()) {
         return Err(RenderError::Input(
-            "-o - writes only the audio to standard output: drop --midi and --bvh, or give an \
-             output folder"
+            "-o - writes only the audio to standard output: drop the --midi and --bvh options \
+             (--bvh-fps too), or give an output folder"
                 .into(),
         ));
     }
@@ -623,11 +617,11 @@ fn check_input_shape(args: &Args, info: &WavInfo) -> Result<(), RenderError> {
     if channels > pneuma_core::engine::MAX_CHANNELS {
         return Err(EngineError::Channels(channels).into());
     }
-    if args.bvh && !args.to_stdout() && info.frames == 0 {
+    if args.bvh.wanted() && !args.to_stdout() && info.frames == 0 {
         return Err(RenderError::Input(
             "--bvh needs the input's length before the render (the BVH header holds the frame \
              count), and this input does not announce it (a pipe, or a stream of unknown \
-             length): save it to a file first, or drop --bvh"
+             length): save it to a file first, or drop --bvh and --bvh-fps"
                 .into(),
         ));
     }
@@ -716,12 +710,14 @@ impl OutputPlan {
     fn new(args: &Args, input: &Path, container: Container) -> Result<Self, RenderError> {
         let cues = args.markers.contains(&MarkerKind::Cue);
         let osc = args.osc.plan().map_err(RenderError::Input)?;
+        let cc_map = args.midi.map().map_err(RenderError::Input)?;
         if args.to_stdout() {
             return Ok(Self {
                 container,
                 audio: PathBuf::from("-"),
                 cues,
                 bvh_fps: None,
+                cc_map,
                 files: None,
                 leftovers: Vec::new(),
                 keep_leftovers: false,
@@ -742,8 +738,8 @@ impl OutputPlan {
         }
         let wanted = Wanted {
             plot: !args.no_plot,
-            bvh: args.bvh,
-            midi: args.midi,
+            bvh: args.bvh.wanted(),
+            midi: args.midi.wanted(),
             markers: &args.markers,
         };
         let files = FolderFiles::named(&args.output, &stem, wanted);
@@ -762,7 +758,8 @@ impl OutputPlan {
             container,
             audio,
             cues,
-            bvh_fps: args.bvh_fps.map(f64::from),
+            bvh_fps: args.bvh.fps().map_err(RenderError::Input)?,
+            cc_map,
             files: Some(files),
             leftovers,
             keep_leftovers: args.no_overwrite,

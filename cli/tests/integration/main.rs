@@ -6,6 +6,7 @@
 mod support;
 
 mod analyze_cli;
+mod animator_tryout;
 mod formats;
 mod long_render;
 mod mp3_output;

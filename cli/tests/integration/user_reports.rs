@@ -203,20 +203,6 @@ fn a_failed_render_leaves_no_folder_it_created() {
     assert!(dir.path().join("kept").is_dir());
 }
 
-/// The lines of `read_midi.py`: the header line and `(time_s, channel, controller, value)`.
-fn read_midi(python: &Path, file: &Path) -> (String, Vec<(f64, u8, u8, u8)>) {
-    let text = support::python_tool(python, "read_midi.py", &[file]);
-    let mut lines = text.lines();
-    let head = lines.next().expect("header line").to_owned();
-    let ccs = lines
-        .map(|l| {
-            let f: Vec<f64> = l.split(' ').map(|x| x.parse().expect("number")).collect();
-            (f[0], f[1] as u8, f[2] as u8, f[3] as u8)
-        })
-        .collect();
-    (head, ccs)
-}
-
 #[test]
 fn render_midi_is_a_standard_midi_file_of_the_controls() {
     let Some(python) = support::python_tools("render_midi_is_a_standard_midi_file_of_the_controls")
@@ -228,7 +214,7 @@ fn render_midi_is_a_standard_midi_file_of_the_controls() {
     write_wav(&input, (16_000, 1, 16, false), &two_phrases(), 1.0);
     let out = dir.path().join("out");
     assert_ok(&render(&input, &out, &["--no-plot", "--midi"]));
-    let (head, ccs) = read_midi(&python, &out.join("two.mid"));
+    let (head, ccs) = support::read_midi(&python, &out.join("two.mid"));
     assert_eq!(
         head, "0 960 500000 1",
         "format 0, 960 ticks, 120 BPM, one track"
@@ -286,7 +272,7 @@ fn speak_writes_the_midi_file_too() {
         "-q",
     ]);
     assert_ok(&o);
-    let (head, ccs) = read_midi(&python, &dir.path().join("speech.mid"));
+    let (head, ccs) = support::read_midi(&python, &dir.path().join("speech.mid"));
     assert_eq!(head, "0 960 500000 1");
     assert!(
         ccs.iter().any(|c| c.2 == 24 && c.3 == 127),

@@ -227,6 +227,20 @@ pub fn python_tool(python: &Path, script: &str, args: &[&Path]) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
+/// The lines of `read_midi.py`: the header line and `(time_s, channel, controller, value)`.
+pub fn read_midi(python: &Path, file: &Path) -> (String, Vec<(f64, u8, u8, u8)>) {
+    let text = python_tool(python, "read_midi.py", &[file]);
+    let mut lines = text.lines();
+    let head = lines.next().expect("header line").to_owned();
+    let ccs = lines
+        .map(|l| {
+            let f: Vec<f64> = l.split(' ').map(|x| x.parse().expect("number")).collect();
+            (f[0], f[1] as u8, f[2] as u8, f[3] as u8)
+        })
+        .collect();
+    (head, ccs)
+}
+
 /// Two glottal-vowel phrases with one pause between them, 16 kHz mono.
 pub fn two_phrases() -> Vec<f32> {
     let r = 16_000.0;
