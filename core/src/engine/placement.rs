@@ -662,10 +662,11 @@ impl Placement {
             if speech && !in_sound && end_s - start_s >= p.catch_breath_min_s as f64 - 1e-9 {
                 window = Some((start_s, end_s));
             } else if pause.leading && spoken && self.state.group_planned_s <= 0.0 {
-                // Speech from the very start of the stream: the speaker breathed before it.
+                // Speech from the very start of the stream: the speaker breathed before it
+                // (an inspiration shorter than a breath would be a twitch of the controls).
                 let group_s = self.new_group(config, coming_s);
                 let at_s = earliest_s.min(onset_s).max(0.0);
-                let action = if onset_s - at_s >= 2.0 * self.hop_s {
+                let action = if onset_s - at_s >= MIN_BREATH_S {
                     CycleAction::Inspire {
                         length_s: (onset_s - at_s) as f32,
                         group_s,

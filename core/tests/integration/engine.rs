@@ -516,6 +516,27 @@ fn on_stereo_input_the_breath_sits_in_the_voice_image() {
 }
 
 #[test]
+fn speech_from_the_first_frames_starts_breathed_in_without_a_twitch_of_inspiration() {
+    // Speech 0–100 ms into the stream: no room for a breath before it. The controls start
+    // breathed in, or with an inspiration as long as a short breath; never one of a frame or
+    // two (a blink of the mouth and nostrils on VMC and MIDI).
+    for lead_s in [0.0, 0.01, 0.02, 0.05, 0.1] {
+        let (audio, _) = sequence(lead_s, &[1.5, 1.5], &[0.8]);
+        let r = render(&config(), std::slice::from_ref(&audio), &[512]);
+        let first: Vec<Phase> = r.frames.iter().map(|f| f.0.breathing.phase).collect();
+        let inspiring = first
+            .iter()
+            .take_while(|&&p| p == Phase::Inspiration)
+            .count();
+        assert!(
+            inspiring == 0 || inspiring as f64 >= 0.1 * 120.0,
+            "lead {lead_s} s: {inspiring} inspiration frames first: {:?}",
+            &first[..inspiring + 2]
+        );
+    }
+}
+
+#[test]
 fn the_lung_fills_during_inspirations_and_empties_while_speaking() {
     let (audio, spans) = sequence(0.6, &[2.0, 2.0], &[0.9]);
     let r = render(&config(), std::slice::from_ref(&audio), &[512]);
