@@ -112,7 +112,7 @@ impl OscPlan {
             .map_err(|e| format!("--osc-host {}: {e}", self.host))
     }
 
-    /// The summary line of what was sent: `OSC: 1200 bundles (vmc) sent to 127.0.0.1:39539 in
+    /// The summary line of what was sent: `OSC: 1200 bundles (vmc) to 127.0.0.1:39539 in
     /// real time`, and the reason when frames were not sent.
     pub fn describe(&self, stats: &PacedStats) -> String {
         let format = OSC_FORMAT.names()[match self.format {
@@ -120,8 +120,8 @@ impl OscPlan {
             OscFormat::Vmc => 1,
         }];
         let mut line = format!(
-            "OSC: {} ({format}) sent to {}:{} {}",
-            crate::options::count(stats.sent as usize, "bundle"),
+            "OSC: {} ({format}) to {}:{} {}",
+            crate::options::count((stats.sent + stats.failed) as usize, "bundle"),
             self.host.trim(),
             self.port,
             match self.speed {

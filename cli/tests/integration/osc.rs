@@ -1,6 +1,7 @@
 //! `pneuma render --osc` from the outside: a host that is not an address is refused before
-//! anything is rendered, with what to give (the frames themselves are checked against the
-//! plugin's in `tests/tests/integration/cli_osc.rs`).
+//! anything is rendered, with what to give; a port nothing listens on is said in the summary
+//! (the frames themselves are checked against the plugin's in
+//! `tests/tests/integration/cli_osc.rs`).
 
 use std::process::{Command, Stdio};
 
@@ -19,6 +20,32 @@ fn an_osc_host_that_is_not_an_address_stops_the_render_before_it_starts() {
         err.contains("--osc-host `my-avatar-pc` is not an IP address")
             && err
                 .contains("give a numeric address such as 127.0.0.1 or 192.168.1.20, or localhost"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_port_nothing_listens_on_is_said_with_what_to_do() {
+    // A free port: bound, then closed again before the render.
+    let port = std::net::UdpSocket::bind("127.0.0.1:0")
+        .and_then(|s| s.local_addr())
+        .expect("a free port")
+        .port();
+    let dir = tempfile::tempdir().expect("temp");
+    let out = Command::new(env!("CARGO_BIN_EXE_pneuma"))
+        .arg("render")
+        .arg(pneuma_testkit::voice::example_voice_path())
+        .arg("-o")
+        .arg(dir.path())
+        .args(["--no-progress", "--no-plot", "--osc-speed", "max"])
+        .args(["--osc-port", &port.to_string()])
+        .output()
+        .expect("pneuma runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains(&format!("to 127.0.0.1:{port}"))
+            && err.contains("not sent: nothing listens on that port: start the receiver"),
         "{err}"
     );
 }
