@@ -28,13 +28,20 @@ const NO_SPEECH_SHARE: f64 = 0.01;
 /// Less speech than this share of the frames with sound: mostly not speech.
 const MOSTLY_OTHER_SHARE: f64 = 0.5;
 
+/// What to do when the sound is a voice that the speech decision does not take for speech.
+const ANY_VOICE: &str = "if it is a voice all the same (through a voice changer, sung), render \
+     it with --any-sound";
+
 /// Something the user should know about a render.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Finding {
     /// The channels cancel when mixed to mono.
     Antiphase,
     /// No speech was heard (silence, music, noise): no breath was placed.
-    NoSpeech,
+    NoSpeech {
+        /// Phrases of voiced sound were heard (and judged not speech).
+        phrases: bool,
+    },
     /// Speech in only this share of the time with sound.
     MostlyNotSpeech {
         /// Share of the frames with sound that are speech, 0..1.
@@ -100,12 +107,17 @@ impl Finding {
     pub fn message(&self) -> String {
         match self {
             Finding::Antiphase => antiphase_message("render"),
-            Finding::NoSpeech => "no speech found (silence, music or noise): breaths go only \
-                 into the pauses of speech, so none was inserted"
+            Finding::NoSpeech { phrases: true } => format!(
+                "no speech found (silence, music or noise): breaths go only into the pauses of \
+                 speech, so none was inserted; {ANY_VOICE}"
+            ),
+            Finding::NoSpeech { phrases: false } => "no speech found (no voiced sound: \
+                 noise, whispering or other sound): breaths go only into the pauses between phrases \
+                 of voiced speech, so none was inserted"
                 .into(),
             Finding::MostlyNotSpeech { speech_share } => format!(
                 "mostly music or other sound that is not speech (speech in {:.0} % of the time \
-                 with sound): breaths went only into the pauses of the speech",
+                 with sound): breaths went only into the pauses of the speech; {ANY_VOICE}",
                 100.0 * speech_share
             ),
             Finding::NoSignal {
@@ -145,7 +157,7 @@ impl Finding {
     pub fn short(&self) -> &'static str {
         match self {
             Finding::Antiphase => "antiphase",
-            Finding::NoSpeech => "no speech",
+            Finding::NoSpeech { .. } => "no speech",
             Finding::MostlyNotSpeech { .. } => "mostly music",
             Finding::NoSignal { .. } => "no signal",
             Finding::TooShort { .. } => "too short",
@@ -263,7 +275,9 @@ pub fn findings(energy: &ChannelEnergy, speech: &SpeechSummary, length_s: f64) -
     if (share < NO_SPEECH_SHARE || speech.speech_phrases == 0) && length_s < JUDGE_WINDOW_S {
         vec![Finding::TooShort { length_s }]
     } else if share < NO_SPEECH_SHARE || speech.speech_phrases == 0 {
-        vec![Finding::NoSpeech]
+        vec![Finding::NoSpeech {
+            phrases: speech.phrases > 0,
+        }]
     } else if share < MOSTLY_OTHER_SHARE {
         vec![Finding::MostlyNotSpeech {
             speech_share: share,
@@ -279,6 +293,8 @@ mod tests {
 
     /// A render long enough for the speech decision, seconds.
     const LONG_S: f64 = 10.0;
+    /// No speech, with phrases heard (the summaries below all hold 10).
+    const NO_SPEECH: Finding = Finding::NoSpeech { phrases: true };
 
     fn energy(left: &[f32], right: &[f32]) -> ChannelEnergy {
         let mut e = ChannelEnergy::new(48_000.0);
@@ -320,9 +336,9 @@ mod tests {
             speech_phrases,
         };
         let e = tone(0.25);
-        assert_eq!(findings(&e, &s(0, 0, 0), LONG_S), [Finding::NoSpeech]);
-        assert_eq!(findings(&e, &s(900, 5, 1), LONG_S), [Finding::NoSpeech]);
-        assert_eq!(findings(&e, &s(900, 300, 0), LONG_S), [Finding::NoSpeech]);
+        assert_eq!(findings(&e, &s(0, 0, 0), LONG_S), [NO_SPEECH]);
+        assert_eq!(findings(&e, &s(900, 5, 1), LONG_S), [NO_SPEECH]);
+        assert_eq!(findings(&e, &s(900, 300, 0), LONG_S), [NO_SPEECH]);
         assert_eq!(
             findings(&e, &s(900, 300, 3), LONG_S),
             [Finding::MostlyNotSpeech {
@@ -341,6 +357,13 @@ mod tests {
         // Speech heard in a short input is no finding.
         assert_eq!(findings(&e, &s(30, 25, 1), 0.3), []);
         assert!(Finding::Antiphase.message().contains("render one channel"));
+        assert!(NO_SPEECH.message().ends_with("render it with --any-sound"));
+        // No phrase at all (nothing voiced): --any-sound would change nothing.
+        let none = Finding::NoSpeech { phrases: false }.message();
+        assert!(
+            none.contains("no voiced sound") && !none.contains("--any-sound"),
+            "{none}"
+        );
     }
 
     #[test]
@@ -364,7 +387,7 @@ mod tests {
             quiet[0].message()
         );
         // Peak -12 dBFS: the speech finding as before.
-        assert_eq!(findings(&tone(0.25), &speech, LONG_S), [Finding::NoSpeech]);
+        assert_eq!(findings(&tone(0.25), &speech, LONG_S), [NO_SPEECH]);
     }
 
     #[test]
