@@ -192,6 +192,12 @@ fn run<S: OscSettings>(
                 if !family_ok {
                     socket = socket_for(a);
                 }
+                // Connected, the socket hears the receiver's host answer that nothing listens
+                // on the port (the editor's advice); an unconnected one is never told. Sending
+                // on to the same address works either way.
+                if let Some(s) = &socket {
+                    let _ = s.connect(a);
+                }
             }
             target = Some(Target {
                 key,
@@ -304,6 +310,34 @@ mod tests {
         assert!(stats.sent.load(Ordering::Relaxed) >= 2);
         assert_eq!(stats.failed.load(Ordering::Relaxed), 0);
         assert_eq!(stats.last_error.load(Ordering::Relaxed), 0, "no error");
+    }
+
+    #[test]
+    fn a_closed_port_is_told_as_nothing_listening() {
+        // A free port: bound, then closed again.
+        let port = UdpSocket::bind("127.0.0.1:0")
+            .and_then(|s| s.local_addr())
+            .unwrap()
+            .port();
+        let settings = Arc::new(Settings {
+            target: Mutex::new(("127.0.0.1".into(), port)),
+            format: Mutex::new(OscFormat::Pneuma),
+        });
+        let (mut feed, worker, stats) = start(settings).unwrap();
+        for i in 0..200 {
+            feed.push(&test_frame(i));
+            if stats.failed.load(Ordering::Relaxed) > 0 {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        drop(worker);
+        assert!(stats.failed.load(Ordering::Relaxed) > 0, "no send failed");
+        assert_eq!(
+            stats.last_error.load(Ordering::Relaxed),
+            OscError::Refused as u8,
+            "the reason is the closed port"
+        );
     }
 
     #[test]
