@@ -40,8 +40,9 @@ pub(crate) const SILERO_SHOWS_SPEECH_S: f64 = 0.15;
 pub struct SpeechSummary {
     /// Analysis frames.
     pub frames: u64,
-    /// Frames with sound: above the phrase tracker's silence level and standing its activity
-    /// margin over its noise floor (a steady room or hiss under a voice is no sound here).
+    /// Frames with sound: above the phrase tracker's silence level, and voiced or standing its
+    /// activity margin over the lowest noise floor so far that lies over the silence level (a
+    /// steady room or hiss under a voice is no sound here; sustained chords are).
     pub sound_frames: u64,
     /// Frames the decision calls speech.
     pub speech_frames: u64,
@@ -86,7 +87,7 @@ pub(crate) struct SpeechTrack {
 }
 
 /// What [`SpeechTrack::reset`] clears besides the detector and the ring.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 struct SpeechTrackState {
     /// The judge of the phrase being spoken (the last one started).
     phrase: Option<SpanJudge>,
@@ -96,7 +97,23 @@ struct SpeechTrackState {
     ended: Option<bool>,
     /// Time of the last frame heard, seconds.
     last_frame_s: f64,
+    /// The phrase tracker's lowest noise floor over its silence level so far, dBFS (+∞ before
+    /// one).
+    quietest_floor_db: f32,
     summary: SpeechSummary,
+}
+
+impl Default for SpeechTrackState {
+    fn default() -> Self {
+        Self {
+            phrase: None,
+            silero_max: 0.0,
+            ended: None,
+            last_frame_s: 0.0,
+            quietest_floor_db: f32::INFINITY,
+            summary: SpeechSummary::default(),
+        }
+    }
 }
 
 impl SpeechTrack {
@@ -173,7 +190,15 @@ impl SpeechTrack {
         }
         let s = &mut self.state.summary;
         s.frames += 1;
-        if f.rms_db > self.silence_db && f.band_db >= floor_db + self.sound_margin_db {
+        // Sound stands over the quietest floor of the stream so far (the floor climbs into
+        // sustained chords within seconds; a floor in digital silence is no room's), or is
+        // voiced (chords from the first frame); a steady room or hiss at the floor is not.
+        if floor_db.is_finite() && floor_db > self.silence_db {
+            self.state.quietest_floor_db = self.state.quietest_floor_db.min(floor_db);
+        }
+        if f.rms_db > self.silence_db
+            && (f.voiced || f.band_db >= self.state.quietest_floor_db + self.sound_margin_db)
+        {
             s.sound_frames += 1;
             s.speech_frames += u64::from(p >= self.threshold);
         }

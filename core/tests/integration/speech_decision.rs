@@ -546,6 +546,22 @@ fn any_block_partition_gives_the_same_output_with_the_decision_in_place() {
     }
 }
 
+/// Sustained three-note chords (harmonic tones at a constant level), a new chord every 2 s,
+/// `length_s` long.
+fn sustained_chords(length_s: f64) -> Vec<f32> {
+    let chords = [[261.63, 329.63, 392.0], [220.0, 261.63, 329.63]];
+    let mut out = Vec::with_capacity(n(length_s));
+    for k in 0..(length_s / 2.0) as usize {
+        let mut chord = vec![0.0f32; n(2.0)];
+        for f0 in chords[k % 2] {
+            let note = test_signals::harmonic_tone(SR, 2.0, 0.12, &[1.0, 0.5, 0.3, 0.2], |_| f0);
+            chord.iter_mut().zip(&note).for_each(|(c, x)| *c += x);
+        }
+        out.extend(chord);
+    }
+    out
+}
+
 /// Share of the frames with sound that the decision calls speech.
 fn speech_share(s: &SpeechSummary) -> f64 {
     s.speech_frames as f64 / s.sound_frames.max(1) as f64
@@ -555,7 +571,8 @@ fn speech_share(s: &SpeechSummary) -> f64 {
 fn a_steady_hiss_around_one_sentence_is_no_sound_but_music_after_it_is() {
     let (speech, _) = phrases(&PAUSES);
     let speech_rms = pneuma_core::analysis::rms(&speech[n(0.6)..]);
-    // The sentence with 8 s of room before and after it, all over white noise 40 dB under.
+    // The sentence with 8 s of room before and after it, all over white noise 40 dB under,
+    // after 2 s of digital silence (an export's fade-in).
     let mut hissed = vec![0.0f32; n(8.0)];
     hissed.extend(&speech);
     hissed.extend(std::iter::repeat_n(0.0, n(8.0)));
@@ -563,14 +580,23 @@ fn a_steady_hiss_around_one_sentence_is_no_sound_but_music_after_it_is() {
     for (x, h) in hissed.iter_mut().zip(&hiss) {
         *x += h;
     }
-    // The sentence, then 28 s of plucked chords at about its level.
+    hissed.splice(0..0, std::iter::repeat_n(0.0, n(2.0)));
+    // The sentence, then 28 s of plucked chords at about its level; then 28 s of sustained
+    // chords (an organ: the noise floor climbs into them).
     let mut with_music = speech.clone();
     with_music.extend(plucked_chords());
     with_music.extend(plucked_chords());
+    let mut with_organ = speech.clone();
+    with_organ.extend(sustained_chords(28.0));
+    // In a room (the hiss): the floor has a room to start from.
+    let room = test_signals::white_noise(with_organ.len(), speech_rms * 0.01, 92);
+    with_organ.iter_mut().zip(&room).for_each(|(x, h)| *x += h);
     for mode in MODES {
         let (_, s) = render(mode, &hissed);
         assert!(speech_share(&s) > 0.6, "hiss, {mode:?}: {s:?}");
         let (_, s) = render(mode, &with_music);
         assert!(speech_share(&s) < 0.4, "music, {mode:?}: {s:?}");
+        let (_, s) = render(mode, &with_organ);
+        assert!(speech_share(&s) < 0.4, "organ, {mode:?}: {s:?}");
     }
 }
