@@ -9,7 +9,7 @@ use pneuma_core::encode::osc::OscFormat;
 use pneuma_core::settings::output::{OSC_FORMAT, OSC_PORT};
 use pneuma_core::settings::{Setting, Unit};
 use pneuma_osc::paced::{PacedSender, PacedStats, Speed};
-use pneuma_osc::{format_of_index, DEFAULT_OSC_HOST, DEFAULT_OSC_PORT};
+use pneuma_osc::{format_of_index, OscError, DEFAULT_OSC_HOST, DEFAULT_OSC_PORT};
 
 /// The OSC options (flattened into a subcommand's arguments).
 #[derive(Debug, Clone, Default, clap::Args)]
@@ -119,18 +119,33 @@ impl OscPlan {
             OscFormat::Pneuma => 0,
             OscFormat::Vmc => 1,
         }];
+        let host = self.host.trim();
+        // An IPv6 address in brackets, so its port reads apart from it.
+        let host = if host.contains(':') {
+            format!("[{host}]")
+        } else {
+            host.to_owned()
+        };
         let mut line = format!(
-            "OSC: {} ({format}) to {}:{} {}",
+            "OSC: {} ({format}) to {host}:{} {}",
             crate::options::count((stats.sent + stats.failed) as usize, "bundle"),
-            self.host.trim(),
             self.port,
             match self.speed {
                 Speed::Max => "as fast as possible".to_owned(),
                 s => format!("in {s}"),
             }
         );
-        if let (n @ 1.., Some(e)) = (stats.failed, stats.last_error) {
-            line.push_str(&format!("; {n} not sent: {}", e.text()));
+        match (stats.failed, stats.last_error) {
+            // A connected socket hears a refusal on the send after a lost bundle: those it
+            // counted as sent were lost as well.
+            (n @ 1.., Some(e @ OscError::Refused)) => {
+                line.push_str(&format!(
+                    "; {n} refused, the others lost with them: {}",
+                    e.text()
+                ));
+            }
+            (n @ 1.., Some(e)) => line.push_str(&format!("; {n} not sent: {}", e.text())),
+            _ => {}
         }
         line
     }

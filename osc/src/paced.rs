@@ -17,7 +17,7 @@ use pneuma_core::encode::osc::{encode_frame, OscFormat, TimeTag, MAX_FRAME_PACKE
 use pneuma_core::encode::sink::FrameSink;
 use pneuma_core::ControlFrame;
 
-use crate::target::{now_unix_s, resolve, socket_for, OscError};
+use crate::target::{connect, now_unix_s, resolve, send, socket_for, OscError};
 
 /// How fast frames are sent.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -161,6 +161,8 @@ pub struct PacedStats {
 pub struct PacedSender<C: Clock = WallClock> {
     addr: SocketAddr,
     socket: UdpSocket,
+    /// The socket is connected to `addr` ([`connect`]).
+    connected: bool,
     format: OscFormat,
     pacer: Pacer,
     clock: C,
@@ -187,15 +189,16 @@ impl<C: Clock> PacedSender<C> {
         let addr = resolve(host, port).ok_or_else(|| OpenError::NotAnAddress(host.to_owned()))?;
         let socket = socket_for(&addr).ok_or(OpenError::NoSocket)?;
         // A render's thread may wait for the socket (sending is all it does meanwhile).
-        // Connected, the socket hears the receiver's host answer that nothing listens on the
-        // port (an unconnected one is never told, and a render would report bundles "sent").
         socket
             .set_nonblocking(false)
-            .and_then(|()| socket.connect(addr))
             .map_err(|_| OpenError::NoSocket)?;
+        // Connected, a render hears that nothing listens on the port; a target it cannot
+        // connect to (no route, a broadcast address) is still sent to, and its errors counted.
+        let connected = connect(&socket, addr);
         Ok(Self {
             addr,
             socket,
+            connected,
             format,
             pacer: Pacer::new(speed),
             clock,
@@ -234,9 +237,14 @@ impl<C: Clock> FrameSink for PacedSender<C> {
         self.clock.sleep_s(due_s - now_s);
         let tag = TimeTag::from_unix_seconds(tag_s);
         match encode_frame(self.format, frame, tag, &mut self.buf) {
-            Ok(n) => match self.socket.send(&self.buf[..n]) {
-                Ok(_) => self.stats.sent += 1,
-                Err(e) => self.fail(OscError::of_send(&e)),
+            Ok(n) => match send(
+                Some(self.addr),
+                Some(&self.socket),
+                self.connected,
+                &self.buf[..n],
+            ) {
+                Ok(()) => self.stats.sent += 1,
+                Err(e) => self.fail(e),
             },
             Err(_) => self.fail(OscError::Encoding),
         }

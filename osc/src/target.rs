@@ -101,15 +101,29 @@ pub fn socket_for(addr: &SocketAddr) -> Option<UdpSocket> {
     Some(socket)
 }
 
-/// Sends one packet to `addr` on `socket` (either missing: the error that says which).
+/// Connects `socket` to `addr`, so that it hears the receiver's host answer that nothing
+/// listens on the port (an unconnected socket is never told). Best effort: `false` when the
+/// connect fails (no route yet, a broadcast address), and the socket stays unconnected.
+pub fn connect(socket: &UdpSocket, addr: SocketAddr) -> bool {
+    socket.connect(addr).is_ok()
+}
+
+/// Sends one packet to `addr` on `socket` (either missing: the error that says which), with
+/// `send` when the socket is `connected` to it ([`connect`]; BSD and macOS refuse `send_to` on
+/// a connected socket), else with `send_to`.
 pub fn send(
     addr: Option<SocketAddr>,
     socket: Option<&UdpSocket>,
+    connected: bool,
     packet: &[u8],
 ) -> Result<(), OscError> {
     match (addr, socket) {
         (None, _) => Err(OscError::NotAnAddress),
         (Some(_), None) => Err(OscError::NoSocket),
+        (Some(_), Some(socket)) if connected => socket
+            .send(packet)
+            .map(|_| ())
+            .map_err(|e| OscError::of_send(&e)),
         (Some(addr), Some(socket)) => socket
             .send_to(packet, addr)
             .map(|_| ())

@@ -30,7 +30,7 @@ use pneuma_core::encode::osc::{OscFormat, TimeTag};
 use pneuma_core::encode::sink::{FrameSink, OscSink};
 use pneuma_core::ControlFrame;
 
-use crate::target::{now_unix_s, resolve, send, socket_for, OscError};
+use crate::target::{connect, now_unix_s, resolve, send, socket_for, OscError};
 
 /// Queue capacity in frames (about 4 s at 120 Hz).
 pub const QUEUE_FRAMES: usize = 512;
@@ -146,6 +146,8 @@ fn run<S: OscSettings>(
     stop: Arc<AtomicBool>,
 ) {
     let mut socket: Option<UdpSocket> = None;
+    // The socket is connected to the target ([`connect`]).
+    let mut connected = false;
     let mut target: Option<Target> = None;
     // (anchor unix seconds, last frame index)
     let mut anchor: Option<(f64, u64)> = None;
@@ -193,11 +195,8 @@ fn run<S: OscSettings>(
                     socket = socket_for(a);
                 }
                 // Connected, the socket hears the receiver's host answer that nothing listens
-                // on the port (the editor's advice); an unconnected one is never told. Sending
-                // on to the same address works either way.
-                if let Some(s) = &socket {
-                    let _ = s.connect(a);
-                }
+                // on the port (the editor's advice); an unconnected one is never told.
+                connected = socket.as_ref().is_some_and(|s| connect(s, *a));
             }
             target = Some(Target {
                 key,
@@ -220,7 +219,7 @@ fn run<S: OscSettings>(
                 TimeTag::from_unix_seconds(base + frame.time_s)
             },
             |_: &ControlFrame, packet: &[u8]| {
-                match send(addr, socket.as_ref(), packet) {
+                match send(addr, socket.as_ref(), connected, packet) {
                     Ok(()) => stats.sent.fetch_add(1, Ordering::Relaxed),
                     Err(e) => {
                         stats.last_error.store(e as u8, Ordering::Relaxed);

@@ -45,7 +45,30 @@ fn a_port_nothing_listens_on_is_said_with_what_to_do() {
     assert_eq!(out.status.code(), Some(0), "{err}");
     assert!(
         err.contains(&format!("to 127.0.0.1:{port}"))
-            && err.contains("not sent: nothing listens on that port: start the receiver"),
+            && err.contains("refused, the others lost with them: nothing listens on that port"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_target_the_socket_cannot_connect_to_still_renders_and_counts_what_failed() {
+    // The broadcast address: a UDP socket without SO_BROADCAST can neither connect nor send
+    // there. The render writes its files and says what failed.
+    let dir = tempfile::tempdir().expect("temp");
+    let out = Command::new(env!("CARGO_BIN_EXE_pneuma"))
+        .arg("render")
+        .arg(pneuma_testkit::voice::example_voice_path())
+        .arg("-o")
+        .arg(dir.path())
+        .args(["--no-progress", "--no-plot", "--osc-speed", "max"])
+        .args(["--osc-host", "255.255.255.255"])
+        .output()
+        .expect("pneuma runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(dir.path().join("voice.wav").exists(), "{err}");
+    assert!(
+        err.contains("to 255.255.255.255:") && err.contains("not sent"),
         "{err}"
     );
 }
