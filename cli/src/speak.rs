@@ -358,7 +358,7 @@ fn synthesize(
         // espeak-ng's only failure that names the voice ("The specified espeak-ng voice does
         // not exist"): ours says it once, with what to do.
         if let (Tts::Espeak, Some(v)) = (tts, voice) {
-            if said.to_lowercase().contains("voice") {
+            if said.contains("voice does not exist") {
                 return Err(SpeakError::UnknownVoice(v.to_owned()));
             }
         }

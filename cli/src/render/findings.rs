@@ -52,8 +52,9 @@ pub enum Finding {
     NoSignal {
         /// The mono mix's peak, dBFS (−∞ when every sample is zero).
         peak_db: f64,
-        /// Its sound lies above [`VOICE_BAND_TOP_HZ`] only (noise-shaped dither).
-        shaped: bool,
+        /// Its sound lies above this only (noise-shaped dither), Hz ([`VOICE_BAND_TOP_HZ`] or
+        /// under it at low rates); `None` for silence or plain dither.
+        shaped_above_hz: Option<f64>,
     },
     /// No speech was heard in an input shorter than the speech decision's window
     /// ([`JUDGE_WINDOW_S`]): too short to tell.
@@ -112,8 +113,8 @@ impl Finding {
                  speech, so none was inserted; {ANY_VOICE}"
             ),
             Finding::NoSpeech { phrases: false } => "no speech found (no voiced sound: \
-                 noise, whispering or other sound): breaths go only into the pauses between phrases \
-                 of voiced speech, so none was inserted"
+                 noise, whispering or other sound): breaths go only into the pauses between \
+                 phrases of voiced speech, so none was inserted"
                 .into(),
             Finding::MostlyNotSpeech { speech_share } => format!(
                 "mostly music or other sound that is not speech (speech in {:.0} % of the time \
@@ -122,13 +123,13 @@ impl Finding {
             ),
             Finding::NoSignal {
                 peak_db,
-                shaped: true,
+                shaped_above_hz: Some(hz),
             } => format!(
                 "the input holds no signal (noise-shaped dither only: peak {peak_db:.0} dBFS, \
-                 all of it above {:.0} kHz): there is no speech to place breaths by, and \
+                 all of it above {:.1} kHz): there is no speech to place breaths by, and \
                  normalising it would only make the dither loud; check that the right file \
                  (or channel) was exported",
-                VOICE_BAND_TOP_HZ / 1000.0
+                hz / 1000.0
             ),
             Finding::NoSignal { peak_db, .. } if peak_db.is_finite() => format!(
                 "the input holds no signal (silence or dither only, peak {peak_db:.0} dBFS): \
@@ -174,9 +175,11 @@ pub struct ChannelEnergy {
     mix_sq: f64,
     /// Largest magnitude of the mono mix.
     mix_peak: f64,
-    /// The mono mix under [`VOICE_BAND_TOP_HZ`] (a 4th-order Butterworth low-pass), and its
-    /// largest magnitude.
+    /// The mono mix under [`VOICE_BAND_TOP_HZ`] (two 2nd-order Butterworth sections, −6 dB at
+    /// the corner), and its largest magnitude.
     voice_band: [Biquad; 2],
+    /// The low-pass's corner, Hz.
+    voice_band_top_hz: f64,
     voice_band_peak: f64,
     frames: u64,
 }
@@ -192,6 +195,7 @@ impl ChannelEnergy {
             mix_sq: 0.0,
             mix_peak: 0.0,
             voice_band: [section; 2],
+            voice_band_top_hz: corner_hz,
             voice_band_peak: 0.0,
             frames: 0,
         }
@@ -255,13 +259,13 @@ pub fn findings(energy: &ChannelEnergy, speech: &SpeechSummary, length_s: f64) -
     if peak_db < no_signal_peak_db() {
         return vec![Finding::NoSignal {
             peak_db,
-            shaped: false,
+            shaped_above_hz: None,
         }];
     }
     if peak_db < quiet_peak_db() && energy.voice_band_peak_db() < no_signal_peak_db() {
         return vec![Finding::NoSignal {
             peak_db,
-            shaped: true,
+            shaped_above_hz: Some(energy.voice_band_top_hz),
         }];
     }
     if peak_db < quiet_peak_db() {
@@ -359,6 +363,14 @@ mod tests {
         assert!(Finding::Antiphase.message().contains("render one channel"));
         assert!(NO_SPEECH.message().ends_with("render it with --any-sound"));
         // No phrase at all (nothing voiced): --any-sound would change nothing.
+        let no_phrase = SpeechSummary {
+            phrases: 0,
+            ..s(900, 0, 0)
+        };
+        assert_eq!(
+            findings(&e, &no_phrase, LONG_S),
+            [Finding::NoSpeech { phrases: false }]
+        );
         let none = Finding::NoSpeech { phrases: false }.message();
         assert!(
             none.contains("no voiced sound") && !none.contains("--any-sound"),
@@ -430,7 +442,7 @@ mod tests {
         e.add(std::slice::from_ref(&shaped), shaped.len());
         let found = findings(&e, &speech, LONG_S);
         assert!(
-            matches!(found[..], [Finding::NoSignal { shaped: true, .. }]),
+            matches!(found[..], [Finding::NoSignal { shaped_above_hz: Some(hz), .. }] if hz == 4e3),
             "{found:?}"
         );
         assert!(found[0]

@@ -218,8 +218,10 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
                 .into(),
         ));
     }
-    let input_s = pass.written as f64 / info.sample_rate_hz as f64;
-    let found = findings(&energy, &engine.speech_summary(), input_s);
+    // The output's length: the findings' and the breaths' (one cut by the end of the file
+    // ends with it).
+    let length_s = pass.written as f64 / info.sample_rate_hz as f64;
+    let found = findings(&energy, &engine.speech_summary(), length_s);
     let voice = engine.voice_status();
     let band_limit_hz = engine.breath_band_limit_hz();
     let (controls, bvh, kept, midi, osc) = sinks;
@@ -231,11 +233,8 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
     let AudioPass {
         mut audio,
         envelope,
-        written,
         ..
     } = pass;
-    // A breath cut by the end of the file ends with it.
-    let length_s = written as f64 / info.sample_rate_hz as f64;
     let breaths = breaths_within(kept.breaths, length_s);
     let clipped = audio.clipped();
     if outputs.cues {

@@ -12,11 +12,12 @@
 //!   frames heard (no prior) and then forget with [`CENTRING_TIME_S`]. In a long silence the
 //!   unvoiced mean settles on the silence's level, and the model sees an ordinary pause level.
 //!   Another voice (an interview's guest, a character voice) is a new speaker: when the mean
-//!   of the last [`RECENT_TIME_S`] of voiced frames lies [`NEW_SPEAKER_ST`] from the running
-//!   mean f0 (then the voiced level's mean too), or [`NEW_SPEAKER_DB`] from a level's (voiced,
-//!   or the pauses' after a long silence), that mean starts again, as at a stream's start,
-//!   instead of carrying the last voice's register or room into the new one's head for half a
-//!   minute.
+//!   f0 of the last [`RECENT_TIME_S`] of voiced frames lies [`NEW_SPEAKER_ST`] from the
+//!   running mean, the f0 and voiced level means start again, as at a stream's start; when
+//!   the mean level of the last [`RECENT_TIME_S`] of unvoiced frames lies [`NEW_ROOM_DB`] from
+//!   theirs (the pauses after a long silence, another room), that mean starts again. So the
+//!   last voice's register or room is not carried into the next one's head for half a minute;
+//!   a louder stretch of one voice (a shout) starts nothing.
 //! - [`InputKind::SpeakerMedian`] (older models): the analyzer's `f0_st` (around the running
 //!   median f0, starting from a 150 Hz prior) and `level_db` (around the speech level, for
 //!   every frame). A voice whose mean lies off its median, the prior's pull in a short clip,
@@ -30,14 +31,15 @@ use crate::analysis::FeatureFrame;
 /// ([`crate::analysis::SpeakerNormConfig`]).
 pub const CENTRING_TIME_S: f64 = 30.0;
 
-/// Time constant of the recent means that tell a new speaker, seconds of voiced frames.
+/// Time constant of the recent means that tell a new speaker or room, seconds of frames of
+/// the class (voiced or unvoiced).
 pub const RECENT_TIME_S: f64 = 2.0;
 /// A recent mean f0 this far from the running mean is a new speaker, semitones: half an
 /// octave. A speaker's phrases wander 1–3 semitones around their mean; men's and women's
 /// voices lie 8–12 apart.
 pub const NEW_SPEAKER_ST: f64 = 6.0;
-/// A recent voiced level this far from the running mean is a new speaker (or microphone), dB.
-pub const NEW_SPEAKER_DB: f64 = 10.0;
+/// A recent level of the unvoiced frames this far from their running mean is a new room, dB.
+pub const NEW_ROOM_DB: f64 = 10.0;
 
 /// The normalisation names of [`InputKind::SpeakerMean`] in a model file.
 pub const SPEAKER_MEAN_NAMES: (&str, &str) = ("st_re_speaker_mean", "db_re_speaker_mean");
@@ -180,15 +182,16 @@ impl InputTracker {
                 if new_voice {
                     self.voiced_level = RunningMean::default();
                 }
+                // Only a new voice starts the voiced level again: a shout is the same voice.
                 let level =
                     self.voiced_level
-                        .centre(frame.rms_db as f64, frame_rate_hz, NEW_SPEAKER_DB);
+                        .centre(frame.rms_db as f64, frame_rate_hz, f64::INFINITY);
                 (f0, level.0)
             }
             InputKind::SpeakerMean if frame.rms_db.is_finite() => (
                 0.0,
                 self.unvoiced_level
-                    .centre(frame.rms_db as f64, frame_rate_hz, NEW_SPEAKER_DB)
+                    .centre(frame.rms_db as f64, frame_rate_hz, NEW_ROOM_DB)
                     .0,
             ),
             InputKind::SpeakerMean => (0.0, f64::NEG_INFINITY),
@@ -325,6 +328,28 @@ mod tests {
         voice_means(&mut t, 10.0, (220.0, -26.0, -50.0));
         let same = voice_means(&mut t, 50.0, (220.0, -26.0, -50.0));
         assert!(same.iter().all(|m| m.abs() < 0.2), "{same:?}");
+    }
+
+    #[test]
+    fn one_speakers_intonation_and_a_shout_start_nothing_again() {
+        // Phrase-level drift of ±3.5 semitones over 8 s: no restart of the f0 mean in five
+        // minutes.
+        let mut f0 = RunningMean::default();
+        let mut restarts = 0;
+        for i in 0..(300.0 * 72.0) as usize {
+            let t = i as f64 / 72.0;
+            let st = 3.5 * (std::f64::consts::TAU * t / 8.0).sin();
+            restarts += usize::from(f0.centre(st, 72.0, NEW_SPEAKER_ST).1);
+        }
+        assert_eq!(restarts, 0);
+        // 8 s of a voice raised 15 dB starts the level mean nothing again.
+        let mut t = mean_norm().input_tracker();
+        voice_means(&mut t, 30.0, (220.0, -26.0, -50.0));
+        voice_means(&mut t, 8.0, (220.0, -11.0, -50.0));
+        let after = voice_means(&mut t, 2.0, (220.0, -26.0, -50.0));
+        // After it the level reads a few dB low, as a running mean does, not as a restart on
+        // the raised voice would (about -13 dB).
+        assert!(after[1] > -6.0, "{after:?}");
     }
 
     #[test]

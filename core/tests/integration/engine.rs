@@ -522,17 +522,30 @@ fn speech_from_the_first_frames_starts_breathed_in_without_a_twitch_of_inspirati
     // two (a blink of the mouth and nostrils on VMC and MIDI).
     for lead_s in [0.0, 0.01, 0.02, 0.05, 0.1] {
         let (audio, _) = sequence(lead_s, &[1.5, 1.5], &[0.8]);
-        let r = render(&config(), std::slice::from_ref(&audio), &[512]);
+        let c = config();
+        let r = render(&c, std::slice::from_ref(&audio), &[512]);
         let first: Vec<Phase> = r.frames.iter().map(|f| f.0.breathing.phase).collect();
         let inspiring = first
             .iter()
             .take_while(|&&p| p == Phase::Inspiration)
             .count();
+        // A short breath lasts 0.1 s or more.
+        let short_breath = (0.1 * c.analysis.frame_rate_hz).round() as usize;
         assert!(
-            inspiring == 0 || inspiring as f64 >= 0.1 * 120.0,
+            inspiring == 0 || inspiring >= short_breath,
             "lead {lead_s} s: {inspiring} inspiration frames first: {:?}",
             &first[..inspiring + 2]
         );
+        // Breathed in: where the body speaks from the first phrase on, the lung holds at least
+        // a breath's volume from the first frame.
+        let speaks = r.frames.iter().take(short_breath * 3).any(|f| f.0.speaking);
+        if inspiring == 0 && speaks {
+            let lung = r.frames[0].0.breathing.lung;
+            assert!(
+                lung >= pneuma_core::breathing::MIN_LUNG_VOLUME,
+                "lead {lead_s} s: lung {lung} at the first frame"
+            );
+        }
     }
 }
 
