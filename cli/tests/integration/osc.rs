@@ -24,6 +24,23 @@ fn an_osc_host_that_is_not_an_address_stops_the_render_before_it_starts() {
     );
 }
 
+/// Renders the example voice into `dir`, sending OSC as fast as possible with `osc_args`;
+/// asserts it succeeded and returns its standard error.
+fn render_sending(dir: &std::path::Path, osc_args: &[&str]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_pneuma"))
+        .arg("render")
+        .arg(pneuma_testkit::voice::example_voice_path())
+        .arg("-o")
+        .arg(dir)
+        .args(["--no-progress", "--no-plot", "--osc-speed", "max"])
+        .args(osc_args)
+        .output()
+        .expect("pneuma runs");
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    err
+}
+
 #[test]
 fn a_port_nothing_listens_on_is_said_with_what_to_do() {
     // A free port: bound, then closed again before the render.
@@ -32,17 +49,7 @@ fn a_port_nothing_listens_on_is_said_with_what_to_do() {
         .expect("a free port")
         .port();
     let dir = tempfile::tempdir().expect("temp");
-    let out = Command::new(env!("CARGO_BIN_EXE_pneuma"))
-        .arg("render")
-        .arg(pneuma_testkit::voice::example_voice_path())
-        .arg("-o")
-        .arg(dir.path())
-        .args(["--no-progress", "--no-plot", "--osc-speed", "max"])
-        .args(["--osc-port", &port.to_string()])
-        .output()
-        .expect("pneuma runs");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(0), "{err}");
+    let err = render_sending(dir.path(), &["--osc-port", &port.to_string()]);
     assert!(
         err.contains(&format!("to 127.0.0.1:{port}"))
             && err.contains("refused, the others lost with them: nothing listens on that port"),
@@ -55,17 +62,7 @@ fn a_target_the_socket_cannot_connect_to_still_renders_and_counts_what_failed() 
     // The broadcast address: a UDP socket without SO_BROADCAST can neither connect nor send
     // there. The render writes its files and says what failed.
     let dir = tempfile::tempdir().expect("temp");
-    let out = Command::new(env!("CARGO_BIN_EXE_pneuma"))
-        .arg("render")
-        .arg(pneuma_testkit::voice::example_voice_path())
-        .arg("-o")
-        .arg(dir.path())
-        .args(["--no-progress", "--no-plot", "--osc-speed", "max"])
-        .args(["--osc-host", "255.255.255.255"])
-        .output()
-        .expect("pneuma runs");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(0), "{err}");
+    let err = render_sending(dir.path(), &["--osc-host", "255.255.255.255"]);
     assert!(dir.path().join("voice.wav").exists(), "{err}");
     assert!(
         err.contains("to 255.255.255.255:") && err.contains("not sent"),
