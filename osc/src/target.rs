@@ -117,18 +117,18 @@ pub fn send(
     connected: bool,
     packet: &[u8],
 ) -> Result<(), OscError> {
-    match (addr, socket) {
-        (None, _) => Err(OscError::NotAnAddress),
-        (Some(_), None) => Err(OscError::NoSocket),
-        (Some(_), Some(socket)) if connected => socket
-            .send(packet)
-            .map(|_| ())
-            .map_err(|e| OscError::of_send(&e)),
-        (Some(addr), Some(socket)) => socket
-            .send_to(packet, addr)
-            .map(|_| ())
-            .map_err(|e| OscError::of_send(&e)),
+    let (addr, socket) = match (addr, socket) {
+        (None, _) => return Err(OscError::NotAnAddress),
+        (Some(_), None) => return Err(OscError::NoSocket),
+        (Some(addr), Some(socket)) => (addr, socket),
+    };
+    if connected {
+        socket.send(packet)
+    } else {
+        socket.send_to(packet, addr)
     }
+    .map(|_| ())
+    .map_err(|e| OscError::of_send(&e))
 }
 
 /// Seconds since the Unix epoch by the wall clock (the time tags' clock).
