@@ -19,6 +19,9 @@
 //! `JUDGE_WINDOW_S` (when that changes its flag, the frames of the window that still wait for
 //! the output take it), and the pause after it by those before its offset
 //! ([`SpeechTrack::voiced_window_is_speech`]): speech that runs into singing stops speaking.
+//! When that window is not speech and neither are all the phrase's voiced frames so far
+//! ([`SpeechTrack::voiced_phrase_is_not_speech`]), the first window was wrong (a sung line that
+//! starts like speech): its frames from the onset that still wait for the output take it.
 //! A phrase judged not speech stays so: turned on mid-phrase, the body would speak with a lung
 //! the placement never filled. A phrase shorter than the window is judged on all
 //! its frames, its pause on its voiced ones: the two may differ (a blip of noise after a word).
@@ -37,6 +40,9 @@ pub(crate) struct BodyGate {
     applied: Option<(f64, bool)>,
     /// The stream's first frame was flagged.
     started: bool,
+    /// The onset of the last phrase judged speech whose voiced frames were found not to be
+    /// (flagged from its onset once).
+    unsaid: Option<f64>,
 }
 
 impl BodyGate {
@@ -82,11 +88,16 @@ impl BodyGate {
         // A phrase judged speech goes on to be judged by its voiced frames of the last window
         // (its frames still waiting take a change), and the pause after it by those before
         // its offset.
+        // Once that window is not speech, a phrase whose voiced frames so far are not speech
+        // either (its first window was the model's mistake) is not speech from its onset.
         match (ended, current) {
             (Some((onset_s, offset_s, true)), _) => {
                 if let Some((_, s)) = speech.voiced_window_is_speech(onset_s, Some(offset_s)) {
                     self.other_sound = !s;
                     Self::flag_since(pending, offset_s, now, !s);
+                    if !s && speech.voiced_phrase_is_not_speech(onset_s, Some(offset_s)) {
+                        Self::flag_since(pending, onset_s, now, true);
+                    }
                 }
             }
             (None, Some((onset_s, (true, true)))) => {
@@ -95,6 +106,13 @@ impl BodyGate {
                         self.other_sound = !s;
                         Self::flag_since(pending, from_s, now, !s);
                     }
+                }
+                if self.other_sound
+                    && self.unsaid != Some(onset_s)
+                    && speech.voiced_phrase_is_not_speech(onset_s, None)
+                {
+                    self.unsaid = Some(onset_s);
+                    Self::flag_since(pending, onset_s, now, true);
                 }
             }
             _ => {}

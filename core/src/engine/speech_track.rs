@@ -249,6 +249,19 @@ impl SpeechTrack {
         mean.map(|m| (from_s, m >= self.threshold))
     }
 
+    /// The phrase from `onset_s` is not speech by all its voiced frames up to `end_s` (its
+    /// offset) or up to now (`None`): their mean probability lies under the threshold, and none
+    /// of them has left the ring ([`KEPT_S`] of voiced frames). False with the decision off.
+    /// Music or singing whose first window the model took for speech is told by the rest.
+    pub(crate) fn voiced_phrase_is_not_speech(&self, onset_s: f64, end_s: Option<f64>) -> bool {
+        self.enabled()
+            && self.recent_voiced.holds_since(onset_s)
+            && self
+                .recent_voiced
+                .mean_between(onset_s, end_s.unwrap_or(f64::INFINITY))
+                .is_some_and(|m| m < self.threshold)
+    }
+
     /// Onset of the phrase being spoken, seconds (`None` between phrases).
     pub(crate) fn current_onset_s(&self) -> Option<f64> {
         self.state.phrase.map(|j| j.start_s())

@@ -169,6 +169,11 @@ impl RecentSpeech {
         )
     }
 
+    /// Every frame since `from_s` is still kept: none after it has been overwritten.
+    pub fn holds_since(&self, from_s: f64) -> bool {
+        self.len < self.ring.len() || self.iter().next().is_some_and(|(t, _)| t < from_s)
+    }
+
     /// The mean probability of the kept frames in `[from_s, to_s)` (`None` when there are none).
     pub fn mean_between(&self, from_s: f64, to_s: f64) -> Option<f32> {
         mean_p(self.iter().filter(|&(t, _)| t >= from_s && t < to_s))
@@ -222,7 +227,10 @@ mod tests {
         assert!((r.mean_since(0.75).unwrap_or(0.0) - 0.85).abs() < 1e-6);
         assert!((r.mean_since(0.0).unwrap_or(0.0) - 0.75).abs() < 1e-6);
         assert_eq!(r.mean_since(0.9), None);
+        assert!(r.holds_since(0.65) && !r.holds_since(0.6));
         r.reset();
         assert_eq!(r.iter().count(), 0);
+        r.push(0.5, 0.1);
+        assert!(r.holds_since(0.0), "nothing overwritten since the reset");
     }
 }

@@ -368,17 +368,23 @@ fn speaking_between(r: &Rendered, from_s: f64, to_s: f64) -> f64 {
     speaking as f64 / all.max(1) as f64
 }
 
+/// 0.6 s of silence, `speech_s` of a speech-like phrase running straight into `sung_s` of a
+/// sung line, 1 s of silence.
+fn speech_into_singing(speech_s: f64, sung_s: f64) -> Vec<f32> {
+    let lead = vec![0.0f32; n(0.6)];
+    let rest = vec![0.0f32; n(1.0)];
+    let speech = crate::generated_phrases::phrase(speech_s, 1);
+    let sung = sung_line(sung_s, Vowel::A, 41);
+    [&lead[..], &speech, &sung, &rest].concat()
+}
+
 #[test]
 fn the_body_stops_speaking_when_a_phrase_of_speech_runs_into_singing() {
     // Speech running straight into a sung line: one phrase, judged speech by its first half
     // second (its breaths), and the body follows its voiced frames of the last half second
     // after that: it stops speaking once the singing brings their mean under the threshold.
-    let lead = vec![0.0f32; n(0.6)];
-    let rest = vec![0.0f32; n(1.0)];
     let (speech_s, sung_s) = (2.5, 4.0);
-    let speech = crate::generated_phrases::phrase(speech_s, 1);
-    let sung = sung_line(sung_s, Vowel::A, 41);
-    let audio = [&lead[..], &speech, &sung, &rest].concat();
+    let audio = speech_into_singing(speech_s, sung_s);
     for mode in MODES {
         let (r, summary) = render(mode, &audio);
         // One phrase, judged speech: the singing is not judged by a window of its own.
@@ -406,6 +412,25 @@ fn the_body_stops_speaking_when_a_phrase_of_speech_runs_into_singing() {
             "{mode:?}: speaking on {singing:.2} of the singing after its first {settle_s} s"
         );
     }
+}
+
+#[test]
+fn a_sung_line_that_starts_like_speech_moves_no_body_when_its_frames_wait_for_the_output() {
+    // A sung line whose first half second the model takes for speech (here a spoken syllable
+    // or two leading straight into it, one phrase): the phrase is judged speech by that window,
+    // its voiced frames of the last half second then say singing, and so do all its voiced
+    // frames so far. A render (8 s of frames waiting for the output) takes that back to the
+    // phrase's onset: the body never speaks on it. The plugin's 500 ms lookahead cannot.
+    let (speech_s, sung_s) = (0.5, 2.0);
+    let audio = speech_into_singing(speech_s, sung_s);
+    let (r, summary) = render(Mode::Offline, &audio);
+    assert_eq!(
+        (summary.phrases, summary.speech_phrases),
+        (1, 1),
+        "the window judges it speech: {summary:?}"
+    );
+    let speaking = speaking_between(&r, 0.6, 0.6 + speech_s + sung_s);
+    assert!(speaking < 0.05, "speaking on {speaking:.2} of the line");
 }
 
 #[test]
