@@ -16,7 +16,12 @@
 //! - the **length**: median and spread (reported; the placement decides each breath's length).
 //!
 //! With fewer than [`MIN_FOR_SPREAD`] breaths the spreads are the priors below (the spread of
-//! real breaths around their speaker's mean measured on the labelled breaths of issue 31).
+//! real breaths around their speaker's mean measured on the labelled breaths of issue 31), and
+//! the level is never louder than the built-in voice's (the breath level setting's default
+//! under the speech): one or two loud sounds heard as breaths in a recording whose breaths
+//! were cut out are as often a scrap the gate let through, a word's end or a music bed as a
+//! breath; quiet ones are this speaker's. With more, the level is never louder than
+//! [`MAX_LEVEL_RE_SPEECH_DB`].
 //!
 //! # The sound
 //! Seeded white noise, independent for each band, through one band-pass (RBJ, 0 dB peak, Q of
@@ -29,7 +34,8 @@
 //! level in the bands at the drawn level. Each breath draws its target shape as
 //! the learned envelope plus, per band, a normal deviate times the learned spread, and its level
 //! as the learned level plus a normal deviate times the level spread (both clamped to ±2
-//! standard deviations). Allocation-free after `prepare`.
+//! standard deviations; the level never over [`MAX_LEVEL_RE_SPEECH_DB`]). Allocation-free after
+//! `prepare`.
 
 use std::f64::consts::PI;
 
@@ -39,6 +45,7 @@ use super::third_octave::{
     BAND_CENTRES_HZ,
 };
 use crate::rng::SeededRng;
+use crate::settings::placement::BREATH_LEVEL_DB;
 
 /// Breaths needed before the spreads are measured rather than the priors.
 pub const MIN_FOR_SPREAD: usize = 3;
@@ -46,6 +53,10 @@ pub const MIN_FOR_SPREAD: usize = 3;
 pub const SHAPE_SD_PRIOR_DB: f64 = 1.5;
 /// Prior spread of a breath's level, dB.
 pub const LEVEL_SD_PRIOR_DB: f64 = 2.0;
+/// Loudest learned level under the speech, dB: the loud end of real speakers' breath levels
+/// (issue 15's −17 to −24 dB; the eleven labelled speakers' medians lie at −38 to −21 dB, those
+/// the engine hears at −34 to −19 dB). Louder "breaths" are a bed or a word heard as breaths.
+pub const MAX_LEVEL_RE_SPEECH_DB: f64 = -17.0;
 /// Largest spread per band or of the level, dB (a floor-dominated band is not a breath's).
 const MAX_SD_DB: f64 = 4.0;
 /// Deviates are clamped to this many standard deviations.
@@ -186,11 +197,16 @@ impl LearnedVoice {
         } else {
             0.2 * lengths[0]
         };
+        let level_re_speech_db = median(levels).min(if spread {
+            MAX_LEVEL_RE_SPEECH_DB
+        } else {
+            f64::from(BREATH_LEVEL_DB.default)
+        });
         Some(Self {
             breaths: n,
             shape_db: mean,
             shape_sd_db,
-            level_re_speech_db: median(levels),
+            level_re_speech_db,
             level_sd_db,
             speech_db,
             length_s: median(lengths),
@@ -392,7 +408,9 @@ impl LearnedSound {
             let db = self.voice.shape_db[k] + self.voice.shape_sd_db[k] * self.deviate();
             *t = 10f64.powf(db / 10.0);
         }
-        self.level_offset_db = self.voice.level_sd_db * self.deviate();
+        // Varied within the spread, never over the loud end of real breaths.
+        self.level_offset_db = (self.voice.level_sd_db * self.deviate())
+            .min(MAX_LEVEL_RE_SPEECH_DB - self.voice.level_re_speech_db);
         let weights = self.solve(&target);
         let in_bands: f64 = (0..BANDS)
             .map(|i| {
@@ -501,8 +519,9 @@ mod tests {
     #[test]
     fn learning_takes_the_floor_out_and_falls_back_to_the_priors_with_few_breaths() {
         let fs = 16_000.0;
-        let tilt: Bands = std::array::from_fn(|k| 10f64.powf(-(k as f64) / 10.0));
-        let floor = [1e-3; BANDS];
+        // A tilted breath about 25 dB under speech at -20 dBFS, over a floor 6-20 dB under it.
+        let tilt: Bands = std::array::from_fn(|k| 1e-4 * 10f64.powf(-(k as f64) / 10.0));
+        let floor = [1e-6; BANDS];
         let b = HeardBreath {
             powers: std::array::from_fn(|k| tilt[k] + floor[k]),
             length_s: 0.5,
@@ -511,7 +530,7 @@ mod tests {
         let want = shape_db(&tilt);
         assert!(distance_db(&v.shape_db, &want) < 1e-9, "{:?}", v.shape_db);
         assert_eq!(v.shape_sd_db, [SHAPE_SD_PRIOR_DB; BANDS]);
-        // The level is the tilt's alone, in the bands.
+        // The level is the tilt's alone, in the bands (quieter than the built-in voice's).
         let level = band_level_db(&tilt, fs) + 20.0;
         assert!(
             (v.level_re_speech_db - level).abs() < 1e-9,
@@ -519,6 +538,61 @@ mod tests {
             v.level_re_speech_db
         );
         assert!(LearnedVoice::learn(&[], &floor, -20.0, fs).is_none());
+    }
+
+    #[test]
+    fn drawn_levels_vary_but_never_over_the_loud_end_of_real_breaths() {
+        // A voice learned from a bed: level 4.4 dB under the cap, spread at its largest.
+        let v = LearnedVoice {
+            level_re_speech_db: MAX_LEVEL_RE_SPEECH_DB - 4.4,
+            level_sd_db: MAX_SD_DB,
+            ..voice([0.0; BANDS], 1.5)
+        };
+        let mut s = LearnedSound::new(v, 11);
+        s.prepare(16_000.0);
+        let levels: Vec<f64> = (0..200)
+            .map(|_| {
+                s.start();
+                s.level_db() - v.speech_db
+            })
+            .collect();
+        let loudest = levels.iter().copied().fold(f64::MIN, f64::max);
+        let quietest = levels.iter().copied().fold(f64::MAX, f64::min);
+        assert!(loudest <= MAX_LEVEL_RE_SPEECH_DB + 1e-9, "{loudest}");
+        assert!(
+            quietest < v.level_re_speech_db - 4.0,
+            "still varied: {quietest}"
+        );
+    }
+
+    #[test]
+    fn one_or_two_loud_sounds_heard_as_breaths_never_make_loud_breaths() {
+        // A recording whose breaths were gated out: what is heard as breaths is a scrap of a
+        // word or a music bed, 6 dB under the speech. One or two of them give at most the
+        // built-in level; more give at most the loud end of real breaths.
+        let fs = 16_000.0;
+        let floor = [1e-9; BANDS];
+        let speech_db = -20.0;
+        let loud = HeardBreath {
+            powers: [1.0; BANDS],
+            length_s: 0.2,
+        };
+        let scale = 10f64.powf((speech_db - 6.0 - band_level_db(&loud.powers, fs)) / 10.0);
+        let loud = HeardBreath {
+            powers: loud.powers.map(|p| p * scale),
+            ..loud
+        };
+        let heard_db = band_level_db(&loud.powers, fs) - speech_db;
+        assert!((heard_db + 6.0).abs() < 1e-6, "{heard_db}");
+        for n in 1..=5 {
+            let v = LearnedVoice::learn(&vec![loud; n], &floor, speech_db, fs).expect("breaths");
+            let want = if n < MIN_FOR_SPREAD {
+                f64::from(BREATH_LEVEL_DB.default)
+            } else {
+                MAX_LEVEL_RE_SPEECH_DB
+            };
+            assert_eq!(v.level_re_speech_db, want, "{n} heard");
+        }
     }
 
     #[test]
