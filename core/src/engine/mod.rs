@@ -807,6 +807,8 @@ impl Stream {
         self.voice.frame(f);
         if self.placement.on_frame(f) {
             self.stereo.learn(i, channels);
+            let gains = self.stereo.gains(channels);
+            self.placement.follow_image(f.time_s, gains);
         }
         let frame_pos = (f.time_s * self.sample_rate_hz).round() as u64;
         let emit_at = (frame_pos + self.delay.latency() as u64).max(now);

@@ -516,6 +516,49 @@ fn on_stereo_input_the_breath_sits_in_the_voice_image() {
 }
 
 #[test]
+fn a_breath_between_two_speakers_sits_on_the_side_of_the_one_who_speaks_next() {
+    // An interview in stereo: the host (left, the right channel 12 dB down) speaks two
+    // phrases, the guest (the mirror image) two more. The breath before the guest's first
+    // phrase is the guest's: in a render (8 s of lookahead) on the guest's side, as the
+    // guest's voice is. (The plugin's 500 ms play it before the image has moved.)
+    let (voice, spans) = sequence(0.6, &[1.2, 1.2, 1.2, 1.2], &[0.8, 0.8, 0.8]);
+    let turn = ((spans[1].1 + spans[2].0) / 2.0 * SR) as usize;
+    let quiet = |k: usize, host_side: bool| if (k < turn) == host_side { 1.0 } else { 0.25 };
+    let left: Vec<f32> = voice
+        .iter()
+        .enumerate()
+        .map(|(k, x)| x * quiet(k, true))
+        .collect();
+    let right: Vec<f32> = voice
+        .iter()
+        .enumerate()
+        .map(|(k, x)| x * quiet(k, false))
+        .collect();
+    let mut c = config();
+    c.placement.whole_file = true;
+    let r = render(&c, &[left.clone(), right.clone()], &[512]);
+    let b = r
+        .breaths
+        .iter()
+        .find(|b| b.start_s > spans[1].1 && b.end_s <= spans[2].0 + 0.01)
+        .unwrap_or_else(|| panic!("no breath at the turn: {:?}", r.breaths));
+    let span = (b.start_s * SR) as usize..(b.end_s * SR) as usize;
+    let added = |input: &[f32], out: &[f32]| -> Vec<f32> {
+        input[span.clone()]
+            .iter()
+            .zip(&out[span.clone()])
+            .map(|(a, o)| o - a)
+            .collect()
+    };
+    let ratio_db =
+        20.0 * (rms(&added(&right, &r.audio[1])) / rms(&added(&left, &r.audio[0]))).log10();
+    assert!(
+        (ratio_db - 12.0).abs() < 3.0,
+        "the turn's breath R/L {ratio_db:.1} dB, the guest's voice 12 dB"
+    );
+}
+
+#[test]
 fn speech_from_the_first_frames_starts_breathed_in_without_a_twitch_of_inspiration() {
     // Speech 0–100 ms into the stream: no room for a breath before it. The controls start
     // breathed in, or with an inspiration as long as a short breath; never one of a frame or
