@@ -66,7 +66,7 @@ pub struct Args {
     /// `breath_level_db`).
     #[arg(long, conflicts_with = "no_breaths", help = BREATH_LEVEL.help(), default_value_t = BREATH_LEVEL.default_value() as f32, allow_hyphen_values = true, value_parser = crate::options::number)]
     pub breath_level_db: f32,
-    /// Pauses shorter than this get no breath, ms (the table's `min_pause_s`).
+    /// Shortest pause that gets a full breath, ms (the table's `min_pause_s`).
     #[arg(long, help = MIN_PAUSE.help(), default_value_t = MIN_PAUSE.default_value() as f32, value_parser = crate::options::number)]
     pub min_pause_ms: f32,
     /// Placement: `lookahead` or `live` (the table's `mode`).
