@@ -141,4 +141,7 @@ fn print_summary(input: &Path, s: &RenderSummary) {
     for f in &s.findings {
         eprintln!("warning: {}", f.message());
     }
+    for n in &s.notes {
+        eprintln!("warning: {n}");
+    }
 }

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use pneuma_core::breathing::{BreathSample, Preset, SampleSlot};
 use pneuma_core::encode::midi_cc::CcMap;
 use pneuma_core::engine::{Engine, EngineConfig, EngineError, PlacementMode};
-use pneuma_io::{AudioSource, InputFormat, Tags};
+use pneuma_io::{AudioSource, InputFormat, WavMeta};
 
 use super::error::RenderError;
 use super::leftovers::Leftover;
@@ -77,8 +77,8 @@ pub struct Args {
     /// lookahead).
     #[arg(long, help = LOOKAHEAD.help_with_default(&format!("none: the render looks seconds ahead, the engine's whole-file lookahead; the plugin's is {}", LOOKAHEAD.setting.default_text(LOOKAHEAD.unit))), value_parser = crate::options::number)]
     pub lookahead_ms: Option<f32>,
-    /// Do not insert breaths (controls only; the audio samples are written unchanged, the
-    /// input's metadata chunks are not).
+    /// Do not insert breaths (controls only; the audio samples are written unchanged, with the
+    /// tags and cue points any render carries, not the input's other chunks such as bext).
     #[arg(long)]
     pub no_breaths: bool,
     /// Breaths in the pauses of any sound, not only of speech (the speech decision off): for
@@ -364,8 +364,9 @@ pub struct Job {
     pub input_channels: (usize, Option<usize>),
     /// The input's container and whether it is lossless.
     pub input_format: (InputFormat, bool),
-    /// The input's tags, carried into the output.
-    pub tags: Tags,
+    /// What the output carries over from the input: its tags (any format), a WAV's cue
+    /// points and its `fmt ` form (kept only for a WAV of the input's channels).
+    pub carried: WavMeta,
     /// The engine, prepared for the rendered rate and channels, with the breath samples.
     pub engine: Engine,
     /// Where the outputs go.
@@ -489,6 +490,9 @@ pub struct OutputPlan {
     pub mp3: Option<crate::mp3_out::Mp3Settings>,
     /// Where the frames go as OSC, if anywhere.
     pub osc: Option<crate::osc_out::OscPlan>,
+    /// Warnings for the summary on where the outputs differ from what was asked (the breath
+    /// markers of a batch's file that cannot hold cue points).
+    pub notes: Vec<String>,
 }
 
 impl Job {
@@ -526,7 +530,11 @@ impl Job {
         Ok(Self {
             input_channels: (input_channels, pick),
             input_format: (source.format(), source.lossless()),
-            tags: source.tags(),
+            carried: WavMeta {
+                tags: source.tags(),
+                cues: source.cue_points().to_vec(),
+                form: source.fmt_form().filter(|_| pick.is_none()),
+            },
             info,
             source,
             engine,
@@ -708,7 +716,9 @@ impl OutputPlan {
     /// The outputs of `input` as `args` ask, in `container`: refused when `-o` looks like a
     /// file, when the audio would replace the input, or (`--no-overwrite`) when one exists.
     fn new(args: &Args, input: &Path, container: Container) -> Result<Self, RenderError> {
+        let stem = output_stem(input);
         let cues = args.markers.contains(&MarkerKind::Cue);
+        let notes = Vec::new();
         let osc = args.osc.plan().map_err(RenderError::Input)?;
         let cc_map = args.midi.map().map_err(RenderError::Input)?;
         if args.to_stdout() {
@@ -723,10 +733,10 @@ impl OutputPlan {
                 keep_leftovers: false,
                 mp3: None,
                 osc,
+                notes,
             });
         }
         crate::options::check_output_folder("-o", &args.output).map_err(RenderError::Input)?;
-        let stem = output_stem(input);
         let audio = args
             .output
             .join(format!("{stem}.{}", container.extension()));
@@ -743,6 +753,7 @@ impl OutputPlan {
             markers: &args.markers,
         };
         let files = FolderFiles::named(&args.output, &stem, wanted);
+
         // Never the input, whatever its name.
         let leftovers = (files.leftovers(&stem).into_iter())
             .filter(|l| !same_file(input, &l.path))
@@ -765,6 +776,7 @@ impl OutputPlan {
             keep_leftovers: args.no_overwrite,
             mp3: None,
             osc,
+            notes,
         })
     }
 }
