@@ -53,9 +53,14 @@ pub struct Args {
     pub vbr: bool,
     /// Breath markers for editors, comma-separated: audacity (label track
     /// `<stem>.breaths.txt`), reaper (region list `<stem>.breaths.reaper.csv`), cue (cue points
-    /// inside the output WAV).
+    /// inside the output WAV; in a batch, a file whose output is not WAV gets the Audacity
+    /// label track instead, with a warning).
     #[arg(long, value_enum, value_delimiter = ',', value_name = "KIND")]
     pub markers: Vec<MarkerKind>,
+    /// Set by the render itself for a batch's files: what one file's render refuses (cue
+    /// points in an output that is not WAV) becomes a warning.
+    #[arg(skip)]
+    pub in_batch: bool,
     /// Files rendered at once in a batch (1 to 256; default: the number of cores).
     #[arg(short = 'j', long, value_name = "N")]
     pub jobs: Option<usize>,
@@ -508,7 +513,6 @@ impl Job {
         } else {
             output_container(args.format, source.format())
         };
-        check_cue_container(args, container)?;
         let mut info = source.info();
         check_input_shape(args, &info)?;
         let mp3 = mp3_settings(args, input, container, &source, args.channel.is_some())?;
@@ -607,16 +611,40 @@ fn mp3_settings(
     .map_err(RenderError::Input)
 }
 
-/// Cue points live inside a WAV file.
-fn check_cue_container(args: &Args, container: Container) -> Result<(), RenderError> {
-    if args.markers.contains(&MarkerKind::Cue) && container != Container::Wav {
+/// The marker files to write and whether the audio gets cue points, with the summary's
+/// warnings. Cue points live inside a WAV file: asked for another output, one file's render is
+/// refused, and a batch's file gets its breath markers in the Audacity label track instead
+/// (beside the REAPER list, if asked), with a warning, so a batch of WAVs and MP3s finishes.
+fn marker_plan(
+    args: &Args,
+    container: Container,
+    stem: &str,
+) -> Result<(Vec<MarkerKind>, bool, Vec<String>), RenderError> {
+    let mut markers = args.markers.clone();
+    let cue = markers.contains(&MarkerKind::Cue);
+    if !cue || container == Container::Wav {
+        return Ok((markers, cue, Vec::new()));
+    }
+    let format = container.extension().to_uppercase();
+    if !args.in_batch {
         return Err(RenderError::Input(format!(
-            "--markers cue writes cue points inside a WAV file, but the output is {}: add \
-             --format wav, or use --markers audacity or reaper",
-            container.extension().to_uppercase()
+            "--markers cue writes cue points inside a WAV file, but the output is {format}: add \
+             --format wav, or use --markers audacity or reaper"
         )));
     }
-    Ok(())
+    markers.retain(|k| *k != MarkerKind::Cue);
+    if !markers.contains(&MarkerKind::Audacity) {
+        markers.push(MarkerKind::Audacity);
+    }
+    let files: Vec<String> = (markers.iter())
+        .filter_map(|k| k.suffix().map(|s| format!("{stem}.{s}")))
+        .collect();
+    let note = format!(
+        "{format} holds no cue points: the breath markers are in {} (--format wav for cue \
+         points)",
+        files.join(" and ")
+    );
+    Ok((markers, false, vec![note]))
 }
 
 /// The engine takes the input's channels; the BVH needs the input's length up front.
@@ -717,8 +745,7 @@ impl OutputPlan {
     /// file, when the audio would replace the input, or (`--no-overwrite`) when one exists.
     fn new(args: &Args, input: &Path, container: Container) -> Result<Self, RenderError> {
         let stem = output_stem(input);
-        let cues = args.markers.contains(&MarkerKind::Cue);
-        let notes = Vec::new();
+        let (markers, cues, notes) = marker_plan(args, container, &stem)?;
         let osc = args.osc.plan().map_err(RenderError::Input)?;
         let cc_map = args.midi.map().map_err(RenderError::Input)?;
         if args.to_stdout() {
@@ -750,7 +777,7 @@ impl OutputPlan {
             plot: !args.no_plot,
             bvh: args.bvh.wanted(),
             midi: args.midi.wanted(),
-            markers: &args.markers,
+            markers: &markers,
         };
         let files = FolderFiles::named(&args.output, &stem, wanted);
 

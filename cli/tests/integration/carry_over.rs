@@ -1,5 +1,6 @@
 //! What a render keeps of what the user already had: a WAV's cue points (a DAW's chapter and ad
-//! markers) and `LIST`/`INFO` tags, its `fmt ` form (channel mask, plain float).
+//! markers) and `LIST`/`INFO` tags, its `fmt ` form (channel mask, plain float), the breath
+//! markers of a batch's file that cannot hold cue points.
 
 use std::path::Path;
 
@@ -287,4 +288,38 @@ fn a_wav_keeps_its_channel_mask_and_its_plain_float_header() {
         let said = String::from_utf8_lossy(&o.stderr);
         assert!(o.status.success() && !said.contains("WARN"), "{said}");
     }
+}
+
+#[test]
+fn a_batch_with_cue_markers_gives_a_flac_file_label_tracks_and_finishes() {
+    let dir = tempfile::tempdir().expect("temp");
+    let eps = dir.path().join("eps");
+    std::fs::create_dir(&eps).expect("dir");
+    std::fs::copy(example_voice_path(), eps.join("ep1.wav")).expect("copy");
+    // A FLAC episode: the voice as it is (written by pneuma itself: no encoder needed).
+    let flac_dir = dir.path().join("flac");
+    assert_ok(&render(
+        &example_voice_path(),
+        &flac_dir,
+        &["--no-plot", "--no-breaths", "--format", "flac"],
+    ));
+    std::fs::copy(flac_dir.join("voice.flac"), eps.join("ep2.flac")).expect("copy");
+    let out = dir.path().join("out");
+    let o = render_saying(&eps, &out, &["--markers", "cue"]);
+    let said = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{said}");
+    assert!(said.contains("2 rendered, 0 failed"), "{said}");
+    assert!(
+        said.contains(
+            "ep2.flac: FLAC holds no cue points: the breath markers are in ep2.breaths.txt"
+        ),
+        "{said}"
+    );
+    let labels = std::fs::read_to_string(out.join("ep2.breaths.txt")).expect("labels");
+    assert!(labels.lines().count() >= 3, "{labels}");
+    assert!(
+        !out.join("ep1.breaths.txt").exists(),
+        "the WAV has its cue points"
+    );
+    assert!(cue_points(&out.join("ep1.wav")).len() >= 3);
 }
