@@ -780,7 +780,17 @@ impl OutputPlan {
             markers: &markers,
         };
         let files = FolderFiles::named(&args.output, &stem, wanted);
-
+        let mut notes = notes;
+        notes.extend(other_audio(input, &audio).map(|other| {
+            format!(
+                "{} stays beside this render's {}: it is not this render's audio (another \
+                 input's render, another --format, or your own file), and {stem}.breaths.csv \
+                 and the other files now describe {}; remove it, or render into another folder",
+                other.display(),
+                audio.display(),
+                audio.file_name().unwrap_or_default().to_string_lossy()
+            )
+        }));
         // Never the input, whatever its name.
         let leftovers = (files.leftovers(&stem).into_iter())
             .filter(|l| !same_file(input, &l.path))
@@ -806,6 +816,16 @@ impl OutputPlan {
             notes,
         })
     }
+}
+
+/// The audio files of the other formats a render writes with the stem of `audio` beside it
+/// (not the input itself): an earlier render's of another input or format, or the user's file,
+/// left by design and named in a warning, since the files beside it now belong to `audio`.
+fn other_audio<'a>(input: &'a Path, audio: &'a Path) -> impl Iterator<Item = PathBuf> + 'a {
+    <Container as clap::ValueEnum>::value_variants()
+        .iter()
+        .map(move |c| audio.with_extension(c.extension()))
+        .filter(move |p| p != audio && p.is_file() && !same_file(input, p))
 }
 
 /// The name the outputs of `input` are named after: its file stem, `stdin` for `-`.

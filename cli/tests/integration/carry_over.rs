@@ -1,6 +1,7 @@
 //! What a render keeps of what the user already had: a WAV's cue points (a DAW's chapter and ad
 //! markers) and `LIST`/`INFO` tags, its `fmt ` form (channel mask, plain float), the breath
-//! markers of a batch's file that cannot hold cue points.
+//! markers of a batch's file that cannot hold cue points, and a warning for an audio file of
+//! another render beside the outputs.
 
 use std::path::Path;
 
@@ -322,4 +323,29 @@ fn a_batch_with_cue_markers_gives_a_flac_file_label_tracks_and_finishes() {
         "the WAV has its cue points"
     );
     assert!(cue_points(&out.join("ep1.wav")).len() >= 3);
+}
+
+#[test]
+fn an_audio_file_of_another_render_beside_the_outputs_is_named() {
+    let dir = tempfile::tempdir().expect("temp");
+    let out = dir.path().join("out");
+    assert_ok(&render(&example_voice_path(), &out, &["--no-plot"]));
+    let flac_dir = dir.path().join("flac");
+    assert_ok(&render(
+        &example_voice_path(),
+        &flac_dir,
+        &["--no-plot", "--format", "flac"],
+    ));
+    let o = render_saying(&flac_dir.join("voice.flac"), &out, &[]);
+    assert_ok(&o);
+    let said = String::from_utf8_lossy(&o.stderr);
+    let old = out.join("voice.wav");
+    assert!(old.exists(), "another format's audio stays");
+    assert!(
+        said.contains(&format!(
+            "warning: {} stays beside this render's",
+            old.display()
+        )),
+        "{said}"
+    );
 }
