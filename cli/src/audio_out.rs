@@ -11,8 +11,9 @@
 //!   input WAV's own form when it is kept (plain or `WAVE_FORMAT_EXTENSIBLE` with its channel
 //!   mask), else `WAVE_FORMAT_EXTENSIBLE` above 2 channels or for integers above 16 bits; tags
 //!   as a `LIST`/`INFO` chunk; cue points (the input's and the breath markers) as a `cue ` chunk
-//!   with a `LIST`/`adtl` chunk of labels (`labl`) and lengths (`ltxt`). On standard output the sizes
-//!   are `0xFFFFFFFF` (unknown, as ffmpeg and sox write to a pipe) and no chunk follows the data.
+//!   with a `LIST`/`adtl` chunk of labels (`labl`) and lengths (`ltxt`). On standard output the
+//!   sizes are `0xFFFFFFFF` (unknown, as ffmpeg and sox write to a pipe) and no chunk follows the
+//!   data.
 //! - **AIFF**: big-endian integer PCM, title and artist as `NAME` and `AUTH` chunks.
 //! - **FLAC** (flacenc, one frame per 4096 sample frames, streamed): the STREAMINFO block is
 //!   rewritten with the MD5 sum and the length at the end; tags and chapters as Vorbis comments
