@@ -35,6 +35,7 @@ fn bench(c: &mut Criterion) {
         bitrate: None,
         vbr: false,
         markers: Vec::new(),
+        in_batch: false,
         jobs: None,
         preset: "neutral".into(),
         breath_level_db: -22.0,

@@ -7,10 +7,13 @@
 //! bit-identical (8, 16 and 24-bit; 32-bit integer audio is processed at the 24-bit precision of
 //! `f32`).
 //!
-//! - **WAV**: format tag 1 (integer) or 3 (float), `WAVE_FORMAT_EXTENSIBLE` above 2 channels or
-//!   16 bits; tags as a `LIST`/`INFO` chunk; breath markers as a `cue ` chunk with a
-//!   `LIST`/`adtl` chunk of labels (`labl`) and lengths (`ltxt`). On standard output the sizes
-//!   are `0xFFFFFFFF` (unknown, as ffmpeg and sox write to a pipe) and no chunk follows the data.
+//! - **WAV**: format tag 1 (integer) or 3 (float, with its `cbSize` and a `fact` chunk), the
+//!   input WAV's own form when it is kept (plain or `WAVE_FORMAT_EXTENSIBLE` with its channel
+//!   mask), else `WAVE_FORMAT_EXTENSIBLE` above 2 channels or for integers above 16 bits; tags
+//!   as a `LIST`/`INFO` chunk; cue points (the input's and the breath markers) as a `cue ` chunk
+//!   with a `LIST`/`adtl` chunk of labels (`labl`) and lengths (`ltxt`). On standard output the
+//!   sizes are `0xFFFFFFFF` (unknown, as ffmpeg and sox write to a pipe) and no chunk follows the
+//!   data.
 //! - **AIFF**: big-endian integer PCM, title and artist as `NAME` and `AUTH` chunks.
 //! - **FLAC** (flacenc, one frame per 4096 sample frames, streamed): the STREAMINFO block is
 //!   rewritten with the MD5 sum and the length at the end; tags and chapters as Vorbis comments
@@ -26,7 +29,7 @@ use std::path::Path;
 use flacenc::component::BitRepr;
 use flacenc::error::Verify;
 use flacenc::source::Fill;
-use pneuma_io::Tags;
+use pneuma_io::{FmtForm, Tags};
 
 use crate::mp3_out::{Mp3Encoder, Mp3Settings};
 use crate::output::{commit_all, Staged};
@@ -111,6 +114,10 @@ pub struct AudioSink {
     bits: u16,
     float: bool,
     tags: Tags,
+    /// The input's `fmt ` form to keep (WAV).
+    form: Option<FmtForm>,
+    /// Where the `fact` chunk's frame count is (plain float WAV to a file).
+    fact_at: Option<u64>,
     cues: Vec<Cue>,
     clipped: u64,
     data_bytes: u64,
@@ -160,6 +167,17 @@ fn clock(s: f64) -> String {
     )
 }
 
+/// The WAV `fmt ` form written: `WAVE_FORMAT_EXTENSIBLE` or not, and its channel mask. The
+/// input's own form when it is kept (`form`); else extensible above 2 channels or for integers
+/// above 16 bits, with the mask unassigned, and float as plain format tag 3 (sox and others
+/// warn of an extensible float header).
+fn wav_fmt_form(form: Option<FmtForm>, channels: u16, bits: u16, float: bool) -> (bool, u32) {
+    match form {
+        Some(f) => (f.extensible, f.channel_mask),
+        None => (channels > 2 || (bits > 16 && !float), 0),
+    }
+}
+
 /// A RIFF chunk: id, little-endian size, body, pad byte after an odd length.
 fn riff_chunk(out: &mut Vec<u8>, id: &[u8; 4], body: &[u8]) {
     out.extend_from_slice(id);
@@ -183,7 +201,19 @@ impl AudioSink {
         container: Container,
         tags: Tags,
     ) -> std::io::Result<Self> {
-        Self::create_file(target, info, container, tags, None)
+        Self::create_file(target, info, container, tags, None, None)
+    }
+
+    /// Starts writing `target` as [`create_as`](Self::create_as) does, a WAV with the `fmt `
+    /// form of the input it renders (`form`: plain or extensible, its channel mask).
+    pub fn create_keeping(
+        target: &Path,
+        info: WavInfo,
+        container: Container,
+        tags: Tags,
+        form: Option<FmtForm>,
+    ) -> std::io::Result<Self> {
+        Self::create_file(target, info, container, tags, None, form)
     }
 
     /// Starts writing `target` as MP3 encoded as `settings` ask, carrying `tags`.
@@ -193,7 +223,7 @@ impl AudioSink {
         tags: Tags,
         settings: Mp3Settings,
     ) -> std::io::Result<Self> {
-        Self::create_file(target, info, Container::Mp3, tags, Some(settings))
+        Self::create_file(target, info, Container::Mp3, tags, Some(settings), None)
     }
 
     fn create_file(
@@ -202,6 +232,7 @@ impl AudioSink {
         container: Container,
         tags: Tags,
         mp3: Option<Mp3Settings>,
+        form: Option<FmtForm>,
     ) -> std::io::Result<Self> {
         let staged = Staged::new(target)?;
         let file = File::create(staged.temp())?;
@@ -214,6 +245,7 @@ impl AudioSink {
             container,
             tags,
             mp3,
+            form,
         )
     }
 
@@ -225,6 +257,7 @@ impl AudioSink {
             Container::Wav,
             Tags::default(),
             None,
+            None,
         )
     }
 
@@ -234,6 +267,7 @@ impl AudioSink {
         container: Container,
         tags: Tags,
         mp3: Option<Mp3Settings>,
+        form: Option<FmtForm>,
     ) -> std::io::Result<Self> {
         // Float goes to FLAC as 24-bit integers and to AIFF as 32-bit integers (AIFF is integer).
         let (bits, float) = match (container, info.float) {
@@ -249,6 +283,8 @@ impl AudioSink {
             bits,
             float,
             tags,
+            form,
+            fact_at: None,
             cues: Vec::new(),
             clipped: 0,
             data_bytes: 0,
@@ -266,6 +302,10 @@ impl AudioSink {
         Ok(sink)
     }
 
+    fn to_stdout(&self) -> bool {
+        matches!(self.dest, Some(Dest::Stdout(_)))
+    }
+
     fn dest(&mut self) -> &mut dyn Write {
         self.dest
             .as_mut()
@@ -280,8 +320,8 @@ impl AudioSink {
         let mut h = Vec::new();
         match self.container {
             Container::Wav => {
-                let extensible = ch > 2 || self.bits > 16;
                 let tag: u16 = if self.float { 3 } else { 1 };
+                let (extensible, mask) = wav_fmt_form(self.form, ch, self.bits, self.float);
                 let mut fmt = Vec::new();
                 fmt.extend_from_slice(&(if extensible { 0xfffe } else { tag }).to_le_bytes());
                 fmt.extend_from_slice(&ch.to_le_bytes());
@@ -292,17 +332,25 @@ impl AudioSink {
                 if extensible {
                     fmt.extend_from_slice(&22u16.to_le_bytes());
                     fmt.extend_from_slice(&self.bits.to_le_bytes());
-                    fmt.extend_from_slice(&0u32.to_le_bytes()); // channel mask: unassigned
+                    fmt.extend_from_slice(&mask.to_le_bytes());
                     fmt.extend_from_slice(&tag.to_le_bytes());
                     fmt.extend_from_slice(&[
                         0x00, 0x00, 0x00, 0x00, 0x10, 0x00, 0x80, 0x00, 0x00, 0xaa, 0x00, 0x38,
                         0x9b, 0x71,
                     ]);
+                } else if self.float {
+                    // A non-PCM WAVEFORMATEX has its cbSize (readers such as sox warn without).
+                    fmt.extend_from_slice(&0u16.to_le_bytes());
                 }
                 h.extend_from_slice(b"RIFF");
                 h.extend_from_slice(&u32::MAX.to_le_bytes()); // patched at the end
                 h.extend_from_slice(b"WAVE");
                 riff_chunk(&mut h, b"fmt ", &fmt);
+                if self.float && !extensible && !self.to_stdout() {
+                    // Non-PCM data has a `fact` chunk: the sample frames, patched at the end.
+                    self.fact_at = Some(h.len() as u64 + 8);
+                    riff_chunk(&mut h, b"fact", &0u32.to_le_bytes());
+                }
                 let fields = self.tags.fields();
                 if !fields.is_empty() {
                     let mut info = b"INFO".to_vec();
@@ -566,12 +614,7 @@ impl AudioSink {
     /// The WAV chunks after the data: the pad byte, `cue ` and `LIST`/`adtl`.
     fn tail_chunks(&self) -> Vec<u8> {
         let mut out = Vec::new();
-        if self.container != Container::Wav
-            || self
-                .dest
-                .as_ref()
-                .is_some_and(|d| matches!(d, Dest::Stdout(_)))
-        {
+        if self.container != Container::Wav || self.to_stdout() {
             return out;
         }
         if self.data_bytes % 2 == 1 {
@@ -627,6 +670,12 @@ impl AudioSink {
                 file.write_all(&riff.to_le_bytes())?;
                 file.seek(SeekFrom::Start(self.header_len - 4))?;
                 file.write_all(&data.to_le_bytes())?;
+                if let Some(at) = self.fact_at {
+                    let frame_bytes = u64::from(self.bits / 8) * u64::from(self.info.channels);
+                    let frames = u32::try_from(self.data_bytes / frame_bytes).unwrap_or(u32::MAX);
+                    file.seek(SeekFrom::Start(at))?;
+                    file.write_all(&frames.to_le_bytes())?;
+                }
             }
             Container::Aiff => {
                 let frame_bytes = u64::from(self.bits / 8) * u64::from(self.info.channels);

@@ -414,6 +414,27 @@ mod tests {
         }
     }
 
+    /// `--min-pause-ms` decides which pauses get a full breath and end a group: a shorter
+    /// pause still gets a catch breath when the air runs out (raising it gives more of them),
+    /// and the help and the guide say so rather than "no breath".
+    #[test]
+    fn min_pause_help_and_guide_name_the_catch_breaths_in_shorter_pauses() {
+        let help = MIN_PAUSE.help();
+        assert!(
+            help.contains("full breath") && help.contains("catch breath"),
+            "{help}"
+        );
+        let guide = include_str!("../../docs/guide/cli.md");
+        let row = guide
+            .lines()
+            .find(|l| l.starts_with("| `--min-pause-ms`"))
+            .expect("row");
+        assert!(
+            row.contains("full breath") && row.contains("catch breath"),
+            "{row}"
+        );
+    }
+
     #[test]
     fn numbers_accept_the_unicode_minus() {
         assert_eq!(number("\u{2212}22"), Ok(-22.0));

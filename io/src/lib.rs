@@ -3,7 +3,8 @@
 //!
 //! [`AudioSource::open`] looks at the first bytes of a file (or of standard input, `-`) and
 //! reads:
-//! - **WAV** (RIFF, RF64, BW64) with the own reader in [`wav`];
+//! - **WAV** (RIFF, RF64, BW64) with the own reader in [`wav`], its tags, cue points and `fmt `
+//!   form apart in [`wav_meta`];
 //! - **everything else** (FLAC, MP3, M4A/AAC, Ogg Vorbis, AIFF, CAF) through symphonia, in
 //!   [`decode`].
 //!
@@ -24,6 +25,7 @@ pub mod decode;
 pub mod g711;
 pub mod mp4_edit;
 pub mod wav;
+pub mod wav_meta;
 
 use std::io::{Cursor, Read};
 use std::path::{Path, PathBuf};
@@ -33,6 +35,7 @@ use wav::read_full;
 
 pub use decode::{DecodeError, DecodedSource};
 pub use wav::{WavError, WavSource};
+pub use wav_meta::{CuePoint, FmtForm, WavMeta};
 
 /// What an audio input holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -290,7 +293,11 @@ impl AudioSource {
                 (source, _) => Ok(Self::Decoded(Box::new(source?))),
             };
         }
-        Self::from_stream(path, head, file, file_len, format)
+        let mut source = Self::from_stream(path, head, file, file_len, format)?;
+        if let (Self::Wav(s), Some(_)) = (&mut source, file_len) {
+            s.read_meta(path);
+        }
+        Ok(source)
     }
 
     /// Opens standard input.
@@ -359,11 +366,27 @@ impl AudioSource {
         }
     }
 
-    /// Tags found in the input (none for WAV).
+    /// Tags found in the input (WAV: its `LIST`/`INFO` chunk, from a regular file).
     pub fn tags(&self) -> Tags {
         match self {
-            Self::Wav(_) => Tags::default(),
+            Self::Wav(s) => s.meta().tags.clone(),
             Self::Decoded(s) => s.tags().clone(),
+        }
+    }
+
+    /// The cue points of a WAV file (a DAW's markers and regions); none for other formats.
+    pub fn cue_points(&self) -> &[CuePoint] {
+        match self {
+            Self::Wav(s) => &s.meta().cues,
+            Self::Decoded(_) => &[],
+        }
+    }
+
+    /// The `fmt ` chunk's form of a WAV file (`None` for other formats and streams).
+    pub fn fmt_form(&self) -> Option<FmtForm> {
+        match self {
+            Self::Wav(s) => s.meta().form,
+            Self::Decoded(_) => None,
         }
     }
 

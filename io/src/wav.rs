@@ -15,6 +15,7 @@
 //! - any channel count, 8000–192000 Hz.
 //!
 //! Chunks other than `fmt ` and `data` (`LIST`, `bext`, `iXML`, `fact`, `JUNK`, …) are skipped
+//! (a file's tags, cue points and `fmt ` form are read apart, [`crate::wav_meta`])
 //! with the RIFF pad byte after odd lengths; `fmt ` must come before `data`, and nothing after
 //! `data` is read. A data size of `0xFFFFFFFF`, sox's "unspecified" `0x7FFFF000` (when the file
 //! is shorter than that), or 0 with a RIFF size of 0 or `0xFFFFFFFF` is what ffmpeg or sox write
@@ -39,6 +40,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 pub use crate::mix_to_mono;
+use crate::wav_meta::WavMeta;
 use crate::AudioInfo;
 
 /// Errors while reading a WAV file.
@@ -161,6 +163,9 @@ pub struct WavSource {
     scale: f32,
     /// Reused raw-byte buffer.
     bytes: Vec<u8>,
+    /// Tags, cue points and `fmt ` form (read apart, from a regular file only; boxed, as
+    /// they are seldom there and the source is moved around).
+    meta: Box<WavMeta>,
 }
 
 impl std::fmt::Debug for WavSource {
@@ -209,15 +214,15 @@ pub(crate) fn read_full(r: &mut impl Read, buf: &mut [u8]) -> std::io::Result<us
     Ok(n)
 }
 
-fn u16_at(b: &[u8], at: usize) -> u16 {
+pub(crate) fn u16_at(b: &[u8], at: usize) -> u16 {
     u16::from_le_bytes([b[at], b[at + 1]])
 }
 
-fn u32_at(b: &[u8], at: usize) -> u32 {
+pub(crate) fn u32_at(b: &[u8], at: usize) -> u32 {
     u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
 }
 
-fn u64_at(b: &[u8], at: usize) -> u64 {
+pub(crate) fn u64_at(b: &[u8], at: usize) -> u64 {
     let mut a = [0u8; 8];
     a.copy_from_slice(&b[at..at + 8]);
     u64::from_le_bytes(a)
@@ -322,6 +327,17 @@ impl WavSource {
     /// Sample frames read so far.
     pub fn frames_read(&self) -> u64 {
         self.frames_read
+    }
+
+    /// The tags, cue points and `fmt ` form of the file ([`crate::wav_meta`]; none from a
+    /// stream).
+    pub fn meta(&self) -> &WavMeta {
+        &self.meta
+    }
+
+    /// Reads [`Self::meta`] from the regular file `path` this source reads.
+    pub(crate) fn read_meta(&mut self, path: &Path) {
+        *self.meta = crate::wav_meta::read(path);
     }
 
     /// Reads up to `max_frames` sample frames as interleaved f32 (full scale ±1) into `out`
@@ -736,6 +752,7 @@ impl<'a> Header<'a> {
                 1.0 / (1u64 << (bits - 1)) as f32
             },
             bytes: Vec::new(),
+            meta: Box::default(),
         })
     }
 

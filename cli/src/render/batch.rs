@@ -43,12 +43,11 @@ fn row(input: &Path, result: Result<&Outcome, &str>) -> [String; COLUMNS] {
             "ok".into(),
             s.breaths.len().to_string(),
             format!("{:.1}", s.length_s),
-            if s.findings.is_empty() {
+            if s.findings.is_empty() && s.notes.is_empty() {
                 "-".into()
             } else {
-                s.findings
-                    .iter()
-                    .map(|f| f.short())
+                (s.findings.iter().map(|f| f.short().to_string()))
+                    .chain(s.notes.iter().map(|_| "see below".to_string()))
                     .collect::<Vec<_>>()
                     .join(", ")
             },
@@ -102,10 +101,20 @@ fn print_table(rows: &[[String; COLUMNS]]) {
     }
 }
 
-/// The lines on the files earlier renders left, after the table: what each render removed
-/// (even when `quiet`: a removal is never silent), or kept (`--no-overwrite`).
-fn print_leftovers(results: &[Outcome], quiet: bool) {
-    for s in results.iter().flatten() {
+/// The lines after the table: each render's warnings on what its outputs could not carry, and
+/// the files earlier renders left: what each render removed (even when `quiet`: a removal is
+/// never silent), or kept (`--no-overwrite`).
+fn print_leftovers(inputs: &[PathBuf], results: &[Outcome], quiet: bool) {
+    for (input, s) in inputs
+        .iter()
+        .zip(results)
+        .filter_map(|(i, r)| Some((i, r.as_ref().ok()?)))
+    {
+        if !quiet {
+            for n in &s.notes {
+                eprintln!("warning: {}: {n}", input.display());
+            }
+        }
         if let Some(removed) = s.leftovers.removed_line() {
             eprintln!("{removed}");
         }
@@ -191,7 +200,7 @@ pub fn main(args: &Args, all: &[Input]) -> ExitCode {
             args.output.display()
         );
     }
-    print_leftovers(&results, args.quiet);
+    print_leftovers(&inputs, &results, args.quiet);
     if results
         .iter()
         .any(|r| matches!(r, Err(RenderError::Interrupted)))

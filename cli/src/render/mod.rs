@@ -47,7 +47,7 @@ pub use plan::{output_container, Args};
 
 /// Runs `pneuma render` from parsed arguments: one input with a progress bar when a terminal
 /// is attached and the job takes more than a second, or a batch (several inputs or a folder).
-pub fn main(args: Args) -> ExitCode {
+pub fn main(mut args: Args) -> ExitCode {
     install_interrupt_handler();
     let inputs = match plan::expand_inputs(&args.inputs) {
         Ok(v) => v,
@@ -58,6 +58,7 @@ pub fn main(args: Args) -> ExitCode {
     };
     let created = crate::options::missing_folders(&args.output);
     let code = if inputs.len() > 1 || args.inputs.iter().any(|p| p.is_dir()) {
+        args.in_batch = true;
         batch::main(&args, &inputs)
     } else {
         render_one(&args, &inputs[0].path)
@@ -140,5 +141,8 @@ fn print_summary(input: &Path, s: &RenderSummary) {
     }
     for f in &s.findings {
         eprintln!("warning: {}", f.message());
+    }
+    for n in &s.notes {
+        eprintln!("warning: {n}");
     }
 }

@@ -21,13 +21,13 @@ use pneuma_core::encode::sink::{FrameSink, Resample, TextSink};
 use pneuma_core::engine::offline::{self, TailFrames};
 use pneuma_core::engine::VoiceStatus;
 use pneuma_core::{BreathEvent, BreathKind, ControlFrame};
-use pneuma_io::{AudioSource, InputFormat};
+use pneuma_io::{AudioSource, CuePoint, InputFormat, WavMeta};
 
 use super::error::{interrupted, out_err, RenderError};
 use super::findings::{findings, ChannelEnergy, Finding};
 use super::leftovers::Cleared;
 use super::plan::{Args, FolderFiles, Job, OutputPlan, BLOCK_FRAMES};
-use crate::audio_out::{AudioSink, Container};
+use crate::audio_out::{AudioSink, Container, Cue};
 use crate::output::{commit_all, Output, Staged};
 use crate::wav::WavInfo;
 
@@ -66,6 +66,9 @@ pub struct RenderSummary {
     /// The low-pass corner the inserted breaths passed through to stay inside the recording's
     /// bandwidth, Hz, at the end of the render (`None`: no limit).
     pub band_limit_hz: Option<f64>,
+    /// Warnings on what the outputs could not carry or where they went instead (the input's
+    /// cue points in a FLAC, the breath markers of a batch's file that is not WAV).
+    pub notes: Vec<String>,
 }
 
 /// The summary's line on the breath voice, given the breaths inserted (those played from the
@@ -152,10 +155,15 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         info,
         input_channels,
         input_format,
-        tags,
+        carried,
         mut engine,
         outputs,
     } = job;
+    let WavMeta {
+        tags,
+        cues: input_cues,
+        form,
+    } = carried;
     if let Some(files) = &outputs.files {
         std::fs::create_dir_all(&files.folder).map_err(out_err(&files.folder))?;
     }
@@ -163,7 +171,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         None => AudioSink::stdout(info),
         Some(_) => match outputs.mp3 {
             Some(mp3) => AudioSink::create_mp3(&outputs.audio, info, tags, mp3),
-            None => AudioSink::create_as(&outputs.audio, info, outputs.container, tags),
+            None => AudioSink::create_keeping(&outputs.audio, info, outputs.container, tags, form),
         },
     }
     .map_err(out_err(&outputs.audio))?;
@@ -237,8 +245,15 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
     } = pass;
     let breaths = breaths_within(kept.breaths, length_s);
     let clipped = audio.clipped();
-    if outputs.cues {
-        audio.set_cues(crate::markers::cues(&breaths, info.sample_rate_hz));
+    let mut notes = outputs.notes.clone();
+    let breath_cues = if outputs.cues {
+        crate::markers::cues(&breaths, info.sample_rate_hz)
+    } else {
+        Vec::new()
+    };
+    match carried_cues(&input_cues, breath_cues, outputs.container) {
+        Ok(cues) => audio.set_cues(cues),
+        Err(note) => notes.push(note),
     }
     let files = match (&outputs.files, controls) {
         (Some(folder), Some(controls)) => commit_files(
@@ -277,7 +292,38 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         leftovers,
         voice,
         band_limit_hz,
+        notes,
     })
+}
+
+/// The cue points of the output: the input's own (a DAW's chapter and ad markers, at the same
+/// sample frames: the render keeps the input's length and time) and the breath markers, in
+/// time order; `Err` with the summary's warning when the output cannot hold the input's.
+fn carried_cues(
+    input: &[CuePoint],
+    breaths: Vec<Cue>,
+    container: Container,
+) -> Result<Vec<Cue>, String> {
+    if container != Container::Wav && !input.is_empty() {
+        let what = match input.len() {
+            1 => "cue point is".to_string(),
+            n => format!("{n} cue points are"),
+        };
+        return Err(format!(
+            "the input's {what} not carried: {} holds none (--format wav keeps them)",
+            container.extension().to_uppercase()
+        ));
+    }
+    let mut cues: Vec<Cue> = (input.iter())
+        .map(|c| Cue {
+            start_frame: c.start_frame,
+            length_frames: c.length_frames,
+            label: c.label.clone(),
+        })
+        .chain(breaths)
+        .collect();
+    cues.sort_by_key(|c| c.start_frame);
+    Ok(cues)
 }
 
 /// The controls CSV, streaming into its file (none for standard output).

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use pneuma_core::breathing::{BreathSample, Preset, SampleSlot};
 use pneuma_core::encode::midi_cc::CcMap;
 use pneuma_core::engine::{Engine, EngineConfig, EngineError, PlacementMode};
-use pneuma_io::{AudioSource, InputFormat, Tags};
+use pneuma_io::{AudioSource, InputFormat, WavMeta};
 
 use super::error::RenderError;
 use super::leftovers::Leftover;
@@ -53,9 +53,14 @@ pub struct Args {
     pub vbr: bool,
     /// Breath markers for editors, comma-separated: audacity (label track
     /// `<stem>.breaths.txt`), reaper (region list `<stem>.breaths.reaper.csv`), cue (cue points
-    /// inside the output WAV).
+    /// inside the output WAV; in a batch, a file whose output is not WAV gets the Audacity
+    /// label track instead, with a warning).
     #[arg(long, value_enum, value_delimiter = ',', value_name = "KIND")]
     pub markers: Vec<MarkerKind>,
+    /// Set by the render itself for a batch's files: what one file's render refuses (cue
+    /// points in an output that is not WAV) becomes a warning.
+    #[arg(skip)]
+    pub in_batch: bool,
     /// Files rendered at once in a batch (1 to 256; default: the number of cores).
     #[arg(short = 'j', long, value_name = "N")]
     pub jobs: Option<usize>,
@@ -66,7 +71,7 @@ pub struct Args {
     /// `breath_level_db`).
     #[arg(long, conflicts_with = "no_breaths", help = BREATH_LEVEL.help(), default_value_t = BREATH_LEVEL.default_value() as f32, allow_hyphen_values = true, value_parser = crate::options::number)]
     pub breath_level_db: f32,
-    /// Pauses shorter than this get no breath, ms (the table's `min_pause_s`).
+    /// Shortest pause that gets a full breath, ms (the table's `min_pause_s`).
     #[arg(long, help = MIN_PAUSE.help(), default_value_t = MIN_PAUSE.default_value() as f32, value_parser = crate::options::number)]
     pub min_pause_ms: f32,
     /// Placement: `lookahead` or `live` (the table's `mode`).
@@ -77,8 +82,8 @@ pub struct Args {
     /// lookahead).
     #[arg(long, help = LOOKAHEAD.help_with_default(&format!("none: the render looks seconds ahead, the engine's whole-file lookahead; the plugin's is {}", LOOKAHEAD.setting.default_text(LOOKAHEAD.unit))), value_parser = crate::options::number)]
     pub lookahead_ms: Option<f32>,
-    /// Do not insert breaths (controls only; the audio samples are written unchanged, the
-    /// input's metadata chunks are not).
+    /// Do not insert breaths (controls only; the audio samples are written unchanged, with the
+    /// tags and cue points any render carries, not the input's other chunks such as bext).
     #[arg(long)]
     pub no_breaths: bool,
     /// Breaths in the pauses of any sound, not only of speech (the speech decision off): for
@@ -364,8 +369,9 @@ pub struct Job {
     pub input_channels: (usize, Option<usize>),
     /// The input's container and whether it is lossless.
     pub input_format: (InputFormat, bool),
-    /// The input's tags, carried into the output.
-    pub tags: Tags,
+    /// What the output carries over from the input: its tags (any format), a WAV's cue
+    /// points and its `fmt ` form (kept only for a WAV of the input's channels).
+    pub carried: WavMeta,
     /// The engine, prepared for the rendered rate and channels, with the breath samples.
     pub engine: Engine,
     /// Where the outputs go.
@@ -489,6 +495,9 @@ pub struct OutputPlan {
     pub mp3: Option<crate::mp3_out::Mp3Settings>,
     /// Where the frames go as OSC, if anywhere.
     pub osc: Option<crate::osc_out::OscPlan>,
+    /// Warnings for the summary on where the outputs differ from what was asked (the breath
+    /// markers of a batch's file that cannot hold cue points).
+    pub notes: Vec<String>,
 }
 
 impl Job {
@@ -504,7 +513,6 @@ impl Job {
         } else {
             output_container(args.format, source.format())
         };
-        check_cue_container(args, container)?;
         let mut info = source.info();
         check_input_shape(args, &info)?;
         let mp3 = mp3_settings(args, input, container, &source, args.channel.is_some())?;
@@ -526,7 +534,11 @@ impl Job {
         Ok(Self {
             input_channels: (input_channels, pick),
             input_format: (source.format(), source.lossless()),
-            tags: source.tags(),
+            carried: WavMeta {
+                tags: source.tags(),
+                cues: source.cue_points().to_vec(),
+                form: source.fmt_form().filter(|_| pick.is_none()),
+            },
             info,
             source,
             engine,
@@ -599,16 +611,40 @@ fn mp3_settings(
     .map_err(RenderError::Input)
 }
 
-/// Cue points live inside a WAV file.
-fn check_cue_container(args: &Args, container: Container) -> Result<(), RenderError> {
-    if args.markers.contains(&MarkerKind::Cue) && container != Container::Wav {
+/// The marker files to write and whether the audio gets cue points, with the summary's
+/// warnings. Cue points live inside a WAV file: asked for another output, one file's render is
+/// refused, and a batch's file gets its breath markers in the Audacity label track instead
+/// (beside the REAPER list, if asked), with a warning, so a batch of WAVs and MP3s finishes.
+fn marker_plan(
+    args: &Args,
+    container: Container,
+    stem: &str,
+) -> Result<(Vec<MarkerKind>, bool, Vec<String>), RenderError> {
+    let mut markers = args.markers.clone();
+    let cue = markers.contains(&MarkerKind::Cue);
+    if !cue || container == Container::Wav {
+        return Ok((markers, cue, Vec::new()));
+    }
+    let format = container.extension().to_uppercase();
+    if !args.in_batch {
         return Err(RenderError::Input(format!(
-            "--markers cue writes cue points inside a WAV file, but the output is {}: add \
-             --format wav, or use --markers audacity or reaper",
-            container.extension().to_uppercase()
+            "--markers cue writes cue points inside a WAV file, but the output is {format}: add \
+             --format wav, or use --markers audacity or reaper"
         )));
     }
-    Ok(())
+    markers.retain(|k| *k != MarkerKind::Cue);
+    if !markers.contains(&MarkerKind::Audacity) {
+        markers.push(MarkerKind::Audacity);
+    }
+    let files: Vec<String> = (markers.iter())
+        .filter_map(|k| k.suffix().map(|s| format!("{stem}.{s}")))
+        .collect();
+    let note = format!(
+        "{format} holds no cue points: the breath markers are in {} (--format wav for cue \
+         points)",
+        files.join(" and ")
+    );
+    Ok((markers, false, vec![note]))
 }
 
 /// The engine takes the input's channels; the BVH needs the input's length up front.
@@ -708,7 +744,8 @@ impl OutputPlan {
     /// The outputs of `input` as `args` ask, in `container`: refused when `-o` looks like a
     /// file, when the audio would replace the input, or (`--no-overwrite`) when one exists.
     fn new(args: &Args, input: &Path, container: Container) -> Result<Self, RenderError> {
-        let cues = args.markers.contains(&MarkerKind::Cue);
+        let stem = output_stem(input);
+        let (markers, cues, notes) = marker_plan(args, container, &stem)?;
         let osc = args.osc.plan().map_err(RenderError::Input)?;
         let cc_map = args.midi.map().map_err(RenderError::Input)?;
         if args.to_stdout() {
@@ -723,10 +760,10 @@ impl OutputPlan {
                 keep_leftovers: false,
                 mp3: None,
                 osc,
+                notes,
             });
         }
         crate::options::check_output_folder("-o", &args.output).map_err(RenderError::Input)?;
-        let stem = output_stem(input);
         let audio = args
             .output
             .join(format!("{stem}.{}", container.extension()));
@@ -740,9 +777,20 @@ impl OutputPlan {
             plot: !args.no_plot,
             bvh: args.bvh.wanted(),
             midi: args.midi.wanted(),
-            markers: &args.markers,
+            markers: &markers,
         };
         let files = FolderFiles::named(&args.output, &stem, wanted);
+        let mut notes = notes;
+        notes.extend(other_audio(input, &audio).map(|other| {
+            format!(
+                "{} stays beside this render's {}: it is not this render's audio (another \
+                 input's render, another --format, or your own file), and {stem}.breaths.csv \
+                 and the other files now describe {}; remove it, or render into another folder",
+                other.display(),
+                audio.display(),
+                audio.file_name().unwrap_or_default().to_string_lossy()
+            )
+        }));
         // Never the input, whatever its name.
         let leftovers = (files.leftovers(&stem).into_iter())
             .filter(|l| !same_file(input, &l.path))
@@ -765,8 +813,19 @@ impl OutputPlan {
             keep_leftovers: args.no_overwrite,
             mp3: None,
             osc,
+            notes,
         })
     }
+}
+
+/// The audio files of the other formats a render writes with the stem of `audio` beside it
+/// (not the input itself): an earlier render's of another input or format, or the user's file,
+/// left by design and named in a warning, since the files beside it now belong to `audio`.
+fn other_audio<'a>(input: &'a Path, audio: &'a Path) -> impl Iterator<Item = PathBuf> + 'a {
+    <Container as clap::ValueEnum>::value_variants()
+        .iter()
+        .map(move |c| audio.with_extension(c.extension()))
+        .filter(move |p| p != audio && p.is_file() && !same_file(input, p))
 }
 
 /// The name the outputs of `input` are named after: its file stem, `stdin` for `-`.

@@ -7,6 +7,7 @@ mod support;
 
 mod analyze_cli;
 mod animator_tryout;
+mod carry_over;
 mod formats;
 mod long_render;
 mod mp3_output;

@@ -12,7 +12,7 @@ use support::{
 };
 
 /// The RIFF chunks of a WAV file: (id, body).
-fn riff_chunks(bytes: &[u8]) -> Vec<([u8; 4], Vec<u8>)> {
+pub(crate) fn riff_chunks(bytes: &[u8]) -> Vec<([u8; 4], Vec<u8>)> {
     assert_eq!(&bytes[..4], b"RIFF");
     assert_eq!(&bytes[8..12], b"WAVE");
     let riff_end = 8 + u32::from_le_bytes(bytes[4..8].try_into().expect("4")) as usize;
@@ -28,7 +28,7 @@ fn riff_chunks(bytes: &[u8]) -> Vec<([u8; 4], Vec<u8>)> {
     out
 }
 
-fn u32_at(b: &[u8], at: usize) -> u32 {
+pub(crate) fn u32_at(b: &[u8], at: usize) -> u32 {
     u32::from_le_bytes(b[at..at + 4].try_into().expect("4"))
 }
 
@@ -302,7 +302,7 @@ fn a_batch_finishes_the_good_files_and_reports_the_broken_one() {
 }
 
 /// The Vorbis comments of a FLAC file.
-fn flac_comments(path: &Path) -> Vec<String> {
+pub(crate) fn flac_comments(path: &Path) -> Vec<String> {
     let b = std::fs::read(path).expect("flac");
     assert_eq!(&b[..4], b"fLaC");
     let mut at = 4;
@@ -528,16 +528,7 @@ fn a_render_says_what_it_found_and_renders_one_channel_on_request() {
     support::write_wav(&noise, (16_000, 1, 16, false), &hiss, 1.0);
     let run = |input: &Path, out: &str, extra: &[&str]| {
         let out = dir.path().join(out);
-        let mut args = vec![
-            "render",
-            input.to_str().expect("utf-8"),
-            "-o",
-            out.to_str().expect("utf-8"),
-            "--no-plot",
-            "--no-progress",
-        ];
-        args.extend_from_slice(extra);
-        let o = pneuma(&args);
+        let o = support::render_saying(input, &out, extra);
         assert_ok(&o);
         (String::from_utf8_lossy(&o.stderr).into_owned(), out)
     };

@@ -63,7 +63,7 @@ pub struct PlacementConfig {
     pub mode: PlacementMode,
     /// Delay of the audio in lookahead mode, seconds ([`LOOKAHEAD_S`]).
     pub lookahead_s: f32,
-    /// Pauses shorter than this get no breath, seconds ([`MIN_PAUSE_S`]).
+    /// Shortest pause that gets a full breath, seconds ([`MIN_PAUSE_S`]).
     pub min_pause_s: f32,
     /// Silence between the end of an inhalation and the next onset, seconds ([`GAP_S`]).
     pub gap_s: f32,

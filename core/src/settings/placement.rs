@@ -67,7 +67,8 @@ pub static SPEECH_ONLY: Setting = Setting {
     why: "on or off",
 };
 
-/// Pauses shorter than this get no breath.
+/// Shortest pause that gets a full breath and ends a breath group (shorter ones may get a
+/// catch breath).
 pub static MIN_PAUSE_S: Setting = Setting {
     id: "min_pause_s",
     label: "Minimum pause",
@@ -80,7 +81,11 @@ pub static MIN_PAUSE_S: Setting = Setting {
     default: 0.25,
     off: None,
     scope: Scope::Live,
-    help: "Pauses shorter than this get no breath",
+    help: "Shortest pause that gets a full breath and ends a breath group. A shorter pause \
+           gets no breath unless the group's air runs out before its next such pause; then \
+           (lookahead mode) a catch breath goes into it (`catch_breath_min_s` to \
+           `catch_breath_max_s`, 0.15-0.25 s by default). Raising it makes \
+           longer groups: fewer full breaths, and more short catch breaths in short pauses",
     why: "the plugin's range since its first release (saved automation keeps its meaning); a \
           breath needs at least 0.1 s, and pauses over 2 s always get one",
 };

@@ -285,7 +285,7 @@ pub struct PneumaParams {
     /// engine (the table's `speech_only`).
     #[id = "speech_only"]
     pub speech_only: BoolParam,
-    /// Shortest pause that gets a breath, seconds (the table's `min_pause_s`).
+    /// Shortest pause that gets a full breath, seconds (the table's `min_pause_s`).
     #[id = "min_pause_s"]
     pub min_pause_s: FloatParam,
     /// Lookahead (latency = lookahead) or live (zero latency). New engine (the table's `mode`).

@@ -59,14 +59,21 @@ pub fn pneuma_with_stdin(args: &[&str], stdin: &[u8]) -> Output {
 
 /// Runs `pneuma render INPUT -o OUT --quiet` with `extra` arguments.
 pub fn render(input: &Path, out: &Path, extra: &[&str]) -> Output {
-    let mut args = vec![
-        "render",
-        input.to_str().expect("utf-8"),
-        "-o",
-        out.to_str().expect("utf-8"),
-        "--quiet",
-    ];
-    args.extend_from_slice(extra);
+    render_with(input, out, &["--quiet"], extra)
+}
+
+/// Runs `pneuma render INPUT -o OUT --no-plot --no-progress` with `extra` arguments: the
+/// summary and its warnings on standard error.
+pub fn render_saying(input: &Path, out: &Path, extra: &[&str]) -> Output {
+    render_with(input, out, &["--no-plot", "--no-progress"], extra)
+}
+
+/// Runs `pneuma render INPUT -o OUT` with the `options` and then the `extra` arguments.
+fn render_with(input: &Path, out: &Path, options: &[&str], extra: &[&str]) -> Output {
+    let (input, out) = (input.to_str().expect("utf-8"), out.to_str().expect("utf-8"));
+    let args: Vec<&str> = (["render", input, "-o", out].into_iter())
+        .chain(options.iter().chain(extra).copied())
+        .collect();
     pneuma(&args)
 }
 

@@ -1,0 +1,224 @@
+//! What a WAV file holds besides its samples that an output can carry over: the `LIST`/`INFO`
+//! tags (title `INAM`, artist `IART`, album `IPRD`, comment `ICMT`), the cue points of a DAW
+//! (chapter or ad markers: `cue ` with their `labl` labels and `ltxt` lengths from
+//! `LIST`/`adtl`), and the form of the `fmt ` chunk (plain or `WAVE_FORMAT_EXTENSIBLE`, the
+//! channel mask).
+//!
+//! Read apart from the samples ([`crate::WavSource`] streams and reads nothing after the data),
+//! by seeking from chunk to chunk of a regular file, before or after the data. Best effort: a
+//! chunk that is damaged or a file that ends early gives what was found before it (the reader
+//! of the samples reports damage).
+
+use std::fs::File;
+use std::io::{Read, Seek, SeekFrom};
+use std::path::Path;
+
+use crate::wav::{u16_at, u32_at, u64_at};
+use crate::Tags;
+
+/// A cue point of the input: a marker, or a region when it has a length.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CuePoint {
+    /// Its sample frame.
+    pub start_frame: u64,
+    /// Length in sample frames (0: a marker).
+    pub length_frames: u64,
+    /// Its label (empty when it has none).
+    pub label: String,
+}
+
+/// The form of the input's `fmt ` chunk, for an output that keeps it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FmtForm {
+    /// `WAVE_FORMAT_EXTENSIBLE` (else the plain format tag).
+    pub extensible: bool,
+    /// The speaker positions (`dwChannelMask`; 0 when unassigned or plain).
+    pub channel_mask: u32,
+}
+
+/// What [`read`] found.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct WavMeta {
+    /// `LIST`/`INFO` tags.
+    pub tags: Tags,
+    /// Cue points in the order of their sample frames.
+    pub cues: Vec<CuePoint>,
+    /// The `fmt ` chunk's form (`None` when there is none).
+    pub form: Option<FmtForm>,
+}
+
+/// The most cue points read (a corrupt count never drives an allocation).
+const MAX_CUES: u32 = 100_000;
+/// The largest `LIST` or `cue ` body read, bytes.
+const MAX_BODY: u32 = 16 << 20;
+
+/// Reads the tags, cue points and `fmt ` form of the WAV file at `path`.
+pub fn read(path: &Path) -> WavMeta {
+    let mut meta = WavMeta::default();
+    if let Ok(mut file) = File::open(path) {
+        let _ = scan(&mut file, &mut meta);
+    }
+    meta
+}
+
+/// The chunks of `file` into `meta`; stops at the first one it cannot read.
+fn scan(file: &mut (impl Read + Seek), meta: &mut WavMeta) -> std::io::Result<()> {
+    let mut head = [0u8; 12];
+    file.read_exact(&mut head)?;
+    let rf64 = matches!(&head[..4], b"RF64" | b"BW64");
+    if !(rf64 || &head[..4] == b"RIFF") || &head[8..12] != b"WAVE" {
+        return Ok(());
+    }
+    let mut data_size_64 = None;
+    let mut ids: Vec<(u32, CuePoint)> = Vec::new();
+    let mut labels: Vec<(u32, String)> = Vec::new();
+    let mut lengths: Vec<(u32, u64)> = Vec::new();
+    loop {
+        let mut ch = [0u8; 8];
+        if file.read_exact(&mut ch).is_err() {
+            break;
+        }
+        let size = u32::from_le_bytes([ch[4], ch[5], ch[6], ch[7]]);
+        let id = &ch[..4];
+        let mut len = u64::from(size);
+        match id {
+            b"ds64" if rf64 => {
+                let body = body(file, size)?;
+                if body.len() >= 16 {
+                    data_size_64 = Some(u64_at(&body, 8));
+                }
+                len = 0;
+            }
+            b"fmt " => {
+                let body = body(file, size)?;
+                if body.len() >= 16 {
+                    let extensible = u16_at(&body, 0) == 0xfffe;
+                    let channel_mask = if extensible && body.len() >= 24 {
+                        u32_at(&body, 20)
+                    } else {
+                        0
+                    };
+                    meta.form = Some(FmtForm {
+                        extensible,
+                        channel_mask,
+                    });
+                }
+                len = 0;
+            }
+            b"data" => {
+                if rf64 && size == u32::MAX {
+                    len = data_size_64.unwrap_or(u64::MAX);
+                }
+                // A stream of unknown length (a pipe's WAV saved): nothing after it is known.
+                if len == u64::from(u32::MAX) || len == u64::MAX || len == 0 {
+                    break;
+                }
+            }
+            b"cue " => {
+                let body = body(file, size)?;
+                cue_points(&body, &mut ids);
+                len = 0;
+            }
+            b"LIST" => {
+                let body = body(file, size)?;
+                list(&body, &mut meta.tags, &mut labels, &mut lengths);
+                len = 0;
+            }
+            _ => {}
+        }
+        file.seek(SeekFrom::Current((len + u64::from(size & 1)) as i64))?;
+    }
+    for (id, mut cue) in ids {
+        if let Some((_, l)) = labels.iter().find(|(i, _)| *i == id) {
+            cue.label.clone_from(l);
+        }
+        if let Some((_, n)) = lengths.iter().find(|(i, _)| *i == id) {
+            cue.length_frames = *n;
+        }
+        meta.cues.push(cue);
+    }
+    meta.cues.sort_by_key(|c| c.start_frame);
+    Ok(())
+}
+
+/// A chunk body of `size` bytes (at most [`MAX_BODY`]; the rest is skipped by the caller only
+/// when nothing was read, so a larger body is an error here).
+fn body(file: &mut impl Read, size: u32) -> std::io::Result<Vec<u8>> {
+    if size > MAX_BODY {
+        return Err(std::io::Error::other("chunk too large"));
+    }
+    let mut b = vec![0u8; size as usize];
+    file.read_exact(&mut b)?;
+    Ok(b)
+}
+
+/// The entries of a `cue ` body: id and sample offset.
+fn cue_points(body: &[u8], out: &mut Vec<(u32, CuePoint)>) {
+    if body.len() < 4 {
+        return;
+    }
+    let n = u32_at(body, 0).min(MAX_CUES) as usize;
+    for k in 0..n {
+        let at = 4 + 24 * k;
+        if at + 24 > body.len() {
+            break;
+        }
+        out.push((
+            u32_at(body, at),
+            CuePoint {
+                start_frame: u64::from(u32_at(body, at + 20)),
+                length_frames: 0,
+                label: String::new(),
+            },
+        ));
+    }
+}
+
+/// The sub-chunks of a `LIST` body: `INFO` tags, or `adtl` labels and lengths.
+fn list(
+    body: &[u8],
+    tags: &mut Tags,
+    labels: &mut Vec<(u32, String)>,
+    lengths: &mut Vec<(u32, u64)>,
+) {
+    if body.len() < 4 {
+        return;
+    }
+    let kind = &body[..4];
+    let mut at = 4;
+    while at + 8 <= body.len() {
+        let id = &body[at..at + 4];
+        let size = u32_at(body, at + 4) as usize;
+        let start = at + 8;
+        let Some(sub) = body.get(start..start + size) else {
+            break;
+        };
+        match (kind, id) {
+            (b"INFO", _) => {
+                let slot = match id {
+                    b"INAM" => &mut tags.title,
+                    b"IART" => &mut tags.artist,
+                    b"IPRD" => &mut tags.album,
+                    b"ICMT" => &mut tags.comment,
+                    _ => &mut None,
+                };
+                let value = text(sub);
+                if !value.is_empty() {
+                    *slot = Some(value);
+                }
+            }
+            (b"adtl", b"labl") if sub.len() >= 4 => labels.push((u32_at(sub, 0), text(&sub[4..]))),
+            (b"adtl", b"ltxt") if sub.len() >= 8 => {
+                lengths.push((u32_at(sub, 0), u64::from(u32_at(sub, 4))));
+            }
+            _ => {}
+        }
+        at = start + size + (size & 1);
+    }
+}
+
+/// A NUL-terminated text: up to its first NUL, invalid UTF-8 replaced, spaces trimmed.
+fn text(b: &[u8]) -> String {
+    let end = b.iter().position(|&c| c == 0).unwrap_or(b.len());
+    String::from_utf8_lossy(&b[..end]).trim().to_owned()
+}
