@@ -23,6 +23,7 @@
 
 pub mod decode;
 pub mod g711;
+mod le_bytes;
 pub mod mp4_edit;
 pub mod wav;
 pub mod wav_meta;

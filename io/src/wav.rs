@@ -39,6 +39,7 @@ use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
+use crate::le_bytes::{u16_at, u32_at, u64_at};
 pub use crate::mix_to_mono;
 use crate::wav_meta::WavMeta;
 use crate::AudioInfo;
@@ -212,20 +213,6 @@ pub(crate) fn read_full(r: &mut impl Read, buf: &mut [u8]) -> std::io::Result<us
         }
     }
     Ok(n)
-}
-
-pub(crate) fn u16_at(b: &[u8], at: usize) -> u16 {
-    u16::from_le_bytes([b[at], b[at + 1]])
-}
-
-pub(crate) fn u32_at(b: &[u8], at: usize) -> u32 {
-    u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
-}
-
-pub(crate) fn u64_at(b: &[u8], at: usize) -> u64 {
-    let mut a = [0u8; 8];
-    a.copy_from_slice(&b[at..at + 8]);
-    u64::from_le_bytes(a)
 }
 
 /// `1 byte`, `2 bytes`: a count with its noun for messages.

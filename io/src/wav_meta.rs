@@ -13,7 +13,7 @@ use std::fs::File;
 use std::io::{Read, Seek, SeekFrom};
 use std::path::Path;
 
-use crate::wav::{u16_at, u32_at, u64_at};
+use crate::le_bytes::{u16_at, u32_at, u64_at};
 use crate::Tags;
 
 /// A cue point of the input: a marker, or a region when it has a length.
