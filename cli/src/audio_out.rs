@@ -104,6 +104,8 @@ struct FlacState {
 
 /// Sample frames per FLAC frame.
 const FLAC_BLOCK: usize = 4096;
+/// The largest FLAC metadata block body, bytes (its length field has 24 bits).
+const FLAC_MAX_BLOCK: usize = (1 << 24) - 1;
 
 /// An audio file being written.
 pub struct AudioSink {
@@ -437,7 +439,8 @@ impl AudioSink {
         self.dest().write_all(&h)
     }
 
-    /// The Vorbis comment block body: vendor, then TITLE/ARTIST/… and chapters.
+    /// The Vorbis comment block body: vendor, then TITLE/ARTIST/… and chapters, as many as
+    /// fit in a FLAC metadata block ([`FLAC_MAX_BLOCK`]).
     fn vorbis_comments(&self) -> Vec<u8> {
         let mut fields: Vec<String> = self
             .tags
@@ -450,6 +453,15 @@ impl AudioSink {
             fields.push(format!("CHAPTER{:03}NAME={}", i + 1, c.title));
         }
         let vendor = concat!("pneuma ", env!("CARGO_PKG_VERSION"));
+        // The block's length has 24 bits: fields that would not fit are left out, whole.
+        let mut room = FLAC_MAX_BLOCK - 8 - vendor.len();
+        fields.retain(|f| {
+            let fits = 4 + f.len() <= room;
+            if fits {
+                room -= 4 + f.len();
+            }
+            fits
+        });
         let mut out = Vec::new();
         out.extend_from_slice(&(vendor.len() as u32).to_le_bytes());
         out.extend_from_slice(vendor.as_bytes());
@@ -718,5 +730,52 @@ impl AudioSink {
             Some(s) => commit_all(vec![s]).map_err(|(_, e)| e),
             None => Ok(()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tags_too_long_for_a_flac_metadata_block_are_left_out_whole() {
+        // A WAV's INFO chunks can give a 9 MB title and a 9 MB comment: together over the
+        // 24-bit block length, which once wrapped and made the FLAC unreadable.
+        let dir = std::env::temp_dir().join(format!("pneuma-flac-tags-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let path = dir.join("long-tags.flac");
+        let info = WavInfo {
+            sample_rate_hz: 16_000,
+            channels: 1,
+            bits: 16,
+            float: false,
+            frames: 0,
+        };
+        let tags = Tags {
+            title: Some("t".repeat(9 << 20)),
+            comment: Some("c".repeat(9 << 20)),
+            ..Tags::default()
+        };
+        let mut sink = AudioSink::create_as(&path, info, Container::Flac, tags).expect("create");
+        sink.write_interleaved(&[0.0; 8192]).expect("write");
+        sink.commit().expect("commit");
+        let bytes = std::fs::read(&path).expect("read");
+        let _ = std::fs::remove_dir_all(&dir);
+        assert_eq!(&bytes[..4], b"fLaC");
+        // STREAMINFO (34 bytes), then the Vorbis comment block, then the first frame's sync.
+        let at = 4 + 4 + 34;
+        assert_eq!(bytes[at], 0x80 | 4, "the last block is the Vorbis comments");
+        let len = u32::from_be_bytes([0, bytes[at + 1], bytes[at + 2], bytes[at + 3]]) as usize;
+        let frame = at + 4 + len;
+        assert!(
+            bytes[frame] == 0xFF && bytes[frame + 1] & 0xFE == 0xF8,
+            "no frame sync where the comment block ends ({len} bytes)"
+        );
+        let block = &bytes[at + 4..frame];
+        assert!(block.windows(8).any(|w| w == b"TITLE=tt"), "the title fits");
+        assert!(
+            !block.windows(10).any(|w| w == b"COMMENT=cc"),
+            "the comment does not"
+        );
     }
 }

@@ -9,6 +9,7 @@
 //! chunk that is damaged or a file that ends early gives what was found before it (the reader
 //! of the samples reports damage).
 
+use std::collections::HashMap;
 use std::fs::File;
 use std::io::{Read, Seek, SeekFrom};
 use std::path::Path;
@@ -47,7 +48,8 @@ pub struct WavMeta {
     pub form: Option<FmtForm>,
 }
 
-/// The most cue points read (a corrupt count never drives an allocation).
+/// The most cue points, and the most labels and lengths, read in all (a corrupt count or a
+/// pile of chunks never drives an allocation or the matching).
 const MAX_CUES: u32 = 100_000;
 /// The largest `LIST` or `cue ` body read, bytes.
 const MAX_BODY: u32 = 16 << 20;
@@ -81,8 +83,11 @@ fn scan(file: &mut (impl Read + Seek), meta: &mut WavMeta) -> std::io::Result<()
         let size = u32::from_le_bytes([ch[4], ch[5], ch[6], ch[7]]);
         let id = &ch[..4];
         let mut len = u64::from(size);
+        // A chunk of odd length is followed by a pad byte.
+        let mut pad = u64::from(size & 1);
         match id {
-            b"ds64" if rf64 => {
+            // The first `ds64` only, as the sample reader takes it.
+            b"ds64" if rf64 && data_size_64.is_none() => {
                 let body = body(file, size)?;
                 if body.len() >= 16 {
                     data_size_64 = Some(u64_at(&body, 8));
@@ -108,6 +113,7 @@ fn scan(file: &mut (impl Read + Seek), meta: &mut WavMeta) -> std::io::Result<()
             b"data" => {
                 if rf64 && size == u32::MAX {
                     len = data_size_64.unwrap_or(u64::MAX);
+                    pad = len & 1;
                 }
                 // A stream of unknown length (a pipe's WAV saved): nothing after it is known.
                 if len == u64::from(u32::MAX) || len == u64::MAX || len == 0 {
@@ -126,13 +132,26 @@ fn scan(file: &mut (impl Read + Seek), meta: &mut WavMeta) -> std::io::Result<()
             }
             _ => {}
         }
-        file.seek(SeekFrom::Current((len + u64::from(size & 1)) as i64))?;
+        // A length no file has (a corrupt size): nothing after it is known.
+        let Some(skip) = len.checked_add(pad).and_then(|n| i64::try_from(n).ok()) else {
+            break;
+        };
+        file.seek(SeekFrom::Current(skip))?;
+    }
+    // The first label and length of each id, as a reader meets them.
+    let mut label_of = HashMap::new();
+    for (id, l) in labels {
+        label_of.entry(id).or_insert(l);
+    }
+    let mut length_of = HashMap::new();
+    for (id, n) in lengths {
+        length_of.entry(id).or_insert(n);
     }
     for (id, mut cue) in ids {
-        if let Some((_, l)) = labels.iter().find(|(i, _)| *i == id) {
+        if let Some(l) = label_of.get(&id) {
             cue.label.clone_from(l);
         }
-        if let Some((_, n)) = lengths.iter().find(|(i, _)| *i == id) {
+        if let Some(n) = length_of.get(&id) {
             cue.length_frames = *n;
         }
         meta.cues.push(cue);
@@ -160,7 +179,7 @@ fn cue_points(body: &[u8], out: &mut Vec<(u32, CuePoint)>) {
     let n = u32_at(body, 0).min(MAX_CUES) as usize;
     for k in 0..n {
         let at = 4 + 24 * k;
-        if at + 24 > body.len() {
+        if at + 24 > body.len() || out.len() >= MAX_CUES as usize {
             break;
         }
         out.push((
@@ -207,8 +226,10 @@ fn list(
                     *slot = Some(value);
                 }
             }
-            (b"adtl", b"labl") if sub.len() >= 4 => labels.push((u32_at(sub, 0), text(&sub[4..]))),
-            (b"adtl", b"ltxt") if sub.len() >= 8 => {
+            (b"adtl", b"labl") if sub.len() >= 4 && labels.len() < MAX_CUES as usize => {
+                labels.push((u32_at(sub, 0), text(&sub[4..])));
+            }
+            (b"adtl", b"ltxt") if sub.len() >= 8 && lengths.len() < MAX_CUES as usize => {
                 lengths.push((u32_at(sub, 0), u64::from(u32_at(sub, 4))));
             }
             _ => {}
@@ -221,4 +242,125 @@ fn list(
 fn text(b: &[u8]) -> String {
     let end = b.iter().position(|&c| c == 0).unwrap_or(b.len());
     String::from_utf8_lossy(&b[..end]).trim().to_owned()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Cursor;
+
+    /// A chunk: id, size field, body and its pad byte.
+    fn chunk(id: &[u8; 4], body: &[u8]) -> Vec<u8> {
+        let mut c = id.to_vec();
+        c.extend_from_slice(&(body.len() as u32).to_le_bytes());
+        c.extend_from_slice(body);
+        if body.len() % 2 == 1 {
+            c.push(0);
+        }
+        c
+    }
+
+    fn ds64(data_size: u64) -> Vec<u8> {
+        let mut b = Vec::new();
+        b.extend_from_slice(&0u64.to_le_bytes()); // RIFF size
+        b.extend_from_slice(&data_size.to_le_bytes());
+        b.extend_from_slice(&2u64.to_le_bytes()); // sample count
+        b.extend_from_slice(&0u32.to_le_bytes()); // table length
+        chunk(b"ds64", &b)
+    }
+
+    fn fmt_pcm16_mono() -> Vec<u8> {
+        let mut b = Vec::new();
+        b.extend_from_slice(&1u16.to_le_bytes());
+        b.extend_from_slice(&1u16.to_le_bytes());
+        b.extend_from_slice(&8000u32.to_le_bytes());
+        b.extend_from_slice(&16000u32.to_le_bytes());
+        b.extend_from_slice(&2u16.to_le_bytes());
+        b.extend_from_slice(&16u16.to_le_bytes());
+        chunk(b"fmt ", &b)
+    }
+
+    /// An RF64 file of `chunks`, its `data` chunk's size field `u32::MAX`.
+    fn rf64(chunks: &[Vec<u8>]) -> WavMeta {
+        let mut f = b"RF64".to_vec();
+        f.extend_from_slice(&u32::MAX.to_le_bytes());
+        f.extend_from_slice(b"WAVE");
+        for c in chunks {
+            f.extend_from_slice(c);
+        }
+        let mut meta = WavMeta::default();
+        let _ = scan(&mut Cursor::new(f), &mut meta);
+        meta
+    }
+
+    /// A `data` chunk of `samples` 16-bit samples whose size field says "see ds64".
+    fn rf64_data(samples: usize) -> Vec<u8> {
+        let mut c = b"data".to_vec();
+        c.extend_from_slice(&u32::MAX.to_le_bytes());
+        c.extend(std::iter::repeat_n(0u8, 2 * samples));
+        c
+    }
+
+    fn info_title(title: &str) -> Vec<u8> {
+        let mut body = b"INFO".to_vec();
+        let mut t = title.as_bytes().to_vec();
+        t.push(0);
+        body.extend_from_slice(&chunk(b"INAM", &t));
+        chunk(b"LIST", &body)
+    }
+
+    #[test]
+    fn the_tags_after_an_rf64_data_chunk_of_even_length_are_read() {
+        // The size field (u32::MAX) is odd; the data's real length, 4 bytes, has no pad byte.
+        let meta = rf64(&[ds64(4), fmt_pcm16_mono(), rf64_data(2), info_title("Ep 1")]);
+        assert_eq!(meta.tags.title.as_deref(), Some("Ep 1"));
+        assert!(meta.form.is_some());
+    }
+
+    #[test]
+    fn a_second_ds64_claiming_a_huge_data_size_ends_the_scan() {
+        // The sample reader takes the first ds64; a later one saying the data is 2^64 - 9
+        // bytes long once sent the scan back to the data header, forever.
+        let meta = rf64(&[
+            ds64(4),
+            fmt_pcm16_mono(),
+            ds64(0xFFFF_FFFF_FFFF_FFF7),
+            rf64_data(2),
+            info_title("after"),
+        ]);
+        assert_eq!(meta.tags.title.as_deref(), Some("after"));
+    }
+
+    #[test]
+    fn a_cue_takes_the_first_label_given_for_its_id() {
+        let mut cue = 1u32.to_le_bytes().to_vec();
+        cue.extend_from_slice(&7u32.to_le_bytes()); // id
+        cue.extend_from_slice(&[0u8; 16]); // position, chunk id, chunk and block starts
+        cue.extend_from_slice(&480u32.to_le_bytes()); // sample offset
+        let label = |id: u32, text: &str| {
+            let mut b = id.to_le_bytes().to_vec();
+            b.extend_from_slice(text.as_bytes());
+            b.push(0);
+            chunk(b"labl", &b)
+        };
+        let mut adtl = b"adtl".to_vec();
+        adtl.extend_from_slice(&label(3, "other"));
+        adtl.extend_from_slice(&label(7, "first"));
+        adtl.extend_from_slice(&label(7, "second"));
+        let meta = rf64(&[
+            ds64(4),
+            fmt_pcm16_mono(),
+            chunk(b"cue ", &cue),
+            chunk(b"LIST", &adtl),
+            rf64_data(2),
+        ]);
+        assert_eq!(
+            meta.cues,
+            vec![CuePoint {
+                start_frame: 480,
+                length_frames: 0,
+                label: "first".into(),
+            }]
+        );
+    }
 }

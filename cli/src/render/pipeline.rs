@@ -167,6 +167,9 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
     if let Some(files) = &outputs.files {
         std::fs::create_dir_all(&files.folder).map_err(out_err(&files.folder))?;
     }
+    // Standard output carries the samples alone: the input's tags are said to be left.
+    let tags_left = (outputs.files.is_none() && !tags.fields().is_empty())
+        .then(|| "the input's tags are not carried: standard output holds none".to_string());
     let audio = match &outputs.files {
         None => AudioSink::stdout(info),
         Some(_) => match outputs.mp3 {
@@ -246,12 +249,17 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
     let breaths = breaths_within(kept.breaths, length_s);
     let clipped = audio.clipped();
     let mut notes = outputs.notes.clone();
+    notes.extend(tags_left);
     let breath_cues = if outputs.cues {
         crate::markers::cues(&breaths, info.sample_rate_hz)
     } else {
         Vec::new()
     };
-    match carried_cues(&input_cues, breath_cues, outputs.container) {
+    let holder = match outputs.files {
+        None => None,
+        Some(_) => Some(outputs.container),
+    };
+    match carried_cues(&input_cues, breath_cues, holder) {
         Ok(cues) => audio.set_cues(cues),
         Err(note) => notes.push(note),
     }
@@ -298,21 +306,28 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
 
 /// The cue points of the output: the input's own (a DAW's chapter and ad markers, at the same
 /// sample frames: the render keeps the input's length and time) and the breath markers, in
-/// time order; `Err` with the summary's warning when the output cannot hold the input's.
+/// time order; `Err` with the summary's warning when the output (`container`, `None` for
+/// standard output, which carries the samples alone) cannot hold the input's.
 fn carried_cues(
     input: &[CuePoint],
     breaths: Vec<Cue>,
-    container: Container,
+    container: Option<Container>,
 ) -> Result<Vec<Cue>, String> {
-    if container != Container::Wav && !input.is_empty() {
+    if container != Some(Container::Wav) && !input.is_empty() {
         let what = match input.len() {
             1 => "cue point is".to_string(),
             n => format!("{n} cue points are"),
         };
-        return Err(format!(
-            "the input's {what} not carried: {} holds none (--format wav keeps them)",
-            container.extension().to_uppercase()
-        ));
+        return Err(match container {
+            Some(c) => format!(
+                "the input's {what} not carried: {} holds none (--format wav keeps them)",
+                c.extension().to_uppercase()
+            ),
+            None => format!(
+                "the input's {what} not carried: standard output holds none (render to a file \
+                 to keep them)"
+            ),
+        });
     }
     let mut cues: Vec<Cue> = (input.iter())
         .map(|c| Cue {

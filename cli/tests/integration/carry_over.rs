@@ -204,6 +204,18 @@ fn a_wavs_cue_points_and_info_tags_carry_over_and_merge_with_the_breath_cues() {
         said.contains("warning: the input's 2 cue points are not carried: FLAC holds none"),
         "{said}"
     );
+
+    // Standard output carries the samples alone, and the summary says what was left.
+    let o = render_saying(&input, Path::new("-"), &[]);
+    assert_ok(&o);
+    assert_eq!(&o.stdout[..4], b"RIFF");
+    let said = String::from_utf8_lossy(&o.stderr);
+    for left in [
+        "the input's 2 cue points are not carried: standard output holds none",
+        "the input's tags are not carried: standard output holds none",
+    ] {
+        assert!(said.contains(left), "{said}");
+    }
 }
 
 /// The `fmt ` body of a WAV file.

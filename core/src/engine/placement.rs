@@ -278,8 +278,9 @@ impl Placement {
     }
 
     /// The stereo image after voiced frame `time_s`: within [`IMAGE_INTO_PHRASE_S`] of the
-    /// onset of the phrase heard last (undecided: a render decides it well after that; the
-    /// plugin's short lookahead before), the breath in the pause before it takes it.
+    /// onset of the phrase heard last, the breath in the pause before it takes it while it is
+    /// undecided (a render decides it well after that; the plugin's 500 ms lookahead when the
+    /// output reaches the pause, having heard little or none of the phrase).
     pub(crate) fn follow_image(&mut self, time_s: f64, gains: [f32; MAX_CHANNELS]) {
         if let Some(ph) = self.seen.back_mut() {
             if time_s >= ph.onset_s && time_s - ph.onset_s <= IMAGE_INTO_PHRASE_S {

@@ -520,7 +520,7 @@ fn a_breath_between_two_speakers_sits_on_the_side_of_the_one_who_speaks_next() {
     // An interview in stereo: the host (left, the right channel 12 dB down) speaks two
     // phrases, the guest (the mirror image) two more. The breath before the guest's first
     // phrase is the guest's: in a render (8 s of lookahead) on the guest's side, as the
-    // guest's voice is. (The plugin's 500 ms play it before the image has moved.)
+    // guest's voice is. (The plugin's 500 ms decide it before the image has moved far.)
     let (voice, spans) = sequence(0.6, &[1.2, 1.2, 1.2, 1.2], &[0.8, 0.8, 0.8]);
     let turn = ((spans[1].1 + spans[2].0) / 2.0 * SR) as usize;
     let quiet = |k: usize, host_side: bool| if (k < turn) == host_side { 1.0 } else { 0.25 };
