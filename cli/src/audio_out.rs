@@ -60,16 +60,9 @@ impl Container {
     }
 }
 
-/// A labelled span of the output, written as a cue point with a label and length (WAV).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Cue {
-    /// First sample frame.
-    pub start_frame: u64,
-    /// Length in sample frames.
-    pub length_frames: u64,
-    /// The label.
-    pub label: String,
-}
+/// A labelled span of the output, written as a cue point with a label and length (WAV): the
+/// input's cue points and the breath markers alike.
+pub use pneuma_io::CuePoint as Cue;
 
 /// Where the bytes go.
 enum Dest {

@@ -17,7 +17,8 @@ use std::path::Path;
 use crate::le_bytes::{u16_at, u32_at, u64_at};
 use crate::Tags;
 
-/// A cue point of the input: a marker, or a region when it has a length.
+/// A cue point of a WAV file (an input's, or an output's): a marker, or a region when it has
+/// a length.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct CuePoint {
     /// Its sample frame.

@@ -21,7 +21,7 @@ use pneuma_core::encode::sink::{FrameSink, Resample, TextSink};
 use pneuma_core::engine::offline::{self, TailFrames};
 use pneuma_core::engine::VoiceStatus;
 use pneuma_core::{BreathEvent, BreathKind, ControlFrame};
-use pneuma_io::{AudioSource, CuePoint, InputFormat, WavMeta};
+use pneuma_io::{AudioSource, InputFormat, WavMeta};
 
 use super::error::{interrupted, out_err, RenderError};
 use super::findings::{findings, ChannelEnergy, Finding};
@@ -255,10 +255,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
     } else {
         Vec::new()
     };
-    let holder = match outputs.files {
-        None => None,
-        Some(_) => Some(outputs.container),
-    };
+    let holder = outputs.files.as_ref().map(|_| outputs.container);
     match carried_cues(&input_cues, breath_cues, holder) {
         Ok(cues) => audio.set_cues(cues),
         Err(note) => notes.push(note),
@@ -309,7 +306,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
 /// time order; `Err` with the summary's warning when the output (`container`, `None` for
 /// standard output, which carries the samples alone) cannot hold the input's.
 fn carried_cues(
-    input: &[CuePoint],
+    input: &[Cue],
     breaths: Vec<Cue>,
     container: Option<Container>,
 ) -> Result<Vec<Cue>, String> {
@@ -329,14 +326,7 @@ fn carried_cues(
             ),
         });
     }
-    let mut cues: Vec<Cue> = (input.iter())
-        .map(|c| Cue {
-            start_frame: c.start_frame,
-            length_frames: c.length_frames,
-            label: c.label.clone(),
-        })
-        .chain(breaths)
-        .collect();
+    let mut cues: Vec<Cue> = input.iter().cloned().chain(breaths).collect();
     cues.sort_by_key(|c| c.start_frame);
     Ok(cues)
 }

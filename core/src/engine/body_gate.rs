@@ -94,10 +94,9 @@ impl BodyGate {
             (Some((onset_s, offset_s, true)), _) => {
                 if let Some((_, s)) = speech.voiced_window_is_speech(onset_s, Some(offset_s)) {
                     self.other_sound = !s;
-                    Self::flag_since(pending, offset_s, now, !s);
-                    if !s && speech.voiced_phrase_is_not_speech(onset_s, Some(offset_s)) {
-                        Self::flag_since(pending, onset_s, now, true);
-                    }
+                    let unsaid = !s && speech.voiced_phrase_is_not_speech(onset_s, Some(offset_s));
+                    let from_s = if unsaid { onset_s } else { offset_s };
+                    Self::flag_since(pending, from_s, now, !s);
                 }
             }
             (None, Some((onset_s, (true, true)))) => {
