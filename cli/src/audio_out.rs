@@ -7,9 +7,10 @@
 //! bit-identical (8, 16 and 24-bit; 32-bit integer audio is processed at the 24-bit precision of
 //! `f32`).
 //!
-//! - **WAV**: format tag 1 (integer) or 3 (float, with its `cbSize` and a `fact` chunk), the
-//!   input WAV's own form when it is kept (plain or `WAVE_FORMAT_EXTENSIBLE` with its channel
-//!   mask), else `WAVE_FORMAT_EXTENSIBLE` above 2 channels or for integers above 16 bits; tags
+//! - **WAV**: format tag 1 (integer) or 3 (float, with a `fact` chunk, and its `cbSize` when
+//!   plain), the input WAV's own form when it is kept (plain or `WAVE_FORMAT_EXTENSIBLE` with
+//!   its channel mask), else `WAVE_FORMAT_EXTENSIBLE` above 2 channels or for integers above
+//!   16 bits; tags
 //!   as a `LIST`/`INFO` chunk; cue points (the input's and the breath markers) as a `cue ` chunk
 //!   with a `LIST`/`adtl` chunk of labels (`labl`) and lengths (`ltxt`). On standard output the
 //!   sizes are `0xFFFFFFFF` (unknown, as ffmpeg and sox write to a pipe) and no chunk follows the
@@ -111,7 +112,7 @@ pub struct AudioSink {
     tags: Tags,
     /// The input's `fmt ` form to keep (WAV).
     form: Option<FmtForm>,
-    /// Where the `fact` chunk's frame count is (plain float WAV to a file).
+    /// Where the `fact` chunk's frame count is (float WAV to a file).
     fact_at: Option<u64>,
     cues: Vec<Cue>,
     clipped: u64,
@@ -341,8 +342,9 @@ impl AudioSink {
                 h.extend_from_slice(&u32::MAX.to_le_bytes()); // patched at the end
                 h.extend_from_slice(b"WAVE");
                 riff_chunk(&mut h, b"fmt ", &fmt);
-                if self.float && !extensible && !self.to_stdout() {
-                    // Non-PCM data has a `fact` chunk: the sample frames, patched at the end.
+                if self.float && !self.to_stdout() {
+                    // Non-PCM data (plain or extensible float) has a `fact` chunk: the sample
+                    // frames, patched at the end.
                     self.fact_at = Some(h.len() as u64 + 8);
                     riff_chunk(&mut h, b"fact", &0u32.to_le_bytes());
                 }

@@ -43,14 +43,7 @@ fn row(input: &Path, result: Result<&Outcome, &str>) -> [String; COLUMNS] {
             "ok".into(),
             s.breaths.len().to_string(),
             format!("{:.1}", s.length_s),
-            if s.findings.is_empty() && s.notes.is_empty() {
-                "-".into()
-            } else {
-                (s.findings.iter().map(|f| f.short().to_string()))
-                    .chain(s.notes.iter().map(|_| "see below".to_string()))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            },
+            warnings_cell(s.findings.iter().map(|f| f.short()), s.notes.len()),
             s.files
                 .first()
                 .map(|f| f.display().to_string())
@@ -65,6 +58,22 @@ fn row(input: &Path, result: Result<&Outcome, &str>) -> [String; COLUMNS] {
             "-".into(),
             e.to_string(),
         ],
+    }
+}
+
+/// The warnings column of a rendered file: each finding's short form, then where its notes
+/// are (printed under the table), or "-" when there are neither.
+fn warnings_cell<'a>(findings: impl Iterator<Item = &'a str>, notes: usize) -> String {
+    let mut cell: Vec<String> = findings.map(str::to_string).collect();
+    match notes {
+        0 => {}
+        1 => cell.push("see below".into()),
+        n => cell.push(format!("{n} notes below")),
+    }
+    if cell.is_empty() {
+        "-".into()
+    } else {
+        cell.join(", ")
     }
 }
 
@@ -210,5 +219,21 @@ pub fn main(args: &Args, all: &[Input]) -> ExitCode {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::warnings_cell;
+
+    #[test]
+    fn the_warnings_cell_points_to_the_notes_once() {
+        assert_eq!(warnings_cell(std::iter::empty(), 0), "-");
+        assert_eq!(warnings_cell(["no speech"].into_iter(), 0), "no speech");
+        assert_eq!(warnings_cell(std::iter::empty(), 1), "see below");
+        assert_eq!(
+            warnings_cell(["mostly music"].into_iter(), 2),
+            "mostly music, 2 notes below"
+        );
     }
 }

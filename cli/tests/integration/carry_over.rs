@@ -224,6 +224,51 @@ fn fmt_of(path: &Path) -> Vec<u8> {
     chunks.into_iter().find(|c| &c.0 == b"fmt ").expect("fmt").1
 }
 
+/// A 16 kHz stereo `WAVE_FORMAT_EXTENSIBLE` fmt chunk of `bits` per sample, front left and
+/// right (mask 0x3), subformat `format` (1 PCM, 3 IEEE float).
+fn stereo_extensible_fmt(bits: u16, format: u8) -> Vec<u8> {
+    let block = 2 * bits / 8;
+    let mut ext = Vec::new();
+    for v in [0xfffeu16, 2] {
+        ext.extend_from_slice(&v.to_le_bytes());
+    }
+    for v in [16_000u32, 16_000 * u32::from(block)] {
+        ext.extend_from_slice(&v.to_le_bytes());
+    }
+    for v in [block, bits, 22, bits] {
+        ext.extend_from_slice(&v.to_le_bytes());
+    }
+    ext.extend_from_slice(&3u32.to_le_bytes());
+    ext.extend_from_slice(&[
+        format, 0, 0, 0, 0, 0, 0x10, 0, 0x80, 0, 0, 0xaa, 0, 0x38, 0x9b, 0x71,
+    ]);
+    ext
+}
+
+/// `pcm` as float in `channels` identical channels, written with the fmt chunk `fmt` to
+/// `<name>.wav` in `dir` and rendered into `dir/out`: the output, its fmt chunk and the frames
+/// its `fact` chunk counts.
+fn rendered_float(
+    dir: &std::path::Path,
+    name: &str,
+    fmt: Vec<u8>,
+    channels: usize,
+    pcm: &[i16],
+) -> (std::path::PathBuf, Vec<u8>, usize) {
+    let float: Vec<u8> = (pcm.iter())
+        .flat_map(|&v| (f32::from(v) / 32_768.0).to_le_bytes().repeat(channels))
+        .collect();
+    let input = dir.join(format!("{name}.wav"));
+    std::fs::write(&input, wav_of(&[(*b"fmt ", fmt), (*b"data", float)])).expect("write");
+    let out = dir.join("out");
+    assert_ok(&render(&input, &out, &["--no-plot"]));
+    let wav = out.join(format!("{name}.wav"));
+    let chunks = riff_chunks(&std::fs::read(&wav).expect("wav"));
+    let fact = chunks.iter().find(|c| &c.0 == b"fact").expect("fact");
+    let frames = u32_at(&fact.1, 0) as usize;
+    (wav.clone(), fmt_of(&wav), frames)
+}
+
 #[test]
 fn a_wav_keeps_its_channel_mask_and_its_plain_float_header() {
     let dir = tempfile::tempdir().expect("temp");
@@ -238,20 +283,7 @@ fn a_wav_keeps_its_channel_mask_and_its_plain_float_header() {
         .collect();
 
     // Stereo 16-bit WAVE_FORMAT_EXTENSIBLE with the front left and right mask (0x3).
-    let mut ext = Vec::new();
-    for v in [0xfffeu16, 2] {
-        ext.extend_from_slice(&v.to_le_bytes());
-    }
-    for v in [16_000u32, 64_000] {
-        ext.extend_from_slice(&v.to_le_bytes());
-    }
-    for v in [4u16, 16, 22, 16] {
-        ext.extend_from_slice(&v.to_le_bytes());
-    }
-    ext.extend_from_slice(&3u32.to_le_bytes());
-    ext.extend_from_slice(&[
-        1, 0, 0, 0, 0, 0, 0x10, 0, 0x80, 0, 0, 0xaa, 0, 0x38, 0x9b, 0x71,
-    ]);
+    let ext = stereo_extensible_fmt(16, 1);
     let stereo: Vec<u8> = pcm
         .iter()
         .flat_map(|v| [v.to_le_bytes(), v.to_le_bytes()].concat())
@@ -276,23 +308,10 @@ fn a_wav_keeps_its_channel_mask_and_its_plain_float_header() {
     for v in [4u16, 32] {
         plain.extend_from_slice(&v.to_le_bytes());
     }
-    let float: Vec<u8> = (pcm.iter())
-        .flat_map(|&v| (f32::from(v) / 32_768.0).to_le_bytes())
-        .collect();
-    let input = dir.path().join("float.wav");
-    std::fs::write(&input, wav_of(&[(*b"fmt ", plain), (*b"data", float)])).expect("write");
-    assert_ok(&render(&input, &out, &["--no-plot"]));
-    let wav = out.join("float.wav");
-    let fmt = fmt_of(&wav);
+    let (wav, fmt, fact_frames) = rendered_float(dir.path(), "float", plain, 1, &pcm);
     assert_eq!(fmt.len(), 18, "WAVEFORMATEX with its cbSize");
     assert_eq!(u16::from_le_bytes([fmt[0], fmt[1]]), 3, "plain float tag");
-    let chunks = riff_chunks(&std::fs::read(&wav).expect("wav"));
-    let fact = chunks.iter().find(|c| &c.0 == b"fact").expect("fact");
-    assert_eq!(
-        u32_at(&fact.1, 0) as usize,
-        pcm.len(),
-        "fact: sample frames"
-    );
+    assert_eq!(fact_frames, pcm.len(), "fact: sample frames");
     if crate::support::tool_or_skip("sox", "--version", "plain float WAV through sox") {
         let o = std::process::Command::new("sox")
             .args([wav.to_str().expect("utf-8"), "-n", "stat"])
@@ -301,6 +320,13 @@ fn a_wav_keeps_its_channel_mask_and_its_plain_float_header() {
         let said = String::from_utf8_lossy(&o.stderr);
         assert!(o.status.success() && !said.contains("WARN"), "{said}");
     }
+
+    // Stereo float in WAVE_FORMAT_EXTENSIBLE: kept so, with a `fact` chunk too (non-PCM data).
+    let ext = stereo_extensible_fmt(32, 3);
+    let (_, fmt, fact_frames) = rendered_float(dir.path(), "float_ext", ext, 2, &pcm);
+    let tag = u16::from_le_bytes([fmt[0], fmt[1]]);
+    assert_eq!(tag, 0xfffe, "extensible kept");
+    assert_eq!(fact_frames, pcm.len(), "fact: sample frames");
 }
 
 #[test]
