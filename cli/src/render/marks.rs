@@ -98,11 +98,16 @@ fn carries_mark(file: Optional, head: &[u8], whole: bool) -> bool {
 }
 
 /// The head of a BVH Pneuma writes: everything before the frame count, the same in every file
-/// (where the headers of two different lengths part).
+/// (where the headers of two different lengths part); now or before its root's position moved
+/// into its channels.
 fn is_bvh(head: &[u8]) -> bool {
-    let (a, b) = (bvh::header(0, 1.0), bvh::header(1, 2.0));
-    let same = a.bytes().zip(b.bytes()).take_while(|(x, y)| x == y).count();
-    same > 0 && head.starts_with(&a.as_bytes()[..same])
+    [bvh::header, bvh::header_before_root_position]
+        .iter()
+        .any(|header| {
+            let (a, b) = (header(0, 1.0), header(1, 2.0));
+            let same = a.bytes().zip(b.bytes()).take_while(|(x, y)| x == y).count();
+            same > 0 && head.starts_with(&a.as_bytes()[..same])
+        })
 }
 
 /// The head of a MIDI file Pneuma writes: its file header up to the track's length (which
@@ -155,6 +160,10 @@ mod tests {
         assert!(!carries_mark(Optional::Bvh, mocap.as_bytes(), true));
         let moved = bvh.replacen("OFFSET 0.0 0.1 0.0", "OFFSET 0.0 0.12 0.0", 1);
         assert!(!carries_mark(Optional::Bvh, moved.as_bytes(), true));
+        // One written before the hips' height moved from the root's offset to its channels.
+        let before = bvh::header_before_root_position(250, 120.0);
+        assert_ne!(before, bvh::header(250, 120.0));
+        assert!(carries_mark(Optional::Bvh, before.as_bytes(), true));
 
         let midi = pneumas_midi();
         assert!(carries_mark(Optional::Midi, &midi, true));

@@ -15,6 +15,11 @@
 //! - `Hips` stay still: breathing hardly moves the pelvis, and a root motion would move the
 //!   whole character.
 //!
+//! The root's `OFFSET` is 0 and its position channels hold the hips' place, (0, 1, 0) m, in
+//! every frame: importers read a root's position channels either as its absolute position
+//! (Blender: hips written as 0 with a 1 m offset sank the figure 1 m into the floor) or as
+//! added to its offset, and both read this one the same.
+//!
 //! Sign conventions: every joint's rotation channels are `Zrotation Yrotation Xrotation`, in
 //! degrees, meaning the joint rotation `R = Rz(z)·Ry(y)·Rx(x)` (the BVH convention: channels
 //! compose left to right). The angles of the controls CSV and OSC (pitch > 0 lifts the chin,
@@ -35,11 +40,20 @@ pub const CHEST_PITCH_DEG_PER_THORAX: f32 = 3.0;
 /// Names of the joints, root first.
 pub const JOINTS: [&str; 4] = ["Hips", "Chest", "Neck", "Head"];
 
+/// Height of the hips (the root's Y position in every frame), metres.
+pub const HIPS_HEIGHT_M: f32 = 1.0;
+
+/// The root's `OFFSET` line in files written before the root's position moved into its
+/// channels (then 0): such a file is Pneuma's too ([`header_before_root_position`]).
+const ROOT_OFFSET: &str = "  OFFSET 0.0 0.0 0.0\n";
+const ROOT_OFFSET_BEFORE: &str = "  OFFSET 0.0 1.0 0.0\n";
+
 /// The HIERARCHY section and the MOTION header for `frames` frames at `frame_rate_hz`.
 pub fn header(frames: usize, frame_rate_hz: f64) -> String {
     let mut s = String::with_capacity(1024);
     s.push_str("HIERARCHY\n");
-    s.push_str("ROOT Hips\n{\n  OFFSET 0.0 1.0 0.0\n");
+    s.push_str("ROOT Hips\n{\n");
+    s.push_str(ROOT_OFFSET);
     s.push_str("  CHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation\n");
     s.push_str("  JOINT Chest\n  {\n    OFFSET 0.0 0.25 0.0\n");
     s.push_str("    CHANNELS 3 Zrotation Yrotation Xrotation\n");
@@ -59,6 +73,12 @@ pub fn header(frames: usize, frame_rate_hz: f64) -> String {
         "MOTION\nFrames: {frames}\nFrame Time: {frame_time_s:.8}\n"
     );
     s
+}
+
+/// [`header`] as Pneuma wrote it before the root's position moved into its channels (a 1 m
+/// root offset), to tell such a file as Pneuma's.
+pub fn header_before_root_position(frames: usize, frame_rate_hz: f64) -> String {
+    header(frames, frame_rate_hz).replacen(ROOT_OFFSET, ROOT_OFFSET_BEFORE, 1)
 }
 
 /// Finite value or 0.
@@ -86,7 +106,8 @@ pub fn push_control(out: &mut String, frame: &ControlFrame) {
 fn push_pose(out: &mut String, chest_pitch_deg: f32, neck_pitch_deg: f32, head: &HeadAngles) {
     let _ = writeln!(
         out,
-        "0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 {:.4} 0.0000 0.0000 {:.4} {:.4} {:.4} {:.4}",
+        "0.0000 {:.4} 0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 {:.4} 0.0000 0.0000 {:.4} {:.4} {:.4} {:.4}",
+        HIPS_HEIGHT_M,
         -f(chest_pitch_deg),
         -f(neck_pitch_deg),
         -f(head.roll_deg),
@@ -206,8 +227,9 @@ mod tests {
             };
             let want = crate::head::angles_to_quat(&clean);
             assert!(q.dot(want).abs() > 1.0 - 1e-6, "{q:?} vs {want:?}");
-            // The static joints do not move.
-            assert!(row[..head_start].iter().all(|v| *v == 0.0));
+            // The static joints do not move; the hips stand at their height.
+            assert_eq!(row[..3], [0.0, f64::from(HIPS_HEIGHT_M), 0.0]);
+            assert!(row[3..head_start].iter().all(|v| *v == 0.0));
         }
     }
 
@@ -227,6 +249,28 @@ mod tests {
         assert_eq!(rows[0][8], 0.0);
         assert!(rows[1][8] < -1.0, "chest X rotation {}", rows[1][8]);
         // The hips never move.
-        assert!(rows.iter().all(|r| r[..6].iter().all(|v| *v == 0.0)));
+        assert!(rows
+            .iter()
+            .all(|r| r[..6] == [0.0, 1.0, 0.0, 0.0, 0.0, 0.0]));
+    }
+
+    #[test]
+    fn the_hips_stand_at_their_height_whether_a_reader_adds_the_offset_or_not() {
+        let text = encode_head(&[HeadAngles::default(); 2], 24.0);
+        let offset: Vec<f64> = text
+            .lines()
+            .skip_while(|l| !l.starts_with("ROOT"))
+            .find_map(|l| l.trim().strip_prefix("OFFSET "))
+            .expect("root offset")
+            .split_whitespace()
+            .map(|v| v.parse().expect("number"))
+            .collect();
+        let (_, _, rows) = parse(&text);
+        let h = f64::from(HIPS_HEIGHT_M);
+        for row in rows {
+            // Read as the absolute position (Blender), and as added to the offset.
+            assert_eq!(row[1], h, "absolute");
+            assert_eq!(offset[1] + row[1], h, "added to the offset");
+        }
     }
 }
