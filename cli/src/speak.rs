@@ -556,7 +556,7 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
             for f in &frames {
                 sender.frame(f, 0);
             }
-            Some(plan.describe(&sender.stats()))
+            Some(plan.finish(sender))
         }
         None => None,
     };

@@ -83,6 +83,22 @@ pub struct ControlFrame {
     pub head: HeadAngles,
 }
 
+impl ControlFrame {
+    /// The rest pose, frame `index` at `time_s`: silence (levels at the floor,
+    /// [`crate::analysis::LEVEL_FLOOR_DB`]), not speaking, head straight, breathing at rest;
+    /// what the outputs show when the controls stop following a voice (a plugin bypassed, a
+    /// stream's end). The default frame is not it: its 0 dBFS is full scale (loudness CC 127).
+    pub fn rest(index: u64, time_s: f64) -> Self {
+        Self {
+            index,
+            time_s,
+            rms_db: crate::analysis::LEVEL_FLOOR_DB,
+            level_db: crate::analysis::LEVEL_FLOOR_DB,
+            ..Self::default()
+        }
+    }
+}
+
 /// Which breath sound was inserted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum BreathKind {

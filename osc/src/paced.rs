@@ -5,6 +5,11 @@
 //! the speed. [`Pacer`] holds the schedule (pure arithmetic, tested without a clock);
 //! [`PacedSender`] sleeps, encodes and sends.
 //!
+//! When the stream ends, however it ends (the file's end, an error, Ctrl-C: [`PacedSender::rest`],
+//! also on drop), one more bundle sends the rest pose ([`ControlFrame::rest`]: silent, head
+//! straight, breathing at rest) a frame period after the last, as the plugin does when it is
+//! bypassed: an avatar is not left frozen mid-turn with its mouth open.
+//!
 //! Time tags: the first frame anchors the stream to the wall clock; a frame's tag is the
 //! instant it is due, `anchor + (time_s - first time_s) / speed`. At [`Speed::Max`] frames
 //! leave as fast as the socket takes them and are tagged with the audio's time
@@ -168,6 +173,11 @@ pub struct PacedSender<C: Clock = WallClock> {
     clock: C,
     buf: [u8; MAX_FRAME_PACKET_BYTES],
     stats: PacedStats,
+    /// The last frame's index and time, and the interval before it, seconds.
+    last: Option<(u64, f64)>,
+    period_s: f64,
+    /// The rest pose went out after the last frame.
+    rested: bool,
 }
 
 impl PacedSender<WallClock> {
@@ -204,6 +214,9 @@ impl<C: Clock> PacedSender<C> {
             clock,
             buf: [0; MAX_FRAME_PACKET_BYTES],
             stats: PacedStats::default(),
+            last: None,
+            period_s: 0.0,
+            rested: false,
         })
     }
 
@@ -226,10 +239,32 @@ impl<C: Clock> PacedSender<C> {
         self.stats.failed += 1;
         self.stats.last_error = Some(e);
     }
+
+    /// Sends the rest pose a frame period after the last frame, once after the last frame
+    /// (nothing before any frame). Also done on drop.
+    pub fn rest(&mut self) {
+        if let (Some((index, time_s)), false) = (self.last, self.rested) {
+            self.frame(&ControlFrame::rest(index + 1, time_s + self.period_s), 0);
+            self.rested = true;
+        }
+    }
+}
+
+impl<C: Clock> Drop for PacedSender<C> {
+    fn drop(&mut self) {
+        self.rest();
+    }
 }
 
 impl<C: Clock> FrameSink for PacedSender<C> {
     fn frame(&mut self, frame: &ControlFrame, _at: u64) {
+        if let Some((_, last_s)) = self.last {
+            if frame.time_s > last_s {
+                self.period_s = frame.time_s - last_s;
+            }
+        }
+        self.last = Some((frame.index, frame.time_s));
+        self.rested = false;
         let now_s = self.clock.now_s();
         let (due_s, tag_s) = self
             .pacer
@@ -368,5 +403,74 @@ mod tests {
             text.contains("numeric address") && text.contains("localhost"),
             "{text}"
         );
+    }
+
+    #[test]
+    fn a_stream_ends_in_the_rest_pose_a_period_after_its_last_frame_however_it_ends() {
+        let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
+        rx.set_read_timeout(Some(Duration::from_millis(300)))
+            .unwrap();
+        let port = rx.local_addr().unwrap().port();
+        let turned = |i: u64| {
+            let mut f = test_frame(i);
+            f.head.yaw_deg = 5.0;
+            f.head.pitch_deg = -3.0;
+            f.breathing.lung = 0.6;
+            f
+        };
+        let period_s = 1.0 / 120.0;
+        let rest = ControlFrame::rest(3, 2.0 * period_s + period_s);
+        let messages = |frame: &ControlFrame| {
+            let mut buf = [0u8; MAX_FRAME_PACKET_BYTES];
+            let n = encode_frame(OscFormat::Pneuma, frame, TimeTag(0), &mut buf).unwrap();
+            decode(&buf[..n]).unwrap()
+        };
+        let mut buf = [0u8; 2048];
+        let mut received = |n: usize| -> Vec<Vec<pneuma_testkit::osc::Message>> {
+            (0..n)
+                .map_while(|_| rx.recv(&mut buf).ok().map(|k| decode(&buf[..k]).unwrap()))
+                .collect()
+        };
+        // Dropped after three frames, as on an error or Ctrl-C: a fourth bundle, the rest pose.
+        {
+            let mut tx = PacedSender::with_clock(
+                "127.0.0.1",
+                port,
+                OscFormat::Pneuma,
+                Speed::Times(4.0),
+                TestClock::default(),
+            )
+            .unwrap();
+            for i in 0..3 {
+                tx.frame(&turned(i), 0);
+            }
+        }
+        let got = received(5);
+        assert_eq!(got.len(), 4, "three frames and the rest pose");
+        let strip = |m: &[pneuma_testkit::osc::Message]| {
+            m.iter()
+                .map(|m| (m.address.clone(), format!("{:?}", m.args)))
+                .collect::<Vec<_>>()
+        };
+        assert_ne!(
+            strip(&got[2]),
+            strip(&messages(&rest)),
+            "the last frame is turned"
+        );
+        assert_eq!(strip(&got[3]), strip(&messages(&rest)));
+        // Rested at the end, then dropped: the rest pose goes out once; before any frame, never.
+        let mut tx = PacedSender::with_clock(
+            "127.0.0.1",
+            port,
+            OscFormat::Pneuma,
+            Speed::Max,
+            TestClock::default(),
+        )
+        .unwrap();
+        tx.rest();
+        tx.frame(&turned(0), 0);
+        tx.rest();
+        drop(tx);
+        assert_eq!(received(3).len(), 2, "one frame, one rest");
     }
 }

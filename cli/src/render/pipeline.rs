@@ -240,7 +240,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         .osc
         .as_ref()
         .zip(osc)
-        .map(|(plan, sender)| plan.describe(&sender.stats()));
+        .map(|(plan, sender)| plan.finish(sender));
     let AudioPass {
         mut audio,
         envelope,

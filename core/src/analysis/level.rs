@@ -1,9 +1,12 @@
 //! The dBFS scale of the levels the analysis reports, with its floor.
 
-/// Converts an RMS amplitude to dBFS with a floor of −120 dBFS.
+/// The floor of the levels, dBFS (silence).
+pub const LEVEL_FLOOR_DB: f32 = -120.0;
+
+/// Converts an RMS amplitude to dBFS with a floor of [`LEVEL_FLOOR_DB`].
 pub fn amplitude_to_db(rms: f64) -> f32 {
     if rms <= 1e-6 {
-        -120.0
+        LEVEL_FLOOR_DB
     } else {
         (20.0 * rms.log10()) as f32
     }

@@ -489,6 +489,17 @@ mod tests {
     }
 
     #[test]
+    fn the_rest_pose_is_silent_still_and_straight() {
+        let map = CcMap::default();
+        let rest = ControlFrame::rest(7, 1.5);
+        assert_eq!(map.quantize(CcSignal::Loudness, &rest), 0, "silent");
+        assert_eq!(map.quantize(CcSignal::Speaking, &rest), 0);
+        assert_eq!(map.quantize(CcSignal::HeadPitch, &rest), 64, "straight");
+        assert_eq!(map.quantize(CcSignal::HeadYaw, &rest), 64);
+        assert_eq!((rest.index, rest.time_s), (7, 1.5));
+    }
+
+    #[test]
     fn only_changes_are_sent_and_reset_resends() {
         let mut enc = CcEncoder::new(CcMap::default()).unwrap();
         let first = collect(&mut enc, &frame(0.25, 0.0));

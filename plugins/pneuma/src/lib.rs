@@ -306,14 +306,14 @@ pub fn run_block(
     }
 }
 
-/// Sends the rest pose ([`ControlFrame::default`]: head straight, lungs empty, breath at rest)
+/// Sends the rest pose ([`ControlFrame::rest`]: silent, head straight, breath at rest)
 /// to the outputs: every controller the CC encoder has not sent at that value, and one OSC frame.
 pub fn send_rest_pose(outputs: &mut Outputs<'_>, send_cc: &mut dyn FnMut(u32, CcMessage)) {
     let cc = outputs
         .cc
         .as_deref_mut()
         .map(|encoder| CcSink::new(encoder, |_, m| send_cc(0, m)));
-    (cc, outputs.osc.as_deref_mut()).frame(&ControlFrame::default(), 0);
+    (cc, outputs.osc.as_deref_mut()).frame(&ControlFrame::rest(0, 0.0), 0);
 }
 
 /// Reads a breath sample (WAV, FLAC, AIFF, … any channel count, mixed to mono). Empty path:
