@@ -120,8 +120,8 @@ impl OscPlan {
     }
 
     /// The summary line of what was sent: `OSC: 1200 bundles (vmc) to 127.0.0.1:39539 in
-    /// real time, ending in the rest pose`, and the reason when frames were not sent; as fast
-    /// as possible, that a receiver may drop some.
+    /// real time, ending in the rest pose` (when it went out), and the reason when frames were
+    /// not sent; as fast as possible, what to do when a receiver drops bundles.
     pub fn describe(&self, stats: &PacedStats) -> String {
         let format = OSC_FORMAT.names()[match self.format {
             OscFormat::Pneuma => 0,
@@ -141,13 +141,15 @@ impl OscPlan {
             match self.speed {
                 // A receiver that reads slower than the sender drops what overflows its
                 // socket buffer (a Python receiver here took 2242 of 3867; at 8x, all).
-                Speed::Max => "as fast as possible, ending in the rest pose (a receiver that \
-                               reads slower drops bundles; a Python one kept all at \
-                               --osc-speed 8)"
+                Speed::Max => "as fast as possible (if the receiver drops bundles, give a \
+                               speed such as --osc-speed 8)"
                     .to_owned(),
-                s => format!("in {s}, ending in the rest pose"),
+                s => format!("in {s}"),
             }
         );
+        if stats.rested {
+            line.push_str(", ending in the rest pose");
+        }
         match (stats.failed, stats.last_error) {
             // A connected socket hears a refusal on the send after a lost bundle: those it
             // counted as sent were lost as well.

@@ -231,6 +231,10 @@ pub fn main(args: Args) -> ExitCode {
                     eprintln!("  {osc}");
                 }
             }
+            if crate::render::interrupted() {
+                eprintln!("interrupted (Ctrl-C) while sending OSC: the files are written");
+                return ExitCode::from(crate::render::EXIT_INTERRUPTED);
+            }
             ExitCode::SUCCESS
         }
         Err(e) => {
@@ -553,7 +557,13 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     let osc = match osc {
         Some(plan) => {
             let mut sender = plan.open().map_err(SpeakError::Option)?;
+            // The files are written: Ctrl-C now stops the sending, and the stream still ends
+            // in the rest pose (a second Ctrl-C exits at once).
+            crate::render::install_interrupt_handler();
             for f in &frames {
+                if crate::render::interrupted() {
+                    break;
+                }
                 sender.frame(f, 0);
             }
             Some(plan.finish(sender))

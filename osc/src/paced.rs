@@ -8,7 +8,10 @@
 //! When the stream ends, however it ends (the file's end, an error, Ctrl-C: [`PacedSender::rest`],
 //! also on drop), one more bundle sends the rest pose ([`ControlFrame::rest`]: silent, head
 //! straight, breathing at rest) a frame period after the last, as the plugin does when it is
-//! bypassed: an avatar is not left frozen mid-turn with its mouth open.
+//! bypassed: an avatar is not left frozen mid-turn with its mouth open. It waits for its time
+//! [`REST_MAX_WAIT_S`] at most (a very slow speed does not hold an error or Ctrl-C back); at
+//! [`Speed::Max`] it waits [`REST_DRAIN_S`] first, so a receiver that fell behind has read the
+//! frames before it and does not drop the one bundle that matters most.
 //!
 //! Time tags: the first frame anchors the stream to the wall clock; a frame's tag is the
 //! instant it is due, `anchor + (time_s - first time_s) / speed`. At [`Speed::Max`] frames
@@ -23,6 +26,11 @@ use pneuma_core::encode::sink::FrameSink;
 use pneuma_core::ControlFrame;
 
 use crate::target::{connect, now_unix_s, resolve, send, socket_for, OscError};
+
+/// Longest wait for the rest pose's time, seconds.
+pub const REST_MAX_WAIT_S: f64 = 0.5;
+/// At [`Speed::Max`], the wait before the rest pose, seconds.
+pub const REST_DRAIN_S: f64 = 0.25;
 
 /// How fast frames are sent.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -160,6 +168,8 @@ pub struct PacedStats {
     pub failed: u64,
     /// Why the last failed frame was not sent.
     pub last_error: Option<OscError>,
+    /// The rest pose went out after the last frame ([`PacedSender::rest`]).
+    pub rested: bool,
 }
 
 /// Sends each frame as one bundle in its format when it is due (see the module docs).
@@ -173,10 +183,11 @@ pub struct PacedSender<C: Clock = WallClock> {
     clock: C,
     buf: [u8; MAX_FRAME_PACKET_BYTES],
     stats: PacedStats,
-    /// The last frame's index and time, and the interval before it, seconds.
+    /// The last frame's index and time, and the interval before it, seconds (0 before two
+    /// frames).
     last: Option<(u64, f64)>,
     period_s: f64,
-    /// The rest pose went out after the last frame.
+    /// The rest pose was tried after the last frame.
     rested: bool,
 }
 
@@ -240,12 +251,53 @@ impl<C: Clock> PacedSender<C> {
         self.stats.last_error = Some(e);
     }
 
-    /// Sends the rest pose a frame period after the last frame, once after the last frame
-    /// (nothing before any frame). Also done on drop.
+    /// Sends the rest pose a frame period after the last frame (the default frame rate's
+    /// period after a single frame), once after the last frame (nothing before any frame).
+    /// Also done on drop.
     pub fn rest(&mut self) {
         if let (Some((index, time_s)), false) = (self.last, self.rested) {
-            self.frame(&ControlFrame::rest(index + 1, time_s + self.period_s), 0);
             self.rested = true;
+            let period_s = if self.period_s > 0.0 {
+                self.period_s
+            } else {
+                1.0 / f64::from(pneuma_core::settings::analysis::FRAME_RATE_HZ.default)
+            };
+            if self.pacer.speed == Speed::Max {
+                self.clock.sleep_s(REST_DRAIN_S);
+            }
+            let rest = ControlFrame::rest(index + 1, time_s + period_s);
+            self.stats.rested = self.send_when_due(&rest, REST_MAX_WAIT_S);
+        }
+    }
+
+    /// Sends `frame` when it is due, waiting `max_wait_s` at most; whether it was sent.
+    fn send_when_due(&mut self, frame: &ControlFrame, max_wait_s: f64) -> bool {
+        let now_s = self.clock.now_s();
+        let (due_s, tag_s) = self
+            .pacer
+            .schedule(frame.time_s, now_s, self.clock.unix_s());
+        self.clock.sleep_s((due_s - now_s).min(max_wait_s));
+        let tag = TimeTag::from_unix_seconds(tag_s);
+        match encode_frame(self.format, frame, tag, &mut self.buf) {
+            Ok(n) => match send(
+                Some(self.addr),
+                Some(&self.socket),
+                self.connected,
+                &self.buf[..n],
+            ) {
+                Ok(()) => {
+                    self.stats.sent += 1;
+                    true
+                }
+                Err(e) => {
+                    self.fail(e);
+                    false
+                }
+            },
+            Err(_) => {
+                self.fail(OscError::Encoding);
+                false
+            }
         }
     }
 }
@@ -265,24 +317,8 @@ impl<C: Clock> FrameSink for PacedSender<C> {
         }
         self.last = Some((frame.index, frame.time_s));
         self.rested = false;
-        let now_s = self.clock.now_s();
-        let (due_s, tag_s) = self
-            .pacer
-            .schedule(frame.time_s, now_s, self.clock.unix_s());
-        self.clock.sleep_s(due_s - now_s);
-        let tag = TimeTag::from_unix_seconds(tag_s);
-        match encode_frame(self.format, frame, tag, &mut self.buf) {
-            Ok(n) => match send(
-                Some(self.addr),
-                Some(&self.socket),
-                self.connected,
-                &self.buf[..n],
-            ) {
-                Ok(()) => self.stats.sent += 1,
-                Err(e) => self.fail(e),
-            },
-            Err(_) => self.fail(OscError::Encoding),
-        }
+        self.stats.rested = false;
+        self.send_when_due(frame, f64::INFINITY);
     }
 }
 
@@ -472,5 +508,37 @@ mod tests {
         tx.rest();
         drop(tx);
         assert_eq!(received(3).len(), 2, "one frame, one rest");
+    }
+
+    #[test]
+    fn the_rest_pose_waits_half_a_second_at_most_and_lets_a_receiver_catch_up_at_max() {
+        let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
+        let port = rx.local_addr().unwrap().port();
+        let open = |speed| {
+            PacedSender::with_clock(
+                "127.0.0.1",
+                port,
+                OscFormat::Pneuma,
+                speed,
+                TestClock::default(),
+            )
+            .unwrap()
+        };
+        // A thousandth of real time: the next frame would be due 8.3 s later.
+        let mut slow = open(Speed::Times(0.001));
+        slow.frame(&test_frame(0), 0);
+        slow.frame(&test_frame(1), 0);
+        let before = slow.clock().waits_s.len();
+        assert!(!slow.stats().rested);
+        slow.rest();
+        assert_eq!(slow.clock().waits_s[before..], [REST_MAX_WAIT_S]);
+        assert!(slow.stats().rested, "{:?}", slow.stats());
+        // As fast as possible: the frames leave at once, the rest pose after the drain.
+        let mut max = open(Speed::Max);
+        max.frame(&test_frame(0), 0);
+        let before = max.clock().waits_s.len();
+        max.rest();
+        assert_eq!(max.clock().waits_s[before], REST_DRAIN_S);
+        assert!(max.stats().rested);
     }
 }

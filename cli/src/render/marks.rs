@@ -98,17 +98,45 @@ fn carries_mark(file: Optional, head: &[u8], whole: bool) -> bool {
 }
 
 /// The head of a BVH Pneuma writes: everything before the frame count, the same in every file
-/// (where the headers of two different lengths part); now or before its root's position moved
-/// into its channels.
+/// (where the headers of two different lengths part), or the head Pneuma wrote before the
+/// hips' height moved from the root's offset into its position channels
+/// ([`BVH_HEAD_BEFORE_ROOT_POSITION`]).
 fn is_bvh(head: &[u8]) -> bool {
-    [bvh::header, bvh::header_before_root_position]
-        .iter()
-        .any(|header| {
-            let (a, b) = (header(0, 1.0), header(1, 2.0));
-            let same = a.bytes().zip(b.bytes()).take_while(|(x, y)| x == y).count();
-            same > 0 && head.starts_with(&a.as_bytes()[..same])
-        })
+    let (a, b) = (bvh::header(0, 1.0), bvh::header(1, 2.0));
+    let same = a.bytes().zip(b.bytes()).take_while(|(x, y)| x == y).count();
+    (same > 0 && head.starts_with(&a.as_bytes()[..same]))
+        || head.starts_with(BVH_HEAD_BEFORE_ROOT_POSITION.as_bytes())
 }
+
+/// The head of the BVH files Pneuma wrote until December 2026, up to the frame count, as they
+/// are on disk (fixed text: what later versions write does not move it).
+const BVH_HEAD_BEFORE_ROOT_POSITION: &str = "HIERARCHY
+ROOT Hips
+{
+  OFFSET 0.0 1.0 0.0
+  CHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation
+  JOINT Chest
+  {
+    OFFSET 0.0 0.25 0.0
+    CHANNELS 3 Zrotation Yrotation Xrotation
+    JOINT Neck
+    {
+      OFFSET 0.0 0.25 0.0
+      CHANNELS 3 Zrotation Yrotation Xrotation
+      JOINT Head
+      {
+        OFFSET 0.0 0.1 0.0
+        CHANNELS 3 Zrotation Yrotation Xrotation
+        End Site
+        {
+          OFFSET 0.0 0.2 0.0
+        }
+      }
+    }
+  }
+}
+MOTION
+Frames: ";
 
 /// The head of a MIDI file Pneuma writes: its file header up to the track's length (which
 /// varies), and the track's name event among the track's first events.
@@ -160,8 +188,13 @@ mod tests {
         assert!(!carries_mark(Optional::Bvh, mocap.as_bytes(), true));
         let moved = bvh.replacen("OFFSET 0.0 0.1 0.0", "OFFSET 0.0 0.12 0.0", 1);
         assert!(!carries_mark(Optional::Bvh, moved.as_bytes(), true));
-        // One written before the hips' height moved from the root's offset to its channels.
-        let before = bvh::header_before_root_position(250, 120.0);
+        // One written before the hips' height moved from the root's offset to its channels:
+        // today's header with that one line as it was.
+        let before = bvh::header(250, 120.0).replacen(
+            "ROOT Hips\n{\n  OFFSET 0.0 0.0 0.0",
+            "ROOT Hips\n{\n  OFFSET 0.0 1.0 0.0",
+            1,
+        );
         assert_ne!(before, bvh::header(250, 120.0));
         assert!(carries_mark(Optional::Bvh, before.as_bytes(), true));
 

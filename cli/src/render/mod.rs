@@ -41,7 +41,9 @@ pub mod voice;
 use std::path::Path;
 use std::process::ExitCode;
 
-pub use error::{install_interrupt_handler, RenderError, EXIT_INTERRUPTED, INTERRUPTED};
+pub use error::{
+    install_interrupt_handler, interrupted, RenderError, EXIT_INTERRUPTED, INTERRUPTED,
+};
 pub use pipeline::{describe_band_limit, describe_voice, lossy_note, run, RenderSummary};
 pub use plan::{output_container, Args};
 

@@ -43,17 +43,11 @@ pub const JOINTS: [&str; 4] = ["Hips", "Chest", "Neck", "Head"];
 /// Height of the hips (the root's Y position in every frame), metres.
 pub const HIPS_HEIGHT_M: f32 = 1.0;
 
-/// The root's `OFFSET` line in files written before the root's position moved into its
-/// channels (then 0): such a file is Pneuma's too ([`header_before_root_position`]).
-const ROOT_OFFSET: &str = "  OFFSET 0.0 0.0 0.0\n";
-const ROOT_OFFSET_BEFORE: &str = "  OFFSET 0.0 1.0 0.0\n";
-
 /// The HIERARCHY section and the MOTION header for `frames` frames at `frame_rate_hz`.
 pub fn header(frames: usize, frame_rate_hz: f64) -> String {
     let mut s = String::with_capacity(1024);
     s.push_str("HIERARCHY\n");
-    s.push_str("ROOT Hips\n{\n");
-    s.push_str(ROOT_OFFSET);
+    s.push_str("ROOT Hips\n{\n  OFFSET 0.0 0.0 0.0\n");
     s.push_str("  CHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation\n");
     s.push_str("  JOINT Chest\n  {\n    OFFSET 0.0 0.25 0.0\n");
     s.push_str("    CHANNELS 3 Zrotation Yrotation Xrotation\n");
@@ -73,12 +67,6 @@ pub fn header(frames: usize, frame_rate_hz: f64) -> String {
         "MOTION\nFrames: {frames}\nFrame Time: {frame_time_s:.8}\n"
     );
     s
-}
-
-/// [`header`] as Pneuma wrote it before the root's position moved into its channels (a 1 m
-/// root offset), to tell such a file as Pneuma's.
-pub fn header_before_root_position(frames: usize, frame_rate_hz: f64) -> String {
-    header(frames, frame_rate_hz).replacen(ROOT_OFFSET, ROOT_OFFSET_BEFORE, 1)
 }
 
 /// Finite value or 0.

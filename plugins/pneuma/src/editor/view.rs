@@ -491,7 +491,8 @@ impl NiceEguiApp for EditorApp {
             .frames()
             .back()
             .map(|f| f.control)
-            .unwrap_or_default();
+            // Before any frame: silence (the default frame's 0 dBFS is full scale).
+            .unwrap_or_else(|| ControlFrame::rest(0, 0.0));
         ResizableWindow::new("pneuma-editor")
             .min_size(Vec2::new(720.0, 480.0))
             .show(ui, |ui| {
