@@ -348,6 +348,11 @@ mod tests {
         }
     }
 
+    /// A sender in the pneuma format to `host:port` at `speed`, on a [`TestClock`].
+    fn test_sender(host: &str, port: u16, speed: Speed) -> PacedSender<TestClock> {
+        PacedSender::with_clock(host, port, OscFormat::Pneuma, speed, TestClock::default()).unwrap()
+    }
+
     #[test]
     fn speeds_parse_and_refuse_with_advice() {
         assert_eq!(Speed::parse("4"), Ok(Speed::Times(4.0)));
@@ -378,14 +383,7 @@ mod tests {
         let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
         rx.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
         let port = rx.local_addr().unwrap().port();
-        let mut tx = PacedSender::with_clock(
-            "localhost",
-            port,
-            OscFormat::Pneuma,
-            Speed::Times(4.0),
-            TestClock::default(),
-        )
-        .unwrap();
+        let mut tx = test_sender("localhost", port, Speed::Times(4.0));
         for i in 0..24 {
             tx.frame(&test_frame(i), 0);
         }
@@ -469,14 +467,7 @@ mod tests {
         };
         // Dropped after three frames, as on an error or Ctrl-C: a fourth bundle, the rest pose.
         {
-            let mut tx = PacedSender::with_clock(
-                "127.0.0.1",
-                port,
-                OscFormat::Pneuma,
-                Speed::Times(4.0),
-                TestClock::default(),
-            )
-            .unwrap();
+            let mut tx = test_sender("127.0.0.1", port, Speed::Times(4.0));
             for i in 0..3 {
                 tx.frame(&turned(i), 0);
             }
@@ -495,14 +486,7 @@ mod tests {
         );
         assert_eq!(strip(&got[3]), strip(&messages(&rest)));
         // Rested at the end, then dropped: the rest pose goes out once; before any frame, never.
-        let mut tx = PacedSender::with_clock(
-            "127.0.0.1",
-            port,
-            OscFormat::Pneuma,
-            Speed::Max,
-            TestClock::default(),
-        )
-        .unwrap();
+        let mut tx = test_sender("127.0.0.1", port, Speed::Max);
         tx.rest();
         tx.frame(&turned(0), 0);
         tx.rest();
@@ -514,16 +498,7 @@ mod tests {
     fn the_rest_pose_waits_half_a_second_at_most_and_lets_a_receiver_catch_up_at_max() {
         let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
         let port = rx.local_addr().unwrap().port();
-        let open = |speed| {
-            PacedSender::with_clock(
-                "127.0.0.1",
-                port,
-                OscFormat::Pneuma,
-                speed,
-                TestClock::default(),
-            )
-            .unwrap()
-        };
+        let open = |speed| test_sender("127.0.0.1", port, speed);
         // A thousandth of real time: the next frame would be due 8.3 s later.
         let mut slow = open(Speed::Times(0.001));
         slow.frame(&test_frame(0), 0);
