@@ -25,7 +25,7 @@
 
 use realfft::num_complex::Complex;
 
-use super::level::amplitude_to_db;
+use super::level::{amplitude_to_db, LEVEL_FLOOR_DB};
 
 /// The three bands' edges, Hz: low, mid, high.
 const BANDS_HZ: [(f64, f64); 3] = [(100.0, 400.0), (500.0, 2500.0), (2500.0, 3500.0)];
@@ -49,11 +49,11 @@ pub struct BandLevels {
 }
 
 impl BandLevels {
-    /// All three bands at the −120 dBFS floor (a silent window).
+    /// All three bands at the −120 dBFS floor (a silent window, [`LEVEL_FLOOR_DB`]).
     pub const FLOOR: Self = Self {
-        low_db: -120.0,
-        mid_db: -120.0,
-        high_db: -120.0,
+        low_db: LEVEL_FLOOR_DB,
+        mid_db: LEVEL_FLOOR_DB,
+        high_db: LEVEL_FLOOR_DB,
     };
 
     /// The high band over the mid band, dB: about 0 or below for breath noise, well above 0
@@ -70,7 +70,7 @@ impl BandLevels {
     /// The mid and high bands together (0.5–3.5 kHz, where breath noise lies), dBFS: a
     /// breath's level apart from the hum and rumble that can carry a room's full-band level.
     pub fn breath_bands_db(&self) -> f32 {
-        let power = |db: f32| 10f64.powf(f64::from(db.clamp(-120.0, 40.0)) / 10.0);
+        let power = |db: f32| 10f64.powf(f64::from(db.clamp(LEVEL_FLOOR_DB, 40.0)) / 10.0);
         (10.0 * (power(self.mid_db) + power(self.high_db)).log10()) as f32
     }
 }

@@ -27,7 +27,7 @@ pub(crate) const FALL_DB: f32 = 10.0;
 /// every recording in `../shared/data`.
 pub(crate) const IN_SOUND_DB: f32 = 20.0;
 /// The level a frame of digital silence counts with, dBFS.
-const SILENCE_FLOOR_DB: f32 = -120.0;
+const SILENCE_FLOOR_DB: f32 = crate::analysis::LEVEL_FLOOR_DB;
 
 /// See the module docs.
 #[derive(Debug, Clone, Copy)]

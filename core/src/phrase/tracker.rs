@@ -213,7 +213,7 @@ impl PhraseTracker {
         let rms_db = if frame.band_db.is_finite() {
             frame.band_db
         } else {
-            -120.0
+            crate::analysis::LEVEL_FLOOR_DB
         };
         // Digital silence (under [`GATED_DB`]: an edit's zeros, a closed gate; never a room)
         // does not teach the floor once sound has been heard: the floor holds, and the room

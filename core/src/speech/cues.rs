@@ -58,7 +58,11 @@ impl Cues {
         }
         let near = s.last_voiced.is_some_and(|v| i - v < self.voiced_frames);
         let len = self.levels.len();
-        self.levels[(i % len as u64) as usize] = if rms_db.is_finite() { rms_db } else { -120.0 };
+        self.levels[(i % len as u64) as usize] = if rms_db.is_finite() {
+            rms_db
+        } else {
+            crate::analysis::LEVEL_FLOOR_DB
+        };
         let heard = &self.levels[..(s.frames as usize).min(len)];
         let loudest = heard.iter().copied().fold(f32::NEG_INFINITY, f32::max);
         let dips = heard.iter().filter(|&&l| l < loudest - DIP_DB).count();
