@@ -25,7 +25,7 @@
 
 use realfft::num_complex::Complex;
 
-use super::level::{amplitude_to_db, LEVEL_FLOOR_DB};
+use super::level::{amplitude_to_db, band_power, LEVEL_FLOOR_DB};
 
 /// The three bands' edges, Hz: low, mid, high.
 const BANDS_HZ: [(f64, f64); 3] = [(100.0, 400.0), (500.0, 2500.0), (2500.0, 3500.0)];
@@ -70,8 +70,7 @@ impl BandLevels {
     /// The mid and high bands together (0.5–3.5 kHz, where breath noise lies), dBFS: a
     /// breath's level apart from the hum and rumble that can carry a room's full-band level.
     pub fn breath_bands_db(&self) -> f32 {
-        let power = |db: f32| 10f64.powf(f64::from(db.clamp(LEVEL_FLOOR_DB, 40.0)) / 10.0);
-        (10.0 * (power(self.mid_db) + power(self.high_db)).log10()) as f32
+        (10.0 * (band_power(self.mid_db) + band_power(self.high_db)).log10()) as f32
     }
 }
 

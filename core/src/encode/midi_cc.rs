@@ -117,6 +117,17 @@ pub enum CcResolution {
     Bits14,
 }
 
+impl CcResolution {
+    /// The highest controller a signal may take: 119 for 7-bit CCs (120..127 are channel mode
+    /// messages), 31 for 14-bit pairs (the LSB goes to controller + 32).
+    pub const fn max_controller(self) -> u8 {
+        match self {
+            Self::Bits7 => 119,
+            Self::Bits14 => 31,
+        }
+    }
+}
+
 /// A bad CC map: the message says what to change.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum CcMapError {
@@ -124,7 +135,13 @@ pub enum CcMapError {
     #[error(transparent)]
     Setting(#[from] SettingError),
     /// A controller number is not usable.
-    #[error("controller {controller} for {signal} is out of range: use 0..119 for 7-bit CCs (120..127 are channel mode messages) or 0..31 for 14-bit pairs (the LSB goes to controller + 32)")]
+    #[error(
+        "controller {controller} for {signal} is out of range: use 0..{} for 7-bit CCs \
+         (120..127 are channel mode messages) or 0..{} for 14-bit pairs (the LSB goes to \
+         controller + 32)",
+        CcResolution::Bits7.max_controller(),
+        CcResolution::Bits14.max_controller()
+    )]
     Controller {
         /// The signal's name.
         signal: &'static str,
@@ -234,10 +251,7 @@ impl CcMap {
     /// Checks the settings (channel, ranges), the controller numbers and their collisions.
     pub fn validate(&self) -> Result<(), CcMapError> {
         check_fields(self, &FIELDS)?;
-        let limit = match self.resolution {
-            CcResolution::Bits7 => 119,
-            CcResolution::Bits14 => 31,
-        };
+        let limit = self.resolution.max_controller();
         // Controllers each signal occupies (MSB and, in 14-bit mode, LSB).
         let mut used: [Option<&'static str>; 128] = [None; 128];
         for (signal, cc) in CcSignal::ALL.iter().zip(self.controllers) {
@@ -580,13 +594,22 @@ mod tests {
             Err(CcMapError::Duplicate { controller: 16, .. })
         ));
         map.controllers[CcSignal::HeadYaw.index()] = Some(120);
-        assert!(matches!(
-            map.validate(),
-            Err(CcMapError::Controller {
-                controller: 120,
-                ..
-            })
-        ));
+        let err = map.validate().unwrap_err();
+        assert!(
+            matches!(
+                err,
+                CcMapError::Controller {
+                    controller: 120,
+                    ..
+                }
+            ),
+            "{err:?}"
+        );
+        assert!(
+            err.to_string().contains("use 0..119 for 7-bit CCs")
+                && err.to_string().contains("0..31 for 14-bit pairs"),
+            "{err}"
+        );
         // 14-bit: controller 40 cannot be an MSB, and 2 + 32 = 34 collides with a 7-bit user of 34.
         let mut map = CcMap {
             resolution: CcResolution::Bits14,

@@ -26,7 +26,7 @@ impl FloorBands {
     fn powers(b: &BandLevels) -> [f64; 3] {
         [b.low_db, b.mid_db, b.high_db].map(|db| {
             if db.is_finite() {
-                10f64.powf(f64::from(db.clamp(crate::analysis::LEVEL_FLOOR_DB, 40.0)) / 10.0)
+                crate::analysis::band_power(db)
             } else {
                 0.0
             }

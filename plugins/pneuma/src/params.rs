@@ -535,7 +535,8 @@ pub const CC_OFF_TEXT: &str = "off";
 fn cc_param(signal: CcSignal, flags: &Arc<ChangeFlags>) -> IntParam {
     let default = i32::from(CcSignal::DEFAULT_CONTROLLERS[signal.index()]);
     let name = format!("CC {}", signal.name().replace('_', " "));
-    IntParam::new(name, default, IntRange::Linear { min: 0, max: 119 })
+    let max = i32::from(CcResolution::Bits7.max_controller());
+    IntParam::new(name, default, IntRange::Linear { min: 0, max })
         .with_value_to_string(Arc::new(|v| {
             if v == 0 {
                 CC_OFF_TEXT.to_owned()
@@ -669,20 +670,20 @@ impl PneumaParams {
     /// map where two signals share a controller is invalid: the plugin then keeps its last valid
     /// map.
     pub fn cc_map(&self) -> CcMap {
-        let fourteen = self.cc_14bit.value();
+        let resolution = if self.cc_14bit.value() {
+            CcResolution::Bits14
+        } else {
+            CcResolution::Bits7
+        };
         let mut controllers = [None; SIGNAL_COUNT];
         for (slot, p) in controllers.iter_mut().zip(self.cc_params()) {
             let v = p.value();
-            let usable = v > 0 && (!fourteen || v <= 31);
+            let usable = v > 0 && v <= i32::from(resolution.max_controller());
             *slot = usable.then_some(v.clamp(0, 127) as u8);
         }
         CcMap {
             channel: (self.midi_channel.value() - 1).clamp(0, 15) as u8,
-            resolution: if fourteen {
-                CcResolution::Bits14
-            } else {
-                CcResolution::Bits7
-            },
+            resolution,
             controllers,
             head_range_deg: self.cc_head_range_deg.value(),
             ..CcMap::default()

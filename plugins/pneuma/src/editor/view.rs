@@ -371,10 +371,20 @@ impl EditorApp {
         if lost > 0 {
             ui.colored_label(ERROR_COLOUR, format!("{lost} blocks lost CC messages"));
         }
+        let set = p.cc_params().map(|cc| cc.value());
+        let limit = map.resolution.max_controller();
         egui::Grid::new("ccmap").num_columns(4).show(ui, |ui| {
             for (i, (signal, cc)) in CcSignal::ALL.iter().zip(map.controllers).enumerate() {
                 ui.small(signal.name());
-                ui.small(cc.map_or("off".to_owned(), |c| c.to_string()));
+                match (cc, set[i]) {
+                    (Some(c), _) => ui.small(c.to_string()),
+                    // Set, but above what 14-bit pairs can use: the map leaves it off.
+                    (None, v) if v > 0 => ui.colored_label(
+                        ERROR_COLOUR,
+                        RichText::new(format!("{v}: off, 14-bit uses 1-{limit}")).small(),
+                    ),
+                    (None, _) => ui.small("off"),
+                };
                 if i % 2 == 1 {
                     ui.end_row();
                 }

@@ -101,6 +101,31 @@ fn default_cc_map_is_the_design_map() {
 }
 
 #[test]
+fn a_controller_that_14_bit_pairs_cannot_use_is_off_in_14_bit_mode_only() {
+    let params = PneumaParams::default();
+    let thorax = CcSignal::Thorax.index();
+    let set = |id: &str, plain: f32| {
+        let ptr = param(&params, id);
+        // SAFETY: `params` outlives the pointer.
+        unsafe {
+            let normalized = ptr.preview_normalized(plain);
+            ptr._internal_set_normalized_value(normalized);
+        }
+    };
+    set("cc_thorax", 40.0);
+    assert_eq!(params.cc_map().controllers[thorax], Some(40), "7-bit");
+    set("cc_14bit", 1.0);
+    assert_eq!(
+        params.cc_map().controllers[thorax],
+        None,
+        "40 cannot be an MSB"
+    );
+    params.cc_map().validate().unwrap();
+    set("cc_thorax", 31.0);
+    assert_eq!(params.cc_map().controllers[thorax], Some(31));
+}
+
+#[test]
 fn defaults_are_the_models_defaults_and_presets_replace_the_controls() {
     let params = PneumaParams::default();
     assert_eq!(params.breathing_params(), BreathingParams::default());
