@@ -10,10 +10,10 @@ use pneuma_core::encode::features_csv;
 use pneuma_core::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
 use thiserror::Error;
 
+use crate::channel::Channel;
 use crate::options::{render_for, F0_MAX, F0_MIN, FRAME_RATE, SETTING_FLAGS};
 use crate::output::Output;
 use crate::render::findings::{antiphase_message, ChannelEnergy};
-use crate::render::plan::Channel;
 use crate::wav::WavInfo;
 use pneuma_io::{mix_to_mono, AudioSource, ReadError};
 
@@ -32,8 +32,10 @@ pub enum AnalyzeError {
     #[error("invalid analysis settings: {0}")]
     Settings(#[from] AnalysisError),
     /// `--channel` names a channel the input does not have.
-    #[error("--channel right needs two channels, and the input has {channels}: drop --channel")]
+    #[error("{}", channel.missing(usize::from(*channels), "the input"))]
     NoSuchChannel {
+        /// The channel asked for.
+        channel: Channel,
         /// The input's channels.
         channels: u16,
     },
@@ -74,12 +76,13 @@ pub fn analyze_source(
 ) -> Result<(WavInfo, bool), AnalyzeError> {
     let info = src.info();
     let channels = info.channels as usize;
-    let pick = pick.map(Channel::index);
-    if pick.is_some_and(|k| k >= channels) {
+    if let Some(channel) = pick.filter(|c| c.index() >= channels) {
         return Err(AnalyzeError::NoSuchChannel {
+            channel,
             channels: info.channels,
         });
     }
+    let pick = pick.map(Channel::index);
     let mut analyzer = Analyzer::new(config)?;
     analyzer.prepare(info.sample_rate_hz as f64, BLOCK_FRAMES)?;
     let mut block = Vec::with_capacity(BLOCK_FRAMES * channels);
@@ -187,9 +190,10 @@ pub struct Args {
     /// analysis succeeded.
     #[arg(short = 'n', long)]
     pub no_overwrite: bool,
-    /// Analyse one channel of the input (`left` = the first, `right` = the second) instead of
-    /// the mono mix: for a file whose channels cancel when mixed (antiphase).
-    #[arg(long, value_enum)]
+    /// Analyse one channel of the input instead of the mono mix: `left` (the first), `right`
+    /// (the second) or its number from 1. For a file whose channels cancel when mixed
+    /// (antiphase), or one track of a multitrack recording.
+    #[arg(long, value_parser = Channel::parse, value_name = "CHANNEL")]
     pub channel: Option<Channel>,
 }
 

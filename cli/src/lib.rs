@@ -5,6 +5,7 @@
 pub mod analyze;
 pub mod audio_out;
 pub mod bvh_out;
+pub mod channel;
 pub mod markers;
 pub mod midi_out;
 pub mod mp3_out;

@@ -15,6 +15,7 @@ use super::error::RenderError;
 use super::leftovers::Leftover;
 use super::marks::Optional;
 use crate::audio_out::Container;
+use crate::channel::Channel;
 use crate::markers::MarkerKind;
 use crate::options::{
     render_for, SettingFlag, BREATH_LEVEL, FRAME_RATE, LOOKAHEAD, MIN_PAUSE, MODE, SETTING_FLAGS,
@@ -27,11 +28,19 @@ pub const BLOCK_FRAMES: usize = 4096;
 /// Most jobs accepted by `--jobs`.
 const MAX_JOBS: usize = 256;
 
+/// Parses `--jobs`, refusing a count outside 1..=[`MAX_JOBS`] whether or not a batch follows.
+fn parse_jobs(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if (1..=MAX_JOBS).contains(&n) => Ok(n),
+        _ => Err(format!("{text} is out of range: use 1 to {MAX_JOBS}")),
+    }
+}
+
 /// Command-line arguments of `pneuma render`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct Args {
-    /// Input audio: WAV, FLAC, MP3, M4A/AAC, Ogg Vorbis, AIFF or CAF (any channels, 8–192
-    /// kHz); `-` reads standard input. Several files or folders render them all (a batch, in
+    /// Input audio: WAV, FLAC, MP3, M4A/AAC, Ogg Vorbis, AIFF or CAF (1 to 8 channels, or any
+    /// count with `--channel`; 8–192 kHz); `-` reads standard input. Several files or folders render them all (a batch, in
     /// parallel; folders give the audio files directly inside them).
     #[arg(required = true, value_name = "IN")]
     pub inputs: Vec<PathBuf>,
@@ -44,7 +53,8 @@ pub struct Args {
     #[arg(long, value_enum)]
     pub format: Option<Container>,
     /// MP3 bitrate, kbps (with --format mp3; 8 to 320 in LAME's steps; default: the input's
-    /// for MP3 input, else 192). With --vbr, the average aimed at.
+    /// for MP3 input, else 192, 160 at 16–24 kHz, 64 at 8–12 kHz). With --vbr, the average
+    /// aimed at.
     #[arg(long, value_name = "KBPS", value_parser = crate::mp3_out::parse_bitrate)]
     pub bitrate: Option<u32>,
     /// Variable-bitrate MP3 (with --format mp3; LAME's -V level nearest the bitrate). Default:
@@ -62,7 +72,7 @@ pub struct Args {
     #[arg(skip)]
     pub in_batch: bool,
     /// Files rendered at once in a batch (1 to 256; default: the number of cores).
-    #[arg(short = 'j', long, value_name = "N")]
+    #[arg(short = 'j', long, value_name = "N", value_parser = parse_jobs)]
     pub jobs: Option<usize>,
     /// Breathing preset.
     #[arg(long, default_value = "neutral", value_parser = clap::builder::PossibleValuesParser::new(Preset::NAMES))]
@@ -90,14 +100,19 @@ pub struct Args {
     /// singing or generated test signals. Music, noise and silence then get breaths too.
     #[arg(long)]
     pub any_sound: bool,
-    /// Render one channel of the input (`left` = the first, `right` = the second) as a mono
-    /// file: for a file whose channels cancel when mixed to mono (antiphase).
-    #[arg(long, value_enum)]
+    /// Render one channel of the input as a mono file: `left` (the first), `right` (the
+    /// second) or its number from 1 (one track of a multitrack recording; any channel count).
+    /// For a file whose channels cancel when mixed to mono (antiphase), or one speaker's track.
+    #[arg(long, value_parser = Channel::parse, value_name = "CHANNEL")]
     pub channel: Option<Channel>,
     /// Folder with user breath samples `mouth.wav` and/or `nose.wav` (or .flac, .aiff, … any
-    /// input format; the same as giving
-    /// them with --breath-mouth and --breath-nose).
-    #[arg(long, conflicts_with = "no_breaths", value_name = "DIR")]
+    /// input format; the same as giving them with --breath-mouth and --breath-nose, which it
+    /// cannot be combined with).
+    #[arg(
+        long,
+        conflicts_with_all = ["no_breaths", "breath_mouth", "breath_nose"],
+        value_name = "DIR"
+    )]
     pub breath_samples: Option<PathBuf>,
     /// A recording of a mouth inhalation ([`crate::options::BREATH_MOUTH_HELP`]).
     #[arg(long, conflicts_with = "no_breaths", value_name = "FILE", help = crate::options::BREATH_MOUTH_HELP)]
@@ -145,25 +160,6 @@ pub struct Args {
     /// never silent): no progress bar, no summary, no warnings.
     #[arg(long, short)]
     pub quiet: bool,
-}
-
-/// A channel `--channel` picks.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Channel {
-    /// The first channel.
-    Left,
-    /// The second channel.
-    Right,
-}
-
-impl Channel {
-    /// Its index among the input's channels.
-    pub fn index(self) -> usize {
-        match self {
-            Channel::Left => 0,
-            Channel::Right => 1,
-        }
-    }
 }
 
 impl Args {
@@ -337,13 +333,10 @@ pub fn check_batch(args: &Args, inputs: &[PathBuf]) -> Result<usize, String> {
     if !clashes.is_empty() {
         return Err(clash_message(&clashes, &args.output));
     }
-    let jobs = match args.jobs {
-        Some(n) if !(1..=MAX_JOBS).contains(&n) => {
-            return Err(format!("--jobs {n} is out of range: use 1 to {MAX_JOBS}"))
-        }
-        Some(n) => n,
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-    };
+    // The parser refused counts outside 1..=MAX_JOBS.
+    let jobs = args
+        .jobs
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     Ok(jobs.min(inputs.len()).max(1))
 }
 
@@ -514,20 +507,17 @@ impl Job {
             output_container(args.format, source.format())
         };
         let mut info = source.info();
-        check_input_shape(args, &info)?;
         let mp3 = mp3_settings(args, input, container, &source, args.channel.is_some())?;
         let input_channels = info.channels as usize;
         let pick = args.channel.map(Channel::index);
-        if let Some(k) = pick {
-            if k >= input_channels {
-                return Err(RenderError::Input(format!(
-                    "--channel right needs two channels, and {} has {input_channels}: drop \
-                     --channel",
-                    input.display()
-                )));
+        if let Some(channel) = args.channel {
+            if channel.index() >= input_channels {
+                let name = input.display().to_string();
+                return Err(RenderError::Input(channel.missing(input_channels, &name)));
             }
             info.channels = 1;
         }
+        check_input_shape(args, &info)?;
         let engine = prepared_engine(args, input, config, &info)?;
         let mut outputs = OutputPlan::new(args, input, container)?;
         outputs.mp3 = mp3;
@@ -651,7 +641,11 @@ fn marker_plan(
 fn check_input_shape(args: &Args, info: &WavInfo) -> Result<(), RenderError> {
     let channels = info.channels as usize;
     if channels > pneuma_core::engine::MAX_CHANNELS {
-        return Err(EngineError::Channels(channels).into());
+        return Err(RenderError::Input(format!(
+            "{} (a multitrack recording: render one track with --channel N, N from 1 to \
+             {channels})",
+            EngineError::Channels(channels)
+        )));
     }
     if args.bvh.wanted() && !args.to_stdout() && info.frames == 0 {
         return Err(RenderError::Input(
@@ -698,8 +692,8 @@ fn prepared_engine(
     Ok(engine)
 }
 
-/// The breath samples `args` name: `--breath-mouth`, `--breath-nose`, then the `mouth` and
-/// `nose` files of `--breath-samples` (later ones replace earlier ones in their slot).
+/// The breath samples `args` name: `--breath-mouth` and `--breath-nose`, or the `mouth` and
+/// `nose` files of `--breath-samples` (clap refuses the two ways together).
 fn breath_samples(args: &Args) -> Result<Vec<(SampleSlot, BreathSample)>, RenderError> {
     let mut samples = Vec::new();
     for (slot, path, name) in [

@@ -573,3 +573,33 @@ fn a_render_says_what_it_found_and_renders_one_channel_on_request() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("--channel"));
 }
+
+#[test]
+fn one_track_of_a_recording_with_more_channels_than_the_engine_takes_renders_alone() {
+    let dir = tempfile::tempdir().expect("temp");
+    let (voice, rate, _) = support::read_audio(&example_voice_path());
+    // Ten tracks (a field recorder's polyWAV): the voice on every one, the first at full level.
+    let tracks = dir.path().join("tracks.wav");
+    support::write_wav(&tracks, (rate, 10, 16, false), &voice, 0.5);
+    let out = dir.path().join("all");
+    let o = support::render_saying(&tracks, &out, &[]);
+    assert!(!o.status.success());
+    let said = String::from_utf8_lossy(&o.stderr);
+    assert!(said.contains("--channel N, N from 1 to 10"), "{said}");
+    let o = support::render_saying(&tracks, &dir.path().join("seven"), &["--channel", "7"]);
+    assert_ok(&o);
+    let (rendered, _, channels) = support::read_audio(&dir.path().join("seven/tracks.wav"));
+    assert_eq!(channels, 1);
+    assert_eq!(rendered.len(), voice.len());
+    assert!(!breaths_csv(&dir.path().join("seven/tracks.breaths.csv")).is_empty());
+    // Outside the breaths the output is track 7 (the voice at half level), not the first.
+    let peak = |x: &[f32]| x.iter().fold(0.0f32, |m, v| m.max(v.abs()));
+    assert!((peak(&rendered) / peak(&voice) - 0.5).abs() < 0.02);
+    let o = support::render_saying(&tracks, &dir.path().join("eleven"), &["--channel", "11"]);
+    assert!(!o.status.success());
+    let said = String::from_utf8_lossy(&o.stderr);
+    assert!(said.contains("pick one of 1 to 10"), "{said}");
+    let o = support::render_saying(&tracks, &dir.path().join("zero"), &["--channel", "0"]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("not a channel"));
+}

@@ -383,6 +383,16 @@ fn the_bvh_is_person_sized_in_metres_at_the_asked_frame_rate() {
         "{}",
         stderr(&o)
     );
+    // --jobs is refused out of its range for one input as for a batch.
+    for jobs in ["0", "300"] {
+        let o = render(&input, &dir.path().join("jobs"), &["--jobs", jobs]);
+        assert!(!o.status.success(), "--jobs {jobs}");
+        assert!(
+            stderr(&o).contains(&format!("{jobs} is out of range: use 1 to 256")),
+            "{}",
+            stderr(&o)
+        );
+    }
 }
 
 #[test]
@@ -403,6 +413,20 @@ fn options_of_the_breath_sound_are_refused_with_no_breaths() {
             "{err}"
         );
     }
+    // A folder of samples and a single sample file: which one would win is not the user's
+    // guess to make (as `speak`).
+    let folder = dir.path().to_str().expect("utf-8");
+    let o = render(
+        &voice,
+        &out,
+        &["--breath-samples", folder, "--breath-mouth", folder],
+    );
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(
+        err.contains("--breath-samples") && err.contains("--breath-mouth"),
+        "{err}"
+    );
     assert!(!out.exists(), "a refused render made its folder");
 }
 

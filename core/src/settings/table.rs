@@ -46,7 +46,8 @@ pub static GROUPS: [Group; 8] = [
     Group {
         id: "speaker",
         name: "Speaker normalisation",
-        help: "Running per-speaker statistics behind the head pose's features",
+        help: "Running per-speaker f0 and level statistics (the frames' f0_st and level_db): the \
+               breath detector's level rule and older head models read them",
         settings: &analysis::SPEAKER_SETTINGS,
     },
     Group {
