@@ -57,6 +57,23 @@ pub const LEVEL_SD_PRIOR_DB: f64 = 2.0;
 /// (issue 15's −17 to −24 dB; the eleven labelled speakers' medians lie at −38 to −21 dB, those
 /// the engine hears at −34 to −19 dB). Louder "breaths" are a bed or a word heard as breaths.
 pub const MAX_LEVEL_RE_SPEECH_DB: f64 = -17.0;
+/// Two speech levels this far apart or more are two speakers, dB: one speaker's phrases wander a
+/// few dB around their median, two voices recorded apart (an interview's quieter guest) lie
+/// further. A speaker within it of the recording's speech level is its main voice: breaths are
+/// measured and played against the speech level, as for one speaker; further off, against the
+/// speaker's own level ([`speaker_reference_db`], the engine's speaker level).
+pub const SAME_SPEAKER_DB: f64 = 6.0;
+
+/// The level a breath of a speaker at `speaker_level_db` is measured and played under: the
+/// speech level `speech_db` for the main voice ([`SAME_SPEAKER_DB`]) and an unknown speaker
+/// (NaN), else the speaker's own level, dBFS.
+pub fn speaker_reference_db(speaker_level_db: f64, speech_db: f64) -> f64 {
+    if speaker_level_db.is_finite() && (speaker_level_db - speech_db).abs() >= SAME_SPEAKER_DB {
+        speaker_level_db
+    } else {
+        speech_db
+    }
+}
 /// Largest spread per band or of the level, dB (a floor-dominated band is not a breath's).
 const MAX_SD_DB: f64 = 4.0;
 /// Deviates are clamped to this many standard deviations.
@@ -77,6 +94,9 @@ pub struct HeardBreath {
     pub powers: Bands,
     /// Length, seconds.
     pub length_s: f64,
+    /// The level of its speaker (the one who spoke next), dBFS (NaN: not known): its level is
+    /// measured against [`speaker_reference_db`].
+    pub speaker_level_db: f64,
 }
 
 /// A breath voice learned from a recording (see the module docs). Plain data: saved with a
@@ -101,7 +121,8 @@ pub struct LearnedVoice {
     pub length_sd_s: f64,
 }
 
-fn median(v: &mut [f64]) -> f64 {
+/// The median of `v` (NaN when empty), sorting it in place.
+pub(crate) fn median(v: &mut [f64]) -> f64 {
     // Unstable sort: in place, no allocation (the median is the same).
     v.sort_unstable_by(f64::total_cmp);
     let n = v.len();
@@ -173,7 +194,8 @@ impl LearnedVoice {
         for b in breaths {
             let clean = without_floor(&b.powers, floor_powers);
             shapes.push(shape_db(&clean));
-            levels.push(band_level_db(&clean, rate_hz) - speech_db);
+            let reference_db = speaker_reference_db(b.speaker_level_db, speech_db);
+            levels.push(band_level_db(&clean, rate_hz) - reference_db);
             lengths.push(b.length_s);
         }
         let n = breaths.len();
@@ -525,6 +547,7 @@ mod tests {
         let b = HeardBreath {
             powers: std::array::from_fn(|k| tilt[k] + floor[k]),
             length_s: 0.5,
+            speaker_level_db: f64::NAN,
         };
         let v = LearnedVoice::learn(&[b, b], &floor, -20.0, fs).expect("two breaths");
         let want = shape_db(&tilt);
@@ -576,6 +599,7 @@ mod tests {
         let loud = HeardBreath {
             powers: [1.0; BANDS],
             length_s: 0.2,
+            speaker_level_db: f64::NAN,
         };
         let scale = 10f64.powf((speech_db - 6.0 - band_level_db(&loud.powers, fs)) / 10.0);
         let loud = HeardBreath {
@@ -616,6 +640,7 @@ mod tests {
         let b = HeardBreath {
             powers: band_powers(&heard, fs),
             length_s: 0.5,
+            speaker_level_db: f64::NAN,
         };
         let v = LearnedVoice::learn(&[b; 3], &floor_bands, -20.0, fs).expect("breaths");
         let alone = band_level_db(&band_powers(&breath, fs), fs) + 20.0;

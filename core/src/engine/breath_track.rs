@@ -191,6 +191,7 @@ impl BreathTrack {
                 BreathAction::LiveStart {
                     length,
                     gain,
+                    speaker_db,
                     gains,
                     edge_hz,
                     audible,
@@ -210,6 +211,7 @@ impl BreathTrack {
                     BreathAction::Start {
                         length,
                         gain,
+                        speaker_db,
                         gains,
                         edge_hz,
                     }
@@ -220,6 +222,7 @@ impl BreathTrack {
                 BreathAction::Start {
                     length,
                     gain,
+                    speaker_db,
                     gains,
                     edge_hz,
                 } => {
@@ -235,10 +238,11 @@ impl BreathTrack {
                         self.close_breath();
                     }
                     let mouth = config.breathing.map().mouth_share();
-                    // A learned voice plays at its learned level, moved by the user's level.
+                    // A learned voice plays at its learned level, moved by the user's level and
+                    // to the level of the speaker who speaks next.
                     let default_level_db = super::PlacementConfig::default().breath_level_db;
                     self.voice.set_learned_offset_db(f64::from(
-                        config.placement.breath_level_db - default_level_db,
+                        config.placement.breath_level_db - default_level_db + speaker_db,
                     ));
                     self.state.fading = false;
                     self.voice.set_upper_edge_hz(edge_hz);

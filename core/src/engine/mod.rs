@@ -53,6 +53,7 @@ pub mod offline;
 mod placement;
 pub mod replay;
 mod schedule;
+mod speaker_level;
 mod speech_track;
 mod stereo;
 mod stream_start;
@@ -852,6 +853,7 @@ impl Stream {
             pending: &self.pending,
             speech: &self.speech,
             upper_edge_hz: self.voice.upper_edge_hz(),
+            speech_db: self.voice.speech_db(),
         };
         for e in events.into_iter().flatten() {
             if let PhraseEvent::Start {
@@ -878,6 +880,12 @@ impl Stream {
                 self.breaths.voice_mut().use_learned(v.as_ref());
             }
             self.placement.on_event(&ctx, e, &mut self.schedule);
+            if matches!(e, PhraseEvent::End { .. }) {
+                // The breath before this phrase is learned against its speaker's level.
+                let ended = self.placement.ended_db();
+                let speaker_db = ended.map_or(f32::NAN, |db| self.placement.speaker_level_db(db));
+                self.voice.phrase_ended(speaker_db);
+            }
         }
         self.placement.decide_due(&ctx, &mut self.schedule);
     }

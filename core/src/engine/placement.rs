@@ -31,10 +31,12 @@
 //!   each breath for the running estimate of a group instead.
 
 use super::schedule::{BreathAction, CycleAction, Pending, Queue, Schedule};
+use super::speaker_level::{PhraseLevels, VoicedLevels, MIN_VOICED_FRAMES};
 use super::speech_track::{SpeechTrack, SILERO_SHOWS_SPEECH_S};
 use super::stream_start::StreamStart;
 use super::{EngineConfig, PlacementMode, MAX_CHANNELS};
 use crate::analysis::FeatureFrame;
+use crate::breathing::learned::speaker_reference_db;
 use crate::breathing::MIN_LUNG_VOLUME;
 use crate::phrase::{Pause, PhraseEvent};
 
@@ -94,6 +96,9 @@ pub(crate) struct EventContext<'a> {
     pub(crate) speech: &'a SpeechTrack,
     /// The upper edge of the recording's spectrum as heard so far, Hz.
     pub(crate) upper_edge_hz: Option<f64>,
+    /// The recording's speech level as the breath voice knows it (the whole recording's, or
+    /// heard so far), dBFS; NaN before any.
+    pub(crate) speech_db: f64,
 }
 
 /// A phrase the tracker reported whose pause (the one before it) is not decided yet.
@@ -108,6 +113,8 @@ struct Seen {
     pause: Pause,
     gains: [f32; MAX_CHANNELS],
     level_db: f32,
+    /// Its own median level once it ended ([`PhraseLevels::end`]), dBFS.
+    own_db: Option<f32>,
     /// Its speech judgement once it ended (its first half second heard).
     speech: Option<bool>,
 }
@@ -130,6 +137,7 @@ impl Default for Seen {
             },
             gains: [1.0; MAX_CHANNELS],
             level_db: PRIOR_SPEECH_LEVEL_DB,
+            own_db: None,
             speech: None,
         }
     }
@@ -197,11 +205,14 @@ pub(crate) struct Placement {
 #[derive(Debug, Clone, Copy)]
 struct PlacementState {
     speech_level_db: f32,
-    /// Power sum and count of the voiced frames of the phrase being spoken.
-    phrase_power: f64,
-    phrase_voiced: u32,
+    /// The phrase being spoken and the recent phrases' levels.
+    levels: PhraseLevels,
     /// Level of the last complete phrase, dBFS.
     last_phrase_level_db: Option<f32>,
+    /// Median level of the phrase that ended at the last end event (`None`: too few voiced
+    /// frames), and of the last one that had one, dBFS ([`PhraseLevels::end`]).
+    ended_db: Option<f32>,
+    last_median_db: Option<f32>,
     /// Running estimate of a breath group's speech, seconds.
     group_estimate_s: f32,
     /// Speech planned for the current group and spoken in it so far, seconds.
@@ -221,9 +232,10 @@ impl Default for PlacementState {
     fn default() -> Self {
         Self {
             speech_level_db: PRIOR_SPEECH_LEVEL_DB,
-            phrase_power: 0.0,
-            phrase_voiced: 0,
+            levels: PhraseLevels::default(),
             last_phrase_level_db: None,
+            ended_db: None,
+            last_median_db: None,
             group_estimate_s: PRIOR_GROUP_S,
             group_planned_s: 0.0,
             group_spoken_s: 0.0,
@@ -266,13 +278,10 @@ impl Placement {
     /// Learns from one analysis frame; true when it is voiced speech with a finite level (the
     /// frames the stereo image learns from too).
     pub(crate) fn on_frame(&mut self, f: &FeatureFrame) -> bool {
-        let voiced = f.voiced && f.rms_db.is_finite() && f.level_db.is_finite();
         self.state.start.frame(f.time_s, f.rms_db);
+        let voiced = self.state.levels.frame(f);
         if voiced {
-            let s = &mut self.state;
-            s.speech_level_db = f.speech_level_db;
-            s.phrase_power += 10f64.powf(f.rms_db as f64 / 10.0);
-            s.phrase_voiced += 1;
+            self.state.speech_level_db = f.speech_level_db;
         }
         voiced
     }
@@ -316,9 +325,47 @@ impl Placement {
     /// Mean power of the voiced frames of the phrase being spoken, dBFS, once it has at least
     /// `frames` of them.
     fn spoken_level_db(&self, frames: u32) -> Option<f32> {
-        let s = &self.state;
-        (s.phrase_voiced >= frames.max(1))
-            .then(|| (10.0 * (s.phrase_power / s.phrase_voiced as f64).log10()) as f32)
+        self.state.levels.spoken(frames).map(|l| l.mean_db)
+    }
+
+    /// The median level of the phrase that ended at the last end event, dBFS
+    /// ([`PhraseLevels::end`]).
+    pub(crate) fn ended_db(&self) -> Option<f32> {
+        self.state.ended_db
+    }
+
+    /// The level of the speaker whose phrase's median level is `phrase_db`, dBFS
+    /// ([`PhraseLevels::speaker_level_db`]).
+    pub(crate) fn speaker_level_db(&self, phrase_db: f32) -> f32 {
+        self.state.levels.speaker_level_db(phrase_db)
+    }
+
+    /// How far over its level a breath voice plays before phrase `ph` (the one after the
+    /// pause), dB: its speaker's level ([`speaker_reference_db`]) less the recording's speech
+    /// level. The speaker's from the phrase's own level once it ended, else from its voiced
+    /// frames analysed so far (a lookahead's view), else from the last phrase's (live mode, or
+    /// nothing of it heard yet); 0 before any.
+    fn breath_speaker_db(&self, ctx: &EventContext, ph: Option<&Seen>) -> f32 {
+        let speaker = self.speaker_of(ctx.pending, ph);
+        if !(speaker.is_finite() && ctx.speech_db.is_finite()) {
+            return 0.0;
+        }
+        (speaker_reference_db(f64::from(speaker), ctx.speech_db) - ctx.speech_db) as f32
+    }
+
+    /// The level of the speaker of phrase `ph` (see [`Placement::breath_speaker_db`]), dBFS;
+    /// NaN before any phrase.
+    fn speaker_of(&self, pending: &Queue<Pending>, ph: Option<&Seen>) -> f32 {
+        let visible = |onset_s: f64| {
+            let mut levels = VoicedLevels::default();
+            for p in pending.iter().filter(|p| p.frame.time_s >= onset_s) {
+                levels.add(&p.frame);
+            }
+            levels.level(MIN_VOICED_FRAMES).map(|l| l.median_db)
+        };
+        ph.and_then(|ph| ph.own_db.or_else(|| visible(ph.onset_s)))
+            .or(self.state.last_median_db)
+            .map_or(f32::NAN, |db| self.speaker_level_db(db))
     }
 
     /// The level of the speech measured so far, dBFS: the last complete phrase's, else the
@@ -379,8 +426,7 @@ impl Placement {
             }
             PhraseEvent::Start { onset_s, pause } => {
                 self.state.start.close();
-                self.state.phrase_power = 0.0;
-                self.state.phrase_voiced = 0;
+                self.state.levels.start();
                 if live {
                     let left_s = self.group_left_s();
                     schedule
@@ -401,12 +447,17 @@ impl Placement {
                     pause,
                     gains: ctx.gains,
                     level_db,
+                    own_db: None,
                     speech: None,
                 });
             }
             PhraseEvent::End { onset_s, offset_s } => {
-                if let Some(db) = self.spoken_level_db(3) {
-                    self.state.last_phrase_level_db = Some(db);
+                let ended = self.state.levels.end();
+                let own_db = ended.map(|l| l.median_db);
+                self.state.ended_db = own_db;
+                if let Some(l) = ended {
+                    self.state.last_phrase_level_db = Some(l.mean_db);
+                    self.state.last_median_db = Some(l.median_db);
                 }
                 schedule
                     .cycle
@@ -418,6 +469,7 @@ impl Placement {
                     match self.seen.back_mut() {
                         Some(last) => {
                             last.offset_s = Some(offset_s);
+                            last.own_db = own_db;
                             last.speech = speech;
                         }
                         None => self.state.prev_speech = speech,
@@ -448,6 +500,7 @@ impl Placement {
                     BreathAction::LiveStart {
                         length,
                         gain: Self::breath_gain(config, level_db),
+                        speaker_db: self.breath_speaker_db(ctx, None),
                         gains: ctx.gains,
                         edge_hz: ctx.upper_edge_hz,
                         audible: p.insert_breaths,
@@ -714,6 +767,7 @@ impl Placement {
                     BreathAction::Start {
                         length,
                         gain: Self::breath_gain(config, ph.level_db),
+                        speaker_db: self.breath_speaker_db(ctx, Some(&ph)),
                         gains: ph.gains,
                         edge_hz: ctx.upper_edge_hz,
                     },

@@ -30,6 +30,10 @@ pub(crate) enum BreathAction {
     Start {
         length: usize,
         gain: f32,
+        /// How far over its level a breath voice plays: the level of the speaker who speaks
+        /// next against the recording's speech, dB, as known when it was placed
+        /// ([`super::speaker_level`]).
+        speaker_db: f32,
         gains: [f32; MAX_CHANNELS],
         edge_hz: Option<f64>,
     },
@@ -38,6 +42,7 @@ pub(crate) enum BreathAction {
     LiveStart {
         length: usize,
         gain: f32,
+        speaker_db: f32,
         gains: [f32; MAX_CHANNELS],
         edge_hz: Option<f64>,
         audible: bool,

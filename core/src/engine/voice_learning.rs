@@ -12,6 +12,7 @@
 //! [`MAX_HEARD`]).
 
 use super::replay::{AnalysisRecord, WholeSpeech};
+use super::speaker_level::PhraseLevels;
 use super::{clean_sample, EngineConfig, EngineError, Timing};
 use crate::analysis::{Analyzer, FeatureFrame};
 use crate::breathing::band_limit;
@@ -197,6 +198,7 @@ impl BreathListener {
         Some(HeardBreath {
             powers: sum.map(|s| s / (hi - lo) as f64),
             length_s: end_s - start_s,
+            speaker_level_db: f64::NAN,
         })
     }
 
@@ -278,6 +280,10 @@ pub struct VoiceLearner {
     tracker: PhraseTracker,
     listener: BreathListener,
     heard: Vec<HeardBreath>,
+    /// The breath heard before the phrase being spoken, until that phrase's level is known.
+    waiting: Option<HeardBreath>,
+    /// The phrases' levels, as the engine's placement keeps them.
+    levels: PhraseLevels,
     frames: Vec<(FeatureFrame, usize)>,
     /// Samples fed so far (input, then tail).
     fed: u64,
@@ -311,6 +317,8 @@ impl VoiceLearner {
             tracker,
             listener: BreathListener::new(rate_hz),
             heard: Vec::new(),
+            waiting: None,
+            levels: PhraseLevels::default(),
             frames: Vec::new(),
             fed: 0,
             tail: tail as u64,
@@ -391,28 +399,45 @@ impl VoiceLearner {
         Ok(())
     }
 
+    /// One frame, heard as the engine hears it: its level joins the phrase's (placement),
+    /// then the tracker's events; a breath heard before a phrase is learned from, against its
+    /// speaker's level, once that phrase has ended (the stream's voice track does the same).
     fn on_frame(&mut self, f: &FeatureFrame) {
         self.listener.frame(f);
-        let mut spans: [Option<(f64, f64)>; 3] = [None; 3];
+        self.levels.frame(f);
+        let mut events: [Option<PhraseEvent>; 3] = [None; 3];
         let mut k = 0;
         self.tracker.update(f, |e| {
-            if let PhraseEvent::Start { pause, .. } = e {
-                if k < spans.len() {
-                    spans[k] = pause.breath_clean_s;
-                    k += 1;
-                }
+            if k < events.len() {
+                events[k] = Some(e);
+                k += 1;
             }
         });
-        for span in spans.into_iter().flatten() {
-            if let Some(b) = self.listener.measure(span) {
-                self.heard.push(b);
+        for e in events.into_iter().flatten() {
+            match e {
+                PhraseEvent::Start { pause, .. } => {
+                    self.levels.start();
+                    self.waiting = pause
+                        .breath_clean_s
+                        .and_then(|span| self.listener.measure(span));
+                }
+                PhraseEvent::End { .. } => {
+                    let ended = self.levels.end();
+                    if let Some(mut b) = self.waiting.take() {
+                        let speaker_db =
+                            ended.map_or(f32::NAN, |l| self.levels.speaker_level_db(l.median_db));
+                        b.speaker_level_db = f64::from(speaker_db);
+                        self.heard.push(b);
+                    }
+                }
+                PhraseEvent::Activity { .. } => {}
             }
         }
     }
 
-    /// Breaths heard so far.
+    /// Breaths heard so far (the one before the phrase being spoken included).
     pub fn heard(&self) -> usize {
-        self.heard.len()
+        self.heard.len() + usize::from(self.waiting.is_some())
     }
 
     /// Ends the recording (the engine's tail of silence through the analysis and the tracker)
@@ -425,6 +450,9 @@ impl VoiceLearner {
             self.feed_block(&zeros[..n], true)?;
             left -= n as u64;
         }
+        // A phrase the stream ended inside (the tail ends every phrase): its breath is
+        // measured against the recording's speech level.
+        self.heard.extend(self.waiting.take());
         let mut scratch = LearnScratch::with_capacity(self.heard.len());
         let speech = self.listener.speech();
         if let Some(r) = &mut self.record {

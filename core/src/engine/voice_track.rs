@@ -73,6 +73,9 @@ pub(super) struct VoiceTrack {
     listener: BreathListener,
     /// The last [`MAX_HEARD`] breaths heard (a ring once full).
     heard: Vec<HeardBreath>,
+    /// The breath heard in the pause before the phrase being spoken: learned from once that
+    /// phrase has ended and its speaker's level is known ([`super::speaker_level`]).
+    waiting: Option<HeardBreath>,
     /// Breaths heard since the last reset.
     count: usize,
     scratch: LearnScratch,
@@ -88,6 +91,7 @@ impl VoiceTrack {
         Self {
             listener: BreathListener::new(rate_hz),
             heard: Vec::with_capacity(MAX_HEARD),
+            waiting: None,
             count: 0,
             scratch: LearnScratch::with_capacity(MAX_HEARD),
             voice: None,
@@ -109,6 +113,7 @@ impl VoiceTrack {
     /// Forgets the breaths learned (learning starts again), keeping the room and the speech.
     pub(super) fn forget_breaths(&mut self) {
         self.heard.clear();
+        self.waiting = None;
         self.count = 0;
         self.voice = None;
     }
@@ -123,11 +128,19 @@ impl VoiceTrack {
         self.listener.frame(f);
     }
 
-    /// A breath heard at `span` (seconds): the voice is learned again.
+    /// A breath heard at `span` (seconds), in the pause before the phrase that starts now:
+    /// measured now, learned from when that phrase ends ([`VoiceTrack::phrase_ended`]).
     pub(super) fn hear(&mut self, span: (f64, f64)) {
-        let Some(breath) = self.listener.measure(span) else {
+        self.waiting = self.listener.measure(span);
+    }
+
+    /// The phrase after the breath heard last ended; its speaker's level is `speaker_db`
+    /// (dBFS, NaN: not known): the voice is learned again with that breath.
+    pub(super) fn phrase_ended(&mut self, speaker_db: f32) {
+        let Some(mut breath) = self.waiting.take() else {
             return;
         };
+        breath.speaker_level_db = f64::from(speaker_db);
         if self.heard.len() < MAX_HEARD {
             self.heard.push(breath);
         } else {
@@ -142,6 +155,13 @@ impl VoiceTrack {
     pub(super) fn upper_edge_hz(&self) -> Option<f64> {
         self.whole
             .map_or_else(|| self.listener.upper_edge_hz(), |w| w.upper_edge_hz)
+    }
+
+    /// The recording's speech level, dBFS: the whole stream's when it was heard first, else
+    /// that of the speech heard so far (NaN before any).
+    pub(super) fn speech_db(&self) -> f64 {
+        self.whole
+            .map_or_else(|| self.listener.speech_db(), |w| w.speech_db)
     }
 
     /// Breaths heard since the stream started.

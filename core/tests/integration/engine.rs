@@ -559,6 +559,58 @@ fn a_breath_between_two_speakers_sits_on_the_side_of_the_one_who_speaks_next() {
 }
 
 #[test]
+fn a_breath_is_as_loud_as_the_voice_of_the_speaker_who_speaks_next() {
+    // A mono interview: the host's phrases at full level, the guest's 12 dB under, in runs
+    // of two. Each breath plays under the speaker after it: those before the guest's phrases
+    // lie about 12 dB under those before the host's, in a render (8 s of lookahead) and with
+    // the plugin's 500 ms. (The whole recording's level for every breath made the guest's
+    // breaths 12 dB too loud against the guest.)
+    let (voice, spans) = sequence(0.6, &[1.2; 8], &[0.8; 7]);
+    let guest = |k: usize| (k / 2) % 2 == 1;
+    let mut x = voice.clone();
+    for (k, &(a, b)) in spans.iter().enumerate() {
+        if guest(k) {
+            let (a, b) = ((a - 0.4) * SR, (b + 0.4) * SR);
+            for v in &mut x[(a.max(0.0) as usize)..(b as usize).min(voice.len())] {
+                *v *= 0.25;
+            }
+        }
+    }
+    for whole_file in [true, false] {
+        let mut c = config();
+        c.placement.whole_file = whole_file;
+        let r = render(&c, std::slice::from_ref(&x), &[512]);
+        let (mut host, mut guests) = (Vec::new(), Vec::new());
+        for b in &r.breaths {
+            // The phrase after the breath.
+            let Some(k) = spans.iter().position(|&(a, _)| a >= b.end_s - 0.01) else {
+                continue;
+            };
+            let span = (b.start_s * SR) as usize..(b.end_s * SR) as usize;
+            let added: Vec<f32> = (x[span.clone()].iter().zip(&r.audio[0][span]))
+                .map(|(a, o)| o - a)
+                .collect();
+            let db = 20.0 * rms(&added).log10();
+            if guest(k) {
+                guests.push(db)
+            } else {
+                host.push(db)
+            }
+        }
+        assert!(
+            !host.is_empty() && !guests.is_empty(),
+            "whole file {whole_file}: breaths before the host {host:?}, the guest {guests:?}"
+        );
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+        let apart_db = mean(&host) - mean(&guests);
+        assert!(
+            (apart_db - 12.0).abs() < 3.0,
+            "whole file {whole_file}: host's breaths {host:?} dB, guest's {guests:?} dB"
+        );
+    }
+}
+
+#[test]
 fn speech_from_the_first_frames_starts_breathed_in_without_a_twitch_of_inspiration() {
     // Speech 0–100 ms into the stream: no room for a breath before it. The controls start
     // breathed in, or with an inspiration as long as a short breath; never one of a frame or
