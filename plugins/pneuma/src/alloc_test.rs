@@ -151,14 +151,19 @@ fn the_guard_catches_an_allocation() {
 }
 
 pub(crate) fn set(plugin: &Pneuma, id: &str, normalized: f32) {
-    let ptr = plugin
-        .params
+    set_on(&plugin.params, id, normalized);
+}
+
+/// Sets the parameter `id` of `params` to `normalized`, as a host's automation does (the
+/// parameter's callbacks raise the change flags).
+pub(crate) fn set_on(params: &crate::PneumaParams, id: &str, normalized: f32) {
+    let ptr = params
         .param_map()
         .into_iter()
         .find(|(pid, _, _)| pid == id)
         .map(|(_, ptr, _)| ptr)
         .expect("a parameter id");
-    // SAFETY: the parameters live in `plugin`, which outlives the call.
+    // SAFETY: the caller's `params` outlive the call.
     unsafe { ptr._internal_set_normalized_value(normalized) };
 }
 

@@ -45,9 +45,11 @@
 //!   per group, in the same order, eight controls to a page, every parameter but bypass
 //!   ([`params::remote`]).
 //!
-//! Real-time: `process()` never allocates, locks, blocks, logs or does I/O. The crate enables
-//! nice-plug's `assert_process_allocs` (debug builds abort on an allocation in `process()`) and
-//! `unsafe_flush_denormals` (flush-to-zero while processing).
+//! Real-time: `process()` never allocates, locks, blocks, logs or does I/O; the one wait is
+//! offline (the host renders without a deadline), for an engine the settings asked for, so a
+//! mid-export change takes over at the block that sees it on every run ([`rebuild`]). The crate
+//! enables nice-plug's `assert_process_allocs` (debug builds abort on an allocation in
+//! `process()`) and `unsafe_flush_denormals` (flush-to-zero while processing).
 
 // No `#![allow(unsafe_code)]` needed: the unsafe entry points come from nice-plug's export macros
 // (`nice_export_clap!`, `nice_export_vst3!`), and the lint is not reported inside external macros.
@@ -422,6 +424,7 @@ impl Plugin for Pneuma {
             buffer_config.max_buffer_size,
             channels,
             context.plugin_api() == PluginApi::Clap,
+            buffer_config.process_mode,
         );
         context.set_latency_samples(latency);
         self.view

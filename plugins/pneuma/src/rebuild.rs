@@ -18,7 +18,25 @@
 //!    a block, swaps it in, reports its latency to the host (VST3:
 //!    `restartComponent(kLatencyChanged)`; CLAP: a restart request, as the CLAP latency
 //!    extension asks) and passes the old engine back to be dropped off the audio thread.
-//!    Nothing on the audio thread allocates, frees, locks or blocks.
+//!    Nothing on the audio thread allocates, frees, locks or blocks — with one exception:
+//! 4. Offline (the host renders without a deadline: VST3 `ProcessSetup.processMode ==
+//!    kOffline`, CLAP `render` extension `CLAP_RENDER_OFFLINE`, seen by nice-plug's
+//!    `BufferConfig::process_mode` at activation), the audio thread waits in [`EngineSlot::follow`]
+//!    for the build it has just asked for ([`OFFLINE_BUILD_WAIT`] at most, sleeping in
+//!    [`OFFLINE_WAIT_STEP`]s, still without allocating, freeing or locking) and takes the engine at
+//!    that very block. So a mid-export change takes over at the block that first sees it,
+//!    identically on every run, instead of a few blocks later at a point that depends on the
+//!    build thread's timing. In real time nothing waits: the engine is taken when it arrives.
+//!
+//! The mode is known only at activation. nice-plug 0.4.2's VST3 wrapper hands `activate` the mode
+//! of the `setupProcessing` call *before* the last one (it stores the buffer config before the new
+//! mode): a host that calls it once with `kOffline` is seen as real time (the bounce then behaves
+//! as before: not reproducible); hosts that call it again before activating (JUCE-based hosts call
+//! it in every `prepareToPlay`; pedalboard activates a new instance four times) are seen right from
+//! the second call on. The other way round, real-time playback set up once after an offline export
+//! is seen as offline, and a structural change while playing then holds the audio thread for the
+//! build (a few ms; the cap only matters for a stuck build thread). CLAP is exact: a mode set while
+//! active makes nice-plug ask the host for a restart, whose activation sees it.
 //!
 //! [`EngineSlot`] holds all of it for the plugin: the running engine, the builder and its
 //! thread, the hand-over queues, the settings the engine was built from and the latency the host
@@ -37,9 +55,10 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::{JoinHandle, Thread};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use nice_plug::nice_error;
+use nice_plug::prelude::ProcessMode;
 use pneuma_core::breathing::SampleSlot;
 use pneuma_core::engine::{BreathVoiceMode, Engine, EngineConfig, EngineError};
 use pneuma_core::head::HeadModel;
@@ -372,6 +391,14 @@ impl Drop for BuildWorker {
 /// Seconds of processed audio after which an unanswered build is asked for again.
 const BUILD_RETRY_S: f64 = 2.0;
 
+/// Offline, the longest the audio thread waits for the build it asked for; after it the block
+/// goes on with the running engine and the build is taken when it arrives, as in real time.
+pub const OFFLINE_BUILD_WAIT: Duration = ACTIVATE_WAIT;
+
+/// Offline, how long the audio thread sleeps between looks at the hand-over queue while it waits
+/// for a build (a sleep is a system call: no allocation, no lock).
+pub const OFFLINE_WAIT_STEP: Duration = Duration::from_micros(250);
+
 /// What a block's look at the [`EngineSlot`] asks of the host and the editor.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum SlotEvent {
@@ -418,6 +445,9 @@ pub struct EngineSlot {
     /// The host hears of a latency change only while activating (CLAP): a built engine whose
     /// latency differs from the reported one then waits for the next activation.
     latency_only_at_activation: bool,
+    /// The host renders offline (no deadline): the audio thread waits for the builds it asks for
+    /// ([`EngineSlot::follow`]).
+    offline: bool,
     /// The current activation's stream (its epoch tells builds for it from older ones).
     stream: Option<StreamSpec>,
     /// Samples processed since a background build was asked for (`None`: none pending).
@@ -445,6 +475,7 @@ impl EngineSlot {
             held: None,
             reported_latency: 0,
             latency_only_at_activation: false,
+            offline: false,
             stream: None,
             build_pending_samples: None,
             structure_stale: true,
@@ -496,12 +527,15 @@ impl EngineSlot {
     /// replaces the running one; the latency to report to the host. Never fails: where the
     /// engine cannot run at `sample_rate_hz` the slot holds none (latency 0).
     /// `latency_only_at_activation`: the host hears of latency changes only here (CLAP).
+    /// `process_mode`: offline, the audio thread waits for the engines it asks for (see the
+    /// module docs); real time and buffered (VST3 prefetch, which has a deadline too), never.
     pub fn activate(
         &mut self,
         sample_rate_hz: f32,
         host_max_block: u32,
         channels: usize,
         latency_only_at_activation: bool,
+        process_mode: ProcessMode,
     ) -> u32 {
         let epoch = self.stream.map_or(0, |s| s.epoch) + 1;
         let stream = StreamSpec::new(f64::from(sample_rate_hz), host_max_block, channels, epoch);
@@ -527,6 +561,7 @@ impl EngineSlot {
         self.voice = built.voice;
         self.reported_latency = self.latency_samples();
         self.latency_only_at_activation = latency_only_at_activation;
+        self.offline = process_mode == ProcessMode::Offline;
         self.held = None;
         self.prepared = Some(built.structural);
         // Settings may have moved while it was built.
@@ -542,20 +577,42 @@ impl EngineSlot {
     /// Audio thread, start of a block of `block` samples: swaps in an engine the builder
     /// finished for this activation (telling `on` what the host must hear), and asks for a
     /// build when the structural settings differ from the running engine's. Never allocates,
-    /// frees or blocks.
+    /// frees or locks. Blocks only offline: a build asked for here is waited for and taken now
+    /// ([`EngineSlot::wait_for_build`]); in real time it is taken at a later block.
     pub fn follow(&mut self, block: usize, mut on: impl FnMut(SlotEvent)) {
         let Some(stream) = self.stream else {
             return;
         };
+        self.take_built(stream, &mut on);
+        self.notice_structure_changes();
+        if self.ask_for_build(block, stream) && self.offline {
+            self.wait_for_build(stream, &mut on);
+        }
+    }
+
+    /// Takes every engine the builder handed over: one of this activation is swapped in (or
+    /// held back for a restart), older ones go back to be dropped off the audio thread.
+    fn take_built(&mut self, stream: StreamSpec, on: &mut impl FnMut(SlotEvent)) {
         while let Ok(built) = self.swap.built.pop() {
             if built.epoch == stream.epoch {
-                self.take(built, stream, &mut on);
+                self.take(built, stream, on);
             } else {
                 self.swap.retire(built.engine);
             }
         }
-        self.notice_structure_changes();
-        self.ask_for_build(block, stream);
+    }
+
+    /// Offline only (no deadline): waits until the build just asked for comes back, then takes
+    /// it as [`EngineSlot::take_built`] does, so it runs from this block on. Sleeps in
+    /// [`OFFLINE_WAIT_STEP`]s without allocating, freeing or locking (the builder holds no lock
+    /// the audio thread takes); gives up after [`OFFLINE_BUILD_WAIT`], leaving the build to be
+    /// taken when it arrives, as in real time.
+    fn wait_for_build(&mut self, stream: StreamSpec, on: &mut impl FnMut(SlotEvent)) {
+        let start = Instant::now();
+        while self.build_pending_samples.is_some() && start.elapsed() < OFFLINE_BUILD_WAIT {
+            std::thread::sleep(OFFLINE_WAIT_STEP);
+            self.take_built(stream, on);
+        }
     }
 
     /// Swaps in an engine built for this activation, or holds it back for a restart.
@@ -603,7 +660,8 @@ impl EngineSlot {
 
     /// Asks the build thread for an engine when the structural settings are stale and differ
     /// from the running (or held-back) engine's; again after [`BUILD_RETRY_S`] unanswered.
-    fn ask_for_build(&mut self, block: usize, stream: StreamSpec) {
+    /// Whether it asked (now).
+    fn ask_for_build(&mut self, block: usize, stream: StreamSpec) -> bool {
         let retry = (BUILD_RETRY_S * stream.sample_rate_hz) as u64;
         match self.build_pending_samples.as_mut() {
             Some(waited) if *waited < retry => *waited += block as u64,
@@ -616,6 +674,7 @@ impl EngineSlot {
                     if let Some(worker) = &self.worker {
                         self.build_pending_samples = Some(0);
                         worker.request();
+                        return true;
                     }
                 } else {
                     self.build_pending_samples = None;
@@ -623,6 +682,7 @@ impl EngineSlot {
                 }
             }
         }
+        false
     }
 
     /// A build was asked for and has not come back yet (tests).
@@ -643,6 +703,7 @@ impl EngineSlot {
 #[allow(unsafe_code)]
 mod tests {
     use super::*;
+    use crate::alloc_test::set_on as set;
     use nice_plug::prelude::Params;
 
     /// Every parameter, set to several values: where core says the engine config's stream part
@@ -686,6 +747,74 @@ mod tests {
             "mode, lookahead and frame rate change the stream part ({checked_stream_changes} \
              changes seen)"
         );
+    }
+
+    /// A slot activated in `mode` at 48 kHz, stereo, 512-sample blocks, as VST3 (latency
+    /// reported from the audio thread), with one block followed (nothing to build yet).
+    fn activated(mode: ProcessMode) -> (Arc<PneumaParams>, EngineSlot) {
+        let params = Arc::new(PneumaParams::default());
+        let mut slot = EngineSlot::new(params.clone());
+        let latency = slot.activate(48_000.0, 512, 2, false, mode);
+        assert_eq!(latency, 24_000, "the default lookahead, 0.5 s");
+        slot.follow(512, |e| panic!("nothing changed, yet {e:?}"));
+        assert!(!slot.build_pending());
+        (params, slot)
+    }
+
+    /// The latency of the engine swapped in by one `follow` (`None`: none was), run under the
+    /// allocation guard (debug builds): waiting for a build must not allocate either.
+    fn follow_once(slot: &mut EngineSlot) -> Option<u32> {
+        let mut swapped = None;
+        nice_assert_no_alloc::assert_no_alloc(|| {
+            slot.follow(512, |event| match event {
+                SlotEvent::Swapped { latency, .. } => swapped = Some(latency),
+                SlotEvent::RestartWanted => panic!("VST3 reports latency from the audio thread"),
+            });
+        });
+        swapped
+    }
+
+    #[test]
+    fn offline_a_structural_change_takes_over_at_the_block_that_sees_it() {
+        let (params, mut slot) = activated(ProcessMode::Offline);
+        // Lookahead to 2 s (a new latency), then the frame rate (the same latency).
+        set(&params, "lookahead_s", 1.0);
+        assert_eq!(
+            follow_once(&mut slot),
+            Some(96_000),
+            "swapped in by the same block"
+        );
+        assert!(!slot.build_pending() && !slot.built_waiting());
+        set(&params, "frame_rate_hz", 0.0);
+        assert_eq!(
+            follow_once(&mut slot),
+            Some(96_000),
+            "swapped in by the same block"
+        );
+        assert_eq!(follow_once(&mut slot), None, "nothing more to build");
+        assert!(!slot.build_pending());
+    }
+
+    #[test]
+    fn in_real_time_a_structural_change_is_not_waited_for() {
+        for mode in [ProcessMode::Realtime, ProcessMode::Buffered] {
+            let (params, mut slot) = activated(mode);
+            set(&params, "lookahead_s", 1.0);
+            let start = Instant::now();
+            // Waiting would have swapped the engine in here.
+            assert_eq!(
+                follow_once(&mut slot),
+                None,
+                "{mode:?}: asked for, not waited for"
+            );
+            assert!(slot.build_pending(), "{mode:?}");
+            // The build arrives in the background and is taken at a later block.
+            while !slot.built_waiting() {
+                assert!(start.elapsed() < ACTIVATE_WAIT, "{mode:?}: no engine built");
+                std::thread::sleep(Duration::from_millis(1));
+            }
+            assert_eq!(follow_once(&mut slot), Some(96_000), "{mode:?}");
+        }
     }
 
     #[test]
