@@ -16,9 +16,11 @@
 //!   reaches the audio thread or holds up unloading.
 //! - Time tags: the first frame after a start or reset (the frame index goes back) anchors the
 //!   frame clock to the wall clock; a frame's tag is `anchor + time_s`. When the tags fall more
-//!   than 0.5 s behind the wall clock (playback paused, a stall) they are re-anchored forward to
-//!   now, so tags always increase; faster-than-real-time processing (offline bounce) gives tags
-//!   ahead of the wall clock, as the audio time says.
+//!   than 0.5 s behind the wall clock (playback paused, a stall), or the frame clock jumps
+//!   ahead of the last frame's by more than that (the stream again after the bypass's rest
+//!   frame, whose clock is 0), they are re-anchored to now, so tags always increase;
+//!   faster-than-real-time processing (offline bounce) gives tags ahead of the wall clock, as
+//!   the audio time says.
 
 use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
@@ -149,8 +151,7 @@ fn run<S: OscSettings>(
     // The socket is connected to the target ([`connect`]).
     let mut connected = false;
     let mut target: Option<Target> = None;
-    // (anchor unix seconds, last frame index)
-    let mut anchor: Option<(f64, u64)> = None;
+    let mut anchor: Option<Anchor> = None;
     let mut idle_polls: u32 = 0;
     while !stop.load(Ordering::Relaxed) {
         let waiting = consumer.slots();
@@ -210,12 +211,12 @@ fn run<S: OscSettings>(
         let mut sink = OscSink::new(
             format,
             |frame: &ControlFrame| {
-                let now = now_unix_s();
-                let base = match anchor {
-                    Some((a, last)) if frame.index > last && a + frame.time_s > now - 0.5 => a,
-                    _ => now - frame.time_s,
-                };
-                anchor = Some((base, frame.index));
+                let base = tag_base(anchor, frame, now_unix_s());
+                anchor = Some(Anchor {
+                    base_s: base,
+                    index: frame.index,
+                    time_s: frame.time_s,
+                });
                 TimeTag::from_unix_seconds(base + frame.time_s)
             },
             |_: &ControlFrame, packet: &[u8]| {
@@ -238,6 +239,34 @@ fn run<S: OscSettings>(
                 .store(OscError::Encoding as u8, Ordering::Relaxed);
             stats.failed.fetch_add(unencoded, Ordering::Relaxed);
         }
+    }
+}
+
+/// Where the frame clock stands on the wall clock: the unix seconds of frame time 0, and the
+/// last frame tagged.
+#[derive(Debug, Clone, Copy)]
+struct Anchor {
+    base_s: f64,
+    index: u64,
+    time_s: f64,
+}
+
+/// The most a tag may fall behind the wall clock, or the frame clock jump between two frames,
+/// before the clock is anchored again, seconds.
+const REANCHOR_S: f64 = 0.5;
+
+/// The unix seconds of frame time 0 for `frame` at wall-clock time `now_s` (see the module
+/// docs): the anchor's while the frames follow on from the last one, else anchored at now.
+fn tag_base(anchor: Option<Anchor>, frame: &ControlFrame, now_s: f64) -> f64 {
+    match anchor {
+        Some(a)
+            if frame.index > a.index
+                && frame.time_s - a.time_s < REANCHOR_S
+                && a.base_s + frame.time_s > now_s - REANCHOR_S =>
+        {
+            a.base_s
+        }
+        _ => now_s - frame.time_s,
     }
 }
 
@@ -268,6 +297,42 @@ mod tests {
         let mut buf = [0u8; 2048];
         let n = sock.recv(&mut buf).expect("a packet within the timeout");
         decode(&buf[..n]).unwrap()
+    }
+
+    #[test]
+    fn tags_follow_the_stream_and_start_again_at_now_after_the_rest_frame() {
+        let frame = |index: u64, time_s: f64| ControlFrame {
+            index,
+            time_s,
+            ..ControlFrame::default()
+        };
+        let period = 1.0 / 120.0;
+        let mut anchor = None;
+        let mut tag = |f: &ControlFrame, now_s: f64| {
+            let base = tag_base(anchor, f, now_s);
+            anchor = Some(Anchor {
+                base_s: base,
+                index: f.index,
+                time_s: f.time_s,
+            });
+            base + f.time_s
+        };
+        // A minute played from wall-clock 1000 s, then an offline bounce's burst: tags keep
+        // the audio's time, ahead of the wall clock.
+        assert_eq!(tag(&frame(0, 0.0), 1000.0), 1000.0);
+        let mut last = 0.0;
+        for i in 1..=7200 {
+            last = tag(&frame(i, i as f64 * period), 1000.0 + i as f64 * period);
+        }
+        assert!((last - 1060.0).abs() < 1e-6);
+        assert!((tag(&frame(7201, 60.0 + period), 1060.0) - (1060.0 + period)).abs() < 1e-6);
+        // Bypass: the rest frame (clock 0), then 5 s later the stream goes on where it was.
+        assert_eq!(tag(&ControlFrame::rest(0, 0.0), 1061.0), 1061.0);
+        let after = tag(&frame(7202, 60.0 + 2.0 * period), 1066.0);
+        assert!(
+            (after - 1066.0).abs() < 1e-6,
+            "tagged {after}, not now (1066)"
+        );
     }
 
     #[test]

@@ -164,9 +164,13 @@ impl BreathTrack {
                 .front()
                 .map(|&(t, a)| ((t.max(in_base) - in_base) as usize + warm, a))
                 .filter(|&(off, _)| off < n);
-            // Live: the first active input sample under a breath not yet fading fades it.
+            // Breaths switched off (the plugin's bypass) fade a breath playing at once; live:
+            // the first active input sample under a breath not yet fading fades it.
             let mut gated = false;
-            if self.live && self.playing() {
+            if !config.placement.insert_breaths && self.playing() {
+                next = Some((pos, BreathAction::FadeOut));
+                gated = true;
+            } else if self.live && self.playing() {
                 let until = next.map_or(n, |(off, _)| off);
                 if let Some(k) = input_active[pos..until].iter().position(|&a| a) {
                     next = Some((pos + k, BreathAction::FadeOut));
@@ -205,7 +209,7 @@ impl BreathTrack {
                             group_s,
                         },
                     ));
-                    if !audible {
+                    if !audible || !config.placement.insert_breaths {
                         continue;
                     }
                     BreathAction::Start {
@@ -219,6 +223,8 @@ impl BreathTrack {
                 other => other,
             };
             match action {
+                // Placed while breaths were on: nothing sounds once they are off.
+                BreathAction::Start { .. } if !config.placement.insert_breaths => {}
                 BreathAction::Start {
                     length,
                     gain,

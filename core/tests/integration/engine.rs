@@ -423,6 +423,55 @@ fn every_frame_of_the_stream_comes_out_in_both_modes() {
 }
 
 #[test]
+fn breaths_switched_off_mid_stream_fade_the_one_playing_and_start_no_more() {
+    // The plugin's bypass switches breath insertion off: a breath already playing fades out
+    // at once, and breaths placed before the switch (live mode places them a minimum pause
+    // ahead; lookahead mode up to its lookahead) do not sound.
+    let (audio, _) = sequence(0.6, &[1.2; 6], &[0.8; 5]);
+    for mode in [PlacementMode::Live, PlacementMode::Lookahead] {
+        let mut c = config();
+        c.placement.mode = mode;
+        let run = |off_at: Option<usize>| {
+            let mut engine = Engine::new(c.clone(), HeadModel::default_model().clone()).unwrap();
+            engine.prepare(SR, 256, 1).unwrap();
+            let mut out = audio.clone();
+            for (k, chunk) in out.chunks_mut(256).enumerate() {
+                if Some(k * 256) == off_at {
+                    let mut off = c.clone();
+                    off.placement.insert_breaths = false;
+                    engine.set_config(&off).unwrap();
+                }
+                engine.process(&mut [chunk], &mut |_, _| {});
+            }
+            out
+        };
+        let latency = {
+            let mut e = Engine::new(c.clone(), HeadModel::default_model().clone()).unwrap();
+            e.prepare(SR, 256, 1).unwrap();
+            e.latency_samples() as usize
+        };
+        // The output (delayed by the latency) against the input.
+        let added = |out: &[f32]| -> Vec<usize> {
+            (latency..out.len())
+                .filter(|&i| out[i] != audio[i - latency])
+                .collect()
+        };
+        let on = added(&run(None));
+        let first = *on.first().unwrap_or_else(|| panic!("{mode:?}: no breath"));
+        // Switched off 20 ms into the first breath.
+        let at = (first + (0.02 * SR) as usize) / 256 * 256;
+        let off = added(&run(Some(at)));
+        let fade = (c.placement.live_fade_s as f64 * SR) as usize + 256;
+        let last = off.last().copied().unwrap_or(0);
+        assert!(
+            last <= at + fade,
+            "{mode:?}: breath sound at output sample {last}, switched off at {at}"
+        );
+        assert!(on.len() > off.len(), "{mode:?}");
+    }
+}
+
+#[test]
 fn settings_change_while_playing_without_changing_the_frame_clock() {
     let (audio, _) = sequence(0.3, &[1.0, 1.0], &[0.6]);
     let mut engine = Engine::new(config(), HeadModel::default_model().clone()).unwrap();
