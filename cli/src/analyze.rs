@@ -215,20 +215,39 @@ fn check_options(args: &Args) -> Result<(), String> {
 }
 
 /// `-o` names the CSV file: a folder (existing, or a name ending in `/`) is refused with a file
-/// name inside it to give instead.
+/// name inside it to give instead, and so is an audio file's name (`take2.wav`: a recording
+/// would be replaced by CSV text), with the `.csv` name to give.
 fn check_output_file(input: &Path, output: &Path) -> Result<(), String> {
+    let stem = input
+        .file_stem()
+        .filter(|_| input.as_os_str() != "-")
+        .map_or("analysis".into(), |s| s.to_string_lossy().into_owned());
     if crate::options::names_folder(output) {
-        let stem = input
-            .file_stem()
-            .filter(|_| input.as_os_str() != "-")
-            .map_or("analysis".into(), |s| s.to_string_lossy().into_owned());
         return Err(format!(
             "-o {} is a folder, but analyze writes one CSV file: give a file name, e.g. -o {}",
             output.display(),
             output.join(format!("{stem}.csv")).display()
         ));
     }
+    if names_audio(output) {
+        return Err(format!(
+            "-o {} names an audio file, but analyze writes CSV text (it would replace the \
+             audio): give a .csv name, e.g. -o {}",
+            output.display(),
+            output.with_extension("csv").display()
+        ));
+    }
     Ok(())
+}
+
+/// Whether `path`'s extension is an audio format's, read or not ([`pneuma_io::AUDIO_EXTENSIONS`],
+/// [`pneuma_io::UNREAD_AUDIO_EXTENSIONS`]), in any letter case.
+fn names_audio(path: &Path) -> bool {
+    let Some(ext) = path.extension().and_then(|e| e.to_str()) else {
+        return false;
+    };
+    let unread = pneuma_io::UNREAD_AUDIO_EXTENSIONS.iter().map(|(e, _)| e);
+    (pneuma_io::AUDIO_EXTENSIONS.iter().chain(unread)).any(|e| e.eq_ignore_ascii_case(ext))
 }
 
 /// The analysis settings the options give.

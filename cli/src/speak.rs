@@ -232,7 +232,7 @@ pub fn main(args: Args) -> ExitCode {
                 }
             }
             if crate::render::interrupted() {
-                eprintln!("interrupted (Ctrl-C) while sending OSC: the files are written");
+                eprintln!("interrupted (Ctrl-C, SIGTERM or SIGHUP) while sending OSC: the files are written");
                 return ExitCode::from(crate::render::EXIT_INTERRUPTED);
             }
             ExitCode::SUCCESS

@@ -10,7 +10,13 @@
 //! reader drop the frame, so the sum no longer matches), and a stream that ends well before the
 //! length its header announces (a truncated MP3 with a Xing/LAME header, a cut FLAC) each fail
 //! with [`DecodeError::Damaged`], naming how far the audio was read and how to keep what is
-//! there.
+//! there. An MP3 without a Xing/Info/VBRI frame count announces nothing: symphonia's guess from
+//! the file size is replaced by the frames counted one by one ([`crate::mp3_length`]), so a
+//! valid VBR file written through a pipe is neither called damaged nor cut at the guess.
+//!
+//! A chained Ogg file (streams one after another, as `cat a.ogg b.ogg` makes) is read through:
+//! at each new stream the decoder is made anew for it, and a change of channels or rate there
+//! is an error.
 //!
 //! Samples come out as f32 at full scale ±1, interleaved. Integer samples are scaled by powers of
 //! two, so a 16- or 24-bit FLAC/AIFF sample becomes exactly the f32 the WAV reader makes of the
@@ -23,13 +29,14 @@ use symphonia::core::codecs::audio::well_known::{
 };
 use symphonia::core::codecs::audio::{AudioDecoder, AudioDecoderOptions};
 use symphonia::core::errors::Error as SymError;
-use symphonia::core::formats::probe::Hint;
-use symphonia::core::formats::{FormatOptions, FormatReader, TrackType};
-use symphonia::core::io::{MediaSource, MediaSourceStream, MediaSourceStreamOptions};
-use symphonia::core::meta::{ChapterGroupItem, MetadataOptions, RawValue, StandardTag, Tag};
+use symphonia::core::formats::{FormatReader, TrackType};
+use symphonia::core::io::MediaSource;
+use symphonia::core::meta::{ChapterGroupItem, RawValue, StandardTag, Tag};
+use symphonia::core::units::Duration;
 use thiserror::Error;
 
 use crate::mp4_edit::{audio_edit, Edit};
+use crate::probe::probe;
 use crate::{AudioInfo, Chapter, InputFormat, Tags};
 
 /// Errors of the symphonia path.
@@ -104,6 +111,9 @@ pub struct DecodedSource {
     frames_read: u64,
     /// An MP4 file's edit list: the priming dropped, the length kept ([`crate::mp4_edit`]).
     edit: Option<Edit>,
+    /// The length symphonia trims the last packets to is its guess, not the file's: keep
+    /// every decoded frame ([`crate::mp3_length`]).
+    keep_packet_ends: bool,
     /// Decoded frames dropped as priming so far.
     skipped: u64,
     ended: bool,
@@ -189,19 +199,8 @@ impl DecodedSource {
                 "Ogg Opus (no maintained pure-Rust Opus decoder)".into(),
             ));
         }
-        let mss = MediaSourceStream::new(source, MediaSourceStreamOptions::default());
-        let mut hint = Hint::new();
-        if let Some(ext) = path.extension().and_then(|e| e.to_str()) {
-            hint.with_extension(ext);
-        }
-        let mut reader = symphonia::default::get_probe()
-            .probe(
-                &hint,
-                mss,
-                FormatOptions::default(),
-                MetadataOptions::default(),
-            )
-            .map_err(|e| match e {
+        let mut reader =
+            probe(source, path.extension().and_then(|e| e.to_str())).map_err(|e| match e {
                 SymError::IoError(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
                     DecodeError::Empty {
                         path: path.to_owned(),
@@ -311,6 +310,7 @@ impl DecodedSource {
             pending_at: 0,
             frames_read: 0,
             edit: None,
+            keep_packet_ends: false,
             skipped: 0,
             ended: false,
         })
@@ -327,6 +327,20 @@ impl DecodedSource {
         self.edit = audio_edit(path, self.info.sample_rate_hz);
         if let Some(e) = self.edit {
             self.info.frames = e.keep;
+        }
+    }
+
+    /// An MP3 opened from the regular file at `path` whose first frame holds no frame count:
+    /// its frames are counted ([`crate::mp3_length`]) and the count replaces symphonia's guess
+    /// as the announced length. Call before reading; nothing changes for other formats.
+    pub fn count_mp3_frames(&mut self, path: &Path) {
+        if self.format != InputFormat::Mp3 || self.frames_read > 0 {
+            return;
+        }
+        if let Some(frames) = crate::mp3_length::counted_frames(path) {
+            self.announced = (frames > 0).then_some(frames);
+            self.info.frames = frames;
+            self.keep_packet_ends = true;
         }
     }
 
@@ -370,9 +384,13 @@ impl DecodedSource {
     /// Decodes the next packet of the track into `pending`; false at the end of the stream.
     fn decode_next(&mut self) -> Result<bool, DecodeError> {
         loop {
-            let packet = match self.reader.next_packet() {
+            let mut packet = match self.reader.next_packet() {
                 Ok(Some(p)) => p,
                 Ok(None) => return Ok(false),
+                Err(SymError::ResetRequired) => {
+                    self.next_chained_stream()?;
+                    continue;
+                }
                 Err(SymError::IoError(e)) if e.kind() == std::io::ErrorKind::UnexpectedEof => {
                     return Err(self.damaged("the file ends inside an audio packet".into()))
                 }
@@ -380,6 +398,9 @@ impl DecodedSource {
             };
             if packet.track_id != self.track_id {
                 continue;
+            }
+            if self.keep_packet_ends {
+                packet.trim_end = Duration::ZERO;
             }
             let channels = self.info.channels as usize;
             let rate_hz = self.info.sample_rate_hz;
@@ -408,6 +429,22 @@ impl DecodedSource {
                 return Ok(true);
             }
         }
+    }
+
+    /// A chained Ogg file's next stream begins: its audio track and a decoder made for it.
+    fn next_chained_stream(&mut self) -> Result<(), DecodeError> {
+        let params = self
+            .reader
+            .default_track(TrackType::Audio)
+            .and_then(|t| Some((t.id, t.codec_params.as_ref()?.audio()?.clone())));
+        let Some((track_id, params)) = params else {
+            return Err(self.damaged("a chained stream has no audio track".into()));
+        };
+        self.decoder = symphonia::default::get_codecs()
+            .make_audio_decoder(&params, &AudioDecoderOptions::default().verify(true))
+            .map_err(|e| self.damaged(format!("a chained stream cannot be decoded: {e}")))?;
+        self.track_id = track_id;
+        Ok(())
     }
 
     /// The end of the stream: checks the length and the decoder's verification.

@@ -24,7 +24,9 @@
 pub mod decode;
 pub mod g711;
 mod le_bytes;
+mod mp3_length;
 pub mod mp4_edit;
+mod probe;
 pub mod wav;
 pub mod wav_meta;
 
@@ -278,6 +280,7 @@ impl AudioSource {
             let file = std::fs::File::open(path).map_err(open_err)?;
             let source = DecodedSource::open(path, Box::new(file), format).map(|mut s| {
                 s.read_edit_list(path);
+                s.count_mp3_frames(path);
                 s
             });
             return match (source, adpcm) {

@@ -1,5 +1,7 @@
 //! How a render fails: [`RenderError`], and Ctrl-C, which stops a render after its current
 //! block as an error that leaves nothing behind ([`INTERRUPTED`], [`EXIT_INTERRUPTED`]).
+//! SIGTERM (`kill`, `timeout`, a service manager) and SIGHUP (the terminal closed) take the
+//! same path: the handler cannot tell the three apart, so each exits with 130.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -31,8 +33,11 @@ pub enum RenderError {
     /// The plot.
     #[error(transparent)]
     Plot(#[from] crate::plot::PlotError),
-    /// Ctrl-C.
-    #[error("interrupted (Ctrl-C): nothing was written, existing files are unchanged")]
+    /// Ctrl-C, SIGTERM or SIGHUP.
+    #[error(
+        "interrupted (Ctrl-C, SIGTERM or SIGHUP): nothing was written, existing files are \
+         unchanged"
+    )]
     Interrupted,
 }
 
@@ -44,20 +49,22 @@ pub fn out_err(path: &Path) -> impl Fn(std::io::Error) -> RenderError + '_ {
     }
 }
 
-/// Set by the Ctrl-C handler; a render checks it after every block and stops, leaving no
+/// Set by the Ctrl-C (and SIGTERM, SIGHUP) handler; a render checks it after every block and stops, leaving no
 /// partial file (its staged files are removed when dropped).
 pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
-/// Whether Ctrl-C was pressed.
+/// Whether Ctrl-C was pressed (or SIGTERM or SIGHUP came).
 pub fn interrupted() -> bool {
     INTERRUPTED.load(Ordering::Relaxed)
 }
 
-/// Exit code of an interrupted run (128 + SIGINT), as shells expect.
+/// Exit code of an interrupted run (128 + SIGINT), as shells expect; also after SIGTERM and
+/// SIGHUP, which the handler does not tell from SIGINT.
 pub const EXIT_INTERRUPTED: u8 = 130;
 
-/// Installs the Ctrl-C handler: the first Ctrl-C sets [`INTERRUPTED`] (the render stops after
-/// its current block and removes its temporary files), a second one exits at once.
+/// Installs the Ctrl-C handler, which SIGTERM and SIGHUP reach too (ctrlc's `termination`
+/// feature): the first signal sets [`INTERRUPTED`] (the render stops after its current block
+/// and removes its temporary files), a second one exits at once.
 pub fn install_interrupt_handler() {
     let _ = ctrlc::set_handler(|| {
         if INTERRUPTED.swap(true, Ordering::Relaxed) {

@@ -2,7 +2,8 @@
 //! (the exit status stays 0): no speech at all, mostly something else than speech (music,
 //! singing, noise), channels that cancel when mixed to mono, an input that holds no signal
 //! (digital silence or dither, noise-shaped too), an input too short to tell speech in, or an
-//! input so quiet that the voicing cannot hear most of its speech. Each is a [`Finding`]: a
+//! input so quiet that the voicing cannot hear most of its speech, samples that are not numbers
+//! (NaN, ±∞ in a float file: the engine hears and writes them as 0). Each is a [`Finding`]: a
 //! line of the summary (`warning: …`) and a short word in the batch table.
 //!
 //! The channel check ([`ChannelEnergy`]) sums each channel's power and the power of their mean
@@ -66,6 +67,13 @@ pub enum Finding {
     Quiet {
         /// The mono mix's peak, dBFS.
         peak_db: f64,
+    },
+    /// Samples that are NaN or ±∞ (a float file's), heard and written as 0.
+    NonFinite {
+        /// How many, over the channels rendered.
+        samples: u64,
+        /// Every other sample is zero: the output is silence.
+        rest_silent: bool,
     },
 }
 
@@ -145,6 +153,18 @@ impl Finding {
                  sound ({JUDGE_WINDOW_S} s at least) or to hold a pause, so no breath was \
                  inserted; render the whole recording, not a snippet"
             ),
+            Finding::NonFinite {
+                samples,
+                rest_silent: false,
+            } => format!(
+                "{samples} samples are not numbers (NaN or infinite, a damaged float export): \
+                 they were written as 0"
+            ),
+            Finding::NonFinite { samples, .. } => format!(
+                "{samples} samples are not numbers (NaN or infinite, a damaged float export) \
+                 and the others are zero: they were written as 0, so the output is silence and \
+                 there is no speech to place breaths by; check that the right file was exported"
+            ),
             Finding::Quiet { peak_db } => format!(
                 "the input is very quiet (its peak lies at {peak_db:.0} dBFS): frames under \
                  {:.0} dBFS are never voiced, so much of its speech goes unheard; normalise it \
@@ -163,6 +183,7 @@ impl Finding {
             Finding::NoSignal { .. } => "no signal",
             Finding::TooShort { .. } => "too short",
             Finding::Quiet { .. } => "quiet",
+            Finding::NonFinite { .. } => "NaN samples",
         }
     }
 }
@@ -182,6 +203,8 @@ pub struct ChannelEnergy {
     voice_band_top_hz: f64,
     voice_band_peak: f64,
     frames: u64,
+    /// Samples that were NaN or ±∞, summed as 0 (as the engine hears them).
+    non_finite: u64,
 }
 
 impl ChannelEnergy {
@@ -198,6 +221,7 @@ impl ChannelEnergy {
             voice_band_top_hz: corner_hz,
             voice_band_peak: 0.0,
             frames: 0,
+            non_finite: 0,
         }
     }
 
@@ -211,7 +235,12 @@ impl ChannelEnergy {
         for i in 0..n {
             let mut mix = 0.0f64;
             for (c, chan) in planar.iter().take(channels).enumerate() {
-                let x = f64::from(chan[i]);
+                let x = if chan[i].is_finite() {
+                    f64::from(chan[i])
+                } else {
+                    self.non_finite += 1;
+                    0.0
+                };
                 self.sum_sq[c] += x * x;
                 mix += x;
             }
@@ -247,9 +276,29 @@ impl ChannelEnergy {
     }
 }
 
-/// The findings of a render of `length_s` seconds: the channels, then the level, then the
-/// speech (a quiet input's speech findings follow from its level, and are left out).
+/// The findings of a render of `length_s` seconds: samples that are not numbers, then the
+/// channels, the level and the speech (a quiet input's speech findings follow from its level,
+/// and are left out). An input of only zeros and non-finite samples is said once, as such.
 pub fn findings(energy: &ChannelEnergy, speech: &SpeechSummary, length_s: f64) -> Vec<Finding> {
+    let rest_silent = energy.mix_peak == 0.0;
+    if energy.non_finite > 0 && rest_silent {
+        return vec![Finding::NonFinite {
+            samples: energy.non_finite,
+            rest_silent,
+        }];
+    }
+    let non_finite = (energy.non_finite > 0).then_some(Finding::NonFinite {
+        samples: energy.non_finite,
+        rest_silent,
+    });
+    non_finite
+        .into_iter()
+        .chain(signal_findings(energy, speech, length_s))
+        .collect()
+}
+
+/// The findings of the channels, the level and the speech.
+fn signal_findings(energy: &ChannelEnergy, speech: &SpeechSummary, length_s: f64) -> Vec<Finding> {
     if energy.antiphase() {
         return vec![Finding::Antiphase];
     }
@@ -400,6 +449,28 @@ mod tests {
         );
         // Peak -12 dBFS: the speech finding as before.
         assert_eq!(findings(&tone(0.25), &speech, LONG_S), [NO_SPEECH]);
+    }
+
+    #[test]
+    fn samples_that_are_not_numbers_are_counted_and_never_called_zero() {
+        let speech = SpeechSummary::default();
+        let mut nan = ChannelEnergy::new(48_000.0);
+        nan.add(&[vec![f32::NAN; 480]], 480);
+        let found = findings(&nan, &speech, LONG_S);
+        let expected = Finding::NonFinite {
+            samples: 480,
+            rest_silent: true,
+        };
+        assert_eq!(found, vec![expected]);
+        assert!(!found[0].message().contains("every sample is zero"));
+        let mut some = tone(0.5);
+        some.add(&[vec![f32::INFINITY, f32::NAN]], 2);
+        let found = findings(&some, &speech, LONG_S);
+        assert!(
+            found[0].message().starts_with("2 samples are not numbers"),
+            "{found:?}"
+        );
+        assert!(found[0].message().ends_with("written as 0"), "{found:?}");
     }
 
     #[test]

@@ -736,7 +736,8 @@ fn load_sample(path: &Path, label: &str) -> Result<BreathSample, RenderError> {
 
 impl OutputPlan {
     /// The outputs of `input` as `args` ask, in `container`: refused when `-o` looks like a
-    /// file, when the audio would replace the input, or (`--no-overwrite`) when one exists.
+    /// file, when any output (the audio, the plot, the BVH, …) would replace the input, or
+    /// (`--no-overwrite`) when one exists.
     fn new(args: &Args, input: &Path, container: Container) -> Result<Self, RenderError> {
         let stem = output_stem(input);
         let (markers, cues, notes) = marker_plan(args, container, &stem)?;
@@ -761,12 +762,6 @@ impl OutputPlan {
         let audio = args
             .output
             .join(format!("{stem}.{}", container.extension()));
-        if same_file(input, &audio) {
-            return Err(RenderError::Output {
-                path: audio,
-                source: std::io::Error::other("it is the input file; choose another output folder"),
-            });
-        }
         let wanted = Wanted {
             plot: !args.no_plot,
             bvh: args.bvh.wanted(),
@@ -774,6 +769,16 @@ impl OutputPlan {
             markers: &markers,
         };
         let files = FolderFiles::named(&args.output, &stem, wanted);
+        // A WAV saved as take.png is replaced by the plot as surely as by the audio.
+        if let Some(path) = std::iter::once(&audio)
+            .chain(files.paths())
+            .find(|p| same_file(input, p))
+        {
+            return Err(RenderError::Output {
+                path: path.clone(),
+                source: std::io::Error::other("it is the input file; choose another output folder"),
+            });
+        }
         let mut notes = notes;
         notes.extend(other_audio(input, &audio).map(|other| {
             format!(

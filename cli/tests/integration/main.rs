@@ -14,6 +14,7 @@ mod mp3_output;
 mod osc;
 mod podcast;
 mod render_cli;
+mod robustness;
 mod speak_cli;
 mod special_outputs;
 mod train_eval_cli;
