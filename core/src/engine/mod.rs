@@ -882,9 +882,7 @@ impl Stream {
             self.placement.on_event(&ctx, e, &mut self.schedule);
             if matches!(e, PhraseEvent::End { .. }) {
                 // The breath before this phrase is learned against its speaker's level.
-                let ended = self.placement.ended_db();
-                let speaker_db = ended.map_or(f32::NAN, |db| self.placement.speaker_level_db(db));
-                self.voice.phrase_ended(speaker_db);
+                self.voice.phrase_ended(self.placement.ended_speaker_db());
             }
         }
         self.placement.decide_due(&ctx, &mut self.schedule);

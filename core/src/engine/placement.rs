@@ -209,10 +209,9 @@ struct PlacementState {
     levels: PhraseLevels,
     /// Level of the last complete phrase, dBFS.
     last_phrase_level_db: Option<f32>,
-    /// Median level of the phrase that ended at the last end event (`None`: too few voiced
-    /// frames), and of the last one that had one, dBFS ([`PhraseLevels::end`]).
-    ended_db: Option<f32>,
-    last_median_db: Option<f32>,
+    /// The level of the speaker of the phrase that ended at the last end event, dBFS (NaN: the
+    /// phrase had too few voiced frames; [`PhraseLevels::speaker_of`]).
+    ended_speaker_db: f32,
     /// Running estimate of a breath group's speech, seconds.
     group_estimate_s: f32,
     /// Speech planned for the current group and spoken in it so far, seconds.
@@ -234,8 +233,7 @@ impl Default for PlacementState {
             speech_level_db: PRIOR_SPEECH_LEVEL_DB,
             levels: PhraseLevels::default(),
             last_phrase_level_db: None,
-            ended_db: None,
-            last_median_db: None,
+            ended_speaker_db: f32::NAN,
             group_estimate_s: PRIOR_GROUP_S,
             group_planned_s: 0.0,
             group_spoken_s: 0.0,
@@ -328,16 +326,10 @@ impl Placement {
         self.state.levels.spoken(frames).map(|l| l.mean_db)
     }
 
-    /// The median level of the phrase that ended at the last end event, dBFS
-    /// ([`PhraseLevels::end`]).
-    pub(crate) fn ended_db(&self) -> Option<f32> {
-        self.state.ended_db
-    }
-
-    /// The level of the speaker whose phrase's median level is `phrase_db`, dBFS
-    /// ([`PhraseLevels::speaker_level_db`]).
-    pub(crate) fn speaker_level_db(&self, phrase_db: f32) -> f32 {
-        self.state.levels.speaker_level_db(phrase_db)
+    /// The level of the speaker of the phrase that ended at the last end event, dBFS (NaN:
+    /// not known).
+    pub(crate) fn ended_speaker_db(&self) -> f32 {
+        self.state.ended_speaker_db
     }
 
     /// How far over its level a breath voice plays before phrase `ph` (the one after the
@@ -364,8 +356,8 @@ impl Placement {
             levels.level(MIN_VOICED_FRAMES).map(|l| l.median_db)
         };
         ph.and_then(|ph| ph.own_db.or_else(|| visible(ph.onset_s)))
-            .or(self.state.last_median_db)
-            .map_or(f32::NAN, |db| self.speaker_level_db(db))
+            .or(self.state.levels.last_db())
+            .map_or(f32::NAN, |db| self.state.levels.speaker_level_db(db))
     }
 
     /// The level of the speech measured so far, dBFS: the last complete phrase's, else the
@@ -454,10 +446,9 @@ impl Placement {
             PhraseEvent::End { onset_s, offset_s } => {
                 let ended = self.state.levels.end();
                 let own_db = ended.map(|l| l.median_db);
-                self.state.ended_db = own_db;
+                self.state.ended_speaker_db = self.state.levels.speaker_of(ended);
                 if let Some(l) = ended {
                     self.state.last_phrase_level_db = Some(l.mean_db);
-                    self.state.last_median_db = Some(l.median_db);
                 }
                 schedule
                     .cycle

@@ -140,6 +140,18 @@ impl PhraseLevels {
         Some(level)
     }
 
+    /// The median level of the last phrase that ended with a level, dBFS.
+    pub(crate) fn last_db(&self) -> Option<f32> {
+        let last = self.count.checked_sub(1)?;
+        Some(self.levels[last % RECENT_PHRASES])
+    }
+
+    /// The level of the speaker of `phrase` (one that ended: [`PhraseLevels::end`]), dBFS; NaN
+    /// for a phrase without a level.
+    pub(crate) fn speaker_of(&self, phrase: Option<PhraseLevel>) -> f32 {
+        phrase.map_or(f32::NAN, |l| self.speaker_level_db(l.median_db))
+    }
+
     /// The level of the speaker whose phrase's median level is `next_db`, dBFS: the median of
     /// the recent phrases within [`SAME_SPEAKER_DB`] of it, itself included.
     pub(crate) fn speaker_level_db(&self, next_db: f32) -> f32 {
@@ -225,5 +237,13 @@ mod tests {
         // The median frame, to the histogram's half-dB bin.
         assert!((level.median_db + 20.2).abs() <= BIN_DB, "{level:?}");
         assert_eq!(p.count, 1);
+        assert_eq!(p.last_db(), Some(level.median_db));
+        assert_eq!(
+            p.speaker_of(Some(level)),
+            level.median_db,
+            "its own level, alone"
+        );
+        assert!(p.speaker_of(None).is_nan());
+        assert_eq!(PhraseLevels::default().last_db(), None);
     }
 }

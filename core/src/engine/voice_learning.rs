@@ -424,9 +424,7 @@ impl VoiceLearner {
                 PhraseEvent::End { .. } => {
                     let ended = self.levels.end();
                     if let Some(mut b) = self.waiting.take() {
-                        let speaker_db =
-                            ended.map_or(f32::NAN, |l| self.levels.speaker_level_db(l.median_db));
-                        b.speaker_level_db = f64::from(speaker_db);
+                        b.speaker_level_db = f64::from(self.levels.speaker_of(ended));
                         self.heard.push(b);
                     }
                 }
