@@ -35,6 +35,8 @@
 //! - [`BreathTrack`](breath_track): carries out breath actions, renders and records breaths.
 //! - [`CycleTrack`](cycle_track): steps the breathing cycle at each emitted control frame.
 //! - [`BodyGate`](body_gate): flags the frames of music, singing and noise for the body.
+//! - [`output`]: runs the breath track and emits the control frames up to each frame's
+//!   completing sample, in every mode.
 //! - [`replay`]: a whole-file learning pass's analysis, handed out instead of the analyzer's
 //!   ([`Engine::replay_analysis`]), so a render that learns first analyses its file once.
 //!
@@ -50,6 +52,7 @@ mod delay;
 mod dropped;
 mod gate;
 pub mod offline;
+mod output;
 mod placement;
 pub mod replay;
 mod schedule;
@@ -716,13 +719,28 @@ impl Stream {
         debug_assert_eq!(beyond, 0, "frames beyond the block's frame buffer");
         self.lost.analysis_blocks += u64::from(analysed.is_err());
         self.lost.frames += beyond;
+        // 3. Output: the delayed input (breaths are added to it below).
+        for (c, chan) in audio.iter_mut().take(channels).enumerate() {
+            self.delay.read(c, base, &mut chan[start..start + n]);
+        }
+        // 4–5. Breaths and control frames are carried out up to the sample that completes each
+        // frame before the frame is heard, the rest after it: whatever the block partition,
+        // a frame's events meet the breath playing and the actions scheduled as of its own
+        // sample, and a frame is emitted after the events of every frame completed before it
+        // and of none after (live mode emits a frame in the block that completes it).
         // The speech decision hears the samples that complete each frame, then the frame.
         // A replayed stream learns nothing as it goes: the learning pass heard the speech
         // that colours a voice (see `Engine::replay_analysis`).
         let listen = self.replay.is_none() || breath_voice.learning();
         let mut fed = 0;
+        let mut out = output::Output {
+            block,
+            done: 0,
+            checked: 0,
+        };
         for k in 0..count {
             let (f, i) = self.completed[k];
+            self.output(config, audio, &mut out, i, on_control);
             self.speech.push(&self.mono[fed..=i]);
             if listen {
                 self.voice.push(&self.mono[fed..=i]);
@@ -735,63 +753,11 @@ impl Stream {
         if listen {
             self.voice.push(&self.mono[fed..n]);
         }
-        // 3. Output: the delayed input. 4. Breaths.
-        for (c, chan) in audio.iter_mut().take(channels).enumerate() {
-            self.delay.read(c, base, &mut chan[start..start + n]);
-        }
-        self.breaths.render(
-            config,
-            audio,
-            block,
-            &self.input_active[..n],
-            &mut self.schedule,
-        );
-        // 5. Control frames due in this block.
-        let end = base + n as u64;
-        let mut checked = 0;
-        while let Some(p) = self.pending.front().copied() {
-            if p.emit_at >= end {
-                break;
-            }
-            self.pending.pop_front();
-            let offset = (p.emit_at.max(base) - base) as usize;
-            if self.live && offset >= checked {
-                self.note_activity(base, checked, offset + 1);
-                checked = offset + 1;
-            }
-            let breathing = self.cycle.step(&p, &mut self.schedule);
-            let f = &p.frame;
-            // Music, singing or noise judged not speech: the head rests as in a silence.
-            let head = if p.other_sound {
-                self.head.process_other_sound(f, self.frame_rate_hz)
-            } else {
-                self.head.process(f, self.frame_rate_hz)
-            };
-            let frame = ControlFrame {
-                index: f.index,
-                time_s: f.time_s,
-                f0_hz: f.f0_hz,
-                voiced: f.voiced,
-                rms_db: f.rms_db,
-                level_db: f.level_db,
-                speaking: self.cycle.speaking(),
-                breathing,
-                head,
-            };
-            on_control(&frame, start + offset);
-        }
+        self.output(config, audio, &mut out, n, on_control);
         if self.live {
-            self.note_activity(base, checked, n);
+            self.note_activity(base, out.checked, n);
         }
-        self.state.position = end;
-    }
-
-    /// Live mode: tells the schedule the last active input sample of `input_active[from..to]`
-    /// (block starting at input sample `base`), for the breathing cycle.
-    fn note_activity(&mut self, base: u64, from: usize, to: usize) {
-        if let Some(k) = self.input_active[from..to].iter().rposition(|&a| a) {
-            self.schedule.note_activity(base + (from + k) as u64);
-        }
+        self.state.position = base + n as u64;
     }
 
     /// One analysis frame, completed by input sample `now` (index `i` in the block).
