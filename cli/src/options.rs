@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use pneuma_core::settings::{analysis, breathing, output, placement, Setting, SettingError, Unit};
+use pneuma_io::capped::HEAD_MODEL_MAX_BYTES;
 
 /// A command-line option that gives one setting of core's table
 /// ([`pneuma_core::settings`]), typed in `unit` (`--min-pause-ms` gives `min_pause_s` in
@@ -286,11 +287,14 @@ pub fn describe_format(info: &pneuma_io::AudioInfo, lossless: bool) -> String {
 }
 
 /// The head-pose model from `path` (JSON), or the embedded default model when `None`.
+/// What a head-pose model file is, for the size cap's message.
+const HEAD_MODEL_FILE: &str = "a head-pose model (JSON, as `pneuma train` writes)";
+
 pub fn load_head_model(path: Option<&Path>) -> Result<pneuma_core::head::HeadModel, String> {
     match path {
         Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .map_err(|e| format!("--head-model {}: {e}", p.display()))?;
+            let text = pneuma_io::read_text_capped(p, HEAD_MODEL_MAX_BYTES, HEAD_MODEL_FILE)
+                .map_err(|e| format!("--head-model: {e}"))?;
             pneuma_core::head::HeadModel::from_json(&text)
                 .map_err(|e| format!("--head-model {}: {e}", p.display()))
         }

@@ -34,7 +34,8 @@ use thiserror::Error;
 use crate::options::{FRAME_RATE, LOUDNESS, RATE};
 use crate::output::{commit_all, Output, Staged};
 use crate::plot::{draw_png, PlotError};
-use pneuma_io::{read_mono, ReadError};
+use pneuma_io::capped::TEXT_MAX_BYTES;
+use pneuma_io::{read_mono, read_text_capped, CappedReadError, ReadError};
 
 /// Silence before the first breath, seconds.
 pub const LEAD_IN_S: f64 = 0.25;
@@ -134,14 +135,9 @@ pub enum SpeakError {
     /// No text given.
     #[error("no text to speak: give TEXT or --text-file FILE with some words in it")]
     NoText,
-    /// The text file cannot be read.
-    #[error("cannot read the text file {path}: {source}")]
-    TextFile {
-        /// The file.
-        path: PathBuf,
-        /// Why.
-        source: std::io::Error,
-    },
+    /// The text file cannot be read, is too large or is no text.
+    #[error("--text-file: {0}")]
+    TextFile(#[source] CappedReadError),
     /// Bad breathing settings.
     #[error(transparent)]
     Breathing(#[from] BreathingError),
@@ -273,12 +269,8 @@ pub fn params_from_args(args: &Args) -> Result<BreathingParams, SpeakError> {
 
 fn text_from_args(args: &Args) -> Result<String, SpeakError> {
     let text = match (&args.text, &args.text_file) {
-        (_, Some(path)) => {
-            std::fs::read_to_string(path).map_err(|source| SpeakError::TextFile {
-                path: path.clone(),
-                source,
-            })?
-        }
+        (_, Some(path)) => read_text_capped(path, TEXT_MAX_BYTES, "a text to speak")
+            .map_err(SpeakError::TextFile)?,
         (Some(t), None) => t.clone(),
         (None, None) => String::new(),
     };

@@ -18,9 +18,13 @@
 //! (the CLI's `wav_input` tests hold these messages). Memory is bounded either way: both read
 //! block by block.
 //!
+//! Small user files read whole (a head-pose model, a text to speak, a motion CSV) go through the
+//! size cap in [`capped`].
+//!
 //! Everything here is free of the engine and of plugin-framework types; `pneuma-core` does not
 //! depend on it (the engine takes samples, not files).
 
+pub mod capped;
 pub mod decode;
 pub mod g711;
 mod le_bytes;
@@ -37,6 +41,7 @@ use thiserror::Error;
 use wav::read_full;
 
 pub use decode::{DecodeError, DecodedSource};
+pub use capped::{read_text_capped, CappedReadError};
 pub use wav::{WavError, WavSource};
 pub use wav_meta::{CuePoint, FmtForm, WavMeta};
 

@@ -187,3 +187,89 @@ fn samples_that_are_not_numbers_are_said_and_never_called_zero() {
     assert!(err.contains("written as 0"), "{err}");
     assert!(!err.contains("every sample is zero"), "{err}");
 }
+
+/// A file of `len_bytes` zero bytes at `path`, sparse where the file system allows.
+fn zero_file(path: &Path, len_bytes: u64) {
+    std::fs::File::create(path)
+        .and_then(|f| f.set_len(len_bytes))
+        .expect("zero file");
+}
+
+#[test]
+fn a_model_or_text_file_past_its_size_limit_is_refused_by_name() {
+    const MIB: u64 = 1024 * 1024;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (model, text) = (dir.path().join("big.json"), dir.path().join("big.txt"));
+    zero_file(&model, 16 * MIB + 1);
+    zero_file(&text, 16 * MIB + 1);
+    let data = dir.path().join("data");
+    std::fs::create_dir(&data).expect("data folder");
+    std::fs::copy(example_voice_path(), data.join("clip.wav")).expect("copy");
+    zero_file(&data.join("clip.head.csv"), 256 * MIB + 1);
+    let voice = example_voice_path();
+    let out = dir.path().join("out");
+    let (voice, out_s) = (voice.to_str().unwrap(), out.to_str().unwrap());
+    let cases: [(&[&str], String); 3] = [
+        (
+            &[
+                "render",
+                voice,
+                "-o",
+                out_s,
+                "--head-model",
+                model.to_str().unwrap(),
+            ],
+            format!(
+                "--head-model: {} is larger than 16 MiB, the limit for a head-pose model (JSON, \
+                 as `pneuma train` writes)",
+                model.display()
+            ),
+        ),
+        (
+            &["speak", "--text-file", text.to_str().unwrap(), "-o", out_s],
+            format!(
+                "--text-file: {} is larger than 16 MiB, the limit for a text to speak",
+                text.display()
+            ),
+        ),
+        (
+            &["train", "--data", data.to_str().unwrap(), "-o", out_s],
+            "clip.head.csv is larger than 256 MiB, the limit for a head-motion CSV".into(),
+        ),
+    ];
+    for (args, want) in cases {
+        let o = pneuma(args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{args:?}: {err}");
+        assert!(err.contains(&want), "{args:?}: {err}");
+    }
+    assert!(!out.exists(), "a refused run wrote {}", out.display());
+}
+
+#[cfg(unix)]
+#[test]
+fn an_endless_head_model_is_refused_without_filling_memory() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let voice = example_voice_path();
+    let out = dir.path().join("out");
+    // 4 GB of address space: ample for a render, and without the cap the read of /dev/zero
+    // fails here instead of taking the machine's memory.
+    let o = std::process::Command::new("sh")
+        .args(["-c", "ulimit -v 4000000 && exec \"$0\" \"$@\""])
+        .arg(env!("CARGO_BIN_EXE_pneuma"))
+        .args([
+            "render",
+            voice.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .args(["--head-model", "/dev/zero"])
+        .output()
+        .expect("sh runs");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("--head-model: /dev/zero is larger than 16 MiB"),
+        "{err}"
+    );
+}
