@@ -40,9 +40,9 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 use wav::read_full;
 
-pub use decode::{DecodeError, DecodedSource};
 pub use capped::{read_text_capped, CappedReadError};
 pub use wav::{WavError, WavSource};
+pub use decode::{DecodeError, DecodedSource};
 pub use wav_meta::{CuePoint, FmtForm, WavMeta};
 
 /// What an audio input holds.
@@ -304,7 +304,7 @@ impl AudioSource {
         }
         let mut source = Self::from_stream(path, head, file, file_len, format)?;
         if let (Self::Wav(s), Some(_)) = (&mut source, file_len) {
-            s.read_meta(path);
+            s.read_meta(path)?;
         }
         Ok(source)
     }
