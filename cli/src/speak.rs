@@ -77,11 +77,11 @@ pub struct Args {
     pub voice: Option<String>,
     /// Speaking-rate multiplier (the table's `prosody_rate`; default: the preset's).
     #[arg(long, help = RATE.help_with_default("the preset's"), value_parser = crate::options::number)]
-    pub rate: Option<f32>,
+    pub rate: Option<f64>,
     /// Speaking loudness (the table's `speaking_loudness`; default: the preset's); louder
     /// speech gets shorter breath groups (Equation 1) and a louder TTS.
     #[arg(long, help = LOUDNESS.help_with_default("the preset's"), value_parser = crate::options::number)]
-    pub loudness: Option<f32>,
+    pub loudness: Option<f64>,
     /// Seed of the breath sounds (the same default as `render`).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -248,20 +248,20 @@ fn plural(n: usize, one: &str, many: &str) -> String {
 /// The breathing parameters from the preset and the overrides, validated.
 pub fn params_from_args(args: &Args) -> Result<BreathingParams, SpeakError> {
     if let Some(r) = args.rate {
-        RATE.check(f64::from(r)).map_err(SpeakError::Option)?;
+        RATE.check(r).map_err(SpeakError::Option)?;
     }
     if let Some(l) = args.loudness {
-        LOUDNESS.check(f64::from(l)).map_err(SpeakError::Option)?;
+        LOUDNESS.check(l).map_err(SpeakError::Option)?;
     }
     FRAME_RATE
         .check(args.frame_rate)
         .map_err(SpeakError::Option)?;
     let mut p = Preset::from_name(&args.preset)?.params();
     if let Some(r) = args.rate {
-        p.prosody_rate = r;
+        p.prosody_rate = r as f32;
     }
     if let Some(l) = args.loudness {
-        p.speaking_loudness = l;
+        p.speaking_loudness = l as f32;
     }
     p.validate()?;
     Ok(p)

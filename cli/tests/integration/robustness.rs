@@ -273,3 +273,39 @@ fn an_endless_head_model_is_refused_without_filling_memory() {
         "{err}"
     );
 }
+
+#[test]
+fn a_value_just_past_a_range_end_is_refused_as_typed() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let voice = example_voice_path();
+    let out = dir.path().join("out");
+    let (voice, out_s) = (voice.to_str().unwrap(), out.to_str().unwrap());
+    // Each is the range's end once narrowed to an f32, as the options were parsed before.
+    let cases: [(&[&str], &str); 3] = [
+        (
+            &["render", voice, "-o", out_s, "--breath-level-db=-5.9999999"],
+            "--breath-level-db -5.9999999 dB is out of range: use -40 to -6 dB",
+        ),
+        (
+            &[
+                "render",
+                voice,
+                "-o",
+                out_s,
+                "--breath-level-db=-40.0000001",
+            ],
+            "--breath-level-db -40.0000001 dB is out of range: use -40 to -6 dB",
+        ),
+        (
+            &["speak", "Hi.", "-o", out_s, "--rate", "2.0000001"],
+            "--rate 2.0000001 is out of range: use 0.5 to 2",
+        ),
+    ];
+    for (args, want) in cases {
+        let o = pneuma(args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    assert!(!out.exists(), "a refused run wrote {}", out.display());
+}
