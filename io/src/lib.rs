@@ -30,6 +30,7 @@ pub mod g711;
 mod le_bytes;
 mod mp3_length;
 pub mod mp4_edit;
+mod ogg_length;
 mod probe;
 pub mod wav;
 pub mod wav_meta;
@@ -41,8 +42,8 @@ use thiserror::Error;
 use wav::read_full;
 
 pub use capped::{read_text_capped, CappedReadError};
-pub use wav::{WavError, WavSource};
 pub use decode::{DecodeError, DecodedSource};
+pub use wav::{WavError, WavSource};
 pub use wav_meta::{CuePoint, FmtForm, WavMeta};
 
 /// What an audio input holds.
@@ -286,6 +287,7 @@ impl AudioSource {
             let source = DecodedSource::open(path, Box::new(file), format).map(|mut s| {
                 s.read_edit_list(path);
                 s.count_mp3_frames(path);
+                s.count_ogg_links(path);
                 s
             });
             return match (source, adpcm) {

@@ -46,8 +46,8 @@ fn a_vbr_mp3_without_a_xing_frame_renders_and_analyzes_whole() {
 }
 
 #[test]
-fn a_chained_ogg_file_renders_every_stream() {
-    if !have_ffmpeg("a_chained_ogg_file_renders_every_stream") {
+fn a_chained_ogg_file_renders_every_stream_in_every_output() {
+    if !have_ffmpeg("a_chained_ogg_file_renders_every_stream_in_every_output") {
         return;
     }
     let dir = tempfile::tempdir().expect("temp dir");
@@ -57,12 +57,30 @@ fn a_chained_ogg_file_renders_every_stream() {
     let chained = dir.path().join("chained.ogg");
     std::fs::write(&chained, [once.clone(), once].concat()).expect("write");
     let out = dir.path().join("out");
-    assert_ok(&render(&chained, &out, &["--no-plot"]));
+    assert_ok(&render(&chained, &out, &["--no-plot", "--bvh", "--midi"]));
     let (one_s, both_s) = (duration_s(&ogg), duration_s(&out.join("chained.flac")));
     assert!(
         (both_s - 2.0 * one_s).abs() < 0.05,
         "{both_s} s of 2 × {one_s} s"
     );
+    // The side outputs run as long: the BVH's header count is the length the input announces.
+    let (frames, frame_s) = support::bvh_timing(&out.join("chained.bvh"));
+    let bvh_s = frames as f64 * frame_s;
+    assert!((bvh_s - both_s).abs() < 0.05, "BVH {bvh_s} s of {both_s} s");
+    let csv = std::fs::read_to_string(out.join("chained.controls.csv")).expect("controls");
+    let last = csv.lines().last().and_then(|l| l.split(',').next());
+    let csv_s: f64 = last.and_then(|t| t.parse().ok()).expect("a time");
+    assert!(
+        (csv_s - both_s).abs() < 0.05,
+        "controls {csv_s} s of {both_s} s"
+    );
+    if let Some(python) =
+        support::python_tools("a_chained_ogg_file_renders_every_stream_in_every_output")
+    {
+        let (_, ccs) = support::read_midi(&python, &out.join("chained.mid"));
+        let midi_s = ccs.last().map_or(0.0, |c| c.0);
+        assert!(midi_s > both_s - 1.0, "MIDI to {midi_s} s of {both_s} s");
+    }
 }
 
 /// A 10-minute 16 kHz WAV at `path`: long enough for a debug render to be stopped midway.
