@@ -181,11 +181,11 @@ pub struct Args {
     #[arg(long, help = FRAME_RATE.help_saying("Rows (analysis frames) per second of the CSV"), default_value_t = FRAME_RATE.default_value())]
     pub frame_rate: f64,
     /// Lowest f0 searched, Hz (the table's `f0_min_hz`).
-    #[arg(long, help = F0_MIN.help(), default_value_t = F0_MIN.default_value() as f32, value_parser = crate::options::number)]
-    pub f0_min: f32,
+    #[arg(long, help = F0_MIN.help(), default_value_t = F0_MIN.default_value(), value_parser = crate::options::number)]
+    pub f0_min: f64,
     /// Highest f0 searched, Hz (the table's `f0_max_hz`), at least 1.5 times --f0-min.
-    #[arg(long, help = F0_MAX.help(), default_value_t = F0_MAX.default_value() as f32, value_parser = crate::options::number)]
-    pub f0_max: f32,
+    #[arg(long, help = F0_MAX.help(), default_value_t = F0_MAX.default_value(), value_parser = crate::options::number)]
+    pub f0_max: f64,
     /// Refuse to replace an existing output file. By default it is replaced, only when the
     /// analysis succeeded.
     #[arg(short = 'n', long)]
@@ -201,8 +201,8 @@ pub struct Args {
 /// settings they become are checked under their own names.
 fn check_options(args: &Args) -> Result<(), String> {
     FRAME_RATE.check(args.frame_rate)?;
-    F0_MIN.check(f64::from(args.f0_min))?;
-    F0_MAX.check(f64::from(args.f0_max))?;
+    F0_MIN.check(args.f0_min)?;
+    F0_MAX.check(args.f0_max)?;
     // The f0 range against itself, as the analysis checks it, named as typed.
     if let Err(AnalysisError::Setting(e)) = analysis_config(args).validate() {
         return Err(render_for(&SETTING_FLAGS, &e));
@@ -254,10 +254,12 @@ fn names_audio(path: &Path) -> bool {
 fn analysis_config(args: &Args) -> AnalysisConfig {
     AnalysisConfig {
         frame_rate_hz: args.frame_rate,
-        f0_min_hz: args.f0_min,
-        f0_max_hz: args.f0_max,
+        f0_min_hz: args.f0_min as f32,
+        f0_max_hz: args.f0_max as f32,
         // Two periods of the lowest f0, at least the default 40 ms.
-        window_s: AnalysisConfig::default().window_s.max(2.0 / args.f0_min),
+        window_s: AnalysisConfig::default()
+            .window_s
+            .max(2.0 / args.f0_min as f32),
         ..Default::default()
     }
 }

@@ -30,7 +30,7 @@ pub struct BvhArgs {
     pub bvh: bool,
     /// Frames per second of the BVH (help text: `fps_help`).
     #[arg(long, value_name = "FPS", help = fps_help(), value_parser = crate::options::number)]
-    pub bvh_fps: Option<f32>,
+    pub bvh_fps: Option<f64>,
 }
 
 impl BvhArgs {
@@ -44,8 +44,8 @@ impl BvhArgs {
     pub fn fps(&self) -> Result<Option<f64>, String> {
         self.bvh_fps
             .map(|fps| {
-                crate::options::check_range("--bvh-fps", fps, MIN_BVH_FPS, MAX_BVH_FPS, "fps")
-                    .map(|()| f64::from(fps))
+                let (min, max) = (f64::from(MIN_BVH_FPS), f64::from(MAX_BVH_FPS));
+                crate::options::check_range("--bvh-fps", fps, min, max, "fps").map(|()| fps)
             })
             .transpose()
     }

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use pneuma_core::settings::{analysis, breathing, output, placement, Setting, SettingError, Unit};
+use pneuma_io::capped::HEAD_MODEL_MAX_BYTES;
 
 /// A command-line option that gives one setting of core's table
 /// ([`pneuma_core::settings`]), typed in `unit` (`--min-pause-ms` gives `min_pause_s` in
@@ -187,16 +188,17 @@ pub fn render_for(flags: &[&SettingFlag], error: &SettingError) -> String {
 }
 
 /// Parses a number as typed or pasted: the Unicode minus (U+2212, as printed by some
-/// documents) is taken as `-`. For clap's `value_parser`.
-pub fn number(s: &str) -> Result<f32, String> {
+/// documents) is taken as `-`. For clap's `value_parser`; `f64`, so that a range check sees the
+/// value as typed (`-5.9999999` would be `-6.0` as an `f32`).
+pub fn number(s: &str) -> Result<f64, String> {
     let ascii = s.trim().replace('\u{2212}', "-");
     ascii
-        .parse::<f32>()
+        .parse::<f64>()
         .map_err(|_| format!("`{s}` is not a number (write e.g. -22 or 0.5)"))
 }
 
 /// `Err` naming `option` when `value` lies outside `min..=max` (all in the option's `unit`).
-pub fn check_range(option: &str, value: f32, min: f32, max: f32, unit: &str) -> Result<(), String> {
+pub fn check_range(option: &str, value: f64, min: f64, max: f64, unit: &str) -> Result<(), String> {
     if value.is_finite() && (min..=max).contains(&value) {
         Ok(())
     } else {
@@ -285,12 +287,15 @@ pub fn describe_format(info: &pneuma_io::AudioInfo, lossless: bool) -> String {
     format!("{} Hz, {} ch{depth}", info.sample_rate_hz, info.channels)
 }
 
+/// What a head-pose model file is, for the size cap's message.
+const HEAD_MODEL_FILE: &str = "a head-pose model (JSON, as `pneuma train` writes)";
+
 /// The head-pose model from `path` (JSON), or the embedded default model when `None`.
 pub fn load_head_model(path: Option<&Path>) -> Result<pneuma_core::head::HeadModel, String> {
     match path {
         Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .map_err(|e| format!("--head-model {}: {e}", p.display()))?;
+            let text = pneuma_io::read_text_capped(p, HEAD_MODEL_MAX_BYTES, HEAD_MODEL_FILE)
+                .map_err(|e| format!("--head-model: {e}"))?;
             pneuma_core::head::HeadModel::from_json(&text)
                 .map_err(|e| format!("--head-model {}: {e}", p.display()))
         }
@@ -474,7 +479,7 @@ mod tests {
         assert!(check_range("--lookahead-ms", 300.0, 300.0, 2000.0, "ms").is_ok());
         let e = check_range("--lookahead-ms", 0.0, 300.0, 2000.0, "ms").unwrap_err();
         assert_eq!(e, "--lookahead-ms 0 ms is out of range: use 300 to 2000 ms");
-        assert!(check_range("--rate", f32::NAN, 0.5, 2.0, "").is_err());
+        assert!(check_range("--rate", f64::NAN, 0.5, 2.0, "").is_err());
     }
 
     #[test]

@@ -34,7 +34,8 @@ use thiserror::Error;
 use crate::options::{FRAME_RATE, LOUDNESS, RATE};
 use crate::output::{commit_all, Output, Staged};
 use crate::plot::{draw_png, PlotError};
-use pneuma_io::{read_mono, ReadError};
+use pneuma_io::capped::TEXT_MAX_BYTES;
+use pneuma_io::{read_mono, read_text_capped, CappedReadError, ReadError};
 
 /// Silence before the first breath, seconds.
 pub const LEAD_IN_S: f64 = 0.25;
@@ -76,11 +77,11 @@ pub struct Args {
     pub voice: Option<String>,
     /// Speaking-rate multiplier (the table's `prosody_rate`; default: the preset's).
     #[arg(long, help = RATE.help_with_default("the preset's"), value_parser = crate::options::number)]
-    pub rate: Option<f32>,
+    pub rate: Option<f64>,
     /// Speaking loudness (the table's `speaking_loudness`; default: the preset's); louder
     /// speech gets shorter breath groups (Equation 1) and a louder TTS.
     #[arg(long, help = LOUDNESS.help_with_default("the preset's"), value_parser = crate::options::number)]
-    pub loudness: Option<f32>,
+    pub loudness: Option<f64>,
     /// Seed of the breath sounds (the same default as `render`).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -134,14 +135,9 @@ pub enum SpeakError {
     /// No text given.
     #[error("no text to speak: give TEXT or --text-file FILE with some words in it")]
     NoText,
-    /// The text file cannot be read.
-    #[error("cannot read the text file {path}: {source}")]
-    TextFile {
-        /// The file.
-        path: PathBuf,
-        /// Why.
-        source: std::io::Error,
-    },
+    /// The text file cannot be read, is too large or is no text.
+    #[error("--text-file: {0}")]
+    TextFile(#[source] CappedReadError),
     /// Bad breathing settings.
     #[error(transparent)]
     Breathing(#[from] BreathingError),
@@ -252,20 +248,20 @@ fn plural(n: usize, one: &str, many: &str) -> String {
 /// The breathing parameters from the preset and the overrides, validated.
 pub fn params_from_args(args: &Args) -> Result<BreathingParams, SpeakError> {
     if let Some(r) = args.rate {
-        RATE.check(f64::from(r)).map_err(SpeakError::Option)?;
+        RATE.check(r).map_err(SpeakError::Option)?;
     }
     if let Some(l) = args.loudness {
-        LOUDNESS.check(f64::from(l)).map_err(SpeakError::Option)?;
+        LOUDNESS.check(l).map_err(SpeakError::Option)?;
     }
     FRAME_RATE
         .check(args.frame_rate)
         .map_err(SpeakError::Option)?;
     let mut p = Preset::from_name(&args.preset)?.params();
     if let Some(r) = args.rate {
-        p.prosody_rate = r;
+        p.prosody_rate = r as f32;
     }
     if let Some(l) = args.loudness {
-        p.speaking_loudness = l;
+        p.speaking_loudness = l as f32;
     }
     p.validate()?;
     Ok(p)
@@ -273,12 +269,8 @@ pub fn params_from_args(args: &Args) -> Result<BreathingParams, SpeakError> {
 
 fn text_from_args(args: &Args) -> Result<String, SpeakError> {
     let text = match (&args.text, &args.text_file) {
-        (_, Some(path)) => {
-            std::fs::read_to_string(path).map_err(|source| SpeakError::TextFile {
-                path: path.clone(),
-                source,
-            })?
-        }
+        (_, Some(path)) => read_text_capped(path, TEXT_MAX_BYTES, "a text to speak")
+            .map_err(SpeakError::TextFile)?,
         (Some(t), None) => t.clone(),
         (None, None) => String::new(),
     };

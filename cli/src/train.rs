@@ -109,7 +109,7 @@ pub fn run(
         ("--pose-components", args.pose_components, MAX_COMPONENTS),
         ("--restarts", args.restarts, MAX_RESTARTS),
     ] {
-        crate::options::check_range(option, value as f32, 1.0, max as f32, "")
+        crate::options::check_range(option, value as f64, 1.0, max as f64, "")
             .map_err(TrainCliError::Option)?;
     }
     let config = AnalysisConfig {
@@ -143,7 +143,7 @@ pub fn run(
 
 /// Runs `pneuma train`.
 pub fn main(args: Args) -> ExitCode {
-    let smoothing_ms = args.motion_smoothing_ms as f32;
+    let smoothing_ms = args.motion_smoothing_ms;
     if let Err(e) =
         crate::options::check_range("--motion-smoothing-ms", smoothing_ms, 0.0, 500.0, "ms")
     {

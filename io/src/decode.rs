@@ -344,6 +344,19 @@ impl DecodedSource {
         }
     }
 
+    /// An Ogg opened from the regular file at `path` that chains logical streams one after
+    /// another: the sum of their lengths ([`crate::ogg_length`]) replaces symphonia's, the length
+    /// of one. Call before reading; nothing changes for other formats or a single stream.
+    pub fn count_ogg_links(&mut self, path: &Path) {
+        if self.format != InputFormat::Ogg || self.frames_read > 0 {
+            return;
+        }
+        if let Some(frames) = crate::ogg_length::chained_frames(path) {
+            self.announced = (frames > 0).then_some(frames);
+            self.info.frames = frames;
+        }
+    }
+
     /// What the stream holds (`frames` is what the container announces, 0 if it does not).
     pub fn info(&self) -> AudioInfo {
         self.info

@@ -18,14 +18,19 @@
 //! (the CLI's `wav_input` tests hold these messages). Memory is bounded either way: both read
 //! block by block.
 //!
+//! Small user files read whole (a head-pose model, a text to speak, a motion CSV) go through the
+//! size cap in [`capped`].
+//!
 //! Everything here is free of the engine and of plugin-framework types; `pneuma-core` does not
 //! depend on it (the engine takes samples, not files).
 
+pub mod capped;
 pub mod decode;
 pub mod g711;
 mod le_bytes;
 mod mp3_length;
 pub mod mp4_edit;
+mod ogg_length;
 mod probe;
 pub mod wav;
 pub mod wav_meta;
@@ -36,6 +41,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 use wav::read_full;
 
+pub use capped::{read_text_capped, CappedReadError};
 pub use decode::{DecodeError, DecodedSource};
 pub use wav::{WavError, WavSource};
 pub use wav_meta::{CuePoint, FmtForm, WavMeta};
@@ -281,6 +287,7 @@ impl AudioSource {
             let source = DecodedSource::open(path, Box::new(file), format).map(|mut s| {
                 s.read_edit_list(path);
                 s.count_mp3_frames(path);
+                s.count_ogg_links(path);
                 s
             });
             return match (source, adpcm) {
@@ -299,7 +306,7 @@ impl AudioSource {
         }
         let mut source = Self::from_stream(path, head, file, file_len, format)?;
         if let (Self::Wav(s), Some(_)) = (&mut source, file_len) {
-            s.read_meta(path);
+            s.read_meta(path)?;
         }
         Ok(source)
     }

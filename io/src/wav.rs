@@ -17,12 +17,13 @@
 //! Chunks other than `fmt ` and `data` (`LIST`, `bext`, `iXML`, `fact`, `JUNK`, …) are skipped
 //! (a file's tags, cue points and `fmt ` form are read apart, [`crate::wav_meta`])
 //! with the RIFF pad byte after odd lengths; `fmt ` must come before `data`, and nothing after
-//! `data` is read. A data size of `0xFFFFFFFF`, sox's "unspecified" `0x7FFFF000` (when the file
-//! is shorter than that), or 0 with a RIFF size of 0 or `0xFFFFFFFF` is what ffmpeg or sox write
-//! to a pipe: the length is unknown and the data is read to the end of the file (a trailing
-//! partial frame is dropped). A data chunk that announces more sample frames than the file
-//! holds fails with [`WavError::Truncated`] when it is opened (from a pipe, whose length is not
-//! known, when its data runs out).
+//! `data` is read: a regular file with a second non-empty `data` chunk is refused
+//! ([`WavError::DataChunks`]; from a pipe it is not seen). A data size of `0xFFFFFFFF`, sox's
+//! "unspecified" `0x7FFFF000` (when the file is shorter than that), or 0 with a RIFF size of 0
+//! or `0xFFFFFFFF` is what ffmpeg or sox write to a pipe: the length is unknown and the data is
+//! read to the end of the file (a trailing partial frame is dropped). A data chunk that
+//! announces more sample frames than the file holds fails with [`WavError::Truncated`] when it
+//! is opened (from a pipe, whose length is not known, when its data runs out).
 //!
 //! Samples become f32 at full scale ±1: an integer sample `v` of a `b`-bit
 //! container becomes `v as f32 * (1 / 2^(b−1)) as f32` (8-bit: `(u − 128) / 128`), float samples
@@ -88,6 +89,15 @@ pub enum WavError {
         path: PathBuf,
         /// The rate found.
         rate_hz: u32,
+    },
+    /// A WAV file with more than one `data` chunk: the reader reads the first (as sox and
+    /// ffmpeg do), so the audio of the others would be lost.
+    #[error("{path} holds {count} data chunks; Pneuma reads one, and sox and ffmpeg read only the first too: export the recording again as one WAV file")]
+    DataChunks {
+        /// The file.
+        path: PathBuf,
+        /// How many non-empty `data` chunks it holds.
+        count: u32,
     },
     /// A well-formed WAV file without a single sample frame.
     #[error("{path} holds no audio: {detail}")]
@@ -293,7 +303,11 @@ impl WavSource {
         }
         // The length of a regular file; unknown for a pipe or device.
         let file_len = meta.filter(|m| m.is_file()).map(|m| m.len());
-        Self::from_stream(path, Box::new(file), file_len)
+        let mut source = Self::from_stream(path, Box::new(file), file_len)?;
+        if file_len.is_some() {
+            source.read_meta(path)?;
+        }
+        Ok(source)
     }
 
     /// Reads a WAV stream: `name` names it in errors (`-` for standard input), `file_len` is
@@ -322,9 +336,18 @@ impl WavSource {
         &self.meta
     }
 
-    /// Reads [`Self::meta`] from the regular file `path` this source reads.
-    pub(crate) fn read_meta(&mut self, path: &Path) {
-        *self.meta = crate::wav_meta::read(path);
+    /// Reads [`Self::meta`] from the regular file `path` this source reads; refuses a file with
+    /// more than one `data` chunk ([`WavError::DataChunks`]).
+    pub(crate) fn read_meta(&mut self, path: &Path) -> Result<(), WavError> {
+        let (meta, count) = crate::wav_meta::read_counting_data(path);
+        if count > 1 {
+            return Err(WavError::DataChunks {
+                path: path.to_owned(),
+                count,
+            });
+        }
+        *self.meta = meta;
+        Ok(())
     }
 
     /// Reads up to `max_frames` sample frames as interleaved f32 (full scale ±1) into `out`

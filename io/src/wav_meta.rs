@@ -5,7 +5,8 @@
 //! channel mask).
 //!
 //! Read apart from the samples ([`crate::WavSource`] streams and reads nothing after the data),
-//! by seeking from chunk to chunk of a regular file, before or after the data. Best effort: a
+//! by seeking from chunk to chunk of a regular file, before or after the data; the same walk
+//! counts the `data` chunks, so that a second one is refused rather than lost. Best effort: a
 //! chunk that is damaged or a file that ends early gives what was found before it (the reader
 //! of the samples reports damage).
 
@@ -57,15 +58,27 @@ const MAX_BODY: u32 = 16 << 20;
 
 /// Reads the tags, cue points and `fmt ` form of the WAV file at `path`.
 pub fn read(path: &Path) -> WavMeta {
-    let mut meta = WavMeta::default();
-    if let Ok(mut file) = File::open(path) {
-        let _ = scan(&mut file, &mut meta);
-    }
-    meta
+    read_counting_data(path).0
 }
 
-/// The chunks of `file` into `meta`; stops at the first one it cannot read.
-fn scan(file: &mut (impl Read + Seek), meta: &mut WavMeta) -> std::io::Result<()> {
+/// [`read`], and how many `data` chunks that hold a byte the file has (the sample reader reads
+/// the first; one after it would be lost).
+pub(crate) fn read_counting_data(path: &Path) -> (WavMeta, u32) {
+    let mut meta = WavMeta::default();
+    let mut data_chunks = 0;
+    if let Ok(mut file) = File::open(path) {
+        let _ = scan(&mut file, &mut meta, &mut data_chunks);
+    }
+    (meta, data_chunks)
+}
+
+/// The chunks of `file` into `meta`, counting its non-empty `data` chunks in `data_chunks`;
+/// stops at the first one it cannot read.
+fn scan(
+    file: &mut (impl Read + Seek),
+    meta: &mut WavMeta,
+    data_chunks: &mut u32,
+) -> std::io::Result<()> {
     let mut head = [0u8; 12];
     file.read_exact(&mut head)?;
     let rf64 = matches!(&head[..4], b"RF64" | b"BW64");
@@ -112,6 +125,7 @@ fn scan(file: &mut (impl Read + Seek), meta: &mut WavMeta) -> std::io::Result<()
                 len = 0;
             }
             b"data" => {
+                *data_chunks += u32::from(size != 0);
                 if rf64 && size == u32::MAX {
                     len = data_size_64.unwrap_or(u64::MAX);
                     pad = len & 1;
@@ -290,7 +304,7 @@ mod tests {
             f.extend_from_slice(c);
         }
         let mut meta = WavMeta::default();
-        let _ = scan(&mut Cursor::new(f), &mut meta);
+        let _ = scan(&mut Cursor::new(f), &mut meta, &mut 0);
         meta
     }
 
@@ -363,5 +377,47 @@ mod tests {
                 label: "first".into(),
             }]
         );
+    }
+
+    #[test]
+    fn a_wav_file_with_two_data_chunks_is_refused_rather_than_half_read() {
+        let data = |v: i16| chunk(b"data", &[v.to_le_bytes(); 800].concat());
+        let mut body = b"WAVE".to_vec();
+        // An empty data chunk after the two loses nothing and is not counted.
+        for c in [
+            fmt_pcm16_mono(),
+            data(1000),
+            data(-1000),
+            chunk(b"data", &[]),
+        ] {
+            body.extend_from_slice(&c);
+        }
+        let mut file = b"RIFF".to_vec();
+        file.extend_from_slice(&(body.len() as u32).to_le_bytes());
+        file.extend_from_slice(&body);
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("two.wav");
+        std::fs::write(&path, &file).expect("write");
+        let want = format!(
+            "{} holds 2 data chunks; Pneuma reads one, and sox and ffmpeg read only the first \
+             too: export the recording again as one WAV file",
+            path.display()
+        );
+        let Err(e) = crate::AudioSource::open(&path) else {
+            panic!("two data chunks read")
+        };
+        assert_eq!(e.to_string(), want);
+        let Err(e) = crate::WavSource::open(&path) else {
+            panic!("two data chunks read")
+        };
+        assert!(
+            matches!(e, crate::WavError::DataChunks { count: 2, .. }),
+            "{e}"
+        );
+        // One data chunk (and an empty one after it) reads as before.
+        let one = [&file[..12 + 24 + 8 + 1600], &chunk(b"data", &[])].concat();
+        std::fs::write(&path, one).expect("write");
+        let (samples, _) = crate::read_mono(&path).expect("one data chunk");
+        assert_eq!(samples.len(), 800);
     }
 }

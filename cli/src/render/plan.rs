@@ -79,11 +79,11 @@ pub struct Args {
     pub preset: String,
     /// Breath level relative to the speech level, dB (help, range, default: the table's
     /// `breath_level_db`).
-    #[arg(long, conflicts_with = "no_breaths", help = BREATH_LEVEL.help(), default_value_t = BREATH_LEVEL.default_value() as f32, allow_hyphen_values = true, value_parser = crate::options::number)]
-    pub breath_level_db: f32,
+    #[arg(long, conflicts_with = "no_breaths", help = BREATH_LEVEL.help(), default_value_t = BREATH_LEVEL.default_value(), allow_hyphen_values = true, value_parser = crate::options::number)]
+    pub breath_level_db: f64,
     /// Shortest pause that gets a full breath, ms (the table's `min_pause_s`).
-    #[arg(long, help = MIN_PAUSE.help(), default_value_t = MIN_PAUSE.default_value() as f32, value_parser = crate::options::number)]
-    pub min_pause_ms: f32,
+    #[arg(long, help = MIN_PAUSE.help(), default_value_t = MIN_PAUSE.default_value(), value_parser = crate::options::number)]
+    pub min_pause_ms: f64,
     /// Placement: `lookahead` or `live` (the table's `mode`).
     #[arg(long, help = MODE.help(), default_value = MODE.setting.names()[MODE.setting.default as usize], value_parser = clap::builder::PossibleValuesParser::new(MODE.setting.names()))]
     pub mode: String,
@@ -91,7 +91,7 @@ pub struct Args {
     /// with that lookahead. Without it the render looks seconds ahead (the engine's whole-file
     /// lookahead).
     #[arg(long, help = LOOKAHEAD.help_with_default(&format!("none: the render looks seconds ahead, the engine's whole-file lookahead; the plugin's is {}", LOOKAHEAD.setting.default_text(LOOKAHEAD.unit))), value_parser = crate::options::number)]
-    pub lookahead_ms: Option<f32>,
+    pub lookahead_ms: Option<f64>,
     /// Do not insert breaths (controls only; the audio samples are written unchanged, with the
     /// tags and cue points any render carries, not the input's other chunks such as bext).
     #[arg(long)]
@@ -176,10 +176,10 @@ impl Args {
             c.set_value(flag.setting, v)
                 .map_err(|e| RenderError::Input(render_for(&SETTING_FLAGS, &e)))
         };
-        set(&BREATH_LEVEL, f64::from(self.breath_level_db))?;
-        set(&MIN_PAUSE, f64::from(self.min_pause_ms))?;
+        set(&BREATH_LEVEL, self.breath_level_db)?;
+        set(&MIN_PAUSE, self.min_pause_ms)?;
         if let Some(ms) = self.lookahead_ms {
-            set(&LOOKAHEAD, f64::from(ms))?;
+            set(&LOOKAHEAD, ms)?;
         }
         set(&FRAME_RATE, self.frame_rate)?;
         let mode = MODE

@@ -27,19 +27,6 @@ fn episode(dir: &Path) -> std::path::PathBuf {
     input
 }
 
-/// A BVH file's `Frames:` count and `Frame Time:` in seconds.
-fn bvh_timing(path: &Path) -> (u64, f64) {
-    let text = std::fs::read_to_string(path).expect("the BVH is written");
-    let value = |key: &str| {
-        let line = text.lines().find(|l| l.starts_with(key)).expect(key);
-        line[key.len()..].trim().to_owned()
-    };
-    (
-        value("Frames:").parse().expect("frames"),
-        value("Frame Time:").parse().expect("frame time"),
-    )
-}
-
 #[test]
 fn bvh_fps_alone_writes_the_bvh_at_that_rate_and_keeps_an_earlier_one() {
     let dir = tempfile::tempdir().expect("temp");
@@ -48,7 +35,7 @@ fn bvh_fps_alone_writes_the_bvh_at_that_rate_and_keeps_an_earlier_one() {
     render_ok(&input, &out, &["--bvh"]);
     let err = render_ok(&input, &out, &["--bvh-fps", "24"]);
     assert!(!err.contains("removed"), "{err}");
-    let (frames, frame_time_s) = bvh_timing(&out.join("ep.bvh"));
+    let (frames, frame_time_s) = support::bvh_timing(&out.join("ep.bvh"));
     assert!((frame_time_s - 1.0 / 24.0).abs() < 1e-6, "{frame_time_s}");
     // One frame per 1/24 s over the audio's length.
     let length_s = two_phrases().len() as f64 / 16_000.0;
@@ -75,7 +62,7 @@ fn speak_takes_bvh_fps_and_it_turns_the_bvh_on() {
         "--no-plot",
         "-q",
     ]));
-    let (frames, frame_time_s) = bvh_timing(&dir.path().join("speech.bvh"));
+    let (frames, frame_time_s) = support::bvh_timing(&dir.path().join("speech.bvh"));
     assert!((frame_time_s - 1.0 / 30.0).abs() < 1e-6, "{frame_time_s}");
     assert!(frames > 30, "{frames} frames");
 }

@@ -46,8 +46,8 @@ fn a_vbr_mp3_without_a_xing_frame_renders_and_analyzes_whole() {
 }
 
 #[test]
-fn a_chained_ogg_file_renders_every_stream() {
-    if !have_ffmpeg("a_chained_ogg_file_renders_every_stream") {
+fn a_chained_ogg_file_renders_every_stream_in_every_output() {
+    if !have_ffmpeg("a_chained_ogg_file_renders_every_stream_in_every_output") {
         return;
     }
     let dir = tempfile::tempdir().expect("temp dir");
@@ -57,12 +57,30 @@ fn a_chained_ogg_file_renders_every_stream() {
     let chained = dir.path().join("chained.ogg");
     std::fs::write(&chained, [once.clone(), once].concat()).expect("write");
     let out = dir.path().join("out");
-    assert_ok(&render(&chained, &out, &["--no-plot"]));
+    assert_ok(&render(&chained, &out, &["--no-plot", "--bvh", "--midi"]));
     let (one_s, both_s) = (duration_s(&ogg), duration_s(&out.join("chained.flac")));
     assert!(
         (both_s - 2.0 * one_s).abs() < 0.05,
         "{both_s} s of 2 × {one_s} s"
     );
+    // The side outputs run as long: the BVH's header count is the length the input announces.
+    let (frames, frame_s) = support::bvh_timing(&out.join("chained.bvh"));
+    let bvh_s = frames as f64 * frame_s;
+    assert!((bvh_s - both_s).abs() < 0.05, "BVH {bvh_s} s of {both_s} s");
+    let csv = std::fs::read_to_string(out.join("chained.controls.csv")).expect("controls");
+    let last = csv.lines().last().and_then(|l| l.split(',').next());
+    let csv_s: f64 = last.and_then(|t| t.parse().ok()).expect("a time");
+    assert!(
+        (csv_s - both_s).abs() < 0.05,
+        "controls {csv_s} s of {both_s} s"
+    );
+    if let Some(python) =
+        support::python_tools("a_chained_ogg_file_renders_every_stream_in_every_output")
+    {
+        let (_, ccs) = support::read_midi(&python, &out.join("chained.mid"));
+        let midi_s = ccs.last().map_or(0.0, |c| c.0);
+        assert!(midi_s > both_s - 1.0, "MIDI to {midi_s} s of {both_s} s");
+    }
 }
 
 /// A 10-minute 16 kHz WAV at `path`: long enough for a debug render to be stopped midway.
@@ -186,4 +204,126 @@ fn samples_that_are_not_numbers_are_said_and_never_called_zero() {
     assert!(err.contains("16000 samples are not numbers"), "{err}");
     assert!(err.contains("written as 0"), "{err}");
     assert!(!err.contains("every sample is zero"), "{err}");
+}
+
+/// A file of `len_bytes` zero bytes at `path`, sparse where the file system allows.
+fn zero_file(path: &Path, len_bytes: u64) {
+    std::fs::File::create(path)
+        .and_then(|f| f.set_len(len_bytes))
+        .expect("zero file");
+}
+
+#[test]
+fn a_model_or_text_file_past_its_size_limit_is_refused_by_name() {
+    const MIB: u64 = 1024 * 1024;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (model, text) = (dir.path().join("big.json"), dir.path().join("big.txt"));
+    zero_file(&model, 16 * MIB + 1);
+    zero_file(&text, 16 * MIB + 1);
+    let data = dir.path().join("data");
+    std::fs::create_dir(&data).expect("data folder");
+    std::fs::copy(example_voice_path(), data.join("clip.wav")).expect("copy");
+    zero_file(&data.join("clip.head.csv"), 256 * MIB + 1);
+    let voice = example_voice_path();
+    let out = dir.path().join("out");
+    let (voice, out_s) = (voice.to_str().unwrap(), out.to_str().unwrap());
+    let cases: [(&[&str], String); 3] = [
+        (
+            &[
+                "render",
+                voice,
+                "-o",
+                out_s,
+                "--head-model",
+                model.to_str().unwrap(),
+            ],
+            format!(
+                "--head-model: {} is larger than 16 MiB, the limit for a head-pose model (JSON, \
+                 as `pneuma train` writes)",
+                model.display()
+            ),
+        ),
+        (
+            &["speak", "--text-file", text.to_str().unwrap(), "-o", out_s],
+            format!(
+                "--text-file: {} is larger than 16 MiB, the limit for a text to speak",
+                text.display()
+            ),
+        ),
+        (
+            &["train", "--data", data.to_str().unwrap(), "-o", out_s],
+            "clip.head.csv is larger than 256 MiB, the limit for a head-motion CSV".into(),
+        ),
+    ];
+    for (args, want) in cases {
+        let o = pneuma(args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{args:?}: {err}");
+        assert!(err.contains(&want), "{args:?}: {err}");
+    }
+    assert!(!out.exists(), "a refused run wrote {}", out.display());
+}
+
+#[cfg(unix)]
+#[test]
+fn an_endless_head_model_is_refused_without_filling_memory() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let voice = example_voice_path();
+    let out = dir.path().join("out");
+    // 4 GB of address space: ample for a render, and without the cap the read of /dev/zero
+    // fails here instead of taking the machine's memory.
+    let o = std::process::Command::new("sh")
+        .args(["-c", "ulimit -v 4000000 && exec \"$0\" \"$@\""])
+        .arg(env!("CARGO_BIN_EXE_pneuma"))
+        .args([
+            "render",
+            voice.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .args(["--head-model", "/dev/zero"])
+        .output()
+        .expect("sh runs");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("--head-model: /dev/zero is larger than 16 MiB"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_value_just_past_a_range_end_is_refused_as_typed() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let voice = example_voice_path();
+    let out = dir.path().join("out");
+    let (voice, out_s) = (voice.to_str().unwrap(), out.to_str().unwrap());
+    // Each is the range's end once narrowed to an f32, as the options were parsed before.
+    let cases: [(&[&str], &str); 3] = [
+        (
+            &["render", voice, "-o", out_s, "--breath-level-db=-5.9999999"],
+            "--breath-level-db -5.9999999 dB is out of range: use -40 to -6 dB",
+        ),
+        (
+            &[
+                "render",
+                voice,
+                "-o",
+                out_s,
+                "--breath-level-db=-40.0000001",
+            ],
+            "--breath-level-db -40.0000001 dB is out of range: use -40 to -6 dB",
+        ),
+        (
+            &["speak", "Hi.", "-o", out_s, "--rate", "2.0000001"],
+            "--rate 2.0000001 is out of range: use 0.5 to 2",
+        ),
+    ];
+    for (args, want) in cases {
+        let o = pneuma(args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    assert!(!out.exists(), "a refused run wrote {}", out.display());
 }

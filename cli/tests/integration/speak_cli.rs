@@ -165,7 +165,7 @@ fn bad_input_gets_clear_errors() {
         ),
         (
             &["speak", "--text-file", "/nonexistent/x.txt"],
-            "cannot read the text file",
+            "--text-file: cannot read /nonexistent/x.txt",
         ),
     ];
     for (args, want) in cases {

@@ -159,13 +159,28 @@ pub enum SettingError {
     Unknown(String),
 }
 
+/// A range end as it is written in the table: the value of an `f32` end (`0.1` is held as
+/// 0.10000000149…) at the 7 significant digits an `f32` keeps.
+fn written(end: f64) -> f64 {
+    if end == 0.0 || !end.is_finite() {
+        return end;
+    }
+    let scale = 10f64.powi(6 - end.abs().log10().floor() as i32);
+    (end * scale).round() / scale
+}
+
 /// A number as people read it: `300`, `0.015`, `-22`, to 6 significant digits (settings are
 /// held as `f32`, whose noise beyond that a unit conversion would show).
 pub fn show_number(value: f64) -> String {
+    show_digits(value, 6)
+}
+
+/// `value` to `digits` significant digits, trailing zeros dropped.
+fn show_digits(value: f64, digits: i32) -> String {
     if value == 0.0 || !value.is_finite() {
         return format!("{}", if value == 0.0 { 0.0 } else { value });
     }
-    let decimals = (5 - value.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    let decimals = (digits - 1 - value.abs().log10().floor() as i32).clamp(0, 15) as usize;
     let text = format!("{value:.decimals$}");
     let text = if text.contains('.') {
         text.trim_end_matches('0').trim_end_matches('.')
@@ -196,9 +211,14 @@ impl SettingError {
                 let because = relation.map_or(String::new(), |r| {
                     format!(" ({} {})", r.words, name(r.other).0)
                 });
+                // A value just past an end is shown to the digits that tell it from the end.
+                let ends = [min, max].map(|e| show_number(e * scale));
+                let mut shown = show_number(value * scale);
+                if ends.contains(&shown) {
+                    shown = show_digits(value * scale, 12);
+                }
                 format!(
-                    "{label} {}{} is out of range: use {}{because}",
-                    show_number(value * scale),
+                    "{label} {shown}{} is out of range: use {}{because}",
                     unit.suffix(),
                     setting.range_text_within(*min, *max, unit)
                 )
@@ -253,8 +273,9 @@ impl Setting {
     }
 
     /// `Ok` when `value` is one the setting takes: its off value, or a finite value in the
-    /// range (compared at the `f32` precision settings are held in; whole for integers,
-    /// switches and choices).
+    /// range (whole for integers, switches and choices). A value that is an `f32` (held in a
+    /// config) is compared with the ends as `f32`s; any other as typed, before any narrowing,
+    /// with the ends as written: `-5.9999999` is past `-6` although it is `-6.0` as an `f32`.
     pub fn check(&'static self, value: f64) -> Result<(), SettingError> {
         self.check_within(value, self.min(), self.max(), None)
     }
@@ -272,9 +293,19 @@ impl Setting {
             return Ok(());
         }
         let whole = !matches!(self.kind, Kind::Number { .. });
-        let v = value as f32;
-        let inside =
-            v.is_finite() && v >= min as f32 && v <= max as f32 && (!whole || value.fract() == 0.0);
+        // A value held as an `f32` (a config field, a plugin parameter) is checked against the
+        // ends held so; any other against the ends as written.
+        let (min, max) = if f64::from(value as f32) == value {
+            (f64::from(min as f32), f64::from(max as f32))
+        } else {
+            (written(min), written(max))
+        };
+        // What a unit conversion adds (`700 ms` × 0.001 is 0.7000000000000001 s), and no more.
+        let slack = 1e-12 * min.abs().max(max.abs());
+        let inside = value.is_finite()
+            && value >= min - slack
+            && value <= max + slack
+            && (!whole || value.fract() == 0.0);
         if inside {
             Ok(())
         } else {
@@ -541,6 +572,47 @@ mod tests {
             (1234.5, "1234.5"),
         ] {
             assert_eq!(show_number(x), text, "{x}");
+        }
+    }
+
+    #[test]
+    fn a_value_just_past_an_end_is_refused_though_it_is_the_end_as_an_f32() {
+        use crate::settings::placement::BREATH_LEVEL_DB;
+        for (text, shown) in [("-5.9999999", "-5.9999999"), ("-40.0000001", "-40.0000001")] {
+            assert_eq!(
+                (text.parse::<f64>().unwrap() as f32),
+                text.parse::<f32>().unwrap()
+            );
+            let e = BREATH_LEVEL_DB.parse(text).unwrap_err();
+            assert_eq!(
+                e.to_string(),
+                format!("breath_level_db {shown} dB is out of range: use -40 to -6 dB")
+            );
+        }
+        assert!(
+            BREATH_LEVEL_DB.parse("-6.0000001").is_ok(),
+            "inside the range"
+        );
+        let e = MIN_PAUSE_S
+            .parse_in("2000.0001", Unit::Milliseconds)
+            .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "min_pause_s 2.0000001 s is out of range: use 0.1 to 2 s"
+        );
+        // Every end of the table, typed in its own unit or in milliseconds, is in range.
+        let numbers = crate::settings::table::all()
+            .filter(|s| matches!(s.kind, Kind::Number { .. } | Kind::Integer { .. }));
+        for s in numbers {
+            for end in [s.min(), s.max()] {
+                let typed = show_number(end);
+                assert!(s.parse(&typed).is_ok(), "{} {typed}", s.id);
+                if s.unit == Unit::Seconds {
+                    let ms = show_number(end * 1000.0);
+                    let got = s.parse_in(&ms, Unit::Milliseconds);
+                    assert!(got.is_ok(), "{} {ms} ms", s.id);
+                }
+            }
         }
     }
 }

@@ -44,6 +44,9 @@ pub enum DataError {
         /// Which files lack their partner, or that the folder has neither kind.
         unmatched: String,
     },
+    /// A head CSV cannot be read, is too large or is no text.
+    #[error(transparent)]
+    MotionFile(#[from] pneuma_io::CappedReadError),
     /// A head CSV is malformed.
     #[error("{path} line {line}: {reason} (expected header time_s,pitch_deg,yaw_deg,roll_deg and numeric rows)")]
     Csv {

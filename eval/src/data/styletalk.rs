@@ -6,16 +6,14 @@ use std::path::Path;
 
 use pneuma_core::head::{MotionTrack, TrainingClip};
 use pneuma_core::AnalysisConfig;
+use pneuma_io::capped::{read_text_capped, MOTION_CSV_MAX_BYTES};
 
 use super::{analyse_file, DataError};
 
 /// Reads a head-motion CSV (`time_s,pitch_deg,yaw_deg,roll_deg`) into (roll, pitch, yaw).
 pub fn read_head_csv(path: &Path) -> Result<MotionTrack, DataError> {
-    let text = std::fs::read_to_string(path).map_err(|e| DataError::Csv {
-        path: path.into(),
-        line: 0,
-        reason: e.to_string(),
-    })?;
+    let what = "a head-motion CSV (time_s,pitch_deg,yaw_deg,roll_deg)";
+    let text = read_text_capped(path, MOTION_CSV_MAX_BYTES, what).map_err(DataError::MotionFile)?;
     let csv_err = |line: usize, reason: String| DataError::Csv {
         path: path.into(),
         line,

@@ -35,7 +35,8 @@ use pneuma_core::head::targets::{
 use pneuma_core::head::train::{synthesize_clip, TrainConfig};
 use pneuma_core::head::{HeadConfig, HeadModel, TrainingClip, UnvoicedBehaviour, Variant};
 use pneuma_core::{AnalysisConfig, FeatureFrame};
-use pneuma_io::read_mono;
+use pneuma_io::capped::HEAD_MODEL_MAX_BYTES;
+use pneuma_io::{read_mono, read_text_capped};
 
 use crate::data::styletalk::load_clips;
 use crate::data::{analyse_file, wav_files};
@@ -90,8 +91,9 @@ pub struct HeadArgs {
 fn load_model(path: Option<&Path>) -> Result<HeadModel, String> {
     match path {
         Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .map_err(|e| format!("cannot read the model {}: {e}", p.display()))?;
+            let what = "a head-pose model (JSON, as `pneuma train` writes)";
+            let text =
+                read_text_capped(p, HEAD_MODEL_MAX_BYTES, what).map_err(|e| e.to_string())?;
             HeadModel::from_json(&text).map_err(|e| format!("{}: {e}", p.display()))
         }
         None => Ok(HeadModel::default_model().clone()),

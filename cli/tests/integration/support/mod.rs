@@ -208,6 +208,19 @@ pub fn breaths_csv(path: &Path) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// A BVH file's `Frames:` count and `Frame Time:` in seconds.
+pub fn bvh_timing(path: &Path) -> (u64, f64) {
+    let text = std::fs::read_to_string(path).expect("the BVH is written");
+    let value = |key: &str| {
+        let line = text.lines().find(|l| l.starts_with(key)).expect(key);
+        line[key.len()..].trim().to_owned()
+    };
+    (
+        value("Frames:").parse().expect("frames"),
+        value("Frame Time:").parse().expect("frame time"),
+    )
+}
+
 /// A Python with the independent readers the tests use (`mido` for MIDI files, `bvh` for BVH):
 /// `PNEUMA_PYTHON_TOOLS`, else the venv `.ci/run` makes (`target/cli-venv`). `None` skips the
 /// test visibly, except under CI=true, where it fails.
