@@ -726,8 +726,9 @@ impl Stream {
         // 4–5. Breaths and control frames are carried out up to the sample that completes each
         // frame before the frame is heard, the rest after it: whatever the block partition,
         // a frame's events meet the breath playing and the actions scheduled as of its own
-        // sample, and a frame is emitted after the events of every frame completed before it
-        // and of none after (live mode emits a frame in the block that completes it).
+        // sample, and a frame is emitted after the events of every frame completed by its
+        // emission sample and of none after (live mode emits a frame at the sample that
+        // completes it).
         // The speech decision hears the samples that complete each frame, then the frame.
         // A replayed stream learns nothing as it goes: the learning pass heard the speech
         // that colours a voice (see `Engine::replay_analysis`).

@@ -136,6 +136,63 @@ fn parameters_carry_the_promised_ids() {
     assert!(v != info.default, "osc_port changed from its default");
 }
 
+/// Asserts two runs gave the same audio bit for bit and the same CC events at the same absolute
+/// samples (their offsets depend on the block boundaries); `what` names the run.
+fn assert_same_output(
+    (out, events): (&[f32], &[CcEvent]),
+    (ref_out, ref_events): &(Vec<f32>, Vec<CcEvent>),
+    what: &str,
+) {
+    assert!(
+        out.len() == ref_out.len()
+            && out
+                .iter()
+                .zip(ref_out)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+        "audio differs with {what}"
+    );
+    let key = |e: &CcEvent| (e.sample, e.channel, e.controller, e.value);
+    let first_diff = events
+        .iter()
+        .zip(ref_events)
+        .position(|(a, b)| key(a) != key(b));
+    assert!(
+        first_diff.is_none() && events.len() == ref_events.len(),
+        "CC events differ with {what}: {} vs {} events, first difference at {first_diff:?}: \
+         {:?} vs {:?}",
+        events.len(),
+        ref_events.len(),
+        first_diff.map(|i| events[i]),
+        first_diff.map(|i| ref_events[i]),
+    );
+}
+
+/// Live mode (no latency: a control frame goes out in the block that completes it) gives the
+/// same audio and CC events in any block partition too.
+#[test]
+fn live_mode_gives_the_same_output_in_any_block_partition() {
+    let rate = 48_000.0;
+    let voice = example_voice_at(48_000);
+    let voice = &voice[..48_000 * 10];
+    let mut reference: Option<(Vec<f32>, Vec<CcEvent>)> = None;
+    for (pattern, seed) in [(512, 0), (37, 0), (0, 7)] {
+        let mut plugin = load();
+        plugin.set_param("mode", "Live").unwrap();
+        plugin.activate(rate, 512, 1).unwrap();
+        assert_eq!(plugin.latency(), 0, "live mode from the activation");
+        let (out, events) = run(&mut plugin, voice, &block_sizes(voice.len(), pattern, seed));
+        assert!(!events.is_empty(), "live mode sends CC");
+        match &reference {
+            None => reference = Some((out, events)),
+            Some(r) => assert_same_output(
+                (&out, &events),
+                r,
+                &format!("live mode, blocks of {pattern} (seed {seed})"),
+            ),
+        }
+    }
+}
+
 #[test]
 fn the_example_voice_gives_the_same_output_in_any_block_partition_at_44k_and_48k() {
     for rate in [44_100.0, 48_000.0] {
@@ -150,30 +207,11 @@ fn the_example_voice_gives_the_same_output_in_any_block_partition_at_44k_and_48k
             check_cc_stream(&events, rate);
             match &reference {
                 None => reference = Some((out, events)),
-                Some((ref_out, ref_events)) => {
-                    assert!(
-                        out.iter()
-                            .zip(ref_out)
-                            .all(|(a, b)| a.to_bits() == b.to_bits()),
-                        "audio differs with blocks of {pattern} (seed {seed}) at {rate} Hz"
-                    );
-                    // The same absolute sample, controller and value (offsets depend on the
-                    // block boundaries).
-                    let key = |e: &CcEvent| (e.sample, e.channel, e.controller, e.value);
-                    let first_diff = events
-                        .iter()
-                        .zip(ref_events)
-                        .position(|(a, b)| key(a) != key(b));
-                    assert!(
-                        first_diff.is_none() && events.len() == ref_events.len(),
-                        "CC events differ with blocks of {pattern} (seed {seed}) at {rate} Hz: \
-                         {} vs {} events, first difference at {first_diff:?}: {:?} vs {:?}",
-                        events.len(),
-                        ref_events.len(),
-                        first_diff.map(|i| events[i]),
-                        first_diff.map(|i| ref_events[i]),
-                    );
-                }
+                Some(r) => assert_same_output(
+                    (&out, &events),
+                    r,
+                    &format!("blocks of {pattern} (seed {seed}) at {rate} Hz"),
+                ),
             }
         }
         let (out, events) = reference.unwrap();
