@@ -33,6 +33,7 @@ pub mod mp4_edit;
 mod ogg_length;
 mod probe;
 pub mod wav;
+mod wav_error;
 pub mod wav_meta;
 
 use std::io::{Cursor, Read};

@@ -23,7 +23,10 @@
 //! or `0xFFFFFFFF` is what ffmpeg or sox write to a pipe: the length is unknown and the data is
 //! read to the end of the file (a trailing partial frame is dropped). A data chunk that
 //! announces more sample frames than the file holds fails with [`WavError::Truncated`] when it
-//! is opened (from a pipe, whose length is not known, when its data runs out).
+//! is opened (from a pipe, whose length is not known, when its data runs out); one that
+//! announces fewer than follow it in a regular file, no chunk after it (neither a chunk id nor
+//! zero padding), with [`WavError::Unannounced`] (a recorder stopped before it updated the
+//! header: the rest would be lost).
 //!
 //! Samples become f32 at full scale ±1: an integer sample `v` of a `b`-bit
 //! container becomes `v as f32 * (1 / 2^(b−1)) as f32` (8-bit: `(u − 128) / 128`), float samples
@@ -38,76 +41,12 @@ use std::io::{BufReader, Read};
 pub type ByteStream = Box<dyn Read + Send>;
 use std::path::{Path, PathBuf};
 
-use thiserror::Error;
-
 use crate::le_bytes::{u16_at, u32_at, u64_at};
 pub use crate::mix_to_mono;
 use crate::wav_meta::WavMeta;
 use crate::AudioInfo;
 
-/// Errors while reading a WAV file.
-#[derive(Debug, Error)]
-pub enum WavError {
-    /// The file could not be opened.
-    #[error("cannot open {path}: {source}")]
-    Open {
-        /// The file.
-        path: PathBuf,
-        /// The reason.
-        source: std::io::Error,
-    },
-    /// The file is not a WAV file or its header is damaged.
-    #[error("{path} is not a readable WAV file ({reason}); convert it to PCM WAV, e.g. `sox IN -b 16 OUT.wav`")]
-    Format {
-        /// The file.
-        path: PathBuf,
-        /// What is wrong with the header.
-        reason: String,
-    },
-    /// A sample format Pneuma does not read.
-    #[error("{path}: {what} is not supported; Pneuma reads 8/16/24/32-bit integer, 32-bit float, µ-law and A-law WAV, and IMA or Microsoft ADPCM WAV from a file (not from standard input): convert it, e.g. `sox IN -b 24 OUT.wav`")]
-    Unsupported {
-        /// The file.
-        path: PathBuf,
-        /// The format found.
-        what: String,
-    },
-    /// The data ends early or cannot be read.
-    #[error("{path} is damaged after {frames_read} sample frames ({reason}); re-export it, or keep what is there with `sox --ignore-length IN OUT.wav`")]
-    Truncated {
-        /// The file.
-        path: PathBuf,
-        /// Sample frames read before the damage.
-        frames_read: u64,
-        /// What went wrong.
-        reason: String,
-    },
-    /// The sample rate is outside what the engine supports.
-    #[error("{path} has a sample rate of {rate_hz} Hz; Pneuma supports 8000–192000 Hz: resample it (e.g. `sox IN -r 48000 OUT.wav`)")]
-    Rate {
-        /// The file.
-        path: PathBuf,
-        /// The rate found.
-        rate_hz: u32,
-    },
-    /// A WAV file with more than one `data` chunk: the reader reads the first (as sox and
-    /// ffmpeg do), so the audio of the others would be lost.
-    #[error("{path} holds {count} data chunks; Pneuma reads one, and sox and ffmpeg read only the first too: export the recording again as one WAV file")]
-    DataChunks {
-        /// The file.
-        path: PathBuf,
-        /// How many non-empty `data` chunks it holds.
-        count: u32,
-    },
-    /// A well-formed WAV file without a single sample frame.
-    #[error("{path} holds no audio: {detail}")]
-    Empty {
-        /// The file.
-        path: PathBuf,
-        /// What the header says, and what to do.
-        detail: String,
-    },
-}
+pub use crate::wav_error::WavError;
 
 /// What a WAV file holds (the name the CLI and xtask have used; the same type as
 /// [`AudioInfo`]).
@@ -339,13 +278,7 @@ impl WavSource {
     /// Reads [`Self::meta`] from the regular file `path` this source reads; refuses a file with
     /// more than one `data` chunk ([`WavError::DataChunks`]).
     pub(crate) fn read_meta(&mut self, path: &Path) -> Result<(), WavError> {
-        let (meta, count) = crate::wav_meta::read_counting_data(path);
-        if count > 1 {
-            return Err(WavError::DataChunks {
-                path: path.to_owned(),
-                count,
-            });
-        }
+        let meta = crate::wav_meta::read_checked(path, self.block_align, &self.info)?;
         *self.meta = meta;
         Ok(())
     }

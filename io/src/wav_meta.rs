@@ -16,6 +16,7 @@ use std::io::{Read, Seek, SeekFrom};
 use std::path::Path;
 
 use crate::le_bytes::{u16_at, u32_at, u64_at};
+use crate::wav_error::WavError;
 use crate::Tags;
 
 /// A cue point of a WAV file (an input's, or an output's): a marker, or a region when it has
@@ -61,23 +62,66 @@ pub fn read(path: &Path) -> WavMeta {
     read_counting_data(path).0
 }
 
-/// [`read`], and how many `data` chunks that hold a byte the file has (the sample reader reads
-/// the first; one after it would be lost).
-pub(crate) fn read_counting_data(path: &Path) -> (WavMeta, u32) {
-    let mut meta = WavMeta::default();
-    let mut data_chunks = 0;
-    if let Ok(mut file) = File::open(path) {
-        let _ = scan(&mut file, &mut meta, &mut data_chunks);
-    }
-    (meta, data_chunks)
+/// What the chunk walk found about a file's sample data beside its tags.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+struct DataFacts {
+    /// `data` chunks that hold a byte (the sample reader reads the first; one after it would
+    /// be lost).
+    chunks: u32,
+    /// Bytes from the end of the first `data` chunk (as its header announces it) to the end of
+    /// the file when what follows is no chunk (its id not text, and not zero padding): audio a
+    /// header left short, as a recorder that stopped before it updated the size leaves it.
+    unannounced_bytes: Option<u64>,
 }
 
-/// The chunks of `file` into `meta`, counting its non-empty `data` chunks in `data_chunks`;
+/// [`read`], and the [`DataFacts`].
+fn read_counting_data(path: &Path) -> (WavMeta, DataFacts) {
+    let mut meta = WavMeta::default();
+    let mut facts = DataFacts::default();
+    if let Ok(mut file) = File::open(path) {
+        let _ = scan(&mut file, &mut meta, &mut facts);
+    }
+    (meta, facts)
+}
+
+/// [`read`] for the sample reader of the file at `path` (`block_align` bytes per sample frame,
+/// `info` from its header): refuses a second `data` chunk ([`WavError::DataChunks`]) and audio
+/// past what the header announces ([`WavError::Unannounced`]), which it would lose.
+pub(crate) fn read_checked(
+    path: &Path,
+    block_align: usize,
+    info: &crate::AudioInfo,
+) -> Result<WavMeta, WavError> {
+    let (meta, facts) = read_counting_data(path);
+    if facts.chunks > 1 {
+        return Err(WavError::DataChunks {
+            path: path.to_owned(),
+            count: facts.chunks,
+        });
+    }
+    let frames = |bytes: u64| bytes / block_align.max(1) as u64;
+    if let Some(more) = facts.unannounced_bytes.map(frames).filter(|&n| n > 0) {
+        let rate = f64::from(info.sample_rate_hz);
+        return Err(WavError::Unannounced {
+            path: path.to_owned(),
+            announced_s: info.frames as f64 / rate,
+            more_s: more as f64 / rate,
+        });
+    }
+    Ok(meta)
+}
+
+/// A chunk id as files write them: four printable ASCII characters (`LIST`, `JUNK`, `id3 `).
+fn is_chunk_id(id: &[u8]) -> bool {
+    id.iter().all(|b| (b' '..=b'~').contains(b))
+}
+
+/// The chunks of `file` into `meta`, and the [`DataFacts`] into `facts`;
 /// stops at the first one it cannot read.
 fn scan(
     file: &mut (impl Read + Seek),
     meta: &mut WavMeta,
-    data_chunks: &mut u32,
+    facts: &mut DataFacts,
 ) -> std::io::Result<()> {
     let mut head = [0u8; 12];
     file.read_exact(&mut head)?;
@@ -86,6 +130,8 @@ fn scan(
         return Ok(());
     }
     let mut data_size_64 = None;
+    // The first data chunk was just passed (its size odd): what follows it is checked.
+    let mut after_data: Option<bool> = None;
     let mut ids: Vec<(u32, CuePoint)> = Vec::new();
     let mut labels: Vec<(u32, String)> = Vec::new();
     let mut lengths: Vec<(u32, u64)> = Vec::new();
@@ -93,6 +139,26 @@ fn scan(
         let mut ch = [0u8; 8];
         if file.read_exact(&mut ch).is_err() {
             break;
+        }
+        if let Some(odd) = after_data.take() {
+            if !is_chunk_id(&ch[..4]) {
+                // Right after the data, no chunk: nor one a writer that left out the odd
+                // data chunk's pad byte put a byte earlier, nor zero padding.
+                let at = file.stream_position()? - 8;
+                let mut early = [0u8; 4];
+                let unpadded = odd && {
+                    file.seek(SeekFrom::Start(at - 1))?;
+                    file.read_exact(&mut early).is_ok() && is_chunk_id(&early)
+                };
+                if unpadded {
+                    file.seek(SeekFrom::Start(at - 1))?;
+                    continue;
+                }
+                if ch != [0; 8] {
+                    facts.unannounced_bytes = Some(file.seek(SeekFrom::End(0))? - at);
+                }
+                break;
+            }
         }
         let size = u32::from_le_bytes([ch[4], ch[5], ch[6], ch[7]]);
         let id = &ch[..4];
@@ -125,7 +191,10 @@ fn scan(
                 len = 0;
             }
             b"data" => {
-                *data_chunks += u32::from(size != 0);
+                facts.chunks += u32::from(size != 0);
+                if facts.chunks == 1 && size != 0 {
+                    after_data = Some(size & 1 == 1);
+                }
                 if rf64 && size == u32::MAX {
                     len = data_size_64.unwrap_or(u64::MAX);
                     pad = len & 1;
@@ -304,7 +373,7 @@ mod tests {
             f.extend_from_slice(c);
         }
         let mut meta = WavMeta::default();
-        let _ = scan(&mut Cursor::new(f), &mut meta, &mut 0);
+        let _ = scan(&mut Cursor::new(f), &mut meta, &mut DataFacts::default());
         meta
     }
 
@@ -377,6 +446,65 @@ mod tests {
                 label: "first".into(),
             }]
         );
+    }
+
+    /// A RIFF file of `chunks` after `WAVE`, written to `dir/name`.
+    fn riff_file(dir: &Path, name: &str, chunks: &[&[u8]]) -> std::path::PathBuf {
+        let body = [&b"WAVE"[..], &chunks.concat()].concat();
+        let file = [&b"RIFF"[..], &(body.len() as u32).to_le_bytes(), &body].concat();
+        let path = dir.join(name);
+        std::fs::write(&path, file).expect("write");
+        path
+    }
+
+    #[test]
+    fn audio_past_a_data_chunk_that_announces_less_is_refused_rather_than_cut() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        // 1600 sample frames (0.2 s at 8 kHz), the header announcing 800 of them.
+        let samples: Vec<u8> = (0..1600i16)
+            .flat_map(|k| (k * 7 + 1).to_le_bytes())
+            .collect();
+        let short_head = [&b"data"[..], &1600u32.to_le_bytes()].concat();
+        let path = riff_file(
+            dir.path(),
+            "short.wav",
+            &[&fmt_pcm16_mono(), &short_head, &samples],
+        );
+        let Err(e) = crate::WavSource::open(&path) else {
+            panic!("half the audio read")
+        };
+        assert!(matches!(e, crate::WavError::Unannounced { .. }), "{e}");
+        let Err(e) = crate::AudioSource::open(&path) else {
+            panic!("half the audio read")
+        };
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "{}: its data chunk announces 0.1 s, yet 0.1 s more of audio follow it (the \
+                 header was not updated when the recording stopped); `sox --ignore-length IN \
+                 OUT.wav` recovers all of it",
+                path.display()
+            )
+        );
+        // What may follow the data: a chunk, zero padding, or a chunk a byte early where the
+        // writer left out an odd data chunk's pad byte.
+        let list = chunk(
+            b"LIST",
+            &[&b"INFO"[..], &chunk(b"INAM", b"title\0")].concat(),
+        );
+        let data = chunk(b"data", &samples);
+        for (name, after) in [("list.wav", list.clone()), ("zeros.wav", vec![0; 4096])] {
+            let path = riff_file(dir.path(), name, &[&fmt_pcm16_mono(), &data, &after]);
+            let (read, _) = crate::read_mono(&path).expect(name);
+            assert_eq!(read.len(), 1600, "{name}");
+        }
+        let mut fmt8 = fmt_pcm16_mono();
+        fmt8[8 + 12..8 + 16].copy_from_slice(&[1, 0, 8, 0]); // block align 1, 8 bits
+        let odd: Vec<u8> = (0..801u32).map(|k| 100 + (k % 50) as u8).collect();
+        let unpadded = [&b"data"[..], &801u32.to_le_bytes(), &odd, &list].concat();
+        let path = riff_file(dir.path(), "unpadded.wav", &[&fmt8, &unpadded]);
+        let (read, _) = crate::read_mono(&path).expect("an unpadded data chunk");
+        assert_eq!(read.len(), 801);
     }
 
     #[test]
