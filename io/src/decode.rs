@@ -330,30 +330,26 @@ impl DecodedSource {
         }
     }
 
-    /// An MP3 opened from the regular file at `path` whose first frame holds no frame count:
-    /// its frames are counted ([`crate::mp3_length`]) and the count replaces symphonia's guess
-    /// as the announced length. Call before reading; nothing changes for other formats.
-    pub fn count_mp3_frames(&mut self, path: &Path) {
-        if self.format != InputFormat::Mp3 || self.frames_read > 0 {
+    /// The length of a source opened from the regular file at `path`, counted where
+    /// symphonia's announced one is wrong (call before reading; nothing changes otherwise):
+    /// - an MP3 whose first frame holds no frame count: its frames are counted
+    ///   ([`crate::mp3_length`]) and the count replaces symphonia's guess;
+    /// - an Ogg that chains logical streams one after another: the sum of their lengths
+    ///   ([`crate::ogg_length`]) replaces symphonia's, the length of one.
+    pub fn count_frames(&mut self, path: &Path) {
+        if self.frames_read > 0 {
             return;
         }
-        if let Some(frames) = crate::mp3_length::counted_frames(path) {
+        let (counted, mp3) = match self.format {
+            InputFormat::Mp3 => (crate::mp3_length::counted_frames(path), true),
+            InputFormat::Ogg => (crate::ogg_length::chained_frames(path), false),
+            _ => return,
+        };
+        if let Some(frames) = counted {
             self.announced = (frames > 0).then_some(frames);
             self.info.frames = frames;
-            self.keep_packet_ends = true;
-        }
-    }
-
-    /// An Ogg opened from the regular file at `path` that chains logical streams one after
-    /// another: the sum of their lengths ([`crate::ogg_length`]) replaces symphonia's, the length
-    /// of one. Call before reading; nothing changes for other formats or a single stream.
-    pub fn count_ogg_links(&mut self, path: &Path) {
-        if self.format != InputFormat::Ogg || self.frames_read > 0 {
-            return;
-        }
-        if let Some(frames) = crate::ogg_length::chained_frames(path) {
-            self.announced = (frames > 0).then_some(frames);
-            self.info.frames = frames;
+            // An MP3 counted so is read to the last packet's end.
+            self.keep_packet_ends |= mp3;
         }
     }
 

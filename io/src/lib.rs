@@ -287,8 +287,7 @@ impl AudioSource {
             let file = std::fs::File::open(path).map_err(open_err)?;
             let source = DecodedSource::open(path, Box::new(file), format).map(|mut s| {
                 s.read_edit_list(path);
-                s.count_mp3_frames(path);
-                s.count_ogg_links(path);
+                s.count_frames(path);
                 s
             });
             return match (source, adpcm) {
