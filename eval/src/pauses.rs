@@ -27,7 +27,7 @@ use pneuma_core::AnalysisConfig;
 
 use crate::data::analyse;
 use crate::data::reference::{list_clips, read_reference, split_name};
-use crate::noise::with_noise;
+use crate::noise::{with_noise, Colour};
 use crate::stats::overlap_s;
 
 /// Shortest pause evaluated, seconds.
@@ -269,8 +269,8 @@ fn run(args: &[String]) -> Result<i32, String> {
     let voice_ref = zero_runs(&voice, voice_rate);
     let mut per_snr_voice: BTreeMap<u32, Counts> = BTreeMap::new();
     for snr_db in [40u32, 20, 10, 0] {
-        for (kind, brown) in [("white", false), ("brown", true)] {
-            let noisy = with_noise(&voice, snr_db as f64, brown, 7 + snr_db as u64);
+        for (kind, colour) in [("white", Colour::White), ("brown", Colour::Brown)] {
+            let noisy = with_noise(&voice, snr_db as f64, colour, 7 + snr_db as u64);
             let t = Instant::now();
             let detected = detect(&noisy, voice_rate, phrase)?;
             cpu_s += t.elapsed().as_secs_f64();

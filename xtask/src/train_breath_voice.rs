@@ -23,7 +23,7 @@ pub fn main(args: &[String]) -> i32 {
         keele_labels: root.join("assets/labels/keele_breaths.csv"),
     };
     let run = || -> Result<i32, String> {
-        let clips = load_all(&sets)?;
+        let clips = load_all(&sets, None)?;
         let voice = reference::fit(&clips).ok_or("no labelled breath to fit on")?;
         let text = serde_json::to_string_pretty(&voice).map_err(|e| e.to_string())? + "\n";
         let path = root.join(OUTPUT);

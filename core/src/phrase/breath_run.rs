@@ -3,12 +3,25 @@
 //! when a run starts at the phrase's offset, by rising over its lowest point, in the voice band or
 //! in the breath's own bands (a reverberant tail only falls; in a room whose hum carries the voice
 //! band's level a breath rises little there, as it adds little to it).
+//!
+//! Two runs are followed side by side: a *strict* one of frames over the breath margin, and a
+//! *held* one that starts as the strict one does but carries on through frames a few dB under
+//! it ([`BREATH_HOLD_DB`]). In a noisy room a breath a few dB over the room dips under the margin
+//! now and then, and its strict runs are too short to count. A pause's breath is its strict
+//! run; when none counts, its held run still marks a breath already there (nothing is inserted
+//! over it), but the breath voice does not learn from it: a held run's edges hold more room
+//! than breath.
 
 use super::facts::FrameFacts;
 
 /// How far a breath run's level must rise over its lowest point to be more than a reverberant
 /// tail when it starts at the phrase's offset, dB.
 const BREATH_RISE_DB: f32 = 3.0;
+
+/// How far under the breath margin a frame may fall and still carry on a breath run that has
+/// begun, dB: a breath a few dB over a noisy room dips under the margin now and then, and a run
+/// cut at every dip is never long enough to count.
+pub(super) const BREATH_HOLD_DB: f32 = 3.0;
 
 /// What makes a run a breath (from the tracker's settings).
 #[derive(Debug, Clone, Copy)]
@@ -46,22 +59,45 @@ impl BreathRun {
     /// A run counts as a breath when it has a breath's spectral shape (mean band balance
     /// within the limits) and does not only continue the phrase's decay: a reverberant tail
     /// falls from the offset on, an inhalation after it rises again.
-    fn counts(&self, rules: &BreathRules) -> bool {
+    /// A `held` run (see the module docs) never continues the decay: its dips would let a
+    /// tail's ripple pass for a rise.
+    fn counts(&self, rules: &BreathRules, held: bool) -> bool {
         let n = self.frames.max(1) as f32;
         let high = self.high_sum / n;
         let shaped =
             high <= rules.max_high_over_mid_db && self.low_sum / n <= rules.max_low_over_mid_db;
-        shaped && (!self.from_tail || self.rose)
+        shaped && (!self.from_tail || (self.rose && !held))
     }
 }
 
-/// The breath runs of the current pause: the one going on and the last one that counted.
+/// One kind of breath run of the current pause: the one going on and the last one that counted.
 #[derive(Debug, Clone, Copy, Default)]
-pub(super) struct PauseBreaths {
+struct RunTrack {
+    /// The held kind (see the module docs).
+    held: bool,
     run: BreathRun,
     /// The last breath run long enough to count, in this pause: frames (start, end), and its
     /// first blip if it spans one.
     counted: Option<((u64, u64), Option<u64>)>,
+}
+
+/// The breath runs of the current pause, strict and held (see the module docs).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct PauseBreaths {
+    strict: RunTrack,
+    held: RunTrack,
+}
+
+impl Default for PauseBreaths {
+    fn default() -> Self {
+        Self {
+            strict: RunTrack::default(),
+            held: RunTrack {
+                held: true,
+                ..RunTrack::default()
+            },
+        }
+    }
 }
 
 /// A breath heard in a pause, as frames (start, end).
@@ -75,32 +111,29 @@ pub(super) struct HeardRun {
     pub(super) clean: Option<(u64, u64)>,
 }
 
-impl PauseBreaths {
-    /// A new pause: nothing heard yet.
-    pub(super) fn restart(&mut self) {
+impl RunTrack {
+    fn restart(&mut self) {
         self.run.frames = 0;
         self.counted = None;
     }
 
-    /// An active frame at `index` (a candidate phrase starts on it): a run going on spans a blip
-    /// if it resumes after it.
-    pub(super) fn blip(&mut self, index: u64) {
+    fn blip(&mut self, index: u64) {
         if self.run.frames > 0 && self.run.blip.is_none() {
             self.run.blip = Some(index);
         }
     }
 
-    /// Takes frame `index` with its facts `f`; `last_offset` is the frame the pause began at
-    /// (`None` before the first phrase).
-    pub(super) fn track(
+    /// Takes frame `index` with its facts `f`; `loud` when its level carries this kind of run.
+    fn track(
         &mut self,
         index: u64,
         f: FrameFacts,
+        loud: bool,
         last_offset: Option<u64>,
         rules: &BreathRules,
     ) {
         let run = &mut self.run;
-        if f.breath_level && !f.voiced && !f.active {
+        if loud && !f.voiced && !f.active {
             if run.frames == 0 {
                 run.start = index;
                 run.from_tail = last_offset == Some(index);
@@ -126,36 +159,85 @@ impl PauseBreaths {
         }
     }
 
-    /// Ends the run going on (if any) before frame `index`: judged, and the pause's breath
-    /// when it counts. The tracker also ends it before a voiced run of active frames that died
-    /// in the pause (a word too short to confirm): breath heard again after such a word is a
-    /// new run, never one breath spanning the word.
-    pub(super) fn close(&mut self, index: u64, rules: &BreathRules) {
+    fn close(&mut self, index: u64, rules: &BreathRules) {
         let run = &mut self.run;
-        if run.frames >= rules.min_frames && run.counts(rules) {
+        if run.frames >= rules.min_frames && run.counts(rules, self.held) {
             self.counted = Some(((run.start, index), run.blip));
         }
         run.frames = 0;
     }
 
-    /// The breath of the pause that a phrase starting at frame `onset` ends: a run still going
-    /// on with the part before the onset long enough, or else the last run that counted, cut
-    /// at the onset (the onset moves back over a quiet consonant) and still long enough; `None`
-    /// when the pause holds no breath.
-    pub(super) fn at_onset(&self, onset: u64, rules: &BreathRules) -> Option<HeardRun> {
+    fn at_onset(&self, onset: u64, rules: &BreathRules) -> Option<HeardRun> {
         let run = &self.run;
         let min = rules.min_frames as u64;
-        let (span, blip) =
-            if run.frames > 0 && run.counts(rules) && onset.saturating_sub(run.start) >= min {
-                ((run.start, onset), run.blip)
-            } else {
-                let ((a, b), blip) = self.counted?;
-                ((a, b.min(onset)), blip)
-            };
+        let (span, blip) = if run.frames > 0
+            && run.counts(rules, self.held)
+            && onset.saturating_sub(run.start) >= min
+        {
+            ((run.start, onset), run.blip)
+        } else {
+            let ((a, b), blip) = self.counted?;
+            ((a, b.min(onset)), blip)
+        };
         let long_enough = |&(a, b): &(u64, u64)| b >= a + min;
         long_enough(&span).then(|| HeardRun {
             span,
             clean: Some((span.0, blip.map_or(span.1, |k| k.min(span.1)))).filter(long_enough),
+        })
+    }
+}
+
+impl PauseBreaths {
+    /// A new pause: nothing heard yet.
+    pub(super) fn restart(&mut self) {
+        self.strict.restart();
+        self.held.restart();
+    }
+
+    /// An active frame at `index` (a candidate phrase starts on it): a run going on spans a blip
+    /// if it resumes after it.
+    pub(super) fn blip(&mut self, index: u64) {
+        self.strict.blip(index);
+        self.held.blip(index);
+    }
+
+    /// Takes frame `index` with its facts `f`; `last_offset` is the frame the pause began at
+    /// (`None` before the first phrase).
+    pub(super) fn track(
+        &mut self,
+        index: u64,
+        f: FrameFacts,
+        last_offset: Option<u64>,
+        rules: &BreathRules,
+    ) {
+        self.strict
+            .track(index, f, f.breath_level, last_offset, rules);
+        // The held run starts where a strict one would, or at the offset (a decay that dips
+        // there is still the decay), and carries on through the dips.
+        let going = self.held.run.frames > 0 || last_offset == Some(index);
+        let held = f.breath_level || (going && f.breath_held);
+        self.held.track(index, f, held, last_offset, rules);
+    }
+
+    /// Ends the runs going on (if any) before frame `index`: judged, and the pause's breath
+    /// when one counts. The tracker also ends them before a voiced run of active frames that
+    /// died in the pause (a word too short to confirm): breath heard again after such a word is
+    /// a new run, never one breath spanning the word.
+    pub(super) fn close(&mut self, index: u64, rules: &BreathRules) {
+        self.strict.close(index, rules);
+        self.held.close(index, rules);
+    }
+
+    /// The breath of the pause that a phrase starting at frame `onset` ends: a strict run still
+    /// going on with the part before the onset long enough, or else the last strict run that
+    /// counted, cut at the onset (the onset moves back over a quiet consonant) and still long
+    /// enough; when no strict run counts, the held run found the same way, with no clean part
+    /// (nothing to learn from); `None` when the pause holds no breath.
+    pub(super) fn at_onset(&self, onset: u64, rules: &BreathRules) -> Option<HeardRun> {
+        self.strict.at_onset(onset, rules).or_else(|| {
+            self.held
+                .at_onset(onset, rules)
+                .map(|h| HeardRun { clean: None, ..h })
         })
     }
 }

@@ -13,6 +13,9 @@ pub(super) struct FrameFacts {
     pub(super) breath_bands_db: f32,
     /// Over the floor by `breath_margin_db` (and not silence): loud enough for a breath run.
     pub(super) breath_level: bool,
+    /// Over the floor by `breath_margin_db` less [`super::breath_run::BREATH_HOLD_DB`]: loud
+    /// enough to carry on a breath run that has begun.
+    pub(super) breath_held: bool,
     /// The frame's high band over its mid band, dB ([`crate::analysis::BandLevels`]).
     pub(super) high_over_mid_db: f32,
     /// The frame's low band over its mid band, dB.

@@ -646,3 +646,60 @@ fn a_quiet_take_hears_the_breath_a_loud_one_hears() {
     // The same breath, and the quiet take's room (-105 dBFS) is no cut either.
     assert_eq!(breath(-35.0), Some((Some(loud), None)));
 }
+
+/// Frames `n` of a level `db` that dips to `dip_db` on every fourth frame (unvoiced).
+fn dipping(n: usize, db: f32, dip_db: f32) -> Vec<(usize, f32, bool)> {
+    (0..n)
+        .map(|k| (1, if k % 4 == 3 { dip_db } else { db }, false))
+        .collect()
+}
+
+#[test]
+fn a_breath_that_dips_under_the_margin_in_a_noisy_room_is_held_but_not_learnt() {
+    // A room at -70 dB: the breath margin lies at -64 dB, the hold at -67 dB. A breath 8 dB over
+    // the room dips to 3.5 dB over it on every fourth frame: its strict runs (3 frames) are too
+    // short to count.
+    let mut script = vec![(100, -70.0, false), (100, -20.0, true), (30, -70.0, false)];
+    script.extend(dipping(40, -62.0, -66.5));
+    script.extend([(20, -70.0, false), (100, -20.0, true), (50, -70.0, false)]);
+    let pauses = pauses_of(&run(&script));
+    let (from_s, to_s) = pauses[1].breath_s.expect("the breath is heard");
+    assert!(
+        (2.28..=2.32).contains(&from_s) && (2.68..=2.72).contains(&to_s),
+        "{from_s}-{to_s}"
+    );
+    // A held run's edges hold more room than breath: the voice does not learn from it.
+    assert_eq!(pauses[1].breath_clean_s, None);
+    // Noise that never reaches the margin starts no run, however long it hovers over the hold.
+    let mut hover = vec![(100, -70.0, false), (100, -20.0, true), (30, -70.0, false)];
+    hover.extend(dipping(40, -65.5, -67.5));
+    hover.extend([(20, -70.0, false), (100, -20.0, true), (50, -70.0, false)]);
+    assert_eq!(breaths_of(&hover), [None, None]);
+}
+
+#[test]
+fn a_tail_whose_ripple_dips_under_the_margin_is_no_breath() {
+    // A phrase's tail from its offset on, 6 to 2 dB over the margin, dipping under it (3.5 dB
+    // over the room) on every fourth frame: a held run from the offset rises after each dip,
+    // yet it only continues the decay.
+    let mut script = vec![(100, -70.0, false), (100, -20.0, true)];
+    script.extend(
+        dipping(40, 0.0, -66.5)
+            .into_iter()
+            .enumerate()
+            .map(|(k, (n, db, v))| {
+                (
+                    n,
+                    if db == 0.0 {
+                        -58.0 - 0.1 * k as f32
+                    } else {
+                        db
+                    },
+                    v,
+                )
+            }),
+    );
+    script.extend([(30, -70.0, false), (100, -20.0, true), (50, -70.0, false)]);
+    let p = pauses_of(&run(&script));
+    assert_eq!(p[1].breath_s, None, "a tail heard as a breath: {:?}", p[1]);
+}

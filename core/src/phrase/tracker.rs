@@ -3,7 +3,7 @@
 //! breath runs of a pause ([`super::breath_run`]) and the room's band levels
 //! ([`super::floor_bands`]) have rooms of their own.
 
-use super::breath_run::{BreathRules, PauseBreaths};
+use super::breath_run::{BreathRules, PauseBreaths, BREATH_HOLD_DB};
 use super::config::{PhraseConfig, PhraseError};
 use super::events::{Pause, PhraseEvent};
 use super::facts::FrameFacts;
@@ -272,9 +272,11 @@ impl PhraseTracker {
         let (high_over_mid_db, low_over_mid_db) = s.floor_bands.excess_shape_db(&frame.bands);
         // A breath is loud enough over the room in the full band, or in its own bands: where
         // hum or rumble carries the room's level, a breath adds little to the full band.
-        let breath_level = (rms_db >= s.floor_db + c.breath_margin_db
-            || s.floor_bands.breath_bands_over_room_db(&frame.bands) >= c.breath_margin_db)
-            && rms_db > silence_db;
+        let over_room_db =
+            (rms_db - s.floor_db).max(s.floor_bands.breath_bands_over_room_db(&frame.bands));
+        let breath_level = over_room_db >= c.breath_margin_db && rms_db > silence_db;
+        let breath_held =
+            over_room_db >= c.breath_margin_db - BREATH_HOLD_DB && rms_db > silence_db;
         FrameFacts {
             active,
             over_floor,
@@ -282,6 +284,7 @@ impl PhraseTracker {
             level_db: rms_db,
             breath_bands_db,
             breath_level,
+            breath_held,
             high_over_mid_db,
             low_over_mid_db,
             gated: gated || cut,

@@ -10,7 +10,7 @@
 use std::collections::BTreeMap;
 
 use super::{Clip, Voice};
-use crate::stats::overlaps;
+use crate::stats::{median, overlaps};
 
 /// A render of an uncut clip: its inserted breaths and the breaths it heard in the input.
 #[derive(Debug, Clone, Default)]
@@ -103,7 +103,37 @@ pub fn print(
     }
     row("all", &all);
     println!("(heard: clear labels the engine heard as breaths; doubled: inserted breaths over a clear label, then over an unsure one)");
+    print_over_room(clips, renders, voice);
     all
+}
+
+/// How far the clear labelled breaths stand over the room (their level against the noise
+/// floor's, both in the third-octave bands), those heard apart from those doubled: a breath
+/// that the room masks cannot be heard, and one inserted over it is heard alone.
+fn print_over_room(clips: &[Clip], renders: &BTreeMap<(String, Voice), UncutRender>, voice: Voice) {
+    let (mut heard, mut doubled) = (Vec::new(), Vec::new());
+    for clip in clips {
+        let r = &renders[&(clip.name.clone(), voice)];
+        for (&label, level_db) in clip.breaths.iter().zip(&clip.real_levels_db) {
+            let over_db = level_db - clip.room_level_db;
+            if r.inserted.iter().any(|&s| overlaps(label, s)) {
+                doubled.push(over_db);
+            } else if r.heard.iter().any(|&h| overlaps(label, h)) {
+                heard.push(over_db);
+            }
+        }
+    }
+    doubled.sort_by(f64::total_cmp);
+    heard.sort_by(f64::total_cmp);
+    if let (Some(lowest), false) = (heard.first(), doubled.is_empty()) {
+        let list: Vec<String> = doubled.iter().map(|d| format!("{d:.1}")).collect();
+        println!(
+            "  over the room (breath level against the noise floor's): doubled breaths [{}] dB; \
+             heard ones median {:.1} dB, lowest {lowest:.1} dB",
+            list.join(" "),
+            median(&heard)
+        );
+    }
 }
 
 /// The issue's targets with the real breaths left in.

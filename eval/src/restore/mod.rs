@@ -51,6 +51,7 @@ use crate::breaths::BuiltIn;
 use crate::data::{read_labels, DataError};
 pub use crate::labels::LabelledSets;
 use crate::labels::{Label, LabelKind};
+use crate::noise::{add_noise, Colour};
 use crate::stats::median;
 use pneuma_core::breathing::reference::ReferenceVoice;
 use pneuma_core::engine::voice_learning::{learn_voice, VoiceLearner};
@@ -85,6 +86,11 @@ pub struct RestoreArgs {
     /// comparison and the length grid.
     #[arg(long)]
     pub judged_only: bool,
+    /// Record every clip in a noisier room first: seeded pink noise this many dB under the
+    /// clip's speech level (the median level of its voiced frames, which breath levels are
+    /// measured against) is mixed in before anything is cut or learned.
+    #[arg(long, value_name = "DB")]
+    pub room_db: Option<f64>,
 }
 
 /// Which breaths are cut in one render.
@@ -151,6 +157,8 @@ pub struct Clip {
     real_shapes: Vec<Bands>,
     /// Each breath's level (floor taken out), dBFS.
     real_levels_db: Vec<f64>,
+    /// The level of its noise floor (the room) measured as the breaths' levels are, dBFS.
+    room_level_db: f64,
 }
 
 /// What one cut breath gave.
@@ -187,7 +195,35 @@ pub struct SpeakerResult {
     pub real_levels_re_speech_db: Vec<f64>,
 }
 
-fn load(data: &Path, labels_path: &Path) -> Result<Vec<Clip>, String> {
+/// The quietest room `--room-db` takes, dB under the speech: quieter rooms add nothing the
+/// clips' own floors do not hold.
+const ROOM_DB_MAX: f64 = 80.0;
+/// Seed of a clip's room noise (`--room-db`), plus the clip's place in its set.
+const ROOM_SEED: u64 = 31;
+
+/// The clip `name` at `path`, mono, in a room `room_db` under its speech level when given
+/// (seeded with `seed`), and its rate.
+fn read_clip(
+    path: &Path,
+    name: &str,
+    room_db: Option<f64>,
+    seed: u64,
+) -> Result<(Vec<f32>, f64), String> {
+    let (audio, rate) =
+        pneuma_io::read_mono(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let rate_hz = f64::from(rate);
+    let Some(room_db) = room_db else {
+        return Ok((audio, rate_hz));
+    };
+    let mut config = EngineConfig::default();
+    config.placement.whole_file = true;
+    let mut learner = VoiceLearner::new(&config, rate_hz).map_err(|e| format!("{name}: {e}"))?;
+    learner.feed(&audio).map_err(|e| format!("{name}: {e}"))?;
+    let noise_rms = 10f64.powf((learner.speech_db() - room_db) / 20.0);
+    Ok((add_noise(&audio, noise_rms, Colour::Pink, seed), rate_hz))
+}
+
+fn load(data: &Path, labels_path: &Path, room_db: Option<f64>) -> Result<Vec<Clip>, String> {
     let labels = read_labels(labels_path)?;
     let mut by_clip: BTreeMap<String, Vec<Label>> = BTreeMap::new();
     for l in labels {
@@ -196,7 +232,8 @@ fn load(data: &Path, labels_path: &Path) -> Result<Vec<Clip>, String> {
     by_clip
         .into_iter()
         .filter(|(_, ls)| ls.iter().any(|l| l.kind == LabelKind::Breath))
-        .map(|(name, ls)| {
+        .enumerate()
+        .map(|(k, (name, ls))| {
             let span = |l: &Label| (l.start_s, l.end_s);
             let mut unsure: Vec<(f64, f64)> = ls
                 .iter()
@@ -217,9 +254,7 @@ fn load(data: &Path, labels_path: &Path) -> Result<Vec<Clip>, String> {
                 }
                 .into());
             }
-            let (audio, rate) =
-                pneuma_io::read_mono(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-            let rate_hz = f64::from(rate);
+            let (audio, rate_hz) = read_clip(&path, &name, room_db, ROOM_SEED + k as u64)?;
             ls.sort_by(|a, b| a.start_s.total_cmp(&b.start_s));
             let floor = noise_floor(&audio, rate_hz);
             let breaths: Vec<(f64, f64)> = ls.iter().map(|l| (l.start_s, l.end_s)).collect();
@@ -251,6 +286,7 @@ fn load(data: &Path, labels_path: &Path) -> Result<Vec<Clip>, String> {
                 unsure,
                 real_shapes,
                 real_levels_db,
+                room_level_db: band_level_db(&floor, rate_hz),
             })
         })
         .collect()
@@ -457,10 +493,10 @@ fn print_voice(clip: &Clip) -> Result<(), String> {
     Ok(())
 }
 
-/// Every labelled clip of `sets`.
-pub fn load_all(sets: &LabelledSets) -> Result<Vec<Clip>, String> {
-    let mut clips = load(&sets.data, &sets.labels)?;
-    clips.extend(load(&sets.keele, &sets.keele_labels)?);
+/// Every labelled clip of `sets`, in a room `room_db` under its speech level when given.
+pub fn load_all(sets: &LabelledSets, room_db: Option<f64>) -> Result<Vec<Clip>, String> {
+    let mut clips = load(&sets.data, &sets.labels, room_db)?;
+    clips.extend(load(&sets.keele, &sets.keele_labels, room_db)?);
     Ok(clips)
 }
 
@@ -505,8 +541,17 @@ fn none_or_list(items: &[String]) -> String {
 
 /// Runs the evaluation and prints the report; `Ok(false)` when a held-out target is missed.
 pub fn run(args: &RestoreArgs) -> Result<bool, String> {
-    let clips = load_all(&args.sets)?;
+    if let Some(db) = args.room_db.filter(|db| !(0.0..=ROOM_DB_MAX).contains(db)) {
+        return Err(format!(
+            "--room-db {db}: give how far under the speech the room lies, 0 to {ROOM_DB_MAX} dB \
+             (a home studio's room lies 30-40 dB under)"
+        ));
+    }
+    let clips = load_all(&args.sets, args.room_db)?;
     let breaths: usize = clips.iter().map(|c| c.breaths.len()).sum();
+    if let Some(room_db) = args.room_db {
+        println!("every clip in a room: seeded pink noise {room_db} dB under its speech level");
+    }
     println!(
         "{breaths} clear labelled breaths in {} clips; put back = an inserted breath within {PUT_BACK_S} s",
         clips.len()
