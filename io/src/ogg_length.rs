@@ -8,7 +8,7 @@ use std::io::{BufReader, Read};
 use std::path::Path;
 
 use crate::le_bytes::{u32_at, u64_at};
-use crate::wav::read_full;
+use crate::read_full::read_full;
 
 /// The sample frames of the chained Ogg file at `path`, the sum of its links' last granule
 /// positions; `None` for a file of one link (symphonia's count stands), for links of more than

@@ -83,6 +83,83 @@ fn a_chained_ogg_file_renders_every_stream_in_every_output() {
     }
 }
 
+/// A RIFF chunk: id, size, body and its pad byte.
+fn chunk(id: &[u8; 4], body: &[u8]) -> Vec<u8> {
+    let mut c = [&id[..], &(body.len() as u32).to_le_bytes(), body].concat();
+    if body.len() % 2 == 1 {
+        c.push(0);
+    }
+    c
+}
+
+/// A 16 kHz 16-bit mono WAV file of `chunks` after its `fmt ` chunk.
+fn wav_bytes(chunks: &[Vec<u8>]) -> Vec<u8> {
+    let fmt: Vec<u8> = [1u16, 1]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .chain(16_000u32.to_le_bytes())
+        .chain(32_000u32.to_le_bytes())
+        .chain([2u16, 16].iter().flat_map(|v| v.to_le_bytes()))
+        .collect();
+    let body = [b"WAVE".to_vec(), chunk(b"fmt ", &fmt), chunks.concat()].concat();
+    [&b"RIFF"[..], &(body.len() as u32).to_le_bytes(), &body].concat()
+}
+
+#[test]
+fn a_piped_wav_with_audio_past_its_data_chunk_is_refused_rather_than_cut() {
+    // 4 s of speech-like audio, 64 000 16-bit samples; `half` bytes hold the first 2 s.
+    let pcm: Vec<u8> = support::two_phrases()
+        .iter()
+        .flat_map(|&v| ((v * 32767.0).round() as i16).to_le_bytes())
+        .collect();
+    let half = pcm.len() / 2;
+    let list = chunk(b"LIST", &[&b"INFO"[..], &chunk(b"INAM", b"ep\0")].concat());
+    let two = "standard input holds 2 data chunks; Pneuma reads one";
+    let (first, second) = (chunk(b"data", &pcm[..half]), chunk(b"data", &pcm[half..]));
+    // A header announcing 1 s before all 4 s (a recorder stopped before it updated it), in
+    // the first phrase: what follows is not silence, which would pass for zero padding.
+    let short_head = [&b"data"[..], &(half as u32 / 2).to_le_bytes(), &pcm].concat();
+    let refused: [(Vec<u8>, &[&str]); 3] = [
+        (wav_bytes(&[first.clone(), second.clone()]), &[two]),
+        // Another chunk between the two.
+        (wav_bytes(&[first, list.clone(), second]), &[two]),
+        (
+            wav_bytes(&[short_head]),
+            &[
+                "standard input: its data chunk announces 1.0 s, yet more audio follows it",
+                "put `sox --ignore-length -t wav - -t wav -` in the pipe",
+            ],
+        ),
+    ];
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("out");
+    let out_s = out.to_str().unwrap();
+    for (bytes, wants) in &refused {
+        for args in [
+            &["render", "-", "-o", out_s, "-q", "--no-plot"][..],
+            // The audio has gone to standard output: the exit status says it failed.
+            &["render", "-", "-o", "-", "-q"],
+            &["analyze", "-", "-o", out_s],
+        ] {
+            let o = support::pneuma_with_stdin(args, bytes);
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert!(!o.status.success(), "{args:?}: {err}");
+            for want in *wants {
+                assert!(err.contains(want), "{args:?}: {err}");
+            }
+            assert!(!has_files(&out) && !out.is_file(), "{args:?} wrote {out_s}");
+        }
+    }
+    // Whole, with a chunk or zero padding after the data: rendered whole from the pipe.
+    for after in [list, vec![0; 64]] {
+        let bytes = wav_bytes(&[chunk(b"data", &pcm), after]);
+        let args = ["render", "-", "-o", out_s, "-q", "--no-plot"];
+        assert_ok(&support::pneuma_with_stdin(&args, &bytes));
+        let rendered_s = duration_s(&out.join("stdin.wav"));
+        assert!((rendered_s - 4.0).abs() < 1e-3, "{rendered_s} s of 4 s");
+    }
+}
+
 /// A 10-minute 16 kHz WAV at `path`: long enough for a debug render to be stopped midway.
 fn write_long_wav(path: &Path) {
     let tone: Vec<f32> = (0..16_000 * 600)
