@@ -1,8 +1,9 @@
 //! The length of a chained Ogg file: logical streams one after another, as `cat a.ogg b.ogg`
 //! or a radio recorder makes. symphonia decodes every link in turn but announces the length of
-//! one, so a BVH (whose header holds the frame count) or a progress bar sized by it would
-//! cover only part of the audio. Here the page headers are read without decoding and the last
-//! granule position (the sample frames up to that page) of each link is added up.
+//! one, so a progress bar sized by it would cover only part of the audio, and the check of the
+//! decoded length against the announced one would not see a later link cut short. Here the page
+//! headers are read without decoding and the last granule position (the sample frames up to
+//! that page) of each link is added up.
 
 use std::io::{BufReader, Read};
 use std::path::Path;

@@ -63,7 +63,7 @@ fn a_chained_ogg_file_renders_every_stream_in_every_output() {
         (both_s - 2.0 * one_s).abs() < 0.05,
         "{both_s} s of 2 × {one_s} s"
     );
-    // The side outputs run as long: the BVH's header count is the length the input announces.
+    // The side outputs run as long (the BVH's header counts the frames of the audio decoded).
     let (frames, frame_s) = support::bvh_timing(&out.join("chained.bvh"));
     let bvh_s = frames as f64 * frame_s;
     assert!((bvh_s - both_s).abs() < 0.05, "BVH {bvh_s} s of {both_s} s");
@@ -158,6 +158,97 @@ fn a_piped_wav_with_audio_past_its_data_chunk_is_refused_rather_than_cut() {
         let rendered_s = duration_s(&out.join("stdin.wav"));
         assert!((rendered_s - 4.0).abs() < 1e-3, "{rendered_s} s of 4 s");
     }
+}
+
+/// The `Frames:` count, frame time and motion lines of the BVH at `path`.
+fn bvh_frames(path: &Path) -> (u64, f64, usize) {
+    let (count, frame_s) = support::bvh_timing(path);
+    let text = std::fs::read_to_string(path).expect("the BVH");
+    let motion = text.split_once("Frame Time:").expect("a MOTION section").1;
+    (count, frame_s, motion.lines().skip(1).count())
+}
+
+#[test]
+fn a_bvh_runs_as_long_as_the_audio_decoded_whatever_the_header_announced() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let flac_dir = dir.path().join("flac");
+    let args = ["--format", "flac", "--no-plot"];
+    assert_ok(&render(&example_voice_path(), &flac_dir, &args));
+    // A FLAC whose STREAMINFO announces half its samples (36 bits at bytes 21.5..26).
+    let mut flac = std::fs::read(flac_dir.join("voice.flac")).expect("flac");
+    assert_eq!(&flac[..4], b"fLaC");
+    let field = u64::from_be_bytes(flac[18..26].try_into().unwrap());
+    let total = field & ((1 << 36) - 1);
+    let half = (field & !((1 << 36) - 1)) | (total / 2);
+    flac[18..26].copy_from_slice(&half.to_be_bytes());
+    let input = dir.path().join("half.flac");
+    std::fs::write(&input, &flac).expect("write");
+    // The same audio from a pipe, as a WAV of unknown length (as ffmpeg writes one there).
+    let pcm: Vec<u8> = support::read_audio(&example_voice_path())
+        .0
+        .iter()
+        .flat_map(|&v| ((v * 32767.0).round() as i16).to_le_bytes())
+        .collect();
+    let streamed = [
+        &b"RIFF"[..],
+        &[0xff; 4],
+        b"WAVE",
+        &chunk_fmt_of_voice(),
+        b"data",
+        &[0xff; 4],
+    ];
+    let streamed = [streamed.concat(), pcm].concat();
+    for fps in ["120", "24", "1000"] {
+        let out = dir.path().join(format!("out{fps}"));
+        assert_ok(&render(&input, &out, &["--no-plot", "--bvh-fps", fps]));
+        assert_bvh_as_long(&out.join("half.flac"), &out.join("half.bvh"));
+        // Before, refused: "--bvh needs the input's length before the render".
+        let piped = dir.path().join(format!("piped{fps}"));
+        let piped_s = piped.to_str().unwrap();
+        let args = [
+            "render",
+            "-",
+            "-o",
+            piped_s,
+            "-q",
+            "--no-plot",
+            "--bvh-fps",
+            fps,
+        ];
+        assert_ok(&support::pneuma_with_stdin(&args, &streamed));
+        assert_bvh_as_long(&piped.join("stdin.wav"), &piped.join("stdin.bvh"));
+    }
+}
+
+/// The BVH at `bvh` has as many motion lines as its header counts, and lasts as long as the
+/// `audio` to within a frame of each.
+fn assert_bvh_as_long(audio: &Path, bvh: &Path) {
+    let audio_s = duration_s(audio);
+    let (count, frame_s, lines) = bvh_frames(bvh);
+    let name = bvh.display();
+    assert_eq!(count as usize, lines, "{name}: header and motion differ");
+    let bvh_s = count as f64 * frame_s;
+    assert!(
+        (bvh_s - audio_s).abs() <= frame_s + 1.0 / 120.0,
+        "{name}: BVH {bvh_s} s of {audio_s} s"
+    );
+}
+
+/// The `fmt ` chunk of the example voice (16-bit mono at its rate).
+fn chunk_fmt_of_voice() -> Vec<u8> {
+    let (_, rate_hz, channels) = support::read_audio(&example_voice_path());
+    assert_eq!(channels, 1, "the example voice is mono");
+    let fmt = [
+        &1u16.to_le_bytes()[..],
+        &1u16.to_le_bytes(),
+        &rate_hz.to_le_bytes(),
+    ];
+    let rest = [
+        &(2 * rate_hz).to_le_bytes()[..],
+        &2u16.to_le_bytes(),
+        &16u16.to_le_bytes(),
+    ];
+    chunk(b"fmt ", &[fmt.concat(), rest.concat()].concat())
 }
 
 /// A 10-minute 16 kHz WAV at `path`: long enough for a debug render to be stopped midway.
