@@ -432,6 +432,28 @@ fn a_model_or_text_file_past_its_size_limit_is_refused_by_name() {
     assert!(!out.exists(), "a refused run wrote {}", out.display());
 }
 
+#[test]
+fn an_evaluation_labels_file_past_its_size_limit_is_refused_by_name() {
+    const MIB: u64 = 1024 * 1024;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let labels = dir.path().join("labels.csv");
+    zero_file(&labels, 64 * MIB + 1);
+    let data = dir.path().join("data");
+    std::fs::create_dir(&data).expect("data folder");
+    let (labels_s, data_s) = (labels.to_str().unwrap(), data.to_str().unwrap());
+    let want = format!(
+        "{labels_s} is larger than 64 MiB, the limit for a breath labels file \
+         (clip,start_s,end_s,kind): is it the right file?"
+    );
+    for what in ["breath-sounds", "restore"] {
+        let args = ["eval", what, "--labels", labels_s, "--data", data_s];
+        let o = pneuma(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{args:?}: {err}");
+        assert!(err.contains(&want), "{args:?}: {err}");
+    }
+}
+
 #[cfg(unix)]
 #[test]
 fn an_endless_head_model_is_refused_without_filling_memory() {
