@@ -4,6 +4,13 @@
 //! decoded length against the announced one would not see a later link cut short. Here the page
 //! headers are read without decoding and the last granule position (the sample frames up to
 //! that page) of each link is added up.
+//!
+//! The granule positions are taken as they are, which is right for the links that are decoded
+//! (Vorbis, FLAC). An Opus link's would count its pre-skip too (RFC 7845: the decoded length is
+//! the last granule position less the `OpusHead` pre-skip), but no Opus link is decoded: a file
+//! whose first link is Opus is refused as Opus ([`crate::decode`]), and a later Opus link ends
+//! the read with an error there, so its count is never used. Were Opus decoded, each link's
+//! pre-skip would have to be subtracted here.
 
 use std::io::{BufReader, Read};
 use std::path::Path;
