@@ -1,5 +1,5 @@
-//! Reading a small user file whole (a head-pose model, a text to speak, a motion CSV) through a
-//! size cap, so that a wrong path (`/dev/zero`, a recording given as a model) is refused with a
+//! Reading a small user file whole (a head-pose model, a text to speak, a motion CSV, an
+//! evaluation's labels or pitch references) through a size cap, so that a wrong path (`/dev/zero`, a recording given as a model) is refused with a
 //! message instead of filling memory. The cap is enforced while reading (`Read::take`), not from
 //! the file's metadata: a device or a pipe reports a length of 0.
 
@@ -21,6 +21,11 @@ pub const TEXT_MAX_BYTES: u64 = 16 * MIB;
 /// The largest head-motion CSV read for training (`<clip>.head.csv`): about 5 MB an hour at
 /// 30 frames a second, so some 50 hours for one clip.
 pub const MOTION_CSV_MAX_BYTES: u64 = 256 * MIB;
+
+/// The largest text file of an evaluation's data read (`pneuma eval`, `cargo xtask eval-*`): a
+/// breath labels file (`assets/labels/*.csv`, a few KB) or a pitch reference
+/// (`<clip>.f0.csv`: Keele's are 55 KB for 40 s, so this is some 13 hours of one clip).
+pub const DATA_TEXT_MAX_BYTES: u64 = 64 * MIB;
 
 /// Why a capped file could not be read.
 #[derive(Debug, Error)]

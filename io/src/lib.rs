@@ -4,7 +4,8 @@
 //! [`AudioSource::open`] looks at the first bytes of a file (or of standard input, `-`) and
 //! reads:
 //! - **WAV** (RIFF, RF64, BW64) with the own reader in [`wav`], its tags, cue points and `fmt `
-//!   form apart in [`wav_meta`];
+//!   form apart in [`wav_meta`], what follows its data (refused where audio would be lost) in
+//!   `wav_tail.rs`;
 //! - **everything else** (FLAC, MP3, M4A/AAC, Ogg Vorbis, AIFF, CAF) through symphonia, in
 //!   [`decode`].
 //!
@@ -32,15 +33,17 @@ mod mp3_length;
 pub mod mp4_edit;
 mod ogg_length;
 mod probe;
+mod read_full;
 pub mod wav;
 mod wav_error;
 pub mod wav_meta;
+mod wav_tail;
 
 use std::io::{Cursor, Read};
 use std::path::{Path, PathBuf};
 
+use read_full::read_full;
 use thiserror::Error;
-use wav::read_full;
 
 pub use capped::{read_text_capped, CappedReadError};
 pub use decode::{DecodeError, DecodedSource};

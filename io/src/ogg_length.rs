@@ -1,14 +1,22 @@
 //! The length of a chained Ogg file: logical streams one after another, as `cat a.ogg b.ogg`
 //! or a radio recorder makes. symphonia decodes every link in turn but announces the length of
-//! one, so a BVH (whose header holds the frame count) or a progress bar sized by it would
-//! cover only part of the audio. Here the page headers are read without decoding and the last
-//! granule position (the sample frames up to that page) of each link is added up.
+//! one, so a progress bar sized by it would cover only part of the audio, and the check of the
+//! decoded length against the announced one would not see a later link cut short. Here the page
+//! headers are read without decoding and the last granule position (the sample frames up to
+//! that page) of each link is added up.
+//!
+//! The granule positions are taken as they are, which is right for the links that are decoded
+//! (Vorbis, FLAC). An Opus link's would count its pre-skip too (RFC 7845: the decoded length is
+//! the last granule position less the `OpusHead` pre-skip), but no Opus link is decoded: a file
+//! whose first link is Opus is refused as Opus ([`crate::decode`]), and a later Opus link ends
+//! the read with an error there, so its count is never used. Were Opus decoded, each link's
+//! pre-skip would have to be subtracted here.
 
 use std::io::{BufReader, Read};
 use std::path::Path;
 
 use crate::le_bytes::{u32_at, u64_at};
-use crate::wav::read_full;
+use crate::read_full::read_full;
 
 /// The sample frames of the chained Ogg file at `path`, the sum of its links' last granule
 /// positions; `None` for a file of one link (symphonia's count stands), for links of more than

@@ -16,17 +16,19 @@
 //!
 //! Chunks other than `fmt ` and `data` (`LIST`, `bext`, `iXML`, `fact`, `JUNK`, …) are skipped
 //! (a file's tags, cue points and `fmt ` form are read apart, [`crate::wav_meta`])
-//! with the RIFF pad byte after odd lengths; `fmt ` must come before `data`, and nothing after
-//! `data` is read: a regular file with a second non-empty `data` chunk is refused
-//! ([`WavError::DataChunks`]; from a pipe it is not seen). A data size of `0xFFFFFFFF`, sox's
+//! with the RIFF pad byte after odd lengths; `fmt ` must come before `data`, and no sample after
+//! the first `data` chunk is read: a file with a second non-empty `data` chunk is refused
+//! ([`WavError::DataChunks`]; a regular file when it is opened, a stream — standard input, a
+//! pipe — once its data has been read, [`crate::wav_tail`]). A data size of `0xFFFFFFFF`, sox's
 //! "unspecified" `0x7FFFF000` (when the file is shorter than that), or 0 with a RIFF size of 0
 //! or `0xFFFFFFFF` is what ffmpeg or sox write to a pipe: the length is unknown and the data is
 //! read to the end of the file (a trailing partial frame is dropped). A data chunk that
 //! announces more sample frames than the file holds fails with [`WavError::Truncated`] when it
 //! is opened (from a pipe, whose length is not known, when its data runs out); one that
-//! announces fewer than follow it in a regular file, no chunk after it (neither a chunk id nor
-//! zero padding), with [`WavError::Unannounced`] (a recorder stopped before it updated the
-//! header: the rest would be lost).
+//! announces fewer than follow it, no chunk after it (neither a chunk id nor zero padding), with
+//! [`WavError::Unannounced`] when a regular file is opened and [`WavError::UnannouncedStream`]
+//! at the end of a stream's data (a recorder stopped before it updated the header: the rest
+//! would be lost).
 //!
 //! Samples become f32 at full scale ±1: an integer sample `v` of a `b`-bit
 //! container becomes `v as f32 * (1 / 2^(b−1)) as f32` (8-bit: `(u − 128) / 128`), float samples
@@ -43,6 +45,7 @@ use std::path::{Path, PathBuf};
 
 use crate::le_bytes::{u16_at, u32_at, u64_at};
 pub use crate::mix_to_mono;
+use crate::read_full::read_full;
 use crate::wav_meta::WavMeta;
 use crate::AudioInfo;
 
@@ -109,6 +112,9 @@ pub struct WavSource {
     block_align: usize,
     /// Whole-frame data bytes not yet read; `None` when the length is unknown (read to EOF).
     remaining: Option<u64>,
+    /// A stream's (no regular file's) data bytes as its header announces them, until what
+    /// follows the data has been looked at ([`crate::wav_tail::check_stream`]).
+    stream_data_bytes: Option<u64>,
     frames_read: u64,
     scale: f32,
     /// Reused raw-byte buffer.
@@ -147,21 +153,6 @@ struct Fmt {
 struct Ds64 {
     riff: u64,
     data: u64,
-}
-
-/// Reads until `buf` is full or the input ends; returns the bytes read (also used by the
-/// format sniffing in `lib.rs`).
-pub(crate) fn read_full(r: &mut impl Read, buf: &mut [u8]) -> std::io::Result<usize> {
-    let mut n = 0;
-    while n < buf.len() {
-        match r.read(&mut buf[n..]) {
-            Ok(0) => break,
-            Ok(k) => n += k,
-            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-            Err(e) => return Err(e),
-        }
-    }
-    Ok(n)
 }
 
 /// `1 byte`, `2 bytes`: a count with its noun for messages.
@@ -286,8 +277,9 @@ impl WavSource {
     /// Reads up to `max_frames` sample frames as interleaved f32 (full scale ±1) into `out`
     /// (cleared first). Returns the number of frames read, which may be fewer than asked for
     /// very large requests; 0 at the end of the data. Fails with [`WavError::Truncated`] when
-    /// the data ends before the length the header announces, and with [`WavError::Empty`] when
-    /// a file of unknown length turns out to hold no frame at all.
+    /// the data ends before the length the header announces, with [`WavError::Empty`] when
+    /// a file of unknown length turns out to hold no frame at all, and at the end of a stream's
+    /// data with what would be lost after it ([`crate::wav_tail::check_stream`]).
     pub fn read_interleaved(
         &mut self,
         max_frames: usize,
@@ -303,6 +295,10 @@ impl WavSource {
             want = (want as u64).min(left / align as u64) as usize;
         }
         if want == 0 {
+            if let Some(data_bytes) = self.stream_data_bytes.take() {
+                let (path, align, info) = (&self.path, self.block_align, &self.info);
+                crate::wav_tail::check_stream(&mut self.reader, path, data_bytes, align, info)?;
+            }
             return self.at_end();
         }
         self.bytes.resize(want * align, 0);
@@ -688,6 +684,7 @@ impl<'a> Header<'a> {
             encoding,
             block_align: align,
             remaining: data_len.map(|n| n / align as u64 * align as u64),
+            stream_data_bytes: data_len.filter(|_| file_len.is_none()),
             frames_read: 0,
             scale: if encoding == Encoding::F32 {
                 1.0

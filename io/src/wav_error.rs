@@ -1,5 +1,6 @@
 //! [`WavError`]: what can go wrong reading a WAV file, each with what to do (the WAV reader's,
-//! [`crate::wav`], and the chunk walk's, [`crate::wav_meta`]).
+//! [`crate::wav`], the chunk walk's, [`crate::wav_meta`], and the look after a stream's data,
+//! [`crate::wav_tail`]).
 
 use std::path::PathBuf;
 
@@ -72,6 +73,20 @@ pub enum WavError {
         announced_s: f64,
         /// The audio after it, seconds.
         more_s: f64,
+    },
+    /// More audio follows the data chunk of a stream (standard input, a pipe) than its header
+    /// announces: how much is not known without reading it all.
+    #[error(
+        "{path}: its data chunk announces {announced_s:.1} s, yet more audio follows it (the \
+         header was not updated when the recording stopped); put `sox --ignore-length -t wav - \
+         -t wav -` in the pipe before Pneuma to read all of it, or save it to a file and run \
+         `sox --ignore-length IN OUT.wav`"
+    )]
+    UnannouncedStream {
+        /// The stream.
+        path: PathBuf,
+        /// The length the header announces, seconds.
+        announced_s: f64,
     },
     /// A well-formed WAV file without a single sample frame.
     #[error("{path} holds no audio: {detail}")]

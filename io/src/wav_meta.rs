@@ -4,9 +4,11 @@
 //! `LIST`/`adtl`), and the form of the `fmt ` chunk (plain or `WAVE_FORMAT_EXTENSIBLE`, the
 //! channel mask).
 //!
-//! Read apart from the samples ([`crate::WavSource`] streams and reads nothing after the data),
-//! by seeking from chunk to chunk of a regular file, before or after the data; the same walk
-//! counts the `data` chunks, so that a second one is refused rather than lost. Best effort: a
+//! Read apart from the samples ([`crate::WavSource`] streams them, and reads nothing after the
+//! data of a regular file), by seeking from chunk to chunk of a regular file, before or after the data; the same walk
+//! counts the `data` chunks and looks at what follows the first ([`crate::wav_tail`]), so that
+//! a second one, or audio its header does not announce, is refused rather than lost (a stream
+//! is looked at once its data has been read: [`crate::wav_tail::check_stream`]). Best effort: a
 //! chunk that is damaged or a file that ends early gives what was found before it (the reader
 //! of the samples reports damage).
 
@@ -16,7 +18,9 @@ use std::io::{Read, Seek, SeekFrom};
 use std::path::Path;
 
 use crate::le_bytes::{u16_at, u32_at, u64_at};
+use crate::read_full::read_full;
 use crate::wav_error::WavError;
+use crate::wav_tail::{after_data, AfterData};
 use crate::Tags;
 
 /// A cue point of a WAV file (an input's, or an output's): a marker, or a region when it has
@@ -111,11 +115,6 @@ pub(crate) fn read_checked(
     Ok(meta)
 }
 
-/// A chunk id as files write them: four printable ASCII characters (`LIST`, `JUNK`, `id3 `).
-fn is_chunk_id(id: &[u8]) -> bool {
-    id.iter().all(|b| (b' '..=b'~').contains(b))
-}
-
 /// The chunks of `file` into `meta`, and the [`DataFacts`] into `facts`;
 /// stops at the first one it cannot read.
 fn scan(
@@ -130,8 +129,6 @@ fn scan(
         return Ok(());
     }
     let mut data_size_64 = None;
-    // The first data chunk was just passed (its size odd): what follows it is checked.
-    let mut after_data: Option<bool> = None;
     let mut ids: Vec<(u32, CuePoint)> = Vec::new();
     let mut labels: Vec<(u32, String)> = Vec::new();
     let mut lengths: Vec<(u32, u64)> = Vec::new();
@@ -139,26 +136,6 @@ fn scan(
         let mut ch = [0u8; 8];
         if file.read_exact(&mut ch).is_err() {
             break;
-        }
-        if let Some(odd) = after_data.take() {
-            if !is_chunk_id(&ch[..4]) {
-                // Right after the data, no chunk: nor one a writer that left out the odd
-                // data chunk's pad byte put a byte earlier, nor zero padding.
-                let at = file.stream_position()? - 8;
-                let mut early = [0u8; 4];
-                let unpadded = odd && {
-                    file.seek(SeekFrom::Start(at - 1))?;
-                    file.read_exact(&mut early).is_ok() && is_chunk_id(&early)
-                };
-                if unpadded {
-                    file.seek(SeekFrom::Start(at - 1))?;
-                    continue;
-                }
-                if ch != [0; 8] {
-                    facts.unannounced_bytes = Some(file.seek(SeekFrom::End(0))? - at);
-                }
-                break;
-            }
         }
         let size = u32::from_le_bytes([ch[4], ch[5], ch[6], ch[7]]);
         let id = &ch[..4];
@@ -192,9 +169,6 @@ fn scan(
             }
             b"data" => {
                 facts.chunks += u32::from(size != 0);
-                if facts.chunks == 1 && size != 0 {
-                    after_data = Some(size & 1 == 1);
-                }
                 if rf64 && size == u32::MAX {
                     len = data_size_64.unwrap_or(u64::MAX);
                     pad = len & 1;
@@ -202,6 +176,28 @@ fn scan(
                 // A stream of unknown length (a pipe's WAV saved): nothing after it is known.
                 if len == u64::from(u32::MAX) || len == u64::MAX || len == 0 {
                     break;
+                }
+                if facts.chunks == 1 {
+                    // The first data chunk: what follows it is looked at.
+                    let Ok(skip) = i64::try_from(len) else {
+                        break;
+                    };
+                    let end = file.seek(SeekFrom::Current(skip))?;
+                    let mut after = [0u8; 9];
+                    let n = read_full(file, &mut after[..8 + pad as usize])?;
+                    match after_data(&after[..n], pad == 1) {
+                        AfterData::End | AfterData::Padding => break,
+                        AfterData::Audio { at } => {
+                            let file_end = file.seek(SeekFrom::End(0))?;
+                            facts.unannounced_bytes =
+                                Some(file_end.saturating_sub(end + at as u64));
+                            break;
+                        }
+                        AfterData::Chunk { at } => {
+                            file.seek(SeekFrom::Start(end + at as u64))?;
+                            continue;
+                        }
+                    }
                 }
             }
             b"cue " => {

@@ -22,6 +22,8 @@
 //!   prepared for an input, the output names); nothing is written there;
 //! - [`voice`]: the breath voice learned from the recording (or `--breath-like`) before a
 //!   whole-file render;
+//! - [`bvh_file`]: the BVH, its frame count the lines the decoded audio gave, written whole
+//!   at the end;
 //! - [`pipeline`]: one planned input through the engine and its sinks, the files committed
 //!   together;
 //! - [`batch`]: several inputs or folders, in parallel, with a summary table.
@@ -30,6 +32,7 @@
 //! a batch.
 
 pub mod batch;
+pub mod bvh_file;
 pub mod error;
 pub mod findings;
 pub mod leftovers;

@@ -2,7 +2,8 @@
 //! input through core's one offline loop ([`offline::stream`]), which removes the lookahead
 //! delay by dropping the first `latency` output samples and feeds silence at the end (the
 //! engine's tail) until every frame of the file is out. The outputs that follow frames are
-//! sinks ([`FrameSink`]): the controls CSV and the BVH as [`TextSink`]s, the plot's frames and
+//! sinks ([`FrameSink`]): the controls CSV as a [`TextSink`], the BVH ([`BvhFile`], written
+//! whole at the end, its frame count the frames the decoded audio gave), the plot's frames and
 //! the breaths kept in memory ([`Kept`]). Memory stays bounded: audio is read, processed and
 //! written block by block, the controls stream to their file, and the plot keeps a min/max
 //! envelope of at most a few hundred thousand points ([`Envelope`]). Every output file is
@@ -17,12 +18,13 @@ use pneuma_core::analysis::FrameClock;
 use pneuma_core::encode::breaths_csv;
 use pneuma_core::encode::midi_cc::CcMap;
 use pneuma_core::encode::midi_file::MidiFileSink;
-use pneuma_core::encode::sink::{FrameSink, Resample, TextSink};
+use pneuma_core::encode::sink::{FrameSink, TextSink};
 use pneuma_core::engine::offline::{self, TailFrames};
 use pneuma_core::engine::VoiceStatus;
 use pneuma_core::{BreathEvent, BreathKind, ControlFrame};
 use pneuma_io::{AudioSource, InputFormat, WavMeta};
 
+use super::bvh_file::BvhFile;
 use super::error::{interrupted, out_err, RenderError};
 use super::findings::{findings, ChannelEnergy, Finding};
 use super::leftovers::Cleared;
@@ -185,7 +187,6 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         controls_sink(outputs.files.as_ref())?,
         bvh_sink(
             outputs.files.as_ref(),
-            frames_total,
             frame_rate_hz,
             outputs.bvh_fps.unwrap_or(frame_rate_hz),
         )?,
@@ -341,25 +342,18 @@ fn controls_sink(files: Option<&FolderFiles>) -> Result<Option<TextSink<Output>>
     Ok(Some(TextSink::controls_csv(o).map_err(out_err(path))?))
 }
 
-/// The BVH at `bvh_fps`, streaming into its file with `--bvh`: its header needs the frame
-/// count, known from the input's header.
+/// The BVH at `bvh_fps` with `--bvh`, its frame count the frames of the audio decoded.
 fn bvh_sink(
     files: Option<&FolderFiles>,
-    frames_total: u64,
     frame_rate_hz: f64,
     bvh_fps: f64,
-) -> Result<Option<Bvh>, RenderError> {
+) -> Result<Option<BvhFile>, RenderError> {
     let Some(path) = files.and_then(|f| f.bvh.as_ref()) else {
         return Ok(None);
     };
-    let o = Output::create(path).map_err(out_err(path))?;
-    let frames = Resample::<TextSink<Output>>::count(frames_total, frame_rate_hz, bvh_fps);
-    let text = TextSink::bvh(o, frames as usize, bvh_fps).map_err(out_err(path))?;
-    Ok(Some(Resample::new(text, frame_rate_hz, bvh_fps, frames)))
+    let bvh = BvhFile::create(path, frame_rate_hz, bvh_fps).map_err(out_err(path))?;
+    Ok(Some(bvh))
 }
-
-/// The BVH's sink: the control frames at the BVH's rate.
-type Bvh = Resample<TextSink<Output>>;
 
 /// The MIDI file with `--midi`: the plugin's CC map with the resolution and head range asked
 /// for (`map`), streaming into its file.
@@ -421,7 +415,7 @@ fn read_block(
 /// A failed write of the controls or the BVH stops the render.
 fn check_text_sinks(
     controls: &Option<TextSink<Output>>,
-    bvh: &Option<Bvh>,
+    bvh: &Option<BvhFile>,
     files: Option<&FolderFiles>,
 ) -> Result<(), RenderError> {
     let Some(files) = files else {
@@ -431,7 +425,7 @@ fn check_text_sinks(
         text.check().map_err(out_err(&files.controls))?;
     }
     if let (Some(bvh), Some(path)) = (bvh, &files.bvh) {
-        bvh.inner().check().map_err(out_err(path))?;
+        bvh.check().map_err(out_err(path))?;
     }
     Ok(())
 }
@@ -507,7 +501,7 @@ fn breaths_within(mut breaths: Vec<BreathEvent>, length_s: f64) -> Vec<BreathEve
 struct Finished<'a> {
     audio: AudioSink,
     controls: TextSink<Output>,
-    bvh: Option<Bvh>,
+    bvh: Option<BvhFile>,
     midi: Option<MidiFileSink<Output>>,
     breaths: &'a [BreathEvent],
     envelope: Envelope,
@@ -551,9 +545,8 @@ fn commit_files(
         staged.push(staged_file(o, path)?);
         written.push(path.clone());
     }
-    if let (Some(o), Some(path)) = (done.bvh, &files.bvh) {
-        let o = o.into_inner().into_inner().map_err(out_err(path))?;
-        staged.push(staged_file(o, path)?);
+    if let (Some(bvh), Some(path)) = (done.bvh, &files.bvh) {
+        staged.push(bvh.finish(path).map_err(out_err(path))?);
         written.push(path.clone());
     }
     if let (Some(m), Some(path)) = (done.midi, &files.midi) {

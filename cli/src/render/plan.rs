@@ -517,7 +517,7 @@ impl Job {
             }
             info.channels = 1;
         }
-        check_input_shape(args, &info)?;
+        check_input_shape(&info)?;
         let engine = prepared_engine(args, input, config, &info)?;
         let mut outputs = OutputPlan::new(args, input, container)?;
         outputs.mp3 = mp3;
@@ -637,8 +637,8 @@ fn marker_plan(
     Ok((markers, false, vec![note]))
 }
 
-/// The engine takes the input's channels; the BVH needs the input's length up front.
-fn check_input_shape(args: &Args, info: &WavInfo) -> Result<(), RenderError> {
+/// The engine takes the input's channels.
+fn check_input_shape(info: &WavInfo) -> Result<(), RenderError> {
     let channels = info.channels as usize;
     if channels > pneuma_core::engine::MAX_CHANNELS {
         return Err(RenderError::Input(format!(
@@ -646,14 +646,6 @@ fn check_input_shape(args: &Args, info: &WavInfo) -> Result<(), RenderError> {
              {channels})",
             EngineError::Channels(channels)
         )));
-    }
-    if args.bvh.wanted() && !args.to_stdout() && info.frames == 0 {
-        return Err(RenderError::Input(
-            "--bvh needs the input's length before the render (the BVH header holds the frame \
-             count), and this input does not announce it (a pipe, or a stream of unknown \
-             length): save it to a file first, or drop --bvh and --bvh-fps"
-                .into(),
-        ));
     }
     Ok(())
 }

@@ -63,7 +63,7 @@ fn a_chained_ogg_file_renders_every_stream_in_every_output() {
         (both_s - 2.0 * one_s).abs() < 0.05,
         "{both_s} s of 2 × {one_s} s"
     );
-    // The side outputs run as long: the BVH's header count is the length the input announces.
+    // The side outputs run as long (the BVH's header counts the frames of the audio decoded).
     let (frames, frame_s) = support::bvh_timing(&out.join("chained.bvh"));
     let bvh_s = frames as f64 * frame_s;
     assert!((bvh_s - both_s).abs() < 0.05, "BVH {bvh_s} s of {both_s} s");
@@ -81,6 +81,174 @@ fn a_chained_ogg_file_renders_every_stream_in_every_output() {
         let midi_s = ccs.last().map_or(0.0, |c| c.0);
         assert!(midi_s > both_s - 1.0, "MIDI to {midi_s} s of {both_s} s");
     }
+}
+
+/// A RIFF chunk: id, size, body and its pad byte.
+fn chunk(id: &[u8; 4], body: &[u8]) -> Vec<u8> {
+    let mut c = [&id[..], &(body.len() as u32).to_le_bytes(), body].concat();
+    if body.len() % 2 == 1 {
+        c.push(0);
+    }
+    c
+}
+
+/// A 16 kHz 16-bit mono WAV file of `chunks` after its `fmt ` chunk.
+fn wav_bytes(chunks: &[Vec<u8>]) -> Vec<u8> {
+    let fmt: Vec<u8> = [1u16, 1]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .chain(16_000u32.to_le_bytes())
+        .chain(32_000u32.to_le_bytes())
+        .chain([2u16, 16].iter().flat_map(|v| v.to_le_bytes()))
+        .collect();
+    let body = [b"WAVE".to_vec(), chunk(b"fmt ", &fmt), chunks.concat()].concat();
+    [&b"RIFF"[..], &(body.len() as u32).to_le_bytes(), &body].concat()
+}
+
+#[test]
+fn a_piped_wav_with_audio_past_its_data_chunk_is_refused_rather_than_cut() {
+    // 4 s of speech-like audio, 64 000 16-bit samples; `half` bytes hold the first 2 s.
+    let pcm: Vec<u8> = support::two_phrases()
+        .iter()
+        .flat_map(|&v| ((v * 32767.0).round() as i16).to_le_bytes())
+        .collect();
+    let half = pcm.len() / 2;
+    let list = chunk(b"LIST", &[&b"INFO"[..], &chunk(b"INAM", b"ep\0")].concat());
+    let two = "standard input holds 2 data chunks; Pneuma reads one";
+    let (first, second) = (chunk(b"data", &pcm[..half]), chunk(b"data", &pcm[half..]));
+    // A header announcing 1 s before all 4 s (a recorder stopped before it updated it), in
+    // the first phrase: what follows is not silence, which would pass for zero padding.
+    let short_head = [&b"data"[..], &(half as u32 / 2).to_le_bytes(), &pcm].concat();
+    let refused: [(Vec<u8>, &[&str]); 3] = [
+        (wav_bytes(&[first.clone(), second.clone()]), &[two]),
+        // Another chunk between the two.
+        (wav_bytes(&[first, list.clone(), second]), &[two]),
+        (
+            wav_bytes(&[short_head]),
+            &[
+                "standard input: its data chunk announces 1.0 s, yet more audio follows it",
+                "put `sox --ignore-length -t wav - -t wav -` in the pipe",
+            ],
+        ),
+    ];
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("out");
+    let out_s = out.to_str().unwrap();
+    for (bytes, wants) in &refused {
+        for args in [
+            &["render", "-", "-o", out_s, "-q", "--no-plot"][..],
+            // The audio has gone to standard output: the exit status says it failed.
+            &["render", "-", "-o", "-", "-q"],
+            &["analyze", "-", "-o", out_s],
+        ] {
+            let o = support::pneuma_with_stdin(args, bytes);
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert!(!o.status.success(), "{args:?}: {err}");
+            for want in *wants {
+                assert!(err.contains(want), "{args:?}: {err}");
+            }
+            assert!(!has_files(&out) && !out.is_file(), "{args:?} wrote {out_s}");
+        }
+    }
+    // Whole, with a chunk or zero padding after the data: rendered whole from the pipe.
+    for after in [list, vec![0; 64]] {
+        let bytes = wav_bytes(&[chunk(b"data", &pcm), after]);
+        let args = ["render", "-", "-o", out_s, "-q", "--no-plot"];
+        assert_ok(&support::pneuma_with_stdin(&args, &bytes));
+        let rendered_s = duration_s(&out.join("stdin.wav"));
+        assert!((rendered_s - 4.0).abs() < 1e-3, "{rendered_s} s of 4 s");
+    }
+}
+
+/// The `Frames:` count, frame time and motion lines of the BVH at `path`.
+fn bvh_frames(path: &Path) -> (u64, f64, usize) {
+    let (count, frame_s) = support::bvh_timing(path);
+    let text = std::fs::read_to_string(path).expect("the BVH");
+    let motion = text.split_once("Frame Time:").expect("a MOTION section").1;
+    (count, frame_s, motion.lines().skip(1).count())
+}
+
+#[test]
+fn a_bvh_runs_as_long_as_the_audio_decoded_whatever_the_header_announced() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let flac_dir = dir.path().join("flac");
+    let args = ["--format", "flac", "--no-plot"];
+    assert_ok(&render(&example_voice_path(), &flac_dir, &args));
+    // A FLAC whose STREAMINFO announces half its samples (36 bits at bytes 21.5..26).
+    let mut flac = std::fs::read(flac_dir.join("voice.flac")).expect("flac");
+    assert_eq!(&flac[..4], b"fLaC");
+    let field = u64::from_be_bytes(flac[18..26].try_into().unwrap());
+    let total = field & ((1 << 36) - 1);
+    let half = (field & !((1 << 36) - 1)) | (total / 2);
+    flac[18..26].copy_from_slice(&half.to_be_bytes());
+    let input = dir.path().join("half.flac");
+    std::fs::write(&input, &flac).expect("write");
+    // The same audio from a pipe, as a WAV of unknown length (as ffmpeg writes one there).
+    let pcm: Vec<u8> = support::read_audio(&example_voice_path())
+        .0
+        .iter()
+        .flat_map(|&v| ((v * 32767.0).round() as i16).to_le_bytes())
+        .collect();
+    let streamed = [
+        &b"RIFF"[..],
+        &[0xff; 4],
+        b"WAVE",
+        &chunk_fmt_of_voice(),
+        b"data",
+        &[0xff; 4],
+    ];
+    let streamed = [streamed.concat(), pcm].concat();
+    for fps in ["120", "24", "1000"] {
+        let out = dir.path().join(format!("out{fps}"));
+        assert_ok(&render(&input, &out, &["--no-plot", "--bvh-fps", fps]));
+        assert_bvh_as_long(&out.join("half.flac"), &out.join("half.bvh"));
+        // Before, refused: "--bvh needs the input's length before the render".
+        let piped = dir.path().join(format!("piped{fps}"));
+        let piped_s = piped.to_str().unwrap();
+        let args = [
+            "render",
+            "-",
+            "-o",
+            piped_s,
+            "-q",
+            "--no-plot",
+            "--bvh-fps",
+            fps,
+        ];
+        assert_ok(&support::pneuma_with_stdin(&args, &streamed));
+        assert_bvh_as_long(&piped.join("stdin.wav"), &piped.join("stdin.bvh"));
+    }
+}
+
+/// The BVH at `bvh` has as many motion lines as its header counts, and lasts as long as the
+/// `audio` to within a frame of each.
+fn assert_bvh_as_long(audio: &Path, bvh: &Path) {
+    let audio_s = duration_s(audio);
+    let (count, frame_s, lines) = bvh_frames(bvh);
+    let name = bvh.display();
+    assert_eq!(count as usize, lines, "{name}: header and motion differ");
+    let bvh_s = count as f64 * frame_s;
+    assert!(
+        (bvh_s - audio_s).abs() <= frame_s + 1.0 / 120.0,
+        "{name}: BVH {bvh_s} s of {audio_s} s"
+    );
+}
+
+/// The `fmt ` chunk of the example voice (16-bit mono at its rate).
+fn chunk_fmt_of_voice() -> Vec<u8> {
+    let (_, rate_hz, channels) = support::read_audio(&example_voice_path());
+    assert_eq!(channels, 1, "the example voice is mono");
+    let fmt = [
+        &1u16.to_le_bytes()[..],
+        &1u16.to_le_bytes(),
+        &rate_hz.to_le_bytes(),
+    ];
+    let rest = [
+        &(2 * rate_hz).to_le_bytes()[..],
+        &2u16.to_le_bytes(),
+        &16u16.to_le_bytes(),
+    ];
+    chunk(b"fmt ", &[fmt.concat(), rest.concat()].concat())
 }
 
 /// A 10-minute 16 kHz WAV at `path`: long enough for a debug render to be stopped midway.
@@ -262,6 +430,28 @@ fn a_model_or_text_file_past_its_size_limit_is_refused_by_name() {
         assert!(err.contains(&want), "{args:?}: {err}");
     }
     assert!(!out.exists(), "a refused run wrote {}", out.display());
+}
+
+#[test]
+fn an_evaluation_labels_file_past_its_size_limit_is_refused_by_name() {
+    const MIB: u64 = 1024 * 1024;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let labels = dir.path().join("labels.csv");
+    zero_file(&labels, 64 * MIB + 1);
+    let data = dir.path().join("data");
+    std::fs::create_dir(&data).expect("data folder");
+    let (labels_s, data_s) = (labels.to_str().unwrap(), data.to_str().unwrap());
+    let want = format!(
+        "{labels_s} is larger than 64 MiB, the limit for a breath labels file \
+         (clip,start_s,end_s,kind): is it the right file?"
+    );
+    for what in ["breath-sounds", "restore"] {
+        let args = ["eval", what, "--labels", labels_s, "--data", data_s];
+        let o = pneuma(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{args:?}: {err}");
+        assert!(err.contains(&want), "{args:?}: {err}");
+    }
 }
 
 #[cfg(unix)]

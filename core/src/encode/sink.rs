@@ -228,6 +228,13 @@ impl<S: FrameSink> Resample<S> {
         (last_s * rate_hz + 1e-9).floor() as u64 + 1
     }
 
+    /// Passes on at most `total` instants in all from now on: for a stream whose length is
+    /// known only at its end, the [`Resample::count`] of its frames, set before its last frame
+    /// (which would otherwise also pass on the instants within half a frame after it).
+    pub fn limit(&mut self, total: u64) {
+        self.total = total;
+    }
+
     /// The inner sink.
     pub fn inner(&self) -> &S {
         &self.inner
@@ -367,6 +374,34 @@ mod tests {
         // Faster than the frames: each repeats.
         assert_eq!(frames(360.0)[..8], [0, 0, 1, 1, 1, 2, 2, 2]);
         assert_eq!(Resample::<Collect>::count(0, 120.0, 24.0), 0);
+    }
+
+    #[test]
+    fn a_limit_set_before_the_last_frame_ends_where_the_count_does() {
+        // 1000 fps from 120 Hz frames: without a limit the last frame (1.0 s) also goes to the
+        // instants up to 1.0042 s; limited at its end to the count of 121 frames, it does not.
+        let mut open = Resample::new(Collect::default(), 120.0, 1000.0, u64::MAX);
+        let mut counted = Resample::new(
+            Collect::default(),
+            120.0,
+            1000.0,
+            Resample::<Collect>::count(121, 120.0, 1000.0),
+        );
+        for i in 0..121u64 {
+            let f = ControlFrame {
+                index: i,
+                time_s: i as f64 / 120.0,
+                ..Default::default()
+            };
+            if i == 120 {
+                open.limit(Resample::<Collect>::count(121, 120.0, 1000.0));
+            }
+            open.frame(&f, i);
+            counted.frame(&f, i);
+        }
+        let (open, counted) = (open.into_inner().frames, counted.into_inner().frames);
+        assert_eq!(open.len(), 1001);
+        assert_eq!(open, counted);
     }
 
     fn frame(index: u64) -> ControlFrame {

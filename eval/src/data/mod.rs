@@ -7,6 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use pneuma_core::{AnalysisConfig, AnalysisError, Analyzer, FeatureFrame};
+use pneuma_io::capped::{read_text_capped, CappedReadError, DATA_TEXT_MAX_BYTES};
 use pneuma_io::ReadError;
 use thiserror::Error;
 
@@ -44,9 +45,10 @@ pub enum DataError {
         /// Which files lack their partner, or that the folder has neither kind.
         unmatched: String,
     },
-    /// A head CSV cannot be read, is too large or is no text.
+    /// A text file of the data (a head CSV, labels, a pitch reference) cannot be read, is too
+    /// large or is no text.
     #[error(transparent)]
-    MotionFile(#[from] pneuma_io::CappedReadError),
+    TextFile(#[from] CappedReadError),
     /// A head CSV is malformed.
     #[error("{path} line {line}: {reason} (expected header time_s,pitch_deg,yaw_deg,roll_deg and numeric rows)")]
     Csv {
@@ -135,11 +137,18 @@ pub fn wav_files(dir: &Path, holds: &'static str) -> Result<Vec<PathBuf>, DataEr
     Ok(wavs)
 }
 
+/// Reads a text file of the data whole (labels, a pitch reference), refused past
+/// [`DATA_TEXT_MAX_BYTES`]; `what` says what it should be (in the errors).
+pub fn read_text(path: &Path, what: &str) -> Result<String, CappedReadError> {
+    read_text_capped(path, DATA_TEXT_MAX_BYTES, what)
+}
+
 /// Reads a labels file (see [`parse_labels`]).
 pub fn read_labels(path: &Path) -> Result<Vec<Label>, DataError> {
-    let text = std::fs::read_to_string(path).map_err(|source| DataError::LabelsFile {
-        path: path.into(),
-        source,
+    let what = "a breath labels file (clip,start_s,end_s,kind)";
+    let text = read_text(path, what).map_err(|e| match e {
+        CappedReadError::Io { path, source } => DataError::LabelsFile { path, source },
+        other => DataError::TextFile(other),
     })?;
     parse_labels(&text).map_err(|reason| DataError::Labels {
         path: path.into(),
@@ -207,5 +216,35 @@ mod tests {
             e.contains("cannot read the labels no/such/labels.csv"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn labels_and_pitch_references_past_the_limit_are_refused_by_name() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let big = dir.path().join("big.csv");
+        std::fs::File::create(&big)
+            .and_then(|f| f.set_len(DATA_TEXT_MAX_BYTES + 1))
+            .expect("a sparse file");
+        let e = read_labels(&big).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            format!(
+                "{} is larger than 64 MiB, the limit for a breath labels file \
+                 (clip,start_s,end_s,kind): is it the right file?",
+                big.display()
+            )
+        );
+        let e = reference::read_reference(&big).unwrap_err().to_string();
+        assert!(
+            e.ends_with(
+                "larger than 64 MiB, the limit for a pitch reference (time_s,f0_hz): is \
+                 it the right file?"
+            ),
+            "{e}"
+        );
+        // A missing reference still says which file.
+        let missing = dir.path().join("missing.f0.csv");
+        let e = reference::read_reference(&missing).unwrap_err().to_string();
+        assert!(e.starts_with(&format!("{}: ", missing.display())), "{e}");
     }
 }

@@ -5,6 +5,8 @@
 
 use std::path::{Path, PathBuf};
 
+use pneuma_io::CappedReadError;
+
 use super::DataError;
 use crate::noise;
 
@@ -62,6 +64,9 @@ pub fn list_clips(data: &Path) -> Result<Vec<String>, DataError> {
     Ok(names)
 }
 
+/// What a reference `<clip>.f0.csv` is, for the errors.
+pub const REFERENCE_FILE: &str = "a pitch reference (time_s,f0_hz)";
+
 /// Reads a reference `<clip>.f0.csv`: a header, then `time_s,f0_hz` rows (0 unvoiced, −1
 /// uncertain).
 pub fn read_reference(path: &Path) -> Result<Vec<(f64, f32)>, DataError> {
@@ -69,7 +74,10 @@ pub fn read_reference(path: &Path) -> Result<Vec<(f64, f32)>, DataError> {
         path: path.into(),
         reason,
     };
-    let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
+    let text = super::read_text(path, REFERENCE_FILE).map_err(|e| match e {
+        CappedReadError::Io { source, .. } => bad(source.to_string()),
+        other => DataError::TextFile(other),
+    })?;
     text.lines()
         .skip(1)
         .filter(|l| !l.trim().is_empty())

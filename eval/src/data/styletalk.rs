@@ -13,7 +13,7 @@ use super::{analyse_file, DataError};
 /// Reads a head-motion CSV (`time_s,pitch_deg,yaw_deg,roll_deg`) into (roll, pitch, yaw).
 pub fn read_head_csv(path: &Path) -> Result<MotionTrack, DataError> {
     let what = "a head-motion CSV (time_s,pitch_deg,yaw_deg,roll_deg)";
-    let text = read_text_capped(path, MOTION_CSV_MAX_BYTES, what).map_err(DataError::MotionFile)?;
+    let text = read_text_capped(path, MOTION_CSV_MAX_BYTES, what).map_err(DataError::TextFile)?;
     let csv_err = |line: usize, reason: String| DataError::Csv {
         path: path.into(),
         line,

@@ -36,7 +36,7 @@ use pneuma_core::head::train::{synthesize_clip, TrainConfig};
 use pneuma_core::head::{HeadConfig, HeadModel, TrainingClip, UnvoicedBehaviour, Variant};
 use pneuma_core::{AnalysisConfig, FeatureFrame};
 use pneuma_io::capped::HEAD_MODEL_MAX_BYTES;
-use pneuma_io::{read_mono, read_text_capped};
+use pneuma_io::{read_mono, read_text_capped, CappedReadError};
 
 use crate::data::styletalk::load_clips;
 use crate::data::{analyse_file, wav_files};
@@ -263,12 +263,14 @@ fn paper_synth(dir: &Path) -> Result<PaperSynth, String> {
     let mut gmms = Vec::with_capacity(5);
     for name in PAPER_MODEL_FILES {
         let path = dir.join(name);
-        let text = std::fs::read_to_string(&path).map_err(|e| {
-            format!(
-                "cannot read {}: {e} (--paper-models needs a folder with {}; fetch them from herwinvw/VisualProsody, RuntimeAndExperiment/resource/)",
+        let what = "one of the paper's head-pose models (XML)";
+        let text = read_text_capped(&path, HEAD_MODEL_MAX_BYTES, what).map_err(|e| match e {
+            CappedReadError::Io { source, .. } => format!(
+                "cannot read {}: {source} (--paper-models needs a folder with {}; fetch them from herwinvw/VisualProsody, RuntimeAndExperiment/resource/)",
                 path.display(),
                 PAPER_MODEL_FILES.join(", ")
-            )
+            ),
+            other => other.to_string(),
         })?;
         gmms.push(parse_gmm_xml(&text).map_err(|e| format!("{}: {e}", path.display()))?);
     }
@@ -499,4 +501,36 @@ pub fn run(args: &HeadArgs) -> Result<bool, String> {
         all &= t.passed;
     }
     Ok(all)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_paper_model_past_the_limit_is_refused_by_name() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let first = dir.path().join(PAPER_MODEL_FILES[0]);
+        std::fs::File::create(&first)
+            .and_then(|f| f.set_len(HEAD_MODEL_MAX_BYTES + 1))
+            .expect("a sparse file");
+        let Err(e) = paper_synth(dir.path()) else {
+            panic!("a model past the limit read")
+        };
+        assert_eq!(
+            e,
+            format!(
+                "{} is larger than 16 MiB, the limit for one of the paper's head-pose models \
+                 (XML): is it the right file?",
+                first.display()
+            )
+        );
+        let Err(e) = paper_synth(&dir.path().join("none")) else {
+            panic!("a missing folder read")
+        };
+        assert!(
+            e.contains("(--paper-models needs a folder with gmmVoicedroll11.xml"),
+            "{e}"
+        );
+    }
 }

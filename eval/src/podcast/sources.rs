@@ -254,8 +254,8 @@ pub fn speech_clip(data: &Path, name: &str, praat: &mut Praat<'_>) -> Result<Spe
         praat(&audio)?
     } else {
         let path = data.join(set).join(format!("{name}.f0.csv"));
-        let text =
-            std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let text = crate::data::read_text(&path, crate::data::reference::REFERENCE_FILE)
+            .map_err(|e| e.to_string())?;
         read_f0_csv(&text)
             .into_iter()
             .map(|(t, f)| (t + REFERENCE_OFFSET_S, f))
