@@ -5,12 +5,13 @@
 //! band's level a breath rises little there, as it adds little to it).
 //!
 //! Two runs are followed side by side: a *strict* one of frames over the breath margin, and a
-//! *held* one that starts as the strict one does but carries on through frames a few dB under
-//! it ([`BREATH_HOLD_DB`]). In a noisy room a breath a few dB over the room dips under the margin
-//! now and then, and its strict runs are too short to count. A pause's breath is its strict
-//! run; when none counts, its held run still marks a breath already there (nothing is inserted
+//! *held* one that starts as the strict one does but carries on through frames over a share of
+//! the margin ([`BREATH_HOLD_SHARE`]). In a noisy room a breath a few dB over the room dips
+//! under the margin now and then, and its strict runs are too short to count. A pause's breath
+//! is its strict run; when none counts, its held run still marks a breath already there (nothing is inserted
 //! over it), but the breath voice does not learn from it: a held run's edges hold more room
-//! than breath.
+//! than breath. A held run that starts while the phrase's decay is open ([`TAIL_CLOSED_S`])
+//! never counts: its dips would let a tail's ripple pass for a rise.
 
 use super::facts::FrameFacts;
 
@@ -18,16 +19,23 @@ use super::facts::FrameFacts;
 /// tail when it starts at the phrase's offset, dB.
 const BREATH_RISE_DB: f32 = 3.0;
 
-/// How far under the breath margin a frame may fall and still carry on a breath run that has
-/// begun, dB: a breath a few dB over a noisy room dips under the margin now and then, and a run
-/// cut at every dip is never long enough to count.
-pub(super) const BREATH_HOLD_DB: f32 = 3.0;
+/// Share of the breath margin a frame must keep to carry on a breath run that has begun: a
+/// breath a few dB over a noisy room dips under the margin now and then, and a run cut at every
+/// dip is never long enough to count (half the margin: 3 dB at the default 6 dB).
+pub(super) const BREATH_HOLD_SHARE: f32 = 0.5;
+/// How long the level must stay under the hold after a phrase's offset before a held run that
+/// starts is no longer the phrase's decay, seconds: a tail's ripple dips under the hold for a
+/// frame or two and comes back.
+pub(super) const TAIL_CLOSED_S: f32 = 0.025;
 
 /// What makes a run a breath (from the tracker's settings).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct BreathRules {
     /// Shortest run that counts, frames.
     pub(super) min_frames: u32,
+    /// Frames under the hold after the offset that close the phrase's decay
+    /// ([`TAIL_CLOSED_S`]).
+    pub(super) tail_closed_frames: u32,
     /// Highest mean high-over-mid and low-over-mid band level of the run, dB.
     pub(super) max_high_over_mid_db: f32,
     pub(super) max_low_over_mid_db: f32,
@@ -86,6 +94,8 @@ struct RunTrack {
 pub(super) struct PauseBreaths {
     strict: RunTrack,
     held: RunTrack,
+    /// Frames in a row under the hold since the offset, until the decay is closed (`None`).
+    tail_quiet: Option<u32>,
 }
 
 impl Default for PauseBreaths {
@@ -96,6 +106,7 @@ impl Default for PauseBreaths {
                 held: true,
                 ..RunTrack::default()
             },
+            tail_quiet: None,
         }
     }
 }
@@ -192,6 +203,7 @@ impl PauseBreaths {
     pub(super) fn restart(&mut self) {
         self.strict.restart();
         self.held.restart();
+        self.tail_quiet = Some(0);
     }
 
     /// An active frame at `index` (a candidate phrase starts on it): a run going on spans a blip
@@ -212,11 +224,19 @@ impl PauseBreaths {
     ) {
         self.strict
             .track(index, f, f.breath_level, last_offset, rules);
-        // The held run starts where a strict one would, or at the offset (a decay that dips
-        // there is still the decay), and carries on through the dips.
-        let going = self.held.run.frames > 0 || last_offset == Some(index);
-        let held = f.breath_level || (going && f.breath_held);
-        self.held.track(index, f, held, last_offset, rules);
+        // The held run starts where a strict one would, and carries on through the dips. While
+        // the phrase's decay is open (from the offset until the level has stayed under the hold
+        // for `tail_closed_frames`), a held run that starts is the decay's own: it starts at the
+        // offset, and never counts.
+        let in_tail = self.tail_quiet.is_some();
+        self.tail_quiet = match self.tail_quiet {
+            Some(n) if !f.breath_held => Some(n + 1).filter(|&n| n < rules.tail_closed_frames),
+            other => other.map(|_| 0),
+        };
+        let going = self.held.run.frames > 0;
+        let held = f.breath_level || (going && f.breath_held) || (in_tail && f.breath_held);
+        let tail_start = in_tail.then_some(index).or(last_offset);
+        self.held.track(index, f, held, tail_start, rules);
     }
 
     /// Ends the runs going on (if any) before frame `index`: judged, and the pause's breath

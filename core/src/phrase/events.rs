@@ -18,8 +18,9 @@ pub struct Pause {
     pub breath_s: Option<(f64, f64)>,
     /// The part of `breath_s` before the first active frame it spans (an unvoiced blip louder
     /// than a breath: the run of breath-like frames went on after it), when long enough to
-    /// count as a breath; all of it without a blip. What a breath voice learns from: a blip's
-    /// power would outweigh the breath's in the span's mean.
+    /// count as a breath; all of it without a blip; `None` for a breath heard only as a held
+    /// run (see [`super::breath_run`]: its edges hold more room than breath). What a breath
+    /// voice learns from: a blip's power would outweigh the breath's in the span's mean.
     pub breath_clean_s: Option<(f64, f64)>,
     /// End of the last activity inside the pause that did not become a phrase (a noise burst, a
     /// word too short to confirm), seconds; `None` when the pause was quiet. Nothing should be

@@ -13,7 +13,7 @@ pub(super) struct FrameFacts {
     pub(super) breath_bands_db: f32,
     /// Over the floor by `breath_margin_db` (and not silence): loud enough for a breath run.
     pub(super) breath_level: bool,
-    /// Over the floor by `breath_margin_db` less [`super::breath_run::BREATH_HOLD_DB`]: loud
+    /// Over the floor by [`super::breath_run::BREATH_HOLD_SHARE`] of `breath_margin_db`: loud
     /// enough to carry on a breath run that has begun.
     pub(super) breath_held: bool,
     /// The frame's high band over its mid band, dB ([`crate::analysis::BandLevels`]).

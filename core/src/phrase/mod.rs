@@ -24,6 +24,10 @@
 //!   `breath_max_low_over_mid_db` (not a vowel's tail or rumble). A run that starts at the
 //!   phrase's offset must also rise 3 dB over its lowest point, in the voice band or in the
 //!   breath's own bands (a reverberant tail only falls).
+//!   In a noisy room a breath dips under the margin now and then: failing such a run, a *held*
+//!   run that carries on through frames over half the margin marks a breath already there
+//!   (nothing to learn from; never one that continues the phrase's decay), see
+//!   [`breath_run`].
 //!
 //! Events are reported when they are certain, with the times they refer to (which lie in the
 //! past): a consumer with lookahead (the engine's delay line) places breaths exactly, a live

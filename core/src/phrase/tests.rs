@@ -672,7 +672,7 @@ fn a_breath_that_dips_under_the_margin_in_a_noisy_room_is_held_but_not_learnt() 
     assert_eq!(pauses[1].breath_clean_s, None);
     // Noise that never reaches the margin starts no run, however long it hovers over the hold.
     let mut hover = vec![(100, -70.0, false), (100, -20.0, true), (30, -70.0, false)];
-    hover.extend(dipping(40, -65.5, -67.5));
+    hover.push((40, -65.5, false));
     hover.extend([(20, -70.0, false), (100, -20.0, true), (50, -70.0, false)]);
     assert_eq!(breaths_of(&hover), [None, None]);
 }
@@ -700,6 +700,10 @@ fn a_tail_whose_ripple_dips_under_the_margin_is_no_breath() {
             }),
     );
     script.extend([(30, -70.0, false), (100, -20.0, true), (50, -70.0, false)]);
+    let p = pauses_of(&run(&script));
+    assert_eq!(p[1].breath_s, None, "a tail heard as a breath: {:?}", p[1]);
+    // Its first dip (the offset's frame) under the hold too: the decay is still open after it.
+    script[5].1 = -67.5;
     let p = pauses_of(&run(&script));
     assert_eq!(p[1].breath_s, None, "a tail heard as a breath: {:?}", p[1]);
 }

@@ -3,7 +3,7 @@
 //! breath runs of a pause ([`super::breath_run`]) and the room's band levels
 //! ([`super::floor_bands`]) have rooms of their own.
 
-use super::breath_run::{BreathRules, PauseBreaths, BREATH_HOLD_DB};
+use super::breath_run::{BreathRules, PauseBreaths, BREATH_HOLD_SHARE, TAIL_CLOSED_S};
 use super::config::{PhraseConfig, PhraseError};
 use super::events::{Pause, PhraseEvent};
 use super::facts::FrameFacts;
@@ -135,6 +135,7 @@ impl PhraseTracker {
             },
             breath_rules: BreathRules {
                 min_frames: frames(config.breath_min_s) as u32,
+                tail_closed_frames: frames(TAIL_CLOSED_S) as u32,
                 max_high_over_mid_db: config.breath_max_high_over_mid_db,
                 max_low_over_mid_db: config.breath_max_low_over_mid_db,
             },
@@ -276,7 +277,7 @@ impl PhraseTracker {
             (rms_db - s.floor_db).max(s.floor_bands.breath_bands_over_room_db(&frame.bands));
         let breath_level = over_room_db >= c.breath_margin_db && rms_db > silence_db;
         let breath_held =
-            over_room_db >= c.breath_margin_db - BREATH_HOLD_DB && rms_db > silence_db;
+            over_room_db >= c.breath_margin_db * BREATH_HOLD_SHARE && rms_db > silence_db;
         FrameFacts {
             active,
             over_floor,

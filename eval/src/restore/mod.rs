@@ -198,8 +198,11 @@ pub struct SpeakerResult {
 /// The quietest room `--room-db` takes, dB under the speech: quieter rooms add nothing the
 /// clips' own floors do not hold.
 const ROOM_DB_MAX: f64 = 80.0;
-/// Seed of a clip's room noise (`--room-db`), plus the clip's place in its set.
+/// Seed of a clip's room noise (`--room-db`), plus the clip's place in its set and the set's
+/// offset ([`ROOM_SEED_SET_STEP`] for the second).
 const ROOM_SEED: u64 = 31;
+/// How far apart the two sets' room seeds start (more clips than any set holds).
+const ROOM_SEED_SET_STEP: u64 = 1_000;
 
 /// The clip `name` at `path`, mono, in a room `room_db` under its speech level when given
 /// (seeded with `seed`), and its rate.
@@ -219,11 +222,20 @@ fn read_clip(
     config.placement.whole_file = true;
     let mut learner = VoiceLearner::new(&config, rate_hz).map_err(|e| format!("{name}: {e}"))?;
     learner.feed(&audio).map_err(|e| format!("{name}: {e}"))?;
-    let noise_rms = 10f64.powf((learner.speech_db() - room_db) / 20.0);
+    let speech_db = learner.speech_db();
+    if !speech_db.is_finite() {
+        return Err(format!(
+            "{name}: no voiced frame to set the room's level by (--room-db needs speech)"
+        ));
+    }
+    let noise_rms = 10f64.powf((speech_db - room_db) / 20.0);
     Ok((add_noise(&audio, noise_rms, Colour::Pink, seed), rate_hz))
 }
 
-fn load(data: &Path, labels_path: &Path, room_db: Option<f64>) -> Result<Vec<Clip>, String> {
+/// The labelled clips of one set; `room`: the room's level under the speech and the set's first
+/// seed.
+fn load(data: &Path, labels_path: &Path, room: (Option<f64>, u64)) -> Result<Vec<Clip>, String> {
+    let (room_db, seed) = room;
     let labels = read_labels(labels_path)?;
     let mut by_clip: BTreeMap<String, Vec<Label>> = BTreeMap::new();
     for l in labels {
@@ -254,7 +266,7 @@ fn load(data: &Path, labels_path: &Path, room_db: Option<f64>) -> Result<Vec<Cli
                 }
                 .into());
             }
-            let (audio, rate_hz) = read_clip(&path, &name, room_db, ROOM_SEED + k as u64)?;
+            let (audio, rate_hz) = read_clip(&path, &name, room_db, seed + k as u64)?;
             ls.sort_by(|a, b| a.start_s.total_cmp(&b.start_s));
             let floor = noise_floor(&audio, rate_hz);
             let breaths: Vec<(f64, f64)> = ls.iter().map(|l| (l.start_s, l.end_s)).collect();
@@ -495,8 +507,13 @@ fn print_voice(clip: &Clip) -> Result<(), String> {
 
 /// Every labelled clip of `sets`, in a room `room_db` under its speech level when given.
 pub fn load_all(sets: &LabelledSets, room_db: Option<f64>) -> Result<Vec<Clip>, String> {
-    let mut clips = load(&sets.data, &sets.labels, room_db)?;
-    clips.extend(load(&sets.keele, &sets.keele_labels, room_db)?);
+    let mut clips = load(&sets.data, &sets.labels, (room_db, ROOM_SEED))?;
+    let keele_seed = ROOM_SEED + ROOM_SEED_SET_STEP;
+    clips.extend(load(
+        &sets.keele,
+        &sets.keele_labels,
+        (room_db, keele_seed),
+    )?);
     Ok(clips)
 }
 
