@@ -83,6 +83,50 @@ fn a_chained_ogg_file_renders_every_stream_in_every_output() {
     }
 }
 
+#[test]
+fn a_chained_ogg_with_an_opus_stream_is_refused_as_opus_not_as_damaged() {
+    if !have_ffmpeg("a_chained_ogg_with_an_opus_stream_is_refused_as_opus_not_as_damaged") {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (vorbis, opus) = (dir.path().join("a.ogg"), dir.path().join("b.opus"));
+    ffmpeg_encode(&example_voice_path(), &vorbis, &["-c:a", "libvorbis"]);
+    ffmpeg_encode(&example_voice_path(), &opus, &["-c:a", "libopus"]);
+    let bytes = [
+        std::fs::read(&vorbis).expect("ogg"),
+        std::fs::read(&opus).expect("opus"),
+    ]
+    .concat();
+    let chained = dir.path().join("chained.ogg");
+    std::fs::write(&chained, &bytes).expect("write");
+    // Before, the Vorbis stream was decoded and the file called damaged at the Opus one.
+    let out = dir.path().join("out");
+    let piped = dir.path().join("piped");
+    let from_pipe = [
+        "render",
+        "-",
+        "-o",
+        piped.to_str().unwrap(),
+        "-q",
+        "--no-plot",
+    ];
+    for (o, which) in [
+        (render(&chained, &out, &["--no-plot"]), "its stream 2"),
+        (
+            support::pneuma_with_stdin(&from_pipe, &bytes),
+            "a later stream",
+        ),
+    ] {
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{err}");
+        for m in ["Ogg Opus", which, "is not supported", "ffmpeg -i PART.opus"] {
+            assert!(err.contains(m), "`{m}` not in: {err}");
+        }
+        assert!(!err.contains("damaged"), "{err}");
+    }
+    assert!(!out.join("chained.flac").exists(), "no audio written");
+}
+
 /// A RIFF chunk: id, size, body and its pad byte.
 fn chunk(id: &[u8; 4], body: &[u8]) -> Vec<u8> {
     let mut c = [&id[..], &(body.len() as u32).to_le_bytes(), body].concat();
