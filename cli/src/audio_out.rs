@@ -21,7 +21,8 @@
 //!   (`TITLE`, `ARTIST`, `CHAPTER001=HH:MM:SS.mmm`, `CHAPTER001NAME`). FLAC holds integers of at
 //!   most 24 bits here: float input is written as 24-bit FLAC.
 //! - **MP3** (only when asked, [`crate::mp3_out`]): an ID3v2 tag, then LAME's frames; the first
-//!   frame (LAME's Info/Xing frame with the encoder delay and padding) is rewritten at the end.
+//!   frame (LAME's Info/Xing frame with the encoder delay and padding) is rewritten at the end,
+//!   and so is the tag, its last chapter ending at the length written.
 
 use std::fs::File;
 use std::io::{BufWriter, Seek, SeekFrom, Write};
@@ -122,6 +123,8 @@ pub struct AudioSink {
     bytes: Vec<u8>,
     flac: Option<Box<FlacState>>,
     mp3: Option<Box<Mp3Encoder>>,
+    /// Sample frames given to the MP3 encoder (the length its ID3 chapters end at).
+    mp3_frames: u64,
 }
 
 impl std::fmt::Debug for AudioSink {
@@ -288,6 +291,7 @@ impl AudioSink {
             bytes: Vec::new(),
             flac: None,
             mp3: None,
+            mp3_frames: 0,
         };
         if container == Container::Mp3 {
             let settings = mp3.ok_or_else(|| std::io::Error::other("MP3 settings missing"))?;
@@ -425,9 +429,10 @@ impl AudioSink {
                 }));
             }
             Container::Mp3 => {
-                let length_s =
-                    (self.info.frames > 0).then(|| self.info.frames as f64 / f64::from(rate));
-                h = crate::mp3_out::id3_tag(&self.tags, length_s)?;
+                // The last chapter ends at the length written, known at the end: the tag is
+                // rewritten in place then ([`Self::patch_sizes`]), never the input's announced
+                // length (a FLAC's STREAMINFO may announce less than it holds).
+                h = crate::mp3_out::id3_tag(&self.tags, None)?;
             }
         }
         self.header_len = h.len() as u64;
@@ -498,6 +503,7 @@ impl AudioSink {
             let result = match mp3.encode(samples, &mut clipped) {
                 Ok(bytes) => {
                     self.data_bytes += bytes.len() as u64;
+                    self.mp3_frames += (samples.len() / usize::from(self.info.channels)) as u64;
                     self.dest().write_all(bytes)
                 }
                 Err(e) => Err(e),
@@ -660,7 +666,8 @@ impl AudioSink {
         out
     }
 
-    /// Writes the real sizes into the header of a finished file.
+    /// Writes the real sizes into the header of a finished file (MP3: the ID3 tag, its last
+    /// chapter ending at the length written).
     fn patch_sizes(&mut self, file: &mut File, tail: u64) -> std::io::Result<()> {
         let too_big = || {
             std::io::Error::other(
@@ -713,7 +720,20 @@ impl AudioSink {
                 file.seek(SeekFrom::Start(flac.info_at))?;
                 file.write_all(sink.as_slice())?;
             }
-            Container::Mp3 => {}
+            Container::Mp3 => {
+                // The ID3 tag again, its last chapter ending at the length written: the same
+                // frames and sizes, only the times differ.
+                let length_s = self.mp3_frames as f64 / f64::from(self.info.sample_rate_hz);
+                let tag = crate::mp3_out::id3_tag(&self.tags, Some(length_s))?;
+                if tag.len() as u64 != self.header_len {
+                    return Err(std::io::Error::other(
+                        "the MP3's ID3 tag changed size when its length was written; write \
+                         --format flac (and report this)",
+                    ));
+                }
+                file.seek(SeekFrom::Start(0))?;
+                file.write_all(&tag)?;
+            }
         }
         file.seek(SeekFrom::End(0))?;
         Ok(())

@@ -236,7 +236,8 @@ fn vbr_quality(kbps: u32) -> mp3lame_encoder::Quality {
 }
 
 /// The ID3v2.3 tag for `tags` (empty when there are none); chapters end where the next one
-/// starts, the last at `length_s` (the input's announced length; its start when unknown).
+/// starts, the last at `length_s` (the length written; its start when unknown). The tag's size
+/// does not depend on `length_s`, so the writer rewrites it in place once the length is known.
 pub fn id3_tag(tags: &Tags, length_s: Option<f64>) -> std::io::Result<Vec<u8>> {
     let mut tag = id3::Tag::new();
     if let Some(t) = &tags.title {

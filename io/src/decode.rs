@@ -3,7 +3,8 @@
 //!
 //! Opus is not read: symphonia has no Opus decoder and the maintained Opus crates bind the C
 //! library, so an Opus file fails with [`DecodeError::Unsupported`] and the `ffmpeg` command that
-//! converts it.
+//! converts it, and a chained Ogg with an Opus stream after the first with
+//! [`DecodeError::ChainedOpus`] (found before decoding by [`DecodedSource::count_frames`]).
 //!
 //! Damage is an error, never a silent gap: a packet the decoder rejects, a FLAC file whose
 //! decoded audio does not match the MD5 sum of its STREAMINFO (a bad frame CRC makes the FLAC
@@ -67,6 +68,15 @@ pub enum DecodeError {
         frames_read: u64,
         /// What went wrong.
         reason: String,
+    },
+    /// A chained Ogg file with an Opus stream after the first (a first Opus stream is
+    /// [`DecodeError::Unsupported`]).
+    #[error("{path}: Ogg Opus ({which}, chained after others; no maintained pure-Rust Opus decoder) is not supported, and ffmpeg converts only a chained file's first stream: convert each stream from the file it was before it was chained, e.g. `ffmpeg -i PART.opus PART.flac`, and render those")]
+    ChainedOpus {
+        /// The file.
+        path: PathBuf,
+        /// Which stream: `its stream 2`, or (from a pipe, not counted) `a later stream`.
+        which: String,
     },
     /// The file holds no audio.
     #[error("{path} holds no audio ({detail}); record or export it again")]
@@ -336,14 +346,24 @@ impl DecodedSource {
     ///   ([`crate::mp3_length`]) and the count replaces symphonia's guess;
     /// - an Ogg that chains logical streams one after another: the sum of their lengths
     ///   ([`crate::ogg_length`]) replaces symphonia's, the length of one.
-    pub fn count_frames(&mut self, path: &Path) {
+    ///
+    /// An Ogg with an Opus stream after the first is refused here, before any audio is decoded.
+    pub fn count_frames(&mut self, path: &Path) -> Result<(), DecodeError> {
         if self.frames_read > 0 {
-            return;
+            return Ok(());
         }
         let (counted, mp3) = match self.format {
             InputFormat::Mp3 => (crate::mp3_length::counted_frames(path), true),
-            InputFormat::Ogg => (crate::ogg_length::chained_frames(path), false),
-            _ => return,
+            InputFormat::Ogg => match crate::ogg_length::chained_frames(path) {
+                Ok(frames) => (frames, false),
+                Err(opus) => {
+                    return Err(DecodeError::ChainedOpus {
+                        path: self.path.clone(),
+                        which: format!("its stream {}", opus.number),
+                    })
+                }
+            },
+            _ => return Ok(()),
         };
         if let Some(frames) = counted {
             self.announced = (frames > 0).then_some(frames);
@@ -351,6 +371,7 @@ impl DecodedSource {
             // An MP3 counted so is read to the last packet's end.
             self.keep_packet_ends |= mp3;
         }
+        Ok(())
     }
 
     /// What the stream holds (`frames` is what the container announces, 0 if it does not).
@@ -449,6 +470,13 @@ impl DecodedSource {
         let Some((track_id, params)) = params else {
             return Err(self.damaged("a chained stream has no audio track".into()));
         };
+        // Found before reading by [`Self::count_frames`] in a regular file; here from a pipe.
+        if params.codec == CODEC_ID_OPUS {
+            return Err(DecodeError::ChainedOpus {
+                path: self.path.clone(),
+                which: "a later stream".into(),
+            });
+        }
         self.decoder = symphonia::default::get_codecs()
             .make_audio_decoder(&params, &AudioDecoderOptions::default().verify(true))
             .map_err(|e| self.damaged(format!("a chained stream cannot be decoded: {e}")))?;

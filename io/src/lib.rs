@@ -288,10 +288,10 @@ impl AudioSource {
         if (format != InputFormat::Wav || adpcm.is_some()) && file_len.is_some() {
             // A regular file is opened again: symphonia seeks in it (trailing tags, MP4 boxes).
             let file = std::fs::File::open(path).map_err(open_err)?;
-            let source = DecodedSource::open(path, Box::new(file), format).map(|mut s| {
+            let source = DecodedSource::open(path, Box::new(file), format).and_then(|mut s| {
                 s.read_edit_list(path);
-                s.count_frames(path);
-                s
+                s.count_frames(path)?;
+                Ok(s)
             });
             return match (source, adpcm) {
                 // An ADPCM header symphonia cannot read is a WAV problem: say which format.

@@ -83,6 +83,50 @@ fn a_chained_ogg_file_renders_every_stream_in_every_output() {
     }
 }
 
+#[test]
+fn a_chained_ogg_with_an_opus_stream_is_refused_as_opus_not_as_damaged() {
+    if !have_ffmpeg("a_chained_ogg_with_an_opus_stream_is_refused_as_opus_not_as_damaged") {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (vorbis, opus) = (dir.path().join("a.ogg"), dir.path().join("b.opus"));
+    ffmpeg_encode(&example_voice_path(), &vorbis, &["-c:a", "libvorbis"]);
+    ffmpeg_encode(&example_voice_path(), &opus, &["-c:a", "libopus"]);
+    let bytes = [
+        std::fs::read(&vorbis).expect("ogg"),
+        std::fs::read(&opus).expect("opus"),
+    ]
+    .concat();
+    let chained = dir.path().join("chained.ogg");
+    std::fs::write(&chained, &bytes).expect("write");
+    // Before, the Vorbis stream was decoded and the file called damaged at the Opus one.
+    let out = dir.path().join("out");
+    let piped = dir.path().join("piped");
+    let from_pipe = [
+        "render",
+        "-",
+        "-o",
+        piped.to_str().unwrap(),
+        "-q",
+        "--no-plot",
+    ];
+    for (o, which) in [
+        (render(&chained, &out, &["--no-plot"]), "its stream 2"),
+        (
+            support::pneuma_with_stdin(&from_pipe, &bytes),
+            "a later stream",
+        ),
+    ] {
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{err}");
+        for m in ["Ogg Opus", which, "is not supported", "ffmpeg -i PART.opus"] {
+            assert!(err.contains(m), "`{m}` not in: {err}");
+        }
+        assert!(!err.contains("damaged"), "{err}");
+    }
+    assert!(!out.join("chained.flac").exists(), "no audio written");
+}
+
 /// A RIFF chunk: id, size, body and its pad byte.
 fn chunk(id: &[u8; 4], body: &[u8]) -> Vec<u8> {
     let mut c = [&id[..], &(body.len() as u32).to_le_bytes(), body].concat();
@@ -171,18 +215,8 @@ fn bvh_frames(path: &Path) -> (u64, f64, usize) {
 #[test]
 fn a_bvh_runs_as_long_as_the_audio_decoded_whatever_the_header_announced() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let flac_dir = dir.path().join("flac");
-    let args = ["--format", "flac", "--no-plot"];
-    assert_ok(&render(&example_voice_path(), &flac_dir, &args));
-    // A FLAC whose STREAMINFO announces half its samples (36 bits at bytes 21.5..26).
-    let mut flac = std::fs::read(flac_dir.join("voice.flac")).expect("flac");
-    assert_eq!(&flac[..4], b"fLaC");
-    let field = u64::from_be_bytes(flac[18..26].try_into().unwrap());
-    let total = field & ((1 << 36) - 1);
-    let half = (field & !((1 << 36) - 1)) | (total / 2);
-    flac[18..26].copy_from_slice(&half.to_be_bytes());
     let input = dir.path().join("half.flac");
-    std::fs::write(&input, &flac).expect("write");
+    std::fs::write(&input, half_announced_flac(dir.path())).expect("write");
     // The same audio from a pipe, as a WAV of unknown length (as ffmpeg writes one there).
     let pcm: Vec<u8> = support::read_audio(&example_voice_path())
         .0
@@ -218,6 +252,81 @@ fn a_bvh_runs_as_long_as_the_audio_decoded_whatever_the_header_announced() {
         assert_ok(&support::pneuma_with_stdin(&args, &streamed));
         assert_bvh_as_long(&piped.join("stdin.wav"), &piped.join("stdin.bvh"));
     }
+}
+
+/// The example voice as a FLAC (rendered into `dir`) whose STREAMINFO announces half its
+/// samples (36 bits at bytes 21.5..26); its STREAMINFO block ends at byte 42.
+fn half_announced_flac(dir: &Path) -> Vec<u8> {
+    let flac_dir = dir.join("flac");
+    let args = ["--format", "flac", "--no-plot"];
+    assert_ok(&render(&example_voice_path(), &flac_dir, &args));
+    let mut flac = std::fs::read(flac_dir.join("voice.flac")).expect("flac");
+    assert_eq!(&flac[..4], b"fLaC");
+    let field = u64::from_be_bytes(flac[18..26].try_into().unwrap());
+    let total = field & ((1 << 36) - 1);
+    let half = (field & !((1 << 36) - 1)) | (total / 2);
+    flac[18..26].copy_from_slice(&half.to_be_bytes());
+    flac
+}
+
+/// A FLAC CUESHEET metadata block (not the last) of tracks starting at `starts` (sample
+/// frames), without index points: symphonia reads each track as a chapter.
+fn cuesheet_block(starts: &[u64]) -> Vec<u8> {
+    // Catalog number, lead-in, CD-DA flag and reserved bytes, all zero.
+    let mut body = vec![0u8; 128 + 8 + 1 + 258];
+    body.push(starts.len() as u8);
+    for (i, &at) in starts.iter().enumerate() {
+        body.extend_from_slice(&at.to_be_bytes());
+        body.push(i as u8 + 1);
+        body.extend_from_slice(&[0u8; 12 + 14]); // ISRC, flags and reserved
+        body.push(0); // index points
+    }
+    [&[5u8][..], &(body.len() as u32).to_be_bytes()[1..], &body].concat()
+}
+
+/// The end times (ms) of the `CHAP` frames of the ID3v2.3 tag that starts `mp3`.
+fn id3_chapter_ends_ms(mp3: &[u8]) -> Vec<u32> {
+    assert_eq!(&mp3[..4], b"ID3\x03", "an ID3v2.3 tag first");
+    let size = mp3[6..10]
+        .iter()
+        .fold(0usize, |n, &b| n << 7 | usize::from(b));
+    let tag = &mp3[10..10 + size];
+    let mut ends = Vec::new();
+    let mut at = 0;
+    while at + 10 <= tag.len() && tag[at] != 0 {
+        let len = u32::from_be_bytes(tag[at + 4..at + 8].try_into().unwrap()) as usize;
+        let body = &tag[at + 10..at + 10 + len];
+        if &tag[at..at + 4] == b"CHAP" {
+            // The element id (ended by a zero byte), then the start and end times.
+            let id = body.iter().position(|&b| b == 0).expect("element id") + 1;
+            ends.push(u32::from_be_bytes(body[id + 4..id + 8].try_into().unwrap()));
+        }
+        at += 10 + len;
+    }
+    ends
+}
+
+#[test]
+fn an_mp3s_last_chapter_ends_with_the_audio_written_whatever_the_header_announced() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let flac = half_announced_flac(dir.path());
+    let (samples, rate_hz, channels) = read_audio(&example_voice_path());
+    // Chapters at 0 and 1 s, in a CUESHEET block after the STREAMINFO.
+    let cues = cuesheet_block(&[0, u64::from(rate_hz)]);
+    let input = dir.path().join("chapters.flac");
+    std::fs::write(&input, [&flac[..42], &cues, &flac[42..]].concat()).expect("write");
+    let out = dir.path().join("out");
+    assert_ok(&render(&input, &out, &["--no-plot", "--format", "mp3"]));
+    let mp3 = std::fs::read(out.join("chapters.mp3")).expect("mp3");
+    let frames = samples.len() as f64 / f64::from(channels);
+    let voice_ms = (frames * 1000.0 / f64::from(rate_hz)).round() as u32;
+    // Before, the last chapter ended at the announced half.
+    assert_eq!(id3_chapter_ends_ms(&mp3), [1000, voice_ms]);
+    let written_s = duration_s(&out.join("chapters.mp3"));
+    assert!(
+        (written_s * 1000.0 - f64::from(voice_ms)).abs() <= 1.0,
+        "{written_s} s"
+    );
 }
 
 /// The BVH at `bvh` has as many motion lines as its header counts, and lasts as long as the
