@@ -8,10 +8,10 @@
 //! *held* one that starts as the strict one does but carries on through frames over a share of
 //! the margin ([`BREATH_HOLD_SHARE`]). In a noisy room a breath a few dB over the room dips
 //! under the margin now and then, and its strict runs are too short to count. A pause's breath
-//! is its strict run; when none counts, its held run still marks a breath already there (nothing is inserted
-//! over it), but the breath voice does not learn from it: a held run's edges hold more room
-//! than breath. A held run that starts while the phrase's decay is open ([`TAIL_CLOSED_S`])
-//! never counts: its dips would let a tail's ripple pass for a rise.
+//! is its strict run; when none counts, its held run still marks a breath already there
+//! (nothing is inserted over it), but the breath voice does not learn from it: a held run's
+//! edges hold more room than breath. A held run that starts while the phrase's decay is open
+//! ([`TAIL_CLOSED_S`]) never counts: its dips would let a tail's ripple pass for a rise.
 
 use super::facts::FrameFacts;
 
