@@ -1,6 +1,7 @@
 //! Reading a small user file whole (a head-pose model, a text to speak, a motion CSV, an
-//! evaluation's labels or pitch references) through a size cap, so that a wrong path (`/dev/zero`, a recording given as a model) is refused with a
-//! message instead of filling memory. The cap is enforced while reading (`Read::take`), not from
+//! evaluation's labels or pitch references) through a size cap, so that a wrong path
+//! (`/dev/zero`, a recording given as a model) is refused with a message instead of filling
+//! memory. The cap is enforced while reading (`Read::take`), not from
 //! the file's metadata: a device or a pipe reports a length of 0.
 
 use std::io::Read;

@@ -5,10 +5,11 @@
 //! channel mask).
 //!
 //! Read apart from the samples ([`crate::WavSource`] streams them, and reads nothing after the
-//! data of a regular file), by seeking from chunk to chunk of a regular file, before or after the data; the same walk
-//! counts the `data` chunks and looks at what follows the first ([`crate::wav_tail`]), so that
-//! a second one, or audio its header does not announce, is refused rather than lost (a stream
-//! is looked at once its data has been read: [`crate::wav_tail::check_stream`]). Best effort: a
+//! data of a regular file), by seeking from chunk to chunk of a regular file, before or after
+//! the data; the same walk counts the `data` chunks and looks at what follows the first
+//! ([`crate::wav_tail`]), so that a second one, or audio its header does not announce, is
+//! refused rather than lost (a stream is looked at once its data has been read:
+//! [`crate::wav_tail::check_stream`]). Best effort: a
 //! chunk that is damaged or a file that ends early gives what was found before it (the reader
 //! of the samples reports damage).
 

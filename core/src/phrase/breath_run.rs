@@ -134,20 +134,20 @@ impl RunTrack {
         }
     }
 
-    /// Takes frame `index` with its facts `f`; `loud` when its level carries this kind of run.
+    /// Takes frame `index` with its facts `f`; `loud` when its level carries this kind of run,
+    /// `in_tail` when a run starting at it continues the phrase's decay.
     fn track(
         &mut self,
         index: u64,
         f: FrameFacts,
-        loud: bool,
-        last_offset: Option<u64>,
+        (loud, in_tail): (bool, bool),
         rules: &BreathRules,
     ) {
         let run = &mut self.run;
         if loud && !f.voiced && !f.active {
             if run.frames == 0 {
                 run.start = index;
-                run.from_tail = last_offset == Some(index);
+                run.from_tail = in_tail;
                 run.min_db = f.level_db;
                 run.min_bands_db = f.breath_bands_db;
                 run.rose = false;
@@ -222,21 +222,21 @@ impl PauseBreaths {
         last_offset: Option<u64>,
         rules: &BreathRules,
     ) {
+        let at_offset = last_offset == Some(index);
         self.strict
-            .track(index, f, f.breath_level, last_offset, rules);
+            .track(index, f, (f.breath_level, at_offset), rules);
         // The held run starts where a strict one would, and carries on through the dips. While
         // the phrase's decay is open (from the offset until the level has stayed under the hold
-        // for `tail_closed_frames`), a held run that starts is the decay's own: it starts at the
-        // offset, and never counts.
-        let in_tail = self.tail_quiet.is_some();
+        // for `tail_closed_frames`), a held run that starts is the decay's own: it may start
+        // under the margin, and never counts.
+        let in_tail = self.tail_quiet.is_some() || at_offset;
         self.tail_quiet = match self.tail_quiet {
             Some(n) if !f.breath_held => Some(n + 1).filter(|&n| n < rules.tail_closed_frames),
             other => other.map(|_| 0),
         };
         let going = self.held.run.frames > 0;
-        let held = f.breath_level || (going && f.breath_held) || (in_tail && f.breath_held);
-        let tail_start = in_tail.then_some(index).or(last_offset);
-        self.held.track(index, f, held, tail_start, rules);
+        let held = f.breath_level || ((going || in_tail) && f.breath_held);
+        self.held.track(index, f, (held, in_tail), rules);
     }
 
     /// Ends the runs going on (if any) before frame `index`: judged, and the pause's breath

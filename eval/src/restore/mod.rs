@@ -204,6 +204,15 @@ const ROOM_SEED: u64 = 31;
 /// How far apart the two sets' room seeds start (more clips than any set holds).
 const ROOM_SEED_SET_STEP: u64 = 1_000;
 
+/// The voice learner of a whole-file render (`pneuma render`'s) fed the clip `name`'s `audio`.
+fn whole_file_learner(audio: &[f32], rate_hz: f64, name: &str) -> Result<VoiceLearner, String> {
+    let mut config = EngineConfig::default();
+    config.placement.whole_file = true;
+    let mut learner = VoiceLearner::new(&config, rate_hz).map_err(|e| format!("{name}: {e}"))?;
+    learner.feed(audio).map_err(|e| format!("{name}: {e}"))?;
+    Ok(learner)
+}
+
 /// The clip `name` at `path`, mono, in a room `room_db` under its speech level when given
 /// (seeded with `seed`), and its rate.
 fn read_clip(
@@ -218,11 +227,7 @@ fn read_clip(
     let Some(room_db) = room_db else {
         return Ok((audio, rate_hz));
     };
-    let mut config = EngineConfig::default();
-    config.placement.whole_file = true;
-    let mut learner = VoiceLearner::new(&config, rate_hz).map_err(|e| format!("{name}: {e}"))?;
-    learner.feed(&audio).map_err(|e| format!("{name}: {e}"))?;
-    let speech_db = learner.speech_db();
+    let speech_db = whole_file_learner(&audio, rate_hz, name)?.speech_db();
     if !speech_db.is_finite() {
         return Err(format!(
             "{name}: no voiced frame to set the room's level by (--room-db needs speech)"
@@ -282,11 +287,7 @@ fn load(data: &Path, labels_path: &Path, room: (Option<f64>, u64)) -> Result<Vec
                 .iter()
                 .map(|p| band_level_db(p, rate_hz))
                 .collect();
-            let mut config = EngineConfig::default();
-            config.placement.whole_file = true;
-            let mut learner =
-                VoiceLearner::new(&config, rate_hz).map_err(|e| format!("{name}: {e}"))?;
-            learner.feed(&audio).map_err(|e| format!("{name}: {e}"))?;
+            let learner = whole_file_learner(&audio, rate_hz, &name)?;
             Ok(Clip {
                 speech_db: learner.speech_db(),
                 speech_ltas_db: learner.speech_ltas_db(),
