@@ -35,6 +35,9 @@
 //!   inserted breaths over a labelled one (doubled).
 //! - **Two voices** (`two_voices`): every pair of speakers' breaths pooled, as in an
 //!   interview: the blend a learner learns from them against the built-in voice.
+//! - **Interview** (`interview`, also with `--judged-only`; reported only): five pairs of
+//!   Keele speakers in alternating turns, the guest level with the host and 12 dB under, every
+//!   other breath of each gated: the level of the breaths put back before each speaker.
 //!
 //! `--check` checks the targets on the held-out figures (see [`targets`]).
 
@@ -58,6 +61,7 @@ use pneuma_core::engine::voice_learning::{learn_voice, VoiceLearner};
 use pneuma_core::engine::EngineConfig;
 
 mod cut;
+mod interview;
 mod left_in;
 mod length_fit;
 pub mod reference;
@@ -738,6 +742,7 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
             all_met &= ok || voice != Voice::Learned;
         }
     }
+    interview::report(&clips, &held_out)?;
     if args.judged_only {
         return Ok(all_met || !args.check);
     }
