@@ -2,25 +2,30 @@
 //! before each speaker against the real breaths they replace.
 //!
 //! Five pairs of Keele speakers ([`PAIRS`], host and guest of the same pair number). Each clip
-//! is cut into [`TURNS`] turns just before a labelled breath (the pause's breath goes with the
-//! turn it opens, as a speaker breathes before speaking) and the turns alternate, host first,
-//! the guest's at [`GUEST_GAINS_DB`] (level with the host, and 12 dB under: a remote guest on
-//! a quieter line). Every other clear breath of each speaker is gated to digital silence, in
-//! two renders (odd ones, then even ones), so that every breath is restored once while the
-//! voice learns from the real breaths left in. Each breath put back (within
+//! is cut into [`TURNS`] turns [`TURN_LEAD_S`] before a labelled breath or unsure label (the
+//! pause's breath goes with the turn it opens, as a speaker breathes before speaking) and the
+//! turns alternate, host first, the guest's at [`GUEST_GAINS_DB`] (level with the host, and
+//! [`SELF_GUEST_DB`] under: a remote guest on a quieter line). Every other clear breath of each
+//! speaker is gated to digital silence, in two renders (odd ones, then even ones), so that every
+//! breath is restored once while the voice learns from the real breaths left in. Each breath put back (within
 //! [`super::PUT_BACK_S`]) is scored as `eval restore` scores a level (output − input over the
 //! inserted span, against the real breath with its clip's floor taken out, moved by the turn's
-//! gain). The same with each Keele speaker as their own guest, 12 dB under: the two voices
-//! breathe alike against their speech, so only the level each breath is measured and played
-//! against can part them. Nothing is fitted on it: reported only.
+//! gain); extra inserted breaths are not counted here. The same with each Keele speaker as
+//! their own guest, [`SELF_GUEST_DB`] under: the two voices breathe alike against their speech,
+//! so only the level each breath is measured and played against can part them (breath `k` of
+//! both roles is the same real breath, gated in the same render, so the copy restored is never
+//! learned from). The built-in voice a render falls back on is fitted without both speakers.
+//! Nothing is fitted on it: reported only.
 
+use std::collections::BTreeMap;
+
+use pneuma_core::breathing::reference::ReferenceVoice;
 use pneuma_core::breathing::third_octave::{band_level_db, band_powers};
 use pneuma_core::engine::EngineConfig;
 
-use super::{render, samples_of, Clip, Cut, Voice, PUT_BACK_S};
+use super::report::LEVEL_WITHIN_DB;
+use super::{reference, render, samples_of, Clip, Cut, Voice, PUT_BACK_S};
 use crate::stats::median;
-use pneuma_core::breathing::reference::ReferenceVoice;
-use std::collections::BTreeMap;
 
 /// Host and guest clips of the five pairs.
 pub const PAIRS: [(&str, &str); 5] = [
@@ -32,12 +37,12 @@ pub const PAIRS: [(&str, &str); 5] = [
 ];
 /// Turns each speaker's clip is cut into.
 const TURNS: usize = 3;
+/// The guest's gain against the host when each speaker is their own guest, dB.
+const SELF_GUEST_DB: f64 = -12.0;
 /// The guest's gain against the host, dB.
-const GUEST_GAINS_DB: [f64; 2] = [0.0, -12.0];
-/// How far before a labelled breath a turn starts, seconds.
-const TURN_LEAD_S: f64 = 0.02;
-/// Within this many dB of the real breath a breath counts as level with it (the issue's ±4 dB).
-const LEVEL_WITHIN_DB: f64 = 4.0;
+const GUEST_GAINS_DB: [f64; 2] = [0.0, SELF_GUEST_DB];
+/// How far before a label a turn starts, seconds: the labels' times are good to about 50 ms.
+const TURN_LEAD_S: f64 = 0.05;
 
 /// Which speaker a breath belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -54,43 +59,51 @@ struct Placed {
     real_db: f64,
 }
 
-/// Where `clip` is cut into turns, seconds: 0, the starts (less [`TURN_LEAD_S`]) of the
-/// labelled breaths nearest to each `k / TURNS` of the clip, its end.
-fn turn_cuts(clip: &Clip) -> Vec<f64> {
+/// Where `clip` is cut into turns, seconds: 0, for each `k / TURNS` of the clip the nearest
+/// start (less [`TURN_LEAD_S`]) of a label after the last cut and outside every clear breath,
+/// and its end. An error when fewer than [`TURNS`] turns can be cut.
+fn turn_cuts(clip: &Clip) -> Result<Vec<f64>, String> {
     let dur_s = clip.audio.len() as f64 / clip.rate_hz;
+    let inside_breath = |t: f64| clip.breaths.iter().any(|&(s, e)| s <= t && t < e);
     let mut cuts = vec![0.0];
     for k in 1..TURNS {
         let at_s = k as f64 * dur_s / TURNS as f64;
+        let last_s = cuts[cuts.len() - 1];
         let nearest = clip
             .breaths
             .iter()
             .chain(&clip.unsure)
-            .map(|&(s, _)| (s - TURN_LEAD_S).max(0.0))
-            .min_by(|a, b| (a - at_s).abs().total_cmp(&(b - at_s).abs()));
-        if let Some(t) = nearest.filter(|&t| t > *cuts.last().unwrap_or(&0.0)) {
-            cuts.push(t);
-        }
+            .map(|&(s, _)| s - TURN_LEAD_S)
+            .filter(|&t| t > last_s && !inside_breath(t))
+            .min_by(|a, b| (a - at_s).abs().total_cmp(&(b - at_s).abs()))
+            .ok_or_else(|| {
+                format!(
+                    "{}: no label to cut turn {} of {TURNS} before (an interview needs them)",
+                    clip.name,
+                    k + 1
+                )
+            })?;
+        cuts.push(nearest);
     }
     cuts.push(dur_s);
-    cuts
+    Ok(cuts)
 }
 
 /// The interview of `host` and `guest` (the guest's turns `guest_db` under): its audio and its
-/// clear breaths.
-fn build(host: &Clip, guest: &Clip, guest_db: f64) -> (Vec<f32>, Vec<Placed>) {
-    let turns = |c: &Clip| {
-        let cuts = turn_cuts(c);
-        cuts.windows(2).map(|w| (w[0], w[1])).collect::<Vec<_>>()
+/// clear breaths; an error when a clear breath would straddle two turns.
+fn build(host: &Clip, guest: &Clip, guest_db: f64) -> Result<(Vec<f32>, Vec<Placed>), String> {
+    let turns = |c: &Clip| -> Result<Vec<(f64, f64)>, String> {
+        let cuts = turn_cuts(c)?;
+        Ok(cuts.windows(2).map(|w| (w[0], w[1])).collect())
     };
-    let (h, g) = (turns(host), turns(guest));
+    let (h, g) = (turns(host)?, turns(guest)?);
     let mut audio = Vec::new();
     let mut placed = Vec::new();
-    for k in 0..h.len().max(g.len()) {
-        for (clip, role, gain_db, turn) in [
-            (host, Role::Host, 0.0, h.get(k)),
-            (guest, Role::Guest, guest_db, g.get(k)),
+    for k in 0..TURNS {
+        for (clip, role, gain_db, (t0, t1)) in [
+            (host, Role::Host, 0.0, h[k]),
+            (guest, Role::Guest, guest_db, g[k]),
         ] {
-            let Some(&(t0, t1)) = turn else { continue };
             let offset_s = audio.len() as f64 / clip.rate_hz - t0;
             let gain = 10f64.powf(gain_db / 20.0) as f32;
             audio.extend(
@@ -109,7 +122,16 @@ fn build(host: &Clip, guest: &Clip, guest_db: f64) -> (Vec<f32>, Vec<Placed>) {
             }
         }
     }
-    (audio, placed)
+    let want = host.breaths.len() + guest.breaths.len();
+    if placed.len() != want {
+        return Err(format!(
+            "{} / {}: {} of {want} clear breaths inside a turn",
+            host.name,
+            guest.name,
+            placed.len()
+        ));
+    }
+    Ok((audio, placed))
 }
 
 /// Inserted − real level of each breath of `placed` restored in the interview `audio` (rate
@@ -121,7 +143,7 @@ fn restore(
     rate_hz: f64,
     placed: &[Placed],
     voice: Voice,
-    held_out: &ReferenceVoice,
+    fallback: &ReferenceVoice,
 ) -> Result<Vec<(Role, Option<f64>)>, String> {
     let mut out = Vec::new();
     for phase in 0..2 {
@@ -141,7 +163,7 @@ fn restore(
             audio,
             rate_hz,
             voice,
-            held_out,
+            fallback,
             phase as u64,
         )?;
         let added: Vec<f32> = r.audio[0].iter().zip(&input).map(|(o, i)| o - i).collect();
@@ -158,14 +180,14 @@ fn restore(
                     let ov = |j: usize| r.breaths[j].end_s.min(e) - r.breaths[j].start_s.max(s);
                     ov(a).total_cmp(&ov(b))
                 });
-            let level = best.map(|j| {
+            let level_db = best.map(|j| {
                 used[j] = true;
                 let b = &r.breaths[j];
                 let powers =
                     band_powers(samples_of(&added, rate_hz, (b.start_s, b.end_s)), rate_hz);
                 band_level_db(&powers, rate_hz) - placed[i].real_db
             });
-            out.push((placed[i].role, level));
+            out.push((placed[i].role, level_db));
         }
     }
     Ok(out)
@@ -190,20 +212,18 @@ fn summary(levels: &[Option<f64>]) -> String {
     )
 }
 
-/// Prints the interview restore of the [`PAIRS`] among `clips` (see the module docs), and of
-/// each Keele speaker as their own guest (the same turns, the guest's 12 dB under: the two
-/// voices breathe alike against their speech, so only the level each breath is measured and
-/// played against can part them), for the voice learned from the whole file and the one
-/// learned as it goes; `held_out`: the built-in voices fitted without each speaker (the
-/// host's is the fall-back before a breath is heard).
-pub fn report(clips: &[Clip], held_out: &BTreeMap<String, ReferenceVoice>) -> Result<(), String> {
+/// Prints the interview restore of the [`PAIRS`] among `clips` and of each of their speakers
+/// as their own guest (see the module docs), rendered with `config`, for the voice learned from
+/// the whole file and the one learned as it goes.
+pub fn report(config: &EngineConfig, clips: &[Clip]) -> Result<(), String> {
     let find = |name: &str| clips.iter().find(|c| c.name == name);
     let pairs: Vec<(&Clip, &Clip)> = PAIRS
         .iter()
         .filter_map(|&(h, g)| Some((find(h)?, find(g)?)))
         .collect();
     if pairs.is_empty() {
-        println!("\ninterview restore: none of the Keele pairs (m1nw0000 and f1nw0000, ...) found");
+        let (h, g) = PAIRS[0];
+        println!("\ninterview restore: none of the Keele pairs ({h} and {g}, ...) found");
         return Ok(());
     }
     println!(
@@ -218,27 +238,27 @@ pub fn report(clips: &[Clip], held_out: &BTreeMap<String, ReferenceVoice>) -> Re
     ] {
         for guest_db in GUEST_GAINS_DB {
             println!("{what}, guest {guest_db:+} dB:");
-            restore_set(&pairs, guest_db, voice, held_out, true)?;
+            restore_set(config, clips, &pairs, guest_db, voice, true)?;
         }
         let selves: Vec<(&Clip, &Clip)> =
             pairs.iter().flat_map(|&(h, g)| [(h, h), (g, g)]).collect();
-        let guest_db = GUEST_GAINS_DB[1];
-        println!("{what}, each speaker as their own guest {guest_db:+} dB:");
-        restore_set(&selves, guest_db, voice, held_out, false)?;
+        println!("{what}, each speaker as their own guest {SELF_GUEST_DB:+} dB:");
+        restore_set(config, clips, &selves, SELF_GUEST_DB, voice, false)?;
     }
     Ok(())
 }
 
 /// Restores the interviews of `pairs` (host, guest) with the guest `guest_db` under and
-/// prints the levels, each pair's when `each`, and all pairs'.
+/// prints the levels, each pair's when `each`, and all pairs'; the built-in voice a render
+/// falls back on is fitted on the other speakers of `clips`.
 fn restore_set(
+    config: &EngineConfig,
+    clips: &[Clip],
     pairs: &[(&Clip, &Clip)],
     guest_db: f64,
     voice: Voice,
-    held_out: &BTreeMap<String, ReferenceVoice>,
     each: bool,
 ) -> Result<(), String> {
-    let config = EngineConfig::default();
     let mut all: BTreeMap<Role, Vec<Option<f64>>> = BTreeMap::new();
     for &(host, guest) in pairs {
         if host.rate_hz != guest.rate_hz {
@@ -247,9 +267,14 @@ fn restore_set(
                 host.name, guest.name, host.rate_hz, guest.rate_hz
             ));
         }
-        let (audio, placed) = build(host, guest, guest_db);
-        let h = &held_out[&host.speaker];
-        let levels = restore(&config, &audio, host.rate_hz, &placed, voice, h)?;
+        let fallback = reference::fit(
+            clips
+                .iter()
+                .filter(|c| c.speaker != host.speaker && c.speaker != guest.speaker),
+        )
+        .ok_or("no other speaker's breath to fit the built-in voice on")?;
+        let (audio, placed) = build(host, guest, guest_db)?;
+        let levels = restore(config, &audio, host.rate_hz, &placed, voice, &fallback)?;
         let of = |role: Role| -> Vec<Option<f64>> {
             levels
                 .iter()

@@ -86,8 +86,8 @@ pub struct RestoreArgs {
     pub check: bool,
     /// Only the held-out rows the targets judge (the learned voice cut three ways, the plugin's
     /// voice learned as it goes, the built-in voice fitted without the speaker, the breaths left
-    /// in): about half the time. Leaves out the fitted and earlier voices, the two-voice
-    /// comparison and the length grid.
+    /// in) and the interview restore (reported only): about half the time. Leaves out the fitted
+    /// and earlier voices, the two-voice comparison and the length grid.
     #[arg(long)]
     pub judged_only: bool,
     /// Record every clip in a noisier room first: seeded pink noise this many dB under the
@@ -742,7 +742,7 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
             all_met &= ok || voice != Voice::Learned;
         }
     }
-    interview::report(&clips, &held_out)?;
+    interview::report(&config, &clips)?;
     if args.judged_only {
         return Ok(all_met || !args.check);
     }

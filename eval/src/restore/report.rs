@@ -67,7 +67,7 @@ fn pairwise_db(shapes: &[Bands]) -> f64 {
 }
 
 /// Level difference a breath's level is scored within, dB (the issue's ±4 dB).
-const LEVEL_WITHIN_DB: f64 = 4.0;
+pub(super) const LEVEL_WITHIN_DB: f64 = 4.0;
 
 /// (pairs within [`LEVEL_WITHIN_DB`] of each other, pairs) over the ordered pairs of two
 /// different `levels_db`.
