@@ -1,21 +1,21 @@
 //! Two speakers in one recording (an interview), restored: the level of the breaths put back
 //! before each speaker against the real breaths they replace.
 //!
-//! Five pairs of Keele speakers ([`PAIRS`], host and guest of the same pair number). Each clip
-//! is cut into [`TURNS`] turns [`TURN_LEAD_S`] before a labelled breath or unsure label (the
-//! pause's breath goes with the turn it opens, as a speaker breathes before speaking) and the
-//! turns alternate, host first, the guest's at [`GUEST_GAINS_DB`] (level with the host, and
+//! Five pairs of Keele speakers ([`PAIRS`], host and guest of the same pair number). Each clip is
+//! cut into [`TURNS`] turns [`TURN_LEAD_S`] before a labelled breath or unsure label (the pause's
+//! breath goes with the turn it opens, as a speaker breathes before speaking) and the turns
+//! alternate, host first, the guest's at [`GUEST_GAINS_DB`] (level with the host, and
 //! [`SELF_GUEST_DB`] under: a remote guest on a quieter line). Every other clear breath of each
 //! speaker is gated to digital silence, in two renders (odd ones, then even ones), so that every
-//! breath is restored once while the voice learns from the real breaths left in. Each breath put back (within
-//! [`super::PUT_BACK_S`]) is scored as `eval restore` scores a level (output − input over the
-//! inserted span, against the real breath with its clip's floor taken out, moved by the turn's
-//! gain); extra inserted breaths are not counted here. The same with each Keele speaker as
-//! their own guest, [`SELF_GUEST_DB`] under: the two voices breathe alike against their speech,
-//! so only the level each breath is measured and played against can part them (breath `k` of
-//! both roles is the same real breath, gated in the same render, so the copy restored is never
-//! learned from). The built-in voice a render falls back on is fitted without both speakers.
-//! Nothing is fitted on it: reported only.
+//! breath is restored once while the voice learns from the real breaths left in. Each breath put
+//! back (within [`super::PUT_BACK_S`]) is scored as `eval restore` scores a level (output − input
+//! over the inserted span, against the real breath with its clip's floor taken out, moved by the
+//! turn's gain); extra inserted breaths are not counted here. The same with each Keele speaker as
+//! their own guest, [`SELF_GUEST_DB`] under: the two voices breathe alike against their speech, so
+//! only the level each breath is measured and played against can part them (breath `k` of both
+//! roles is the same real breath, gated in the same render, so the copy restored is never learned
+//! from). The built-in voice a render falls back on is fitted without both speakers. Nothing is
+//! fitted on it: reported only.
 
 use std::collections::BTreeMap;
 
