@@ -8,7 +8,7 @@
 //! [`SELF_GUEST_DB`] under: a remote guest on a quieter line). Every other clear breath of each
 //! speaker is gated to digital silence, in two renders (odd ones, then even ones), so that every
 //! breath is restored once while the voice learns from the real breaths left in. Each breath put
-//! back (within [`super::PUT_BACK_S`]) is scored as `eval restore` scores a level (output − input
+//! back ([`super::put_back`]) is scored as `eval restore` scores a level (output − input
 //! over the inserted span, against the real breath with its clip's floor taken out, moved by the
 //! turn's gain); extra inserted breaths are not counted here. The same with each Keele speaker as
 //! their own guest, [`SELF_GUEST_DB`] under: the two voices breathe alike against their speech, so
@@ -24,7 +24,7 @@ use pneuma_core::breathing::third_octave::{band_level_db, band_powers};
 use pneuma_core::engine::EngineConfig;
 
 use super::report::LEVEL_WITHIN_DB;
-use super::{reference, render, samples_of, Clip, Cut, Voice, PUT_BACK_S};
+use super::{added, put_back, reference, render, samples_of, Clip, Cut, Voice};
 use crate::stats::median;
 
 /// Host and guest clips of the five pairs.
@@ -145,6 +145,7 @@ fn restore(
     voice: Voice,
     fallback: &ReferenceVoice,
 ) -> Result<Vec<(Role, Option<f64>)>, String> {
+    let spans: Vec<(f64, f64)> = placed.iter().map(|p| p.span_s).collect();
     let mut out = Vec::new();
     for phase in 0..2 {
         let mut seen: BTreeMap<Role, usize> = BTreeMap::new();
@@ -155,7 +156,6 @@ fn restore(
                 (*n - 1) % 2 == phase
             })
             .collect();
-        let spans: Vec<(f64, f64)> = placed.iter().map(|p| p.span_s).collect();
         let input = Cut::Gated.apply(audio, rate_hz, &spans, &which);
         let r = render(
             config,
@@ -166,22 +166,10 @@ fn restore(
             fallback,
             phase as u64,
         )?;
-        let added: Vec<f32> = r.audio[0].iter().zip(&input).map(|(o, i)| o - i).collect();
+        let added = added(&r, &input);
         let mut used = vec![false; r.breaths.len()];
         for &i in &which {
-            let (s, e) = placed[i].span_s;
-            let best = (0..r.breaths.len())
-                .filter(|&j| {
-                    !used[j]
-                        && r.breaths[j].start_s < e + PUT_BACK_S
-                        && s - PUT_BACK_S < r.breaths[j].end_s
-                })
-                .max_by(|&a, &b| {
-                    let ov = |j: usize| r.breaths[j].end_s.min(e) - r.breaths[j].start_s.max(s);
-                    ov(a).total_cmp(&ov(b))
-                });
-            let level_db = best.map(|j| {
-                used[j] = true;
+            let level_db = put_back(&r, &mut used, placed[i].span_s).map(|j| {
                 let b = &r.breaths[j];
                 let powers =
                     band_powers(samples_of(&added, rate_hz, (b.start_s, b.end_s)), rate_hz);

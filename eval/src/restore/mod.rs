@@ -368,6 +368,26 @@ fn render(
     )
 }
 
+/// What the engine added to `input` in the render `out` (output − input, first channel).
+fn added(out: &Rendered, input: &[f32]) -> Vec<f32> {
+    out.audio[0].iter().zip(input).map(|(o, i)| o - i).collect()
+}
+
+/// The inserted breath of `out` that puts back the cut breath spanning `(s, e)` (seconds): of
+/// those not `used` yet that overlap the span widened by [`PUT_BACK_S`] on each side, the one
+/// overlapping it most, marked used; `None` when there is none.
+fn put_back(out: &Rendered, used: &mut [bool], (s, e): (f64, f64)) -> Option<usize> {
+    let overlap = |j: usize| out.breaths[j].end_s.min(e) - out.breaths[j].start_s.max(s);
+    let j = (0..out.breaths.len())
+        .filter(|&j| {
+            let b = &out.breaths[j];
+            !used[j] && b.start_s < e + PUT_BACK_S && s - PUT_BACK_S < b.end_s
+        })
+        .max_by(|&a, &b| overlap(a).total_cmp(&overlap(b)))?;
+    used[j] = true;
+    Some(j)
+}
+
 /// Scores one render of `clip` cut at the breaths `cut_idx` with `cut`: adds to `result`.
 #[allow(clippy::too_many_arguments)]
 fn score(
@@ -382,31 +402,16 @@ fn score(
     let rate = clip.rate_hz;
     let spans: Vec<(f64, f64)> = cut_idx.iter().map(|&i| clip.breaths[i]).collect();
     let moved = cut.moved_spans(&clip.breaths, cut_idx);
-    let added: Vec<f32> = out.audio[0]
-        .iter()
-        .zip(cut_input)
-        .map(|(o, i)| o - i)
-        .collect();
+    let added = added(out, cut_input);
     let mut used = vec![false; out.breaths.len()];
     for (k, &i) in cut_idx.iter().enumerate() {
         let (s, e) = moved[k];
-        let best = out
-            .breaths
-            .iter()
-            .enumerate()
-            .filter(|(j, b)| !used[*j] && b.start_s < e + PUT_BACK_S && s - PUT_BACK_S < b.end_s)
-            .max_by(|(_, a), (_, b)| {
-                let ov = |x: &pneuma_core::BreathEvent| x.end_s.min(e) - x.start_s.max(s);
-                ov(a).total_cmp(&ov(b))
-            })
-            .map(|(j, _)| j);
         result.cut += 1;
-        let Some(j) = best else {
+        let Some(j) = put_back(out, &mut used, (s, e)) else {
             result.restored.push(None);
             result.missed.push((clip.name.clone(), clip.breaths[i]));
             continue;
         };
-        used[j] = true;
         let b = &out.breaths[j];
         let x = samples_of(&added, rate, (b.start_s, b.end_s));
         let powers = band_powers(x, rate);
