@@ -22,7 +22,7 @@ use super::pipeline::{lossy_note, run, RenderSummary};
 use super::plan::{check_batch, Args, Input};
 
 /// Columns of the summary table.
-const COLUMNS: usize = 6;
+const COLUMNS: usize = 7;
 
 /// What became of one input of a batch.
 type Outcome = Result<RenderSummary, RenderError>;
@@ -34,7 +34,15 @@ fn row(input: &Path, result: Result<&Outcome, &str>) -> [String; COLUMNS] {
         Ok(r) => r,
         Err(why) => {
             let dash = || "-".to_string();
-            return [name, "skipped".into(), dash(), dash(), dash(), why.into()];
+            return [
+                name,
+                "skipped".into(),
+                dash(),
+                dash(),
+                dash(),
+                dash(),
+                why.into(),
+            ];
         }
     };
     match result {
@@ -42,6 +50,7 @@ fn row(input: &Path, result: Result<&Outcome, &str>) -> [String; COLUMNS] {
             name,
             "ok".into(),
             s.breaths.len().to_string(),
+            s.heard_breaths.to_string(),
             format!("{:.1}", s.length_s),
             warnings_cell(s.findings.iter().map(|f| f.short()), s.notes.len()),
             s.files
@@ -53,6 +62,7 @@ fn row(input: &Path, result: Result<&Outcome, &str>) -> [String; COLUMNS] {
         Err(e) => [
             name,
             "FAILED".into(),
+            "-".into(),
             "-".into(),
             "-".into(),
             "-".into(),
@@ -83,6 +93,7 @@ fn print_table(rows: &[[String; COLUMNS]]) {
         "input",
         "result",
         "breaths",
+        "heard",
         "length_s",
         "warnings",
         "output / error",

@@ -108,8 +108,8 @@ fn render_one(args: &Args, input: &Path) -> ExitCode {
 }
 
 /// The summary of one render on standard error: the input's format, breaths, frames, clipped
-/// samples, what a lossy input became, the files written and the breath voice of the breaths
-/// inserted.
+/// samples, what a lossy input became, the files written, the real breaths heard and the breath
+/// voice of the breaths inserted.
 fn print_summary(input: &Path, s: &RenderSummary) {
     eprintln!(
         "rendered {} ({}, {}): {}, {}{}{}",
@@ -133,6 +133,12 @@ fn print_summary(input: &Path, s: &RenderSummary) {
     }
     if let Some(removed) = s.leftovers.removed_line() {
         eprintln!("  {removed}");
+    }
+    if s.heard_breaths > 0 {
+        eprintln!(
+            "  real breaths heard in the pauses and left as they are: {}",
+            s.heard_breaths
+        );
     }
     // The voice is worth a line only where a breath was inserted (not with --no-breaths).
     if !s.breaths.is_empty() {

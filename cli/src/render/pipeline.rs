@@ -51,6 +51,8 @@ pub struct RenderSummary {
     pub files: Vec<PathBuf>,
     /// Breaths inserted.
     pub breaths: Vec<BreathEvent>,
+    /// Real breaths heard in the input's pauses (left as they are; none is inserted over one).
+    pub heard_breaths: usize,
     /// Control frames written.
     pub frames: u64,
     /// Length of the output audio, seconds.
@@ -290,6 +292,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         container: outputs.container,
         files,
         breaths,
+        heard_breaths: kept.heard,
         frames: kept.frames,
         length_s,
         clipped,
@@ -652,12 +655,14 @@ impl Envelope {
 }
 
 /// What a render keeps of the engine's output besides the files: the number of control frames,
-/// every `every`-th frame for the plot (at most [`PLOT_FRAMES`]) and the inserted breaths.
+/// every `every`-th frame for the plot (at most [`PLOT_FRAMES`]), the inserted breaths and the
+/// number of real breaths heard.
 struct Kept {
     every: usize,
     frames: u64,
     plot: Vec<ControlFrame>,
     breaths: Vec<BreathEvent>,
+    heard: usize,
 }
 
 impl Kept {
@@ -667,6 +672,7 @@ impl Kept {
             frames: 0,
             plot: Vec::new(),
             breaths: Vec::new(),
+            heard: 0,
         }
     }
 }
@@ -687,6 +693,9 @@ impl FrameSink for Kept {
     }
     fn breath(&mut self, breath: &BreathEvent) {
         self.breaths.push(*breath);
+    }
+    fn existing_breath(&mut self, _start_s: f64, _end_s: f64) {
+        self.heard += 1;
     }
 }
 

@@ -8,7 +8,7 @@ use std::process::{Command, Stdio};
 
 use crate::support;
 use pneuma_testkit::voice::example_voice_path as example_voice;
-use support::{assert_ok, breaths_csv, pneuma, render, two_phrases, write_wav};
+use support::{assert_ok, breaths_csv, pneuma, render, render_saying, two_phrases, write_wav};
 
 fn stderr(o: &std::process::Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
@@ -157,6 +157,76 @@ fn summaries_count_breaths_in_words_and_lossy_input_has_no_bit_depth() {
     let err = stderr(&o);
     assert!(err.contains("(MP3, 16000 Hz, 1 ch)"), "{err}");
     assert!(!err.contains("-bit"), "{err}");
+}
+
+#[test]
+fn the_summary_counts_the_real_breaths_heard_and_left_in() {
+    // A speaker who breathes in every pause (seven 0.3 s inhalations): the render inserts
+    // none over them and says how many it heard, in the summary and the batch table; with the
+    // breaths gated out there is nothing to count.
+    use pneuma_testkit::signals;
+    let dir = tempfile::tempdir().expect("temp");
+    let breathing = dir.path().join("breathing.wav");
+    let gated = dir.path().join("gated.wav");
+    write_wav(
+        &breathing,
+        (16_000, 1, 16, false),
+        &signals::phrases_with_breaths(16_000.0, 16.0, 5),
+        1.0,
+    );
+    write_wav(
+        &gated,
+        (16_000, 1, 16, false),
+        &signals::phrases_with_pauses(16_000.0, 16.0, 60.0, 5),
+        1.0,
+    );
+    let heard_line = "real breaths heard in the pauses and left as they are: ";
+    for (input, heard) in [(&breathing, true), (&gated, false)] {
+        let out = dir.path().join("out");
+        // Generated vowels are not speech to the speech decision.
+        let o = render_saying(input, &out, &["--any-sound"]);
+        assert_ok(&o);
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        let n = err
+            .lines()
+            .find_map(|l| l.trim().strip_prefix(heard_line))
+            .map(|n| n.parse::<usize>().expect("a count"));
+        if heard {
+            assert!(matches!(n, Some(5..=7)), "{err}");
+        } else {
+            assert_eq!(n, None, "{err}");
+        }
+    }
+    let out = dir.path().join("batch");
+    let o = pneuma(&[
+        "render",
+        breathing.to_str().expect("utf-8"),
+        gated.to_str().expect("utf-8"),
+        "-o",
+        out.to_str().expect("utf-8"),
+        "--no-plot",
+        "--no-progress",
+        "--any-sound",
+    ]);
+    assert_ok(&o);
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    let cells = |name: &str| -> Vec<String> {
+        let line = err.lines().find(|l| l.contains(name)).expect(name);
+        line.split_whitespace().map(str::to_string).collect()
+    };
+    let header = cells("heard");
+    let column = header
+        .iter()
+        .position(|c| c == "heard")
+        .expect("a heard column");
+    assert_eq!(cells("gated.wav")[column], "0", "{err}");
+    assert!(
+        cells("breathing.wav")[column]
+            .parse::<usize>()
+            .expect("a count")
+            >= 5,
+        "{err}"
+    );
 }
 
 #[test]
