@@ -306,7 +306,7 @@ fn draw_on(
     // Abdomen first and wide, the lung over it, the thorax dashed on top: all three stay
     // visible where they are equal.
     chart
-        .draw_series(LineSeries::new(
+        .draw_series(segments(
             series(|c| c.breathing.abdomen),
             ABDOMEN.stroke_width(6),
         ))
@@ -314,10 +314,7 @@ fn draw_on(
         .label("abdomen")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], ABDOMEN.stroke_width(4)));
     chart
-        .draw_series(LineSeries::new(
-            series(|c| c.breathing.lung),
-            LUNG.stroke_width(2),
-        ))
+        .draw_series(segments(series(|c| c.breathing.lung), LUNG.stroke_width(2)))
         .map_err(|x| e(&x))?
         .label("lung")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], LUNG.stroke_width(2)));
@@ -415,6 +412,17 @@ fn draw_on(
     )
     .map_err(|x| e(&x))?;
     Ok(())
+}
+
+/// A wide curve through `points` as separate segments, one per pair of neighbours. A
+/// polyline's mitred joins at near-reversals (a sawtooth's rise and fall inside one pixel
+/// column of a long file) reach far past the points; separate segments have no joins.
+fn segments(
+    points: Vec<(f64, f64)>,
+    style: ShapeStyle,
+) -> impl Iterator<Item = PathElement<(f64, f64)>> {
+    let pairs: Vec<_> = points.windows(2).map(|w| vec![w[0], w[1]]).collect();
+    pairs.into_iter().map(move |p| PathElement::new(p, style))
 }
 
 /// An axis tick with two decimals, never "-0.00".
@@ -521,6 +529,71 @@ mod tests {
             let n = count(&buf, c);
             assert!(n > 1500, "{name}: {n} pixels of its colour");
         }
+    }
+
+    #[test]
+    fn curves_of_a_long_file_stay_inside_their_panel() {
+        // 34 minutes of breathing: 0.3 s inspirations, 2.5–4 s expirations, so each pixel
+        // column (1.3 s) holds a rise and a fall. A wide line joined at such turns threw
+        // spikes far over the panel, across the title and into the waveform's panel.
+        let rate_hz = 120.0;
+        let n = (34.0 * 60.0 * rate_hz) as u64;
+        let mut t_in_cycle = 0.0;
+        let mut cycle_s = 3.0;
+        let mut k = 0u64;
+        let controls: Vec<ControlFrame> = (0..n)
+            .map(|i| {
+                let dt = 1.0 / rate_hz;
+                t_in_cycle += dt;
+                if t_in_cycle >= cycle_s {
+                    t_in_cycle = 0.0;
+                    k += 1;
+                    cycle_s = 2.8 + 1.5 * ((k * 7919) % 11) as f64 / 10.0;
+                }
+                let v = if t_in_cycle < 0.3 {
+                    0.1 + 0.8 * t_in_cycle / 0.3
+                } else {
+                    0.9 - 0.8 * (t_in_cycle - 0.3) / (cycle_s - 0.3)
+                } as f32;
+                ControlFrame {
+                    index: i,
+                    time_s: i as f64 * dt,
+                    breathing: BreathingState {
+                        lung: v,
+                        thorax: 0.3 * v,
+                        abdomen: 0.3 * v,
+                        ..Default::default()
+                    },
+                    ..Default::default()
+                }
+            })
+            .collect();
+        let audio = vec![0.0f32; 34 * 60 * 100];
+        let buf = pixels(&controls, &audio, 34.0 * 60.0);
+        let rows =
+            |from: u32, to: u32| &buf[(from * WIDTH_PX * 3) as usize..(to * WIDTH_PX * 3) as usize];
+        // Over the title's text (whose antialiased edges hold greys like the lung's) and, for
+        // the coloured curves, the whole lower panel.
+        let split = HEIGHT_PX * 9 / 20;
+        for (name, c) in [("lung", LUNG), ("abdomen", ABDOMEN), ("thorax", THORAX)] {
+            assert_eq!(count(rows(0, 8), c), 0, "{name} over the title");
+        }
+        for (name, c) in [("abdomen", ABDOMEN), ("thorax", THORAX)] {
+            assert_eq!(
+                count(rows(split, HEIGHT_PX), c),
+                0,
+                "{name} in the waveform's panel"
+            );
+        }
+        // The abdomen stays under 0.3 of the top panel's height (its plot area spans about
+        // rows 40 to 320).
+        // Left of the legend, whose sample of the abdomen's line sits at the upper right.
+        let high: usize = rows(30, 180)
+            .chunks_exact(3 * WIDTH_PX as usize)
+            .map(|row| count(&row[..3 * 1300], ABDOMEN))
+            .sum();
+        assert_eq!(high, 0, "abdomen over 0.5");
+        assert!(count(&buf, ABDOMEN) > 1500);
     }
 
     #[test]
