@@ -658,6 +658,16 @@ impl<'a> Header<'a> {
         }
         if let (Some(n), Some(f)) = (data_len, following) {
             // Whole frames: a trailing partial frame announced but missing loses nothing.
+            if f < align as u64 {
+                // Only the header was written (a recorder stopped before the first block, a
+                // copy cut short): there is nothing to keep.
+                return Err(WavError::Empty {
+                    path: path.to_owned(),
+                    detail: format!(
+                        "its header announces {frames} sample frames, but not one follows it                          (only the header was written); record or export it again"
+                    ),
+                });
+            }
             if n / align as u64 > f / align as u64 {
                 // Found now rather than after reading (and analysing) everything there is.
                 return Err(WavError::Truncated {

@@ -546,6 +546,19 @@ fn a_file_without_sample_frames_holds_no_audio() {
         &lost,
         &["holds no audio", "8 bytes follow", "sox --ignore-length"],
     );
+    // Only the header written, announcing audio that never came: nothing to keep with sox.
+    let header_only = put(
+        dir.path(),
+        "header_only.wav",
+        &riff(&[fmt(PCM, 1, 16_000, 16), raw_chunk(b"data", 40_000, &[])]),
+    );
+    assert_analyze_fails(
+        &header_only,
+        &[
+            "holds no audio",
+            "announces 20000 sample frames, but not one follows",
+        ],
+    );
     // Streamed, but nothing came.
     let streamed = put(
         dir.path(),
