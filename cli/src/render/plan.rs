@@ -220,9 +220,13 @@ pub struct Input {
     pub skip: Option<String>,
 }
 
+/// Why a folder inside a folder given is not rendered.
+const SUBFOLDER_SKIPPED: &str = "a folder: its files are not searched; give it as an input too";
+
 /// The inputs of `args`: files as given (each rendered, so a file that is not audio fails with
 /// why), folders expanded to every file directly inside them, sorted by name, hidden files
-/// (`.DS_Store`) left out; a folder's file that is not audio Pneuma reads is listed as skipped.
+/// (`.DS_Store`) left out; a folder's file that is not audio Pneuma reads is listed as skipped,
+/// and so is a folder in it ([`SUBFOLDER_SKIPPED`]).
 /// A file met again (given twice, or given and in a folder given) is left out the second time:
 /// rendering it twice would write the same files twice.
 pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<Input>, String> {
@@ -245,24 +249,33 @@ pub fn expand_inputs(args: &[PathBuf]) -> Result<Vec<Input>, String> {
                 .map_err(|e| format!("cannot read the folder {}: {e}", p.display()))?
                 .filter_map(|e| e.ok().map(|e| e.path()))
                 .filter(|f| {
-                    f.is_file()
+                    (f.is_file() || f.is_dir())
                         && f.file_name()
                             .is_some_and(|n| !n.to_string_lossy().starts_with('.'))
                 })
                 .collect();
-            if found.is_empty() {
+            if !found.iter().any(|f| f.is_file()) {
                 return Err(format!(
-                    "{} holds no files; give audio files (.{}) or a folder of them",
+                    "{} holds no files{}; give audio files (.{}) or a folder of them",
                     p.display(),
+                    if found.is_empty() {
+                        ""
+                    } else {
+                        " directly inside it (the folders in it are not searched)"
+                    },
                     pneuma_io::AUDIO_EXTENSIONS.join(", .")
                 ));
             }
             found.sort();
             for path in found {
-                push(Input {
-                    skip: pneuma_io::skip_reason(&path),
-                    path,
-                });
+                // A folder in the folder is listed, not searched: its files would not be
+                // rendered without a word.
+                let skip = if path.is_dir() {
+                    Some(SUBFOLDER_SKIPPED.to_string())
+                } else {
+                    pneuma_io::skip_reason(&path)
+                };
+                push(Input { skip, path });
             }
         } else {
             push(Input {
@@ -852,6 +865,26 @@ mod tests {
             groups[0],
             inputs[..3].iter().map(PathBuf::as_path).collect::<Vec<_>>()
         );
+    }
+
+    #[test]
+    fn a_folder_in_a_folder_is_listed_as_skipped_not_left_out() {
+        let dir = tempfile::tempdir().expect("temp");
+        let ep = dir.path().join("ep.wav");
+        std::fs::write(&ep, "audio").expect("write");
+        for sub in ["season2", ".git"] {
+            std::fs::create_dir(dir.path().join(sub)).expect("mkdir");
+            std::fs::write(dir.path().join(sub).join("ep2.wav"), "audio").expect("write");
+        }
+        let inputs = expand_inputs(&[dir.path().to_owned()]).expect("inputs");
+        assert_eq!(inputs.len(), 2, "{inputs:?}");
+        assert_eq!((&inputs[0].path, &inputs[0].skip), (&ep, &None));
+        assert_eq!(inputs[1].path, dir.path().join("season2"));
+        assert_eq!(inputs[1].skip.as_deref(), Some(SUBFOLDER_SKIPPED));
+        // Folders only: no file to render, and why.
+        std::fs::remove_file(&ep).expect("rm");
+        let err = expand_inputs(&[dir.path().to_owned()]).expect_err("no file");
+        assert!(err.contains("the folders in it are not searched"), "{err}");
     }
 
     #[test]
