@@ -664,7 +664,8 @@ impl<'a> Header<'a> {
                 return Err(WavError::Empty {
                     path: path.to_owned(),
                     detail: format!(
-                        "its header announces {frames} sample frames, but not one follows it                          (only the header was written); record or export it again"
+                        "its header announces {frames} sample frames, but not one follows it \
+                         (only the header was written); record or export it again"
                     ),
                 });
             }

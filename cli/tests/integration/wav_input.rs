@@ -556,7 +556,7 @@ fn a_file_without_sample_frames_holds_no_audio() {
         &header_only,
         &[
             "holds no audio",
-            "announces 20000 sample frames, but not one follows",
+            "but not one follows it (only the header was written); record",
         ],
     );
     // Streamed, but nothing came.
