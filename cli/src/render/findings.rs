@@ -3,14 +3,16 @@
 //! singing, noise), channels that cancel when mixed to mono, an input that holds no signal
 //! (digital silence or dither, noise-shaped too), an input too short to tell speech in, or an
 //! input so quiet that the voicing cannot hear most of its speech, samples that are not numbers
-//! (NaN, ±∞ in a float file: the engine hears and writes them as 0). Each is a [`Finding`]: a
-//! line of the summary (`warning: …`) and a short word in the batch table.
+//! (NaN, ±∞ in a float file: the engine hears and writes them as 0), speech that ran out of air
+//! with no pause to breathe in (breaths cut with their pauses). Each is a [`Finding`]: a line of
+//! the summary (`warning: …`) and a short word in the batch table.
 //!
 //! The channel check ([`ChannelEnergy`]) sums each channel's power and the power of their mean
 //! (the mono mix the engine analyses) while the blocks pass; the speech figures come from the
 //! engine ([`SpeechSummary`]).
 
 use pneuma_core::analysis::Biquad;
+use pneuma_core::breathing::{RESERVE_DECAY_S, RESERVE_LUNG};
 use pneuma_core::engine::{SpeechSummary, MAX_CHANNELS};
 use pneuma_core::settings::analysis::SILENCE_DB;
 use pneuma_core::speech::JUDGE_WINDOW_S;
@@ -28,6 +30,15 @@ const SPEECH_CREST_DB: f64 = 30.0;
 const NO_SPEECH_SHARE: f64 = 0.01;
 /// Less speech than this share of the frames with sound: mostly not speech.
 const MOSTLY_OTHER_SHARE: f64 = 0.5;
+
+/// The lung under this is drawn past its reserve: the speech has run on well past its breath
+/// group's plan (about 3.5 s at the reserve's time constant [`RESERVE_DECAY_S`]).
+pub const OUT_OF_AIR_LUNG: f32 = RESERVE_LUNG / 2.0;
+/// Speech with the lung under [`OUT_OF_AIR_LUNG`] for this long in all is told, seconds: the
+/// reserve's own time constant. Not fitted: 0 s on every clean speech file tried (Keele's ten
+/// voices, the seven styletalk clips, the example voice, PTDB takes in noise); 8 s on the
+/// Keele voices whose breaths were cut with their pauses and got none back.
+const OUT_OF_AIR_S: f64 = RESERVE_DECAY_S as f64;
 
 /// What to do when the sound is a voice that the speech decision does not take for speech.
 const ANY_VOICE: &str = "if it is a voice all the same (through a voice changer, sung), render \
@@ -74,6 +85,14 @@ pub enum Finding {
         samples: u64,
         /// Every other sample is zero: the output is silence.
         rest_silent: bool,
+    },
+    /// Speech went on with the lung drawn past its reserve for this long in all: no pause
+    /// was long enough, or clear enough of other sound, for a breath.
+    OutOfAir {
+        /// Seconds of speech with the lung under [`OUT_OF_AIR_LUNG`].
+        speech_s: f64,
+        /// The shortest breath a pause can take (a catch breath), seconds.
+        catch_breath_min_s: f64,
     },
 }
 
@@ -165,6 +184,16 @@ impl Finding {
                  and the others are zero: they were written as 0, so the output is silence and \
                  there is no speech to place breaths by; check that the right file was exported"
             ),
+            Finding::OutOfAir {
+                speech_s,
+                catch_breath_min_s,
+            } => format!(
+                "the speech ran {speech_s:.1} s with its air used up: no pause was long enough \
+                 (a catch breath needs {catch_breath_min_s:.2} s) or clear enough of other \
+                 sound for a breath. If breaths were cut out with their pauses (a ripple \
+                 delete, \"shorten gaps\"), render the take before that cut: Pneuma puts \
+                 breaths only into pauses and never lengthens them"
+            ),
             Finding::Quiet { peak_db } => format!(
                 "the input is very quiet (its peak lies at {peak_db:.0} dBFS): frames under \
                  {:.0} dBFS are never voiced, so much of its speech goes unheard; normalise it \
@@ -184,6 +213,7 @@ impl Finding {
             Finding::TooShort { .. } => "too short",
             Finding::Quiet { .. } => "quiet",
             Finding::NonFinite { .. } => "NaN samples",
+            Finding::OutOfAir { .. } => "out of air",
         }
     }
 }
@@ -297,6 +327,15 @@ pub fn findings(energy: &ChannelEnergy, speech: &SpeechSummary, length_s: f64) -
         .collect()
 }
 
+/// The out-of-air finding for `speech_s` seconds of speech with the lung under
+/// [`OUT_OF_AIR_LUNG`], when there were [`OUT_OF_AIR_S`] or more of them.
+pub fn out_of_air(speech_s: f64, catch_breath_min_s: f64) -> Option<Finding> {
+    (speech_s >= OUT_OF_AIR_S).then_some(Finding::OutOfAir {
+        speech_s,
+        catch_breath_min_s,
+    })
+}
+
 /// The findings of the channels, the level and the speech.
 fn signal_findings(energy: &ChannelEnergy, speech: &SpeechSummary, length_s: f64) -> Vec<Finding> {
     if energy.antiphase() {
@@ -377,6 +416,23 @@ mod tests {
         let mut e = ChannelEnergy::new(48_000.0);
         e.add(std::slice::from_ref(&x), x.len());
         e
+    }
+
+    #[test]
+    fn speech_out_of_air_for_the_reserves_time_constant_is_told() {
+        assert_eq!(out_of_air(0.0, 0.15), None);
+        assert_eq!(out_of_air(OUT_OF_AIR_S - 0.1, 0.15), None);
+        let f = out_of_air(8.0, 0.15).expect("told");
+        assert_eq!(f.short(), "out of air");
+        let m = f.message();
+        for words in [
+            "ran 8.0 s",
+            "needs 0.15 s",
+            "ripple delete",
+            "never lengthens them",
+        ] {
+            assert!(m.contains(words), "{words}: {m}");
+        }
     }
 
     #[test]

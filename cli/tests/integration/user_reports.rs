@@ -230,6 +230,56 @@ fn the_summary_counts_the_real_breaths_heard_and_left_in() {
 }
 
 #[test]
+fn speech_with_no_pause_to_breathe_in_is_told_out_of_air() {
+    // 25 s of one vowel with a syllable rhythm and no pause (as a take whose breaths were cut
+    // out with their pauses): the render says the speech ran out of air and why. The same
+    // voice in 1.5 s phrases with 0.5 s pauses, and live mode (which runs its lung low in
+    // ordinary speech), are not told.
+    use pneuma_testkit::signals::{self, GlottalVowel, Vowel};
+    let dir = tempfile::tempdir().expect("temp");
+    let rate = 16_000.0;
+    let vowel = signals::glottal_vowel(
+        &GlottalVowel {
+            sample_rate_hz: rate,
+            length_s: 25.0,
+            vowel: Vowel::A,
+            jitter: 0.01,
+            shimmer: 0.05,
+            peak: 0.5,
+            seed: 3,
+        },
+        |t| 120.0 + 20.0 * (1.9 * t).sin(),
+    );
+    let lead = (0.5 * rate) as usize;
+    let mut breathless = vec![0.0f32; lead];
+    breathless.extend(vowel.iter().enumerate().map(|(i, x)| {
+        let syllable = (std::f64::consts::PI * 4.0 * i as f64 / rate).sin().abs();
+        x * (0.3 + 0.7 * syllable) as f32
+    }));
+    let paused = signals::phrases_with_pauses(rate, 25.0, 60.0, 3);
+    let told = "with its air used up";
+    for (name, x, extra, want) in [
+        ("breathless.wav", &breathless, None, true),
+        ("paused.wav", &paused, None, false),
+        ("breathless_live.wav", &breathless, Some("live"), false),
+    ] {
+        let input = dir.path().join(name);
+        write_wav(&input, (16_000, 1, 16, false), x, 1.0);
+        let mut args = vec!["--any-sound"];
+        if let Some(mode) = extra {
+            args.extend(["--mode", mode]);
+        }
+        let o = render_saying(&input, &dir.path().join("out"), &args);
+        assert_ok(&o);
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        assert_eq!(err.contains(told), want, "{name}: {err}");
+        if want {
+            assert!(err.contains("ripple delete"), "{err}");
+        }
+    }
+}
+
+#[test]
 fn a_closed_pipe_ends_render_quietly_as_analyze() {
     let mut child = Command::new(env!("CARGO_BIN_EXE_pneuma"))
         .args([
