@@ -35,8 +35,8 @@ const MOSTLY_OTHER_SHARE: f64 = 0.5;
 /// group's plan (about 3.5 s at the reserve's time constant [`RESERVE_DECAY_S`]).
 pub const OUT_OF_AIR_LUNG: f32 = RESERVE_LUNG / 2.0;
 /// Speech with the lung under [`OUT_OF_AIR_LUNG`] for this long in all is told, seconds: the
-/// reserve's own time constant. Not fitted: 0 s on every clean speech file tried (Keele's ten
-/// voices, the seven styletalk clips, the example voice, PTDB takes in noise); 8 s on the
+/// reserve's own time constant. Not fitted: at most 0.9 s on the speech files tried (Keele's
+/// ten voices, the seven styletalk clips, the example voice, PTDB takes in noise); 8 s on the
 /// Keele voices whose breaths were cut with their pauses and got none back.
 const OUT_OF_AIR_S: f64 = RESERVE_DECAY_S as f64;
 
