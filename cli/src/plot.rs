@@ -585,14 +585,16 @@ mod tests {
                 "{name} in the waveform's panel"
             );
         }
-        // The abdomen stays under 0.3 of the top panel's height (its plot area spans about
-        // rows 40 to 320).
-        // Left of the legend, whose sample of the abdomen's line sits at the upper right.
-        let high: usize = rows(30, 180)
-            .chunks_exact(3 * WIDTH_PX as usize)
-            .map(|row| count(&row[..3 * 1300], ABDOMEN))
-            .sum();
-        assert_eq!(high, 0, "abdomen over 0.5");
+        // The abdomen and the thorax (0.3 at most) stay under 0.5 of the top panel (rows 30 to
+        // 180 hold 0.5 to 1.05 of its plot area, rows 40 to 320), left of the legend, whose
+        // samples of their lines sit at the upper right.
+        for (name, c) in [("abdomen", ABDOMEN), ("thorax", THORAX)] {
+            let high: usize = rows(30, 180)
+                .chunks_exact(3 * WIDTH_PX as usize)
+                .map(|row| count(&row[..3 * 1300], c))
+                .sum();
+            assert_eq!(high, 0, "{name} over 0.5");
+        }
         assert!(count(&buf, ABDOMEN) > 1500);
     }
 

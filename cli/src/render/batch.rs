@@ -18,8 +18,9 @@ use std::sync::Mutex;
 use rayon::prelude::*;
 
 use super::error::{RenderError, EXIT_INTERRUPTED, INTERRUPTED};
+use super::inputs::Input;
 use super::pipeline::{lossy_note, run, RenderSummary};
-use super::plan::{check_batch, Args, Input};
+use super::plan::{check_batch, Args};
 
 /// Columns of the summary table.
 const COLUMNS: usize = 7;

@@ -33,9 +33,9 @@ const MOSTLY_OTHER_SHARE: f64 = 0.5;
 
 /// The lung under this is drawn past its reserve: the speech has run on well past its breath
 /// group's plan (about 3.5 s at the reserve's time constant [`RESERVE_DECAY_S`]).
-pub const OUT_OF_AIR_LUNG: f32 = RESERVE_LUNG / 2.0;
-/// Speech with the lung under [`OUT_OF_AIR_LUNG`] for this long in all is told, seconds: the
-/// reserve's own time constant. Not fitted: at most 0.9 s on the speech files tried (Keele's
+const OUT_OF_AIR_LUNG: f32 = RESERVE_LUNG / 2.0;
+/// Speech with the lung under [`OUT_OF_AIR_LUNG`] for this long before a breath fills it again
+/// is told, seconds: the reserve's own time constant. Not fitted: at most 0.9 s on the speech files tried (Keele's
 /// ten voices, the seven styletalk clips, the example voice, PTDB takes in noise); 8 s on the
 /// Keele voices whose breaths were cut with their pauses and got none back.
 const OUT_OF_AIR_S: f64 = RESERVE_DECAY_S as f64;
@@ -86,11 +86,13 @@ pub enum Finding {
         /// Every other sample is zero: the output is silence.
         rest_silent: bool,
     },
-    /// Speech went on with the lung drawn past its reserve for this long in all: no pause
-    /// was long enough, or clear enough of other sound, for a breath.
+    /// Speech went on with the lung drawn past its reserve for this long before a breath: no
+    /// pause was long enough, or clear enough of other sound, for a breath.
     OutOfAir {
-        /// Seconds of speech with the lung under [`OUT_OF_AIR_LUNG`].
+        /// Seconds of speech with the lung under [`OUT_OF_AIR_LUNG`] in the longest such run.
         speech_s: f64,
+        /// Where that run starts in the input, seconds.
+        from_s: f64,
         /// The shortest breath a pause can take (a catch breath), seconds.
         catch_breath_min_s: f64,
     },
@@ -186,13 +188,15 @@ impl Finding {
             ),
             Finding::OutOfAir {
                 speech_s,
+                from_s,
                 catch_breath_min_s,
             } => format!(
-                "the speech ran {speech_s:.1} s with its air used up: no pause was long enough \
-                 (a catch breath needs {catch_breath_min_s:.2} s) or clear enough of other \
-                 sound for a breath. If breaths were cut out with their pauses (a ripple \
+                "the speech ran {speech_s:.1} s from {} with its air used up: no pause was long \
+                 enough (a catch breath needs {catch_breath_min_s:.2} s) or clear enough of \
+                 other sound for a breath. If breaths were cut out with their pauses (a ripple \
                  delete, \"shorten gaps\"), render the take before that cut: Pneuma puts \
-                 breaths only into pauses and never lengthens them"
+                 breaths only into pauses and never lengthens them",
+                crate::plot::time_label(*from_s, from_s.max(60.0))
             ),
             Finding::Quiet { peak_db } => format!(
                 "the input is very quiet (its peak lies at {peak_db:.0} dBFS): frames under \
@@ -327,13 +331,41 @@ pub fn findings(energy: &ChannelEnergy, speech: &SpeechSummary, length_s: f64) -
         .collect()
 }
 
-/// The out-of-air finding for `speech_s` seconds of speech with the lung under
-/// [`OUT_OF_AIR_LUNG`], when there were [`OUT_OF_AIR_S`] or more of them.
-pub fn out_of_air(speech_s: f64, catch_breath_min_s: f64) -> Option<Finding> {
-    (speech_s >= OUT_OF_AIR_S).then_some(Finding::OutOfAir {
-        speech_s,
-        catch_breath_min_s,
-    })
+/// The longest run of speech on an emptied lung ([`OUT_OF_AIR_LUNG`]), from the control
+/// frames in order: a run lasts until a breath fills the lung over it again; its speaking
+/// frames count.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct AirRun {
+    /// The run going on: its first frame's time and its speaking frames.
+    current: Option<(f64, u64)>,
+    /// The longest run so far: its first frame's time and its speaking frames.
+    longest: (f64, u64),
+}
+
+impl AirRun {
+    /// One control frame at `time_s`.
+    pub fn frame(&mut self, time_s: f64, speaking: bool, lung: f32) {
+        if lung >= OUT_OF_AIR_LUNG {
+            self.current = None;
+            return;
+        }
+        let run = self.current.get_or_insert((time_s, 0));
+        run.1 += u64::from(speaking);
+        if run.1 > self.longest.1 {
+            self.longest = *run;
+        }
+    }
+
+    /// The out-of-air finding for frames `frame_s` apart, when the longest run holds
+    /// [`OUT_OF_AIR_S`] of speech or more.
+    pub fn finding(&self, frame_s: f64, catch_breath_min_s: f64) -> Option<Finding> {
+        let speech_s = self.longest.1 as f64 * frame_s;
+        (speech_s >= OUT_OF_AIR_S).then_some(Finding::OutOfAir {
+            speech_s,
+            from_s: self.longest.0,
+            catch_breath_min_s,
+        })
+    }
 }
 
 /// The findings of the channels, the level and the speech.
@@ -420,16 +452,50 @@ mod tests {
 
     #[test]
     fn speech_out_of_air_for_the_reserves_time_constant_is_told() {
-        assert_eq!(out_of_air(0.0, 0.15), None);
-        assert_eq!(out_of_air(OUT_OF_AIR_S - 0.1, 0.15), None);
-        let f = out_of_air(8.0, 0.15).expect("told");
+        // 100 frames a second; the lung under half its reserve while speaking in two runs of
+        // 3 s (with a pause inside the first that brings no breath) parted by a breath: 3 s at
+        // most, not told; then one run of 8 s from 20 s.
+        let frame_s = 0.01;
+        let mut air = AirRun::default();
+        let mut feed = |from_s: f64, to_s: f64, speaking: bool, lung: f32| {
+            let (a, b) = ((from_s / frame_s) as u64, (to_s / frame_s) as u64);
+            for k in a..b {
+                air.frame(k as f64 * frame_s, speaking, lung);
+            }
+            air
+        };
+        feed(0.0, 1.5, true, 0.3);
+        feed(1.5, 3.0, true, 0.02);
+        feed(3.0, 3.5, false, 0.02);
+        feed(3.5, 5.0, true, 0.02);
+        feed(5.0, 5.5, false, 0.5);
+        let short = feed(5.5, 8.5, true, 0.02);
+        assert_eq!(short.finding(frame_s, 0.15), None);
+        assert_eq!(
+            feed(10.0, 20.0, true, 0.5).finding(frame_s, 0.15),
+            None,
+            "a full lung"
+        );
+        let f = feed(20.0, 28.0, true, 0.01)
+            .finding(frame_s, 0.15)
+            .expect("told");
+        let Finding::OutOfAir {
+            speech_s, from_s, ..
+        } = f
+        else {
+            panic!("{f:?}")
+        };
+        assert!(
+            (speech_s - 8.0).abs() < 0.02 && (from_s - 20.0).abs() < 0.02,
+            "{f:?}"
+        );
         assert_eq!(f.short(), "out of air");
         let m = f.message();
         for words in [
-            "ran 8.0 s",
+            "ran 8.0 s from 0:20",
             "needs 0.15 s",
             "ripple delete",
-            "never lengthens them",
+            "never lengthens",
         ] {
             assert!(m.contains(words), "{words}: {m}");
         }

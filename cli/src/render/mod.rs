@@ -35,6 +35,7 @@ pub mod batch;
 pub mod bvh_file;
 pub mod error;
 pub mod findings;
+pub mod inputs;
 pub mod leftovers;
 pub mod marks;
 pub mod pipeline;
@@ -54,7 +55,7 @@ pub use plan::{output_container, Args};
 /// is attached and the job takes more than a second, or a batch (several inputs or a folder).
 pub fn main(mut args: Args) -> ExitCode {
     install_interrupt_handler();
-    let inputs = match plan::expand_inputs(&args.inputs) {
+    let inputs = match inputs::expand_inputs(&args.inputs, &args.output) {
         Ok(v) => v,
         Err(e) => {
             eprintln!("error: {e}");

@@ -26,7 +26,7 @@ use pneuma_io::{AudioSource, InputFormat, WavMeta};
 
 use super::bvh_file::BvhFile;
 use super::error::{interrupted, out_err, RenderError};
-use super::findings::{findings, out_of_air, ChannelEnergy, Finding, OUT_OF_AIR_LUNG};
+use super::findings::{findings, AirRun, ChannelEnergy, Finding};
 use super::leftovers::Cleared;
 use super::plan::{Args, FolderFiles, Job, OutputPlan, BLOCK_FRAMES};
 use crate::audio_out::{AudioSink, Container, Cue};
@@ -51,7 +51,8 @@ pub struct RenderSummary {
     pub files: Vec<PathBuf>,
     /// Breaths inserted.
     pub breaths: Vec<BreathEvent>,
-    /// Real breaths heard in the input's pauses (left as they are; none is inserted over one).
+    /// Real breaths heard in the input's pauses, left as they are (in lookahead mode none is
+    /// inserted over one; live mode may have started one before the breath was heard).
     pub heard_breaths: usize,
     /// Control frames written.
     pub frames: u64,
@@ -106,7 +107,7 @@ fn describe_voice_status(voice: VoiceStatus) -> String {
         }
         VoiceStatus::Learning { breaths: n } => {
             format!(
-                "breath voice: learned as the render went ({} heard)",
+                "breath voice: learned as the render went, from {}",
                 breaths(n)
             )
         }
@@ -240,15 +241,14 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
     let band_limit_hz = engine.breath_band_limit_hz();
     let (controls, bvh, kept, midi, osc) = sinks;
     // Live mode breathes after each pause without seeing the phrase to come, and its lung
-    // runs past the reserve in ordinary speech (12 of the 17 Keele and styletalk clips would
+    // runs past the reserve in ordinary speech (10 of the 17 Keele and styletalk clips would
     // be told): the finding is lookahead mode's.
     let placement = &engine.config().placement;
     if placement.insert_breaths && placement.mode == PlacementMode::Lookahead {
-        let out_of_air_s = kept.out_of_air as f64 / frame_rate_hz;
-        found.extend(out_of_air(
-            out_of_air_s,
-            f64::from(placement.catch_breath_min_s),
-        ));
+        found.extend(
+            kept.air
+                .finding(1.0 / frame_rate_hz, f64::from(placement.catch_breath_min_s)),
+        );
     }
     let osc = outputs
         .osc
@@ -667,15 +667,14 @@ impl Envelope {
 
 /// What a render keeps of the engine's output besides the files: the number of control frames,
 /// every `every`-th frame for the plot (at most [`PLOT_FRAMES`]), the inserted breaths, the
-/// number of real breaths heard and of the frames speaking with the lung under
-/// [`OUT_OF_AIR_LUNG`].
+/// number of real breaths heard and the longest run of speech on an emptied lung.
 struct Kept {
     every: usize,
     frames: u64,
     plot: Vec<ControlFrame>,
     breaths: Vec<BreathEvent>,
     heard: usize,
-    out_of_air: u64,
+    air: AirRun,
 }
 
 impl Kept {
@@ -686,7 +685,7 @@ impl Kept {
             plot: Vec::new(),
             breaths: Vec::new(),
             heard: 0,
-            out_of_air: 0,
+            air: AirRun::default(),
         }
     }
 }
@@ -704,9 +703,8 @@ impl FrameSink for Kept {
             }
         }
         self.frames += 1;
-        if frame.speaking && frame.breathing.lung < OUT_OF_AIR_LUNG {
-            self.out_of_air += 1;
-        }
+        self.air
+            .frame(frame.time_s, frame.speaking, frame.breathing.lung);
     }
     fn breath(&mut self, breath: &BreathEvent) {
         self.breaths.push(*breath);
