@@ -35,9 +35,9 @@ const MOSTLY_OTHER_SHARE: f64 = 0.5;
 /// group's plan (about 3.5 s at the reserve's time constant [`RESERVE_DECAY_S`]).
 const OUT_OF_AIR_LUNG: f32 = RESERVE_LUNG / 2.0;
 /// Speech with the lung under [`OUT_OF_AIR_LUNG`] for this long before a breath fills it again
-/// is told, seconds: the reserve's own time constant. Not fitted: at most 0.9 s on the speech files tried (Keele's
-/// ten voices, the seven styletalk clips, the example voice, PTDB takes in noise); 8 s on the
-/// Keele voices whose breaths were cut with their pauses and got none back.
+/// is told, seconds: the reserve's own time constant. Not fitted: at most 0.9 s on the speech
+/// files tried (Keele's ten voices, the seven styletalk clips, the example voice, PTDB takes in
+/// noise); 8 s on the Keele voices whose breaths were cut with their pauses and got none back.
 const OUT_OF_AIR_S: f64 = RESERVE_DECAY_S as f64;
 
 /// What to do when the sound is a voice that the speech decision does not take for speech.
