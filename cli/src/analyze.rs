@@ -119,7 +119,7 @@ pub fn run(
         path: output.to_owned(),
         source,
     };
-    if output.as_os_str() != "-" && same_file(input, output) {
+    if output.as_os_str() != "-" && crate::options::same_file(input, output) {
         return Err(AnalyzeError::Output {
             path: output.to_owned(),
             source: std::io::Error::other("it is the input file; choose another output path"),
@@ -159,13 +159,6 @@ pub fn run(
         voiced_frames,
         antiphase,
     })
-}
-
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => false,
-    }
 }
 
 /// Command-line arguments of `pneuma analyze`.

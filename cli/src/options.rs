@@ -213,6 +213,15 @@ pub fn check_range(option: &str, value: f64, min: f64, max: f64, unit: &str) -> 
     }
 }
 
+/// `a` and `b` name the same existing file (links and `.` resolved); false when either does not
+/// exist.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => false,
+    }
+}
+
 /// With `--no-overwrite`: `Err` naming the first of `outputs` that exists already.
 pub fn refuse_existing(outputs: &[PathBuf]) -> Result<(), String> {
     match outputs.iter().find(|p| p.exists()) {

@@ -421,8 +421,11 @@ fn segments(
     points: Vec<(f64, f64)>,
     style: ShapeStyle,
 ) -> impl Iterator<Item = PathElement<(f64, f64)>> {
-    let pairs: Vec<_> = points.windows(2).map(|w| vec![w[0], w[1]]).collect();
-    pairs.into_iter().map(move |p| PathElement::new(p, style))
+    let elements: Vec<_> = points
+        .windows(2)
+        .map(|w| PathElement::new(vec![w[0], w[1]], style))
+        .collect();
+    elements.into_iter()
 }
 
 /// An axis tick with two decimals, never "-0.00".

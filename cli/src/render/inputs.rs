@@ -24,6 +24,7 @@ const SUBFOLDER_SKIPPED: &str = "a folder: its files are not searched; give it a
 /// A file met again (given twice, or given and in a folder given) is left out the second time:
 /// rendering it twice would write the same files twice.
 pub fn expand_inputs(args: &[PathBuf], output: &Path) -> Result<Vec<Input>, String> {
+    // A path's identity: resolved when it exists, else as given.
     let real = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_owned());
     // Folders inside a folder that are told of: not the render's own output, nor one given.
     let not_told: Vec<PathBuf> = args.iter().map(|p| real(p)).chain([real(output)]).collect();
@@ -32,7 +33,7 @@ pub fn expand_inputs(args: &[PathBuf], output: &Path) -> Result<Vec<Input>, Stri
     let mut push = |input: Input| {
         // Standard input is no file: a second `-` is the batch's to refuse.
         if input.path.as_os_str() != "-" {
-            let id = std::fs::canonicalize(&input.path).unwrap_or_else(|_| input.path.clone());
+            let id = real(&input.path);
             if seen.contains(&id) {
                 return;
             }

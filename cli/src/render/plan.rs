@@ -700,7 +700,7 @@ impl OutputPlan {
         // A WAV saved as take.png is replaced by the plot as surely as by the audio.
         if let Some(path) = std::iter::once(&audio)
             .chain(files.paths())
-            .find(|p| same_file(input, p))
+            .find(|p| crate::options::same_file(input, p))
         {
             return Err(RenderError::Output {
                 path: path.clone(),
@@ -720,7 +720,7 @@ impl OutputPlan {
         }));
         // Never the input, whatever its name.
         let leftovers = (files.leftovers(&stem).into_iter())
-            .filter(|l| !same_file(input, &l.path))
+            .filter(|l| !crate::options::same_file(input, &l.path))
             .collect();
         if args.no_overwrite {
             let all: Vec<PathBuf> = std::iter::once(&audio)
@@ -752,7 +752,7 @@ fn other_audio<'a>(input: &'a Path, audio: &'a Path) -> impl Iterator<Item = Pat
     <Container as clap::ValueEnum>::value_variants()
         .iter()
         .map(move |c| audio.with_extension(c.extension()))
-        .filter(move |p| p != audio && p.is_file() && !same_file(input, p))
+        .filter(move |p| p != audio && p.is_file() && !crate::options::same_file(input, p))
 }
 
 /// The name the outputs of `input` are named after: its file stem, `stdin` for `-`.
@@ -764,13 +764,6 @@ fn output_stem(input: &Path) -> String {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "render".into())
-}
-
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => false,
-    }
 }
 
 #[cfg(test)]
