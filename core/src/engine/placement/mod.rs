@@ -36,7 +36,7 @@ use super::speech_track::{SpeechTrack, SILERO_SHOWS_SPEECH_S};
 use super::stream_start::StreamStart;
 use super::{EngineConfig, PlacementMode, MAX_CHANNELS};
 use crate::analysis::FeatureFrame;
-use crate::breathing::learned::speaker_reference_db;
+use crate::breathing::learned::{speaker_reference_db, MAX_LEVEL_RE_SPEECH_DB};
 use crate::breathing::MIN_LUNG_VOLUME;
 use crate::phrase::{Pause, PhraseEvent};
 
@@ -173,6 +173,24 @@ fn rest_of_cut_breath(
         )
     };
     (end_s - start_s >= MIN_BREATH_S).then_some((start_s, end_s))
+}
+
+/// The pause from the start of `quiet`'s pause to the onset of `next`: `quiet` (a phrase
+/// judged not speech, as far under the speech as a breath) taken as part of the pause around
+/// it. The heard breath (with its gated stretch) is the later one; nothing is placed before
+/// the activity heard ahead of `quiet` (a breath may lie over `quiet` itself, a bed's note).
+fn pause_across(quiet: &Pause, next: &Pause) -> Pause {
+    let heard = if next.breath_s.is_some() { next } else { quiet };
+    Pause {
+        start_s: quiet.start_s,
+        end_s: next.end_s,
+        leading: quiet.leading,
+        has_breath: heard.has_breath,
+        breath_s: heard.breath_s,
+        breath_clean_s: heard.breath_clean_s,
+        last_activity_end_s: quiet.last_activity_end_s,
+        gated_s: heard.gated_s,
+    }
 }
 
 /// Length of a full breath, seconds: the breathing parameters' inspiration (scaled by
@@ -625,9 +643,40 @@ impl Placement {
         }
     }
 
+    /// Lookahead mode: when the oldest undecided phrase is a sound between phrases of speech
+    /// rather than a phrase (it ended judged not speech, after a phrase judged speech, its voiced
+    /// frames' median at least as far under the level of the speech before it as a breath lies,
+    /// [`MAX_LEVEL_RE_SPEECH_DB`], and a phrase follows it), its pause and the next phrase's
+    /// become one pause ([`pause_across`]), decided with the next phrase: a music bed's note
+    /// alone in a gated gap (or a noise's burst) does not split the speaker's pause into one
+    /// before a phrase that is not speech and one too short for a breath. True when it did.
+    fn absorb_quiet_front(&mut self) -> bool {
+        let Some(&quiet) = self.seen.front() else {
+            return false;
+        };
+        let under_speech = quiet
+            .own_db
+            .is_some_and(|db| f64::from(db) <= f64::from(quiet.level_db) + MAX_LEVEL_RE_SPEECH_DB);
+        if !(quiet.speech == Some(false) && self.state.prev_speech == Some(true) && under_speech)
+            || self.seen.len() < 2
+        {
+            return false;
+        }
+        self.seen.pop_front();
+        if let Some(next) = self.seen.iter_mut().next() {
+            next.pause = pause_across(&quiet.pause, &next.pause);
+            // The speech around the pause is the one before it, not the quiet sound.
+            next.level_db = quiet.level_db;
+        }
+        true
+    }
+
     /// Decides the pause of the oldest undecided phrase: a breath, a catch breath or none, and
     /// the phrase's share of its group.
     fn decide_front(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
+        if self.absorb_quiet_front() {
+            return;
+        }
         let Some(ph) = self.seen.front().copied() else {
             return;
         };
@@ -774,50 +823,4 @@ impl Placement {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_rest_of_a_cut_breath_goes_beside_the_heard_part_into_the_gated_stretch() {
-        // A 0.4 s breath wanted; 0.1 s of it heard before (or after) a gated stretch.
-        let limits = (1.05, 1.56);
-        let after = rest_of_cut_breath((1.0, 1.1), (1.1, 1.6), 0.4, limits, 0.0);
-        assert_eq!(
-            after.map(|(a, b)| (round_ms(a), round_ms(b))),
-            Some((1100, 1400))
-        );
-        let before = rest_of_cut_breath((1.5, 1.6), (1.0, 1.5), 0.4, (1.05, 1.7), 0.0);
-        assert_eq!(
-            before.map(|(a, b)| (round_ms(a), round_ms(b))),
-            Some((1200, 1500))
-        );
-        // Bounded by the onset's gap, the phrase's margin and what the output has passed.
-        let late = rest_of_cut_breath((1.0, 1.1), (1.1, 1.6), 0.4, (1.05, 1.3), 0.0);
-        assert_eq!(
-            late.map(|(a, b)| (round_ms(a), round_ms(b))),
-            Some((1100, 1300))
-        );
-        let passed = rest_of_cut_breath((1.0, 1.1), (1.1, 1.6), 0.4, limits, 1.5);
-        assert_eq!(passed, None, "0.06 s left after what was played");
-        // Too little room, no breath.
-        assert_eq!(
-            rest_of_cut_breath((1.0, 1.1), (1.1, 1.2), 0.4, limits, 0.0),
-            None
-        );
-        // A heard part half a breath long or more is a whole breath (a gate that opened for
-        // it): nothing beside it.
-        assert_eq!(
-            rest_of_cut_breath((0.9, 1.1), (1.1, 1.6), 0.4, limits, 0.0),
-            None
-        );
-        let short = rest_of_cut_breath((0.92, 1.1), (1.1, 1.6), 0.4, limits, 0.0);
-        assert_eq!(
-            short.map(|(a, b)| (round_ms(a), round_ms(b))),
-            Some((1100, 1320))
-        );
-    }
-
-    fn round_ms(s: f64) -> i64 {
-        (s * 1000.0).round() as i64
-    }
-}
+mod tests;
