@@ -139,6 +139,10 @@ impl<T: Copy> Queue<T> {
         self.items.front()
     }
 
+    pub(crate) fn front_mut(&mut self) -> Option<&mut T> {
+        self.items.front_mut()
+    }
+
     pub(crate) fn back_mut(&mut self) -> Option<&mut T> {
         self.items.back_mut()
     }

@@ -175,10 +175,27 @@ fn rest_of_cut_breath(
     (end_s - start_s >= MIN_BREATH_S).then_some((start_s, end_s))
 }
 
+/// How far under the speech before it a sound judged not speech lies, at most, to be part of
+/// the pause rather than a phrase ([`quiet_between`]), dB: as far as a breath lies at its
+/// loudest (the voiced median of the sound against the mean power of the phrase before it).
+const QUIET_SOUND_RE_SPEECH_DB: f64 = MAX_LEVEL_RE_SPEECH_DB;
+
+/// Phrase `ph` is a sound between phrases of speech rather than a phrase: it ended judged not
+/// speech, the phrase before it was judged speech (`speech_before`), and its voiced frames'
+/// median lies [`QUIET_SOUND_RE_SPEECH_DB`] or more under `speech_db`, the level of that
+/// speech (dBFS). A voiced sound: a bed's note; an unvoiced burst has no voiced median.
+fn quiet_between(ph: &Seen, speech_before: Option<bool>, speech_db: f32) -> bool {
+    ph.speech == Some(false)
+        && speech_before == Some(true)
+        && ph
+            .own_db
+            .is_some_and(|db| f64::from(db) <= f64::from(speech_db) + QUIET_SOUND_RE_SPEECH_DB)
+}
+
 /// The pause from the start of `quiet`'s pause to the onset of `next`: `quiet` (a phrase
 /// judged not speech, as far under the speech as a breath) taken as part of the pause around
 /// it. The heard breath (with its gated stretch) is the later one; nothing is placed before
-/// the activity heard ahead of `quiet` (a breath may lie over `quiet` itself, a bed's note).
+/// the activity heard in either part (a breath may lie over `quiet` itself, a bed's note).
 fn pause_across(quiet: &Pause, next: &Pause) -> Pause {
     let heard = if next.breath_s.is_some() { next } else { quiet };
     Pause {
@@ -188,7 +205,7 @@ fn pause_across(quiet: &Pause, next: &Pause) -> Pause {
         has_breath: heard.has_breath,
         breath_s: heard.breath_s,
         breath_clean_s: heard.breath_clean_s,
-        last_activity_end_s: quiet.last_activity_end_s,
+        last_activity_end_s: next.last_activity_end_s.or(quiet.last_activity_end_s),
         gated_s: heard.gated_s,
     }
 }
@@ -583,14 +600,27 @@ impl Placement {
     }
 
     /// Speech known from the oldest undecided phrase on until the next usable pause, seconds,
-    /// and whether that pause is known (else the speech goes on past what was analysed).
+    /// and whether that pause is known (else the speech goes on past what was analysed). A
+    /// quiet sound between phrases of speech ([`quiet_between`]) with a phrase after it is
+    /// part of the pause around it, as [`Placement::absorb_quiet_front`] will take it.
     fn known_group_s(&self, now_s: f64, min_pause_s: f64) -> (f64, bool) {
         let mut known = 0.0;
         let mut last_offset = None;
+        let mut speech_before = None;
+        // The start of the pause and the speech level before the quiet sounds taken into it.
+        let mut absorbed: Option<(f64, f32)> = None;
+        let count = self.seen.len();
         for (k, ph) in self.seen.iter().enumerate() {
-            if k > 0 && ph.onset_s - ph.pause.start_s >= min_pause_s {
+            let (pause_start_s, speech_db) = absorbed.unwrap_or((ph.pause.start_s, ph.level_db));
+            if k > 0 && k + 1 < count && quiet_between(ph, speech_before, speech_db) {
+                absorbed = Some((pause_start_s, speech_db));
+                continue;
+            }
+            absorbed = None;
+            if k > 0 && ph.onset_s - pause_start_s >= min_pause_s {
                 return (known, true);
             }
+            speech_before = ph.speech;
             match ph.offset_s {
                 Some(off) => {
                     known += (off - ph.onset_s).max(0.0);
@@ -644,26 +674,22 @@ impl Placement {
     }
 
     /// Lookahead mode: when the oldest undecided phrase is a sound between phrases of speech
-    /// rather than a phrase (it ended judged not speech, after a phrase judged speech, its voiced
-    /// frames' median at least as far under the level of the speech before it as a breath lies,
-    /// [`MAX_LEVEL_RE_SPEECH_DB`], and a phrase follows it), its pause and the next phrase's
-    /// become one pause ([`pause_across`]), decided with the next phrase: a music bed's note
-    /// alone in a gated gap (or a noise's burst) does not split the speaker's pause into one
-    /// before a phrase that is not speech and one too short for a breath. True when it did.
+    /// rather than a phrase ([`quiet_between`]) and a phrase follows it, its pause and the next
+    /// phrase's become one pause ([`pause_across`]), decided with the next phrase: a music
+    /// bed's note alone in a gated gap does not split the speaker's pause into one before a
+    /// phrase that is not speech and one too short for a breath. The next phrase takes the
+    /// speech level before the sound, so a second quiet sound in the same pause is measured
+    /// against that speech too. The judgement of the speech before the pause stays the last
+    /// phrase's decided. True when it did.
     fn absorb_quiet_front(&mut self) -> bool {
         let Some(&quiet) = self.seen.front() else {
             return false;
         };
-        let under_speech = quiet
-            .own_db
-            .is_some_and(|db| f64::from(db) <= f64::from(quiet.level_db) + MAX_LEVEL_RE_SPEECH_DB);
-        if !(quiet.speech == Some(false) && self.state.prev_speech == Some(true) && under_speech)
-            || self.seen.len() < 2
-        {
+        if self.seen.len() < 2 || !quiet_between(&quiet, self.state.prev_speech, quiet.level_db) {
             return false;
         }
         self.seen.pop_front();
-        if let Some(next) = self.seen.iter_mut().next() {
+        if let Some(next) = self.seen.front_mut() {
             next.pause = pause_across(&quiet.pause, &next.pause);
             // The speech around the pause is the one before it, not the quiet sound.
             next.level_db = quiet.level_db;

@@ -42,7 +42,8 @@ fn the_rest_of_a_cut_breath_goes_beside_the_heard_part_into_the_gated_stretch() 
     );
 }
 
-/// A phrase of the last test: its onset, offset and pause start, s; speech judgement; level.
+/// A phrase set up for the tests below: its onset, offset and pause start, seconds; its speech
+/// judgement; its voiced median, dBFS (the phrase before it spoke at −25 dBFS).
 fn seen(onset_s: f64, offset_s: f64, pause_start_s: f64, speech: bool, own_db: f32) -> Seen {
     Seen {
         onset_s,
@@ -61,21 +62,30 @@ fn seen(onset_s: f64, offset_s: f64, pause_start_s: f64, speech: bool, own_db: f
     }
 }
 
-/// Breaths placed (start, end, seconds) in the pauses of `phrases` after a phrase of speech.
-fn breaths_between(phrases: &[Seen]) -> Vec<(f64, f64)> {
-    let rate = 48_000.0;
-    let config = EngineConfig::default();
-    let speech = SpeechTrack::new(None, rate, 120.0, (-75.0, 6.0));
-    let pending = Queue::with_capacity(4);
-    let mut placement = Placement::new(PlacementMode::Lookahead, 24_000, rate, 120.0);
+const RATE_HZ: f64 = 48_000.0;
+
+/// A lookahead placement (0.5 s) after a phrase of speech that ended at 10 s, holding
+/// `phrases`.
+fn placement_with(phrases: &[Seen]) -> Placement {
+    let mut placement = Placement::new(PlacementMode::Lookahead, 24_000, RATE_HZ, 120.0);
     placement.state.prev_speech = Some(true);
     for &ph in phrases {
         placement.seen.push_back(ph);
     }
+    placement
+}
+
+/// What the placement decides for the pauses of `phrases` (see [`placement_with`]), the output
+/// reaching 10 s.
+fn decided(phrases: &[Seen]) -> Schedule {
+    let config = EngineConfig::default();
+    let speech = SpeechTrack::new(None, RATE_HZ, 120.0, (-75.0, 6.0));
+    let pending = Queue::with_capacity(4);
+    let mut placement = placement_with(phrases);
     let ctx = EventContext {
         config: &config,
         // The output (half a second behind) reaches the first pause.
-        now: (10.0 * rate) as u64 + 24_000,
+        now: (10.0 * RATE_HZ) as u64 + 24_000,
         gains: [1.0; MAX_CHANNELS],
         breath_playing: false,
         pending: &pending,
@@ -88,12 +98,19 @@ fn breaths_between(phrases: &[Seen]) -> Vec<(f64, f64)> {
         placement.decide_front(&ctx, &mut schedule);
     }
     schedule
+}
+
+/// Breaths placed (start, end, seconds; plateau gain) in the pauses of `phrases`.
+fn breaths_between(phrases: &[Seen]) -> Vec<(f64, f64, f32)> {
+    decided(phrases)
         .breath
         .iter()
         .filter_map(|&(at, a)| match a {
-            BreathAction::Start { length, .. } => {
-                Some((at as f64 / rate, (at + length as u64) as f64 / rate))
-            }
+            BreathAction::Start { length, gain, .. } => Some((
+                at as f64 / RATE_HZ,
+                (at + length as u64) as f64 / RATE_HZ,
+                gain,
+            )),
             _ => None,
         })
         .collect()
@@ -111,12 +128,65 @@ fn a_quiet_sound_between_phrases_of_speech_is_part_of_their_pause() {
     };
     let quiet = breaths_between(&phrases(-48.0));
     assert_eq!(quiet.len(), 1, "{quiet:?}");
-    let (start_s, end_s) = quiet[0];
+    let (start_s, end_s, _) = quiet[0];
     assert!(start_s > 10.0 && end_s < 10.8 && end_s > 10.55, "{quiet:?}");
     // A note as loud as the speech (a sting) is no pause: nothing goes before the speech.
     assert_eq!(breaths_between(&phrases(-27.0)), vec![]);
-    // Nor does a quiet sound after the speech with nothing after it.
-    assert_eq!(breaths_between(&phrases(-48.0)[..1]), vec![]);
+    // A quiet sound with nothing after it yet is decided as a phrase of its own (no breath).
+    let alone = decided(&phrases(-48.0)[..1]);
+    assert!(alone.breath.iter().next().is_none());
+    assert!(alone
+        .cycle
+        .iter()
+        .any(|&(t, a)| { t == 10.55 && matches!(a, CycleAction::UtteranceStarts { .. }) }));
+}
+
+#[test]
+fn the_breath_over_a_quiet_sound_takes_the_speech_level_and_keeps_off_later_activity() {
+    let config = EngineConfig::default();
+    // The next phrase's level as the note left it (the last phrase heard): the breath takes
+    // the speech's before the note.
+    let mut next = seen(10.8, 12.0, 10.8, true, -25.0);
+    next.level_db = -48.0;
+    let breaths = breaths_between(&[seen(10.55, 10.8, 10.0, false, -48.0), next]);
+    assert_eq!(breaths.len(), 1, "{breaths:?}");
+    assert_eq!(breaths[0].2, Placement::breath_gain(&config, -25.0));
+    // Activity after the note (a click, up to 10.5 s) keeps the breath after it.
+    let mut next = seen(10.9, 12.0, 10.45, true, -25.0);
+    next.pause.last_activity_end_s = Some(10.5);
+    let breaths = breaths_between(&[seen(10.3, 10.45, 10.0, false, -48.0), next]);
+    assert_eq!(breaths.len(), 1, "{breaths:?}");
+    let after_s = 10.5 + f64::from(config.placement.after_offset_s);
+    assert!(breaths[0].0 >= after_s - 1e-6, "{breaths:?}");
+    // Two notes in one pause.
+    let mut second = seen(10.55, 10.7, 10.45, false, -48.0);
+    second.level_db = -47.0;
+    let two = [
+        seen(10.3, 10.45, 10.0, false, -48.0),
+        second,
+        seen(10.8, 12.0, 10.7, true, -25.0),
+    ];
+    let breaths = breaths_between(&two);
+    assert_eq!(breaths.len(), 1, "{breaths:?}");
+    assert!(breaths[0].0 < 10.55 && breaths[0].1 < 10.8, "{breaths:?}");
+}
+
+#[test]
+fn a_quiet_sound_between_phrases_does_not_end_the_group_it_lies_in() {
+    // Speech 9–10 s, a note 10.1–10.3 s, speech from 10.4 s: the gaps either side of the note
+    // are shorter than a usable pause, the pause around it is not. The group known ends at
+    // 10 s, with 1 s of speech.
+    let mut first = seen(9.0, 10.0, 8.0, true, -25.0);
+    first.level_db = -25.0;
+    let placement = placement_with(&[
+        first,
+        seen(10.1, 10.3, 10.0, false, -48.0),
+        seen(10.4, 12.0, 10.3, true, -25.0),
+    ]);
+    let min_pause_s = f64::from(EngineConfig::default().placement.min_pause_s);
+    assert!(0.1 < min_pause_s && 0.4 >= min_pause_s);
+    let (known_s, ended) = placement.known_group_s(12.5, min_pause_s);
+    assert!((known_s - 1.0).abs() < 1e-9 && ended, "{known_s} {ended}");
 }
 
 fn round_ms(s: f64) -> i64 {
