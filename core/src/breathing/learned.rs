@@ -45,6 +45,7 @@ use super::third_octave::{
     BAND_CENTRES_HZ,
 };
 use crate::rng::SeededRng;
+use crate::settings::breathing::MOUTH_VS_NOSE;
 use crate::settings::placement::BREATH_LEVEL_DB;
 
 /// Breaths needed before the spreads are measured rather than the priors.
@@ -292,6 +293,9 @@ pub struct LearnedSound {
     level_offset_db: f64,
     /// Share of the current breath's power in the bands.
     band_share: f64,
+    /// The procedural mouth sound's tilt over the nose sound's, dB per band
+    /// ([`super::voice::mouth_over_nose_tilt_db`]).
+    mouth_over_nose_tilt_db: Bands,
 }
 
 impl LearnedSound {
@@ -309,6 +313,7 @@ impl LearnedSound {
             gains: [0.0; BANDS],
             level_offset_db: 0.0,
             band_share: 1.0,
+            mouth_over_nose_tilt_db: super::voice::mouth_over_nose_tilt_db(),
         }
     }
 
@@ -423,11 +428,18 @@ impl LearnedSound {
         self.rng.normal().clamp(-MAX_DEVIATE, MAX_DEVIATE)
     }
 
-    /// Starts a breath: draws its shape and level (see the module docs). Allocation-free.
-    pub fn start(&mut self) {
+    /// Starts a breath: draws its shape and level (see the module docs), coloured towards a
+    /// breath through the mouth or the nose by `mouth_share` (0 nose .. 1 mouth). At the
+    /// default `mouth_vs_nose` the learned shape is as learned (a speaker's breaths are their
+    /// own mix of the two); else it moves by the share's distance from that default times the
+    /// procedural mouth sound's tilt over the nose sound's. Allocation-free.
+    pub fn start(&mut self, mouth_share: f64) {
+        let colour = mouth_share.clamp(0.0, 1.0) - f64::from(MOUTH_VS_NOSE.default);
         let mut target = [0.0; BANDS];
         for (k, t) in target.iter_mut().enumerate() {
-            let db = self.voice.shape_db[k] + self.voice.shape_sd_db[k] * self.deviate();
+            let db = self.voice.shape_db[k]
+                + colour * self.mouth_over_nose_tilt_db[k]
+                + self.voice.shape_sd_db[k] * self.deviate();
             *t = 10f64.powf(db / 10.0);
         }
         // Varied within the spread, never over the loud end of real breaths.
@@ -492,7 +504,7 @@ mod tests {
     }
 
     fn render(sound: &mut LearnedSound, n: usize) -> Vec<f32> {
-        sound.start();
+        sound.start(f64::from(MOUTH_VS_NOSE.default));
         (0..n).map(|_| sound.tick() as f32).collect()
     }
 
@@ -517,6 +529,35 @@ mod tests {
         }
         let p = x.iter().map(|v| (*v as f64).powi(2)).sum::<f64>() / x.len() as f64;
         assert!((10.0 * p.log10()).abs() < 0.5, "power {p}");
+    }
+
+    #[test]
+    fn the_mouth_share_colours_the_learned_shape_brighter_or_darker() {
+        // The procedural banks' tilt: the nose dark, the mouth bright.
+        let colour = super::super::voice::mouth_over_nose_tilt_db();
+        assert!(colour[0] < -6.0 && colour[BANDS - 1] > 6.0, "{colour:?}");
+        // Sounds drawn at a mouth share of 1 and 0 differ by half that colour each way from
+        // the learned shape (flat here), band by band.
+        let fs = 16_000.0;
+        let shape = |share: f64| {
+            let mut s = LearnedSound::new(voice([0.0; BANDS], 0.0), 7);
+            s.prepare(fs);
+            s.start(share);
+            let x: Vec<f32> = (0..8 * fs as usize).map(|_| s.tick() as f32).collect();
+            shape_db(&band_powers(&x, fs))
+        };
+        let (mouth, nose) = (shape(1.0), shape(0.0));
+        let want = shape_db(&colour.map(|d| 10f64.powf(d / 10.0)));
+        for k in 0..BANDS {
+            let got = mouth[k] - nose[k];
+            assert!(
+                (got - want[k]).abs() < 2.0,
+                "band {k}: {got:.1} vs {:.1}",
+                want[k]
+            );
+        }
+        let neutral = shape(f64::from(MOUTH_VS_NOSE.default));
+        assert!(neutral.iter().all(|d| d.abs() < 1.5), "{neutral:?}");
     }
 
     #[test]
@@ -575,7 +616,7 @@ mod tests {
         s.prepare(16_000.0);
         let levels: Vec<f64> = (0..200)
             .map(|_| {
-                s.start();
+                s.start(f64::from(MOUTH_VS_NOSE.default));
                 s.level_db() - v.speech_db
             })
             .collect();

@@ -245,10 +245,10 @@ impl BreathTrack {
                     }
                     let mouth = config.breathing.map().mouth_share();
                     // A learned voice plays at its learned level, moved by the user's level and
-                    // to the level of the speaker who speaks next.
+                    // breathing sound and to the level of the speaker who speaks next.
                     let default_level_db = super::PlacementConfig::default().breath_level_db;
                     self.voice.set_learned_offset_db(f64::from(
-                        config.placement.breath_level_db - default_level_db + speaker_db,
+                        config.breath_level_re_speech_db() - default_level_db + speaker_db,
                     ));
                     self.state.fading = false;
                     self.voice.set_upper_edge_hz(edge_hz);

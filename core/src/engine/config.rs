@@ -201,6 +201,24 @@ impl Default for EngineConfig {
 }
 
 impl EngineConfig {
+    /// The level of an inserted breath against the speech around it, dB: the user's breath
+    /// level (`breath_level_db`, set for the neutral breathing preset) moved by the breathing
+    /// sound's amplitude against the neutral preset's (a preset, `breath_sound`; 0 is silent),
+    /// never over the breath level's highest setting. The procedural voice plays at it; a
+    /// learned or the built-in voice plays at its own level moved by it less the default.
+    pub(crate) fn breath_level_re_speech_db(&self) -> f32 {
+        let neutral = BreathingParams::default().map().breath_rms_re_speech();
+        let ours = self.breathing.map().breath_rms_re_speech();
+        let sound_db = if ours <= 0.0 {
+            -200.0
+        } else if neutral > 0.0 {
+            20.0 * (ours / neutral).log10()
+        } else {
+            0.0
+        };
+        (self.placement.breath_level_db + sound_db).min(BREATH_LEVEL_DB.max() as f32)
+    }
+
     /// True when `other` differs in the stream part, which sizes and seeds the stream and so
     /// only takes effect at [`super::Engine::prepare`]: the analysis, the phrase tracker, the
     /// placement mode, the lookahead (and whole-file rendering), the speech decision's switch

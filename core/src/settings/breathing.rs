@@ -51,7 +51,8 @@ pub static MOUTH_VS_NOSE: Setting = Setting {
     default: 0.5,
     off: None,
     scope: Scope::Live,
-    help: "Breathing through nose vs mouth: 0 nose only, 1 mouth only",
+    help: "Breathing through nose vs mouth: 0 nose only, 1 mouth only (the breath sound \
+           darker or brighter than the speaker's own at 0.5; the nostrils or the mouth open)",
     why: "a share: Table 1's MouthVsNose (read as the mouth's share)",
 };
 

@@ -118,6 +118,33 @@ fn breaths_are_quieter_than_the_speech_and_follow_the_level_setting() {
 }
 
 #[test]
+fn breaths_follow_the_breathing_sound_amplitude() {
+    // The breathing parameters' sound amplitude (`breath_sound`, what the presets set) moves
+    // the breaths' level as the level setting does, whatever voice plays; 0 is silent.
+    let (audio, _) = sequence(0.6, &[1.5, 1.5, 1.5], &[0.8, 0.8]);
+    let breath_rms = |amplitude: f32| {
+        let mut c = config();
+        c.breathing.amplitude_breathing_sound = amplitude;
+        let r = render(&c, std::slice::from_ref(&audio), &[256]);
+        let diff: Vec<f32> = audio.iter().zip(&r.audio[0]).map(|(a, b)| b - a).collect();
+        let b = r.breaths[1];
+        rms(&diff[(b.start_s * SR) as usize..(b.end_s * SR) as usize])
+    };
+    let neutral = config().breathing.amplitude_breathing_sound;
+    let step_db = 20.0 * (breath_rms(2.0 * neutral) / breath_rms(neutral)).log10();
+    assert!(
+        (step_db - 6.02).abs() < 1.5,
+        "twice the amplitude gave {step_db:.1} dB"
+    );
+    // Under a 24-bit file's last bit.
+    let silent = breath_rms(0.0);
+    assert!(
+        silent < 6e-8,
+        "a silent breathing sound still sounds: {silent:e}"
+    );
+}
+
+#[test]
 fn any_block_partition_gives_identical_audio_and_controls() {
     let (audio, _) = sequence(0.4, &[0.8, 0.6, 0.9], &[0.6, 0.3]);
     let c = config();

@@ -405,19 +405,7 @@ impl Placement {
 
     /// Plateau RMS (linear) of a breath near speech at `speech_level_db`.
     fn breath_gain(config: &EngineConfig, speech_level_db: f32) -> f32 {
-        let neutral = crate::breathing::BreathingParams::default()
-            .map()
-            .breath_rms_re_speech();
-        let ours = config.breathing.map().breath_rms_re_speech();
-        let preset_db = if neutral > 0.0 && ours > 0.0 {
-            20.0 * (ours / neutral).log10()
-        } else if ours <= 0.0 {
-            -200.0
-        } else {
-            0.0
-        };
-        let rel_db = (config.placement.breath_level_db + preset_db).min(-6.0);
-        10f32.powf((speech_level_db + rel_db) / 20.0)
+        10f32.powf((speech_level_db + config.breath_level_re_speech_db()) / 20.0)
     }
 
     /// Live mode: speech (or something like it) began in the pause, reported at `ctx.now` with
