@@ -59,6 +59,7 @@ mod alloc_test;
 #[cfg(test)]
 mod automation_compat;
 pub mod breath_like;
+mod declick;
 pub mod editor;
 pub mod params;
 pub mod rebuild;
@@ -157,6 +158,8 @@ pub struct Pneuma {
     view_shared: Arc<EditorShared>,
     /// The freeze switch and the saved breath voice on the audio thread ([`voice`]).
     voice: VoiceFreeze,
+    /// The seam where a new engine takes over while playing.
+    seam: declick::Seam,
 }
 
 impl Default for Pneuma {
@@ -179,6 +182,7 @@ impl Default for Pneuma {
             view,
             view_shared,
             voice: VoiceFreeze::default(),
+            seam: declick::Seam::default(),
         }
     }
 }
@@ -203,7 +207,12 @@ impl Pneuma {
     /// structural settings ([`EngineSlot::follow`]); the host hears of its latency, or is asked
     /// for a restart, and the editor shows it. Never allocates, frees or blocks.
     fn follow_structure(&mut self, context: &mut impl ProcessContext<Self>, block: usize) {
-        let (view, at_rest, voice) = (&mut self.view, &mut self.at_rest, &mut self.voice);
+        let (view, at_rest, voice, seam) = (
+            &mut self.view,
+            &mut self.at_rest,
+            &mut self.voice,
+            &mut self.seam,
+        );
         self.slot.follow(block, |event| match event {
             SlotEvent::Swapped {
                 latency,
@@ -215,6 +224,7 @@ impl Pneuma {
                 view.activated(running, latency, sample_rate_hz);
                 *at_rest = false;
                 voice.engine_changed();
+                seam.swapped();
             }
             SlotEvent::RestartWanted => context.request_restart(),
         });
@@ -432,6 +442,7 @@ impl Plugin for Pneuma {
         self.at_rest = false;
         self.voice.engine_changed();
         self.mono = MonoSource::new(audio_io_layout);
+        self.seam = declick::Seam::activate(buffer_config.sample_rate);
         // One millisecond of tolerance for rounded host positions (at least one sample).
         self.pre_roll = PreRoll::default();
         self.jumps = JumpDetector::new(
@@ -531,6 +542,7 @@ impl Plugin for Pneuma {
             send_rest_pose(&mut outputs, &mut send_cc);
         }
         let audio = buffer.as_slice();
+        self.seam.before(audio);
         let restart_at = if playing {
             self.pre_roll.restart_at(pos, audio)
         } else {
@@ -558,6 +570,7 @@ impl Plugin for Pneuma {
             }
             None => self.run_engine(audio, midi_on, osc_on, &mut send_cc),
         }
+        self.seam.after(audio);
         if cc_lost {
             // Forget what was sent so every controller is sent again at the next frame: a lost
             // message must not leave a receiver on a stale value.

@@ -1,0 +1,168 @@
+//! The seam where a new engine takes over while playing ([`crate::rebuild`]: a mode, lookahead
+//! or frame-rate change). The new engine starts empty: in lookahead mode its output is silence
+//! for the new latency and then the input from the swap on; in live mode the undelayed input
+//! at once. Both ends of that seam were steps in the waveform, heard as clicks. [`Seam`] makes
+//! them ramps of [`SEAM_S`]: the old engine's last output sample falls to the new output with a
+//! raised cosine, and the input the new engine hears rises from 0 with the complementary one,
+//! so its output starts from 0 too when it comes out of the delay.
+//!
+//! Only a swap that replaces an engine that already played since activation is smoothed: the
+//! first engine of an activation, a stream restart (transport start, jump, pre-roll) and every
+//! block without a swap pass untouched, so the plugin stays equal to `pneuma render`. Never
+//! allocates.
+
+use std::f64::consts::PI;
+
+/// Length of the ramps, seconds: longer than a period of the lowest voice (about 10 ms at
+/// 100 Hz), short enough not to be heard as a fade.
+pub const SEAM_S: f64 = 0.005;
+
+/// Channels the seam follows (the plugin's layouts have at most two).
+const CHANNELS: usize = 2;
+
+/// See the module docs.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Seam {
+    /// Ramp length, samples (0 before `activate`).
+    len: usize,
+    /// The last output sample of each channel.
+    last: [f32; CHANNELS],
+    /// Output has been produced since activation.
+    played: bool,
+    /// Samples of the ramps done, while they run.
+    at: Option<usize>,
+    /// The old output's last samples less the new output's first, per channel.
+    offset: [f32; CHANNELS],
+    /// A swap happened at the start of this block.
+    armed: bool,
+}
+
+impl Seam {
+    /// A new activation at `sample_rate_hz`: nothing played yet.
+    pub fn activate(sample_rate_hz: f32) -> Self {
+        Self {
+            len: (SEAM_S * f64::from(sample_rate_hz)).round().max(1.0) as usize,
+            ..Self::default()
+        }
+    }
+
+    /// An engine was swapped in at the start of this block.
+    pub fn swapped(&mut self) {
+        self.armed = self.played && self.len > 0;
+    }
+
+    /// Raised cosine from 1 (at 0) to 0 (at `len`).
+    fn falling(&self, k: usize) -> f32 {
+        (0.5 * (1.0 + (PI * k as f64 / self.len as f64).cos())) as f32
+    }
+
+    /// Before the engine runs the block: the input rises from 0 after a swap.
+    pub fn before(&mut self, audio: &mut [&mut [f32]]) {
+        if self.armed {
+            self.at = Some(0);
+        }
+        let Some(at) = self.at else { return };
+        for channel in audio.iter_mut() {
+            for (k, x) in channel.iter_mut().enumerate() {
+                if at + k >= self.len {
+                    break;
+                }
+                *x *= 1.0 - self.falling(at + k);
+            }
+        }
+    }
+
+    /// After the engine ran the block: the old output's last sample falls to the new output.
+    pub fn after(&mut self, audio: &mut [&mut [f32]]) {
+        if self.armed {
+            self.armed = false;
+            for (c, channel) in audio.iter().enumerate().take(CHANNELS) {
+                self.offset[c] = self.last[c] - channel.first().copied().unwrap_or(0.0);
+            }
+        }
+        let n = audio.first().map_or(0, |c| c.len());
+        if let Some(at) = self.at {
+            for (c, channel) in audio.iter_mut().enumerate().take(CHANNELS) {
+                for (k, y) in channel.iter_mut().enumerate() {
+                    if at + k >= self.len {
+                        break;
+                    }
+                    *y += self.offset[c] * self.falling(at + k);
+                }
+            }
+            self.at = Some(at + n).filter(|&a| a < self.len);
+        }
+        for (c, channel) in audio.iter().enumerate().take(CHANNELS) {
+            if let Some(&y) = channel.last() {
+                self.last[c] = y;
+            }
+        }
+        self.played |= n > 0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_swap_turns_both_steps_into_ramps_and_nothing_else_changes() {
+        let mut seam = Seam::activate(48_000.0);
+        let len = (SEAM_S * 48_000.0) as usize;
+        // A block before the swap ends at 0.5; blocks without a swap pass untouched.
+        let mut block = vec![0.5f32; 64];
+        seam.before(&mut [&mut block[..]]);
+        seam.after(&mut [&mut block[..]]);
+        assert!(block.iter().all(|&x| x == 0.5));
+        seam.swapped();
+        // The new engine hears a constant 0.8 and (lookahead) puts out silence.
+        let mut input = vec![0.8f32; 2 * len];
+        seam.before(&mut [&mut input[..]]);
+        assert_eq!(input[0], 0.0, "the input starts from 0");
+        assert!(input.windows(2).all(|w| w[1] >= w[0]) && input[len] == 0.8);
+        let mut output = vec![0.0f32; 2 * len];
+        seam.after(&mut [&mut output[..]]);
+        assert_eq!(
+            output[0], 0.5,
+            "the output starts where the old engine's ended"
+        );
+        assert!(output.windows(2).all(|w| w[1] <= w[0]) && output[len] == 0.0);
+        let step = output
+            .windows(2)
+            .map(|w| (w[1] - w[0]).abs())
+            .fold(0.0, f32::max);
+        assert!(
+            step < 0.5 * PI as f32 / len as f32 * 1.01,
+            "largest step {step}"
+        );
+        // The first engine of an activation is not smoothed.
+        let mut fresh = Seam::activate(48_000.0);
+        fresh.swapped();
+        let mut block = [0.8f32; 8];
+        fresh.before(&mut [&mut block[..]]);
+        fresh.after(&mut [&mut block[..]]);
+        assert!(block.iter().all(|&x| x == 0.8));
+    }
+
+    #[test]
+    fn the_ramps_carry_on_across_short_blocks() {
+        let mut seam = Seam::activate(48_000.0);
+        let len = (SEAM_S * 48_000.0) as usize;
+        let mut last = [-0.3f32; 4];
+        seam.after(&mut [&mut last[..]]);
+        seam.swapped();
+        let mut out = Vec::new();
+        for _ in 0..(2 * len / 7) {
+            let mut block = vec![0.0f32; 7];
+            seam.before(&mut [&mut block[..]]);
+            seam.after(&mut [&mut block[..]]);
+            out.extend(block);
+        }
+        assert_eq!(out[0], -0.3);
+        assert!(
+            out.windows(2).all(|w| w[1] >= w[0]),
+            "a falling ramp, in pieces"
+        );
+        assert!(out[len..].iter().all(|&x| x == 0.0));
+    }
+}
