@@ -294,7 +294,7 @@ pub struct LearnedSound {
     /// Share of the current breath's power in the bands.
     band_share: f64,
     /// The procedural mouth sound's tilt over the nose sound's, dB per band
-    /// ([`super::voice::mouth_over_nose_tilt_db`]).
+    /// ([`super::banks::mouth_over_nose_tilt_db`]).
     mouth_over_nose_tilt_db: Bands,
 }
 
@@ -313,7 +313,7 @@ impl LearnedSound {
             gains: [0.0; BANDS],
             level_offset_db: 0.0,
             band_share: 1.0,
-            mouth_over_nose_tilt_db: super::voice::mouth_over_nose_tilt_db(),
+            mouth_over_nose_tilt_db: super::banks::mouth_over_nose_tilt_db(),
         }
     }
 
@@ -534,7 +534,7 @@ mod tests {
     #[test]
     fn the_mouth_share_colours_the_learned_shape_brighter_or_darker() {
         // The procedural banks' tilt: the nose dark, the mouth bright.
-        let colour = super::super::voice::mouth_over_nose_tilt_db();
+        let colour = super::super::banks::mouth_over_nose_tilt_db();
         assert!(colour[0] < -6.0 && colour[BANDS - 1] > 6.0, "{colour:?}");
         // Sounds drawn at a mouth share of 1 and 0 differ by half that colour each way from
         // the learned shape (flat here), band by band.

@@ -8,6 +8,7 @@
 //! offline, estimated live).
 
 pub mod band_limit;
+mod banks;
 mod chunker;
 mod cycle;
 mod filters;
