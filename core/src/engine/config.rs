@@ -203,14 +203,15 @@ impl Default for EngineConfig {
 impl EngineConfig {
     /// The level of an inserted breath against the speech around it, dB: the user's breath
     /// level (`breath_level_db`, set for the neutral breathing preset) moved by the breathing
-    /// sound's amplitude against the neutral preset's (a preset, `breath_sound`; 0 is silent),
-    /// never over the breath level's highest setting. The procedural voice plays at it; a
-    /// learned or the built-in voice plays at its own level moved by it less the default.
+    /// sound's amplitude against the neutral preset's (a preset, `breath_sound`; 0 is silent:
+    /// −∞), the sum never over the breath level's highest setting. The procedural voice plays
+    /// at it; a learned or the built-in voice plays at its own level moved by it less the
+    /// default (so up to 16 dB over its learned level).
     pub(crate) fn breath_level_re_speech_db(&self) -> f32 {
         let neutral = BreathingParams::default().map().breath_rms_re_speech();
         let ours = self.breathing.map().breath_rms_re_speech();
         let sound_db = if ours <= 0.0 {
-            -200.0
+            f32::NEG_INFINITY
         } else if neutral > 0.0 {
             20.0 * (ours / neutral).log10()
         } else {

@@ -3,13 +3,14 @@
 //! for the new latency and then the input from the swap on; in live mode the undelayed input
 //! at once. Both ends of that seam were steps in the waveform, heard as clicks. [`Seam`] makes
 //! them ramps of [`SEAM_S`]: the old engine's last output sample falls to the new output with a
-//! raised cosine, and the input the new engine hears rises from 0 with the complementary one,
-//! so its output starts from 0 too when it comes out of the delay.
+//! raised cosine, and (when the new engine delays its output) the input it hears rises from 0
+//! with the complementary one, so its output starts from 0 too when it comes out of the delay.
+//! A live engine's output is the input itself, already continuous: its input is left alone.
 //!
 //! Only a swap that replaces an engine that already played since activation is smoothed: the
-//! first engine of an activation, a stream restart (transport start, jump, pre-roll) and every
-//! block without a swap pass untouched, so the plugin stays equal to `pneuma render`. Never
-//! allocates.
+//! first engine of an activation, a stream restart (transport start, jump, pre-roll: the ramps
+//! stop there) and every block without a swap pass untouched, so the plugin stays equal to
+//! `pneuma render`. Never allocates.
 
 use std::f64::consts::PI;
 
@@ -35,6 +36,8 @@ pub struct Seam {
     offset: [f32; CHANNELS],
     /// A swap happened at the start of this block.
     armed: bool,
+    /// The input ramps too (the new engine delays its output).
+    ramp_input: bool,
 }
 
 impl Seam {
@@ -46,9 +49,17 @@ impl Seam {
         }
     }
 
-    /// An engine was swapped in at the start of this block.
-    pub fn swapped(&mut self) {
+    /// An engine with `latency` samples was swapped in at the start of this block.
+    pub fn swapped(&mut self, latency: u32) {
         self.armed = self.played && self.len > 0;
+        self.ramp_input = latency > 0;
+    }
+
+    /// The stream starts afresh in this block (a transport jump, a pre-roll's end): no seam, and
+    /// ramps still running stop.
+    pub fn restart(&mut self) {
+        self.armed = false;
+        self.at = None;
     }
 
     /// Raised cosine from 1 (at 0) to 0 (at `len`).
@@ -61,8 +72,10 @@ impl Seam {
         if self.armed {
             self.at = Some(0);
         }
-        let Some(at) = self.at else { return };
-        for channel in audio.iter_mut() {
+        let (Some(at), true) = (self.at, self.ramp_input) else {
+            return;
+        };
+        for channel in audio.iter_mut().take(CHANNELS) {
             for (k, x) in channel.iter_mut().enumerate() {
                 if at + k >= self.len {
                     break;
@@ -88,6 +101,10 @@ impl Seam {
                         break;
                     }
                     *y += self.offset[c] * self.falling(at + k);
+                    // Never a subnormal where the ramp ends on silence (hosts refuse them).
+                    if y.abs() < f32::MIN_POSITIVE {
+                        *y = 0.0;
+                    }
                 }
             }
             self.at = Some(at + n).filter(|&a| a < self.len);
@@ -114,7 +131,7 @@ mod tests {
         seam.before(&mut [&mut block[..]]);
         seam.after(&mut [&mut block[..]]);
         assert!(block.iter().all(|&x| x == 0.5));
-        seam.swapped();
+        seam.swapped(24_000);
         // The new engine hears a constant 0.8 and (lookahead) puts out silence.
         let mut input = vec![0.8f32; 2 * len];
         seam.before(&mut [&mut input[..]]);
@@ -137,7 +154,7 @@ mod tests {
         );
         // The first engine of an activation is not smoothed.
         let mut fresh = Seam::activate(48_000.0);
-        fresh.swapped();
+        fresh.swapped(24_000);
         let mut block = [0.8f32; 8];
         fresh.before(&mut [&mut block[..]]);
         fresh.after(&mut [&mut block[..]]);
@@ -150,19 +167,49 @@ mod tests {
         let len = (SEAM_S * 48_000.0) as usize;
         let mut last = [-0.3f32; 4];
         seam.after(&mut [&mut last[..]]);
-        seam.swapped();
-        let mut out = Vec::new();
+        seam.swapped(24_000);
+        let (mut heard, mut out) = (Vec::new(), Vec::new());
         for _ in 0..(2 * len / 7) {
-            let mut block = vec![0.0f32; 7];
+            let mut block = [0.6f32; 7];
             seam.before(&mut [&mut block[..]]);
-            seam.after(&mut [&mut block[..]]);
-            out.extend(block);
+            heard.extend(block);
+            // The new engine's output: silence (its lookahead).
+            let mut silent = [0.0f32; 7];
+            seam.after(&mut [&mut silent[..]]);
+            out.extend(silent);
         }
-        assert_eq!(out[0], -0.3);
+        assert_eq!((heard[0], out[0]), (0.0, -0.3));
+        assert!(
+            heard.windows(2).all(|w| w[1] >= w[0]),
+            "a rising ramp, in pieces"
+        );
         assert!(
             out.windows(2).all(|w| w[1] >= w[0]),
             "a falling ramp, in pieces"
         );
+        assert!(heard[len..].iter().all(|&x| x == 0.6));
         assert!(out[len..].iter().all(|&x| x == 0.0));
+    }
+
+    #[test]
+    fn a_live_engine_hears_its_input_and_a_restart_ends_the_seam() {
+        let mut seam = Seam::activate(48_000.0);
+        let mut last = [0.4f32; 4];
+        seam.after(&mut [&mut last[..]]);
+        seam.swapped(0);
+        let mut input = [0.5f32; 8];
+        seam.before(&mut [&mut input[..]]);
+        assert!(
+            input.iter().all(|&x| x == 0.5),
+            "the live input is already continuous"
+        );
+        seam.after(&mut [&mut input[..]]);
+        assert!((input[0] - 0.4).abs() < 1e-6, "{input:?}");
+        // A jump in the middle of the ramps: the fresh stream passes untouched.
+        seam.restart();
+        let mut block = [0.5f32; 8];
+        seam.before(&mut [&mut block[..]]);
+        seam.after(&mut [&mut block[..]]);
+        assert!(block.iter().all(|&x| x == 0.5));
     }
 }

@@ -224,7 +224,7 @@ impl Pneuma {
                 view.activated(running, latency, sample_rate_hz);
                 *at_rest = false;
                 voice.engine_changed();
-                seam.swapped();
+                seam.swapped(latency);
             }
             SlotEvent::RestartWanted => context.request_restart(),
         });
@@ -542,13 +542,17 @@ impl Plugin for Pneuma {
             send_rest_pose(&mut outputs, &mut send_cc);
         }
         let audio = buffer.as_slice();
-        self.seam.before(audio);
         let restart_at = if playing {
             self.pre_roll.restart_at(pos, audio)
         } else {
             self.pre_roll.stop();
             None
         };
+        // A stream that starts afresh here (a jump, the end of a silent pre-roll) has no seam.
+        if jumped || restart_at.is_some() {
+            self.seam.restart();
+        }
+        self.seam.before(audio);
         match restart_at {
             // A silent pre-roll ends in this block: the engine starts afresh with the audio, as
             // `pneuma render` starts at the file's first sample.
