@@ -21,6 +21,7 @@ use pneuma_core::encode::midi_file::MidiFileSink;
 use pneuma_core::encode::sink::{FrameSink, TextSink};
 use pneuma_core::engine::offline::{self, TailFrames};
 use pneuma_core::engine::{PlacementMode, VoiceStatus};
+use pneuma_core::settings::placement::BREATH_LEVEL_DB;
 use pneuma_core::{BreathEvent, BreathKind, ControlFrame};
 use pneuma_io::{AudioSource, InputFormat, WavMeta};
 
@@ -68,6 +69,9 @@ pub struct RenderSummary {
     pub leftovers: Cleared,
     /// Where the inserted breaths took their voice from, at the end of the render.
     pub voice: VoiceStatus,
+    /// The learned voice's level under its speaker's speech at the end of the render, dB
+    /// (`None`: the built-in voice).
+    pub voice_level_re_speech_db: Option<f64>,
     /// The low-pass corner the inserted breaths passed through to stay inside the recording's
     /// bandwidth, Hz, at the end of the render (`None`: no limit).
     pub band_limit_hz: Option<f64>,
@@ -76,9 +80,14 @@ pub struct RenderSummary {
     pub notes: Vec<String>,
 }
 
-/// The summary's line on the breath voice, given the breaths inserted (those played from the
-/// user's breath samples use no voice).
-pub fn describe_voice(voice: VoiceStatus, inserted: &[BreathEvent]) -> String {
+/// The summary's line on the breath voice, learned at `level_re_speech_db` under the speech
+/// (`None`: not learned), given the breaths inserted (those played from the user's breath
+/// samples use no voice).
+pub fn describe_voice(
+    voice: VoiceStatus,
+    level_re_speech_db: Option<f64>,
+    inserted: &[BreathEvent],
+) -> String {
     let from_samples = inserted
         .iter()
         .filter(|b| b.kind == BreathKind::Sample)
@@ -94,20 +103,31 @@ pub fn describe_voice(voice: VoiceStatus, inserted: &[BreathEvent]) -> String {
     } else {
         String::new()
     };
-    describe_voice_status(voice) + &samples_note
+    describe_voice_status(voice, level_re_speech_db) + &samples_note
 }
 
-/// The breath voice's own part of [`describe_voice`].
-fn describe_voice_status(voice: VoiceStatus) -> String {
+/// The breath voice's own part of [`describe_voice`]: where it comes from and, once learned,
+/// the level it learned (what `--breath-level-db` at its default plays; each dB over or under
+/// the default moves the breaths as much).
+fn describe_voice_status(voice: VoiceStatus, level_re_speech_db: Option<f64>) -> String {
     let breaths = |n| crate::options::count(n, "breath");
+    let level = level_re_speech_db.map_or(String::new(), |db| {
+        format!(
+            "; this speaker's breaths lie {:.0} dB under the speech, where --breath-level-db {} \
+             plays them",
+            -db, BREATH_LEVEL_DB.default
+        )
+    });
     match voice {
-        VoiceStatus::Fixed { breaths: n } => format!("breath voice: learned from {}", breaths(n)),
+        VoiceStatus::Fixed { breaths: n } => {
+            format!("breath voice: learned from {}{level}", breaths(n))
+        }
         VoiceStatus::Learning { breaths: 0 } | VoiceStatus::BuiltIn => {
             "breath voice: built-in (no breath of the speaker's was learned)".into()
         }
         VoiceStatus::Learning { breaths: n } => {
             format!(
-                "breath voice: learned as the render went, from {}",
+                "breath voice: learned as the render went, from {}{level}",
                 breaths(n)
             )
         }
@@ -238,6 +258,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
     let length_s = pass.written as f64 / info.sample_rate_hz as f64;
     let mut found = findings(&energy, &engine.speech_summary(), length_s);
     let voice = engine.voice_status();
+    let voice_level_re_speech_db = engine.learned_voice().map(|v| v.level_re_speech_db);
     let band_limit_hz = engine.breath_band_limit_hz();
     let (controls, bvh, kept, midi, osc) = sinks;
     // Live mode breathes after each pause without seeing the phrase to come, and its lung
@@ -311,6 +332,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         osc,
         leftovers,
         voice,
+        voice_level_re_speech_db,
         band_limit_hz,
         notes,
     })
@@ -728,11 +750,11 @@ mod tests {
         };
         let samples = [breath(BreathKind::Sample), breath(BreathKind::Sample)];
         assert_eq!(
-            describe_voice(VoiceStatus::BuiltIn, &samples),
+            describe_voice(VoiceStatus::BuiltIn, None, &samples),
             "breath sound: your breath samples"
         );
         let some = [breath(BreathKind::Sample), breath(BreathKind::Mixed)];
-        let line = describe_voice(VoiceStatus::Fixed { breaths: 3 }, &some);
+        let line = describe_voice(VoiceStatus::Fixed { breaths: 3 }, Some(-31.4), &some);
         assert!(
             line.starts_with("breath voice: learned from 3 breaths"),
             "{line}"
@@ -741,8 +763,13 @@ mod tests {
             line.ends_with("(1 of 2 breaths from your breath samples)"),
             "{line}"
         );
-        let none = describe_voice(VoiceStatus::BuiltIn, &[breath(BreathKind::Mixed)]);
+        assert!(
+            line.contains("breaths lie 31 dB under the speech, where --breath-level-db -22"),
+            "{line}"
+        );
+        let none = describe_voice(VoiceStatus::BuiltIn, None, &[breath(BreathKind::Mixed)]);
         assert!(none.starts_with("breath voice: built-in"), "{none}");
+        assert!(!none.contains("dB under"), "{none}");
     }
 
     #[test]
