@@ -76,10 +76,7 @@ impl Seam {
             return;
         };
         for channel in audio.iter_mut().take(CHANNELS) {
-            for (k, x) in channel.iter_mut().enumerate() {
-                if at + k >= self.len {
-                    break;
-                }
+            for (k, x) in channel.iter_mut().take(self.len - at).enumerate() {
                 *x *= 1.0 - self.falling(at + k);
             }
         }
@@ -96,16 +93,13 @@ impl Seam {
         let n = audio.first().map_or(0, |c| c.len());
         if let Some(at) = self.at {
             for (c, channel) in audio.iter_mut().enumerate().take(CHANNELS) {
-                for (k, y) in channel.iter_mut().enumerate() {
-                    if at + k >= self.len {
-                        break;
-                    }
+                let ramped_len = (self.len - at).min(channel.len());
+                let ramped = &mut channel[..ramped_len];
+                for (k, y) in ramped.iter_mut().enumerate() {
                     *y += self.offset[c] * self.falling(at + k);
-                    // Never a subnormal where the ramp ends on silence (hosts refuse them).
-                    if y.abs() < f32::MIN_POSITIVE {
-                        *y = 0.0;
-                    }
                 }
+                // Never a subnormal where the ramp ends on silence (hosts refuse them).
+                crate::sanitize_in_place(ramped);
             }
             self.at = Some(at + n).filter(|&a| a < self.len);
         }
