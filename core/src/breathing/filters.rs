@@ -65,31 +65,34 @@ impl Biquad {
         self.z1 = 0.0;
         self.z2 = 0.0;
     }
+    /// H's numerator and denominator at the frequency of `p`, each (real, imaginary):
+    /// H = (b0 + b1 z⁻¹ + b2 z⁻²) / (1 + a1 z⁻¹ + a2 z⁻²) at z⁻¹ = cos w − j sin w.
+    fn polynomials_at(&self, p: &Phasor) -> ((f64, f64), (f64, f64)) {
+        let Phasor { c1, s1, c2, s2 } = *p;
+        (
+            (
+                self.b0 + self.b1 * c1 + self.b2 * c2,
+                -(self.b1 * s1 + self.b2 * s2),
+            ),
+            (
+                1.0 + self.a1 * c1 + self.a2 * c2,
+                -(self.a1 * s1 + self.a2 * s2),
+            ),
+        )
+    }
+
     /// Complex response H (real, imaginary) at the frequency of `p`: what a parallel bank of
     /// sections fed the same input sums.
     pub(super) fn response_at(&self, p: &Phasor) -> (f64, f64) {
-        let Phasor { c1, s1, c2, s2 } = *p;
-        // H = (b0 + b1 z⁻¹ + b2 z⁻²) / (1 + a1 z⁻¹ + a2 z⁻²) at z⁻¹ = cos w − j sin w.
-        let (nr, ni) = (
-            self.b0 + self.b1 * c1 + self.b2 * c2,
-            -(self.b1 * s1 + self.b2 * s2),
-        );
-        let (dr, di) = (
-            1.0 + self.a1 * c1 + self.a2 * c2,
-            -(self.a1 * s1 + self.a2 * s2),
-        );
+        let ((nr, ni), (dr, di)) = self.polynomials_at(p);
         let den = dr * dr + di * di;
         ((nr * dr + ni * di) / den, (ni * dr - nr * di) / den)
     }
 
     /// Power gain |H|² at the frequency of `p` (computed once for a bank of filters).
     pub(super) fn power_gain_at(&self, p: &Phasor) -> f64 {
-        let Phasor { c1, s1, c2, s2 } = *p;
-        let num =
-            (self.b0 + self.b1 * c1 + self.b2 * c2).powi(2) + (self.b1 * s1 + self.b2 * s2).powi(2);
-        let den =
-            (1.0 + self.a1 * c1 + self.a2 * c2).powi(2) + (self.a1 * s1 + self.a2 * s2).powi(2);
-        num / den
+        let ((nr, ni), (dr, di)) = self.polynomials_at(p);
+        (nr.powi(2) + ni.powi(2)) / (dr.powi(2) + di.powi(2))
     }
 }
 
