@@ -18,6 +18,7 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use pneuma_core::engine::{BreathVoiceMode, Engine, VoiceStatus};
+use pneuma_core::settings::placement::BREATH_LEVEL_DB;
 
 use crate::params::breath_voice::{FrozenVoice, SavedVoice, Stored};
 use crate::params::PneumaParams;
@@ -118,17 +119,26 @@ impl VoiceFreeze {
     /// What the editor shows for `engine`'s voice: frozen is the user's freeze; a fixed voice
     /// without it is the breath-like file's.
     pub fn shown(&self, engine: &Engine) -> VoiceShown {
+        let level_db = engine
+            .learned_voice()
+            .map(|v| v.level_re_speech_db)
+            .filter(|db| db.is_finite())
+            .map(|db| db.round().clamp(-LEVEL_SPAN_DB, 0.0) as i16);
         match engine.voice_status() {
             VoiceStatus::BuiltIn if self.frozen => VoiceShown::FrozenBuiltIn,
             VoiceStatus::BuiltIn => VoiceShown::BuiltIn,
-            VoiceStatus::Learning { breaths } => VoiceShown::Learning { breaths },
-            VoiceStatus::Fixed { breaths } if self.frozen => VoiceShown::Frozen { breaths },
-            VoiceStatus::Fixed { breaths } => VoiceShown::BreathLike { breaths },
+            VoiceStatus::Learning { breaths } => VoiceShown::Learning { breaths, level_db },
+            VoiceStatus::Fixed { breaths } if self.frozen => {
+                VoiceShown::Frozen { breaths, level_db }
+            }
+            VoiceStatus::Fixed { breaths } => VoiceShown::BreathLike { breaths, level_db },
         }
     }
 }
 
-/// The breath voice as the editor shows it.
+/// The breath voice as the editor shows it. `level_db`: the learned level of the speaker's
+/// breaths under the speech, whole dB (`None` before anything is learned), what the Breath
+/// level parameter's default plays.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum VoiceShown {
     /// No engine runs.
@@ -142,61 +152,96 @@ pub enum VoiceShown {
     Learning {
         /// Breaths heard since the stream started.
         breaths: usize,
+        /// See the type's docs.
+        level_db: Option<i16>,
     },
     /// Frozen by the user.
     Frozen {
         /// Breaths it was learned from.
         breaths: usize,
+        /// See the type's docs.
+        level_db: Option<i16>,
     },
     /// Learned from the breath-like file.
     BreathLike {
         /// Breaths it was learned from.
         breaths: usize,
+        /// See the type's docs.
+        level_db: Option<i16>,
     },
 }
 
 /// Bits of the breath count in [`VoiceShown::to_bits`].
-const COUNT_BITS: u32 = 48;
+const COUNT_BITS: u32 = 32;
+/// Bits of the level's depth under the speech in [`VoiceShown::to_bits`], above the count (all
+/// ones: no level).
+const LEVEL_BITS: u32 = 16;
+/// The deepest level shown, dB under the speech (levels lie at most this far under it).
+const LEVEL_SPAN_DB: f64 = 1000.0;
 
 impl VoiceShown {
     /// The editor's line.
     pub fn text(&self) -> String {
         let breaths = |n: usize| format!("{n} breath{}", if n == 1 { "" } else { "s" });
+        let learned = |n: usize, level_db: Option<i16>| match level_db {
+            Some(db) => format!(
+                "{}; this speaker's breaths lie {} dB under the speech, where {} {} dB plays them",
+                breaths(n),
+                -db,
+                BREATH_LEVEL_DB.label,
+                BREATH_LEVEL_DB.default
+            ),
+            None => breaths(n),
+        };
         let what = match *self {
             Self::NoEngine => "none (the audio passes untouched)".to_owned(),
             Self::BuiltIn => "built-in".to_owned(),
             Self::FrozenBuiltIn => "built-in (frozen before any breath was heard)".to_owned(),
-            Self::Learning { breaths: n } => format!("learning ({})", breaths(n)),
-            Self::Frozen { breaths: n } => format!("frozen ({})", breaths(n)),
-            Self::BreathLike { breaths: n } => {
-                format!("from the breath-like file ({})", breaths(n))
+            Self::Learning {
+                breaths: n,
+                level_db,
+            } => format!("learning ({})", learned(n, level_db)),
+            Self::Frozen {
+                breaths: n,
+                level_db,
+            } => format!("frozen ({})", learned(n, level_db)),
+            Self::BreathLike {
+                breaths: n,
+                level_db,
+            } => {
+                format!("from the breath-like file ({})", learned(n, level_db))
             }
         };
         format!("breath voice: {what}")
     }
 
-    /// One word for an atomic: the kind above the count.
+    /// One word for an atomic: the kind above the level above the count.
     pub fn to_bits(self) -> u64 {
-        let (kind, n) = match self {
-            Self::NoEngine => (0, 0),
-            Self::BuiltIn => (1, 0),
-            Self::FrozenBuiltIn => (2, 0),
-            Self::Learning { breaths } => (3, breaths),
-            Self::Frozen { breaths } => (4, breaths),
-            Self::BreathLike { breaths } => (5, breaths),
+        let (kind, n, level_db) = match self {
+            Self::NoEngine => (0, 0, None),
+            Self::BuiltIn => (1, 0, None),
+            Self::FrozenBuiltIn => (2, 0, None),
+            Self::Learning { breaths, level_db } => (3, breaths, level_db),
+            Self::Frozen { breaths, level_db } => (4, breaths, level_db),
+            Self::BreathLike { breaths, level_db } => (5, breaths, level_db),
         };
-        (kind << COUNT_BITS) | (n as u64 & ((1 << COUNT_BITS) - 1))
+        let none = (1u64 << LEVEL_BITS) - 1;
+        let depth = level_db.map_or(none, |db| u64::from(db.unsigned_abs()).min(none - 1));
+        let count = (n as u64).min((1 << COUNT_BITS) - 1);
+        (kind << (COUNT_BITS + LEVEL_BITS)) | (depth << COUNT_BITS) | count
     }
 
     /// The value [`VoiceShown::to_bits`] made.
     pub fn from_bits(bits: u64) -> Self {
         let breaths = (bits & ((1 << COUNT_BITS) - 1)) as usize;
-        match bits >> COUNT_BITS {
+        let depth = (bits >> COUNT_BITS) & ((1 << LEVEL_BITS) - 1);
+        let level_db = (depth != (1 << LEVEL_BITS) - 1).then(|| -(depth as i16));
+        match bits >> (COUNT_BITS + LEVEL_BITS) {
             1 => Self::BuiltIn,
             2 => Self::FrozenBuiltIn,
-            3 => Self::Learning { breaths },
-            4 => Self::Frozen { breaths },
-            5 => Self::BreathLike { breaths },
+            3 => Self::Learning { breaths, level_db },
+            4 => Self::Frozen { breaths, level_db },
+            5 => Self::BreathLike { breaths, level_db },
             _ => Self::NoEngine,
         }
     }
@@ -231,16 +276,35 @@ mod tests {
         // The words users read (issue 31), not the code's own strings.
         let cases = [
             (
-                VoiceShown::Learning { breaths: 7 },
-                "breath voice: learning (7 breaths)",
+                VoiceShown::Learning {
+                    breaths: 7,
+                    level_db: Some(-28),
+                },
+                "breath voice: learning (7 breaths; this speaker's breaths lie 28 dB under the \
+                 speech, where Breath level -22 dB plays them)",
             ),
             (
-                VoiceShown::Learning { breaths: 1 },
-                "breath voice: learning (1 breath)",
+                VoiceShown::Learning {
+                    breaths: 1,
+                    level_db: Some(-22),
+                },
+                "breath voice: learning (1 breath; this speaker's breaths lie 22 dB under the \
+                 speech, where Breath level -22 dB plays them)",
             ),
             (
-                VoiceShown::Frozen { breaths: 12 },
-                "breath voice: frozen (12 breaths)",
+                VoiceShown::Learning {
+                    breaths: 0,
+                    level_db: None,
+                },
+                "breath voice: learning (0 breaths)",
+            ),
+            (
+                VoiceShown::Frozen {
+                    breaths: 12,
+                    level_db: Some(-17),
+                },
+                "breath voice: frozen (12 breaths; this speaker's breaths lie 17 dB under the \
+                 speech, where Breath level -22 dB plays them)",
             ),
             (VoiceShown::BuiltIn, "breath voice: built-in"),
             (
@@ -248,8 +312,12 @@ mod tests {
                 "breath voice: built-in (frozen before any breath was heard)",
             ),
             (
-                VoiceShown::BreathLike { breaths: 30 },
-                "breath voice: from the breath-like file (30 breaths)",
+                VoiceShown::BreathLike {
+                    breaths: 30,
+                    level_db: Some(-31),
+                },
+                "breath voice: from the breath-like file (30 breaths; this speaker's breaths lie \
+                 31 dB under the speech, where Breath level -22 dB plays them)",
             ),
         ];
         let cell = AtomicU64::new(0);

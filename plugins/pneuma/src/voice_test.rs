@@ -99,14 +99,24 @@ fn a_frozen_voice_plays_the_same_every_time_and_unfreezing_learns_afresh() {
     let mut host = Host::playing(PluginApi::Clap, RATE_HZ);
 
     play(&mut plugin, &mut host, &breathing);
-    let VoiceShown::Learning { breaths } = shown(&plugin) else {
-        panic!("learning: {:?}", shown(&plugin));
+    let VoiceShown::Learning {
+        breaths,
+        level_db: Some(level_db),
+    } = shown(&plugin)
+    else {
+        panic!("learning, with a level: {:?}", shown(&plugin));
     };
     assert!(breaths >= 4, "{breaths} breaths heard");
     assert_eq!(plugin.params.breath_voice.get(), None, "nothing frozen yet");
     // Learning restarts with every playback: the built-in voice at first.
     let learning_again = play(&mut plugin, &mut host, &breathless);
-    assert_eq!(shown(&plugin), VoiceShown::Learning { breaths: 0 });
+    assert_eq!(
+        shown(&plugin),
+        VoiceShown::Learning {
+            breaths: 0,
+            level_db: None
+        }
+    );
 
     // Learn again, then freeze while the stream goes on (the switch moves between blocks, as
     // automation does).
@@ -118,11 +128,18 @@ fn a_frozen_voice_plays_the_same_every_time_and_unfreezing_learns_afresh() {
         &breathless[..BLOCK],
         breathing.len(),
     );
-    assert_eq!(shown(&plugin), VoiceShown::Frozen { breaths });
+    let frozen = VoiceShown::Frozen {
+        breaths,
+        level_db: Some(level_db),
+    };
+    assert_eq!(shown(&plugin), frozen);
     let Some(FrozenVoice::Learned(voice)) = plugin.params.breath_voice.get() else {
         panic!("saved: {:?}", plugin.params.breath_voice.get());
     };
     assert_eq!(voice.breaths, breaths);
+    // The editor shows the level the voice plays its breaths at under the speech.
+    assert_eq!(f64::from(level_db), voice.level_re_speech_db.round());
+    assert!(level_db < 0, "{level_db} dB");
 
     let one = play(&mut plugin, &mut host, &breathless);
     let two = play(&mut plugin, &mut host, &breathless);
@@ -136,7 +153,7 @@ fn a_frozen_voice_plays_the_same_every_time_and_unfreezing_learns_afresh() {
         one != learning_again,
         "the frozen voice sounds like the built-in one"
     );
-    assert_eq!(shown(&plugin), VoiceShown::Frozen { breaths });
+    assert_eq!(shown(&plugin), frozen);
 
     // Off: learning restarts, the saved voice is gone.
     set(&plugin, "freeze_breath_voice", 0.0);
@@ -146,7 +163,13 @@ fn a_frozen_voice_plays_the_same_every_time_and_unfreezing_learns_afresh() {
         &breathless[..BLOCK],
         breathless.len(),
     );
-    assert_eq!(shown(&plugin), VoiceShown::Learning { breaths: 0 });
+    assert_eq!(
+        shown(&plugin),
+        VoiceShown::Learning {
+            breaths: 0,
+            level_db: None
+        }
+    );
     assert_eq!(plugin.params.breath_voice.get(), None);
     let three = play(&mut plugin, &mut host, &breathless);
     assert!(
@@ -197,12 +220,16 @@ fn an_engine_learns_the_voice_of_the_breath_like_file_and_a_bad_file_leaves_lear
     let mut host = Host::playing(PluginApi::Clap, RATE_HZ);
     let breathless = signals::phrases_with_pauses(rate, 4.0, 60.0, 5);
     play(&mut from_file, &mut host, &breathless);
-    assert_eq!(
-        shown(&from_file),
-        VoiceShown::BreathLike {
-            breaths: learned.breaths
-        }
-    );
+    let VoiceShown::BreathLike {
+        breaths,
+        level_db: Some(level_db),
+    } = shown(&from_file)
+    else {
+        panic!("from the file, with a level: {:?}", shown(&from_file));
+    };
+    assert_eq!(breaths, learned.breaths);
+    // The file's level under its speech, kept against this track's speech.
+    assert_eq!(f64::from(level_db), learned.level_re_speech_db.round());
 
     let missing = Pneuma::default();
     missing
@@ -211,6 +238,12 @@ fn an_engine_learns_the_voice_of_the_breath_like_file_and_a_bad_file_leaves_lear
         .set_path(dir.join("missing.wav").to_string_lossy().into_owned());
     let mut missing = activated(missing);
     play(&mut missing, &mut host, &breathless);
-    assert_eq!(shown(&missing), VoiceShown::Learning { breaths: 0 });
+    assert_eq!(
+        shown(&missing),
+        VoiceShown::Learning {
+            breaths: 0,
+            level_db: None
+        }
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
