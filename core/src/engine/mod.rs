@@ -18,8 +18,10 @@
 //!      inhalation starts, with the breathing cycle's inspiration, unless the input is active at
 //!      that sample; activity before then cancels it. A sample-level input gate (`gate`) fades
 //!      a playing breath out over `live_fade_s` from the first active sample, and the cycle
-//!      stops inspiring before the first frame that heard it. A breath cut within its first
-//!      60 ms or never above −60 dBFS is an inaudible stub and is not reported.
+//!      stops inspiring before the first frame that heard it. A real breath the tracker hears
+//!      in the pause makes the pause's inhalation silent (the cycle still inspires) and fades
+//!      one playing. A breath cut within its first 60 ms or never above −60 dBFS is an
+//!      inaudible stub and is not reported.
 //! 4. The output is the delayed input, bit for bit, plus the breath sound where a breath plays,
 //!    spread over the channels in the voice's stereo image.
 //! 5. Control frames are emitted when the output reaches their time, with their sample offset in
@@ -851,6 +853,9 @@ impl Stream {
                 // The breath before this phrase is learned against its speaker's level.
                 self.voice.phrase_ended(self.placement.ended_speaker_db());
             }
+        }
+        if self.tracker.breath_heard_in_pause() {
+            self.placement.live_breath_heard(&ctx, &mut self.schedule);
         }
         self.placement.decide_due(&ctx, &mut self.schedule);
     }

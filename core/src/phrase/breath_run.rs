@@ -178,6 +178,12 @@ impl RunTrack {
         run.frames = 0;
     }
 
+    /// A breath counted in this pause, or the run going on counts already.
+    fn heard_so_far(&self, rules: &BreathRules) -> bool {
+        self.counted.is_some()
+            || (self.run.frames >= rules.min_frames && self.run.counts(rules, self.held))
+    }
+
     fn at_onset(&self, onset: u64, rules: &BreathRules) -> Option<HeardRun> {
         let run = &self.run;
         let min = rules.min_frames as u64;
@@ -246,6 +252,12 @@ impl PauseBreaths {
     pub(super) fn close(&mut self, index: u64, rules: &BreathRules) {
         self.strict.close(index, rules);
         self.held.close(index, rules);
+    }
+
+    /// A breath has been heard in this pause so far, strict or held: what the pause would
+    /// report as its breath ([`PauseBreaths::at_onset`]) if the next phrase started now.
+    pub(super) fn heard_so_far(&self, rules: &BreathRules) -> bool {
+        self.strict.heard_so_far(rules) || self.held.heard_so_far(rules)
     }
 
     /// The breath of the pause that a phrase starting at frame `onset` ends: a strict run still

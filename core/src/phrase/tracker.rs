@@ -190,6 +190,15 @@ impl PhraseTracker {
         self.history[(index % self.history.len() as u64) as usize]
     }
 
+    /// A breath has been heard in the pause going on (after a phrase) so far: the speaker is
+    /// breathing in, or did. Live mode reads it to keep an inserted breath off a real one.
+    pub fn breath_heard_in_pause(&self) -> bool {
+        let s = &self.state;
+        !s.phrase.inside
+            && s.phrase.last_offset.is_some()
+            && s.breaths.heard_so_far(&self.breath_rules)
+    }
+
     /// Feeds one frame (in order). Calls `on_event` for what became certain at this frame: at
     /// most an end, an activity and a start.
     pub fn update(&mut self, frame: &FeatureFrame, mut on_event: impl FnMut(PhraseEvent)) {

@@ -3,7 +3,7 @@
 //! the same phrases with a quiet pause report none. A burst an editor's cut left short (digital
 //! silence where the rest of it was) gets the rest put back beside it.
 
-use pneuma_core::engine::{offline, Engine, EngineConfig};
+use pneuma_core::engine::{offline, Engine, EngineConfig, PlacementMode};
 use pneuma_core::head::HeadModel;
 use pneuma_testkit::signals;
 
@@ -14,21 +14,26 @@ const BURST_S: (f64, f64) = (2.0, 2.35);
 /// A 1.6 s vowel, a 0.9 s pause (with the burst when `with_burst`), a 1.6 s vowel, 0.8 s of
 /// silence.
 fn phrases(with_burst: bool) -> Vec<f32> {
+    phrases_with_burst(with_burst.then_some(BURST_S))
+}
+
+/// [`phrases`] with the burst at `burst_s` (seconds, inside the pause at 1.6–2.5 s).
+fn phrases_with_burst(burst_s: Option<(f64, f64)>) -> Vec<f32> {
     let vowel = || signals::harmonic_tone(RATE_HZ, 1.6, 0.3, &[1.0, 0.6, 0.4, 0.3, 0.2], |_| 140.0);
     let mut x = vowel();
     let pause_start = x.len();
     x.extend(vec![0.0; (0.9 * RATE_HZ) as usize]);
-    if with_burst {
+    if let Some((a_s, b_s)) = burst_s {
         // About 26 dB under the vowels' level: breath noise, unvoiced, not a phrase.
-        let a = (BURST_S.0 * RATE_HZ) as usize;
-        let b = (BURST_S.1 * RATE_HZ) as usize;
+        let a = (a_s * RATE_HZ) as usize;
+        let b = (b_s * RATE_HZ) as usize;
         let noise = signals::white_noise(b - a, 0.01, 7);
         for (i, n) in noise.into_iter().enumerate() {
             let ramp = ((i.min(b - a - 1 - i) as f32) / 160.0).min(1.0);
             x[a + i] += n * ramp;
         }
     }
-    assert!(pause_start < (BURST_S.0 * RATE_HZ) as usize);
+    assert!(burst_s.is_none_or(|(a_s, _)| pause_start < (a_s * RATE_HZ) as usize));
     x.extend(vowel());
     x.extend(vec![0.0; (0.8 * RATE_HZ) as usize]);
     x
@@ -40,10 +45,16 @@ type Spans = Vec<(f64, f64)>;
 /// Runs the engine over `audio` in 256-sample blocks; returns the existing breaths and the
 /// inserted ones.
 fn run(audio: &[f32]) -> (Spans, Spans) {
+    run_in(audio, PlacementMode::Lookahead)
+}
+
+/// [`run`] in placement mode `mode`.
+fn run_in(audio: &[f32], mode: PlacementMode) -> (Spans, Spans) {
     // The phrases are steady tones, which the speech decision calls no speech; this test is
     // about the sound in the pause, so every pause counts.
     let mut config = EngineConfig::default();
     config.placement.speech_only = false;
+    config.placement.mode = mode;
     let mut engine =
         Engine::new(config, HeadModel::default_model().clone()).expect("default engine");
     engine.prepare(RATE_HZ, 256, 1).expect("prepare");
@@ -74,6 +85,44 @@ fn a_quiet_pause_reports_no_breath_already_there() {
     assert!(
         inserted.iter().any(|&(a, b)| a >= 1.6 && b <= 2.5),
         "the quiet pause gets an inserted breath: {inserted:?}"
+    );
+}
+
+#[test]
+fn live_mode_never_doubles_a_breath_already_there() {
+    // Live mode starts its breath once the pause has lasted the minimum pause (0.25 s after
+    // the offset at 1.6 s, at 1.85 s): a speaker who breathes in at once (at 1.65 s) is heard
+    // before that, and one who breathes in later (at 2.0 s) while the inserted breath plays.
+    let fade_s = f64::from(EngineConfig::default().placement.live_fade_s);
+    let heard_after_s = f64::from(pneuma_core::settings::phrase::BREATH_MIN_S.default);
+    let cases = [
+        ((1.65, 2.0), None),
+        ((2.0, 2.35), Some(2.0 + heard_after_s)),
+    ];
+    for (burst_s, faded_by_s) in cases {
+        let (existing, inserted) = run_in(&phrases_with_burst(Some(burst_s)), PlacementMode::Live);
+        assert_eq!(existing.len(), 1, "burst at {burst_s:?}: {existing:?}");
+        let in_pause: Vec<_> = inserted
+            .iter()
+            .filter(|&&(a, b)| b > 1.6 && a < 2.5)
+            .collect();
+        match faded_by_s {
+            None => assert!(
+                in_pause.is_empty(),
+                "burst at {burst_s:?}: a breath inserted over it: {in_pause:?}"
+            ),
+            // The breath that began before the burst fades out once the burst is heard.
+            Some(by_s) => assert!(
+                in_pause.iter().all(|&&(_, b)| b <= by_s + fade_s + 0.03),
+                "burst at {burst_s:?}: the inserted breath plays on over it: {in_pause:?}"
+            ),
+        }
+    }
+    // Without a burst the pause gets its live breath.
+    let (_, inserted) = run_in(&phrases_with_burst(None), PlacementMode::Live);
+    assert!(
+        inserted.iter().any(|&(a, b)| a >= 1.6 && b <= 2.5),
+        "the quiet pause gets a live breath: {inserted:?}"
     );
 }
 

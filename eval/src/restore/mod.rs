@@ -48,6 +48,7 @@ use pneuma_core::breathing::third_octave::{
     band_level_db, band_powers, distance_db, frame_len, noise_floor, shape_db, without_floor, Bands,
 };
 use pneuma_core::engine::offline::Rendered;
+use pneuma_core::engine::PlacementMode;
 
 use crate::breath_sounds::detect::speaker_of;
 use crate::breaths::BuiltIn;
@@ -589,6 +590,10 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
     print_reference(&clips, &held_out);
     let mut uncut: BTreeMap<(String, Voice), Vec<(f64, f64)>> = BTreeMap::new();
     let mut left: BTreeMap<(String, Voice), UncutRender> = BTreeMap::new();
+    // Live mode (the app's default, the plugin's live mode) learns as it goes.
+    let mut left_live: BTreeMap<(String, Voice), UncutRender> = BTreeMap::new();
+    let mut live = config.clone();
+    live.placement.mode = PlacementMode::Live;
     for clip in &clips {
         print_voice(clip)?;
         for voice in [
@@ -614,6 +619,16 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
                 },
             );
             uncut.insert((clip.name.clone(), voice), spans);
+            if voice == Voice::AsItGoes {
+                let out = render(&live, &clip.audio, &clip.audio, clip.rate_hz, voice, h, 0)?;
+                left_live.insert(
+                    (clip.name.clone(), voice),
+                    UncutRender {
+                        inserted: out.breaths.iter().map(|b| (b.start_s, b.end_s)).collect(),
+                        heard: out.existing_breaths.clone(),
+                    },
+                );
+            }
         }
     }
     let plan = [
@@ -734,11 +749,20 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
             shipped_length = Some(per);
         }
     }
-    for (voice, what) in [
-        (Voice::Learned, "voice learned from the whole file"),
-        (Voice::AsItGoes, "learned as it goes (plugin, lookahead)"),
+    for (renders, voice, what) in [
+        (&left, Voice::Learned, "voice learned from the whole file"),
+        (
+            &left,
+            Voice::AsItGoes,
+            "learned as it goes (plugin, lookahead)",
+        ),
+        (
+            &left_live,
+            Voice::AsItGoes,
+            "live mode (the app's default; learned as it goes)",
+        ),
     ] {
-        let overall = left_in::print(&clips, &left, voice, what);
+        let overall = left_in::print(&clips, renders, voice, what);
         for (name, ok, text) in left_in::targets(&overall) {
             println!(
                 "  target {name}: {text} {}",

@@ -260,6 +260,8 @@ struct PlacementState {
     prev_speech: Option<bool>,
     /// Whether the stream starts inside sound.
     start: StreamStart,
+    /// Live mode: a real breath was heard in the pause since the last phrase ended.
+    live_breath_heard: bool,
 }
 
 impl Default for PlacementState {
@@ -276,6 +278,7 @@ impl Default for PlacementState {
             breath_end: 0,
             prev_speech: None,
             start: StreamStart::default(),
+            live_breath_heard: false,
         }
     }
 }
@@ -425,6 +428,26 @@ impl Placement {
         schedule.note_activity(ctx.now);
     }
 
+    /// Live mode: the phrase tracker hears a real breath in the pause going on (the speaker
+    /// breathes in): the breath placed in this pause stays silent (the breathing cycle still
+    /// inspires with it), and one playing fades out. Once per pause.
+    pub(crate) fn live_breath_heard(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
+        if self.mode != PlacementMode::Live || self.state.live_breath_heard {
+            return;
+        }
+        self.state.live_breath_heard = true;
+        for (_, action) in schedule.breath.iter_mut() {
+            if let BreathAction::LiveStart { audible, .. } = action {
+                *audible = false;
+            }
+        }
+        if ctx.breath_playing {
+            schedule
+                .breath
+                .insert_sorted((ctx.now, BreathAction::FadeOut));
+        }
+    }
+
     /// Schedules what phrase event `e` calls for (lookahead mode: remembers a phrase start for
     /// [`Placement::decide_due`]).
     pub(crate) fn on_event(&mut self, ctx: &EventContext, e: PhraseEvent, schedule: &mut Schedule) {
@@ -490,6 +513,7 @@ impl Placement {
                     }
                     return;
                 }
+                self.state.live_breath_heard = false;
                 // Live: a breath only after speech (the finished phrase's last half second).
                 if !ctx.speech.tail_is_speech(onset_s, offset_s) {
                     return;
