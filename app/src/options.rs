@@ -110,6 +110,14 @@ pub fn parse(args: &[String]) -> Result<AppOptions, String> {
                             .into(),
                     );
                 }
+                // The check the plugin's sender makes, at start rather than silently later
+                // (the same words as the CLI's).
+                if pneuma_osc::target::resolve(&host, DEFAULT_OSC_PORT).is_none() {
+                    return Err(format!(
+                        "--osc-host {}",
+                        pneuma_osc::paced::OpenError::NotAnAddress(host)
+                    ));
+                }
                 o.defaults.osc_host = host;
             }
             "--osc-port" => {
@@ -149,8 +157,8 @@ pub fn parse(args: &[String]) -> Result<AppOptions, String> {
 pub struct Backend {
     /// The backend to name to nice-plug, or `None` where the user named one.
     pub name: Option<&'static str>,
-    /// A running JACK server's sample rate (Hz) and period (samples).
-    pub jack: Option<(u32, u32)>,
+    /// A running JACK server, as the probe found it.
+    pub jack: Option<JackServer>,
 }
 
 /// Where no backend was named: JACK when a server answers, otherwise ALSA. A named backend is
@@ -162,8 +170,17 @@ pub fn choose_backend(o: &AppOptions) -> Result<Backend, String> {
         _ => None,
     };
     if named == Some("jack") && jack.is_none() {
-        return Err("--backend jack: no JACK server answers. Start one (`jackd -d alsa`,                     `jackd -d dummy` for tests, or PipeWire's JACK), or use --backend alsa"
-            .into());
+        return Err(
+            "--backend jack: no JACK server answers. Start one (`jackd -d alsa`, \
+                    `jackd -d dummy` for tests, or PipeWire's JACK), or use --backend alsa"
+                .into(),
+        );
+    }
+    if jack.is_some_and(|j| j.taken) && matches!(named, None | Some("jack")) {
+        return Err(format!(
+            "the JACK server already has a client named `{JACK_CLIENT}` (another pneuma-app, or \
+             one that did not quit: `jack_lsp` lists its ports): quit it first"
+        ));
     }
     let name = match named {
         Some(_) => None,
@@ -173,13 +190,35 @@ pub fn choose_backend(o: &AppOptions) -> Result<Backend, String> {
     Ok(Backend { name, jack })
 }
 
-/// A running JACK server's rate and period (a client opens without starting a server). None
-/// where no server runs or the JACK library is missing.
-fn jack_server() -> Option<(u32, u32)> {
+/// The JACK client name nice-plug's wrapper opens (the plugin's name in lower case).
+const JACK_CLIENT: &str = "pneuma";
+
+/// A running JACK server as the probe finds it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct JackServer {
+    /// Sample rate, Hz.
+    pub rate: u32,
+    /// Period, samples.
+    pub period: u32,
+    /// A client named [`JACK_CLIENT`] runs already: the wrapper's would be refused.
+    pub taken: bool,
+}
+
+/// A running JACK server (a client opens without starting a server). None where no server
+/// runs or the JACK library is missing.
+fn jack_server() -> Option<JackServer> {
     match jack::Client::new("pneuma_probe", jack::ClientOptions::NO_START_SERVER) {
-        Ok((client, status)) if status.is_empty() => {
-            Some((client.sample_rate(), client.buffer_size()))
-        }
+        Ok((client, status)) if status.is_empty() => Some(JackServer {
+            rate: client.sample_rate(),
+            period: client.buffer_size(),
+            taken: !client
+                .ports(
+                    Some(&format!("^{JACK_CLIENT}:")),
+                    None,
+                    jack::PortFlags::empty(),
+                )
+                .is_empty(),
+        }),
         _ => None,
     }
 }
@@ -195,12 +234,12 @@ pub fn wrapper_args(program: &str, o: &AppOptions, backend: Backend) -> Vec<Stri
     }
     let uses_jack =
         backend.name == Some("jack") || matches!(o.backend.as_deref(), Some("jack") | Some("auto"));
-    if let (true, false, Some((rate, period))) = (uses_jack, o.has_rate, backend.jack) {
+    if let (true, false, Some(j)) = (uses_jack, o.has_rate, backend.jack) {
         out.extend([
             "--sample-rate".to_owned(),
-            rate.to_string(),
+            j.rate.to_string(),
             "--period-size".to_owned(),
-            period.to_string(),
+            j.period.to_string(),
         ]);
     }
     let alsa = backend.name == Some("alsa") || o.backend.as_deref() == Some("alsa");
@@ -235,7 +274,11 @@ mod tests {
         assert_eq!(o.defaults.osc_format, OscFormatChoice::Pneuma);
         let jack = Backend {
             name: None,
-            jack: Some((16_000, 256)),
+            jack: Some(JackServer {
+                rate: 16_000,
+                period: 256,
+                taken: false,
+            }),
         };
         assert_eq!(
             wrapper_args("pneuma-app", &o, jack),
@@ -282,6 +325,10 @@ mod tests {
                 "--osc-format: `osc` is not one of pneuma or vmc",
             ),
             ("--osc-host", "needs a value"),
+            (
+                "--osc-host avatar-pc.local",
+                "--osc-host `avatar-pc.local` is not an IP address",
+            ),
         ] {
             let e = parse(&args(a)).unwrap_err();
             assert!(e.contains(wanted), "{a}: {e}");

@@ -63,6 +63,15 @@ for _ in $(seq 100); do jack_lsp 2>/dev/null | grep -q '^pneuma:input_1$' && bre
 jack_lsp 2>/dev/null | grep -q '^pneuma:input_1$' || {
   echo "pneuma-app did not register its JACK ports; its log:" >&2; cat "$out/app.log" >&2; exit 1; }
 
+# A second app on the same server is refused, saying why (the JACK client name is taken).
+if second="$("$app" --no-gui --no-osc 2>&1)"; then
+  echo "a second pneuma-app started on the same JACK server" >&2; exit 1
+fi
+case "$second" in
+  *"already has a client named"*) echo "a second app is refused: $second" ;;
+  *) echo "a second pneuma-app failed without saying why: $second" >&2; exit 1 ;;
+esac
+
 "$py" "$here/jack_play.py" --play "$voice" --record "$out/output.wav" --tail-s 0.5
 echo "recorded output: $out/output.wav"
 python3 "$here/check_live.py" breaths --input "$voice" --output "$out/output.wav" --min-breaths 2

@@ -21,6 +21,8 @@
 //!   frame, whose clock is 0), they are re-anchored to now, so tags always increase;
 //!   faster-than-real-time processing (offline bounce) gives tags ahead of the wall clock, as
 //!   the audio time says.
+//! - When the worker stops (the plugin unloads, the app quits), one frame of the rest pose
+//!   ([`ControlFrame::rest`]) follows the last frame sent, so the avatar is not left mid-turn.
 
 use std::net::{SocketAddr, UdpSocket};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
@@ -206,39 +208,84 @@ fn run<S: OscSettings>(
             });
         }
         let addr = target.as_ref().and_then(|t| t.addr);
-        // The frames waiting go through core's OSC sink: each is tagged with its time on the
-        // stream's clock and handed, encoded, to the socket.
-        let mut sink = OscSink::new(
+        let link = Link {
+            addr,
+            socket: socket.as_ref(),
+            connected,
+            stats: &stats,
+        };
+        send_frames(
             format,
-            |frame: &ControlFrame| {
-                let base = tag_base(anchor, frame, now_unix_s());
-                anchor = Some(Anchor {
-                    base_s: base,
-                    index: frame.index,
-                    time_s: frame.time_s,
-                });
-                TimeTag::from_unix_seconds(base + frame.time_s)
-            },
-            |_: &ControlFrame, packet: &[u8]| {
-                match send(addr, socket.as_ref(), connected, packet) {
-                    Ok(()) => stats.sent.fetch_add(1, Ordering::Relaxed),
-                    Err(e) => {
-                        stats.last_error.store(e as u8, Ordering::Relaxed);
-                        stats.failed.fetch_add(1, Ordering::Relaxed)
-                    }
-                };
-            },
+            &mut anchor,
+            link,
+            std::iter::from_fn(|| consumer.pop().ok()),
         );
-        while let Ok(frame) = consumer.pop() {
-            sink.frame(&frame, 0);
-        }
-        let unencoded = sink.failed();
-        if unencoded > 0 {
-            stats
-                .last_error
-                .store(OscError::Encoding as u8, Ordering::Relaxed);
-            stats.failed.fetch_add(unencoded, Ordering::Relaxed);
-        }
+    }
+    // Stopped (the plugin unloads, the app quits): the avatar is not left mid-turn. One frame
+    // of the rest pose follows the last frame sent, a frame period later (the default frame
+    // rate's), as `pneuma render --osc` ends.
+    if let Some(a) = anchor {
+        let period_s = 1.0 / f64::from(pneuma_core::settings::analysis::FRAME_RATE_HZ.default);
+        let link = Link {
+            addr: target.as_ref().and_then(|t| t.addr),
+            socket: socket.as_ref(),
+            connected,
+            stats: &stats,
+        };
+        let rest = ControlFrame::rest(a.index + 1, a.time_s + period_s);
+        send_frames(settings.format(), &mut anchor, link, std::iter::once(rest));
+    }
+}
+
+/// Where a frame goes: the target's address, the socket (connected to it or not) and the
+/// counters.
+#[derive(Clone, Copy)]
+struct Link<'a> {
+    addr: Option<SocketAddr>,
+    socket: Option<&'a UdpSocket>,
+    connected: bool,
+    stats: &'a OscStats,
+}
+
+/// Sends `frames` through core's OSC sink: each is tagged with its time on the stream's clock
+/// (`anchor`, updated) and handed, encoded, to the socket; failures are counted.
+fn send_frames(
+    format: OscFormat,
+    anchor: &mut Option<Anchor>,
+    link: Link<'_>,
+    frames: impl Iterator<Item = ControlFrame>,
+) {
+    let stats = link.stats;
+    let mut sink = OscSink::new(
+        format,
+        |frame: &ControlFrame| {
+            let base = tag_base(*anchor, frame, now_unix_s());
+            *anchor = Some(Anchor {
+                base_s: base,
+                index: frame.index,
+                time_s: frame.time_s,
+            });
+            TimeTag::from_unix_seconds(base + frame.time_s)
+        },
+        |_: &ControlFrame, packet: &[u8]| {
+            match send(link.addr, link.socket, link.connected, packet) {
+                Ok(()) => stats.sent.fetch_add(1, Ordering::Relaxed),
+                Err(e) => {
+                    stats.last_error.store(e as u8, Ordering::Relaxed);
+                    stats.failed.fetch_add(1, Ordering::Relaxed)
+                }
+            };
+        },
+    );
+    for frame in frames {
+        sink.frame(&frame, 0);
+    }
+    let unencoded = sink.failed();
+    if unencoded > 0 {
+        stats
+            .last_error
+            .store(OscError::Encoding as u8, Ordering::Relaxed);
+        stats.failed.fetch_add(unencoded, Ordering::Relaxed);
     }
 }
 
@@ -377,6 +424,33 @@ mod tests {
     }
 
     #[test]
+    fn a_worker_that_stops_leaves_the_avatar_in_the_rest_pose() {
+        let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
+        rx.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+        let settings = Arc::new(Settings {
+            target: Mutex::new(("127.0.0.1".into(), rx.local_addr().unwrap().port())),
+            format: Mutex::new(OscFormat::Pneuma),
+        });
+        let (mut feed, worker, _stats) = start(settings).unwrap();
+        let mut turned = test_frame(7);
+        turned.head.yaw_deg = 7.0;
+        feed.push(&turned);
+        let head = |msgs: &[Message]| {
+            msgs.iter()
+                .find(|m| m.address == "/pneuma/head")
+                .map(|m| m.args.clone())
+        };
+        let first = receive(&rx);
+        assert_eq!(first[0].args[0], OscType::Int(7));
+        assert_ne!(head(&first), Some(vec![OscType::Float(0.0); 3]));
+        // The plugin unloads, the app quits: one more frame, the rest pose, after the last.
+        drop(worker);
+        let last = receive(&rx);
+        assert_eq!(last[0].args[0], OscType::Int(8), "{last:?}");
+        assert_eq!(head(&last), Some(vec![OscType::Float(0.0); 3]), "{last:?}");
+    }
+
+    #[test]
     fn a_closed_port_is_told_as_nothing_listening() {
         // A free port: bound, then closed again.
         let port = UdpSocket::bind("127.0.0.1:0")
@@ -431,8 +505,10 @@ mod tests {
         while accounted() < pushed && start.elapsed() < Duration::from_secs(10) {
             std::thread::sleep(Duration::from_millis(5));
         }
-        drop(worker);
         assert_eq!(accounted(), pushed, "every frame sent, failed or dropped");
+        drop(worker);
+        // Stopped, the worker tried the rest pose too (failed as well).
+        assert_eq!(accounted(), pushed + 1);
         assert_eq!(stats.sent.load(Ordering::Relaxed), 0);
         assert_eq!(
             OscError::from_code(stats.last_error.load(Ordering::Relaxed)),
