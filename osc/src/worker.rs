@@ -53,6 +53,10 @@ pub trait OscSettings: Send + Sync + 'static {
     fn target(&self) -> (String, u16);
     /// Address space.
     fn format(&self) -> OscFormat;
+    /// Whether OSC is sent at all (the rest pose a stopping worker sends goes out only then).
+    fn enabled(&self) -> bool {
+        true
+    }
 }
 
 /// Counters shared by the audio side and the worker (all monotonic).
@@ -155,6 +159,8 @@ fn run<S: OscSettings>(
     let mut target: Option<Target> = None;
     let mut anchor: Option<Anchor> = None;
     let mut idle_polls: u32 = 0;
+    // The format the last frames went out in (the rest pose takes it).
+    let mut last_format: Option<OscFormat> = None;
     while !stop.load(Ordering::Relaxed) {
         let waiting = consumer.slots();
         if waiting == 0 {
@@ -220,11 +226,13 @@ fn run<S: OscSettings>(
             link,
             std::iter::from_fn(|| consumer.pop().ok()),
         );
+        last_format = Some(format);
     }
     // Stopped (the plugin unloads, the app quits): the avatar is not left mid-turn. One frame
     // of the rest pose follows the last frame sent, a frame period later (the default frame
-    // rate's), as `pneuma render --osc` ends.
-    if let Some(a) = anchor {
+    // rate's), to the target and in the format of the last frames, as `pneuma render --osc`
+    // ends; nothing when OSC is off now (another app may drive the avatar).
+    if let (Some(a), Some(format), true) = (anchor, last_format, settings.enabled()) {
         let period_s = 1.0 / f64::from(pneuma_core::settings::analysis::FRAME_RATE_HZ.default);
         let link = Link {
             addr: target.as_ref().and_then(|t| t.addr),
@@ -233,7 +241,7 @@ fn run<S: OscSettings>(
             stats: &stats,
         };
         let rest = ControlFrame::rest(a.index + 1, a.time_s + period_s);
-        send_frames(settings.format(), &mut anchor, link, std::iter::once(rest));
+        send_frames(format, &mut anchor, link, std::iter::once(rest));
     }
 }
 
@@ -448,6 +456,33 @@ mod tests {
         let last = receive(&rx);
         assert_eq!(last[0].args[0], OscType::Int(8), "{last:?}");
         assert_eq!(head(&last), Some(vec![OscType::Float(0.0); 3]), "{last:?}");
+    }
+
+    #[test]
+    fn a_worker_that_stops_with_osc_off_sends_nothing() {
+        struct Off(u16);
+        impl OscSettings for Off {
+            fn target(&self) -> (String, u16) {
+                ("127.0.0.1".into(), self.0)
+            }
+            fn format(&self) -> OscFormat {
+                OscFormat::Pneuma
+            }
+            fn enabled(&self) -> bool {
+                false
+            }
+        }
+        let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
+        rx.set_read_timeout(Some(Duration::from_millis(300)))
+            .unwrap();
+        let (mut feed, worker, _stats) =
+            start(Arc::new(Off(rx.local_addr().unwrap().port()))).unwrap();
+        // A frame fed before OSC was switched off goes out; the stop sends no rest pose after it.
+        feed.push(&test_frame(3));
+        receive(&rx);
+        drop(worker);
+        let mut buf = [0u8; 2048];
+        assert!(rx.recv(&mut buf).is_err(), "a rest pose sent with OSC off");
     }
 
     #[test]

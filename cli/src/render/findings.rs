@@ -11,7 +11,7 @@
 //! (the mono mix the engine analyses) while the blocks pass; the speech figures come from the
 //! engine ([`SpeechSummary`]).
 
-use pneuma_core::analysis::Biquad;
+use pneuma_core::analysis::{no_signal_peak_db, quiet_peak_db, Biquad};
 use pneuma_core::breathing::{RESERVE_DECAY_S, RESERVE_LUNG};
 use pneuma_core::engine::{SpeechSummary, MAX_CHANNELS};
 use pneuma_core::settings::analysis::SILENCE_DB;
@@ -21,11 +21,6 @@ use pneuma_core::speech::JUDGE_WINDOW_S;
 const ANTIPHASE_DB: f64 = 20.0;
 /// Channels quieter than this hold nothing to cancel, dBFS (mean power).
 const SILENT_CHANNEL_DB: f64 = -90.0;
-/// An input whose peak lies less than this over the voicing's silence level (`silence_db`:
-/// frames under it are never voiced) is quiet, dB. A voice's peak stands 15–21 dB over the
-/// median RMS of its voiced frames on the speech of `../shared/data`, so at this margin the
-/// median voiced frame lies about 10 dB over the silence level and the softer ones under it.
-const SPEECH_CREST_DB: f64 = 30.0;
 /// Less speech than this share of the frames with sound: no speech found.
 const NO_SPEECH_SHARE: f64 = 0.01;
 /// Less speech than this share of the frames with sound: mostly not speech.
@@ -98,31 +93,10 @@ pub enum Finding {
     },
 }
 
-/// The quietest peak at which speech is heard in full, dBFS.
-fn quiet_peak_db() -> f64 {
-    f64::from(SILENCE_DB.default) + SPEECH_CREST_DB
-}
-
-/// A 16-bit file's least step, full scale.
-const STEP_16_BIT: f64 = 1.0 / 32768.0;
-/// Peaks under this many 16-bit steps are dither: an export of silence with TPDF dither
-/// rounds to one step (sox's default, −90 dBFS) or two (−84 dBFS); four leave 6 dB over that
-/// and lie 26 dB under the quietest speech the measurements render (a Keele take 30 dB down,
-/// peak −52 dBFS). A 24-bit or float file that low may hold a real signal, 78 dB under full
-/// scale. Noise-shaped dither (up to −54 dBFS) is told apart by its peak under
-/// [`VOICE_BAND_TOP_HZ`] instead.
-const DITHER_PEAK_STEPS: f64 = 4.0;
-
 /// Top of the band whose peak tells a signal from noise-shaped dither, Hz: shaped dither puts
 /// its power above it (a 16-bit export of silence with sox's `dither -s` peaks at −59 dBFS, its
 /// power rising towards 20 kHz), while every voice holds its strongest sound under it.
 const VOICE_BAND_TOP_HZ: f64 = 4_000.0;
-
-/// The peak under which an input holds no signal (silence or dither only), dBFS: −78 dBFS.
-/// Normalising such an input would raise its dither to full-scale noise.
-fn no_signal_peak_db() -> f64 {
-    20.0 * (DITHER_PEAK_STEPS * STEP_16_BIT).log10()
-}
 
 /// The antiphase warning for a command that `verb`s the input.
 pub fn antiphase_message(verb: &str) -> String {
@@ -605,7 +579,7 @@ mod tests {
             speech_phrases: 0,
         };
         // 16-bit TPDF dither of silence: one or two steps (-90.3, -84.3 dBFS); all zeros.
-        let step = STEP_16_BIT as f32;
+        let step = 1.0 / 32768.0f32;
         for (peak, said) in [(step, "peak -90 dBFS"), (2.0 * step, "peak -84 dBFS")] {
             let found = findings(&tone(peak), &speech, LONG_S);
             assert!(matches!(found[..], [Finding::NoSignal { .. }]), "{found:?}");

@@ -28,7 +28,9 @@ pub use config::{AnalysisConfig, MAX_SAMPLE_RATE_HZ, MIN_SAMPLE_RATE_HZ};
 pub use error::AnalysisError;
 pub use frame::FeatureFrame;
 pub(crate) use level::band_power;
-pub use level::{amplitude_to_db, rms, LEVEL_FLOOR_DB};
+pub use level::{
+    amplitude_to_db, no_signal_peak_db, quiet_peak_db, rms, LEVEL_FLOOR_DB, SPEECH_CREST_DB,
+};
 pub use pitch::{NsdfPitch, PitchEstimate};
 pub use speaker_norm::{SpeakerNorm, SpeakerNormConfig};
 pub use voicing::{

@@ -50,6 +50,13 @@ fn run(audio: &[f32]) -> (Spans, Spans) {
 
 /// [`run`] in placement mode `mode`.
 fn run_in(audio: &[f32], mode: PlacementMode) -> (Spans, Spans) {
+    let r = render_in(audio, mode, &[256]);
+    let inserted = r.breaths.iter().map(|b| (b.start_s, b.end_s)).collect();
+    (r.existing_breaths, inserted)
+}
+
+/// The engine's render of `audio` in placement mode `mode`, in blocks of `blocks` samples.
+fn render_in(audio: &[f32], mode: PlacementMode, blocks: &[usize]) -> offline::Rendered {
     // The phrases are steady tones, which the speech decision calls no speech; this test is
     // about the sound in the pause, so every pause counts.
     let mut config = EngineConfig::default();
@@ -58,9 +65,7 @@ fn run_in(audio: &[f32], mode: PlacementMode) -> (Spans, Spans) {
     let mut engine =
         Engine::new(config, HeadModel::default_model().clone()).expect("default engine");
     engine.prepare(RATE_HZ, 256, 1).expect("prepare");
-    let r = offline::render(&mut engine, &[audio.to_vec()], &[256]);
-    let inserted = r.breaths.iter().map(|b| (b.start_s, b.end_s)).collect();
-    (r.existing_breaths, inserted)
+    offline::render(&mut engine, &[audio.to_vec()], blocks)
 }
 
 #[test]
@@ -117,6 +122,31 @@ fn live_mode_never_doubles_a_breath_already_there() {
                 "burst at {burst_s:?}: the inserted breath plays on over it: {in_pause:?}"
             ),
         }
+    }
+    // The breath kept silent still breathes in: the cycle inspires in the pause.
+    let r = render_in(
+        &phrases_with_burst(Some((1.65, 2.0))),
+        PlacementMode::Live,
+        &[256],
+    );
+    assert!(
+        r.frames.iter().map(|f| &f.0).any(|f| f.time_s > 1.6
+            && f.time_s < 2.5
+            && f.breathing.phase == pneuma_core::Phase::Inspiration),
+        "no inspiration in the pause whose breath is the speaker's"
+    );
+    // Any block partition hears the burst at the same sample and fades the same breath.
+    let audio = phrases_with_burst(Some((2.0, 2.35)));
+    let whole = render_in(&audio, PlacementMode::Live, &[256]);
+    for blocks in [&[1usize][..], &[37], &[1000, 3, 512]] {
+        let other = render_in(&audio, PlacementMode::Live, blocks);
+        let bits = |r: &offline::Rendered| -> Vec<u32> {
+            r.audio[0].iter().map(|x| x.to_bits()).collect()
+        };
+        assert!(
+            bits(&other) == bits(&whole) && other.breaths == whole.breaths,
+            "blocks {blocks:?}: a different render"
+        );
     }
     // Without a burst the pause gets its live breath.
     let (_, inserted) = run_in(&phrases_with_burst(None), PlacementMode::Live);

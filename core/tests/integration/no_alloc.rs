@@ -60,7 +60,8 @@ fn process_never_allocates() {
 }
 
 /// Speech-like phrases with pauses at `rate` (so that the speech decision lets breaths in):
-/// 0.8 s of glottal vowels in 0.2 s syllables, 0.6 s silence, repeated.
+/// 0.8 s of glottal vowels in 0.2 s syllables, 0.6 s silence (with a breath-like burst in two
+/// pauses of three), repeated.
 fn phrases(rate: f64, seconds: f64) -> Vec<f32> {
     use pneuma_testkit::signals::{GlottalVowel, Vowel};
     let mut x = Vec::new();
@@ -85,7 +86,20 @@ fn phrases(rate: f64, seconds: f64) -> Vec<f32> {
                 y * (0.3 + 0.7 * (std::f64::consts::PI * i as f64 / n as f64).sin()) as f32
             }));
         } else {
-            x.extend(std::iter::repeat_n(0.0, (0.6 * rate) as usize));
+            // A breath-like burst early in the first pause, late in the second, none in the
+            // third, and so on: live mode hears it before its breath starts (kept silent) or
+            // while it plays (faded out); the third pause gets its breath.
+            let mut pause = vec![0.0f32; (0.6 * rate) as usize];
+            if let Some(from_s) = [Some(0.05), Some(0.3), None][(k / 5 % 3) as usize] {
+                let (a, b) = ((from_s * rate) as usize, ((from_s + 0.25) * rate) as usize);
+                for (p, n) in pause[a..b]
+                    .iter_mut()
+                    .zip(signals::white_noise(b - a, 0.01, k))
+                {
+                    *p = n;
+                }
+            }
+            x.extend(pause);
         }
         k += 1;
     }

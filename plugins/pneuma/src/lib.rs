@@ -97,6 +97,10 @@ impl OscSettings for PneumaParams {
     fn format(&self) -> OscFormat {
         self.osc_format.value().into()
     }
+
+    fn enabled(&self) -> bool {
+        self.osc_enabled.value()
+    }
 }
 
 /// Mono sources on stereo outputs: the right channel takes a copy of the left one before the

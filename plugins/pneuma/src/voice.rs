@@ -226,7 +226,9 @@ impl VoiceShown {
             Self::BreathLike { breaths, level_db } => (5, breaths, level_db),
         };
         let none = (1u64 << LEVEL_BITS) - 1;
-        let depth = level_db.map_or(none, |db| u64::from(db.unsigned_abs()).min(none - 1));
+        let depth = level_db.map_or(none, |db| {
+            u64::from(db.unsigned_abs()).min(LEVEL_SPAN_DB as u64)
+        });
         let count = (n as u64).min((1 << COUNT_BITS) - 1);
         (kind << (COUNT_BITS + LEVEL_BITS)) | (depth << COUNT_BITS) | count
     }

@@ -67,6 +67,17 @@ impl History {
         &self.breaths
     }
 
+    /// The input's peak over the frames kept, dBFS, and the seconds they span; `None` before
+    /// any frame.
+    pub fn input_peak_db(&self) -> Option<(f64, f64)> {
+        let (first, last) = (self.frames.front()?, self.frames.back()?);
+        let peak = self.frames.iter().fold(0.0f32, |m, f| m.max(f.input_peak));
+        Some((
+            f64::from(pneuma_core::analysis::amplitude_to_db(f64::from(peak))),
+            last.control.time_s - first.control.time_s,
+        ))
+    }
+
     /// Time of the newest frame, seconds (0 before any).
     pub fn now_s(&self) -> f64 {
         self.frames.back().map_or(0.0, |f| f.control.time_s)
@@ -92,6 +103,20 @@ impl History {
     }
 }
 
+/// The editor's word on an input too quiet for its speech to be heard in full (the render
+/// summary's "very quiet" rule, on the input's peak over the timeline's `span_s` seconds);
+/// `None` for a loud enough input or for no signal at all (a muted input, dither).
+pub fn input_level_note(peak_db: f64, span_s: f64) -> Option<String> {
+    use pneuma_core::analysis::{no_signal_peak_db, quiet_peak_db};
+    (peak_db >= no_signal_peak_db() && peak_db < quiet_peak_db()).then(|| {
+        format!(
+            "input peaks at {peak_db:.0} dBFS over the last {span_s:.0} s: speech needs about \
+             {:.0} dBFS to be heard in full (raise the input gain)",
+            quiet_peak_db()
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -106,6 +131,32 @@ mod tests {
             },
             input_peak: 0.0,
         }
+    }
+
+    #[test]
+    fn a_quiet_input_is_told_over_the_timeline_and_a_loud_or_silent_one_is_not() {
+        let note = |peaks: &[f32]| {
+            let mut h = History::default();
+            for (i, &p) in peaks.iter().enumerate() {
+                h.push_frame(&ViewFrame {
+                    input_peak: p,
+                    ..view(i as f64, true)
+                });
+            }
+            h.input_peak_db()
+                .and_then(|(db, span)| input_level_note(db, span))
+        };
+        // A voice peaking at -50 dBFS (0.00316) somewhere in the last 9 s: told, with its peak.
+        let quiet = note(&[0.0001, 0.003_162, 0.0002, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let text = quiet.expect("a voice peaking at -50 dBFS is told");
+        assert!(
+            text.contains("-50 dBFS over the last 9 s") && text.contains("-30 dBFS"),
+            "{text}"
+        );
+        // At -20 dBFS: loud enough. Digital silence or dither (one 16-bit step): no signal.
+        assert_eq!(note(&[0.1, 0.0]), None);
+        assert_eq!(note(&[0.0, 1.0 / 32768.0]), None);
+        assert_eq!(History::default().input_peak_db(), None);
     }
 
     #[test]

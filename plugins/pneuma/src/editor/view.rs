@@ -512,6 +512,13 @@ impl NiceEguiApp for EditorApp {
                         "f0 {:.0} Hz  level {:+.0} dB",
                         last.f0_hz, last.level_db
                     ));
+                    if let Some(note) =
+                        self.history.input_peak_db().and_then(|(peak_db, span_s)| {
+                            super::history::input_level_note(peak_db, span_s)
+                        })
+                    {
+                        ui.colored_label(ERROR_COLOUR, note);
+                    }
                     ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
                         let zoom = ui.ctx().zoom_factor();
                         if ui.small_button("A+").clicked() {
