@@ -76,15 +76,19 @@ enum Mode {
     Offline,
     /// The plugin's default lookahead.
     Lookahead,
+    /// Live mode (the app's default): reported, no targets (the are for a render and
+    /// the plugin's lookahead).
+    Live,
 }
 
 impl Mode {
-    const ALL: [Mode; 2] = [Mode::Offline, Mode::Lookahead];
+    const ALL: [Mode; 3] = [Mode::Offline, Mode::Lookahead, Mode::Live];
 
     fn name(self) -> &'static str {
         match self {
             Mode::Offline => "offline",
             Mode::Lookahead => "lookahead 500 ms",
+            Mode::Live => "live",
         }
     }
 }
@@ -278,8 +282,10 @@ fn place(episode: &Episode, a_s: f64, b_s: f64) -> String {
 fn render(episode: &Episode, mode: Mode, model: &SpeechModel) -> Result<offline::Rendered, String> {
     let mut config = EngineConfig::default();
     config.placement.whole_file = mode == Mode::Offline;
-    if mode == Mode::Lookahead {
-        config.placement.lookahead_s = LOOKAHEAD_MS / 1000.0;
+    match mode {
+        Mode::Lookahead => config.placement.lookahead_s = LOOKAHEAD_MS / 1000.0,
+        Mode::Live => config.placement.mode = pneuma_core::engine::PlacementMode::Live,
+        Mode::Offline => {}
     }
     let mut engine =
         Engine::new(config, HeadModel::default_model().clone()).map_err(|e| e.to_string())?;
@@ -549,7 +555,7 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
     }
 
     // [mode][held, fitted]
-    let mut breaths: [[BreathTally; 2]; 2] = std::array::from_fn(|_| Default::default());
+    let mut breaths: [[BreathTally; 2]; 3] = std::array::from_fn(|_| Default::default());
     for (mi, mode) in Mode::ALL.into_iter().enumerate() {
         eprintln!("rendering the episodes, {} ...", mode.name());
         for (e, m) in episodes.iter().zip(&held_models) {
@@ -570,7 +576,9 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
 
     let mut targets = Vec::new();
     for (mi, mode) in Mode::ALL.into_iter().enumerate() {
-        targets.extend(breath_targets(mode, &breaths[mi][0]));
+        if mode != Mode::Live {
+            targets.extend(breath_targets(mode, &breaths[mi][0]));
+        }
     }
     targets.extend(frame_targets(&frames[0], &frames[2]));
     Ok(print_targets(&targets))
@@ -580,7 +588,7 @@ pub fn run(args: &PodcastArgs) -> Result<bool, String> {
 fn print_report(
     episodes: &[Episode],
     frames: &[FrameTally; 3],
-    breaths: &[[BreathTally; 2]; 2],
+    breaths: &[[BreathTally; 2]; 3],
     real_on_speech: (usize, usize),
 ) {
     let minutes: f64 = episodes
@@ -596,16 +604,19 @@ fn print_report(
     );
     println!("\nBreaths (held out | fitted)");
     println!(
-        "{:<34} {:>18} {:>18}",
+        "{:<34} {:>18} {:>18} {:>18}",
         "",
         Mode::ALL[0].name(),
-        Mode::ALL[1].name()
+        Mode::ALL[1].name(),
+        format!("{} (no targets)", Mode::ALL[2].name())
     );
     let row = |name: &str, f: &dyn Fn(&BreathTally) -> String| {
+        let cell = |t: &[BreathTally; 2]| format!("{} | {}", f(&t[0]), f(&t[1]));
         println!(
-            "{name:<48} {:>18} {:>18}",
-            format!("{} | {}", f(&breaths[0][0]), f(&breaths[0][1])),
-            format!("{} | {}", f(&breaths[1][0]), f(&breaths[1][1]))
+            "{name:<48} {:>18} {:>18} {:>18}",
+            cell(&breaths[0]),
+            cell(&breaths[1]),
+            cell(&breaths[2])
         );
     };
     row("inserted", &|t| t.inserted.to_string());
