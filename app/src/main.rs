@@ -13,9 +13,11 @@
 //! `--connect-jack-inputs system:capture_1`, a virtual JACK MIDI output port `pneuma:midi_output`
 //! for the CC), otherwise ALSA with the default input device. A backend that cannot start is an
 //! error that says what to do; the app never runs silently on a dummy device unless asked
-//! (`--backend dummy`).
+//! (`--backend dummy`). On JACK, a stopped server ends the app with a word and status 1
+//! ([`watch`]).
 
 mod options;
+mod watch;
 
 use std::process::ExitCode;
 
@@ -51,6 +53,14 @@ fn main() -> ExitCode {
             }
         }
     };
+    // On JACK, a stopped server ends the app with a word (nice-plug's backend would hang).
+    let rest = (!opts.no_osc).then(|| {
+        let d = &opts.defaults;
+        (d.osc_host.clone(), d.osc_port, d.osc_format.into())
+    });
+    let _watch = options::uses_jack(&opts, backend)
+        .then(|| watch::start(rest))
+        .flatten();
     let wrapper_args = options::wrapper_args(&args[0], &opts, backend);
     if nice_export_standalone_with_args::<Pneuma, _>(wrapper_args) {
         ExitCode::SUCCESS

@@ -223,6 +223,14 @@ fn jack_server() -> Option<JackServer> {
     }
 }
 
+/// Whether the app runs on a JACK server: the chosen backend, or the user's `jack` or `auto`
+/// with a server running.
+pub fn uses_jack(o: &AppOptions, backend: Backend) -> bool {
+    backend.jack.is_some()
+        && (backend.name == Some("jack")
+            || matches!(o.backend.as_deref(), Some("jack") | Some("auto")))
+}
+
 /// The arguments for nice-plug's wrapper: the program name, the chosen backend, for JACK the
 /// server's rate and period (nice-plug 0.4.2 hands the plugin its `--sample-rate`, 48 kHz by
 /// default, whatever rate JACK runs at), for ALSA the default input device unless one was
@@ -232,9 +240,7 @@ pub fn wrapper_args(program: &str, o: &AppOptions, backend: Backend) -> Vec<Stri
     if let Some(b) = backend.name {
         out.extend(["--backend".to_owned(), b.to_owned()]);
     }
-    let uses_jack =
-        backend.name == Some("jack") || matches!(o.backend.as_deref(), Some("jack") | Some("auto"));
-    if let (true, false, Some(j)) = (uses_jack, o.has_rate, backend.jack) {
+    if let (true, false, Some(j)) = (uses_jack(o, backend), o.has_rate, backend.jack) {
         out.extend([
             "--sample-rate".to_owned(),
             j.rate.to_string(),

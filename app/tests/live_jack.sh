@@ -92,5 +92,19 @@ echo "VMC received: $(cat "$out/vmc.json")"
 ticks="$(getconf CLK_TCK)"
 cpu_s="$(awk -v t="$ticks" '{printf "%.2f", ($14 + $15) / t}' "/proc/$app_pid/stat")"
 echo "pneuma-app CPU ($mode): $cpu_s s over the run (25.3 s of voice plus start-up)"
-kill -INT "$app_pid" 2>/dev/null || true
+if [ "$mode" = headless ]; then
+  # The JACK server stops under the app: it must say so and exit with status 1, not hang.
+  kill -TERM "${pids[0]}"
+  for _ in $(seq 100); do kill -0 "$app_pid" 2>/dev/null || break; sleep 0.1; done
+  if kill -0 "$app_pid" 2>/dev/null; then
+    echo "pneuma-app hangs on after the JACK server stopped" >&2; exit 1
+  fi
+  set +e; wait "$app_pid"; app_rc=$?; set -e
+  grep -q "the JACK server stopped" "$out/app.log" && [ "$app_rc" = 1 ] || {
+    echo "pneuma-app exited $app_rc after the JACK server stopped; its log:" >&2
+    cat "$out/app.log" >&2; exit 1; }
+  echo "the JACK server stopped: pneuma-app said so and exited 1"
+else
+  kill -INT "$app_pid" 2>/dev/null || true
+fi
 echo "live test ($mode) passed"
