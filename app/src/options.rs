@@ -176,7 +176,8 @@ pub fn choose_backend(o: &AppOptions) -> Result<Backend, String> {
                 .into(),
         );
     }
-    if jack.is_some_and(|j| j.taken) && matches!(named, None | Some("jack") | Some("auto")) {
+    // (The probe ran only for no backend, `jack` or `auto`.)
+    if jack.is_some_and(|j| j.taken) {
         return Err(format!(
             "the JACK server already has a client named `{JACK_CLIENT}` (another pneuma-app, or \
              one that did not quit: `jack_lsp` lists its ports): quit it first"

@@ -854,7 +854,7 @@ impl Stream {
                 self.voice.phrase_ended(self.placement.ended_speaker_db());
             }
         }
-        if self.tracker.breath_heard_in_pause() {
+        if self.live && self.tracker.breath_heard_in_pause() {
             self.placement.live_breath_heard(&ctx, &mut self.schedule);
         }
         self.placement.decide_due(&ctx, &mut self.schedule);

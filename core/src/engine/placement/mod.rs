@@ -430,9 +430,10 @@ impl Placement {
 
     /// Live mode: the phrase tracker hears a real breath in the pause going on (the speaker
     /// breathes in): the breath placed in this pause stays silent (the breathing cycle still
-    /// inspires with it), and one playing fades out. Once per pause.
+    /// inspires with it), and one playing fades out. Once per pause; the engine calls it in
+    /// live mode only.
     pub(crate) fn live_breath_heard(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
-        if self.mode != PlacementMode::Live || self.state.live_breath_heard {
+        if self.state.live_breath_heard {
             return;
         }
         self.state.live_breath_heard = true;
