@@ -14,9 +14,11 @@
 //! for the CC), otherwise ALSA with the default input device. A backend that cannot start is an
 //! error that says what to do; the app never runs silently on a dummy device unless asked
 //! (`--backend dummy`). On JACK, a stopped server ends the app with a word and status 1
-//! ([`watch`]).
+//! ([`watch`]). Ctrl+C and SIGTERM end it, window or not ([`quit`]).
 
 mod options;
+mod quit;
+mod rest;
 mod watch;
 
 use std::process::ExitCode;
@@ -53,11 +55,15 @@ fn main() -> ExitCode {
             }
         }
     };
-    // On JACK, a stopped server ends the app with a word (nice-plug's backend would hang).
-    let rest = (!opts.no_osc).then(|| {
+    let rest: rest::RestTarget = (!opts.no_osc).then(|| {
         let d = &opts.defaults;
         (d.osc_host.clone(), d.osc_port, d.osc_format.into())
     });
+    // Ctrl+C and SIGTERM end the app, window or not (nice-plug's wrapper alone may not).
+    if !opts.help {
+        quit::watch(rest.clone());
+    }
+    // On JACK, a stopped server ends the app with a word (nice-plug's backend would hang).
     let _watch = options::uses_jack(&opts, backend)
         .then(|| watch::start(rest))
         .flatten();

@@ -11,18 +11,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use pneuma_core::encode::osc::{OscFormat, TimeTag};
-use pneuma_core::encode::sink::{FrameSink, OscSink};
-use pneuma_core::ControlFrame;
-use pneuma_osc::target::{now_unix_s, resolve, send, socket_for};
+use crate::rest::{send_rest_pose, RestTarget};
 
 /// The JACK client that watches the server (it has no ports).
 const WATCH_CLIENT: &str = "pneuma_watch";
 /// How often the watching thread looks at the flag.
 const POLL: Duration = Duration::from_millis(50);
-
-/// Where the rest pose goes: host, port and format (`None`: no OSC).
-pub type RestTarget = Option<(String, u16, OscFormat)>;
 
 /// Sets the flag when the server shuts down (async-signal-safe: one atomic store).
 struct OnShutdown(Arc<AtomicBool>);
@@ -71,26 +65,4 @@ pub fn start(rest: RestTarget) -> Option<Watch> {
         })
         .ok()?;
     Some(Watch { _client: client })
-}
-
-/// One frame of the rest pose ([`ControlFrame::rest`]) to `rest`'s target, tagged now (best
-/// effort); whether it was sent.
-fn send_rest_pose(rest: &RestTarget) -> bool {
-    let Some((host, port, format)) = rest else {
-        return false;
-    };
-    let Some(addr) = resolve(host, *port) else {
-        return false;
-    };
-    let socket = socket_for(&addr);
-    let mut sent = false;
-    let mut sink = OscSink::new(
-        *format,
-        |_: &ControlFrame| TimeTag::from_unix_seconds(now_unix_s()),
-        |_: &ControlFrame, packet: &[u8]| {
-            sent = send(Some(addr), socket.as_ref(), false, packet).is_ok();
-        },
-    );
-    sink.frame(&ControlFrame::rest(0, 0.0), 0);
-    sent
 }

@@ -4,6 +4,8 @@
 # third-party receiver (app/tests/vmc_receiver.py), and the output must hold inserted breaths
 # (app/tests/check_live.py). Mode `gui`: under Xvfb with the editor window, and a screenshot
 # taken after the voice must show the timeline with breaths. Mode `headless`: `--no-gui`.
+# Then the app must quit on Ctrl+C in the rest pose (both modes); headless, also on SIGTERM with
+# the JACK server stopped (SIGSTOP), and a third app must say so when the server stops under it.
 #
 # Usage: app/tests/live_jack.sh gui|headless APP_BINARY PYTHON_WITH_DEPS
 # Needs jackd (jackd2), and for `gui` Xvfb, Mesa and ImageMagick (`.ci/run` installs them).
@@ -23,6 +25,45 @@ cleanup() {
   wait 2>/dev/null || true
 }
 trap cleanup EXIT
+
+listen_last() {  # starts the last-frame receiver on the VMC port
+  rm -f "$out/last.ready"
+  "$py" "$here/last_head.py" --port "$vmc_port" --ready-file "$out/last.ready" --timeout-s 20 \
+    >"$out/last.json" &
+  last_pid=$!
+  for _ in $(seq 100); do [ -f "$out/last.ready" ] && break; sleep 0.1; done
+}
+quit_app() {  # SIGNAL PID LOG: sends it, waits at most 5 s; prints the seconds, fails on a hang
+  local t0 t1
+  t0="$(date +%s.%N)"
+  kill "-$1" "$2"
+  for _ in $(seq 50); do kill -0 "$2" 2>/dev/null || break; sleep 0.1; done
+  t1="$(date +%s.%N)"
+  if kill -0 "$2" 2>/dev/null; then
+    echo "pneuma-app did not quit within 5 s of SIG$1; its log:" >&2; cat "$3" >&2; exit 1
+  fi
+  set +e; wait "$2"; quit_rc=$?; set -e
+  [ "$quit_rc" = 0 ] || { echo "pneuma-app exited $quit_rc after SIG$1; its log:" >&2; cat "$3" >&2; exit 1; }
+  quit_s="$(python3 -c "print(f'{$t1 - $t0:.2f}')")"
+}
+rest_received() {  # LABEL: the receiver's last head must be the rest pose
+  if ! wait "$last_pid"; then
+    echo "$1: the avatar was not left in its rest pose: $(cat "$out/last.json")" >&2; exit 1
+  fi
+}
+wait_ports_gone() {
+  for _ in $(seq 100); do jack_lsp 2>/dev/null | grep -q '^pneuma:' || return 0; sleep 0.1; done
+  echo "the JACK server still lists pneuma's ports" >&2; exit 1
+}
+start_app() {  # LOG ARGS...: starts an app and waits for its JACK ports
+  local log="$1"; shift
+  "$app" "$@" >"$log" 2>&1 &
+  app_pid=$!
+  pids+=("$app_pid")
+  for _ in $(seq 100); do jack_lsp 2>/dev/null | grep -q '^pneuma:input_1$' && break; sleep 0.1; done
+  jack_lsp 2>/dev/null | grep -q '^pneuma:input_1$' || {
+    echo "pneuma-app did not register its JACK ports; its log:" >&2; cat "$log" >&2; exit 1; }
+}
 
 # A JACK server killed without its cleanup (an interrupted run) leaves its entry in the shared
 # registry, and jackd refuses to start once the registry is full ("Too many servers already
@@ -56,12 +97,7 @@ fi
 vmc_pid=$!
 for _ in $(seq 100); do [ -f "$out/vmc.ready" ] && break; sleep 0.1; done
 
-"$app" "${args[@]}" >"$out/app.log" 2>&1 &
-app_pid=$!
-pids+=("$app_pid")
-for _ in $(seq 100); do jack_lsp 2>/dev/null | grep -q '^pneuma:input_1$' && break; sleep 0.1; done
-jack_lsp 2>/dev/null | grep -q '^pneuma:input_1$' || {
-  echo "pneuma-app did not register its JACK ports; its log:" >&2; cat "$out/app.log" >&2; exit 1; }
+start_app "$out/app.log" "${args[@]}"
 
 # A second app on the same server is refused, saying why (the JACK client name is taken).
 if second="$("$app" --no-gui --no-osc 2>&1)"; then
@@ -92,7 +128,36 @@ echo "VMC received: $(cat "$out/vmc.json")"
 ticks="$(getconf CLK_TCK)"
 cpu_s="$(awk -v t="$ticks" '{printf "%.2f", ($14 + $15) / t}' "/proc/$app_pid/stat")"
 echo "pneuma-app CPU ($mode): $cpu_s s over the run (25.3 s of voice plus start-up)"
+
+# Quitting: the app ends within 5 s of the signal with status 0, and its last VMC frame is the
+# rest pose (app/tests/last_head.py). The app runs as a script's background job, which starts
+# with SIGINT ignored: nice-plug's wrapper takes it anyway, as a terminal's Ctrl+C reaches it.
+listen_last
+quit_app INT "$app_pid" "$out/app.log"
+rest_received "Ctrl+C ($mode)"
+if grep -q "did not stop within" "$out/app.log"; then
+  echo "Ctrl+C ($mode): the wrapper did not stop by itself; the app's log:" >&2
+  cat "$out/app.log" >&2; exit 1
+fi
+echo "Ctrl+C ($mode): pneuma-app quit in $quit_s s with status 0; last VMC head: the rest pose"
+
 if [ "$mode" = headless ]; then
+  wait_ports_gone
+  # SIGTERM while the backend cannot stop (the JACK server stopped answering: SIGSTOP): the app
+  # ends itself after its grace period, saying so, and sends the rest pose.
+  start_app "$out/app-term.log" "${args[@]}"
+  listen_last
+  kill -STOP "${pids[0]}"
+  quit_app TERM "$app_pid" "$out/app-term.log"
+  kill -CONT "${pids[0]}"
+  rest_received "SIGTERM with the JACK server not answering"
+  grep -q "did not stop within" "$out/app-term.log" || {
+    echo "SIGTERM with a stuck backend: the app did not say why it ended; its log:" >&2
+    cat "$out/app-term.log" >&2; exit 1; }
+  echo "SIGTERM with the JACK server not answering: pneuma-app ended itself in $quit_s s with status 0; last VMC head: the rest pose"
+  wait_ports_gone
+
+  start_app "$out/app-stop.log" --no-gui --no-osc
   # The JACK server stops under the app: it must say so and exit with status 1, not hang.
   kill -TERM "${pids[0]}"
   for _ in $(seq 100); do kill -0 "$app_pid" 2>/dev/null || break; sleep 0.1; done
@@ -100,11 +165,9 @@ if [ "$mode" = headless ]; then
     echo "pneuma-app hangs on after the JACK server stopped" >&2; exit 1
   fi
   set +e; wait "$app_pid"; app_rc=$?; set -e
-  grep -q "the JACK server stopped" "$out/app.log" && [ "$app_rc" = 1 ] || {
+  grep -q "the JACK server stopped" "$out/app-stop.log" && [ "$app_rc" = 1 ] || {
     echo "pneuma-app exited $app_rc after the JACK server stopped; its log:" >&2
-    cat "$out/app.log" >&2; exit 1; }
+    cat "$out/app-stop.log" >&2; exit 1; }
   echo "the JACK server stopped: pneuma-app said so and exited 1"
-else
-  kill -INT "$app_pid" 2>/dev/null || true
 fi
 echo "live test ($mode) passed"

@@ -494,6 +494,9 @@ impl NiceEguiApp for EditorApp {
 
     fn ui(&mut self, ui: &mut Ui, _frame: &mut nice_plug_egui::Frame) {
         self.drain();
+        if crate::params::standalone::close_requested() {
+            ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
+        }
         // The timeline scrolls: draw again in a 30th of a second.
         ui.ctx().request_repaint_after(Duration::from_millis(33));
         let last = self
