@@ -143,10 +143,7 @@ fn print_summary(input: &Path, s: &RenderSummary) {
     }
     // The voice is worth a line only where a breath was inserted (not with --no-breaths).
     if !s.breaths.is_empty() {
-        eprintln!(
-            "  {}",
-            describe_voice(s.voice, s.voice_level_re_speech_db, &s.breaths)
-        );
+        eprintln!("  {}", describe_voice(s.voice, s.voice_level, &s.breaths));
         if let Some(line) = describe_band_limit(s.band_limit_hz) {
             eprintln!("  {line}");
         }

@@ -21,7 +21,6 @@ use pneuma_core::encode::midi_file::MidiFileSink;
 use pneuma_core::encode::sink::{FrameSink, TextSink};
 use pneuma_core::engine::offline::{self, TailFrames};
 use pneuma_core::engine::{PlacementMode, VoiceStatus};
-use pneuma_core::settings::placement::BREATH_LEVEL_DB;
 use pneuma_core::{BreathEvent, BreathKind, ControlFrame};
 use pneuma_io::{AudioSource, InputFormat, WavMeta};
 
@@ -69,9 +68,8 @@ pub struct RenderSummary {
     pub leftovers: Cleared,
     /// Where the inserted breaths took their voice from, at the end of the render.
     pub voice: VoiceStatus,
-    /// The learned voice's level under its speaker's speech at the end of the render, dB
-    /// (`None`: the built-in voice).
-    pub voice_level_re_speech_db: Option<f64>,
+    /// The learned voice's level at the end of the render (`None`: the built-in voice).
+    pub voice_level: Option<LearnedLevel>,
     /// The low-pass corner the inserted breaths passed through to stay inside the recording's
     /// bandwidth, Hz, at the end of the render (`None`: no limit).
     pub band_limit_hz: Option<f64>,
@@ -80,12 +78,21 @@ pub struct RenderSummary {
     pub notes: Vec<String>,
 }
 
-/// The summary's line on the breath voice, learned at `level_re_speech_db` under the speech
-/// (`None`: not learned), given the breaths inserted (those played from the user's breath
-/// samples use no voice).
+/// A learned voice's level, as the summary gives it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LearnedLevel {
+    /// Under its speaker's speech, dB.
+    pub re_speech_db: f64,
+    /// The `--breath-level-db` that plays it there with the render's breathing preset
+    /// ([`pneuma_core::engine::EngineConfig::learned_level_setting_db`]).
+    pub setting_db: Option<f32>,
+}
+
+/// The summary's line on the breath voice, learned at `level` (`None`: not learned), given the
+/// breaths inserted (those played from the user's breath samples use no voice).
 pub fn describe_voice(
     voice: VoiceStatus,
-    level_re_speech_db: Option<f64>,
+    level: Option<LearnedLevel>,
     inserted: &[BreathEvent],
 ) -> String {
     let from_samples = inserted
@@ -103,19 +110,21 @@ pub fn describe_voice(
     } else {
         String::new()
     };
-    describe_voice_status(voice, level_re_speech_db) + &samples_note
+    describe_voice_status(voice, level) + &samples_note
 }
 
 /// The breath voice's own part of [`describe_voice`]: where it comes from and, once learned,
-/// the level it learned (what `--breath-level-db` at its default plays; each dB over or under
-/// the default moves the breaths as much).
-fn describe_voice_status(voice: VoiceStatus, level_re_speech_db: Option<f64>) -> String {
+/// the level it learned and the `--breath-level-db` that plays it there (each dB over or under
+/// that setting moves the breaths as much).
+fn describe_voice_status(voice: VoiceStatus, level: Option<LearnedLevel>) -> String {
     let breaths = |n| crate::options::count(n, "breath");
-    let level = level_re_speech_db.map_or(String::new(), |db| {
+    let level = level.map_or(String::new(), |l| {
+        let at = l.setting_db.map_or(String::new(), |db| {
+            format!(", where --breath-level-db {db:.0} plays them")
+        });
         format!(
-            "; this speaker's breaths lie {:.0} dB under the speech, where --breath-level-db {} \
-             plays them",
-            -db, BREATH_LEVEL_DB.default
+            "; this speaker's breaths lie {:.0} dB under the speech{at}",
+            -l.re_speech_db
         )
     });
     match voice {
@@ -258,7 +267,10 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
     let length_s = pass.written as f64 / info.sample_rate_hz as f64;
     let mut found = findings(&energy, &engine.speech_summary(), length_s);
     let voice = engine.voice_status();
-    let voice_level_re_speech_db = engine.learned_voice().map(|v| v.level_re_speech_db);
+    let voice_level = engine.learned_voice().map(|v| LearnedLevel {
+        re_speech_db: v.level_re_speech_db,
+        setting_db: engine.config().learned_level_setting_db(),
+    });
     let band_limit_hz = engine.breath_band_limit_hz();
     let (controls, bvh, kept, midi, osc) = sinks;
     // Live mode breathes after each pause without seeing the phrase to come, and its lung
@@ -332,7 +344,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         osc,
         leftovers,
         voice,
-        voice_level_re_speech_db,
+        voice_level,
         band_limit_hz,
         notes,
     })
@@ -754,7 +766,13 @@ mod tests {
             "breath sound: your breath samples"
         );
         let some = [breath(BreathKind::Sample), breath(BreathKind::Mixed)];
-        let line = describe_voice(VoiceStatus::Fixed { breaths: 3 }, Some(-31.4), &some);
+        let level = |setting_db| {
+            Some(LearnedLevel {
+                re_speech_db: -31.4,
+                setting_db,
+            })
+        };
+        let line = describe_voice(VoiceStatus::Fixed { breaths: 3 }, level(Some(-22.0)), &some);
         assert!(
             line.starts_with("breath voice: learned from 3 breaths"),
             "{line}"
@@ -767,6 +785,14 @@ mod tests {
             line.contains("breaths lie 31 dB under the speech, where --breath-level-db -22"),
             "{line}"
         );
+        // Another preset's setting (calm's), and none (a silent breathing sound).
+        let calm = describe_voice(VoiceStatus::Fixed { breaths: 3 }, level(Some(-19.1)), &some);
+        assert!(
+            calm.contains("where --breath-level-db -19 plays them"),
+            "{calm}"
+        );
+        let silent = describe_voice(VoiceStatus::Fixed { breaths: 3 }, level(None), &some);
+        assert!(silent.contains("31 dB under the speech ("), "{silent}");
         let none = describe_voice(VoiceStatus::BuiltIn, None, &[breath(BreathKind::Mixed)]);
         assert!(none.starts_with("breath voice: built-in"), "{none}");
         assert!(!none.contains("dB under"), "{none}");

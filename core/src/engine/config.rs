@@ -208,16 +208,32 @@ impl EngineConfig {
     /// at it; a learned or the built-in voice plays at its own level moved by it less the
     /// default (so up to 16 dB over its learned level).
     pub(crate) fn breath_level_re_speech_db(&self) -> f32 {
+        (self.placement.breath_level_db + self.breathing_sound_db())
+            .min(BREATH_LEVEL_DB.max() as f32)
+    }
+
+    /// The breathing sound's amplitude against the neutral preset's, dB (−∞: silent).
+    fn breathing_sound_db(&self) -> f32 {
         let neutral = BreathingParams::default().map().breath_rms_re_speech();
         let ours = self.breathing.map().breath_rms_re_speech();
-        let sound_db = if ours <= 0.0 {
+        if ours <= 0.0 {
             f32::NEG_INFINITY
         } else if neutral > 0.0 {
             20.0 * (ours / neutral).log10()
         } else {
             0.0
-        };
-        (self.placement.breath_level_db + sound_db).min(BREATH_LEVEL_DB.max() as f32)
+        }
+    }
+
+    /// The breath level setting (`breath_level_db`) at which a learned voice plays at its own
+    /// learned level under this configuration's breathing sound: the setting's default for the
+    /// neutral preset, moved against a preset's louder or softer sound (calm: about −19 dB).
+    /// `None` when no setting in its range does (a silent breathing sound).
+    pub fn learned_level_setting_db(&self) -> Option<f32> {
+        let db = BREATH_LEVEL_DB.default - self.breathing_sound_db();
+        (db.is_finite()
+            && (BREATH_LEVEL_DB.min() as f32..=BREATH_LEVEL_DB.max() as f32).contains(&db))
+        .then_some(db)
     }
 
     /// True when `other` differs in the stream part, which sizes and seeds the stream and so
@@ -402,6 +418,43 @@ mod tests {
     fn group(id: &str) -> Vec<&'static str> {
         let g = settings::GROUPS.iter().find(|g| g.id == id).expect("group");
         g.settings.iter().map(|s| s.id).collect()
+    }
+
+    #[test]
+    fn the_learned_level_setting_plays_a_learned_voice_at_its_own_level_in_every_preset() {
+        use crate::breathing::Preset;
+        let default_db = BREATH_LEVEL_DB.default;
+        let neutral = EngineConfig::default();
+        assert_eq!(neutral.learned_level_setting_db(), Some(default_db));
+        for preset in Preset::ALL {
+            let mut c = EngineConfig {
+                breathing: preset.params(),
+                ..EngineConfig::default()
+            };
+            let setting_db = c.learned_level_setting_db().expect("every preset has one");
+            // At that setting the learned voice's offset (what it plays over its own level)
+            // is nil, whatever the preset's breathing sound.
+            c.placement.breath_level_db = setting_db;
+            let offset_db = c.breath_level_re_speech_db() - default_db;
+            assert!(
+                offset_db.abs() < 1e-4,
+                "{}: offset {offset_db} dB",
+                preset.name()
+            );
+        }
+        let calm = EngineConfig {
+            breathing: Preset::Calm.params(),
+            ..EngineConfig::default()
+        };
+        // Calm's softer sound (amplitude 0.25 against neutral's 0.35) takes a higher setting.
+        let calm_db = calm.learned_level_setting_db().unwrap();
+        assert!(
+            calm_db > default_db + 2.0 && calm_db < default_db + 4.0,
+            "{calm_db}"
+        );
+        let mut silent = EngineConfig::default();
+        silent.breathing.amplitude_breathing_sound = 0.0;
+        assert_eq!(silent.learned_level_setting_db(), None);
     }
 
     #[test]

@@ -180,17 +180,22 @@ const LEVEL_BITS: u32 = 16;
 const LEVEL_SPAN_DB: f64 = 1000.0;
 
 impl VoiceShown {
-    /// The editor's line.
-    pub fn text(&self) -> String {
+    /// The editor's line; `setting_db`: the Breath level that plays a learned voice at its own
+    /// level with the current breathing preset
+    /// ([`pneuma_core::engine::EngineConfig::learned_level_setting_db`]).
+    pub fn text(&self, setting_db: Option<f32>) -> String {
         let breaths = |n: usize| format!("{n} breath{}", if n == 1 { "" } else { "s" });
         let learned = |n: usize, level_db: Option<i16>| match level_db {
-            Some(db) => format!(
-                "{}; this speaker's breaths lie {} dB under the speech, where {} {} dB plays them",
-                breaths(n),
-                -db,
-                BREATH_LEVEL_DB.label,
-                BREATH_LEVEL_DB.default
-            ),
+            Some(db) => {
+                let at = setting_db.map_or(String::new(), |s| {
+                    format!(", where {} {s:.0} dB plays them", BREATH_LEVEL_DB.label)
+                });
+                format!(
+                    "{}; this speaker's breaths lie {} dB under the speech{at}",
+                    breaths(n),
+                    -db
+                )
+            }
             None => breaths(n),
         };
         let what = match *self {
@@ -325,9 +330,24 @@ mod tests {
         let cell = AtomicU64::new(0);
         assert_eq!(VoiceShown::load(&cell), VoiceShown::NoEngine);
         for (shown, text) in cases {
-            assert_eq!(shown.text(), text);
+            assert_eq!(shown.text(Some(BREATH_LEVEL_DB.default)), text);
             shown.store(&cell);
             assert_eq!(VoiceShown::load(&cell), shown);
         }
+        // Another preset's setting (calm's softer sound), and none (a silent breathing sound).
+        let frozen = VoiceShown::Frozen {
+            breaths: 12,
+            level_db: Some(-17),
+        };
+        assert_eq!(
+            frozen.text(Some(-19.1)),
+            "breath voice: frozen (12 breaths; this speaker's breaths lie 17 dB under the \
+             speech, where Breath level -19 dB plays them)"
+        );
+        assert_eq!(
+            frozen.text(None),
+            "breath voice: frozen (12 breaths; this speaker's breaths lie 17 dB under the \
+             speech)"
+        );
     }
 }

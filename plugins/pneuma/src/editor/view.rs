@@ -256,7 +256,7 @@ impl EditorApp {
         ui.separator();
         ui.strong("Breath voice");
         let shown = VoiceShown::load(&self.shared.status.breath_voice);
-        ui.small(shown.text());
+        ui.small(shown.text(p.engine_config().learned_level_setting_db()));
         let mut freeze = p.freeze_breath_voice.value();
         if ui
             .checkbox(&mut freeze, p.freeze_breath_voice.name())
