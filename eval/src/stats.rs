@@ -37,11 +37,23 @@ pub fn spearman(x: &[f64], y: &[f64]) -> f64 {
     if n < 3 {
         return f64::NAN;
     }
-    let (rx, ry) = (ranks(&x[..n]), ranks(&y[..n]));
-    let m = (n as f64 + 1.0) / 2.0;
+    pearson(&ranks(&x[..n]), &ranks(&y[..n]))
+}
+
+/// Pearson correlation of `x` and `y` over their common length (NaN with fewer than 3 pairs
+/// or a constant side).
+pub fn pearson(x: &[f64], y: &[f64]) -> f64 {
+    let n = x.len().min(y.len());
+    if n < 3 {
+        return f64::NAN;
+    }
+    let (mx, my) = (
+        x[..n].iter().sum::<f64>() / n as f64,
+        y[..n].iter().sum::<f64>() / n as f64,
+    );
     let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
-    for i in 0..n {
-        let (a, b) = (rx[i] - m, ry[i] - m);
+    for (a, b) in x[..n].iter().zip(&y[..n]) {
+        let (a, b) = (a - mx, b - my);
         sxy += a * b;
         sxx += a * a;
         syy += b * b;

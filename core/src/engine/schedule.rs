@@ -55,7 +55,8 @@ pub(crate) enum BreathAction {
 /// A breathing-cycle event on the input timeline (seconds).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum CycleAction {
-    /// Breathe in for `length_s`, for a breath group of `group_s` seconds of speech.
+    /// Breathe in for `length_s`, to the lung a breath group of `group_s` seconds of speech
+    /// takes ([`crate::breathing::BreathCycle::lung_volume_for`]).
     Inspire { length_s: f32, group_s: f32 },
     /// The stream starts in speech: the speaker breathed in for a group of `group_s` seconds
     /// of speech before it began (the lung is full at once).

@@ -194,6 +194,36 @@ fn the_breathing_cycle_breathes_in_with_the_breath_already_there() {
 }
 
 #[test]
+fn a_longer_breath_already_there_fills_the_lung_deeper_before_the_same_group() {
+    // The same phrases, the same coming group (one 1.6 s vowel): the speaker's inhalation is
+    // 0.3 s or 0.7 s long. The lung's peak over the pause follows the breath's length.
+    let peak = |burst_s: (f64, f64)| {
+        let r = render_in(
+            &phrases_with_burst(Some(burst_s)),
+            PlacementMode::Lookahead,
+            &[256],
+        );
+        assert_eq!(
+            r.existing_breaths.len(),
+            1,
+            "{burst_s:?}: {:?}",
+            r.existing_breaths
+        );
+        r.frames
+            .iter()
+            .map(|f| &f.0)
+            .filter(|f| f.time_s > 1.6 && f.time_s < 2.6)
+            .map(|f| f.breathing.lung)
+            .fold(0.0f32, f32::max)
+    };
+    let (short, long) = (peak((1.9, 2.2)), peak((1.7, 2.4)));
+    assert!(
+        long >= short + 0.2 && long > 0.9,
+        "lung peak after a 0.3 s breath {short:.3}, after a 0.7 s one {long:.3}"
+    );
+}
+
+#[test]
 fn a_breath_cut_short_by_digital_silence_gets_its_rest_put_back_beside_it() {
     // The burst's first 0.15 s, then the cut: digital silence to the next phrase (the pause is
     // zeros around the burst in `phrases`); then the same file exported at 16 bits with TPDF

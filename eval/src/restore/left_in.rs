@@ -19,6 +19,8 @@ pub struct UncutRender {
     pub inserted: Vec<(f64, f64)>,
     /// Breaths heard in the input (start, end), seconds.
     pub heard: Vec<(f64, f64)>,
+    /// The lung of each control frame (time in the input, seconds; 0..1).
+    pub lung: Vec<(f64, f32)>,
 }
 
 /// The figures of one speaker or of all.
@@ -165,6 +167,7 @@ mod tests {
             inserted: vec![(3.1, 3.5), (6.9, 7.1), (9.0, 9.3)],
             // The first breath heard, the third touched at its end only (not heard).
             heard: vec![(1.05, 1.35), (5.5, 5.6)],
+            lung: Vec::new(),
         };
         let f = score(&clear, &unsure, &render);
         assert_eq!(

@@ -65,6 +65,7 @@ mod cut;
 mod interview;
 mod left_in;
 mod length_fit;
+mod lung;
 pub mod reference;
 mod report;
 mod two_voices;
@@ -370,6 +371,14 @@ fn render(
 }
 
 /// What the engine added to `input` in the render `out` (output − input, first channel).
+/// The lung of every control frame, at the frame's time in the input.
+fn lung_of(out: &Rendered) -> Vec<(f64, f32)> {
+    out.frames
+        .iter()
+        .map(|(f, _)| (f.time_s, f.breathing.lung))
+        .collect()
+}
+
 fn added(out: &Rendered, input: &[f32]) -> Vec<f32> {
     out.audio[0].iter().zip(input).map(|(o, i)| o - i).collect()
 }
@@ -616,6 +625,7 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
                 UncutRender {
                     inserted: spans.clone(),
                     heard: out.existing_breaths.clone(),
+                    lung: lung_of(&out),
                 },
             );
             uncut.insert((clip.name.clone(), voice), spans);
@@ -626,6 +636,7 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
                     UncutRender {
                         inserted: out.breaths.iter().map(|b| (b.start_s, b.end_s)).collect(),
                         heard: out.existing_breaths.clone(),
+                        lung: lung_of(&out),
                     },
                 );
             }
@@ -763,6 +774,7 @@ pub fn run(args: &RestoreArgs) -> Result<bool, String> {
         ),
     ] {
         let overall = left_in::print(&clips, renders, voice, what);
+        lung::print(&clips, renders, voice);
         for (name, ok, text) in left_in::targets(&overall) {
             println!(
                 "  target {name}: {text} {}",

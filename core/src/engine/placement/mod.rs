@@ -828,13 +828,25 @@ impl Placement {
         }
         if let Some((start_s, end_s)) = window {
             let group_s = self.new_group(config, coming_s);
+            // A breath the speaker took (heard in the pause) fills the lung as far as its
+            // length says, the share of the engine's own full breath for this pause, and at
+            // least as far as the coming group needs: a long real inhalation before a short
+            // group is still a deep one.
+            let fill_s = match pause.breath_s {
+                Some((from_s, to_s)) if speech && !in_sound => {
+                    let full_s = breath_length_s(inspiration_s, pause_s, 1.0).max(self.hop_s);
+                    let share = ((to_s - from_s) / full_s).min(1.0) as f32;
+                    group_s.max(share * map.length_utterance_s)
+                }
+                _ => group_s,
+            };
             // The body breathes in whether or not a sound is inserted (a breath already in the
             // pause, or insertion switched off).
             schedule.cycle.insert_sorted((
                 start_s,
                 CycleAction::Inspire {
                     length_s: (end_s - start_s) as f32,
-                    group_s,
+                    group_s: fill_s,
                 },
             ));
             if p.insert_breaths && (!pause.has_breath || sound.is_some()) {
