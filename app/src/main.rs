@@ -3,7 +3,7 @@
 //! editor is the window. It is the plugin itself, run by nice-plug's standalone wrapper.
 //!
 //! Its own options (everything else goes to nice-plug's wrapper; `--help` lists both):
-//! - `--no-gui`: no window, for headless streaming rigs; runs until Ctrl+C.
+//! - `--no-gui`: no window, for headless streaming rigs; runs until Ctrl+C or SIGTERM.
 //! - `--osc-host ADDR` (default 127.0.0.1), `--osc-port N` (default 39539, the VMC port),
 //!   `--osc-format vmc|pneuma` (default vmc), `--no-osc`.
 //! - `--lookahead`: lookahead mode (better breath timing, costs the lookahead in latency); the

@@ -11,7 +11,8 @@
 //!   SIGINT even where it starts ignored, in a script's background job; registered before it,
 //!   ours would be replaced.) Either way the wrapper
 //!   then stops as when the window is closed, and the plugin's OSC worker sends the rest pose.
-//! - **SIGTERM** (a supervisor, `kill`): the same, the app raising SIGINT for the wrapper.
+//! - **SIGTERM** (a supervisor, `kill`): the same, the app raising SIGINT for the wrapper
+//!   (registered at the same moment, behind the wrapper's where it takes SIGTERM too).
 //! - If the app still runs [`GRACE`] after either (the backend hangs while it stops), it sends
 //!   the rest pose to its OSC target itself, says so, and exits with status 0.
 //!
@@ -37,29 +38,30 @@ const POLL: Duration = Duration::from_millis(20);
 pub fn watch(rest: RestTarget) {
     let term = Arc::new(AtomicBool::new(false));
     let int = Arc::new(AtomicBool::new(false));
-    if disposition(SIGTERM) != Disposition::Ignored
-        && signal_hook::flag::register(SIGTERM, term.clone()).is_err()
-    {
-        return;
-    }
-    // Until the wrapper's handler is in place (it replaces whatever was there, even an
-    // ignored SIGINT of a script's background job).
-    let mut int_pending = true;
+    let take_term = disposition(SIGTERM) != Disposition::Ignored;
     let _ = std::thread::Builder::new()
         .name("pneuma-quit".into())
         .spawn(move || {
+            // Both signals are registered once the wrapper's handler is in place: ctrlc
+            // replaces whatever was there, even an ignored SIGINT of a script's background job,
+            // and SIGTERM too where a build of the whole workspace turns on its `termination`
+            // feature (the CLI's); signal-hook installs its handler only the first time, so
+            // ours must come after.
+            let mut pending = true;
             let mut quit_at: Option<Instant> = None;
             loop {
-                // The wrapper takes SIGINT when it starts running: ours goes behind it (before
-                // it, the wrapper's registration would fail).
-                if int_pending && disposition(SIGINT) == Disposition::Handled {
-                    int_pending = signal_hook::flag::register(SIGINT, int.clone()).is_err();
+                if pending && disposition(SIGINT) == Disposition::Handled {
+                    pending = false;
+                    let _ = signal_hook::flag::register(SIGINT, int.clone());
+                    if take_term {
+                        let _ = signal_hook::flag::register(SIGTERM, term.clone());
+                    }
                 }
                 if quit_at.is_none() {
                     let term_now = term.load(Ordering::SeqCst);
                     if term_now || int.load(Ordering::SeqCst) {
-                        if term_now && !int_pending {
-                            // The wrapper ends its headless loop on SIGINT only.
+                        if term_now {
+                            // The wrapper ends its headless loop on SIGINT.
                             let _ = signal_hook::low_level::raise(SIGINT);
                         }
                         request_close();
@@ -76,11 +78,20 @@ pub fn watch(rest: RestTarget) {
                         "pneuma-app: the audio backend did not stop within {} s; ended it{rested}",
                         GRACE.as_secs()
                     );
-                    std::process::exit(0);
+                    exit_now();
                 }
                 std::thread::sleep(POLL);
             }
         });
+}
+
+/// Ends the process at once with status 0, without the exit handlers: the audio thread hangs
+/// inside the JACK library, whose own handlers could wait on it.
+#[allow(unsafe_code)]
+fn exit_now() -> ! {
+    // SAFETY: `_exit` ends the process; nothing runs after it in this process. Standard error,
+    // which said why, is unbuffered.
+    unsafe { libc::_exit(0) }
 }
 
 /// What a signal does now.

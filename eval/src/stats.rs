@@ -1,4 +1,4 @@
-//! Figures the evaluations share: the median, the Spearman rank correlation, the mean power,
+//! Figures the evaluations share: the median, the Pearson and Spearman rank correlations, the mean power,
 //! RMS and RMS level of audio, and the overlap of time spans.
 
 /// Median of the finite values of `v` (NaN when there are none).
@@ -95,6 +95,16 @@ pub fn overlap_s(a: (f64, f64), b: (f64, f64)) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pearson_sees_a_shifted_copy_as_one_and_a_mirror_as_minus_one() {
+        let x: Vec<f64> = (0..50).map(|i| (i as f64 * 0.3).sin()).collect();
+        let up: Vec<f64> = x.iter().map(|v| 2.0 * v + 1.0).collect();
+        let down: Vec<f64> = x.iter().map(|v| -v).collect();
+        assert!((pearson(&x, &up) - 1.0).abs() < 1e-12);
+        assert!((pearson(&x, &down) + 1.0).abs() < 1e-12);
+        assert!(pearson(&x, &[1.0; 50]).is_nan());
+    }
 
     #[test]
     fn spearman_of_monotone_and_reversed_data() {

@@ -21,6 +21,9 @@ pub fn labelled_lung(inhalations: &[(f64, f64)], times_s: &[f64], length_s: f64)
         knots.push((end_s, 1.0));
     }
     knots.push((length_s, 0.0));
+    // Overlapping labels (an unsure span inside a clear one) or one past the end: in time
+    // order all the same, so the lookup below holds.
+    knots.sort_by(|a, b| a.0.total_cmp(&b.0));
     times_s
         .iter()
         .map(|&t| {
@@ -104,15 +107,5 @@ mod tests {
         }
         // Past the clip's end: empty.
         assert_eq!(labelled_lung(&[], &[12.0], 10.0), vec![0.0]);
-    }
-
-    #[test]
-    fn pearson_sees_a_shifted_copy_as_one_and_a_mirror_as_minus_one() {
-        let x: Vec<f64> = (0..50).map(|i| (i as f64 * 0.3).sin()).collect();
-        let up: Vec<f64> = x.iter().map(|v| 2.0 * v + 1.0).collect();
-        let down: Vec<f64> = x.iter().map(|v| -v).collect();
-        assert!((pearson(&x, &up) - 1.0).abs() < 1e-12);
-        assert!((pearson(&x, &down) + 1.0).abs() < 1e-12);
-        assert!(pearson(&x, &[1.0; 50]).is_nan());
     }
 }

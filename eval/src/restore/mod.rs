@@ -370,7 +370,6 @@ fn render(
     )
 }
 
-/// What the engine added to `input` in the render `out` (output − input, first channel).
 /// The lung of every control frame, at the frame's time in the input.
 fn lung_of(out: &Rendered) -> Vec<(f64, f32)> {
     out.frames
@@ -379,6 +378,7 @@ fn lung_of(out: &Rendered) -> Vec<(f64, f32)> {
         .collect()
 }
 
+/// What the engine added to `input` in the render `out` (output − input, first channel).
 fn added(out: &Rendered, input: &[f32]) -> Vec<f32> {
     out.audio[0].iter().zip(input).map(|(o, i)| o - i).collect()
 }

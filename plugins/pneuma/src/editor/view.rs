@@ -255,8 +255,9 @@ impl EditorApp {
         });
         ui.separator();
         ui.strong("Breath voice");
+        let config = p.engine_config();
         let shown = VoiceShown::load(&self.shared.status.breath_voice);
-        ui.small(shown.text(p.engine_config().learned_level_setting_db()));
+        ui.small(shown.text(config.learned_level_setting_db()));
         let mut freeze = p.freeze_breath_voice.value();
         if ui
             .checkbox(&mut freeze, p.freeze_breath_voice.name())
@@ -272,7 +273,6 @@ impl EditorApp {
         }
         // The breath-like recording: a new engine learns from it (no restart needed).
         self.breath_like.poll(&p.breath_like);
-        let config = p.engine_config();
         self.breath_like.ui(
             ui,
             "learn as the audio goes (path to another take)",
