@@ -1,5 +1,5 @@
-//! Figures the evaluations share: the median, the Pearson and Spearman rank correlations, the mean power,
-//! RMS and RMS level of audio, and the overlap of time spans.
+//! Figures the evaluations share: the median, the Pearson correlation and the Spearman rank
+//! correlation, the mean power, RMS and RMS level of audio, and the overlap of time spans.
 
 /// Median of the finite values of `v` (NaN when there are none).
 pub fn median(v: &[f64]) -> f64 {

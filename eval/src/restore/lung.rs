@@ -48,14 +48,17 @@ fn correlations(
     voice: Voice,
     with_unsure: bool,
 ) -> (f64, f64) {
-    let inhalations = |c: &Clip| {
-        let mut v = c.breaths.clone();
-        if with_unsure {
-            v.extend_from_slice(&c.unsure);
-            v.sort_by(|a, b| a.0.total_cmp(&b.0));
-        }
-        v
-    };
+    // Each clip's inhalations and length, once (`labelled_lung` puts them in time order).
+    let labels: Vec<(Vec<(f64, f64)>, f64)> = clips
+        .iter()
+        .map(|c| {
+            let mut v = c.breaths.clone();
+            if with_unsure {
+                v.extend_from_slice(&c.unsure);
+            }
+            (v, c.audio.len() as f64 / c.rate_hz)
+        })
+        .collect();
     let lungs: Vec<(Vec<f64>, Vec<f64>)> = clips
         .iter()
         .map(|c| {
@@ -68,10 +71,9 @@ fn correlations(
         .collect();
     let (mut own, mut chance) = (Vec::new(), Vec::new());
     for (i, (times_s, lung)) in lungs.iter().enumerate() {
-        for (j, other) in clips.iter().enumerate() {
-            let length_s = other.audio.len() as f64 / other.rate_hz;
-            let n = times_s.partition_point(|&t| t < length_s);
-            let truth = labelled_lung(&inhalations(other), &times_s[..n], length_s);
+        for (j, (inhalations, length_s)) in labels.iter().enumerate() {
+            let n = times_s.partition_point(|&t| t < *length_s);
+            let truth = labelled_lung(inhalations, &times_s[..n], *length_s);
             let r = pearson(&lung[..n], &truth);
             if r.is_finite() {
                 if i == j { &mut own } else { &mut chance }.push(r);
