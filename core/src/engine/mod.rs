@@ -856,6 +856,9 @@ impl Stream {
         }
         if self.live && self.tracker.breath_heard_in_pause() {
             self.placement.live_breath_heard(&ctx, &mut self.schedule);
+        } else if self.live && self.tracker.breath_under_way_in_pause() {
+            self.placement
+                .live_breath_under_way(&ctx, &mut self.schedule);
         }
         self.placement.decide_due(&ctx, &mut self.schedule);
     }

@@ -27,12 +27,18 @@ pub(super) const BREATH_HOLD_SHARE: f32 = 0.5;
 /// starts is no longer the phrase's decay, seconds: a tail's ripple dips under the hold for a
 /// frame or two and comes back.
 pub(super) const TAIL_CLOSED_S: f32 = 0.025;
+/// How long a strict run must have lasted to be a breath under way, seconds: a breath's noise
+/// is sustained, a click or a lip smack lasts a frame or two. Live mode starts no inserted
+/// breath over one (it would double a real breath the detector has not confirmed yet).
+pub const BREATH_UNDER_WAY_S: f32 = 0.03;
 
 /// What makes a run a breath (from the tracker's settings).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct BreathRules {
     /// Shortest run that counts, frames.
     pub(super) min_frames: u32,
+    /// Shortest strict run that is a breath under way ([`BREATH_UNDER_WAY_S`]), frames.
+    pub(super) under_way_frames: u32,
     /// Frames under the hold after the offset that close the phrase's decay
     /// ([`TAIL_CLOSED_S`]).
     pub(super) tail_closed_frames: u32,
@@ -184,6 +190,15 @@ impl RunTrack {
             || (self.run.frames >= rules.min_frames && self.run.counts(rules, self.held))
     }
 
+    /// A run is going on, long enough to be under way, and not only the phrase's decay. Its
+    /// shape is not asked for: a run's shape is its mean from its first frame, and a breath's
+    /// first frames (a nasal onset, the room's hum under it) often hold it over the limits for
+    /// a tenth of a second or more.
+    fn under_way(&self, rules: &BreathRules) -> bool {
+        let run = &self.run;
+        run.frames >= rules.under_way_frames && (!run.from_tail || run.rose)
+    }
+
     fn at_onset(&self, onset: u64, rules: &BreathRules) -> Option<HeardRun> {
         let run = &self.run;
         let min = rules.min_frames as u64;
@@ -258,6 +273,14 @@ impl PauseBreaths {
     /// report as its breath ([`PauseBreaths::at_onset`]) if the next phrase started now.
     pub(super) fn heard_so_far(&self, rules: &BreathRules) -> bool {
         self.strict.heard_so_far(rules) || self.held.heard_so_far(rules)
+    }
+
+    /// A strict run is going on and has lasted [`BREATH_UNDER_WAY_S`]: breath-like sound the
+    /// pause holds now, a breath or not (yet) one.
+    /// (The held run, carried on through 3 dB over the room, would take a noisy room's swells
+    /// for breaths.)
+    pub(super) fn under_way(&self, rules: &BreathRules) -> bool {
+        self.strict.under_way(rules)
     }
 
     /// The breath of the pause that a phrase starting at frame `onset` ends: a strict run still

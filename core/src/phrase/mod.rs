@@ -50,6 +50,7 @@ mod silent_run;
 mod tests;
 mod tracker;
 
+pub use breath_run::BREATH_UNDER_WAY_S;
 pub use config::{PhraseConfig, PhraseError};
 pub use events::{Pause, PhraseEvent};
 pub use tracker::PhraseTracker;

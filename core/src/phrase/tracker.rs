@@ -3,7 +3,9 @@
 //! breath runs of a pause ([`super::breath_run`]) and the room's band levels
 //! ([`super::floor_bands`]) have rooms of their own.
 
-use super::breath_run::{BreathRules, PauseBreaths, BREATH_HOLD_SHARE, TAIL_CLOSED_S};
+use super::breath_run::{
+    BreathRules, PauseBreaths, BREATH_HOLD_SHARE, BREATH_UNDER_WAY_S, TAIL_CLOSED_S,
+};
 use super::config::{PhraseConfig, PhraseError};
 use super::events::{Pause, PhraseEvent};
 use super::facts::FrameFacts;
@@ -135,6 +137,7 @@ impl PhraseTracker {
             },
             breath_rules: BreathRules {
                 min_frames: frames(config.breath_min_s) as u32,
+                under_way_frames: frames(BREATH_UNDER_WAY_S) as u32,
                 tail_closed_frames: frames(TAIL_CLOSED_S) as u32,
                 max_high_over_mid_db: config.breath_max_high_over_mid_db,
                 max_low_over_mid_db: config.breath_max_low_over_mid_db,
@@ -197,6 +200,16 @@ impl PhraseTracker {
         !s.phrase.inside
             && s.phrase.last_offset.is_some()
             && s.breaths.heard_so_far(&self.breath_rules)
+    }
+
+    /// Breath-like sound is going on in the pause after a phrase (see
+    /// [`super::breath_run::BREATH_UNDER_WAY_S`]): the speaker may be breathing in, and the
+    /// detector has not confirmed it yet. Live mode starts no breath over it.
+    pub fn breath_under_way_in_pause(&self) -> bool {
+        let s = &self.state;
+        !s.phrase.inside
+            && s.phrase.last_offset.is_some()
+            && s.breaths.under_way(&self.breath_rules)
     }
 
     /// Feeds one frame (in order). Calls `on_event` for what became certain at this frame: at

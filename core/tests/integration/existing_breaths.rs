@@ -157,6 +157,61 @@ fn live_mode_never_doubles_a_breath_already_there() {
 }
 
 #[test]
+fn live_mode_starts_no_breath_over_breath_noise_not_yet_confirmed() {
+    // A room whose 40 Hz hum carries its level (the input gate, which reads the whole band,
+    // hears nothing of a soft breath over it) and a soft breath that begins 0.05 s before live
+    // mode's breath is due (1.85 s): it is not confirmed a breath by then, but it is under
+    // way, and the inserted breath stays silent (without that, it plays until the breath is
+    // confirmed). The same breath starting after the inserted one gives it a fade as soon as it
+    // is under way.
+    let rate = RATE_HZ;
+    let with_breath = |from_s: f64| {
+        let mut x = phrases(false);
+        let room = signals::white_noise(x.len(), 3e-4, 11);
+        for (i, (v, n)) in x.iter_mut().zip(room).enumerate() {
+            let t = i as f64 / rate;
+            *v += n + 0.02 * (std::f64::consts::TAU * 40.0 * t).sin() as f32;
+        }
+        let (a, b) = ((from_s * rate) as usize, ((from_s + 0.35) * rate) as usize);
+        let breath = signals::band_noise(b - a, rate, (500.0, 4000.0), 2e-3, 13);
+        for (i, n) in breath.into_iter().enumerate() {
+            let ramp = ((i.min(b - a - 1 - i) as f32) / 160.0).min(1.0);
+            x[a + i] += n * ramp;
+        }
+        x
+    };
+    let fade_s = f64::from(EngineConfig::default().placement.live_fade_s);
+    let under_way_s = f64::from(pneuma_core::phrase::BREATH_UNDER_WAY_S);
+    let in_pause = |r: &offline::Rendered| -> Vec<(f64, f64)> {
+        r.breaths
+            .iter()
+            .map(|b| (b.start_s, b.end_s))
+            .filter(|&(a, b)| b > 1.6 && a < 2.5)
+            .collect()
+    };
+    let early = render_in(&with_breath(1.80), PlacementMode::Live, &[256]);
+    assert!(
+        in_pause(&early).is_empty(),
+        "a breath inserted over the one under way: {:?}",
+        in_pause(&early)
+    );
+    let late = render_in(&with_breath(2.0), PlacementMode::Live, &[256]);
+    let spans = in_pause(&late);
+    assert!(
+        !spans.is_empty()
+            && spans
+                .iter()
+                .all(|&(_, b)| b <= 2.0 + under_way_s + fade_s + 0.04),
+        "the inserted breath does not give way to the one under way: {spans:?}"
+    );
+    // Any block partition hears the breath under way at the same frame.
+    for blocks in [&[1usize][..], &[37], &[1000, 3, 512]] {
+        let other = render_in(&with_breath(2.0), PlacementMode::Live, blocks);
+        assert_eq!(other.breaths, late.breaths, "blocks {blocks:?}");
+    }
+}
+
+#[test]
 fn the_breathing_cycle_breathes_in_with_the_breath_already_there() {
     for whole_file in [false, true] {
         let mut c = EngineConfig::default();

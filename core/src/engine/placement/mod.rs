@@ -449,6 +449,28 @@ impl Placement {
         }
     }
 
+    /// Live mode: breath-like sound is going on in the pause at `ctx.now`, not yet confirmed a
+    /// breath ([`crate::phrase::PhraseTracker::breath_under_way_in_pause`]): the speaker may be
+    /// breathing in. A breath due to start before the next frame stays silent (the breathing
+    /// cycle still inspires with it), and one playing fades out: an inserted breath never
+    /// starts, nor goes on, over a real one the detector is still hearing. A breath due later
+    /// is judged again when its time comes.
+    pub(crate) fn live_breath_under_way(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
+        let next_frame = ctx.now + (self.hop_s * self.sample_rate_hz).ceil() as u64;
+        for (t, action) in schedule.breath.iter_mut() {
+            if let BreathAction::LiveStart { audible, .. } = action {
+                if *t <= next_frame {
+                    *audible = false;
+                }
+            }
+        }
+        if ctx.breath_playing {
+            schedule
+                .breath
+                .insert_sorted((ctx.now, BreathAction::FadeOut));
+        }
+    }
+
     /// Schedules what phrase event `e` calls for (lookahead mode: remembers a phrase start for
     /// [`Placement::decide_due`]).
     pub(crate) fn on_event(&mut self, ctx: &EventContext, e: PhraseEvent, schedule: &mut Schedule) {
