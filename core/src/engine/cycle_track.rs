@@ -66,7 +66,9 @@ impl CycleTrack {
         if self.live {
             // Activity in the input up to the sample that completed this frame stops an
             // inspiration (and cancels one not begun yet) before the frame is emitted.
-            if let Some(at) = schedule.activity_unseen.take() {
+            // The speaker's own breath is activity too, and what it inspires with.
+            let at = schedule.activity_unseen.take();
+            if let Some(at) = at.filter(|_| !schedule.breathing_in) {
                 let at_s = at as f64 / self.sample_rate_hz;
                 schedule
                     .cycle

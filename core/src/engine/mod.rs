@@ -854,11 +854,20 @@ impl Stream {
                 self.voice.phrase_ended(self.placement.ended_speaker_db());
             }
         }
-        if self.live && self.tracker.breath_heard_in_pause() {
-            self.placement.live_breath_heard(&ctx, &mut self.schedule);
-        } else if self.live && self.tracker.breath_under_way_in_pause() {
-            self.placement
-                .live_breath_under_way(&ctx, &mut self.schedule);
+        if self.live {
+            let under_way = self.tracker.breath_under_way_in_pause();
+            if self.tracker.breath_heard_in_pause() {
+                self.placement.live_breath_heard(&ctx, &mut self.schedule);
+            } else if under_way {
+                self.placement
+                    .live_breath_under_way(&ctx, &mut self.schedule);
+            }
+            let breathing_in = self.tracker.breathing_in_pause();
+            if breathing_in {
+                self.placement
+                    .live_inspire_with_breath(&ctx, &mut self.schedule);
+            }
+            self.schedule.breathing_in = breathing_in;
         }
         self.placement.decide_due(&ctx, &mut self.schedule);
     }

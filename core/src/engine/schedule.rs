@@ -75,6 +75,10 @@ pub(crate) struct Schedule {
     /// Live mode: the last input sample where activity was seen (input gate or phrase tracker)
     /// that the breathing cycle has not yet been told about.
     pub(crate) activity_unseen: Option<u64>,
+    /// Live mode: the speaker is breathing in, in the pause, as of the last frame heard
+    /// ([`crate::phrase::PhraseTracker::breathing_in_pause`]): activity seen meanwhile is the
+    /// breath's, and does not stop the cycle's inspiration.
+    pub(crate) breathing_in: bool,
 }
 
 impl Schedule {
@@ -84,6 +88,7 @@ impl Schedule {
             breath: Queue::with_capacity(capacity),
             cycle: Queue::with_capacity(capacity),
             activity_unseen: None,
+            breathing_in: false,
         }
     }
 
@@ -92,6 +97,7 @@ impl Schedule {
         self.breath.clear();
         self.cycle.clear();
         self.activity_unseen = None;
+        self.breathing_in = false;
     }
 
     /// Live mode: activity at input sample `at`.

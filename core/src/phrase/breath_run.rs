@@ -190,13 +190,22 @@ impl RunTrack {
             || (self.run.frames >= rules.min_frames && self.run.counts(rules, self.held))
     }
 
-    /// A run is going on, long enough to be under way, and not only the phrase's decay. Its
-    /// shape is not asked for: a run's shape is its mean from its first frame, and a breath's
-    /// first frames (a nasal onset, the room's hum under it) often hold it over the limits for
-    /// a tenth of a second or more.
+    /// A run is going on, long enough to be under way, not only the phrase's decay, and not a
+    /// fricative (its mean high band over its mid band within the breath's limit: /s/, /ʃ/
+    /// and /f/ before a word lie far over it). The low band is not asked for: a run's shape is
+    /// its mean from its first frame, and a breath's first frames (a nasal onset, the room's
+    /// hum under it) often hold it over that limit for a tenth of a second or more.
     fn under_way(&self, rules: &BreathRules) -> bool {
         let run = &self.run;
-        run.frames >= rules.under_way_frames && (!run.from_tail || run.rose)
+        let high = run.high_sum / run.frames.max(1) as f32;
+        run.frames >= rules.under_way_frames
+            && (!run.from_tail || run.rose)
+            && high <= rules.max_high_over_mid_db
+    }
+
+    /// The run going on counts as a breath already (its length and shape).
+    fn counting(&self, rules: &BreathRules) -> bool {
+        self.run.frames >= rules.min_frames && self.run.counts(rules, self.held)
     }
 
     fn at_onset(&self, onset: u64, rules: &BreathRules) -> Option<HeardRun> {
@@ -281,6 +290,11 @@ impl PauseBreaths {
     /// for breaths.)
     pub(super) fn under_way(&self, rules: &BreathRules) -> bool {
         self.strict.under_way(rules)
+    }
+
+    /// A strict run going on counts as a breath already: the speaker is breathing in now.
+    pub(super) fn breathing_in(&self, rules: &BreathRules) -> bool {
+        self.strict.counting(rules)
     }
 
     /// The breath of the pause that a phrase starting at frame `onset` ends: a strict run still

@@ -203,13 +203,26 @@ impl PhraseTracker {
     }
 
     /// Breath-like sound is going on in the pause after a phrase (see
-    /// [`super::breath_run::BREATH_UNDER_WAY_S`]): the speaker may be breathing in, and the
-    /// detector has not confirmed it yet. Live mode starts no breath over it.
+    /// [`super::breath_run::BREATH_UNDER_WAY_S`]), and no activity since it began (a candidate
+    /// phrase ends it): the speaker may be breathing in, and the detector has not confirmed it
+    /// yet. Live mode starts no breath over it.
     pub fn breath_under_way_in_pause(&self) -> bool {
         let s = &self.state;
         !s.phrase.inside
             && s.phrase.last_offset.is_some()
+            && s.candidate.start.is_none()
             && s.breaths.under_way(&self.breath_rules)
+    }
+
+    /// The speaker is breathing in now, in the pause after a phrase: a strict breath run going
+    /// on counts as a breath already (its length, `breath_min_s`, and its shape), and no
+    /// activity since it began. Live mode's breathing cycle inspires with it.
+    pub fn breathing_in_pause(&self) -> bool {
+        let s = &self.state;
+        !s.phrase.inside
+            && s.phrase.last_offset.is_some()
+            && s.candidate.start.is_none()
+            && s.breaths.breathing_in(&self.breath_rules)
     }
 
     /// Feeds one frame (in order). Calls `on_event` for what became certain at this frame: at

@@ -212,6 +212,48 @@ fn live_mode_starts_no_breath_over_breath_noise_not_yet_confirmed() {
 }
 
 #[test]
+fn live_mode_breathes_in_with_the_speakers_own_breath() {
+    // The speaker breathes in at 2.0–2.35 s, after live mode's breath began (1.85 s): the
+    // input gate hears the breath at once (which stops the inspiration), and once it counts as
+    // a breath (after the shortest heard breath) the cycle inspires with it for as long as it
+    // lasts.
+    let heard_s = 2.0 + f64::from(pneuma_core::settings::phrase::BREATH_MIN_S.default) + 0.02;
+    let r = render_in(
+        &phrases_with_burst(Some((2.0, 2.35))),
+        PlacementMode::Live,
+        &[256],
+    );
+    let in_breath: Vec<_> = r
+        .frames
+        .iter()
+        .map(|f| &f.0)
+        .filter(|f| f.time_s > heard_s && f.time_s < 2.3)
+        .collect();
+    let inspiring = in_breath
+        .iter()
+        .filter(|f| f.breathing.phase == pneuma_core::Phase::Inspiration)
+        .count();
+    assert!(
+        !in_breath.is_empty() && inspiring == in_breath.len(),
+        "{inspiring} of {} frames inside the speaker's breath inspire",
+        in_breath.len()
+    );
+    let lung_at = |t: f64| {
+        r.frames
+            .iter()
+            .map(|f| &f.0)
+            .find(|f| f.time_s >= t)
+            .map(|f| f.breathing.lung)
+    };
+    assert!(
+        lung_at(2.3) > lung_at(heard_s),
+        "the lung does not rise inside the breath: {:?} -> {:?}",
+        lung_at(heard_s),
+        lung_at(2.3)
+    );
+}
+
+#[test]
 fn the_breathing_cycle_breathes_in_with_the_breath_already_there() {
     for whole_file in [false, true] {
         let mut c = EngineConfig::default();

@@ -186,3 +186,27 @@ fn a_longer_minimum_pause_means_fewer_live_breaths() {
         short.breaths.len()
     );
 }
+
+#[test]
+fn a_live_stream_that_starts_in_speech_starts_with_air_in_the_lung() {
+    // The example voice speaks from 0.33 s, less than an inspiration after the stream began:
+    // the speaker breathed in before it, as a lookahead render says from its first frame, and
+    // the first phrase breathes out from a filled lung, not from an empty one.
+    let (voice, sr) = example_voice();
+    let sr = f64::from(sr);
+    let first_speaking_lung = |mode| {
+        render(&config(mode, 0.25), &voice, sr)
+            .frames
+            .iter()
+            .map(|f| &f.0)
+            .find(|f| f.speaking)
+            .map(|f| f.breathing.lung)
+            .expect("a frame speaking")
+    };
+    let live = first_speaking_lung(PlacementMode::Live);
+    let lookahead = first_speaking_lung(PlacementMode::Lookahead);
+    assert!(
+        live >= 0.5 * lookahead && lookahead > 0.3,
+        "lung at the first word: live {live:.2}, lookahead {lookahead:.2}"
+    );
+}

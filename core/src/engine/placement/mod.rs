@@ -262,6 +262,9 @@ struct PlacementState {
     start: StreamStart,
     /// Live mode: a real breath was heard in the pause since the last phrase ended.
     live_breath_heard: bool,
+    /// Live mode: the group planned for the breath of the pause going on, until the speaker's
+    /// own breath in it has started the cycle's inspiration.
+    live_group_s: Option<f32>,
 }
 
 impl Default for PlacementState {
@@ -279,6 +282,7 @@ impl Default for PlacementState {
             prev_speech: None,
             start: StreamStart::default(),
             live_breath_heard: false,
+            live_group_s: None,
         }
     }
 }
@@ -471,6 +475,22 @@ impl Placement {
         }
     }
 
+    /// Live mode: the speaker is breathing in, in the pause
+    /// ([`crate::phrase::PhraseTracker::breathing_in_pause`]): the breathing cycle inspires
+    /// with the breath from this frame, for the group planned for this pause's breath (once
+    /// per pause, and only in a pause that has a live breath planned, after speech). The
+    /// breath's activity does not stop it ([`Schedule::breathing_in`]); a word after it does.
+    pub(crate) fn live_inspire_with_breath(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
+        let Some(group_s) = self.state.live_group_s.take() else {
+            return;
+        };
+        let length_s = ctx.config.breathing.map().length_inspiration_s;
+        schedule.cycle.insert_sorted((
+            ctx.now as f64 / self.sample_rate_hz,
+            CycleAction::Inspire { length_s, group_s },
+        ));
+    }
+
     /// Schedules what phrase event `e` calls for (lookahead mode: remembers a phrase start for
     /// [`Placement::decide_due`]).
     pub(crate) fn on_event(&mut self, ctx: &EventContext, e: PhraseEvent, schedule: &mut Schedule) {
@@ -487,8 +507,19 @@ impl Placement {
             }
             PhraseEvent::Start { onset_s, pause } => {
                 self.state.start.close();
+                self.state.live_group_s = None;
                 self.state.levels.start();
                 if live {
+                    // The stream's first phrase with no room for a breath before it (less than
+                    // an inspiration: the stream starts in speech): the speaker breathed in
+                    // before the stream began, as a lookahead render says from its first frame.
+                    let length_s = config.breathing.map().length_inspiration_s as f64;
+                    if pause.leading && self.state.group_planned_s <= 0.0 && onset_s < length_s {
+                        let group_s = self.new_group(config, self.state.group_estimate_s);
+                        schedule
+                            .cycle
+                            .insert_sorted((onset_s, CycleAction::BreathedIn { group_s }));
+                    }
                     let left_s = self.group_left_s();
                     schedule
                         .cycle
@@ -569,6 +600,7 @@ impl Placement {
                     },
                 ));
                 self.state.breath_end = start + length as u64;
+                self.state.live_group_s = Some(group_s);
             }
         }
     }
