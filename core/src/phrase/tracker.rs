@@ -193,36 +193,36 @@ impl PhraseTracker {
         self.history[(index % self.history.len() as u64) as usize]
     }
 
+    /// In a pause after a phrase (not before the first one).
+    fn after_phrase(&self) -> bool {
+        !self.state.phrase.inside && self.state.phrase.last_offset.is_some()
+    }
+
+    /// In a pause after a phrase, with no activity heard since the breath run going on began
+    /// (a candidate phrase ends what the run may be).
+    fn quiet_after_phrase(&self) -> bool {
+        self.after_phrase() && self.state.candidate.start.is_none()
+    }
+
     /// A breath has been heard in the pause going on (after a phrase) so far: the speaker is
     /// breathing in, or did. Live mode reads it to keep an inserted breath off a real one.
     pub fn breath_heard_in_pause(&self) -> bool {
-        let s = &self.state;
-        !s.phrase.inside
-            && s.phrase.last_offset.is_some()
-            && s.breaths.heard_so_far(&self.breath_rules)
+        self.after_phrase() && self.state.breaths.heard_so_far(&self.breath_rules)
     }
 
     /// Breath-like sound is going on in the pause after a phrase (see
-    /// [`super::breath_run::BREATH_UNDER_WAY_S`]), and no activity since it began (a candidate
-    /// phrase ends it): the speaker may be breathing in, and the detector has not confirmed it
-    /// yet. Live mode starts no breath over it.
+    /// [`super::breath_run::BREATH_UNDER_WAY_S`]), and no activity since it began: the speaker
+    /// may be breathing in, and the detector has not confirmed it yet. Live mode starts no
+    /// breath over it.
     pub fn breath_under_way_in_pause(&self) -> bool {
-        let s = &self.state;
-        !s.phrase.inside
-            && s.phrase.last_offset.is_some()
-            && s.candidate.start.is_none()
-            && s.breaths.under_way(&self.breath_rules)
+        self.quiet_after_phrase() && self.state.breaths.under_way(&self.breath_rules)
     }
 
     /// The speaker is breathing in now, in the pause after a phrase: a strict breath run going
     /// on counts as a breath already (its length, `breath_min_s`, and its shape), and no
     /// activity since it began. Live mode's breathing cycle inspires with it.
     pub fn breathing_in_pause(&self) -> bool {
-        let s = &self.state;
-        !s.phrase.inside
-            && s.phrase.last_offset.is_some()
-            && s.candidate.start.is_none()
-            && s.breaths.breathing_in(&self.breath_rules)
+        self.quiet_after_phrase() && self.state.breaths.breathing_in(&self.breath_rules)
     }
 
     /// Feeds one frame (in order). Calls `on_event` for what became certain at this frame: at

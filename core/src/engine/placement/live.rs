@@ -1,0 +1,84 @@
+//! Live mode's answers to what the input does in a pause: activity (speech may have resumed),
+//! a breath of the speaker's under way or heard, and the speaker's own breath the breathing
+//! cycle inspires with.
+
+use super::{EventContext, Placement};
+use crate::engine::schedule::{BreathAction, CycleAction, Schedule};
+
+impl Placement {
+    /// Live mode: speech (or something like it) began in the pause, reported at `ctx.now` with
+    /// its first active frame at input sample `from`: nothing more starts in this pause, a
+    /// breath playing fades out (if the gate has not faded it already), and the breathing cycle
+    /// stops inspiring.
+    pub(super) fn live_activity(&mut self, ctx: &EventContext, from: u64, schedule: &mut Schedule) {
+        schedule
+            .breath
+            .retain(|&(t, a)| !(t >= from && matches!(a, BreathAction::LiveStart { .. })));
+        self.state.breath_end = self.state.breath_end.min(from);
+        if ctx.breath_playing {
+            schedule
+                .breath
+                .insert_sorted((ctx.now, BreathAction::FadeOut));
+        }
+        schedule.note_activity(ctx.now);
+    }
+
+    /// Live mode: the phrase tracker hears a real breath in the pause going on (the speaker
+    /// breathes in): the breath placed in this pause stays silent (the breathing cycle still
+    /// inspires with it), and one playing fades out. Once per pause; the engine calls it in
+    /// live mode only.
+    pub(crate) fn live_breath_heard(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
+        if self.state.live_breath_heard {
+            return;
+        }
+        self.state.live_breath_heard = true;
+        for (_, action) in schedule.breath.iter_mut() {
+            if let BreathAction::LiveStart { audible, .. } = action {
+                *audible = false;
+            }
+        }
+        if ctx.breath_playing {
+            schedule
+                .breath
+                .insert_sorted((ctx.now, BreathAction::FadeOut));
+        }
+    }
+
+    /// Live mode: breath-like sound is going on in the pause at `ctx.now`, not yet confirmed a
+    /// breath ([`crate::phrase::PhraseTracker::breath_under_way_in_pause`]): the speaker may be
+    /// breathing in. A breath due to start before the next frame stays silent (the breathing
+    /// cycle still inspires with it), and one playing fades out: an inserted breath never
+    /// starts, nor goes on, over a real one the detector is still hearing. A breath due later
+    /// is judged again when its time comes.
+    pub(crate) fn live_breath_under_way(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
+        let next_frame = ctx.now + (self.hop_s * self.sample_rate_hz).ceil() as u64;
+        for (t, action) in schedule.breath.iter_mut() {
+            if let BreathAction::LiveStart { audible, .. } = action {
+                if *t <= next_frame {
+                    *audible = false;
+                }
+            }
+        }
+        if ctx.breath_playing {
+            schedule
+                .breath
+                .insert_sorted((ctx.now, BreathAction::FadeOut));
+        }
+    }
+
+    /// Live mode: the speaker is breathing in, in the pause
+    /// ([`crate::phrase::PhraseTracker::breathing_in_pause`]): the breathing cycle inspires
+    /// with the breath from this frame, for the group planned for this pause's breath (once
+    /// per pause, and only in a pause that has a live breath planned, after speech). The
+    /// breath's activity does not stop it ([`Schedule::breathing_in`]); a word after it does.
+    pub(crate) fn live_inspire_with_breath(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
+        let Some(group_s) = self.state.live_group_s.take() else {
+            return;
+        };
+        let length_s = ctx.config.breathing.map().length_inspiration_s;
+        schedule.cycle.insert_sorted((
+            ctx.now as f64 / self.sample_rate_hz,
+            CycleAction::Inspire { length_s, group_s },
+        ));
+    }
+}
