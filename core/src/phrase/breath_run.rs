@@ -186,8 +186,7 @@ impl RunTrack {
 
     /// A breath counted in this pause, or the run going on counts already.
     fn heard_so_far(&self, rules: &BreathRules) -> bool {
-        self.counted.is_some()
-            || (self.run.frames >= rules.min_frames && self.run.counts(rules, self.held))
+        self.counted.is_some() || self.counting(rules)
     }
 
     /// A run is going on, long enough to be under way, not only the phrase's decay, and not a

@@ -156,30 +156,44 @@ fn live_mode_never_doubles_a_breath_already_there() {
     );
 }
 
+/// Times of the frames of `r` inside `(from_s, to_s)` whose cycle inspires, seconds.
+fn inspiring_s(r: &offline::Rendered, (from_s, to_s): (f64, f64)) -> Vec<f64> {
+    r.frames
+        .iter()
+        .map(|f| &f.0)
+        .filter(|f| f.time_s > from_s && f.time_s < to_s)
+        .filter(|f| f.breathing.phase == pneuma_core::Phase::Inspiration)
+        .map(|f| f.time_s)
+        .collect()
+}
+
+/// [`phrases`] in a room whose 40 Hz hum carries its level (the input gate, which reads the
+/// whole band, hears nothing of a soft breath over it), with a soft 0.35 s breath (band noise
+/// 0.5–4 kHz) from `from_s`.
+fn hum_room_with_breath(from_s: f64) -> Vec<f32> {
+    let rate = RATE_HZ;
+    let mut x = phrases(false);
+    let room = signals::white_noise(x.len(), 3e-4, 11);
+    for (i, (v, n)) in x.iter_mut().zip(room).enumerate() {
+        let t = i as f64 / rate;
+        *v += n + 0.02 * (std::f64::consts::TAU * 40.0 * t).sin() as f32;
+    }
+    let (a, b) = ((from_s * rate) as usize, ((from_s + 0.35) * rate) as usize);
+    let breath = signals::band_noise(b - a, rate, (500.0, 4000.0), 2e-3, 13);
+    for (i, n) in breath.into_iter().enumerate() {
+        let ramp = ((i.min(b - a - 1 - i) as f32) / 160.0).min(1.0);
+        x[a + i] += n * ramp;
+    }
+    x
+}
+
 #[test]
 fn live_mode_starts_no_breath_over_breath_noise_not_yet_confirmed() {
-    // A room whose 40 Hz hum carries its level (the input gate, which reads the whole band,
-    // hears nothing of a soft breath over it) and a soft breath that begins 0.05 s before live
-    // mode's breath is due (1.85 s): it is not confirmed a breath by then, but it is under
+    // A room with a hum ([`hum_room_with_breath`]) and a soft breath that begins 0.05 s before
+    // live mode's breath is due (1.85 s): it is not confirmed a breath by then, but it is under
     // way, and the inserted breath stays silent (without that, it plays until the breath is
     // confirmed). The same breath starting after the inserted one gives it a fade as soon as it
     // is under way.
-    let rate = RATE_HZ;
-    let with_breath = |from_s: f64| {
-        let mut x = phrases(false);
-        let room = signals::white_noise(x.len(), 3e-4, 11);
-        for (i, (v, n)) in x.iter_mut().zip(room).enumerate() {
-            let t = i as f64 / rate;
-            *v += n + 0.02 * (std::f64::consts::TAU * 40.0 * t).sin() as f32;
-        }
-        let (a, b) = ((from_s * rate) as usize, ((from_s + 0.35) * rate) as usize);
-        let breath = signals::band_noise(b - a, rate, (500.0, 4000.0), 2e-3, 13);
-        for (i, n) in breath.into_iter().enumerate() {
-            let ramp = ((i.min(b - a - 1 - i) as f32) / 160.0).min(1.0);
-            x[a + i] += n * ramp;
-        }
-        x
-    };
     let fade_s = f64::from(EngineConfig::default().placement.live_fade_s);
     let under_way_s = f64::from(pneuma_core::phrase::BREATH_UNDER_WAY_S);
     let in_pause = |r: &offline::Rendered| -> Vec<(f64, f64)> {
@@ -189,13 +203,13 @@ fn live_mode_starts_no_breath_over_breath_noise_not_yet_confirmed() {
             .filter(|&(a, b)| b > 1.6 && a < 2.5)
             .collect()
     };
-    let early = render_in(&with_breath(1.80), PlacementMode::Live, &[256]);
+    let early = render_in(&hum_room_with_breath(1.80), PlacementMode::Live, &[256]);
     assert!(
         in_pause(&early).is_empty(),
         "a breath inserted over the one under way: {:?}",
         in_pause(&early)
     );
-    let late = render_in(&with_breath(2.0), PlacementMode::Live, &[256]);
+    let late = render_in(&hum_room_with_breath(2.0), PlacementMode::Live, &[256]);
     let spans = in_pause(&late);
     assert!(
         !spans.is_empty()
@@ -206,7 +220,7 @@ fn live_mode_starts_no_breath_over_breath_noise_not_yet_confirmed() {
     );
     // Any block partition hears the breath under way at the same frame.
     for blocks in [&[1usize][..], &[37], &[1000, 3, 512]] {
-        let other = render_in(&with_breath(2.0), PlacementMode::Live, blocks);
+        let other = render_in(&hum_room_with_breath(2.0), PlacementMode::Live, blocks);
         assert_eq!(other.breaths, late.breaths, "blocks {blocks:?}");
     }
 }
@@ -251,6 +265,24 @@ fn live_mode_breathes_in_with_the_speakers_own_breath() {
         lung_at(heard_s),
         lung_at(2.3)
     );
+    // Any block partition gives the same control frames.
+    let audio = phrases_with_burst(Some((2.0, 2.35)));
+    for blocks in [&[1usize][..], &[37], &[1000, 3, 512]] {
+        let other = render_in(&audio, PlacementMode::Live, blocks);
+        assert!(other.frames == r.frames, "blocks {blocks:?}: other frames");
+    }
+    // A breath heard before live mode's breath is due (it begins at 1.65 s and counts by
+    // about 1.8 s; the live breath was due at 1.85 s) gives the pause one inspiration of the
+    // preset's length from when it was heard, not one started over when the live breath falls
+    // due. (The room's hum keeps the input gate from cancelling the live breath on its own.)
+    let length_s = f64::from(EngineConfig::default().breathing.map().length_inspiration_s);
+    let early = render_in(&hum_room_with_breath(1.65), PlacementMode::Live, &[256]);
+    let inspiring = inspiring_s(&early, (1.6, 3.0));
+    let (first, last) = (inspiring[0], inspiring[inspiring.len() - 1]);
+    assert!(
+        first < 1.85 && last - first <= length_s + 0.02,
+        "inspiration {first:.3}–{last:.3} s; one of {length_s} s begun when the breath was heard"
+    );
 }
 
 #[test]
@@ -270,14 +302,7 @@ fn the_breathing_cycle_breathes_in_with_the_breath_already_there() {
             r.breaths
         );
         // The inspiration in the pause (1.6–2.5 s) lies on the burst and covers most of it.
-        let inspiring: Vec<f64> = r
-            .frames
-            .iter()
-            .map(|f| &f.0)
-            .filter(|f| f.time_s > 1.6 && f.time_s < 2.5)
-            .filter(|f| f.breathing.phase == pneuma_core::Phase::Inspiration)
-            .map(|f| f.time_s)
-            .collect();
+        let inspiring = inspiring_s(&r, (1.6, 2.5));
         let (first, last) = (inspiring.first(), inspiring.last());
         let covered_s = inspiring.len() as f64 / 120.0;
         assert!(

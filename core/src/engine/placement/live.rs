@@ -9,12 +9,13 @@ impl Placement {
     /// Live mode: speech (or something like it) began in the pause, reported at `ctx.now` with
     /// its first active frame at input sample `from`: nothing more starts in this pause, a
     /// breath playing fades out (if the gate has not faded it already), and the breathing cycle
-    /// stops inspiring.
+    /// stops inspiring (nor will it inspire with a breath heard after the activity).
     pub(super) fn live_activity(&mut self, ctx: &EventContext, from: u64, schedule: &mut Schedule) {
         schedule
             .breath
             .retain(|&(t, a)| !(t >= from && matches!(a, BreathAction::LiveStart { .. })));
         self.state.breath_end = self.state.breath_end.min(from);
+        self.state.live_group_s = None;
         if ctx.breath_playing {
             schedule
                 .breath
@@ -54,7 +55,7 @@ impl Placement {
         let next_frame = ctx.now + (self.hop_s * self.sample_rate_hz).ceil() as u64;
         for (t, action) in schedule.breath.iter_mut() {
             if let BreathAction::LiveStart { audible, .. } = action {
-                if *t <= next_frame {
+                if *t < next_frame {
                     *audible = false;
                 }
             }
@@ -69,12 +70,19 @@ impl Placement {
     /// Live mode: the speaker is breathing in, in the pause
     /// ([`crate::phrase::PhraseTracker::breathing_in_pause`]): the breathing cycle inspires
     /// with the breath from this frame, for the group planned for this pause's breath (once
-    /// per pause, and only in a pause that has a live breath planned, after speech). The
-    /// breath's activity does not stop it ([`Schedule::breathing_in`]); a word after it does.
+    /// per pause, and only in a pause after speech whose live breath was planned and no
+    /// activity has cancelled). The pause's live breath not begun yet goes (it is silent
+    /// already, the breath being heard, and its own inspiration would start this one over).
+    /// The breath's activity does not stop the inspiration ([`Schedule::breathing_in`]); a
+    /// word after it does.
     pub(crate) fn live_inspire_with_breath(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
         let Some(group_s) = self.state.live_group_s.take() else {
             return;
         };
+        schedule
+            .breath
+            .retain(|&(_, a)| !matches!(a, BreathAction::LiveStart { .. }));
+        self.state.breath_end = self.state.breath_end.min(ctx.now);
         let length_s = ctx.config.breathing.map().length_inspiration_s;
         schedule.cycle.insert_sorted((
             ctx.now as f64 / self.sample_rate_hz,
