@@ -855,10 +855,9 @@ impl Stream {
             }
         }
         if self.live {
-            let under_way = self.tracker.breath_under_way_in_pause();
             if self.tracker.breath_heard_in_pause() {
                 self.placement.live_breath_heard(&ctx, &mut self.schedule);
-            } else if under_way {
+            } else if self.tracker.breath_under_way_in_pause() {
                 self.placement
                     .live_breath_under_way(&ctx, &mut self.schedule);
             }

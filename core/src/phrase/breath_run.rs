@@ -76,11 +76,19 @@ impl BreathRun {
     /// A `held` run (see the module docs) never continues the decay: its dips would let a
     /// tail's ripple pass for a rise.
     fn counts(&self, rules: &BreathRules, held: bool) -> bool {
-        let n = self.frames.max(1) as f32;
-        let high = self.high_sum / n;
-        let shaped =
-            high <= rules.max_high_over_mid_db && self.low_sum / n <= rules.max_low_over_mid_db;
-        shaped && (!self.from_tail || (self.rose && !held))
+        let low = self.low_sum / self.frames.max(1) as f32;
+        self.not_fricative(rules) && low <= rules.max_low_over_mid_db && self.past_tail(held)
+    }
+
+    /// The run's mean high band over its mid band lies within the breath's limit (/s/, /ʃ/ and
+    /// /f/ lie far over it).
+    fn not_fricative(&self, rules: &BreathRules) -> bool {
+        self.high_sum / self.frames.max(1) as f32 <= rules.max_high_over_mid_db
+    }
+
+    /// The run does not only continue the phrase's decay (see [`BreathRun::counts`]).
+    fn past_tail(&self, held: bool) -> bool {
+        !self.from_tail || (self.rose && !held)
     }
 }
 
@@ -196,10 +204,7 @@ impl RunTrack {
     /// hum under it) often hold it over that limit for a tenth of a second or more.
     fn under_way(&self, rules: &BreathRules) -> bool {
         let run = &self.run;
-        let high = run.high_sum / run.frames.max(1) as f32;
-        run.frames >= rules.under_way_frames
-            && (!run.from_tail || run.rose)
-            && high <= rules.max_high_over_mid_db
+        run.frames >= rules.under_way_frames && run.not_fricative(rules) && run.past_tail(self.held)
     }
 
     /// The run going on counts as a breath already (its length and shape).

@@ -33,16 +33,7 @@ impl Placement {
             return;
         }
         self.state.live_breath_heard = true;
-        for (_, action) in schedule.breath.iter_mut() {
-            if let BreathAction::LiveStart { audible, .. } = action {
-                *audible = false;
-            }
-        }
-        if ctx.breath_playing {
-            schedule
-                .breath
-                .insert_sorted((ctx.now, BreathAction::FadeOut));
-        }
+        Self::give_way(ctx, schedule, u64::MAX);
     }
 
     /// Live mode: breath-like sound is going on in the pause at `ctx.now`, not yet confirmed a
@@ -53,9 +44,15 @@ impl Placement {
     /// is judged again when its time comes.
     pub(crate) fn live_breath_under_way(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
         let next_frame = ctx.now + (self.hop_s * self.sample_rate_hz).ceil() as u64;
+        Self::give_way(ctx, schedule, next_frame);
+    }
+
+    /// A real breath keeps the live breaths off it: those due before input sample `due_before`
+    /// stay silent (the breathing cycle still inspires with them), and one playing fades out.
+    fn give_way(ctx: &EventContext, schedule: &mut Schedule, due_before: u64) {
         for (t, action) in schedule.breath.iter_mut() {
             if let BreathAction::LiveStart { audible, .. } = action {
-                if *t < next_frame {
+                if *t < due_before {
                     *audible = false;
                 }
             }
