@@ -77,6 +77,11 @@ impl StreamStart {
         self.closed = true;
     }
 
+    /// No phrase has started yet: the stream is in the silence (or the sound) before its first.
+    pub(crate) fn before_first_phrase(&self) -> bool {
+        !self.closed
+    }
+
     /// Whether the stream started inside sound, against the first phrase's level `phrase_db`.
     pub(crate) fn in_sound(&self, phrase_db: f32) -> bool {
         if self.edge_frames == 0 {

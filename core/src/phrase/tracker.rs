@@ -201,7 +201,13 @@ impl PhraseTracker {
     /// In a pause after a phrase, with no activity heard since the breath run going on began
     /// (a candidate phrase ends what the run may be).
     fn quiet_after_phrase(&self) -> bool {
-        self.after_phrase() && self.state.candidate.start.is_none()
+        self.after_phrase() && self.quiet_in_pause()
+    }
+
+    /// In a pause (the silence before the first phrase included), with no activity heard since
+    /// the breath run going on began.
+    fn quiet_in_pause(&self) -> bool {
+        !self.state.phrase.inside && self.state.candidate.start.is_none()
     }
 
     /// A breath has been heard in the pause going on (after a phrase) so far: the speaker is
@@ -218,11 +224,12 @@ impl PhraseTracker {
         self.quiet_after_phrase() && self.state.breaths.under_way(&self.breath_rules)
     }
 
-    /// The speaker is breathing in now, in the pause after a phrase: a strict breath run going
-    /// on counts as a breath already (its length, `breath_min_s`, and its shape), and no
-    /// activity since it began. Live mode's breathing cycle inspires with it.
+    /// The speaker is breathing in now, in a pause (after a phrase, or in the silence before
+    /// the first one): a strict breath run going on counts as a breath already (its length,
+    /// `breath_min_s`, and its shape), and no activity since it began. Live mode's breathing
+    /// cycle inspires with it.
     pub fn breathing_in_pause(&self) -> bool {
-        self.quiet_after_phrase() && self.state.breaths.breathing_in(&self.breath_rules)
+        self.quiet_in_pause() && self.state.breaths.breathing_in(&self.breath_rules)
     }
 
     /// Feeds one frame (in order). Calls `on_event` for what became certain at this frame: at

@@ -188,6 +188,48 @@ fn hum_room_with_breath(from_s: f64) -> Vec<f32> {
 }
 
 #[test]
+fn live_mode_breathes_in_with_a_breath_before_the_first_phrase() {
+    // A stream that starts with 1 s of silence holding the speaker's breath at 0.4–0.75 s, then
+    // the phrases: live mode's cycle inspires with that breath as with one between phrases
+    // (before, only a pause after a phrase could), and the first phrase breathes out from the
+    // lung it filled, with no step when the phrase is confirmed.
+    let burst = (0.4, 0.75);
+    let lead = (1.0 * RATE_HZ) as usize;
+    let mut audio = vec![0.0; lead];
+    let (a, b) = ((burst.0 * RATE_HZ) as usize, (burst.1 * RATE_HZ) as usize);
+    for (i, n) in signals::white_noise(b - a, 0.01, 7).into_iter().enumerate() {
+        let ramp = ((i.min(b - a - 1 - i) as f32) / 160.0).min(1.0);
+        audio[a + i] = n * ramp;
+    }
+    audio.extend(phrases(false));
+    let heard_s = burst.0 + f64::from(pneuma_core::settings::phrase::BREATH_MIN_S.default) + 0.02;
+    let r = render_in(&audio, PlacementMode::Live, &[256]);
+    let in_breath = r
+        .frames
+        .iter()
+        .filter(|f| f.0.time_s > heard_s && f.0.time_s < burst.1 - 0.05)
+        .count();
+    let inspiring = inspiring_s(&r, (heard_s, burst.1 - 0.05));
+    assert!(
+        in_breath > 0 && inspiring.len() == in_breath,
+        "{} of {in_breath} frames inside the breath before the first phrase inspire",
+        inspiring.len()
+    );
+    let lung = |f: &(pneuma_core::ControlFrame, u64)| f.0.breathing.lung;
+    let speaking = r.frames.iter().position(|f| f.0.speaking).expect("speech");
+    let (before, first) = (lung(&r.frames[speaking - 1]), lung(&r.frames[speaking]));
+    assert!(
+        before > 0.3 && (first - before).abs() < 0.02,
+        "lung {before:.3} before the first phrase, {first:.3} at its first frame"
+    );
+    // Any block partition gives the same control frames.
+    for blocks in [&[1usize][..], &[37], &[1000, 3, 512]] {
+        let other = render_in(&audio, PlacementMode::Live, blocks);
+        assert!(other.frames == r.frames, "blocks {blocks:?}: other frames");
+    }
+}
+
+#[test]
 fn live_mode_starts_no_breath_over_breath_noise_not_yet_confirmed() {
     // A room with a hum ([`hum_room_with_breath`]) and a soft breath that begins 0.05 s before
     // live mode's breath is due (1.85 s): it is not confirmed a breath by then, but it is under

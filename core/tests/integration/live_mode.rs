@@ -187,15 +187,10 @@ fn a_longer_minimum_pause_means_fewer_live_breaths() {
     );
 }
 
-#[test]
-fn a_live_stream_that_starts_in_speech_starts_with_air_in_the_lung() {
-    // The example voice speaks from 0.33 s, less than an inspiration after the stream began:
-    // the speaker breathed in before it, as a lookahead render says from its first frame, and
-    // the first phrase breathes out from a filled lung, not from an empty one.
-    let (voice, sr) = example_voice();
-    let sr = f64::from(sr);
-    let first_speaking_lung = |mode| {
-        render(&config(mode, 0.25), &voice, sr)
+/// The lung at the first frame flagged speaking of `audio`, rendered live and with a lookahead.
+fn first_speaking_lung(audio: &[f32], sample_rate_hz: f64) -> (f32, f32) {
+    let lung = |mode| {
+        render(&config(mode, 0.25), audio, sample_rate_hz)
             .frames
             .iter()
             .map(|f| &f.0)
@@ -203,10 +198,36 @@ fn a_live_stream_that_starts_in_speech_starts_with_air_in_the_lung() {
             .map(|f| f.breathing.lung)
             .expect("a frame speaking")
     };
-    let live = first_speaking_lung(PlacementMode::Live);
-    let lookahead = first_speaking_lung(PlacementMode::Lookahead);
+    (lung(PlacementMode::Live), lung(PlacementMode::Lookahead))
+}
+
+#[test]
+fn a_live_stream_that_starts_in_speech_starts_with_air_in_the_lung() {
+    // The example voice speaks from 0.33 s, less than an inspiration after the stream began:
+    // the speaker breathed in before it, as a lookahead render says from its first frame, and
+    // the first phrase breathes out from a filled lung, not from an empty one.
+    let (voice, sr) = example_voice();
+    let (live, lookahead) = first_speaking_lung(&voice, f64::from(sr));
     assert!(
         live >= 0.5 * lookahead && lookahead > 0.3,
         "lung at the first word: live {live:.2}, lookahead {lookahead:.2}"
+    );
+}
+
+#[test]
+fn a_live_stream_that_starts_in_silence_speaks_its_first_phrase_from_a_filled_lung() {
+    // 1.5 s of digital silence before the example voice: no breath to hear, but the speaker
+    // breathed in before speaking, as a lookahead render says with its inspiration before the
+    // first phrase. Live mode, which cannot know when the speech will come, fills the lung when
+    // the first phrase is confirmed; before, the first phrase breathed out from the lung's
+    // resting level (0.07).
+    let (voice, sr) = example_voice();
+    let sr = f64::from(sr);
+    let mut audio = vec![0.0; (1.5 * sr) as usize];
+    audio.extend_from_slice(&voice);
+    let (live, lookahead) = first_speaking_lung(&audio, sr);
+    assert!(
+        live >= 0.5 * lookahead && lookahead > 0.3,
+        "lung at the first word after a silence: live {live:.2}, lookahead {lookahead:.2}"
     );
 }

@@ -68,13 +68,17 @@ impl Placement {
     /// ([`crate::phrase::PhraseTracker::breathing_in_pause`]): the breathing cycle inspires
     /// with the breath from this frame, for the group planned for this pause's breath (once
     /// per pause, and only in a pause after speech whose live breath was planned and no
-    /// activity has cancelled). The pause's live breath not begun yet goes (it is silent
-    /// already, the breath being heard, and its own inspiration would start this one over).
-    /// The breath's activity does not stop the inspiration ([`Schedule::breathing_in`]); a
-    /// word after it does.
+    /// activity has cancelled), or, in the silence before the stream's first phrase, for a
+    /// group of the running estimate (once: the first phrase then needs no filled start). The
+    /// pause's live breath not begun yet goes (it is silent already, the breath being heard,
+    /// and its own inspiration would start this one over). The breath's activity does not
+    /// stop the inspiration ([`Schedule::breathing_in`]); a word after it does.
     pub(crate) fn live_inspire_with_breath(&mut self, ctx: &EventContext, schedule: &mut Schedule) {
-        let Some(group_s) = self.state.live_group_s.take() else {
-            return;
+        let leading = self.state.start.before_first_phrase() && self.state.group_planned_s <= 0.0;
+        let group_s = match self.state.live_group_s.take() {
+            Some(group_s) => group_s,
+            None if leading => self.new_group(ctx.config, self.state.group_estimate_s),
+            None => return,
         };
         schedule
             .breath

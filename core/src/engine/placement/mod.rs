@@ -25,7 +25,9 @@
 //! - A stream that starts in speech starts with the lung filled for the first group (the
 //!   speaker breathed in before it), or inspires up to its first onset; so does a stream that
 //!   starts inside sound ([`StreamStart`]: an edit cut into a word), with no breath inserted
-//!   and no heard breath taken before its first phrase.
+//!   and no heard breath taken before its first phrase. Live mode inspires with a breath it
+//!   hears before the first phrase, and fills the lung at the first phrase's confirmation
+//!   when it heard none.
 //! - Live mode takes no catch breaths under `min_pause_s` (it cannot know a pause's length
 //!   before the pause is over, and a breath started earlier lands on the next word); it sizes
 //!   each breath for the running estimate of a group instead.
@@ -436,11 +438,12 @@ impl Placement {
                 self.state.live_group_s = None;
                 self.state.levels.start();
                 if live {
-                    // The stream's first phrase with no room for a breath before it (less than
-                    // an inspiration: the stream starts in speech): the speaker breathed in
-                    // before the stream began, as a lookahead render says from its first frame.
-                    let length_s = config.breathing.map().length_inspiration_s as f64;
-                    if pause.leading && self.state.group_planned_s <= 0.0 && onset_s < length_s {
+                    // The stream's first phrase, with no breath of the speaker's heard before
+                    // it (the cycle inspired with none): the speaker breathed in before it, as
+                    // a lookahead render says. Live mode learns of it at the phrase's
+                    // confirmation: a stream that starts in speech (no room for a breath
+                    // before), or a breath too quiet or too short to hear in the silence before.
+                    if pause.leading && self.state.group_planned_s <= 0.0 {
                         let group_s = self.new_group(config, self.state.group_estimate_s);
                         schedule
                             .cycle
