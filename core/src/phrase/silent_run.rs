@@ -1,6 +1,7 @@
-//! [`SilentRuns`]: the stretches of a pause that are digital silence (under [`GATED_DB`]) or at a
-//! cut's dither ([`CUT_CEILING_DB`], lower under a quiet speaker), and the one that touches the
-//! pause's heard breath. A recorded room rarely falls that low between phrases; an editor's
+//! [`SilentRuns`]: the stretches of a pause that are digital silence (under [`GATED_DB`]), at a
+//! cut's dither ([`CUT_CEILING_DB`], lower under a quiet speaker) or far under the room
+//! ([`UNDER_ROOM_DB`]: a breath an editor attenuated), and the one that touches the pause's
+//! heard breath. A recorded room rarely falls that low between phrases; an editor's
 //! cut or a closed noise gate does, so a breath-like run with such a stretch right beside it
 //! is what a cut left of a breath ([`super::Pause::gated_s`]).
 
@@ -19,6 +20,17 @@ pub(super) const GATED_DB: f32 = -110.0;
 /// beside one is a remnant, see [`super::Pause::gated_s`]); the noise floor still learns from
 /// them, unlike digital silence ([`GATED_DB`]).
 pub(super) const CUT_CEILING_DB: f32 = -90.0;
+
+/// How far under the room's noise floor (the lowest level of the last 3 s, before the frame) a
+/// frame of a pause lies when an editor lowered it, dB: a breath attenuated by 20–40 dB (a
+/// de-breath tool's setting, not a gate) falls under the room it was recorded in, and a
+/// recorded room never falls that far under its own floor within a few seconds.
+pub(super) const UNDER_ROOM_DB: f32 = 20.0;
+
+/// Longest stretch under the room taken as an editor's (a breath lasts under a second, 0.8 s
+/// at most in `../shared/data`), seconds: a level that stays that low is the room's own from
+/// then on (a fan switched off, a denoiser's floor), and the noise floor learns it.
+pub(super) const UNDER_ROOM_MAX_S: f32 = 1.0;
 
 /// Most a breath-like run and a stretch of digital silence may lie apart and still touch (a
 /// gate's release, a frame's rounding), seconds.

@@ -12,7 +12,9 @@ use super::facts::FrameFacts;
 use super::floor_bands::{
     FloorBands, FLOOR_BAND_TAU_S, FLOOR_BAND_UNDER_SPEECH_DB, FLOOR_BAND_WITHIN_DB,
 };
-use super::silent_run::{SilentRuns, CUT_CEILING_DB, GATED_DB, TOUCH_S};
+use super::silent_run::{
+    SilentRuns, CUT_CEILING_DB, GATED_DB, TOUCH_S, UNDER_ROOM_DB, UNDER_ROOM_MAX_S,
+};
 use crate::analysis::noise_floor::NoiseFloor;
 use crate::analysis::FeatureFrame;
 
@@ -31,6 +33,8 @@ struct FrameCounts {
     run_gap: u64,
     /// [`TOUCH_S`]: a breath run and digital silence this close touch.
     touch: u64,
+    /// [`UNDER_ROOM_MAX_S`]: the longest stretch under the room taken as an editor's.
+    under_room_max: u32,
 }
 
 /// The phrase being spoken, or the last one.
@@ -68,6 +72,11 @@ struct TrackerState {
     floor_db: f32,
     /// A frame that is not digital silence (over [`GATED_DB`]) has been heard.
     heard_sound: bool,
+    /// Frames in a row [`UNDER_ROOM_DB`] or more under the room.
+    under_room_frames: u32,
+    /// The room: the noise floor as the last quiet frame of a pause after a phrase (not
+    /// active, not a cut) left it, dBFS (−∞ before any).
+    room_db: f32,
     /// The room's band levels.
     floor_bands: FloorBands,
     frames_seen: u64,
@@ -86,6 +95,8 @@ impl Default for TrackerState {
         Self {
             floor_db: f32::NEG_INFINITY,
             heard_sound: false,
+            under_room_frames: 0,
+            room_db: f32::NEG_INFINITY,
             floor_bands: FloorBands::default(),
             frames_seen: 0,
             phrase: PhraseState::default(),
@@ -134,6 +145,7 @@ impl PhraseTracker {
                 offset: frames(config.offset_extend_s),
                 run_gap: frames(config.run_gap_s),
                 touch: frames(TOUCH_S as f32),
+                under_room_max: frames(UNDER_ROOM_MAX_S) as u32,
             },
             breath_rules: BreathRules {
                 min_frames: frames(config.breath_min_s) as u32,
@@ -278,7 +290,18 @@ impl PhraseTracker {
         // sound has been heard. It only marks the pause's silent stretches (what a cut left of
         // a breath); the floor learns from it as from any room.
         let cut = s.heard_sound && rms_db <= CUT_CEILING_DB + quiet_shift_db;
-        if !(gated && s.heard_sound) {
+        // A frame far under the room (a breath an editor attenuated rather than gated) marks
+        // the pause's silent stretches as a cut does, and, like digital silence, does not
+        // teach the floor, for as long as an edit lasts; then it is the room's new level.
+        // The room is the floor as the last quiet frame of a pause after a phrase left it
+        // (after a long phrase the floor's window holds only the phrase; before the first
+        // phrase ends, the floor may still sit at the voice). A stretch begins [`UNDER_ROOM_DB`] under it and goes on at half that (the
+        // edit's own ripple, the room's tail fading into it).
+        let going = s.under_room_frames > 0;
+        let low = rms_db <= s.room_db - if going { 0.5 } else { 1.0 } * UNDER_ROOM_DB;
+        s.under_room_frames = if low { s.under_room_frames + 1 } else { 0 };
+        let under_room = s.heard_sound && low && s.under_room_frames <= self.counts.under_room_max;
+        if !(under_room || gated && s.heard_sound) {
             s.floor_db = self.floor.update(Some(rms_db));
         }
         s.heard_sound |= !gated;
@@ -294,6 +317,10 @@ impl PhraseTracker {
             && rms_db > silence_db;
         let voiced = frame.voiced && rms_db > silence_db;
         let active = voiced || loud;
+        let in_pause = !s.phrase.inside && s.phrase.last_offset.is_some();
+        if in_pause && !active && !gated && !cut && !under_room {
+            s.room_db = s.floor_db;
+        }
         // The room's own band levels, learnt on frames at the floor, are taken out of the
         // frame's band powers: what is left is the shape of the sound over the room.
         // A frame whose breath bands stand out over their own running minimum does not teach
@@ -330,7 +357,7 @@ impl PhraseTracker {
             breath_held,
             high_over_mid_db,
             low_over_mid_db,
-            gated: gated || cut,
+            gated: gated || cut || under_room,
         }
     }
 

@@ -397,29 +397,63 @@ fn a_breath_cut_short_by_digital_silence_gets_its_rest_put_back_beside_it() {
     let cut_at = ((BURST_S.0 + 0.15) * RATE_HZ) as usize;
     cut[cut_at..(BURST_S.1 * RATE_HZ) as usize].fill(0.0);
     for (name, audio) in [("zeros", cut.clone()), ("dithered", dithered_16_bit(&cut))] {
-        let (existing, inserted) = run(&audio);
-        assert_eq!(
-            existing.len(),
-            1,
-            "{name}: the remnant is heard: {existing:?}"
-        );
-        let remnant_end_s = existing[0].1;
-        let beside: Vec<_> = inserted
-            .iter()
-            .filter(|&&(a, b)| a >= 1.6 && b <= 2.5)
-            .collect();
-        assert_eq!(
-            beside.len(),
-            1,
-            "{name}: one breath put back in the pause: {inserted:?}"
-        );
-        let (start_s, end_s) = *beside[0];
-        assert!(
-            (start_s - remnant_end_s).abs() < 0.06 && end_s - start_s >= 0.12,
-            "{name}: put back at {start_s:.3}..{end_s:.3} s, the remnant ends at \
-             {remnant_end_s:.3} s"
-        );
+        assert_rest_put_back_beside_remnant(name, &audio);
     }
+}
+
+#[test]
+fn a_breath_an_editor_attenuated_gets_put_back_beside_what_is_left_of_it() {
+    // A room (white noise at -60 dBFS) under the phrases; the burst 14 dB over it, its first
+    // 0.15 s left and the rest lowered by 40 dB, as a de-breath tool does (the room with it):
+    // that stretch lies far under the room, where no recorded room falls, not at a cut's
+    // dither. What is left is heard as the pause's breath, and the rest goes back beside it.
+    // Before, the remnant passed for the whole breath and nothing went back.
+    let mut x = phrases(false);
+    let room = signals::white_noise(x.len(), 1e-3, 21);
+    let (a, b) = (
+        (BURST_S.0 * RATE_HZ) as usize,
+        (BURST_S.1 * RATE_HZ) as usize,
+    );
+    let burst = signals::white_noise(b - a, 5e-3, 7);
+    for (v, n) in x.iter_mut().zip(room) {
+        *v += n;
+    }
+    for (i, n) in burst.into_iter().enumerate() {
+        let ramp = ((i.min(b - a - 1 - i) as f32) / 160.0).min(1.0);
+        x[a + i] += n * ramp;
+    }
+    let cut_at = ((BURST_S.0 + 0.15) * RATE_HZ) as usize;
+    for v in &mut x[cut_at..b] {
+        *v *= 0.01;
+    }
+    assert_rest_put_back_beside_remnant("attenuated", &x);
+}
+
+/// `audio` (the phrases, with a breath in the pause that an edit left short) gets one breath
+/// heard, the remnant, and one put back in the pause from the remnant's end.
+fn assert_rest_put_back_beside_remnant(name: &str, audio: &[f32]) {
+    let (existing, inserted) = run(audio);
+    assert_eq!(
+        existing.len(),
+        1,
+        "{name}: the remnant is heard: {existing:?}"
+    );
+    let remnant_end_s = existing[0].1;
+    let beside: Vec<_> = inserted
+        .iter()
+        .filter(|&&(a, b)| a >= 1.6 && b <= 2.5)
+        .collect();
+    assert_eq!(
+        beside.len(),
+        1,
+        "{name}: one breath put back in the pause: {inserted:?}"
+    );
+    let (start_s, end_s) = *beside[0];
+    assert!(
+        (start_s - remnant_end_s).abs() < 0.06 && end_s - start_s >= 0.12,
+        "{name}: put back at {start_s:.3}..{end_s:.3} s, the remnant ends at \
+         {remnant_end_s:.3} s"
+    );
 }
 
 /// `x` quantised to 16 bits with TPDF dither of one least step (seeded).
