@@ -173,9 +173,11 @@ impl Finding {
                 crate::plot::time_label(*from_s, from_s.max(60.0))
             ),
             Finding::Quiet { peak_db } => format!(
-                "the input is very quiet (its peak lies at {peak_db:.0} dBFS): frames under \
-                 {:.0} dBFS are never voiced, so much of its speech goes unheard; normalise it \
-                 first (e.g. `sox IN OUT gain -n -1`) and render it again",
+                "the input is very quiet (its peak lies at {peak_db:.0} dBFS): until the \
+                 speaker's level is learnt, frames under {:.0} dBFS are not voiced, so soft \
+                 syllables go unheard or pass for breaths, and the breaths come out louder \
+                 against the speech than in the same take at a normal level; normalise it first \
+                 (e.g. `sox IN OUT gain -n -1`) and render it again",
                 SILENCE_DB.default
             ),
         }

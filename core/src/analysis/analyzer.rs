@@ -16,7 +16,7 @@ use super::frame::FeatureFrame;
 use super::level::amplitude_to_db;
 use super::noise_floor::NoiseFloor;
 use super::pitch::{FrameAnalysis, NsdfPitch};
-use super::speaker_norm::SpeakerNorm;
+use super::speaker_norm::{quiet_shift_db, SpeakerNorm};
 use super::tracking::Tracker;
 use super::voicing::{
     period_jump_octaves, VoicingEvidence, VoicingFeatures, VoicingRule, TRACK_CAP_S,
@@ -457,17 +457,21 @@ impl State {
             track_s: self.track_s,
         };
         let features = evidence.features();
+        let silence_db = self.silence_db + quiet_shift_db(self.speaker.speech_level_db());
         self.periodic_level.update(
-            long_clarity >= FLOOR_MAX_PERIODICITY && rms_db >= self.silence_db,
+            long_clarity >= FLOOR_MAX_PERIODICITY && rms_db >= silence_db,
             chosen.f0_hz,
             rms_db,
         );
         self.previous_f0_hz = chosen.f0_hz;
         self.previous_clarity = long_clarity;
+        // The tracker's silence gate is `silence_db` as set; a quiet speaker's frames are
+        // judged against it that much louder, so their soft syllables stay voice (the shift of
+        // the speech level before this frame).
         let t = self.tracker.update(
             chosen,
             self.pitch.candidates(),
-            rms_db,
+            rms_db + (self.silence_db - silence_db),
             &features,
             periodicity,
             evidence.edge_newest,

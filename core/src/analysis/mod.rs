@@ -32,7 +32,7 @@ pub use level::{
     amplitude_to_db, no_signal_peak_db, quiet_peak_db, rms, LEVEL_FLOOR_DB, SPEECH_CREST_DB,
 };
 pub use pitch::{NsdfPitch, PitchEstimate};
-pub use speaker_norm::{SpeakerNorm, SpeakerNormConfig};
+pub use speaker_norm::{quiet_shift_db, SpeakerNorm, SpeakerNormConfig, QUIET_SPEECH_DB};
 pub use voicing::{
     InvalidVoicingModel, VoicingFeatures, VoicingModel, VoicingModelError, N_VOICING_FEATURES,
     VOICING_FEATURES,

@@ -7,6 +7,25 @@
 //! over voiced frames. Both start from a prior worth `prior_weight_s` seconds of speech, so the
 //! first frames of a stream are not normalised against themselves alone.
 
+/// Running speech level (full band, dBFS) at or over which the absolute levels set for speech
+/// hold as set: the analysis's voicing silence (`silence_db`), the phrase tracker's silence
+/// level (`phrase_silence_db`) and a cut's ceiling; under it they move down with the speech,
+/// so a quiet take's soft syllables stay voice and its soft sounds stay over its silence.
+/// Every recording in `../shared/data` speaks at −20 to −30 dBFS (median of the voiced
+/// frames), so the rule changes nothing there.
+pub const QUIET_SPEECH_DB: f32 = -30.0;
+
+/// How far levels set for speech at [`QUIET_SPEECH_DB`] move for a speaker whose running
+/// speech level is `speech_level_db` (dBFS): 0 at or over it, the speech's shortfall under it
+/// (negative), 0 before any level is known.
+pub fn quiet_shift_db(speech_level_db: f32) -> f32 {
+    if speech_level_db.is_finite() {
+        (speech_level_db - QUIET_SPEECH_DB).min(0.0)
+    } else {
+        0.0
+    }
+}
+
 use super::error::AnalysisError;
 use crate::settings::analysis::{
     SPEAKER_HALF_LIFE_S, SPEAKER_PRIOR_F0_HZ, SPEAKER_PRIOR_LEVEL_DB, SPEAKER_PRIOR_WEIGHT_S,

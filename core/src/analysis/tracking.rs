@@ -109,7 +109,9 @@ impl Tracker {
         self.smoother.reset();
     }
 
-    /// One frame: the chosen period and all key maxima, the frame's level, voicing features,
+    /// One frame: the chosen period and all key maxima, the frame's level (as judged against
+    /// the silence gate: the analyzer raises a quiet speaker's, see `quiet_shift_db`), voicing
+    /// features,
     /// periodicity (for the reported confidence) and the clarity of `chosen` on the newest end
     /// of the window alone (`newest_clarity`, 0 when that end picks another period).
     pub(crate) fn update(

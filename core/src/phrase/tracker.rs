@@ -16,7 +16,7 @@ use super::silent_run::{
     SilentRuns, CUT_CEILING_DB, GATED_DB, TOUCH_S, UNDER_ROOM_DB, UNDER_ROOM_MAX_S,
 };
 use crate::analysis::noise_floor::NoiseFloor;
-use crate::analysis::FeatureFrame;
+use crate::analysis::{quiet_shift_db, FeatureFrame};
 
 /// Number of half-second blocks the noise floor looks back over.
 const FLOOR_BLOCKS: usize = 6;
@@ -57,13 +57,6 @@ struct Candidate {
     /// Voiced frames in it.
     voiced: u32,
 }
-
-/// Running speech level (full band, dBFS) at or over which the silence level
-/// (`phrase_silence_db`) and a cut's ceiling ([`CUT_CEILING_DB`]) hold as set; under it they
-/// move down with the speech.
-/// Every recording in `../shared/data` speaks at −20 to −30 dBFS (median of the voiced frames),
-/// so the rule changes nothing there and keeps a quiet take's soft sounds over its silence.
-const QUIET_SPEECH_DB: f32 = -30.0;
 
 /// What [`PhraseTracker::reset`] clears.
 #[derive(Debug, Clone, Copy)]
@@ -277,15 +270,11 @@ impl PhraseTracker {
         // phrase's edges ran over the whole pause. (The tracker's silence level would also
         // take a quiet room's pauses for silence and lift the floor over them.)
         let gated = rms_db <= GATED_DB;
-        // Levels set for speech at [`QUIET_SPEECH_DB`] or louder (the silence level, a cut's
+        // Levels set for speech at `QUIET_SPEECH_DB` or louder (the silence level, a cut's
         // ceiling) move down with a quieter speaker's running speech level: in a raw take or at
         // a low gain they lie as far under the speech as they would there, so soft breaths and
         // consonants stay sound and the room stays a room as the gain goes down.
-        let quiet_shift_db = if frame.speech_level_db.is_finite() {
-            (frame.speech_level_db - QUIET_SPEECH_DB).min(0.0)
-        } else {
-            0.0
-        };
+        let quiet_shift_db = quiet_shift_db(frame.speech_level_db);
         // A cut that left a 16-bit export's dither (or a gate's residue) under the ceiling, once
         // sound has been heard. It only marks the pause's silent stretches (what a cut left of
         // a breath); the floor learns from it as from any room.

@@ -143,7 +143,9 @@ pub static SILENCE_DB: Setting = Setting {
     default: -60.0,
     off: None,
     scope: Scope::Stream,
-    help: "Frames below this RMS level are never voiced",
+    help: "Frames below this RMS level are never voiced while the speaker's running speech \
+           level lies at -30 dBFS or louder; under a quieter speaker it moves down with that \
+           level",
     why: "from the 20-bit noise floor to full scale",
 };
 

@@ -520,3 +520,19 @@ fn a_quiet_talker_is_voiced_before_the_speech_level_adapts() {
     assert!(f.iter().all(|f| f.voiced), "a frame of the vowel unvoiced");
     assert!(f.iter().all(|f| cents(f.f0_hz, 120.0).abs() < 20.0));
 }
+
+#[test]
+fn a_quiet_take_is_voiced_as_the_same_take_at_a_normal_level() {
+    // The example voice 35 dB down (speech near -55 dBFS): its soft syllables lie under the
+    // voicing's silence gate (-60 dBFS) and went unvoiced (1417 of the 1640 frames voiced at the
+    // normal level); the gate now moves down with the speaker's running level under -30 dBFS.
+    let (voice, sr) = pneuma_testkit::voice::example_voice();
+    let sr = f64::from(sr);
+    let quiet: Vec<f32> = voice.iter().map(|v| v * 10f32.powf(-35.0 / 20.0)).collect();
+    let voiced = |x: &[f32]| analyse(x, sr).iter().filter(|f| f.voiced).count();
+    let (normal, low) = (voiced(&voice), voiced(&quiet));
+    assert!(
+        low as f64 >= 0.9 * normal as f64,
+        "{low} frames voiced 35 dB down, {normal} at the normal level"
+    );
+}
