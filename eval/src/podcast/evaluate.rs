@@ -106,6 +106,11 @@ struct BreathTally {
     near_voicing: usize,
     /// Each breath of `on_speech`: where it lies and which side of it is on speech.
     on_speech_at: Vec<String>,
+    /// With no speech (truth) within [`AWAY_FROM_SPEECH_S`] before it nor after it: a breath
+    /// in a silence that holds no speech on either side (before a song, between stings).
+    away: usize,
+    /// Each breath of `away`: where it lies.
+    away_at: Vec<String>,
     /// Each pause of clean speech or under a deep bed (the judged kinds) without a breath:
     /// where it lies and what the engine heard in it.
     missed_pauses_at: Vec<String>,
@@ -195,6 +200,18 @@ fn pneuma_frames(episode: &Episode, a: &SpeechAnalysis, model: &SpeechModel) -> 
 }
 
 /// Seconds of `[a, b)` that lie on label frames where `on` holds.
+/// How far from any speech a breath lies when it has no speech on either side, seconds: a
+/// breath belongs to the phrase after it (and a catch breath to the speech around it) within
+/// a pause or two; one with no word this near is nobody's.
+const AWAY_FROM_SPEECH_S: f64 = 2.0;
+
+/// The breath `(a, e)` (seconds) has no speech `truth` frame within [`AWAY_FROM_SPEECH_S`]
+/// before it nor after it.
+fn away_from_speech((a, e): (f64, f64), truth: &[bool]) -> bool {
+    let near = |from_s: f64, to_s: f64| overlap_s(from_s, to_s, truth.len(), |k| truth[k]) > 0.0;
+    !near(a - AWAY_FROM_SPEECH_S, a) && !near(e, e + AWAY_FROM_SPEECH_S)
+}
+
 fn overlap_s(a: f64, b: f64, frames: usize, on: impl Fn(usize) -> bool) -> f64 {
     let first = (a * FRAMES_PER_S).floor().max(0.0) as usize;
     let last = ((b * FRAMES_PER_S).ceil() as usize).min(frames);
@@ -354,6 +371,10 @@ impl BreathTally {
                     1e3 * on_speech_s
                 ));
             }
+            if away_from_speech((a, e), &l.truth[..n]) {
+                self.away += 1;
+                self.away_at.push(place(episode, a, e));
+            }
             if overlap_s(a, e, n, |k| real_breath[k]) > OVERLAP_S {
                 if let Some(seg) = segment_at(episode, (a, e)) {
                     self.on_real_breath[kind_of(seg.condition)] += 1;
@@ -446,6 +467,7 @@ fn breath_targets(mode: Mode, t: &BreathTally) -> Vec<Target> {
         none("in singing", t.singing),
         none("in noise-only spans", t.noise),
         none("on speech", t.on_speech),
+        none("with no speech within 2 s on either side", t.away),
         (
             format!("{m}: pauses >= 0.4 s with a breath, clean speech >= 0.90"),
             format!("{:.2}", share(t.pauses[0])),
@@ -623,6 +645,9 @@ fn print_report(
     row("in music-only spans", &|t| t.music.to_string());
     row("in singing", &|t| t.singing.to_string());
     row("in noise-only spans", &|t| t.noise.to_string());
+    row("with no speech within 2 s on either side", &|t| {
+        t.away.to_string()
+    });
     row("on speech (> 30 ms)", &|t| t.on_speech.to_string());
     row("  of them within 80 ms of voicing", &|t| {
         t.near_voicing.to_string()
@@ -634,6 +659,9 @@ fn print_report(
     for (mode, t) in Mode::ALL.iter().zip(breaths) {
         for at in &t[0].on_speech_at {
             println!("    on speech, {}, held out: {at}", mode.name());
+        }
+        for at in &t[0].away_at {
+            println!("    no speech near, {}, held out: {at}", mode.name());
         }
     }
     for (i, kind) in PAUSE_KINDS.iter().enumerate() {
@@ -720,6 +748,18 @@ mod tests {
         let half = overlap_s(0.075, 0.2, 100, on);
         assert!((half - 0.025).abs() < 1e-9, "{half}");
         assert_eq!(overlap_s(0.2, 0.3, 100, on), 0.0);
+    }
+
+    #[test]
+    fn a_breath_is_away_from_speech_with_none_within_2_s_on_either_side() {
+        // Speech truth at 0-1 s and at 9-10 s (10 ms frames).
+        let truth: Vec<bool> = (0..1000).map(|k| !(100..900).contains(&k)).collect();
+        assert!(away_from_speech((4.0, 4.5), &truth));
+        // Speech within 2 s after (a breath before a phrase) or before (after a phrase).
+        assert!(!away_from_speech((7.2, 7.6), &truth));
+        assert!(!away_from_speech((2.5, 3.0), &truth));
+        // Edges just over 2 s from the speech on both sides (it ends at 1.0 s, resumes at 9.0 s).
+        assert!(away_from_speech((3.01, 6.99), &truth));
     }
 
     #[test]
