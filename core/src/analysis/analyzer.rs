@@ -457,21 +457,22 @@ impl State {
             track_s: self.track_s,
         };
         let features = evidence.features();
-        let silence_db = self.silence_db + quiet_shift_db(self.speaker.speech_level_db());
+        // A quiet speaker's silence gate lies this much lower (the speech level before this
+        // frame), for the periodic level and the voicing.
+        let shift_db = quiet_shift_db(self.speaker.speech_level_db());
         self.periodic_level.update(
-            long_clarity >= FLOOR_MAX_PERIODICITY && rms_db >= silence_db,
+            long_clarity >= FLOOR_MAX_PERIODICITY && rms_db >= self.silence_db + shift_db,
             chosen.f0_hz,
             rms_db,
         );
         self.previous_f0_hz = chosen.f0_hz;
         self.previous_clarity = long_clarity;
-        // The tracker's silence gate is `silence_db` as set; a quiet speaker's frames are
-        // judged against it that much louder, so their soft syllables stay voice (the shift of
-        // the speech level before this frame).
+        // The tracker's silence gate is `silence_db` as set: a quiet speaker's frames are
+        // judged against it that much louder, so their soft syllables stay voice.
         let t = self.tracker.update(
             chosen,
             self.pitch.candidates(),
-            rms_db + (self.silence_db - silence_db),
+            rms_db - shift_db,
             &features,
             periodicity,
             evidence.edge_newest,

@@ -7,6 +7,12 @@
 //! over voiced frames. Both start from a prior worth `prior_weight_s` seconds of speech, so the
 //! first frames of a stream are not normalised against themselves alone.
 
+use super::error::AnalysisError;
+use crate::settings::analysis::{
+    SPEAKER_HALF_LIFE_S, SPEAKER_PRIOR_F0_HZ, SPEAKER_PRIOR_LEVEL_DB, SPEAKER_PRIOR_WEIGHT_S,
+};
+use crate::settings::setting::{check_fields, field, Field};
+
 /// Running speech level (full band, dBFS) at or over which the absolute levels set for speech
 /// hold as set: the analysis's voicing silence (`silence_db`), the phrase tracker's silence
 /// level (`phrase_silence_db`) and a cut's ceiling; under it they move down with the speech,
@@ -25,12 +31,6 @@ pub fn quiet_shift_db(speech_level_db: f32) -> f32 {
         0.0
     }
 }
-
-use super::error::AnalysisError;
-use crate::settings::analysis::{
-    SPEAKER_HALF_LIFE_S, SPEAKER_PRIOR_F0_HZ, SPEAKER_PRIOR_LEVEL_DB, SPEAKER_PRIOR_WEIGHT_S,
-};
-use crate::settings::setting::{check_fields, field, Field};
 
 /// Lowest f0 the histogram covers, Hz.
 const HIST_MIN_HZ: f64 = 30.0;

@@ -274,18 +274,19 @@ impl PhraseTracker {
         // ceiling) move down with a quieter speaker's running speech level: in a raw take or at
         // a low gain they lie as far under the speech as they would there, so soft breaths and
         // consonants stay sound and the room stays a room as the gain goes down.
-        let quiet_shift_db = quiet_shift_db(frame.speech_level_db);
+        let shift_db = quiet_shift_db(frame.speech_level_db);
         // A cut that left a 16-bit export's dither (or a gate's residue) under the ceiling, once
         // sound has been heard. It only marks the pause's silent stretches (what a cut left of
         // a breath); the floor learns from it as from any room.
-        let cut = s.heard_sound && rms_db <= CUT_CEILING_DB + quiet_shift_db;
+        let cut = s.heard_sound && rms_db <= CUT_CEILING_DB + shift_db;
         // A frame far under the room (a breath an editor attenuated rather than gated) marks
         // the pause's silent stretches as a cut does, and, like digital silence, does not
         // teach the floor, for as long as an edit lasts; then it is the room's new level.
         // The room is the floor as the last quiet frame of a pause after a phrase left it
         // (after a long phrase the floor's window holds only the phrase; before the first
-        // phrase ends, the floor may still sit at the voice). A stretch begins [`UNDER_ROOM_DB`] under it and goes on at half that (the
-        // edit's own ripple, the room's tail fading into it).
+        // phrase ends, the floor may still sit at the voice). A stretch begins
+        // [`UNDER_ROOM_DB`] under it and goes on at half that (the edit's own ripple, the
+        // room's tail fading into it).
         let going = s.under_room_frames > 0;
         let low = rms_db <= s.room_db - if going { 0.5 } else { 1.0 } * UNDER_ROOM_DB;
         s.under_room_frames = if low { s.under_room_frames + 1 } else { 0 };
@@ -299,7 +300,7 @@ impl PhraseTracker {
         } else {
             rms_db
         };
-        let silence_db = c.silence_db + quiet_shift_db;
+        let silence_db = c.silence_db + shift_db;
         let over_floor = rms_db >= s.floor_db + c.edge_margin_db && rms_db > silence_db;
         let loud = rms_db >= s.floor_db + c.activity_margin_db
             && rms_db >= speech_level_db - c.unvoiced_drop_db

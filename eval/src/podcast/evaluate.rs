@@ -199,7 +199,6 @@ fn pneuma_frames(episode: &Episode, a: &SpeechAnalysis, model: &SpeechModel) -> 
     frames_in(&kept, episode.frames())
 }
 
-/// Seconds of `[a, b)` that lie on label frames where `on` holds.
 /// How far from any speech a breath lies when it has no speech on either side, seconds: a
 /// breath belongs to the phrase after it (and a catch breath to the speech around it) within
 /// a pause or two; one with no word this near is nobody's.
@@ -212,6 +211,7 @@ fn away_from_speech((a, e): (f64, f64), truth: &[bool]) -> bool {
     !near(a - AWAY_FROM_SPEECH_S, a) && !near(e, e + AWAY_FROM_SPEECH_S)
 }
 
+/// Seconds of `[a, b)` that lie on label frames where `on` holds.
 fn overlap_s(a: f64, b: f64, frames: usize, on: impl Fn(usize) -> bool) -> f64 {
     let first = (a * FRAMES_PER_S).floor().max(0.0) as usize;
     let last = ((b * FRAMES_PER_S).ceil() as usize).min(frames);
@@ -337,9 +337,7 @@ impl BreathTally {
             }
         }
         let n = episode.frames();
-        let alone = |k: usize, class: Class| {
-            l.class[k] == Some(class) && l.role[k].is_some_and(|r| r.stands_alone())
-        };
+        let alone = |k: usize, class: Class| l.class[k] == Some(class) && l.stands_alone(k);
         let real_breath = real.breath_frames(episode);
         for b in &out.breaths {
             self.inserted += 1;
@@ -418,9 +416,7 @@ impl BreathTally {
         let l = &episode.labels;
         let n = episode.frames();
         let class_of = |k: usize| {
-            let alone = |class: Class| {
-                l.class[k] == Some(class) && l.role[k].is_some_and(|r| r.stands_alone())
-            };
+            let alone = |class: Class| l.class[k] == Some(class) && l.stands_alone(k);
             if l.truth[k] {
                 Some(0)
             } else if alone(Class::MusicOnly) {

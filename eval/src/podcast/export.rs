@@ -4,8 +4,8 @@
 //! frame's start), `truth` (speech truth, 0/1), `near_voicing` (within 80 ms of the reference
 //! voicing), `class` (what the frame holds, empty where unlabelled), `alone` (1 where music or
 //! noise stands alone, outside any speech segment: the frames the body figures count, 0 under
-//! a segment or unlabelled), `real_breath` (on a clear labelled breath). No audio of the shared data ever goes into the repository: write outside
-//! it.
+//! a segment or unlabelled), `real_breath` (on a clear labelled breath). No audio of the shared
+//! data ever goes into the repository: write outside it.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -40,7 +40,7 @@ fn labels_csv(episode: &Episode, real_breath: &[bool]) -> String {
     let mut out = String::from("time_s,truth,near_voicing,class,alone,real_breath\n");
     for (k, &breath) in real_breath.iter().enumerate().take(episode.frames()) {
         let class = l.class[k].map_or("", |c| c.name());
-        let alone = l.role[k].is_some_and(|r| r.stands_alone());
+        let alone = l.stands_alone(k);
         let _ = writeln!(
             out,
             "{:.2},{},{},{class},{},{}",

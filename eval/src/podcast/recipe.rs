@@ -227,6 +227,14 @@ pub struct Labels {
     pub noise: Vec<Option<Noise>>,
 }
 
+impl Labels {
+    /// Frame `k` holds music or noise standing alone, outside any speech segment
+    /// ([`Role::stands_alone`]).
+    pub fn stands_alone(&self, k: usize) -> bool {
+        self.role[k].is_some_and(|r| r.stands_alone())
+    }
+}
+
 /// One episode: the mix, the clean speech track and the labels.
 #[derive(Debug, Clone)]
 pub struct Episode {
