@@ -27,10 +27,18 @@ pub(super) const CUT_CEILING_DB: f32 = -90.0;
 /// recorded room never falls that far under its own floor within a few seconds.
 pub(super) const UNDER_ROOM_DB: f32 = 20.0;
 
-/// Longest stretch under the room taken as an editor's (a breath lasts under a second, 0.8 s
-/// at most in `../shared/data`), seconds: a level that stays that low is the room's own from
-/// then on (a fan switched off, a denoiser's floor), and the noise floor learns it.
+/// Longest time under the room taken as an editor's (a breath lasts under a second, 0.8 s at
+/// most in `../shared/data`), seconds, counted over every frame under it since the room was
+/// last heard ([`ROOM_HEARD_S`]), across phrases: a level that stays that low is the room's
+/// own from then on (a fan switched off, a denoiser's floor, a music bed that stopped under
+/// the voice, whose later pauses and word gaps all lie under the old room), and the noise
+/// floor learns it.
 pub(super) const UNDER_ROOM_MAX_S: f32 = 1.0;
+
+/// How long frames must lie at the room (neither under it, nor speech, nor a cut) for the room
+/// to be heard again, seconds: an edit leaves the room around what it lowered, while a
+/// vowel's decay passes the room's level in a frame or two.
+pub(super) const ROOM_HEARD_S: f32 = 0.05;
 
 /// Most a breath-like run and a stretch of digital silence may lie apart and still touch (a
 /// gate's release, a frame's rounding), seconds.

@@ -13,7 +13,7 @@ use super::floor_bands::{
     FloorBands, FLOOR_BAND_TAU_S, FLOOR_BAND_UNDER_SPEECH_DB, FLOOR_BAND_WITHIN_DB,
 };
 use super::silent_run::{
-    SilentRuns, CUT_CEILING_DB, GATED_DB, TOUCH_S, UNDER_ROOM_DB, UNDER_ROOM_MAX_S,
+    SilentRuns, CUT_CEILING_DB, GATED_DB, ROOM_HEARD_S, TOUCH_S, UNDER_ROOM_DB, UNDER_ROOM_MAX_S,
 };
 use crate::analysis::noise_floor::NoiseFloor;
 use crate::analysis::{quiet_shift_db, FeatureFrame};
@@ -33,8 +33,10 @@ struct FrameCounts {
     run_gap: u64,
     /// [`TOUCH_S`]: a breath run and digital silence this close touch.
     touch: u64,
-    /// [`UNDER_ROOM_MAX_S`]: the longest stretch under the room taken as an editor's.
+    /// [`UNDER_ROOM_MAX_S`]: the longest time under the room taken as an editor's.
     under_room_max: u32,
+    /// [`ROOM_HEARD_S`]: frames at the room in a row that hear it again.
+    room_heard: u32,
 }
 
 /// The phrase being spoken, or the last one.
@@ -67,6 +69,12 @@ struct TrackerState {
     heard_sound: bool,
     /// Frames in a row [`UNDER_ROOM_DB`] or more under the room.
     under_room_frames: u32,
+    /// Frames under the room since it was last heard (across phrases).
+    under_room_total: u32,
+    /// The lowest level among them, dBFS.
+    under_room_low_db: f32,
+    /// Frames in a row at the room.
+    at_room_frames: u32,
     /// The room: the noise floor as the last quiet frame of a pause after a phrase (not
     /// active, not a cut) left it, dBFS (−∞ before any).
     room_db: f32,
@@ -89,6 +97,9 @@ impl Default for TrackerState {
             floor_db: f32::NEG_INFINITY,
             heard_sound: false,
             under_room_frames: 0,
+            under_room_total: 0,
+            under_room_low_db: f32::INFINITY,
+            at_room_frames: 0,
             room_db: f32::NEG_INFINITY,
             floor_bands: FloorBands::default(),
             frames_seen: 0,
@@ -139,6 +150,7 @@ impl PhraseTracker {
                 run_gap: frames(config.run_gap_s),
                 touch: frames(TOUCH_S as f32),
                 under_room_max: frames(UNDER_ROOM_MAX_S) as u32,
+                room_heard: frames(ROOM_HEARD_S) as u32,
             },
             breath_rules: BreathRules {
                 min_frames: frames(config.breath_min_s) as u32,
@@ -286,13 +298,26 @@ impl PhraseTracker {
         // (after a long phrase the floor's window holds only the phrase; before the first
         // phrase ends, the floor may still sit at the voice). A stretch begins
         // [`UNDER_ROOM_DB`] under it and goes on at half that (the edit's own ripple, the
-        // room's tail fading into it).
+        // room's tail fading into it). How long an edit lasts is counted since the room was
+        // last heard, not per stretch: a room that fell under the voice (a bed that stopped)
+        // leaves every later pause short of an edit's length, but not their sum.
         let going = s.under_room_frames > 0;
         let low = rms_db <= s.room_db - if going { 0.5 } else { 1.0 } * UNDER_ROOM_DB;
         s.under_room_frames = if low { s.under_room_frames + 1 } else { 0 };
-        let under_room = s.heard_sound && low && s.under_room_frames <= self.counts.under_room_max;
+        if low {
+            s.under_room_total += 1;
+            s.under_room_low_db = s.under_room_low_db.min(rms_db);
+        }
+        let under_room = s.heard_sound && low && s.under_room_total <= self.counts.under_room_max;
         if !(under_room || gated && s.heard_sound) {
-            s.floor_db = self.floor.update(Some(rms_db));
+            // Once the time under the room is past an edit's, the floor learns the lowest of
+            // it at once: the room's new level, not what comes next (a breath).
+            let level_db = if low {
+                rms_db.min(s.under_room_low_db)
+            } else {
+                rms_db
+            };
+            s.floor_db = self.floor.update(Some(level_db));
         }
         s.heard_sound |= !gated;
         let speech_level_db = if frame.speech_level_db.is_finite() {
@@ -311,6 +336,12 @@ impl PhraseTracker {
         if in_pause && !active && !gated && !cut && !under_room {
             s.room_db = s.floor_db;
         }
+        let at_room = !low && !active && !gated && !cut;
+        s.at_room_frames = if at_room { s.at_room_frames + 1 } else { 0 };
+        if s.at_room_frames >= self.counts.room_heard {
+            s.under_room_total = 0;
+            s.under_room_low_db = f32::INFINITY;
+        }
         // The room's own band levels, learnt on frames at the floor, are taken out of the
         // frame's band powers: what is left is the shape of the sound over the room.
         // A frame whose breath bands stand out over their own running minimum does not teach
@@ -318,10 +349,12 @@ impl PhraseTracker {
         // floor's margin and would otherwise be learnt as the room. Silence (under the
         // tracker's silence level: a pause an editor gated, or a room too quiet to colour a
         // breath) teaches it nothing either: a room learnt as silent from a gated pause
-        // leaves its hiss in the next breath's shape once the sound comes back.
+        // leaves its hiss in the next breath's shape once the sound comes back. Nor does a
+        // stretch under the room (an edit's): its shape is what the editor left, not the room.
         let breath_bands_db = frame.bands.breath_bands_db();
         let breath_floor_db = self.breath_floor.update(Some(breath_bands_db));
         if !voiced
+            && !under_room
             && rms_db > silence_db
             && rms_db <= s.floor_db + FLOOR_BAND_WITHIN_DB
             && rms_db <= speech_level_db - FLOOR_BAND_UNDER_SPEECH_DB

@@ -466,3 +466,75 @@ fn dithered_16_bit(x: &[f32]) -> Vec<f32> {
         })
         .collect()
 }
+
+#[test]
+fn a_breath_after_a_bed_stopped_under_speech_is_heard_and_not_doubled() {
+    // A bed (white noise at -34 dBFS) under the first phrase and its 1.2 s pause sets the
+    // room; it stops 0.3 s into the second phrase, under the voice, and a quiet room (-80
+    // dBFS) goes on. Phrases are words (0.25 s vowels, 0.08 s apart); the pauses after the
+    // second are short (0.7 s), and all but the first hold a real breath 20 dB over the new
+    // room (21 dB under the old one). Every pause and word gap lies far under the old room,
+    // each shorter than an editor's cut, but together longer: the room fell. The breaths are
+    // heard, and nothing is inserted over them. (The first pause after the fall, with a
+    // breath in it, would look as an attenuated breath does; it is left out.) Before, each
+    // pause was measured alone and the old room held for two pauses: their breaths were not
+    // heard and got a second one on top.
+    let n = |s: f64| (s * RATE_HZ) as usize;
+    let phrase = |x: &mut Vec<f32>, words: usize| {
+        for w in 0..words {
+            if w > 0 {
+                x.extend(vec![0.0; n(0.08)]);
+            }
+            x.extend(signals::harmonic_tone(
+                RATE_HZ,
+                0.25,
+                0.3,
+                &[1.0, 0.6, 0.4, 0.3],
+                |_| 140.0,
+            ));
+        }
+    };
+    let mut x = Vec::new();
+    phrase(&mut x, 5);
+    x.extend(vec![0.0; n(1.2)]);
+    let bed_end = x.len() + n(0.3);
+    phrase(&mut x, 5);
+    let mut bursts_s = Vec::new();
+    for k in 0..4 {
+        let pause_start_s = x.len() as f64 / RATE_HZ;
+        x.extend(vec![0.0; n(0.7)]);
+        if k > 0 {
+            bursts_s.push((pause_start_s + 0.15, pause_start_s + 0.55));
+        }
+        phrase(&mut x, 3);
+    }
+    x.extend(vec![0.0; n(0.8)]);
+    let bed = signals::white_noise(bed_end, 0.02, 31);
+    let room = signals::white_noise(x.len(), 1e-4, 32);
+    for (i, v) in x.iter_mut().enumerate() {
+        *v += room[i] + bed.get(i).copied().unwrap_or(0.0);
+    }
+    for &(a_s, b_s) in &bursts_s {
+        let (a, b) = (n(a_s), n(b_s));
+        for (i, v) in signals::white_noise(b - a, 1e-3, 33)
+            .into_iter()
+            .enumerate()
+        {
+            let ramp = ((i.min(b - a - 1 - i) as f32) / 160.0).min(1.0);
+            x[a + i] += v * ramp;
+        }
+    }
+    let (existing, inserted) = run(&x);
+    for &(a_s, b_s) in &bursts_s {
+        assert!(
+            existing
+                .iter()
+                .any(|&(s, e)| (s - a_s).abs() < 0.06 && (e - b_s).abs() < 0.06),
+            "the breath at {a_s:.2}..{b_s:.2} s is heard: {existing:?}"
+        );
+        assert!(
+            inserted.iter().all(|&(s, e)| e <= a_s || s >= b_s),
+            "nothing inserted over the breath at {a_s:.2}..{b_s:.2} s: {inserted:?}"
+        );
+    }
+}
