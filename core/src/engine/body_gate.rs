@@ -3,7 +3,8 @@
 //! moves its head (the engine sends the head to rest and clears the speaking flag).
 //!
 //! A phrase is judged on its first `JUDGE_WINDOW_S` ([`SpeechTrack::current`]), and once more
-//! on its own frames when it ends (the judgement the placement keeps: a phrase shorter than the
+//! on its own frames when it ends (the judgement the placement keeps, unless the phrase's
+//! voiced frames say otherwise, [`SpeechTrack::unsaid`]: a phrase shorter than the
 //! window may have been judged on pause frames past its end first). Until it is judged a phrase
 //! keeps the flag the one before left (a pause after music stays with the music; after a
 //! phrase judged speech, the flag of its voiced frames before its offset, below), unless

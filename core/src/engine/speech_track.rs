@@ -95,6 +95,11 @@ struct SpeechTrackState {
     silero_max: f32,
     /// The judgement of the phrase that ended last.
     ended: Option<bool>,
+    /// The phrase being spoken, judged speech by its first window, was found not to be by all
+    /// its voiced frames at some frame since ([`SpeechTrack::unsaid`]).
+    unsaid: bool,
+    /// The same of the phrase that ended last, by its voiced frames up to its offset too.
+    ended_unsaid: bool,
     /// Time of the last frame heard, seconds.
     last_frame_s: f64,
     /// The phrase tracker's lowest noise floor over its silence level so far, dBFS (+∞ before
@@ -109,6 +114,8 @@ impl Default for SpeechTrackState {
             phrase: None,
             silero_max: 0.0,
             ended: None,
+            unsaid: false,
+            ended_unsaid: false,
             last_frame_s: 0.0,
             quietest_floor_db: f32::INFINITY,
             summary: SpeechSummary::default(),
@@ -188,6 +195,11 @@ impl SpeechTrack {
                 self.state.silero_max = self.state.silero_max.max(silero_p);
             }
         }
+        if !self.state.unsaid && self.current() == Some((true, true)) {
+            self.state.unsaid = self
+                .current_onset_s()
+                .is_some_and(|on| self.voiced_phrase_is_not_speech(on, None));
+        }
         let s = &mut self.state.summary;
         s.frames += 1;
         // Sound stands over the quietest floor of the stream so far (the floor climbs into
@@ -208,6 +220,7 @@ impl SpeechTrack {
     /// A phrase started at `onset_s` (reported now, after the frame that confirmed it).
     pub(crate) fn phrase_started(&mut self, onset_s: f64) {
         self.state.phrase = Some(self.recent.judge_from(onset_s));
+        self.state.unsaid = false;
         self.state.silero_max = self
             .recent_silero
             .iter()
@@ -232,7 +245,8 @@ impl SpeechTrack {
     /// voiced frame (a gap between words says nothing); always speech when the decision is
     /// off. The body follows it on a phrase judged speech: speech that runs into singing or a
     /// sting stops moving the body once they bring the window's mean under the threshold.
-    /// Breath placement keeps the first window's judgement.
+    /// Breath placement keeps the first window's judgement (unless the phrase is
+    /// [`SpeechTrack::unsaid`]).
     pub(crate) fn voiced_window_is_speech(
         &self,
         onset_s: f64,
@@ -333,12 +347,30 @@ impl SpeechTrack {
                 .and_then(|j| j.is_speech(self.threshold))
                 .unwrap_or(false)
         };
+        self.state.ended_unsaid = speech
+            && (self.state.unsaid || self.voiced_phrase_is_not_speech(onset_s, Some(offset_s)));
         self.state.phrase = None;
+        self.state.unsaid = false;
         self.state.ended = Some(speech);
         let s = &mut self.state.summary;
         s.phrases += 1;
         s.speech_phrases += u64::from(speech);
         speech
+    }
+
+    /// The phrase being spoken was judged speech by its first window, and at some frame since
+    /// all its voiced frames so far were not speech ([`SpeechTrack::voiced_phrase_is_not_speech`]):
+    /// a sung line that starts like speech. Kept for the rest of the phrase, so a decision
+    /// taken seconds later (a whole-file render's pause, when its voiced frames have left the
+    /// ring) still knows it.
+    pub(crate) fn unsaid(&self) -> bool {
+        self.state.unsaid
+    }
+
+    /// [`SpeechTrack::unsaid`] of the phrase that ended last, or its voiced frames up to its
+    /// offset not speech.
+    pub(crate) fn last_ended_unsaid(&self) -> bool {
+        self.state.ended_unsaid
     }
 
     /// The judgement of the phrase that ended last ([`SpeechTrack::phrase_ended`]).

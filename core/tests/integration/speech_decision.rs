@@ -6,7 +6,7 @@
 //! every pause of 0.4 s or more and none on a phrase, offline, with the plugin's lookahead and
 //! live, and over a steady drone 16 dB under them keep every breath the engine places without
 //! the decision; music after the last phrase gets no breath before it, offline and with the
-//! plugin's lookahead; a long silence before a phrase gets a normal inhalation, not a sigh; any
+//! plugin's lookahead, nor does a sung line that starts like speech, offline; a long silence before a phrase gets a normal inhalation, not a sigh; any
 //! block partition gives the same output with the decision in place. The body does not speak
 //! along with music, singing or noise (no speaking flag, a head at rest, no inspiration) and
 //! moves on speech as it does without the decision.
@@ -516,6 +516,33 @@ fn music_after_the_last_phrase_gets_no_breath_before_it() {
              {music_s:.2} s): {after:?}"
         );
     }
+}
+
+#[test]
+fn a_sung_line_that_starts_like_speech_gets_no_breath_before_it_offline() {
+    // Two phrases, a pause, then a sung line whose first half second the model takes for
+    // speech (a spoken syllable or two leading straight into it, one phrase): the window
+    // judges it speech, but all its voiced frames say singing by the time a render decides
+    // the pause before it. That pause leads into no speech: no breath (a podcast's song after
+    // the talk). The pauses between the phrases keep theirs. Before, the placement kept the
+    // window's judgement and a breath went before the song.
+    let (mut audio, spans) = sequence(0.6, &[1.6, 1.2], &[0.8, 2.0]);
+    let last_s = spans[1].1;
+    let song_s = audio.len() as f64 / SR;
+    audio.extend(speech_into_singing(0.5, 3.0));
+    let (r, summary) = render(Mode::Offline, &audio);
+    assert_eq!(
+        (summary.phrases, summary.speech_phrases),
+        (3, 3),
+        "the window judges the sung line speech: {summary:?}"
+    );
+    assert_breath_in_every_pause(&r, &spans, "offline");
+    let after: Vec<&BreathEvent> = r.breaths.iter().filter(|b| b.end_s > last_s).collect();
+    assert!(
+        after.is_empty(),
+        "a breath after the last phrase of speech (ends {last_s:.2} s, the sung line from \
+         {song_s:.2} s): {after:?}"
+    );
 }
 
 #[test]

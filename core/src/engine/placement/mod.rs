@@ -485,7 +485,11 @@ impl Placement {
                 if !live {
                     // The phrase that ended is the last one seen, or, decided already, the
                     // one before the next pause.
-                    let speech = ctx.speech.last_ended();
+                    // A phrase judged speech by its first window whose voiced frames, all of
+                    // them, are not speech (a sung line that starts like speech) is not: the
+                    // body's judgement of it, so no breath is taken for a song.
+                    let unsaid = ctx.speech.last_ended_unsaid();
+                    let speech = ctx.speech.last_ended().map(|speech| speech && !unsaid);
                     match self.seen.back_mut() {
                         Some(last) => {
                             last.offset_s = Some(offset_s);
@@ -642,9 +646,10 @@ impl Placement {
         if let Some(speech) = ph.speech {
             return speech;
         }
-        // A phrase not yet ended is the one being spoken: the speech track's current judge.
+        // A phrase not yet ended is the one being spoken: the speech track's current judge,
+        // and, when it is speech, its voiced frames so far (as at its end, above).
         let visible = match ctx.speech.current() {
-            Some((speech, true)) => return speech,
+            Some((speech, true)) => return speech && !ctx.speech.unsaid(),
             Some((speech, false)) => speech,
             None => false,
         };
