@@ -231,3 +231,54 @@ fn a_live_stream_that_starts_in_silence_speaks_its_first_phrase_from_a_filled_lu
         "lung at the first word after a silence: live {live:.2}, lookahead {lookahead:.2}"
     );
 }
+
+/// The lung at the first frame of every run of speaking frames after the first, in `r`.
+fn lungs_at_phrase_starts(r: &Rendered) -> Vec<f32> {
+    let mut out = Vec::new();
+    let mut was_speaking = false;
+    for (f, _) in &r.frames {
+        if f.speaking && !was_speaking {
+            out.push(f.breathing.lung);
+        }
+        was_speaking = f.speaking;
+    }
+    out.into_iter().skip(1).collect()
+}
+
+fn median(mut v: Vec<f32>) -> f32 {
+    v.sort_by(f32::total_cmp);
+    v[v.len() / 2]
+}
+
+#[test]
+fn live_mode_fills_the_lung_in_the_pauses_the_speaker_takes() {
+    // Phrases with half-second pauses, as a read speaker's breath pauses last: live mode waits
+    // a minimum pause before it breathes in and cannot know when the next word comes, so its
+    // inhalation is sized to the pauses the speaker has taken, and a pause too short for a
+    // breath ends no group. The lung at each phrase's start (after the first) comes near what a
+    // lookahead render, which knows every pause, gives. Before, the preset's 0.6 s inhalation
+    // was cut short by the next word and every short pause started a small group: the median
+    // live lung was 0.28 against the lookahead's 0.55.
+    let (audio, _) = crate::generated_phrases::sequence(
+        0.6,
+        &[1.4, 0.9, 1.6, 1.1, 1.3, 0.8, 1.5, 1.2],
+        &[0.5, 0.45, 0.12, 0.55, 0.5, 0.1, 0.45, 0.8],
+    );
+    let sr = crate::generated_phrases::SR;
+    let starts = |mode| {
+        let mut c = config(mode, 0.25);
+        // Generated vowels are not speech to the speech decision.
+        c.placement.speech_only = false;
+        lungs_at_phrase_starts(&render(&c, &audio, sr))
+    };
+    let (live, lookahead) = (
+        starts(PlacementMode::Live),
+        starts(PlacementMode::Lookahead),
+    );
+    let (live_m, lookahead_m) = (median(live.clone()), median(lookahead.clone()));
+    assert!(
+        live_m >= 0.75 * lookahead_m && lookahead_m > 0.4,
+        "median lung at phrase starts: live {live_m:.2} {live:.2?}, lookahead {lookahead_m:.2} \
+         {lookahead:.2?}"
+    );
+}

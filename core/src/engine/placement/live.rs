@@ -2,8 +2,9 @@
 //! a breath of the speaker's under way or heard, and the speaker's own breath the breathing
 //! cycle inspires with.
 
-use super::{EventContext, Placement};
+use super::{breath_length_s, group_volume, live_wait_s, EventContext, Placement, MIN_BREATH_S};
 use crate::engine::schedule::{BreathAction, CycleAction, Schedule};
+use crate::engine::EngineConfig;
 
 impl Placement {
     /// Live mode: speech (or something like it) began in the pause, reported at `ctx.now` with
@@ -11,9 +12,21 @@ impl Placement {
     /// breath playing fades out (if the gate has not faded it already), and the breathing cycle
     /// stops inspiring (nor will it inspire with a breath heard after the activity).
     pub(super) fn live_activity(&mut self, ctx: &EventContext, from: u64, schedule: &mut Schedule) {
+        let planned = schedule.breath.len();
         schedule
             .breath
             .retain(|&(t, a)| !(t >= from && matches!(a, BreathAction::LiveStart { .. })));
+        // A breath cancelled before it began ended no group: the speech goes on in the one
+        // before (a short pause inside a group, as a lookahead render keeps it). One that
+        // began did.
+        let undo = self.state.live_group_undo.take();
+        if let Some((estimate_s, planned_s, spoken_s)) =
+            undo.filter(|_| schedule.breath.len() < planned)
+        {
+            let s = &mut self.state;
+            (s.group_estimate_s, s.group_planned_s, s.group_spoken_s) =
+                (estimate_s, planned_s, spoken_s);
+        }
         self.state.breath_end = self.state.breath_end.min(from);
         self.state.live_group_s = None;
         if ctx.breath_playing {
@@ -80,14 +93,32 @@ impl Placement {
             None if leading => self.new_group(ctx.config, self.state.group_estimate_s),
             None => return,
         };
+        // The speaker breathes: the group began.
+        self.state.live_group_undo = None;
         schedule
             .breath
             .retain(|&(_, a)| !matches!(a, BreathAction::LiveStart { .. }));
         self.state.breath_end = self.state.breath_end.min(ctx.now);
-        let length_s = ctx.config.breathing.map().length_inspiration_s;
+        let length_s = self.live_breath_s(ctx.config, group_s) as f32;
         schedule.cycle.insert_sorted((
             ctx.now as f64 / self.sample_rate_hz,
             CycleAction::Inspire { length_s, group_s },
         ));
+    }
+
+    /// Live mode: how long a breath for a group of `group_s` seconds lasts, seconds: as a
+    /// lookahead render sizes it ([`breath_length_s`]) for the pause this speaker usually
+    /// breathes in (the running estimate), within what is left of that pause after live
+    /// mode's wait and before the next onset's gap; at least [`MIN_BREATH_S`]. An inhalation
+    /// of the preset's length was cut short by the next word and left the lung shallow.
+    pub(super) fn live_breath_s(&self, config: &EngineConfig, group_s: f32) -> f64 {
+        let p = &config.placement;
+        let map = config.breathing.map();
+        let pause_s = f64::from(self.state.breath_pause_s);
+        let wait_s = live_wait_s(p);
+        let volume = f64::from(group_volume(&map, group_s));
+        breath_length_s(f64::from(map.length_inspiration_s), pause_s, volume)
+            .min(pause_s - wait_s - f64::from(p.gap_s))
+            .max(MIN_BREATH_S)
     }
 }

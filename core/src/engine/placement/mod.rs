@@ -38,10 +38,10 @@ use super::schedule::{BreathAction, CycleAction, Pending, Queue, Schedule};
 use super::speaker_level::{PhraseLevels, VoicedLevels, MIN_VOICED_FRAMES};
 use super::speech_track::{SpeechTrack, SILERO_SHOWS_SPEECH_S};
 use super::stream_start::StreamStart;
-use super::{EngineConfig, PlacementMode, MAX_CHANNELS};
+use super::{EngineConfig, PlacementConfig, PlacementMode, MAX_CHANNELS};
 use crate::analysis::FeatureFrame;
 use crate::breathing::learned::{speaker_reference_db, MAX_LEVEL_RE_SPEECH_DB};
-use crate::breathing::MIN_LUNG_VOLUME;
+use crate::breathing::{LowLevelParams, MIN_LUNG_VOLUME};
 use crate::phrase::{Pause, PhraseEvent};
 
 /// Shortest inhalation worth inserting, seconds.
@@ -52,8 +52,13 @@ const MIN_BREATH_S: f64 = 0.12;
 const REMNANT_SHARE: f64 = 0.5;
 /// Prior of a breath group's speech before any group was heard, seconds.
 pub(crate) const PRIOR_GROUP_S: f32 = 2.5;
-/// Weight of the newest group in the running estimate of a group's speech.
+/// Weight of the newest group in the running estimate of a group's speech (and of the newest
+/// pause in live mode's estimate of the speaker's pauses).
 const GROUP_SMOOTHING: f32 = 0.3;
+/// Prior of live mode's estimate of a pause the speaker breathes in (from the end of the
+/// phrase to the next onset), seconds, before any was heard: about what a read speaker's
+/// breath pauses last (Keele's f1: median 0.43 s over its nine pauses of 0.25 s or more).
+const PRIOR_BREATH_PAUSE_S: f32 = 0.5;
 /// Speech a group must have spoken before a catch breath may end it, seconds.
 const MIN_SPOKEN_BEFORE_CATCH_S: f32 = 1.0;
 /// How much more known speech than planned air a group tolerates before a catch breath, s.
@@ -227,6 +232,19 @@ pub(crate) fn breath_length_s(inspiration_s: f64, pause_s: f64, volume: f64) -> 
         .min(MAX_BREATH_S)
 }
 
+/// The lung volume (0..1) a breath takes in for a group of `group_s` seconds of speech: its
+/// share of a full breath's utterance, at least [`MIN_LUNG_VOLUME`] (as the breathing cycle's
+/// [`crate::breathing::BreathCycle::lung_volume_for`]).
+fn group_volume(map: &LowLevelParams, group_s: f32) -> f32 {
+    (group_s / map.length_utterance_s.max(1e-3)).clamp(MIN_LUNG_VOLUME, 1.0)
+}
+
+/// How long live mode waits after a phrase's end before a breath may start, seconds: the
+/// minimum pause (a shorter one gets none) and the silence kept after a phrase.
+fn live_wait_s(p: &PlacementConfig) -> f64 {
+    f64::from(p.min_pause_s.max(p.after_offset_s))
+}
+
 /// See the module docs.
 #[derive(Debug, Clone)]
 pub(crate) struct Placement {
@@ -269,6 +287,15 @@ struct PlacementState {
     /// Live mode: the group planned for the breath of the pause going on, until the speaker's
     /// own breath in it has started the cycle's inspiration.
     live_group_s: Option<f32>,
+    /// Live mode: where the pause going on began, when a breath was planned in it (after
+    /// speech).
+    live_pause_from_s: Option<f64>,
+    /// Live mode: running estimate of the pauses the speaker breathes in, seconds.
+    breath_pause_s: f32,
+    /// Live mode: the group's plan before the breath planned in the pause going on started a
+    /// new group (estimate, planned, spoken, seconds), until that breath starts; speech
+    /// before it cancels it, and the group goes on.
+    live_group_undo: Option<(f32, f32, f32)>,
 }
 
 impl Default for PlacementState {
@@ -287,6 +314,9 @@ impl Default for PlacementState {
             start: StreamStart::default(),
             live_breath_heard: false,
             live_group_s: None,
+            live_pause_from_s: None,
+            breath_pause_s: PRIOR_BREATH_PAUSE_S,
+            live_group_undo: None,
         }
     }
 }
@@ -438,6 +468,15 @@ impl Placement {
                 self.state.live_group_s = None;
                 self.state.levels.start();
                 if live {
+                    // The pause a breath was planned in ends: the speaker's pauses are known
+                    // better (those long enough for a breath).
+                    if let Some(from_s) = self.state.live_pause_from_s.take() {
+                        let pause_s = (onset_s - from_s) as f32;
+                        if pause_s >= p.min_pause_s {
+                            let est = &mut self.state.breath_pause_s;
+                            *est += GROUP_SMOOTHING * (pause_s - *est);
+                        }
+                    }
                     // The stream's first phrase, with no breath of the speaker's heard before
                     // it (the cycle inspired with none): the speaker breathed in before it, as
                     // a lookahead render says. Live mode learns of it at the phrase's
@@ -512,14 +551,22 @@ impl Placement {
                 // gate, in the breath track). Live mode takes no catch breaths under the
                 // minimum pause: with nothing known of the pause's length, a breath started
                 // earlier would often land on the next word. It plans each group from the
-                // running estimate instead (a deeper breath when groups run long).
-                let wait_s = (p.min_pause_s as f64).max(p.after_offset_s as f64);
-                let length_s = config.breathing.map().length_inspiration_s as f64;
+                // running estimate instead (a deeper breath when groups run long), and sizes
+                // the breath as a lookahead render would for the pause this speaker usually
+                // takes, within what is left of it after the wait: an inhalation that fits
+                // fills the lung before the next word, where one of the preset's length was
+                // cut short by it and left the lung shallow.
+                let wait_s = live_wait_s(p);
+                let level_db = self.local_speech_level_db(ctx.pending, None);
+                let st = &self.state;
+                self.state.live_group_undo =
+                    Some((st.group_estimate_s, st.group_planned_s, st.group_spoken_s));
+                let group_s = self.new_group(config, self.state.group_estimate_s);
+                let length_s = self.live_breath_s(config, group_s);
                 let start = ((((offset_s + wait_s) * rate).round() as u64).max(now))
                     .max(self.state.breath_end);
                 let length = (length_s * rate).round() as usize;
-                let level_db = self.local_speech_level_db(ctx.pending, None);
-                let group_s = self.new_group(config, self.state.group_estimate_s);
+                self.state.live_pause_from_s = Some(offset_s);
                 schedule.breath.insert_sorted((
                     start,
                     BreathAction::LiveStart {
@@ -751,7 +798,7 @@ impl Placement {
             .map_or(pause.start_s, |a| a.max(pause.start_s));
         let earliest_s =
             ((ctx.now + 1).saturating_sub(self.latency)).max(self.state.breath_end) as f64 / rate;
-        let volume = (coming_s / map.length_utterance_s.max(1e-3)).clamp(MIN_LUNG_VOLUME, 1.0);
+        let volume = group_volume(&map, coming_s);
         let mut window = None;
         // A breath already in a pause of speech drives the cycle: the inspiration lies on it
         // (and no sound is inserted, below), whatever the pause's length.
