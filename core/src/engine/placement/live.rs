@@ -1,12 +1,114 @@
-//! Live mode's answers to what the input does in a pause: activity (speech may have resumed),
-//! a breath of the speaker's under way or heard, and the speaker's own breath the breathing
-//! cycle inspires with.
+//! Live mode's placement: a phrase's start and end (the breath planned after speech, sized to
+//! the pauses this speaker takes), and its answers to what the input does in a pause: activity
+//! (speech may have resumed), a breath of the speaker's under way or heard, and the speaker's
+//! own breath the breathing cycle inspires with.
 
-use super::{breath_length_s, group_volume, live_wait_s, EventContext, Placement, MIN_BREATH_S};
+use super::{
+    breath_length_s, group_volume, live_wait_s, EventContext, Placement, GROUP_SMOOTHING,
+    MIN_BREATH_S,
+};
 use crate::engine::schedule::{BreathAction, CycleAction, Schedule};
 use crate::engine::EngineConfig;
+use crate::phrase::Pause;
 
 impl Placement {
+    /// Live mode: a phrase starts at `onset_s` after `pause`: the pause's estimate learns its
+    /// length, the stream's first phrase gets its filled lung when nothing inspired before it,
+    /// and the cycle expires the group; the onset is activity.
+    pub(super) fn live_phrase_started(
+        &mut self,
+        ctx: &EventContext,
+        onset_s: f64,
+        pause: Pause,
+        schedule: &mut Schedule,
+    ) {
+        let config = ctx.config;
+        let p = &config.placement;
+        let rate = self.sample_rate_hz;
+        // The pause a breath was planned in ends: the speaker's pauses are known
+        // better (those long enough for a breath).
+        if let Some(from_s) = self.state.live_pause_from_s.take() {
+            let pause_s = (onset_s - from_s) as f32;
+            if pause_s >= p.min_pause_s {
+                let est = &mut self.state.breath_pause_s;
+                *est += GROUP_SMOOTHING * (pause_s - *est);
+            }
+        }
+        // The stream's first phrase, with no breath of the speaker's heard before
+        // it (the cycle inspired with none): the speaker breathed in before it, as
+        // a lookahead render says. Live mode learns of it at the phrase's
+        // confirmation: a stream that starts in speech (no room for a breath
+        // before), or a breath too quiet or too short to hear in the silence before.
+        if pause.leading && self.state.group_planned_s <= 0.0 {
+            let group_s = self.new_group(config, self.state.group_estimate_s);
+            schedule
+                .cycle
+                .insert_sorted((onset_s, CycleAction::BreathedIn { group_s }));
+        }
+        let left_s = self.group_left_s();
+        schedule
+            .cycle
+            .insert_sorted((onset_s, CycleAction::UtteranceStarts { left_s }));
+        // The onset may lie before the first active frame (a quiet consonant).
+        self.live_activity(ctx, (onset_s * rate).round() as u64, schedule);
+    }
+
+    /// Live mode: the phrase at `(onset_s, offset_s)` ended: after speech, a breath is planned
+    /// for the pause (see below).
+    pub(super) fn live_phrase_ended(
+        &mut self,
+        ctx: &EventContext,
+        (onset_s, offset_s): (f64, f64),
+        schedule: &mut Schedule,
+    ) {
+        let config = ctx.config;
+        let p = &config.placement;
+        let rate = self.sample_rate_hz;
+        let now = ctx.now;
+        self.state.live_breath_heard = false;
+        // Live: a breath only after speech (the finished phrase's last half second).
+        if !ctx.speech.tail_is_speech(onset_s, offset_s) {
+            return;
+        }
+        self.state.group_spoken_s += (offset_s - onset_s).max(0.0) as f32;
+        // The inhalation (sound and cycle) starts once the pause has lasted the minimum
+        // pause and `after_offset_s`, unless the input is active then; activity before
+        // then cancels it (`live_activity`), activity while it plays fades it out (the
+        // gate, in the breath track). Live mode takes no catch breaths under the
+        // minimum pause: with nothing known of the pause's length, a breath started
+        // earlier would often land on the next word. It plans each group from the
+        // running estimate instead (a deeper breath when groups run long), and sizes
+        // the breath as a lookahead render would for the pause this speaker usually
+        // takes, within what is left of it after the wait: an inhalation that fits
+        // fills the lung before the next word, where one of the preset's length was
+        // cut short by it and left the lung shallow.
+        let wait_s = live_wait_s(p);
+        let level_db = self.local_speech_level_db(ctx.pending, None);
+        let st = &self.state;
+        self.state.live_group_undo =
+            Some((st.group_estimate_s, st.group_planned_s, st.group_spoken_s));
+        let group_s = self.new_group(config, self.state.group_estimate_s);
+        let length_s = self.live_breath_s(config, group_s);
+        let start =
+            ((((offset_s + wait_s) * rate).round() as u64).max(now)).max(self.state.breath_end);
+        let length = (length_s * rate).round() as usize;
+        self.state.live_pause_from_s = Some(offset_s);
+        schedule.breath.insert_sorted((
+            start,
+            BreathAction::LiveStart {
+                length,
+                gain: Self::breath_gain(config, level_db),
+                speaker_db: self.breath_speaker_db(ctx, None),
+                gains: ctx.gains,
+                edge_hz: ctx.upper_edge_hz,
+                audible: p.insert_breaths,
+                group_s,
+            },
+        ));
+        self.state.breath_end = start + length as u64;
+        self.state.live_group_s = Some(group_s);
+    }
+
     /// Live mode: speech (or something like it) began in the pause, reported at `ctx.now` with
     /// its first active frame at input sample `from`: nothing more starts in this pause, a
     /// breath playing fades out (if the gate has not faded it already), and the breathing cycle

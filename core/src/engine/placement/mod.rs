@@ -452,10 +452,7 @@ impl Placement {
     /// Schedules what phrase event `e` calls for (lookahead mode: remembers a phrase start for
     /// [`Placement::decide_due`]).
     pub(crate) fn on_event(&mut self, ctx: &EventContext, e: PhraseEvent, schedule: &mut Schedule) {
-        let config = ctx.config;
-        let p = &config.placement;
         let rate = self.sample_rate_hz;
-        let now = ctx.now;
         let live = self.mode == PlacementMode::Live;
         match e {
             PhraseEvent::Activity { time_s } => {
@@ -468,32 +465,7 @@ impl Placement {
                 self.state.live_group_s = None;
                 self.state.levels.start();
                 if live {
-                    // The pause a breath was planned in ends: the speaker's pauses are known
-                    // better (those long enough for a breath).
-                    if let Some(from_s) = self.state.live_pause_from_s.take() {
-                        let pause_s = (onset_s - from_s) as f32;
-                        if pause_s >= p.min_pause_s {
-                            let est = &mut self.state.breath_pause_s;
-                            *est += GROUP_SMOOTHING * (pause_s - *est);
-                        }
-                    }
-                    // The stream's first phrase, with no breath of the speaker's heard before
-                    // it (the cycle inspired with none): the speaker breathed in before it, as
-                    // a lookahead render says. Live mode learns of it at the phrase's
-                    // confirmation: a stream that starts in speech (no room for a breath
-                    // before), or a breath too quiet or too short to hear in the silence before.
-                    if pause.leading && self.state.group_planned_s <= 0.0 {
-                        let group_s = self.new_group(config, self.state.group_estimate_s);
-                        schedule
-                            .cycle
-                            .insert_sorted((onset_s, CycleAction::BreathedIn { group_s }));
-                    }
-                    let left_s = self.group_left_s();
-                    schedule
-                        .cycle
-                        .insert_sorted((onset_s, CycleAction::UtteranceStarts { left_s }));
-                    // The onset may lie before the first active frame (a quiet consonant).
-                    self.live_activity(ctx, (onset_s * rate).round() as u64, schedule);
+                    self.live_phrase_started(ctx, onset_s, pause, schedule);
                     return;
                 }
                 if self.seen.is_full() {
@@ -539,48 +511,7 @@ impl Placement {
                     }
                     return;
                 }
-                self.state.live_breath_heard = false;
-                // Live: a breath only after speech (the finished phrase's last half second).
-                if !ctx.speech.tail_is_speech(onset_s, offset_s) {
-                    return;
-                }
-                self.state.group_spoken_s += (offset_s - onset_s).max(0.0) as f32;
-                // The inhalation (sound and cycle) starts once the pause has lasted the minimum
-                // pause and `after_offset_s`, unless the input is active then; activity before
-                // then cancels it (`live_activity`), activity while it plays fades it out (the
-                // gate, in the breath track). Live mode takes no catch breaths under the
-                // minimum pause: with nothing known of the pause's length, a breath started
-                // earlier would often land on the next word. It plans each group from the
-                // running estimate instead (a deeper breath when groups run long), and sizes
-                // the breath as a lookahead render would for the pause this speaker usually
-                // takes, within what is left of it after the wait: an inhalation that fits
-                // fills the lung before the next word, where one of the preset's length was
-                // cut short by it and left the lung shallow.
-                let wait_s = live_wait_s(p);
-                let level_db = self.local_speech_level_db(ctx.pending, None);
-                let st = &self.state;
-                self.state.live_group_undo =
-                    Some((st.group_estimate_s, st.group_planned_s, st.group_spoken_s));
-                let group_s = self.new_group(config, self.state.group_estimate_s);
-                let length_s = self.live_breath_s(config, group_s);
-                let start = ((((offset_s + wait_s) * rate).round() as u64).max(now))
-                    .max(self.state.breath_end);
-                let length = (length_s * rate).round() as usize;
-                self.state.live_pause_from_s = Some(offset_s);
-                schedule.breath.insert_sorted((
-                    start,
-                    BreathAction::LiveStart {
-                        length,
-                        gain: Self::breath_gain(config, level_db),
-                        speaker_db: self.breath_speaker_db(ctx, None),
-                        gains: ctx.gains,
-                        edge_hz: ctx.upper_edge_hz,
-                        audible: p.insert_breaths,
-                        group_s,
-                    },
-                ));
-                self.state.breath_end = start + length as u64;
-                self.state.live_group_s = Some(group_s);
+                self.live_phrase_ended(ctx, (onset_s, offset_s), schedule);
             }
         }
     }
