@@ -81,6 +81,14 @@ pub enum Finding {
         /// Every other sample is zero: the output is silence.
         rest_silent: bool,
     },
+    /// The `--breath-like` file holds little or no speech (music, noise, another sound): a
+    /// breath voice learned from it is not the speaker's.
+    BreathLikeNotSpeech {
+        /// Share of its frames with sound that are speech, 0..1.
+        speech_share: f64,
+        /// Too little to learn from: the voice was not learned from it.
+        unused: bool,
+    },
     /// Speech went on with the lung drawn past its reserve for this long before a breath: no
     /// pause was long enough, or clear enough of other sound, for a breath.
     OutOfAir {
@@ -172,6 +180,22 @@ impl Finding {
                  breaths only into pauses and never lengthens them",
                 crate::plot::time_label(*from_s, from_s.max(60.0))
             ),
+            Finding::BreathLikeNotSpeech {
+                speech_share,
+                unused: true,
+            } => format!(
+                "the --breath-like file holds no speech (speech in {:.0} % of its time with \
+                 sound): the breath voice was not learned from it but, as without it, from the \
+                 input; give a raw take of the same speaker, breaths and all",
+                100.0 * speech_share
+            ),
+            Finding::BreathLikeNotSpeech { speech_share, .. } => format!(
+                "the --breath-like file is mostly music or other sound that is not speech \
+                 (speech in {:.0} % of its time with sound): breaths heard between its other \
+                 sounds went into the breath voice too; a raw take of the same speaker, breaths \
+                 and all, gives the speaker's own",
+                100.0 * speech_share
+            ),
             Finding::Quiet { peak_db } => format!(
                 "the input is very quiet (its peak lies at {peak_db:.0} dBFS): until the \
                  speaker's level is learnt, frames under {:.0} dBFS are not voiced, so soft \
@@ -194,6 +218,7 @@ impl Finding {
             Finding::Quiet { .. } => "quiet",
             Finding::NonFinite { .. } => "NaN samples",
             Finding::OutOfAir { .. } => "out of air",
+            Finding::BreathLikeNotSpeech { .. } => "breath-like not speech",
         }
     }
 }
@@ -367,11 +392,7 @@ fn signal_findings(energy: &ChannelEnergy, speech: &SpeechSummary, length_s: f64
     if peak_db < quiet_peak_db() {
         return vec![Finding::Quiet { peak_db }];
     }
-    let share = if speech.sound_frames == 0 {
-        0.0
-    } else {
-        speech.speech_frames as f64 / speech.sound_frames as f64
-    };
+    let share = speech_share(speech);
     if (share < NO_SPEECH_SHARE || speech.speech_phrases == 0) && length_s < JUDGE_WINDOW_S {
         vec![Finding::TooShort { length_s }]
     } else if share < NO_SPEECH_SHARE || speech.speech_phrases == 0 {
@@ -385,6 +406,28 @@ fn signal_findings(energy: &ChannelEnergy, speech: &SpeechSummary, length_s: f64
     } else {
         Vec::new()
     }
+}
+
+/// Share of the frames with sound that the speech decision calls speech, 0..1 (0 without
+/// sound).
+fn speech_share(speech: &SpeechSummary) -> f64 {
+    if speech.sound_frames == 0 {
+        0.0
+    } else {
+        speech.speech_frames as f64 / speech.sound_frames as f64
+    }
+}
+
+/// What the speech of a `--breath-like` file says about learning the breath voice from it:
+/// nothing when it is mostly speech, a note when it is mostly something else, and `unused`
+/// when it holds no speech (as [`findings`] would say of it rendered).
+pub fn breath_like_finding(speech: &SpeechSummary) -> Option<Finding> {
+    let share = speech_share(speech);
+    let unused = share < NO_SPEECH_SHARE || speech.speech_phrases == 0;
+    (unused || share < MOSTLY_OTHER_SHARE).then_some(Finding::BreathLikeNotSpeech {
+        speech_share: share,
+        unused,
+    })
 }
 
 #[cfg(test)]

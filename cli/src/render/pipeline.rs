@@ -191,6 +191,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         input_format,
         carried,
         mut engine,
+        breath_like_note,
         outputs,
     } = job;
     let WavMeta {
@@ -266,6 +267,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
     // ends with it).
     let length_s = pass.written as f64 / info.sample_rate_hz as f64;
     let mut found = findings(&energy, &engine.speech_summary(), length_s);
+    found.extend(breath_like_note);
     let voice = engine.voice_status();
     let voice_level = engine.learned_voice().map(|v| LearnedLevel {
         re_speech_db: v.level_re_speech_db,

@@ -12,6 +12,7 @@ use pneuma_core::engine::{Engine, EngineConfig, EngineError, PlacementMode};
 use pneuma_io::{AudioSource, InputFormat, WavMeta};
 
 use super::error::RenderError;
+use super::findings::Finding;
 use super::leftovers::Leftover;
 use super::marks::Optional;
 use crate::audio_out::Container;
@@ -303,6 +304,8 @@ pub struct Job {
     pub carried: WavMeta,
     /// The engine, prepared for the rendered rate and channels, with the breath samples.
     pub engine: Engine,
+    /// What the user should know about the `--breath-like` file.
+    pub breath_like_note: Option<Finding>,
     /// Where the outputs go.
     pub outputs: OutputPlan,
 }
@@ -454,7 +457,7 @@ impl Job {
             info.channels = 1;
         }
         check_input_shape(&info)?;
-        let engine = prepared_engine(args, input, config, &info)?;
+        let (engine, breath_like_note) = prepared_engine(args, input, config, &info)?;
         let mut outputs = OutputPlan::new(args, input, container)?;
         outputs.mp3 = mp3;
         Ok(Self {
@@ -468,6 +471,7 @@ impl Job {
             info,
             source,
             engine,
+            breath_like_note,
             outputs,
         })
     }
@@ -588,13 +592,14 @@ fn check_input_shape(info: &WavInfo) -> Result<(), RenderError> {
 
 /// The engine for `config` with the head model and breath samples `args` name and the breath
 /// voice learned for `input` ([`super::voice`]), prepared for the input's rate and channels,
-/// replaying the learning pass's analysis when there was one.
+/// replaying the learning pass's analysis when there was one; and what the user should know
+/// about the `--breath-like` file.
 fn prepared_engine(
     args: &Args,
     input: &Path,
     config: EngineConfig,
     info: &WavInfo,
-) -> Result<Engine, RenderError> {
+) -> Result<(Engine, Option<Finding>), RenderError> {
     let model =
         crate::options::load_head_model(args.head_model.as_deref()).map_err(RenderError::Input)?;
     let voice = super::voice::mode(
@@ -617,7 +622,7 @@ fn prepared_engine(
     for (slot, sample) in breath_samples(args)? {
         engine.set_breath_sample(slot, Some(sample));
     }
-    Ok(engine)
+    Ok((engine, voice.note))
 }
 
 /// The breath samples `args` name: `--breath-mouth` and `--breath-nose`, or the `mouth` and

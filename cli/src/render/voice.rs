@@ -8,12 +8,15 @@
 
 use std::path::Path;
 
+use pneuma_core::breathing::learned::LearnedVoice;
 use pneuma_core::engine::replay::AnalysisRecord;
 use pneuma_core::engine::voice_learning::{Learned, VoiceLearner};
-use pneuma_core::engine::{BreathVoiceMode, EngineConfig, PlacementMode};
+use pneuma_core::engine::{BreathVoiceMode, Engine, EngineConfig, PlacementMode, SpeechSummary};
+use pneuma_core::head::HeadModel;
 use pneuma_io::AudioSource;
 
 use super::error::RenderError;
+use super::findings::{breath_like_finding, Finding};
 
 /// Frames read per block of the learning pass.
 const BLOCK_FRAMES: usize = 8192;
@@ -26,6 +29,8 @@ pub struct VoicePlan {
     pub mode: BreathVoiceMode,
     /// The input's analysis when a learning pass heard it.
     pub record: Option<AnalysisRecord>,
+    /// What the user should know about the `--breath-like` file (it holds little speech).
+    pub note: Option<Finding>,
 }
 
 /// The breath voice of a render of `input` (channel `pick` of it, or all mixed) with `config`,
@@ -43,37 +48,94 @@ pub fn mode(
     pick: Option<usize>,
     config: &EngineConfig,
 ) -> Result<VoicePlan, RenderError> {
-    let streaming = |mode| VoicePlan { mode, record: None };
+    // The breath-like file, unless it holds no speech (then it is as if none were given).
+    let (like, note) = match breath_like {
+        Some(p) if !built_in => breath_like_voice(p, config)?,
+        _ => (None, None),
+    };
+    let unused = matches!(
+        note,
+        Some(Finding::BreathLikeNotSpeech { unused: true, .. })
+    );
+    let given = breath_like.is_some() && !built_in && !unused;
     // Live mode renders as the plugin does; standard input cannot be read twice: both learn
     // as they go.
     let whole_file = config.placement.whole_file
         && config.placement.mode == PlacementMode::Lookahead
         && input.as_os_str() != "-";
     if !whole_file {
-        return Ok(streaming(match breath_like {
+        let mode = match like {
             _ if built_in => BreathVoiceMode::BuiltIn,
             // As the plugin with a breath-like file: the take's level under its speech, held
             // against the stream's speech as it goes.
-            Some(p) => learn(p, None, config, false)?
-                .voice
-                .map_or(BreathVoiceMode::BuiltIn, BreathVoiceMode::Like),
+            Some(v) => BreathVoiceMode::Like(v),
+            None if given => BreathVoiceMode::BuiltIn,
             None => BreathVoiceMode::Learn,
-        }));
+        };
+        return Ok(VoicePlan {
+            mode,
+            record: None,
+            note,
+        });
     }
     // A whole-file render hears the whole input first, whatever its voice: the analysis to
     // replay, and the speech that colours the built-in voice.
     let heard = learn(input, pick, config, true)?;
-    let voice = match breath_like {
+    let voice = match like {
         _ if built_in => None,
-        Some(p) => learn(p, None, config, false)?
-            .voice
-            .map(|v| v.against_speech_db(heard.speech.speech_db)),
+        Some(v) => Some(v.against_speech_db(heard.speech.speech_db)),
+        None if given => None,
         None => heard.voice,
     };
     Ok(VoicePlan {
         mode: voice.map_or(BreathVoiceMode::BuiltIn, BreathVoiceMode::Fixed),
         record: heard.record,
+        note,
     })
+}
+
+/// The voice learned from the `--breath-like` file at `path` (`None`: no breath heard in it,
+/// or it holds no speech) and what to tell of its speech ([`breath_like_finding`]; not asked
+/// when the speech decision is off, `--any-sound`).
+fn breath_like_voice(
+    path: &Path,
+    config: &EngineConfig,
+) -> Result<(Option<LearnedVoice>, Option<Finding>), RenderError> {
+    let note = if config.placement.speech_only {
+        breath_like_finding(&speech_of(path, config)?)
+    } else {
+        None
+    };
+    if matches!(
+        note,
+        Some(Finding::BreathLikeNotSpeech { unused: true, .. })
+    ) {
+        return Ok((None, note));
+    }
+    Ok((learn(path, None, config, false)?.voice, note))
+}
+
+/// The speech decision over the file at `path` (its channels mixed as the engine mixes them),
+/// as a render of it with `config` judges it.
+fn speech_of(path: &Path, config: &EngineConfig) -> Result<SpeechSummary, RenderError> {
+    let mut source = AudioSource::open(path)?;
+    let channels = usize::from(source.info().channels).max(1);
+    let mut engine = Engine::new(config.clone(), HeadModel::default_model().clone())?;
+    engine.prepare(
+        f64::from(source.info().sample_rate_hz),
+        BLOCK_FRAMES,
+        channels,
+    )?;
+    let (mut interleaved, mut planar) = (Vec::new(), vec![Vec::new(); channels]);
+    while source.read_interleaved(BLOCK_FRAMES, &mut interleaved)? > 0 {
+        for (c, samples) in planar.iter_mut().enumerate() {
+            samples.clear();
+            samples.extend(interleaved.iter().skip(c).step_by(channels));
+        }
+        let mut blocks: Vec<&mut [f32]> = planar.iter_mut().map(Vec::as_mut_slice).collect();
+        engine.process(&mut blocks, &mut |_, _| {});
+    }
+    Ok(engine.speech_summary())
 }
 
 /// What a learning pass over `path` (channel `pick` of it, or all mixed as the engine mixes

@@ -569,3 +569,64 @@ fn a_failed_speak_leaves_no_folder_behind() {
         "the folders it made are left"
     );
 }
+
+#[test]
+fn a_breath_like_file_of_music_is_said_and_not_learned_from() {
+    // A new user gave a music file as --breath-like: it was learned from ("learned from 1
+    // breath") without a word. Eight plucked chords (harmonic tones decaying over 0.35 s, with
+    // quiet gaps between them) hold no speech: the render says so and learns the voice from the
+    // input, as without the option.
+    let dir = tempfile::tempdir().expect("temp");
+    let voice = example_voice();
+    let rate = 16_000.0;
+    let chords = [[261.63, 329.63, 392.0], [220.0, 261.63, 329.63]];
+    let mut music = vec![0.0f32; (14.0 * rate) as usize];
+    for k in 0..8 {
+        let start = (k as f64 * 1.75 * rate) as usize;
+        for f0 in chords[k % 2] {
+            let note = pneuma_testkit::signals::harmonic_tone(
+                rate,
+                1.75,
+                0.12,
+                &[1.0, 0.5, 0.3, 0.2],
+                |_| f0,
+            );
+            for (i, x) in note.iter().enumerate() {
+                music[start + i] += x * (-(i as f64 / rate) / 0.35).exp() as f32;
+            }
+        }
+    }
+    let like = dir.path().join("chords.wav");
+    write_wav(&like, (16_000, 1, 16, false), &music, 1.0);
+    let voice_line = |o: &std::process::Output| {
+        stderr(o)
+            .lines()
+            .find(|l| l.contains("breath voice"))
+            .map(str::to_owned)
+            .unwrap_or_default()
+    };
+    let plain = render_saying(&voice, &dir.path().join("plain"), &[]);
+    let liked = render_saying(
+        &voice,
+        &dir.path().join("liked"),
+        &["--breath-like", like.to_str().expect("utf-8")],
+    );
+    assert_ok(&plain);
+    assert_ok(&liked);
+    assert!(
+        stderr(&liked).contains("warning: the --breath-like file holds no speech"),
+        "{}",
+        stderr(&liked)
+    );
+    assert!(
+        !voice_line(&liked).is_empty() && voice_line(&liked) == voice_line(&plain),
+        "learned as without the file: {:?} against {:?}",
+        voice_line(&liked),
+        voice_line(&plain)
+    );
+    assert!(
+        !stderr(&plain).contains("--breath-like"),
+        "{}",
+        stderr(&plain)
+    );
+}
