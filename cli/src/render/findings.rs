@@ -393,9 +393,9 @@ fn signal_findings(energy: &ChannelEnergy, speech: &SpeechSummary, length_s: f64
         return vec![Finding::Quiet { peak_db }];
     }
     let share = speech_share(speech);
-    if (share < NO_SPEECH_SHARE || speech.speech_phrases == 0) && length_s < JUDGE_WINDOW_S {
+    if no_speech(speech) && length_s < JUDGE_WINDOW_S {
         vec![Finding::TooShort { length_s }]
-    } else if share < NO_SPEECH_SHARE || speech.speech_phrases == 0 {
+    } else if no_speech(speech) {
         vec![Finding::NoSpeech {
             phrases: speech.phrases > 0,
         }]
@@ -418,12 +418,18 @@ fn speech_share(speech: &SpeechSummary) -> f64 {
     }
 }
 
+/// No speech was heard: under [`NO_SPEECH_SHARE`] of the time with sound, or no phrase judged
+/// speech.
+fn no_speech(speech: &SpeechSummary) -> bool {
+    speech_share(speech) < NO_SPEECH_SHARE || speech.speech_phrases == 0
+}
+
 /// What the speech of a `--breath-like` file says about learning the breath voice from it:
 /// nothing when it is mostly speech, a note when it is mostly something else, and `unused`
 /// when it holds no speech (as [`findings`] would say of it rendered).
 pub fn breath_like_finding(speech: &SpeechSummary) -> Option<Finding> {
     let share = speech_share(speech);
-    let unused = share < NO_SPEECH_SHARE || speech.speech_phrases == 0;
+    let unused = no_speech(speech);
     (unused || share < MOSTLY_OTHER_SHARE).then_some(Finding::BreathLikeNotSpeech {
         speech_share: share,
         unused,

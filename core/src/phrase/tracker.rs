@@ -69,7 +69,8 @@ struct TrackerState {
     heard_sound: bool,
     /// Frames in a row [`UNDER_ROOM_DB`] or more under the room.
     under_room_frames: u32,
-    /// Frames under the room since it was last heard (across phrases).
+    /// Frames under the room since it was last heard (across phrases; digital silence not
+    /// counted).
     under_room_total: u32,
     /// The lowest level among them, dBFS.
     under_room_low_db: f32,
@@ -304,8 +305,10 @@ impl PhraseTracker {
         let going = s.under_room_frames > 0;
         let low = rms_db <= s.room_db - if going { 0.5 } else { 1.0 } * UNDER_ROOM_DB;
         s.under_room_frames = if low { s.under_room_frames + 1 } else { 0 };
-        if low {
-            s.under_room_total += 1;
+        // Digital silence is no room's level: it neither counts nor sets the lowest level (the
+        // floor never learns it).
+        if low && !gated {
+            s.under_room_total = s.under_room_total.saturating_add(1);
             s.under_room_low_db = s.under_room_low_db.min(rms_db);
         }
         let under_room = s.heard_sound && low && s.under_room_total <= self.counts.under_room_max;
@@ -337,7 +340,11 @@ impl PhraseTracker {
             s.room_db = s.floor_db;
         }
         let at_room = !low && !active && !gated && !cut;
-        s.at_room_frames = if at_room { s.at_room_frames + 1 } else { 0 };
+        s.at_room_frames = if at_room {
+            s.at_room_frames.saturating_add(1)
+        } else {
+            0
+        };
         if s.at_room_frames >= self.counts.room_heard {
             s.under_room_total = 0;
             s.under_room_low_db = f32::INFINITY;

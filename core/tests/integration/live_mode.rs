@@ -232,17 +232,23 @@ fn a_live_stream_that_starts_in_silence_speaks_its_first_phrase_from_a_filled_lu
     );
 }
 
-/// The lung at the first frame of every run of speaking frames after the first, in `r`.
-fn lungs_at_phrase_starts(r: &Rendered) -> Vec<f32> {
+/// The time and the lung at the first frame of every run of speaking frames after the first,
+/// in `r`.
+fn phrase_starts(r: &Rendered) -> Vec<(f64, f32)> {
     let mut out = Vec::new();
     let mut was_speaking = false;
     for (f, _) in &r.frames {
         if f.speaking && !was_speaking {
-            out.push(f.breathing.lung);
+            out.push((f.time_s, f.breathing.lung));
         }
         was_speaking = f.speaking;
     }
     out.into_iter().skip(1).collect()
+}
+
+/// The lung at [`phrase_starts`].
+fn lungs_at_phrase_starts(r: &Rendered) -> Vec<f32> {
+    phrase_starts(r).into_iter().map(|(_, l)| l).collect()
 }
 
 fn median(mut v: Vec<f32>) -> f32 {
@@ -280,5 +286,40 @@ fn live_mode_fills_the_lung_in_the_pauses_the_speaker_takes() {
         live_m >= 0.75 * lookahead_m && lookahead_m > 0.4,
         "median lung at phrase starts: live {live_m:.2} {live:.2?}, lookahead {lookahead_m:.2} \
          {lookahead:.2?}"
+    );
+}
+
+#[test]
+fn a_long_silence_does_not_lengthen_the_live_breaths_after_it() {
+    // Half-second breath pauses, a 10 s silence, and half-second pauses again. The silence is
+    // not a breath pause: the live inhalations after it still fit the speaker's pauses and fill
+    // the lung near what the lookahead render gives. Before, the silence took the pause
+    // estimate from 0.5 to 3.4 s, the next breaths lasted 0.8 s, and the next words cut them
+    // short: median lung 0.18 after the silence, against the lookahead's 0.41 (now 0.31).
+    let pauses = [0.5, 0.45, 10.0, 0.5, 0.45, 0.5, 0.55];
+    let (audio, spans) =
+        crate::generated_phrases::sequence(0.6, &[1.4, 1.1, 1.3, 1.2, 1.5, 1.1, 1.3, 1.2], &pauses);
+    let after_s = spans[3].0 - 0.1;
+    let sr = crate::generated_phrases::SR;
+    let starts = |mode| {
+        let mut c = config(mode, 0.25);
+        // Generated vowels are not speech to the speech decision.
+        c.placement.speech_only = false;
+        phrase_starts(&render(&c, &audio, sr))
+            .into_iter()
+            .filter(|&(t, _)| t > after_s)
+            .map(|(_, l)| l)
+            .collect::<Vec<f32>>()
+    };
+    let (live, lookahead) = (
+        starts(PlacementMode::Live),
+        starts(PlacementMode::Lookahead),
+    );
+    assert!(live.len() >= 3, "phrases after the silence: {live:?}");
+    let (live_m, lookahead_m) = (median(live.clone()), median(lookahead.clone()));
+    assert!(
+        live_m >= 0.6 * lookahead_m && lookahead_m > 0.3,
+        "median lung at the phrase starts after the silence: live {live_m:.2} {live:.2?}, \
+         lookahead {lookahead_m:.2} {lookahead:.2?}"
     );
 }

@@ -26,12 +26,14 @@ impl Placement {
         let p = &config.placement;
         let rate = self.sample_rate_hz;
         // The pause a breath was planned in ends: the speaker's pauses are known
-        // better (those long enough for a breath).
+        // better (those long enough for a breath). A pause longer than twice the estimate
+        // counts as twice it: a long silence is not a breath pause, and one would otherwise
+        // lengthen the breaths of the next several pauses past what fits them.
         if let Some(from_s) = self.state.live_pause_from_s.take() {
             let pause_s = (onset_s - from_s) as f32;
             if pause_s >= p.min_pause_s {
                 let est = &mut self.state.breath_pause_s;
-                *est += GROUP_SMOOTHING * (pause_s - *est);
+                *est += GROUP_SMOOTHING * (pause_s.min(2.0 * *est) - *est);
             }
         }
         // The stream's first phrase, with no breath of the speaker's heard before

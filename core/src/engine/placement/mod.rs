@@ -124,7 +124,8 @@ struct Seen {
     level_db: f32,
     /// Its own median level once it ended ([`PhraseLevels::end`]), dBFS.
     own_db: Option<f32>,
-    /// Its speech judgement once it ended (its first half second heard).
+    /// Its speech judgement once it ended (its first half second heard, unless all its voiced
+    /// frames said otherwise: [`SpeechTrack::unsaid`]).
     speech: Option<bool>,
 }
 
@@ -613,7 +614,8 @@ impl Placement {
 
     /// Lookahead mode: whether the pause before phrase `ph` (just taken from the front) is a
     /// pause of speech, so that a breath may go into it. The phrase after it is judged by its
-    /// first half second once that has been heard (offline: unless the pause is longer than
+    /// first half second once that has been heard (and by all its voiced frames so far when
+    /// those say it is not speech, [`SpeechTrack::unsaid`]; offline: unless the pause is longer than
     /// the 8 s lookahead). While less of it is
     /// visible (the plugin's short lookahead), the pause counts when what is visible is speech
     /// or the phrase before the pause was speech, unless what is visible is long enough to
