@@ -48,16 +48,12 @@ pub fn mode(
     pick: Option<usize>,
     config: &EngineConfig,
 ) -> Result<VoicePlan, RenderError> {
-    // The breath-like file, unless it holds no speech (then it is as if none were given).
+    // The breath-like file's voice (`Some(None)`: no breath heard in it), unless it holds no
+    // speech (`None`: as if it were not given).
     let (like, note) = match breath_like {
         Some(p) if !built_in => breath_like_voice(p, config)?,
         _ => (None, None),
     };
-    let unused = matches!(
-        note,
-        Some(Finding::BreathLikeNotSpeech { unused: true, .. })
-    );
-    let given = breath_like.is_some() && !built_in && !unused;
     // Live mode renders as the plugin does; standard input cannot be read twice: both learn
     // as they go.
     let whole_file = config.placement.whole_file
@@ -68,8 +64,8 @@ pub fn mode(
             _ if built_in => BreathVoiceMode::BuiltIn,
             // As the plugin with a breath-like file: the take's level under its speech, held
             // against the stream's speech as it goes.
-            Some(v) => BreathVoiceMode::Like(v),
-            None if given => BreathVoiceMode::BuiltIn,
+            Some(Some(v)) => BreathVoiceMode::Like(v),
+            Some(None) => BreathVoiceMode::BuiltIn,
             None => BreathVoiceMode::Learn,
         };
         return Ok(VoicePlan {
@@ -83,8 +79,7 @@ pub fn mode(
     let heard = learn(input, pick, config, true)?;
     let voice = match like {
         _ if built_in => None,
-        Some(v) => Some(v.against_speech_db(heard.speech.speech_db)),
-        None if given => None,
+        Some(like) => like.map(|v| v.against_speech_db(heard.speech.speech_db)),
         None => heard.voice,
     };
     Ok(VoicePlan {
@@ -94,25 +89,23 @@ pub fn mode(
     })
 }
 
-/// The voice learned from the `--breath-like` file at `path` (`None`: no breath heard in it,
-/// or it holds no speech) and what to tell of its speech ([`breath_like_finding`]; not asked
-/// when the speech decision is off, `--any-sound`).
-fn breath_like_voice(
-    path: &Path,
-    config: &EngineConfig,
-) -> Result<(Option<LearnedVoice>, Option<Finding>), RenderError> {
+/// A breath-like file's voice (`Some(None)`: no breath heard in it; `None`: not learned from)
+/// and what to tell of its speech.
+type BreathLike = (Option<Option<LearnedVoice>>, Option<Finding>);
+
+/// The voice learned from the `--breath-like` file at `path`, unless it holds no speech, and
+/// what to tell of its speech ([`breath_like_finding`]; not asked when the speech decision is
+/// off, `--any-sound`).
+fn breath_like_voice(path: &Path, config: &EngineConfig) -> Result<BreathLike, RenderError> {
     let note = if config.placement.speech_only {
         breath_like_finding(&speech_of(path, config)?)
     } else {
         None
     };
-    if matches!(
-        note,
-        Some(Finding::BreathLikeNotSpeech { unused: true, .. })
-    ) {
+    if let Some(Finding::BreathLikeNotSpeech { unused: true, .. }) = note {
         return Ok((None, note));
     }
-    Ok((learn(path, None, config, false)?.voice, note))
+    Ok((Some(learn(path, None, config, false)?.voice), note))
 }
 
 /// The speech decision over the file at `path` (its channels mixed as the engine mixes them),
