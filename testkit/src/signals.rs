@@ -242,6 +242,25 @@ pub fn phrases_with_breaths_through(
     x
 }
 
+/// Music with no speech in it: plucked chords (C major and A minor in turn, three harmonic
+/// tones each decaying over 0.35 s) every 1.75 s for `length_s`, quiet gaps between them, as a
+/// music file a user might give where a take of the speaker is asked for.
+pub fn plucked_chords(sample_rate_hz: f64, length_s: f64) -> Vec<f32> {
+    const EVERY_S: f64 = 1.75;
+    let chords = [[261.63, 329.63, 392.0], [220.0, 261.63, 329.63]];
+    let mut music = vec![0.0f32; (length_s * sample_rate_hz) as usize];
+    for k in 0..(length_s / EVERY_S).floor() as usize {
+        let start = (k as f64 * EVERY_S * sample_rate_hz) as usize;
+        for f0 in chords[k % 2] {
+            let note = harmonic_tone(sample_rate_hz, EVERY_S, 0.12, &[1.0, 0.5, 0.3, 0.2], |_| f0);
+            for (x, n) in music[start..].iter_mut().zip(note.iter().enumerate()) {
+                *x += n.1 * (-(n.0 as f64 / sample_rate_hz) / 0.35).exp() as f32;
+            }
+        }
+    }
+    music
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -21,11 +21,6 @@ use pneuma_core::speech::JUDGE_WINDOW_S;
 const ANTIPHASE_DB: f64 = 20.0;
 /// Channels quieter than this hold nothing to cancel, dBFS (mean power).
 const SILENT_CHANNEL_DB: f64 = -90.0;
-/// Less speech than this share of the frames with sound: no speech found.
-const NO_SPEECH_SHARE: f64 = 0.01;
-/// Less speech than this share of the frames with sound: mostly not speech.
-const MOSTLY_OTHER_SHARE: f64 = 0.5;
-
 /// The lung under this is drawn past its reserve: the speech has run on well past its breath
 /// group's plan (about 3.5 s at the reserve's time constant [`RESERVE_DECAY_S`]).
 const OUT_OF_AIR_LUNG: f32 = RESERVE_LUNG / 2.0;
@@ -392,46 +387,28 @@ fn signal_findings(energy: &ChannelEnergy, speech: &SpeechSummary, length_s: f64
     if peak_db < quiet_peak_db() {
         return vec![Finding::Quiet { peak_db }];
     }
-    let share = speech_share(speech);
-    if no_speech(speech) && length_s < JUDGE_WINDOW_S {
+    if speech.holds_no_speech() && length_s < JUDGE_WINDOW_S {
         vec![Finding::TooShort { length_s }]
-    } else if no_speech(speech) {
+    } else if speech.holds_no_speech() {
         vec![Finding::NoSpeech {
             phrases: speech.phrases > 0,
         }]
-    } else if share < MOSTLY_OTHER_SHARE {
+    } else if speech.mostly_other() {
         vec![Finding::MostlyNotSpeech {
-            speech_share: share,
+            speech_share: speech.speech_share(),
         }]
     } else {
         Vec::new()
     }
 }
 
-/// Share of the frames with sound that the speech decision calls speech, 0..1 (0 without
-/// sound).
-fn speech_share(speech: &SpeechSummary) -> f64 {
-    if speech.sound_frames == 0 {
-        0.0
-    } else {
-        speech.speech_frames as f64 / speech.sound_frames as f64
-    }
-}
-
-/// No speech was heard: under [`NO_SPEECH_SHARE`] of the time with sound, or no phrase judged
-/// speech.
-fn no_speech(speech: &SpeechSummary) -> bool {
-    speech_share(speech) < NO_SPEECH_SHARE || speech.speech_phrases == 0
-}
-
 /// What the speech of a `--breath-like` file says about learning the breath voice from it:
 /// nothing when it is mostly speech, a note when it is mostly something else, and `unused`
 /// when it holds no speech (as [`findings`] would say of it rendered).
 pub fn breath_like_finding(speech: &SpeechSummary) -> Option<Finding> {
-    let share = speech_share(speech);
-    let unused = no_speech(speech);
-    (unused || share < MOSTLY_OTHER_SHARE).then_some(Finding::BreathLikeNotSpeech {
-        speech_share: share,
+    let unused = speech.holds_no_speech();
+    (unused || speech.mostly_other()).then_some(Finding::BreathLikeNotSpeech {
+        speech_share: speech.speech_share(),
         unused,
     })
 }

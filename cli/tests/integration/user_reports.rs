@@ -579,23 +579,7 @@ fn a_breath_like_file_of_music_is_said_and_not_learned_from() {
     let dir = tempfile::tempdir().expect("temp");
     let voice = example_voice();
     let rate = 16_000.0;
-    let chords = [[261.63, 329.63, 392.0], [220.0, 261.63, 329.63]];
-    let mut music = vec![0.0f32; (14.0 * rate) as usize];
-    for k in 0..8 {
-        let start = (k as f64 * 1.75 * rate) as usize;
-        for f0 in chords[k % 2] {
-            let note = pneuma_testkit::signals::harmonic_tone(
-                rate,
-                1.75,
-                0.12,
-                &[1.0, 0.5, 0.3, 0.2],
-                |_| f0,
-            );
-            for (i, x) in note.iter().enumerate() {
-                music[start + i] += x * (-(i as f64 / rate) / 0.35).exp() as f32;
-            }
-        }
-    }
+    let music = pneuma_testkit::signals::plucked_chords(rate, 14.0);
     let like = dir.path().join("chords.wav");
     write_wav(&like, (16_000, 1, 16, false), &music, 1.0);
     let voice_line = |o: &std::process::Output| {

@@ -69,7 +69,7 @@ mod voice_track;
 pub use config::{EngineConfig, EngineError, PlacementConfig, PlacementMode, OFFLINE_LOOKAHEAD_S};
 pub use dropped::Dropped;
 pub use placement::BREATH_LENGTH_SCALE;
-pub use speech_track::SpeechSummary;
+pub use speech_track::{SpeechSummary, MOSTLY_OTHER_SHARE, NO_SPEECH_SHARE};
 pub use voice_track::{BreathVoiceMode, VoiceStatus};
 
 use crate::analysis::{Analyzer, FeatureFrame};

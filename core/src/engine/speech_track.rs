@@ -52,6 +52,34 @@ pub struct SpeechSummary {
     pub speech_phrases: u64,
 }
 
+/// Less speech than this share of the frames with sound: no speech heard.
+pub const NO_SPEECH_SHARE: f64 = 0.01;
+/// Less speech than this share of the frames with sound: mostly something else (music,
+/// singing, noise).
+pub const MOSTLY_OTHER_SHARE: f64 = 0.5;
+
+impl SpeechSummary {
+    /// Share of the frames with sound that the decision calls speech, 0..1 (0 without sound).
+    pub fn speech_share(&self) -> f64 {
+        if self.sound_frames == 0 {
+            0.0
+        } else {
+            self.speech_frames as f64 / self.sound_frames as f64
+        }
+    }
+
+    /// No speech was heard: under [`NO_SPEECH_SHARE`] of the time with sound, or no phrase
+    /// judged speech.
+    pub fn holds_no_speech(&self) -> bool {
+        self.speech_share() < NO_SPEECH_SHARE || self.speech_phrases == 0
+    }
+
+    /// Speech in under [`MOSTLY_OTHER_SHARE`] of the time with sound (no speech included).
+    pub fn mostly_other(&self) -> bool {
+        self.speech_share() < MOSTLY_OTHER_SHARE
+    }
+}
+
 /// The time of the first of the unbroken run of `frames` (time, Silero's probability; in
 /// time order) after `from_s` at or over Silero's threshold that lasts up to the last frame at
 /// or before `to_s`; `None` when that last frame is under it.

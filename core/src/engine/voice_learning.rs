@@ -13,7 +13,7 @@
 
 use super::replay::{AnalysisRecord, WholeSpeech};
 use super::speaker_level::PhraseLevels;
-use super::{clean_sample, EngineConfig, EngineError, Timing};
+use super::{clean_sample, Engine, EngineConfig, EngineError, SpeechSummary, Timing};
 use crate::analysis::{Analyzer, FeatureFrame};
 use crate::breathing::band_limit;
 use crate::breathing::learned::{HeardBreath, LearnScratch, LearnedVoice};
@@ -504,4 +504,26 @@ pub fn learn_voice(
     let mut l = VoiceLearner::new(config, rate_hz)?;
     l.feed(mono)?;
     Ok(l.finish()?.voice)
+}
+
+/// What the speech decision of an engine with `config` hears in the whole of `mono` at
+/// `rate_hz` (a breath-like recording checked before its voice is learned: a file of music
+/// teaches no speaker's breath). Allocates; runs the whole engine, head and breaths included.
+pub fn speech_of(
+    config: &EngineConfig,
+    mono: &[f32],
+    rate_hz: f64,
+) -> Result<SpeechSummary, EngineError> {
+    let mut engine = Engine::new(
+        config.clone(),
+        crate::head::HeadModel::default_model().clone(),
+    )?;
+    engine.prepare(rate_hz, BLOCK, 1)?;
+    let mut block = Vec::with_capacity(BLOCK);
+    for chunk in mono.chunks(BLOCK) {
+        block.clear();
+        block.extend_from_slice(chunk);
+        engine.process(&mut [block.as_mut_slice()], &mut |_, _| {});
+    }
+    Ok(engine.speech_summary())
 }

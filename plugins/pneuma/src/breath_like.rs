@@ -8,9 +8,15 @@
 //! breath is heard gives the built-in voice, as the CLI's `--breath-like` does; a file that
 //! cannot be read gives an error (the engine then learns as the audio goes).
 //!
+//! As `render --breath-like`, the engine's speech decision hears the file first (unless it is
+//! off, "any sound"): a file with no speech in it (music, noise) is not learned from, an error
+//! that says so (learning as the audio goes, as without the file), and one mostly of other sound
+//! is learned from with a note ([`LikeVoice::speech_share`]).
+//!
 //! [`VoiceCache`] keeps the last voice learned, so engines rebuilt for other settings (mode,
 //! lookahead) and re-activations do not read the file again: it is read again only when the
-//! path, the file's modification time or the analysis or phrase settings change.
+//! path, the file's modification time, the analysis or phrase settings or the speech decision's
+//! switch change.
 
 use std::path::Path;
 use std::sync::Mutex;
@@ -18,7 +24,7 @@ use std::time::SystemTime;
 
 use pneuma_core::analysis::AnalysisConfig;
 use pneuma_core::breathing::learned::LearnedVoice;
-use pneuma_core::engine::voice_learning::learn_voice;
+use pneuma_core::engine::voice_learning::{learn_voice, speech_of};
 use pneuma_core::engine::EngineConfig;
 use pneuma_core::phrase::PhraseConfig;
 
@@ -36,6 +42,18 @@ pub enum BreathLikeError {
         /// What went wrong.
         reason: String,
     },
+    /// The speech decision hears no speech in the file: no speaker's breath to learn.
+    #[error(
+        "breath-like file {path} holds no speech (speech in {percent:.0} % of its time with \
+         sound): the voice is learned as the audio goes, as without it. Choose a raw take of \
+         the same speaker, breaths and all"
+    )]
+    NotSpeech {
+        /// The path.
+        path: String,
+        /// Share of its frames with sound that are speech, %.
+        percent: f64,
+    },
     /// The engine's analysis does not take the file's sample rate.
     #[error("breath-like file {path}: cannot analyse it: {reason}")]
     Analysis {
@@ -46,17 +64,44 @@ pub enum BreathLikeError {
     },
 }
 
-/// The voice of the recording at `path` (`None`: no breath heard in it: the built-in voice)
-/// with `config`'s analysis and phrase settings. Reads the whole file: not for the audio thread.
-pub fn learn(path: &str, config: &EngineConfig) -> Result<Option<LearnedVoice>, BreathLikeError> {
+/// What a breath-like file gives.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LikeVoice {
+    /// The voice learned from it (`None`: no breath heard in it: the built-in voice).
+    pub voice: Option<LearnedVoice>,
+    /// Share of its frames with sound that are speech, 0..1, when that is under
+    /// [`pneuma_core::engine::MOSTLY_OTHER_SHARE`] (mostly music or other sound: its breaths
+    /// may not be the speaker's); `None` when it is mostly speech or the decision is off.
+    pub speech_share: Option<f64>,
+}
+
+/// The voice of the recording at `path` with `config`'s analysis and phrase settings, after
+/// its speech decision (see the module docs). Reads the whole file: not for the audio thread.
+pub fn learn(path: &str, config: &EngineConfig) -> Result<LikeVoice, BreathLikeError> {
     let (mono, rate_hz) =
         pneuma_io::read_mono(Path::new(path)).map_err(|e| BreathLikeError::Read {
             path: path.to_owned(),
             reason: e.to_string(),
         })?;
-    learn_voice(config, &mono, f64::from(rate_hz)).map_err(|e| BreathLikeError::Analysis {
+    let rate_hz = f64::from(rate_hz);
+    let analysis = |e: pneuma_core::engine::EngineError| BreathLikeError::Analysis {
         path: path.to_owned(),
         reason: e.to_string(),
+    };
+    let mut speech_share = None;
+    if config.placement.speech_only {
+        let speech = speech_of(config, &mono, rate_hz).map_err(analysis)?;
+        if speech.holds_no_speech() {
+            return Err(BreathLikeError::NotSpeech {
+                path: path.to_owned(),
+                percent: 100.0 * speech.speech_share(),
+            });
+        }
+        speech_share = speech.mostly_other().then(|| speech.speech_share());
+    }
+    Ok(LikeVoice {
+        voice: learn_voice(config, &mono, rate_hz).map_err(analysis)?,
+        speech_share,
     })
 }
 
@@ -67,6 +112,7 @@ struct Key {
     modified: Option<SystemTime>,
     analysis: AnalysisConfig,
     phrase: PhraseConfig,
+    speech_only: bool,
 }
 
 impl Key {
@@ -76,11 +122,12 @@ impl Key {
             modified: std::fs::metadata(path).and_then(|m| m.modified()).ok(),
             analysis: config.analysis.clone(),
             phrase: config.phrase,
+            speech_only: config.placement.speech_only,
         }
     }
 }
 
-type Learned = Result<Option<LearnedVoice>, BreathLikeError>;
+type Learned = Result<LikeVoice, BreathLikeError>;
 
 /// The last voice learned from a breath-like file (see the module docs).
 #[derive(Debug, Default)]

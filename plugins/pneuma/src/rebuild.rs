@@ -239,7 +239,9 @@ impl EngineBuilder {
             return BreathVoiceMode::Learn;
         }
         match self.breath_like.learn(path.trim(), config) {
-            Ok(voice) => voice.map_or(BreathVoiceMode::BuiltIn, BreathVoiceMode::Like),
+            Ok(like) => like
+                .voice
+                .map_or(BreathVoiceMode::BuiltIn, BreathVoiceMode::Like),
             Err(e) => {
                 nice_error!("Pneuma: {e}");
                 BreathVoiceMode::Learn

@@ -9,6 +9,7 @@
 use std::num::NonZeroU32;
 
 use nice_plug::prelude::*;
+use pneuma_core::engine::EngineConfig;
 use pneuma_testkit::signals;
 
 use crate::alloc_test::{activation_ctx, guard_catches_allocations, set, Activation, Host};
@@ -26,8 +27,13 @@ fn plugin() -> Pneuma {
 }
 
 /// `plugin` activated as [`plugin`] does.
-fn activated(mut plugin: Pneuma) -> Pneuma {
-    set(&plugin, "speech_only", 0.0);
+fn activated(plugin: Pneuma) -> Pneuma {
+    activated_judging(plugin, false)
+}
+
+/// `plugin` activated mono at [`RATE_HZ`], with the speech decision on or off.
+fn activated_judging(mut plugin: Pneuma, speech_only: bool) -> Pneuma {
+    set(&plugin, "speech_only", if speech_only { 1.0 } else { 0.0 });
     let layout = AudioIOLayout {
         main_input_channels: NonZeroU32::new(1),
         main_output_channels: NonZeroU32::new(1),
@@ -195,19 +201,13 @@ fn an_engine_learns_the_voice_of_the_breath_like_file_and_a_bad_file_leaves_lear
     let dir = std::env::temp_dir().join(format!("pneuma-breath-like-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let take = dir.join("take.wav");
-    let spec = hound::WavSpec {
-        channels: 1,
-        sample_rate: RATE_HZ as u32,
-        bits_per_sample: 32,
-        sample_format: hound::SampleFormat::Float,
-    };
-    let mut w = hound::WavWriter::create(&take, spec).unwrap();
-    for s in signals::phrases_with_breaths(rate, 16.0, 9) {
-        w.write_sample(s).unwrap();
-    }
-    w.finalize().unwrap();
-    let learned = crate::breath_like::learn(take.to_str().unwrap(), &Default::default())
+    write_take(&take, &signals::phrases_with_breaths(rate, 16.0, 9));
+    // The generated speaker's vowels are not speech: learned as the plugin above learns it.
+    let mut any_sound = EngineConfig::default();
+    any_sound.placement.speech_only = false;
+    let learned = crate::breath_like::learn(take.to_str().unwrap(), &any_sound)
         .unwrap()
+        .voice
         .expect("breaths heard in the take");
     assert!(learned.breaths >= 4, "{} breaths", learned.breaths);
 
@@ -240,6 +240,63 @@ fn an_engine_learns_the_voice_of_the_breath_like_file_and_a_bad_file_leaves_lear
     play(&mut missing, &mut host, &breathless);
     assert_eq!(
         shown(&missing),
+        VoiceShown::Learning {
+            breaths: 0,
+            level_db: None
+        }
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `samples` written as a mono float WAV at [`RATE_HZ`] to `path`.
+fn write_take(path: &std::path::Path, samples: &[f32]) {
+    let spec = hound::WavSpec {
+        channels: 1,
+        sample_rate: RATE_HZ as u32,
+        bits_per_sample: 32,
+        sample_format: hound::SampleFormat::Float,
+    };
+    let mut w = hound::WavWriter::create(path, spec).unwrap();
+    for &s in samples {
+        w.write_sample(s).unwrap();
+    }
+    w.finalize().unwrap();
+}
+
+#[test]
+fn a_breath_like_file_of_music_is_not_learned_from_and_the_check_says_why() {
+    // As `render --breath-like`: a music file given where a take of the speaker is asked for
+    // holds no speaker's breath (the gaps between its chords passed for breaths). The speech
+    // decision hears it first: no speech, not learned from, the voice learned as the audio
+    // goes, and the editor's file check says why.
+    let dir = std::env::temp_dir().join(format!("pneuma-breath-like-music-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let music = dir.join("chords.wav");
+    write_take(&music, &signals::plucked_chords(f64::from(RATE_HZ), 14.0));
+    let path = music.to_str().unwrap();
+    let err = crate::breath_like::learn(path, &EngineConfig::default()).unwrap_err();
+    assert!(
+        matches!(err, crate::breath_like::BreathLikeError::NotSpeech { .. }),
+        "{err}"
+    );
+    assert!(err.to_string().contains("holds no speech"), "{err}");
+    // With the decision off ("any sound", a voice it does not take for speech) the user's
+    // file is learned from.
+    let mut any_sound = EngineConfig::default();
+    any_sound.placement.speech_only = false;
+    assert!(crate::breath_like::learn(path, &any_sound).is_ok());
+
+    let judged = Pneuma::default();
+    judged.params.breath_like.set_path(path.to_owned());
+    let mut judged = activated_judging(judged, true);
+    let mut host = Host::playing(PluginApi::Clap, RATE_HZ);
+    play(
+        &mut judged,
+        &mut host,
+        &signals::phrases_with_pauses(f64::from(RATE_HZ), 4.0, 60.0, 5),
+    );
+    assert_eq!(
+        shown(&judged),
         VoiceShown::Learning {
             breaths: 0,
             level_db: None

@@ -62,11 +62,20 @@ fn check_breath_like(path: String, config: &pneuma_core::engine::EngineConfig) -
             "none: the voice is learned as the audio goes".to_owned(),
         ));
     }
-    match crate::breath_like::learn(&path, config) {
-        Ok(Some(v)) => Ok((path, format!("voice learned from {} breaths", v.breaths))),
-        Ok(None) => Ok((path, "no breath heard in it: the built-in voice".to_owned())),
-        Err(e) => Err(e.to_string()),
-    }
+    let like = crate::breath_like::learn(&path, config).map_err(|e| e.to_string())?;
+    let what = match like.voice {
+        Some(v) => format!("voice learned from {} breaths", v.breaths),
+        None => "no breath heard in it: the built-in voice".to_owned(),
+    };
+    let note = like.speech_share.map_or(String::new(), |share| {
+        format!(
+            "; but it is mostly music or other sound (speech in {:.0} % of its time with \
+             sound), so breaths heard between its sounds went into the voice: a raw take of \
+             the speaker gives the speaker's own",
+            100.0 * share
+        )
+    });
+    Ok((path, format!("{what}{note}")))
 }
 
 /// A file slot (a breath sample, the breath-like recording): the path being typed, the check
