@@ -23,6 +23,9 @@ pub(crate) struct CycleTrack {
     /// The phrase's speech left in its group, seconds, for its expiration.
     left_s: f32,
     speaking: bool,
+    /// The lung a phrase that starts speaking fills first (`CycleAction::BreathOwed`), the
+    /// group's seconds of speech; dropped by an inspiration and at the phrase's end.
+    owed_group_s: Option<f32>,
 }
 
 impl CycleTrack {
@@ -41,6 +44,7 @@ impl CycleTrack {
             in_phrase: false,
             left_s: 0.0,
             speaking: false,
+            owed_group_s: None,
         }
     }
 
@@ -49,6 +53,7 @@ impl CycleTrack {
         self.cycle.reset();
         self.in_phrase = false;
         self.speaking = false;
+        self.owed_group_s = None;
     }
 
     /// New breathing parameters (from the next event; amplitudes at once).
@@ -83,24 +88,28 @@ impl CycleTrack {
             schedule.cycle.pop_front();
             match action {
                 CycleAction::Inspire { length_s, group_s } => {
+                    self.owed_group_s = None;
                     let target = self.cycle.lung_volume_for(group_s);
                     self.cycle.inspire_to(length_s, target);
                 }
                 CycleAction::BreathedIn { group_s } => {
+                    self.owed_group_s = None;
                     let target = self.cycle.lung_volume_for(group_s);
                     self.cycle.breathed_in(target);
                 }
+                CycleAction::BreathOwed { group_s } => self.owed_group_s = Some(group_s),
                 CycleAction::UtteranceStarts { left_s } => {
                     self.in_phrase = true;
                     self.left_s = left_s;
                     self.speaking = !p.other_sound;
                     if self.speaking {
-                        self.cycle.expire_group(left_s);
+                        self.start_speaking();
                     }
                 }
                 CycleAction::SpeechStopped => {
                     self.in_phrase = false;
                     self.speaking = false;
+                    self.owed_group_s = None;
                     self.cycle.pause_in_group();
                 }
             }
@@ -108,11 +117,21 @@ impl CycleTrack {
         // The body gate's flag changed inside a phrase: speech resumes or stops.
         let speaking = self.in_phrase && !p.other_sound;
         match (self.speaking, speaking) {
-            (false, true) => self.cycle.expire_group(self.left_s),
+            (false, true) => self.start_speaking(),
             (true, false) => self.cycle.pause_in_group(),
             _ => {}
         }
         self.speaking = speaking;
         self.cycle.advance(self.dt_s)
+    }
+
+    /// The phrase starts (or resumes) speaking: its group's expiration, from the lung it owed
+    /// first when it follows other sound.
+    fn start_speaking(&mut self) {
+        if let Some(group_s) = self.owed_group_s.take() {
+            let target = self.cycle.lung_volume_for(group_s);
+            self.cycle.breathed_in(target);
+        }
+        self.cycle.expire_group(self.left_s);
     }
 }

@@ -61,6 +61,11 @@ pub(crate) enum CycleAction {
     /// The stream starts in speech: the speaker breathed in for a group of `group_s` seconds
     /// of speech before it began (the lung is full at once).
     BreathedIn { group_s: f32 },
+    /// A phrase starts after one judged other sound (a song, a sting), with no time or no
+    /// judgement yet to breathe in before it (live mode; a lookahead too short): if it speaks,
+    /// its speaker breathed in under that sound for a group of `group_s` seconds of speech, and
+    /// the lung is full when it starts speaking.
+    BreathOwed { group_s: f32 },
     /// A phrase starts with `left_s` seconds of speech left in its breath group.
     UtteranceStarts { left_s: f32 },
     /// A phrase ended (the breath is held while the pause lasts).

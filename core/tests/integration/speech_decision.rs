@@ -6,7 +6,9 @@
 //! every pause of 0.4 s or more and none on a phrase, offline, with the plugin's lookahead and
 //! live, and over a steady drone 16 dB under them keep every breath the engine places without
 //! the decision; music after the last phrase gets no breath before it, offline and with the
-//! plugin's lookahead, nor does a sung line that starts like speech, offline; a long silence before a phrase gets a normal inhalation, not a sigh; any
+//! plugin's lookahead, nor does a sung line that starts like speech, offline; speech right
+//! after a song starts with a filled lung; a long silence before a phrase gets a normal
+//! inhalation, not a sigh; any
 //! block partition gives the same output with the decision in place. The body does not speak
 //! along with music, singing or noise (no speaking flag, a head at rest, no inspiration) and
 //! moves on speech as it does without the decision.
@@ -515,6 +517,66 @@ fn music_after_the_last_phrase_gets_no_breath_before_it() {
             "{mode:?}: a breath after the last phrase (ends {last_s:.2} s, chords from \
              {music_s:.2} s): {after:?}"
         );
+    }
+}
+
+#[test]
+fn speech_right_after_a_song_starts_with_a_filled_lung() {
+    // A host who speaks as the song ends: a sung line, 0.15 s of silence (no pause to breathe
+    // in), then the example voice's first 6 s (real speech: the generated phrases are not
+    // judged speech straight after a song). The speaker breathed in under the song; the body
+    // must not speak from the resting lung (it did for 5.5 s on a podcast episode, in every
+    // mode). Offline the lung fills before the first word, under the song's end; with the
+    // plugin's lookahead (the phrase not yet judged when the output reaches it) and live
+    // (which judges a phrase at its end), at the first speaking frame. No sound goes into
+    // the 0.15 s.
+    let mut audio = vec![0.0f32; n(0.6)];
+    let sung = sung_line(3.0, Vowel::A, 41);
+    let len = sung.len();
+    audio.extend(sung.iter().enumerate().map(|(i, x)| {
+        // Swells in and out over 0.1 s, as sung lines do.
+        x * (i.min(len - i) as f64 / (0.1 * SR)).min(1.0) as f32
+    }));
+    let song_end_s = audio.len() as f64 / SR;
+    audio.extend(std::iter::repeat_n(0.0, n(0.15)));
+    // The example voice's first word starts 0.3 s in.
+    let voice = pneuma_testkit::voice::example_voice_at(SR as u32);
+    audio.extend_from_slice(&voice[n(0.28)..n(6.0)]);
+    let onset_s = song_end_s + 0.15;
+    for mode in MODES {
+        let (r, summary) = render(mode, &audio);
+        assert!(
+            summary.speech_phrases >= 1 && summary.speech_phrases < summary.phrases,
+            "{mode:?}: the song not speech, the voice speech: {summary:?}"
+        );
+        let first = r
+            .frames
+            .iter()
+            .position(|(f, _)| f.speaking && f.time_s >= onset_s - 0.1)
+            .unwrap_or_else(|| panic!("{mode:?}: never speaks"));
+        // The resting lung lies under 0.11; a breath for the voice's first group (1.4 s of
+        // speech) fills it to about 0.35.
+        let lung_at = |k: usize| r.frames[k].0.breathing.lung;
+        assert!(
+            lung_at(first) > 0.25,
+            "{mode:?}: speaks from a lung of {:.2} at {:.2} s",
+            lung_at(first),
+            r.frames[first].0.time_s
+        );
+        if matches!(mode, Mode::Offline) {
+            // Filled by an inspiration before the first word, not a step at it.
+            assert!(
+                lung_at(first - 1) > 0.25,
+                "{mode:?}: lung {:.2} the frame before the speech",
+                lung_at(first - 1)
+            );
+        }
+        let in_gap: Vec<&BreathEvent> = r
+            .breaths
+            .iter()
+            .filter(|b| b.start_s < onset_s + 0.1 && b.end_s > song_end_s - 1.0)
+            .collect();
+        assert!(in_gap.is_empty(), "{mode:?}: {in_gap:?}");
     }
 }
 

@@ -40,6 +40,7 @@ use super::recipe::{self, Class, Condition, Episode};
 use super::sources::{FRAMES_PER_S, HOP, MUSIC, RATE_HZ};
 use super::{analyse, fit_rows, percent, Exclusion, FrameTally};
 use crate::data::workspace_root;
+use crate::stats::median;
 
 /// A breath counts as on speech (or inside a span) past this much overlap, seconds.
 pub const OVERLAP_S: f64 = 0.030;
@@ -126,6 +127,12 @@ struct BreathTally {
     /// and on music-only, singing and noise-only frames standing alone ([`BODY_CLASSES`]).
     speaking: [(u64, u64); 4],
     moving: [(u64, u64); 4],
+    /// The lung at the first speaking frame within [`LUNG_WITHIN_S`] of a speech onset
+    /// (`None`: the body does not speak so soon): at the onsets after other sound (music,
+    /// singing or noise within [`OTHER_BEFORE_S`] before it, no speech within
+    /// [`AWAY_FROM_SPEECH_S`]), then at those after a pause of speech (speech within
+    /// [`AWAY_FROM_SPEECH_S`] before it, none within [`OTHER_BEFORE_S`]).
+    lung_at_onsets: [Vec<Option<f32>>; 2],
     audio_s: f64,
     wall_s: f64,
 }
@@ -146,6 +153,15 @@ const MOVING_DEG_S: f64 = 2.0;
 
 /// Most of the body's frames on music, singing or noise standing alone that may speak or move.
 const MOST_BODY_SHARE: f64 = 0.05;
+
+/// The lung at a speech onset is read at the body's first speaking frame this close after it
+/// (none: the body does not speak there), seconds.
+const LUNG_WITHIN_S: f64 = 1.0;
+/// Other sound this close before a speech onset makes it an onset after other sound; no
+/// speech this close before it makes it one after a pause, seconds.
+const OTHER_BEFORE_S: f64 = 0.5;
+/// The cycle's resting lung stays under this (its quiet breathing reaches about 0.10).
+const RESTING_LUNG: f32 = 0.15;
 
 /// The frames of `episode` called speech by `called` (one per label frame).
 fn tally(t: &mut FrameTally, episode: &Episode, called: &[bool]) {
@@ -411,10 +427,32 @@ impl BreathTally {
 }
 
 impl BreathTally {
-    /// The speaking flag and the head's motion of `out`'s control frames, by [`BODY_CLASSES`].
+    /// The speaking flag and the head's motion of `out`'s control frames, by [`BODY_CLASSES`],
+    /// and the lung at its speech onsets.
     fn add_body(&mut self, episode: &Episode, out: &offline::Rendered) {
         let l = &episode.labels;
         let n = episode.frames();
+        let within = |k: usize, s: f64| k.saturating_sub((s * FRAMES_PER_S).round() as usize)..k;
+        for k in (1..n).filter(|&k| l.truth[k] && !l.truth[k - 1]) {
+            let other = within(k, OTHER_BEFORE_S).any(|j| {
+                matches!(
+                    l.class[j],
+                    Some(Class::MusicOnly | Class::Singing | Class::NoiseOnly)
+                )
+            });
+            let spoken = within(k, AWAY_FROM_SPEECH_S).any(|j| l.truth[j]);
+            let quiet = !within(k, OTHER_BEFORE_S).any(|j| l.truth[j]);
+            let kind = match (other, spoken, quiet) {
+                (true, false, _) => 0,
+                (false, true, true) => 1,
+                _ => continue,
+            };
+            let onset_s = k as f64 / FRAMES_PER_S;
+            let first = out.frames.iter().map(|(f, _)| f).find(|f| {
+                f.time_s >= onset_s && (f.speaking || f.time_s > onset_s + LUNG_WITHIN_S)
+            });
+            self.lung_at_onsets[kind].push(first.filter(|f| f.speaking).map(|f| f.breathing.lung));
+        }
         let class_of = |k: usize| {
             let alone = |class: Class| l.class[k] == Some(class) && l.stands_alone(k);
             if l.truth[k] {
@@ -685,6 +723,21 @@ fn print_report(
         row(
             &format!("body: head leaving rest > {MOVING_DEG_S} deg/s, {class}"),
             &|t| format!("{:.1}%", percent(t.moving[c])),
+        );
+    }
+    for (kind, what) in [(0, "after other sound"), (1, "after a pause of speech")] {
+        row(
+            &format!("body: lung as speech starts {what}: median (rest/silent/n)"),
+            &|t| {
+                let lungs = &t.lung_at_onsets[kind];
+                let spoken: Vec<f64> = lungs.iter().flatten().map(|&v| f64::from(v)).collect();
+                let rest = spoken
+                    .iter()
+                    .filter(|&&v| v < f64::from(RESTING_LUNG))
+                    .count();
+                let silent = lungs.len() - spoken.len();
+                format!("{:.2} ({rest}/{silent}/{})", median(&spoken), lungs.len())
+            },
         );
     }
     row("render speed, x real time", &|t| {

@@ -46,6 +46,15 @@ impl Placement {
             schedule
                 .cycle
                 .insert_sorted((onset_s, CycleAction::BreathedIn { group_s }));
+        } else if self.state.live_after_other {
+            // After a phrase of other sound (a song, a sting): no breath was planned in its
+            // pause; if this phrase speaks, its speaker breathed in under that sound (as a
+            // lookahead render fills the lung before it), for a group of the running
+            // estimate. The group plan is left as it is: this phrase may be more music.
+            let group_s = self.state.group_estimate_s;
+            schedule
+                .cycle
+                .insert_sorted((onset_s, CycleAction::BreathOwed { group_s }));
         }
         let left_s = self.group_left_s();
         schedule
@@ -69,7 +78,8 @@ impl Placement {
         let now = ctx.now;
         self.state.live_breath_heard = false;
         // Live: a breath only after speech (the finished phrase's last half second).
-        if !ctx.speech.tail_is_speech(onset_s, offset_s) {
+        self.state.live_after_other = !ctx.speech.tail_is_speech(onset_s, offset_s);
+        if self.state.live_after_other {
             return;
         }
         self.state.group_spoken_s += (offset_s - onset_s).max(0.0) as f32;

@@ -285,6 +285,8 @@ struct PlacementState {
     start: StreamStart,
     /// Live mode: a real breath was heard in the pause since the last phrase ended.
     live_breath_heard: bool,
+    /// Live mode: the last phrase that ended was judged other sound by its tail.
+    live_after_other: bool,
     /// Live mode: the group planned for the breath of the pause going on, until the speaker's
     /// own breath in it has started the cycle's inspiration.
     live_group_s: Option<f32>,
@@ -314,6 +316,7 @@ impl Default for PlacementState {
             prev_speech: None,
             start: StreamStart::default(),
             live_breath_heard: false,
+            live_after_other: false,
             live_group_s: None,
             live_pause_from_s: None,
             breath_pause_s: PRIOR_BREATH_PAUSE_S,
@@ -527,7 +530,14 @@ impl Placement {
         // Negative while the output has not started (the delay line is filling).
         let out_s = ((ctx.now + 1) as f64 - self.latency as f64) / self.sample_rate_hz;
         while let Some(front) = self.seen.front() {
-            if out_s + 2.0 * self.hop_s < front.pause.start_s {
+            // A phrase judged speech after other sound is decided a breath earlier: its
+            // speaker may have breathed in under the sound's end ([`Placement::decide_front`]).
+            let lead_s = if self.state.prev_speech == Some(false) && front.speech == Some(true) {
+                MAX_BREATH_S
+            } else {
+                0.0
+            };
+            if out_s + 2.0 * self.hop_s < front.pause.start_s - lead_s {
                 break;
             }
             if self.waits(ctx, front, out_s) {
@@ -717,6 +727,8 @@ impl Placement {
                 .in_sound(self.measured_phrase_level_db().unwrap_or(ph.level_db));
         let usable = pause_s >= p.min_pause_s as f64 && !in_sound;
         let speech = self.pause_of_speech(ctx, &ph);
+        // The phrase before this one was judged other sound (a song, a sting, noise).
+        let after_other = self.state.prev_speech == Some(false);
         if ph.speech.is_some() {
             self.state.prev_speech = ph.speech;
         }
@@ -793,6 +805,29 @@ impl Placement {
                 };
                 schedule.cycle.insert_sorted((at_s, action));
             }
+        }
+        if window.is_none() && spoken && after_other && !pause.leading {
+            // Speech right after other sound with no pause of speech to breathe in (a host
+            // who speaks as the song ends): the speaker breathed in under it. A phrase judged
+            // speech starts a group, its lung filled over the inhalation before its onset (no
+            // sound inserted). When that lies in the past, or the phrase is not judged yet
+            // (only Silero heard speech in it, as it does in singing), the lung is owed to its
+            // first speaking frame, for a group of the running estimate, and the group plan
+            // is left as it is (a song must not end it). It spoke from the resting lung before.
+            let judged = matches!(
+                (ph.speech, ctx.speech.current()),
+                (Some(true), _) | (None, Some((true, true)))
+            );
+            let at_s = (onset_s - want_s).max(earliest_s).min(onset_s);
+            let action = if judged && onset_s - at_s >= MIN_BREATH_S {
+                let group_s = self.new_group(config, coming_s);
+                let length_s = (onset_s - at_s) as f32;
+                (at_s, CycleAction::Inspire { length_s, group_s })
+            } else {
+                let group_s = self.state.group_estimate_s;
+                (onset_s, CycleAction::BreathOwed { group_s })
+            };
+            schedule.cycle.insert_sorted(action);
         }
         if let Some((start_s, end_s)) = window {
             let group_s = self.new_group(config, coming_s);
