@@ -23,8 +23,11 @@
 //! When that window is not speech and neither are all the phrase's voiced frames so far
 //! ([`SpeechTrack::voiced_phrase_is_not_speech`]), the first window was wrong (a sung line that
 //! starts like speech): its frames from the onset that still wait for the output take it.
-//! A phrase judged not speech stays so: turned on mid-phrase, the body would speak with a lung
-//! the placement never filled. A phrase shorter than the window is judged on all
+//! A phrase judged not speech stays so while it is heard (a sliding window crosses the
+//! threshold now and then in a sung passage); when it ends, the rest of it is judged whole
+//! ([`SpeechTrack::tail_turned_speech`]): speech that ran on from music or noise in one phrase
+//! speaks from where it turned, on the frames that still wait for the output, with the lung
+//! the placement owed it (`CycleAction::BreathOwed`). A phrase shorter than the window is judged on all
 //! its frames, its pause on its voiced ones: the two may differ (a blip of noise after a word).
 //! No hysteresis: near the threshold the flag may change from frame to frame. Allocation-free.
 
@@ -98,6 +101,14 @@ impl BodyGate {
                     let unsaid = !s && speech.voiced_phrase_is_not_speech(onset_s, Some(offset_s));
                     let from_s = if unsaid { onset_s } else { offset_s };
                     Self::flag_since(pending, from_s, now, !s);
+                }
+            }
+            (Some((onset_s, offset_s, false)), _) => {
+                // Judged not speech by its start, speech to its end from some frame on:
+                // speech that ran on from music or noise in one phrase.
+                if let Some(from_s) = speech.tail_turned_speech(onset_s, offset_s) {
+                    self.other_sound = false;
+                    Self::flag_since(pending, from_s, now, false);
                 }
             }
             (None, Some((onset_s, (true, true)))) => {

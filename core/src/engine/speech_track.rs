@@ -291,6 +291,40 @@ impl SpeechTrack {
         mean.map(|m| (from_s, m >= self.threshold))
     }
 
+    /// The phrase `(onset_s, offset_s)` just ended, judged not speech by its first window, is
+    /// speech from some frame on to its end: the first kept frame at or over the threshold
+    /// from which the mean probability of every frame to the offset reaches it too, at least
+    /// two windows ([`JUDGE_WINDOW_S`]) before the offset; that frame's time. `None` when no
+    /// frame is (or the decision is off). Speech that runs on from a music intro or noise in
+    /// one phrase (the host speaks as the intro fades out): the body speaks on it where its
+    /// frames still wait for the output (a render's 8 s). Judged on the whole rest of the
+    /// phrase, not a sliding window, which crosses the threshold now and then in a sung
+    /// passage. Only the last [`KEPT_S`] of the phrase is kept.
+    pub(crate) fn tail_turned_speech(&self, onset_s: f64, offset_s: f64) -> Option<f64> {
+        if !self.enabled() {
+            return None;
+        }
+        let frames = || {
+            self.recent
+                .iter()
+                .filter(move |&(t, _)| t > onset_s && t < offset_s)
+        };
+        let (mut left_sum, mut left_n) =
+            frames().fold((0.0f64, 0u32), |(s, n), (_, p)| (s + f64::from(p), n + 1));
+        let threshold = f64::from(self.threshold);
+        for (t, p) in frames() {
+            if offset_s - t < 2.0 * JUDGE_WINDOW_S {
+                return None;
+            }
+            if f64::from(p) >= threshold && left_sum >= threshold * f64::from(left_n) {
+                return Some(t);
+            }
+            left_sum -= f64::from(p);
+            left_n -= 1;
+        }
+        None
+    }
+
     /// The phrase from `onset_s` is not speech by all its voiced frames up to `end_s` (its
     /// offset) or up to now (`None`): their mean probability lies under the threshold, and none
     /// of them has left the ring ([`KEPT_S`] of voiced frames). False with the decision off.

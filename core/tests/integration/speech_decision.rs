@@ -7,7 +7,8 @@
 //! live, and over a steady drone 16 dB under them keep every breath the engine places without
 //! the decision; music after the last phrase gets no breath before it, offline and with the
 //! plugin's lookahead, nor does a sung line that starts like speech, offline; speech right
-//! after a song starts with a filled lung; a long silence before a phrase gets a normal
+//! after a song starts with a filled lung, and speech that runs on from music in one phrase
+//! moves the body offline; a long silence before a phrase gets a normal
 //! inhalation, not a sigh; any
 //! block partition gives the same output with the decision in place. The body does not speak
 //! along with music, singing or noise (no speaking flag, a head at rest, no inspiration) and
@@ -578,6 +579,44 @@ fn speech_right_after_a_song_starts_with_a_filled_lung() {
             .collect();
         assert!(in_gap.is_empty(), "{mode:?}: {in_gap:?}");
     }
+}
+
+#[test]
+fn speech_that_runs_on_from_music_in_one_phrase_moves_the_body_offline() {
+    // A host who starts speaking while the intro's last chord rings (no silence between: the
+    // tracker hears one phrase, judged not speech by its first window, the chords). Offline
+    // (its frames wait 8 s for the output) the body speaks on the speech from where the
+    // phrase turned to speech to its end, with a filled lung. Before, it kept the phrase's
+    // judgement and stood still through the whole first sentence.
+    let chords = plucked_chords();
+    let mut audio = chords[..n(3.5 + 0.4)].to_vec();
+    let voice = pneuma_testkit::voice::example_voice_at(SR as u32);
+    // The example voice's first word starts 0.3 s in; its first sentence ends at 1.7 s.
+    let start = audio.len() - n(0.3);
+    audio.resize(start + n(6.0), 0.0);
+    for (a, v) in audio[start..].iter_mut().zip(&voice[..n(6.0)]) {
+        *a += v;
+    }
+    let (speech_from_s, speech_to_s) = (start as f64 / SR + 0.3, start as f64 / SR + 1.7);
+    let (r, _) = render(Mode::Offline, &audio);
+    let talking = speaking_between(&r, speech_from_s + 0.5, speech_to_s);
+    assert!(
+        talking > 0.5,
+        "speaking on {talking:.2} of the first sentence"
+    );
+    let first = r
+        .frames
+        .iter()
+        .find(|(f, _)| f.speaking && f.time_s > speech_from_s - 0.5)
+        .expect("speaks");
+    assert!(
+        first.0.breathing.lung > 0.25,
+        "speaks from a lung of {:.2}",
+        first.0.breathing.lung
+    );
+    // The chords before it do not speak.
+    let chords_speaking = speaking_between(&r, 0.0, speech_from_s - 1.0);
+    assert!(chords_speaking < 0.01, "{chords_speaking:.2}");
 }
 
 #[test]

@@ -806,7 +806,15 @@ impl Placement {
                 schedule.cycle.insert_sorted((at_s, action));
             }
         }
-        if window.is_none() && spoken && after_other && !pause.leading {
+        if window.is_none() && !spoken && (after_other || pause.leading) {
+            // A phrase of other sound: should speech run on from it in the same phrase (the
+            // body then speaks on its tail, `BodyGate`), its speaker breathed in under the
+            // sound.
+            let group_s = self.state.group_estimate_s;
+            schedule
+                .cycle
+                .insert_sorted((onset_s, CycleAction::BreathOwed { group_s }));
+        } else if window.is_none() && spoken && after_other && !pause.leading {
             // Speech right after other sound with no pause of speech to breathe in (a host
             // who speaks as the song ends): the speaker breathed in under it. A phrase judged
             // speech starts a group, its lung filled over the inhalation before its onset (no
