@@ -10,7 +10,7 @@ use std::path::Path;
 
 use pneuma_core::breathing::learned::LearnedVoice;
 use pneuma_core::engine::replay::AnalysisRecord;
-use pneuma_core::engine::voice_learning::{Learned, VoiceLearner};
+use pneuma_core::engine::voice_learning::{speech_after_silence, Learned, VoiceLearner};
 use pneuma_core::engine::{BreathVoiceMode, Engine, EngineConfig, PlacementMode, SpeechSummary};
 use pneuma_core::head::HeadModel;
 use pneuma_io::AudioSource;
@@ -128,7 +128,7 @@ fn speech_of(path: &Path, config: &EngineConfig) -> Result<SpeechSummary, Render
         let mut blocks: Vec<&mut [f32]> = planar.iter_mut().map(Vec::as_mut_slice).collect();
         engine.process(&mut blocks, &mut |_, _| {});
     }
-    Ok(engine.speech_summary())
+    Ok(speech_after_silence(&mut engine, channels))
 }
 
 /// What a learning pass over `path` (channel `pick` of it, or all mixed as the engine mixes

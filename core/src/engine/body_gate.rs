@@ -27,7 +27,8 @@
 //! threshold now and then in a sung passage); when it ends, the rest of it is judged whole
 //! ([`SpeechTrack::tail_turned_speech`]): speech that ran on from music or noise in one phrase
 //! speaks from where it turned, on the frames that still wait for the output, with the lung
-//! the placement owed it (`CycleAction::BreathOwed`). A phrase shorter than the window is judged on all
+//! the placement owed it when it followed other sound or began the stream
+//! (`CycleAction::BreathOwed`). A phrase shorter than the window is judged on all
 //! its frames, its pause on its voiced ones: the two may differ (a blip of noise after a word).
 //! No hysteresis: near the threshold the flag may change from frame to frame. Allocation-free.
 
@@ -103,10 +104,10 @@ impl BodyGate {
                     Self::flag_since(pending, from_s, now, !s);
                 }
             }
-            (Some((onset_s, offset_s, false)), _) => {
+            (Some((_, _, false)), _) => {
                 // Judged not speech by its start, speech to its end from some frame on:
                 // speech that ran on from music or noise in one phrase.
-                if let Some(from_s) = speech.tail_turned_speech(onset_s, offset_s) {
+                if let Some(from_s) = speech.last_ended_turned_s() {
                     self.other_sound = false;
                     Self::flag_since(pending, from_s, now, false);
                 }

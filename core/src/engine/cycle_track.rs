@@ -126,11 +126,13 @@ impl CycleTrack {
     }
 
     /// The phrase starts (or resumes) speaking: its group's expiration, from the lung it owed
-    /// first when it follows other sound.
+    /// first when it follows other sound, then spent over that owed group (the group plan
+    /// the phrase started with counts the sound as spoken: its air would be gone at once).
     fn start_speaking(&mut self) {
         if let Some(group_s) = self.owed_group_s.take() {
             let target = self.cycle.lung_volume_for(group_s);
             self.cycle.breathed_in(target);
+            self.left_s = group_s;
         }
         self.cycle.expire_group(self.left_s);
     }

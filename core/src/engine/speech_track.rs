@@ -128,6 +128,8 @@ struct SpeechTrackState {
     unsaid: bool,
     /// The same of the phrase that ended last, by its voiced frames up to its offset too.
     ended_unsaid: bool,
+    /// See [`SpeechTrack::last_ended_turned_s`].
+    ended_turned_s: Option<f64>,
     /// Time of the last frame heard, seconds.
     last_frame_s: f64,
     /// The phrase tracker's lowest noise floor over its silence level so far, dBFS (+∞ before
@@ -144,6 +146,7 @@ impl Default for SpeechTrackState {
             ended: None,
             unsaid: false,
             ended_unsaid: false,
+            ended_turned_s: None,
             last_frame_s: 0.0,
             quietest_floor_db: f32::INFINITY,
             summary: SpeechSummary::default(),
@@ -293,13 +296,15 @@ impl SpeechTrack {
 
     /// The phrase `(onset_s, offset_s)` just ended, judged not speech by its first window, is
     /// speech from some frame on to its end: the first kept frame at or over the threshold
-    /// from which the mean probability of every frame to the offset reaches it too, at least
-    /// two windows ([`JUDGE_WINDOW_S`]) before the offset; that frame's time. `None` when no
+    /// from which the mean probability of every frame to the offset reaches it too, and that of
+    /// the window ([`JUDGE_WINDOW_S`]) from it, at least two windows before the offset; that
+    /// frame's time. `None` when no
     /// frame is (or the decision is off). Speech that runs on from a music intro or noise in
     /// one phrase (the host speaks as the intro fades out): the body speaks on it where its
     /// frames still wait for the output (a render's 8 s). Judged on the whole rest of the
     /// phrase, not a sliding window, which crosses the threshold now and then in a sung
-    /// passage. Only the last [`KEPT_S`] of the phrase is kept.
+    /// passage. Only the last [`KEPT_S`] of the phrase is kept: speech that began earlier in
+    /// the phrase is taken from where that begins. Kept for [`SpeechTrack::last_ended_turned_s`].
     pub(crate) fn tail_turned_speech(&self, onset_s: f64, offset_s: f64) -> Option<f64> {
         if !self.enabled() {
             return None;
@@ -316,7 +321,17 @@ impl SpeechTrack {
             if offset_s - t < 2.0 * JUDGE_WINDOW_S {
                 return None;
             }
-            if f64::from(p) >= threshold && left_sum >= threshold * f64::from(left_n) {
+            // The window from it is speech too: a frame of the music before the speech that
+            // crosses the threshold is no turn, however strong the speech after it.
+            let window_is_speech = || {
+                self.recent
+                    .mean_between(t, t + JUDGE_WINDOW_S)
+                    .is_some_and(|m| m >= self.threshold)
+            };
+            if f64::from(p) >= threshold
+                && left_sum >= threshold * f64::from(left_n)
+                && window_is_speech()
+            {
                 return Some(t);
             }
             left_sum -= f64::from(p);
@@ -411,6 +426,11 @@ impl SpeechTrack {
         };
         self.state.ended_unsaid = speech
             && (self.state.unsaid || self.voiced_phrase_is_not_speech(onset_s, Some(offset_s)));
+        self.state.ended_turned_s = if speech {
+            None
+        } else {
+            self.tail_turned_speech(onset_s, offset_s)
+        };
         self.state.phrase = None;
         self.state.unsaid = false;
         self.state.ended = Some(speech);
@@ -433,6 +453,12 @@ impl SpeechTrack {
     /// offset not speech.
     pub(crate) fn last_ended_unsaid(&self) -> bool {
         self.state.ended_unsaid
+    }
+
+    /// Where the phrase that ended last, judged not speech, turned to speech to its end
+    /// ([`SpeechTrack::tail_turned_speech`]), seconds.
+    pub(crate) fn last_ended_turned_s(&self) -> Option<f64> {
+        self.state.ended_turned_s
     }
 
     /// The judgement of the phrase that ended last ([`SpeechTrack::phrase_ended`]).

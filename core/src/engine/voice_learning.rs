@@ -525,5 +525,26 @@ pub fn speech_of(
         block.extend_from_slice(chunk);
         engine.process(&mut [block.as_mut_slice()], &mut |_, _| {});
     }
-    Ok(engine.speech_summary())
+    Ok(speech_after_silence(&mut engine, 1))
+}
+
+/// Silence after the end of a file, seconds, beyond the engine's tail: a take that ends on a
+/// word ends its last phrase, so that phrase is judged (a trimmed one-sentence take had no
+/// phrase judged speech).
+const END_SILENCE_S: f64 = 1.0;
+
+/// `engine`'s speech summary once [`END_SILENCE_S`] of silence and its tail have followed what
+/// it was fed (`channels` as prepared). Allocates.
+pub fn speech_after_silence(engine: &mut Engine, channels: usize) -> SpeechSummary {
+    let rate_hz = engine.sample_rate_hz().unwrap_or(0.0);
+    let total = engine.tail_samples() as usize + (END_SILENCE_S * rate_hz).ceil() as usize;
+    let mut silence = vec![vec![0.0f32; BLOCK]; channels.max(1)];
+    let mut left = total;
+    while left > 0 {
+        let n = left.min(BLOCK);
+        let mut blocks: Vec<&mut [f32]> = silence.iter_mut().map(|c| &mut c[..n]).collect();
+        engine.process(&mut blocks, &mut |_, _| {});
+        left -= n;
+    }
+    engine.speech_summary()
 }

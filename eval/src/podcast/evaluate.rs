@@ -127,11 +127,13 @@ struct BreathTally {
     /// and on music-only, singing and noise-only frames standing alone ([`BODY_CLASSES`]).
     speaking: [(u64, u64); 4],
     moving: [(u64, u64); 4],
-    /// The lung at the first speaking frame within [`LUNG_WITHIN_S`] of a speech onset
-    /// (`None`: the body does not speak so soon): at the onsets after other sound (music,
+    /// The lowest lung over [`LUNG_HELD_S`] from the first speaking frame within
+    /// [`LUNG_WITHIN_S`] of a speech onset (`None`: the body does not speak so soon): at the
+    /// onsets after other sound (music,
     /// singing or noise within [`OTHER_BEFORE_S`] before it, no speech within
     /// [`AWAY_FROM_SPEECH_S`]), then at those after a pause of speech (speech within
-    /// [`AWAY_FROM_SPEECH_S`] before it, none within [`OTHER_BEFORE_S`]).
+    /// [`AWAY_FROM_SPEECH_S`] before it, but neither speech nor other sound within
+    /// [`OTHER_BEFORE_S`]).
     lung_at_onsets: [Vec<Option<f32>>; 2],
     audio_s: f64,
     wall_s: f64,
@@ -154,9 +156,11 @@ const MOVING_DEG_S: f64 = 2.0;
 /// Most of the body's frames on music, singing or noise standing alone that may speak or move.
 const MOST_BODY_SHARE: f64 = 0.05;
 
-/// The lung at a speech onset is read at the body's first speaking frame this close after it
+/// The lung at a speech onset is read from the body's first speaking frame this close after it
 /// (none: the body does not speak there), seconds.
 const LUNG_WITHIN_S: f64 = 1.0;
+/// ... over this long from that frame: its lowest value, seconds.
+const LUNG_HELD_S: f64 = 0.5;
 /// Other sound this close before a speech onset makes it an onset after other sound; no
 /// speech this close before it makes it one after a pause, seconds.
 const OTHER_BEFORE_S: f64 = 0.5;
@@ -451,7 +455,17 @@ impl BreathTally {
             let first = out.frames.iter().map(|(f, _)| f).find(|f| {
                 f.time_s >= onset_s && (f.speaking || f.time_s > onset_s + LUNG_WITHIN_S)
             });
-            self.lung_at_onsets[kind].push(first.filter(|f| f.speaking).map(|f| f.breathing.lung));
+            // The lowest lung over the first half second of speaking: a lung filled at the
+            // onset but spent at once counts as spent.
+            let lung = first.filter(|f| f.speaking).map(|f0| {
+                out.frames
+                    .iter()
+                    .map(|(f, _)| f)
+                    .filter(|f| f.time_s >= f0.time_s && f.time_s <= f0.time_s + LUNG_HELD_S)
+                    .map(|f| f.breathing.lung)
+                    .fold(f32::INFINITY, f32::min)
+            });
+            self.lung_at_onsets[kind].push(lung);
         }
         let class_of = |k: usize| {
             let alone = |class: Class| l.class[k] == Some(class) && l.stands_alone(k);

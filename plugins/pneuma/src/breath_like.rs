@@ -45,8 +45,10 @@ pub enum BreathLikeError {
     /// The speech decision hears no speech in the file: no speaker's breath to learn.
     #[error(
         "breath-like file {path} holds no speech (speech in {percent:.0} % of its time with \
-         sound): the voice is learned as the audio goes, as without it. Choose a raw take of \
-         the same speaker, breaths and all"
+         sound): the voice is learned as the audio goes, as without it. \
+         Choose a raw take of the same speaker, breaths and all; for a voice the speech \
+         decision does not take for speech (sung, through a voice changer), turn off Speech \
+         pauses only"
     )]
     NotSpeech {
         /// The path.

@@ -127,6 +127,8 @@ struct Seen {
     /// Its speech judgement once it ended (its first half second heard, unless all its voiced
     /// frames said otherwise: [`SpeechTrack::unsaid`]).
     speech: Option<bool>,
+    /// Judged not speech, it turned to speech to its end ([`SpeechTrack::last_ended_turned_s`]).
+    turned: bool,
 }
 
 impl Default for Seen {
@@ -149,6 +151,7 @@ impl Default for Seen {
             level_db: PRIOR_SPEECH_LEVEL_DB,
             own_db: None,
             speech: None,
+            turned: false,
         }
     }
 }
@@ -281,6 +284,8 @@ struct PlacementState {
     breath_end: u64,
     /// The speech judgement of the last phrase decided and ended (lookahead mode).
     prev_speech: Option<bool>,
+    /// That phrase, judged not speech, turned to speech to its end.
+    prev_turned: bool,
     /// Whether the stream starts inside sound.
     start: StreamStart,
     /// Live mode: a real breath was heard in the pause since the last phrase ended.
@@ -314,6 +319,7 @@ impl Default for PlacementState {
             last_onset_s: None,
             breath_end: 0,
             prev_speech: None,
+            prev_turned: false,
             start: StreamStart::default(),
             live_breath_heard: false,
             live_after_other: false,
@@ -485,6 +491,7 @@ impl Placement {
                     level_db,
                     own_db: None,
                     speech: None,
+                    turned: false,
                 });
             }
             PhraseEvent::End { onset_s, offset_s } => {
@@ -505,13 +512,15 @@ impl Placement {
                     // body's judgement of it, so no breath is taken for a song.
                     let unsaid = ctx.speech.last_ended_unsaid();
                     let speech = ctx.speech.last_ended().map(|speech| speech && !unsaid);
+                    let turned = ctx.speech.last_ended_turned_s().is_some();
                     match self.seen.back_mut() {
                         Some(last) => {
                             last.offset_s = Some(offset_s);
                             last.own_db = own_db;
                             last.speech = speech;
+                            last.turned = turned;
                         }
-                        None => self.state.prev_speech = speech,
+                        None => (self.state.prev_speech, self.state.prev_turned) = (speech, turned),
                     }
                     return;
                 }
@@ -727,10 +736,13 @@ impl Placement {
                 .in_sound(self.measured_phrase_level_db().unwrap_or(ph.level_db));
         let usable = pause_s >= p.min_pause_s as f64 && !in_sound;
         let speech = self.pause_of_speech(ctx, &ph);
-        // The phrase before this one was judged other sound (a song, a sting, noise).
-        let after_other = self.state.prev_speech == Some(false);
+        // The phrase before this one was judged other sound (a song, a sting, noise), and
+        // did not turn to speech to its end (the body spoke on that tail: no inspiration
+        // may lie on it).
+        let after_other = self.state.prev_speech == Some(false) && !self.state.prev_turned;
         if ph.speech.is_some() {
             self.state.prev_speech = ph.speech;
+            self.state.prev_turned = ph.turned;
         }
         let air_left_s = self.state.group_planned_s - self.state.group_spoken_s;
         let short_of_air = pause.leading
@@ -825,7 +837,7 @@ impl Placement {
             let judged = matches!(
                 (ph.speech, ctx.speech.current()),
                 (Some(true), _) | (None, Some((true, true)))
-            );
+            ) && (ph.speech.is_some() || !ctx.speech.unsaid());
             let at_s = (onset_s - want_s).max(earliest_s).min(onset_s);
             let action = if judged && onset_s - at_s >= MIN_BREATH_S {
                 let group_s = self.new_group(config, coming_s);
