@@ -818,22 +818,21 @@ impl Placement {
                 schedule.cycle.insert_sorted((at_s, action));
             }
         }
-        if window.is_none() && !spoken && (after_other || pause.leading) {
-            // A phrase of other sound: should speech run on from it in the same phrase (the
-            // body then speaks on its tail, `BodyGate`), its speaker breathed in under the
-            // sound.
-            let group_s = self.state.group_estimate_s;
-            schedule
-                .cycle
-                .insert_sorted((onset_s, CycleAction::BreathOwed { group_s }));
-        } else if window.is_none() && spoken && after_other && !pause.leading {
-            // Speech right after other sound with no pause of speech to breathe in (a host
-            // who speaks as the song ends): the speaker breathed in under it. A phrase judged
-            // speech starts a group, its lung filled over the inhalation before its onset (no
-            // sound inserted). When that lies in the past, or the phrase is not judged yet
-            // (only Silero heard speech in it, as it does in singing), the lung is owed to its
-            // first speaking frame, for a group of the running estimate, and the group plan
-            // is left as it is (a song must not end it). It spoke from the resting lung before.
+        // No breath before a phrase after other sound (or, not speech, at the stream's start):
+        // its speaker breathed in under that sound. Speech right after it (a host who speaks
+        // as the song ends) starts a group, its lung filled before its onset (no sound). When
+        // that lies in the past, the phrase is not judged speech yet (Silero takes singing for
+        // speech), or it is other sound itself (speech may run on from it: `BodyGate`), the
+        // lung is owed to its first speaking frame, for a group of the running estimate, and
+        // the group plan is left as it is (a song must not end it).
+        let owes = if spoken {
+            after_other && !pause.leading
+        } else {
+            after_other || pause.leading
+        };
+        if window.is_none() && owes {
+            // Judged speech implies `spoken` ([`Placement::phrase_is_speech`]): other sound is
+            // always owed.
             let judged = matches!(
                 (ph.speech, ctx.speech.current()),
                 (Some(true), _) | (None, Some((true, true)))
