@@ -192,3 +192,44 @@ fn a_quiet_sound_between_phrases_does_not_end_the_group_it_lies_in() {
 fn round_ms(s: f64) -> i64 {
     (s * 1000.0).round() as i64
 }
+
+/// Voiced frames at `rms_db` every 1/120 s over `(from_s, to_s)`, as the lookahead holds them.
+fn pending_frames(from_s: f64, to_s: f64, rms_db: f32) -> Queue<Pending> {
+    let n = ((to_s - from_s) * 120.0).round() as usize;
+    let mut q = Queue::with_capacity(n + 1);
+    for k in 0..n {
+        q.push_back(Pending {
+            frame: FeatureFrame {
+                time_s: from_s + k as f64 / 120.0,
+                voiced: true,
+                rms_db,
+                ..FeatureFrame::default()
+            },
+            other_sound: false,
+            emit_at: 0,
+        });
+    }
+    q
+}
+
+#[test]
+fn a_phrase_heard_for_less_than_the_speech_window_keeps_the_last_speaker_level() {
+    // The last phrase spoke at −25 dBFS; the next one's first 0.1 s (a plugin's view of it
+    // when its breath is decided) rises at −40 dBFS.
+    let mut placement = placement_with(&[]);
+    let spoken = pending_frames(8.0, 9.0, -25.0);
+    placement.state.levels.start();
+    for p in spoken.iter() {
+        placement.state.levels.frame(&p.frame);
+    }
+    placement.state.levels.end();
+    let mut next = seen(10.5, 12.0, 10.0, true, -40.0);
+    next.own_db = None;
+    let onset = pending_frames(10.5, 10.6, -40.0);
+    let speaker_db = placement.speaker_of(&onset, Some(&next));
+    assert!((speaker_db + 25.0).abs() < 0.5, "{speaker_db}");
+    // Heard for the whole window, a quieter voice is its own speaker (an interview's guest).
+    let window = pending_frames(10.5, 10.5 + JUDGE_WINDOW_S + 0.05, -40.0);
+    let speaker_db = placement.speaker_of(&window, Some(&next));
+    assert!((speaker_db + 40.0).abs() < 0.5, "{speaker_db}");
+}
