@@ -14,11 +14,13 @@
 //! is learned from with a note ([`LikeVoice::speech_share`]).
 //!
 //! [`VoiceCache`] keeps the last voice learned, so engines rebuilt for other settings (mode,
-//! lookahead) and re-activations do not read the file again: it is read again only when the
-//! path, the file's modification time, the analysis or phrase settings or the speech decision's
-//! switch change.
+//! lookahead), re-activations and the editor's file check (one cache per plugin instance,
+//! shared by its engine builder and its editor) do not read the file again: it is read again
+//! only when the path, the file's modification time, the analysis or phrase settings or the
+//! speech decision's switch change.
 
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 use std::time::SystemTime;
 
@@ -135,6 +137,8 @@ type Learned = Result<LikeVoice, BreathLikeError>;
 #[derive(Debug, Default)]
 pub struct VoiceCache {
     last: Mutex<Option<(Key, Learned)>>,
+    /// Files read and learned (not answered from the cache).
+    reads: AtomicU64,
 }
 
 impl VoiceCache {
@@ -148,7 +152,36 @@ impl VoiceCache {
             }
         }
         let learned = learn(path, config);
+        self.reads.fetch_add(1, Ordering::Relaxed);
         *last = Some((key, learned.clone()));
         learned
     }
+
+    /// How many times a file was read and learned rather than answered from the cache.
+    pub fn reads(&self) -> u64 {
+        self.reads.load(Ordering::Relaxed)
+    }
+}
+
+/// The editor's check of the breath-like file at `path`: what the engine will learn from it
+/// with `config` (through `cache`, so the engine built next does not read it again), as a
+/// line for the user, or why it cannot be used.
+pub fn check(cache: &VoiceCache, path: &str, config: &EngineConfig) -> Result<String, String> {
+    if path.is_empty() {
+        return Ok("none: the voice is learned as the audio goes".to_owned());
+    }
+    let like = cache.learn(path, config).map_err(|e| e.to_string())?;
+    let what = match like.voice {
+        Some(v) => format!("voice learned from {} breaths", v.breaths),
+        None => "no breath heard in it: the built-in voice".to_owned(),
+    };
+    let note = like.speech_share.map_or(String::new(), |share| {
+        format!(
+            "; but it is mostly music or other sound (speech in {:.0} % of its time with \
+             sound), so breaths heard between its sounds went into the voice: a raw take of \
+             the speaker gives the speaker's own",
+            100.0 * share
+        )
+    });
+    Ok(format!("{what}{note}"))
 }

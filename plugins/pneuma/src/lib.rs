@@ -76,6 +76,7 @@ use pneuma_core::encode::midi_cc::{CcEncoder, CcMessage};
 use pneuma_core::encode::osc::OscFormat;
 use pneuma_core::encode::sink::{CcSink, FrameSink};
 
+use breath_like::VoiceCache;
 use editor::feed::{EditorFeed, EditorShared};
 pub use params::{ChangeFlags, PneumaParams, PARAM_IDS};
 use pneuma_core::breathing::BreathSample;
@@ -160,6 +161,8 @@ pub struct Pneuma {
     /// The audio side of the editor's data path ([`editor::feed`]).
     view: EditorFeed,
     view_shared: Arc<EditorShared>,
+    /// The voices learned from breath-like files, shared by the engine builder and the editor.
+    breath_like_voices: Arc<VoiceCache>,
     /// The freeze switch and the saved breath voice on the audio thread ([`voice`]).
     voice: VoiceFreeze,
     /// The seam where a new engine takes over while playing.
@@ -171,8 +174,10 @@ impl Default for Pneuma {
         let params = Arc::new(PneumaParams::default());
         let cc = CcEncoder::new(params.cc_map()).expect("the default CC map is valid");
         let (view, view_shared) = editor::feed::channel();
+        let breath_like_voices = Arc::new(VoiceCache::default());
         Self {
-            slot: EngineSlot::new(params.clone()),
+            slot: EngineSlot::new(params.clone(), breath_like_voices.clone()),
+            breath_like_voices,
             params,
             at_rest: false,
             mono: MonoSource::default(),
@@ -417,6 +422,7 @@ impl Plugin for Pneuma {
             self.params.clone(),
             self.view_shared.clone(),
             self.params.editor_layout.clone(),
+            self.breath_like_voices.clone(),
         )
     }
 

@@ -159,8 +159,9 @@ pub struct EngineBuilder {
     stream: Mutex<Option<StreamSpec>>,
     done: Mutex<Producer<Built>>,
     retired: Mutex<Consumer<Box<Engine>>>,
-    /// The voice learned from the breath-like file, kept across builds.
-    breath_like: VoiceCache,
+    /// The voice learned from the breath-like file, kept across builds (the instance's cache,
+    /// shared with its editor's file check).
+    breath_like: Arc<VoiceCache>,
 }
 
 /// The audio thread's ends of the hand-over queues.
@@ -186,8 +187,9 @@ impl SwapEnds {
 }
 
 impl EngineBuilder {
-    /// A builder for `params` and the audio thread's ends of its queues.
-    pub fn new(params: Arc<PneumaParams>) -> (Arc<Self>, SwapEnds) {
+    /// A builder for `params`, learning breath-like files through `voices`, and the audio
+    /// thread's ends of its queues.
+    pub fn new(params: Arc<PneumaParams>, voices: Arc<VoiceCache>) -> (Arc<Self>, SwapEnds) {
         let (done, built) = RingBuffer::new(QUEUE_ENGINES);
         let (retire, retired) = RingBuffer::new(QUEUE_ENGINES);
         let builder = Arc::new(Self {
@@ -195,7 +197,7 @@ impl EngineBuilder {
             stream: Mutex::new(None),
             done: Mutex::new(done),
             retired: Mutex::new(retired),
-            breath_like: VoiceCache::default(),
+            breath_like: voices,
         });
         (builder, SwapEnds { built, retire })
     }
@@ -463,9 +465,10 @@ pub struct EngineSlot {
 }
 
 impl EngineSlot {
-    /// An empty slot for `params` (no engine until [`EngineSlot::activate`]).
-    pub fn new(params: Arc<PneumaParams>) -> Self {
-        let (builder, swap) = EngineBuilder::new(params.clone());
+    /// An empty slot for `params` (no engine until [`EngineSlot::activate`]), learning
+    /// breath-like files through `voices`.
+    pub fn new(params: Arc<PneumaParams>, voices: Arc<VoiceCache>) -> Self {
+        let (builder, swap) = EngineBuilder::new(params.clone(), voices);
         Self {
             params,
             engine: None,
@@ -755,7 +758,7 @@ mod tests {
     /// reported from the audio thread), with one block followed (nothing to build yet).
     fn activated(mode: ProcessMode) -> (Arc<PneumaParams>, EngineSlot) {
         let params = Arc::new(PneumaParams::default());
-        let mut slot = EngineSlot::new(params.clone());
+        let mut slot = EngineSlot::new(params.clone(), Arc::default());
         let latency = slot.activate(48_000.0, 512, 2, false, mode);
         assert_eq!(latency, 24_000, "the default lookahead, 0.5 s");
         slot.follow(512, |e| panic!("nothing changed, yet {e:?}"));

@@ -198,10 +198,7 @@ fn a_frozen_voice_plays_the_same_every_time_and_unfreezing_learns_afresh() {
 #[test]
 fn an_engine_learns_the_voice_of_the_breath_like_file_and_a_bad_file_leaves_learning() {
     let rate = f64::from(RATE_HZ);
-    let dir = std::env::temp_dir().join(format!("pneuma-breath-like-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let take = dir.join("take.wav");
-    write_take(&take, &signals::phrases_with_breaths(rate, 16.0, 9));
+    let (dir, take) = breathing_take("pneuma-breath-like");
     // The generated speaker's vowels are not speech: learned as the plugin above learns it.
     let mut any_sound = EngineConfig::default();
     any_sound.placement.speech_only = false;
@@ -246,6 +243,64 @@ fn an_engine_learns_the_voice_of_the_breath_like_file_and_a_bad_file_leaves_lear
         }
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_editors_check_of_a_breath_like_file_is_the_read_the_engine_learns_from() {
+    // The editor checks the file (off the GUI thread); the engine built at activation learns
+    // from the same file: one read. To see it, the file is replaced after the check by a
+    // shorter take with fewer breaths, under the same modification time: the engine keeps
+    // the voice the check learned. (Each reading it for itself, the engine learned the
+    // replacement, and a long take was decoded and analysed twice.)
+    let rate = f64::from(RATE_HZ);
+    let (dir, take) = breathing_take("pneuma-breath-check");
+    let path = take.to_string_lossy().into_owned();
+    let plugin = Pneuma::default();
+    plugin.params.breath_like.set_path(path.clone());
+    set(&plugin, "speech_only", 0.0);
+    let config = plugin.params.engine_config();
+    let checked = crate::breath_like::check(&plugin.breath_like_voices, &path, &config);
+    let checked = checked.expect("the take is learned from");
+    let breaths = match plugin.breath_like_voices.learn(&path, &config) {
+        Ok(like) => like.voice.expect("breaths heard in the take").breaths,
+        Err(e) => panic!("{e}"),
+    };
+    assert!(checked.contains(&format!("{breaths} breaths")), "{checked}");
+    assert_eq!(plugin.breath_like_voices.reads(), 1);
+
+    let modified = std::fs::metadata(&take).unwrap().modified().unwrap();
+    write_take(&take, &signals::phrases_with_breaths(rate, 6.0, 9));
+    std::fs::File::options()
+        .write(true)
+        .open(&take)
+        .unwrap()
+        .set_modified(modified)
+        .unwrap();
+    let mut plugin = activated(plugin);
+    let mut host = Host::playing(PluginApi::Clap, RATE_HZ);
+    play(
+        &mut plugin,
+        &mut host,
+        &signals::phrases_with_pauses(rate, 4.0, 60.0, 5),
+    );
+    assert!(
+        matches!(shown(&plugin), VoiceShown::BreathLike { breaths: b, .. } if b == breaths),
+        "{:?}, the check learned {breaths} breaths",
+        shown(&plugin)
+    );
+    assert_eq!(plugin.breath_like_voices.reads(), 1);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A folder for one test (`name` and the process id) holding `take.wav`: 16 s of the
+/// generated speaker breathing in its pauses. Returns the folder and the take's path.
+fn breathing_take(name: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let dir = std::env::temp_dir().join(format!("{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let take = dir.join("take.wav");
+    let rate = f64::from(RATE_HZ);
+    write_take(&take, &signals::phrases_with_breaths(rate, 16.0, 9));
+    (dir, take)
 }
 
 /// `samples` written as a mono float WAV at [`RATE_HZ`] to `path`.

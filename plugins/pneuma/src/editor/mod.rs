@@ -29,6 +29,7 @@ use std::sync::{Arc, RwLock};
 #[cfg(feature = "editor")]
 use nice_plug_egui::{create_egui_editor, EguiEditorState, EguiNiceSettings, RepaintNotifier};
 
+use crate::breath_like::VoiceCache;
 pub use crate::params::layout::EditorLayout;
 use crate::params::PneumaParams;
 use feed::EditorShared;
@@ -57,12 +58,14 @@ pub fn create(
     _params: Arc<PneumaParams>,
     _shared: Arc<EditorShared>,
     _saved_layout: Arc<RwLock<EditorLayout>>,
+    _voices: Arc<VoiceCache>,
 ) -> Option<PneumaEditor> {
     None
 }
 
 /// The editor for a plugin instance (`saved_layout`: the persisted size and zoom, updated as
-/// the window changes), or `None` in a headless process. Hosts ask once, right after creating
+/// the window changes; `voices`: the instance's breath-like voices, shared with its engine
+/// builder), or `None` in a headless process. Hosts ask once, right after creating
 /// the instance (before a saved state is restored): the saved size is applied when the window
 /// opens ([`view::EditorApp`]).
 #[cfg(feature = "editor")]
@@ -70,6 +73,7 @@ pub fn create(
     params: Arc<PneumaParams>,
     shared: Arc<EditorShared>,
     saved_layout: Arc<RwLock<EditorLayout>>,
+    voices: Arc<VoiceCache>,
 ) -> Option<PneumaEditor> {
     if HEADLESS.load(Ordering::Relaxed) {
         return None;
@@ -98,7 +102,7 @@ pub fn create(
                 nice_plug::editor::dpi::LogicalSize::new(MIN_SIZE.0 as f32, MIN_SIZE.1 as f32),
             ),
         );
-    let app = view::EditorApp::new(params, shared, saved_layout);
+    let app = view::EditorApp::new(params, shared, saved_layout, voices);
     create_egui_editor(state, RepaintNotifier::new(), settings, app)
 }
 
@@ -136,8 +140,15 @@ mod tests {
         let (_, shared) = feed::channel();
         let params = Arc::new(PneumaParams::default());
         let layout = params.editor_layout.clone();
-        assert!(create(params.clone(), shared.clone(), layout.clone()).is_none());
+        let voices = Arc::new(VoiceCache::default());
+        let no_window = create(
+            params.clone(),
+            shared.clone(),
+            layout.clone(),
+            voices.clone(),
+        );
+        assert!(no_window.is_none());
         set_headless(false);
-        assert!(create(params, shared, layout).is_some());
+        assert!(create(params, shared, layout, voices).is_some());
     }
 }

@@ -28,6 +28,7 @@ use pneuma_core::ControlFrame;
 use super::feed::EditorShared;
 use super::history::History;
 use super::{timeline, EditorLayout};
+use crate::breath_like::VoiceCache;
 use crate::params::{ModeChoice, PneumaParams, SamplePath};
 use crate::voice::VoiceShown;
 
@@ -54,28 +55,15 @@ fn check_sample(path: String) -> Checked {
     }
 }
 
-/// The breath-like recording: its voice learned as an engine will learn it (`config`).
-fn check_breath_like(path: String, config: &pneuma_core::engine::EngineConfig) -> Checked {
-    if path.is_empty() {
-        return Ok((
-            path,
-            "none: the voice is learned as the audio goes".to_owned(),
-        ));
-    }
-    let like = crate::breath_like::learn(&path, config).map_err(|e| e.to_string())?;
-    let what = match like.voice {
-        Some(v) => format!("voice learned from {} breaths", v.breaths),
-        None => "no breath heard in it: the built-in voice".to_owned(),
-    };
-    let note = like.speech_share.map_or(String::new(), |share| {
-        format!(
-            "; but it is mostly music or other sound (speech in {:.0} % of its time with \
-             sound), so breaths heard between its sounds went into the voice: a raw take of \
-             the speaker gives the speaker's own",
-            100.0 * share
-        )
-    });
-    Ok((path, format!("{what}{note}")))
+/// The breath-like recording: its voice learned as an engine will learn it (`config`), through
+/// the instance's cache.
+fn check_breath_like(
+    cache: &VoiceCache,
+    path: String,
+    config: &pneuma_core::engine::EngineConfig,
+) -> Checked {
+    let text = crate::breath_like::check(cache, &path, config)?;
+    Ok((path, text))
 }
 
 /// A file slot (a breath sample, the breath-like recording): the path being typed, the check
@@ -171,14 +159,18 @@ pub struct EditorApp {
     gui: Option<GuiContext>,
     pickers: [SamplePicker; 2],
     breath_like: SamplePicker,
+    /// The voices learned from breath-like files, shared with the engine builder.
+    voices: Arc<VoiceCache>,
 }
 
 impl EditorApp {
-    /// An app over the plugin's parameters and the GUI end of the data path.
+    /// An app over the plugin's parameters and the GUI end of the data path, checking
+    /// breath-like files through `voices` (the instance's cache).
     pub fn new(
         params: Arc<PneumaParams>,
         shared: Arc<EditorShared>,
         layout: Arc<RwLock<EditorLayout>>,
+        voices: Arc<VoiceCache>,
     ) -> Self {
         let pickers = [
             SamplePicker::new("Mouth", &params.breath_sample_mouth),
@@ -193,6 +185,7 @@ impl EditorApp {
             gui: None,
             pickers,
             breath_like,
+            voices,
         }
     }
 
@@ -282,10 +275,14 @@ impl EditorApp {
         }
         // The breath-like recording: a new engine learns from it (no restart needed).
         self.breath_like.poll(&p.breath_like);
+        let voices = self.voices.clone();
         self.breath_like.ui(
             ui,
             "learn as the audio goes (path to another take)",
-            move || Box::new(move |path| check_breath_like(path, &config)),
+            move || {
+                let voices = voices.clone();
+                Box::new(move |path| check_breath_like(&voices, path, &config))
+            },
         );
         ui.separator();
         ui.strong("Breath samples");
