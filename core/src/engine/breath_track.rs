@@ -245,7 +245,8 @@ impl BreathTrack {
                     }
                     let mouth = config.breathing.map().mouth_share();
                     // A learned voice plays at its learned level, moved by the user's level and
-                    // breathing sound and to the level of the speaker who speaks next.
+                    // breathing sound and to the level of the speaker who speaks next (as the
+                    // placement knew it: `BreathAction::Start::speaker_db`).
                     let default_level_db = super::PlacementConfig::default().breath_level_db;
                     self.voice.set_learned_offset_db(f64::from(
                         config.breath_level_re_speech_db() - default_level_db + speaker_db,

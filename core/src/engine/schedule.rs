@@ -31,8 +31,8 @@ pub(crate) enum BreathAction {
         length: usize,
         gain: f32,
         /// How far over its level a breath voice plays: the level of the speaker who speaks
-        /// next against the recording's speech, dB, as known when it was placed
-        /// ([`super::speaker_level`]).
+        /// next against the recording's speech, dB, as known when it was placed (the speaker
+        /// before it while too little of the next phrase is heard: [`super::speaker_level`]).
         speaker_db: f32,
         gains: [f32; MAX_CHANNELS],
         edge_hz: Option<f64>,

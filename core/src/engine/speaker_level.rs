@@ -3,7 +3,10 @@
 //! the guest's breaths lie 12 dB under the host's. A breath heard is measured against its
 //! speaker's level ([`crate::breathing::learned::HeardBreath::speaker_level_db`]) and a breath
 //! inserted plays that far under the level of the speaker after it (the breath track moves the
-//! voice by that level less the voice's speech level).
+//! voice by that level less the voice's speech level), as far as it is known when the breath is
+//! placed: a lookahead too short to hear the phrase after the breath for the speech decision's
+//! window (the plugin's default 500 ms) and live mode take the speaker before it, so there the
+//! breath before a turn has the last speaker's level (`Placement::breath_speaker_db`).
 //!
 //! A phrase's level here is the median level of its voiced frames (the statistic of the
 //! recording's speech level, so that for one speaker the two agree). A speaker's level is the

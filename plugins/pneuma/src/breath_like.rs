@@ -13,7 +13,7 @@
 //! that says so (learning as the audio goes, as without the file), and one mostly of other sound
 //! is learned from with a note ([`LikeVoice::speech_share`]).
 //!
-//! [`VoiceCache`] keeps the last voice learned, so engines rebuilt for other settings (mode,
+//! [`VoiceCache`] keeps the last voices learned, so engines rebuilt for other settings (mode,
 //! lookahead), re-activations and the editor's file check (one cache per plugin instance,
 //! shared by its engine builder and its editor) do not read the file again: it is read again
 //! only when the path, the file's modification time, the analysis or phrase settings or the
@@ -133,31 +133,41 @@ impl Key {
 
 type Learned = Result<LikeVoice, BreathLikeError>;
 
-/// The last voice learned from a breath-like file (see the module docs).
+/// Voices kept by a [`VoiceCache`]: the file being checked or loaded and the one before it
+/// (a check of a new file does not make the engine read the file it still uses again).
+const KEPT_VOICES: usize = 2;
+
+/// The last voices learned from breath-like files (see the module docs).
 #[derive(Debug, Default)]
 pub struct VoiceCache {
-    last: Mutex<Option<(Key, Learned)>>,
-    /// Files read and learned (not answered from the cache).
+    /// The most recent first.
+    kept: Mutex<[Option<(Key, Learned)>; KEPT_VOICES]>,
+    /// Files read and learned, or tried (not answered from the cache).
     reads: AtomicU64,
 }
 
 impl VoiceCache {
-    /// [`learn`], or the voice learned before from the same file and settings.
+    /// [`learn`], or the voice learned before from the same file and settings. The lock is not
+    /// held while a file is read: a check of a long take never holds up an engine's build (two
+    /// callers that miss at once both read it).
     pub fn learn(&self, path: &str, config: &EngineConfig) -> Learned {
         let key = Key::of(path, config);
-        let mut last = self.last.lock().unwrap_or_else(|p| p.into_inner());
-        if let Some((k, learned)) = last.as_ref() {
-            if *k == key {
-                return learned.clone();
-            }
+        let lock = || self.kept.lock().unwrap_or_else(|p| p.into_inner());
+        if let Some((_, learned)) = lock().iter().flatten().find(|(k, _)| *k == key) {
+            return learned.clone();
         }
         let learned = learn(path, config);
         self.reads.fetch_add(1, Ordering::Relaxed);
-        *last = Some((key, learned.clone()));
+        let mut kept = lock();
+        if !kept.iter().flatten().any(|(k, _)| *k == key) {
+            kept.rotate_right(1);
+            kept[0] = Some((key, learned.clone()));
+        }
         learned
     }
 
-    /// How many times a file was read and learned rather than answered from the cache.
+    /// How many times a file was read and learned (or tried) rather than answered from the
+    /// cache.
     pub fn reads(&self) -> u64 {
         self.reads.load(Ordering::Relaxed)
     }

@@ -292,6 +292,27 @@ fn the_editors_check_of_a_breath_like_file_is_the_read_the_engine_learns_from() 
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+#[test]
+fn checking_another_file_keeps_the_voice_of_the_one_in_use() {
+    // The engine learned take A; the editor checks take B; the next engine build for A (a
+    // re-activation before the path changes) does not read A again.
+    let (dir, a) = breathing_take("pneuma-breath-two");
+    let b = dir.join("other.wav");
+    write_take(
+        &b,
+        &signals::phrases_with_breaths(f64::from(RATE_HZ), 8.0, 3),
+    );
+    let mut config = EngineConfig::default();
+    config.placement.speech_only = false;
+    let cache = crate::breath_like::VoiceCache::default();
+    let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
+    for (path, reads) in [(a, 1), (b, 2), (a, 2), (b, 2)] {
+        assert!(cache.learn(path, &config).is_ok(), "{path}");
+        assert_eq!(cache.reads(), reads, "after {path}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// A folder for one test (`name` and the process id) holding `take.wav`: 16 s of the
 /// generated speaker breathing in its pauses. Returns the folder and the take's path.
 fn breathing_take(name: &str) -> (std::path::PathBuf, std::path::PathBuf) {

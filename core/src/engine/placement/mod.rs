@@ -353,10 +353,12 @@ impl Placement {
     /// How far over its level a breath voice plays before phrase `ph` (the one after the
     /// pause), dB: its speaker's level ([`speaker_reference_db`]) less the recording's speech
     /// level. The speaker's from the phrase's own level once it ended, else from its voiced
-    /// frames analysed so far once they span the speech decision's window (a long phrase in a
-    /// render's lookahead), else from the last phrase's (live mode, and the plugin's lookahead,
-    /// which has heard a phrase's rising onset only: its median lies several dB under the
-    /// phrase's and would make a breath another, quieter speaker's); 0 before any.
+    /// frames analysed so far once they span the speech decision's window (a lookahead that
+    /// holds that much of it before its breath: a render's 8 s), else from the last phrase's
+    /// (live mode, and a lookahead too short to hear [`JUDGE_WINDOW_S`] of the phrase before
+    /// its breath, as the plugin's default 500 ms: it has heard the phrase's rising onset only,
+    /// whose median lies several dB under the phrase's and would make the speaker's own breath
+    /// another, quieter speaker's); 0 before any.
     fn breath_speaker_db(&self, ctx: &EventContext, ph: Option<&Seen>) -> f32 {
         let speaker = self.speaker_of(ctx.pending, ph);
         if !(speaker.is_finite() && ctx.speech_db.is_finite()) {
@@ -368,19 +370,29 @@ impl Placement {
     /// The level of the speaker of phrase `ph` (see [`Placement::breath_speaker_db`]), dBFS;
     /// NaN before any phrase.
     fn speaker_of(&self, pending: &Queue<Pending>, ph: Option<&Seen>) -> f32 {
-        let visible = |onset_s: f64| {
-            let mut levels = VoicedLevels::default();
-            let mut heard_to_s = onset_s;
-            for p in pending.iter().filter(|p| p.frame.time_s >= onset_s) {
-                levels.add(&p.frame);
-                heard_to_s = p.frame.time_s;
-            }
-            if heard_to_s - onset_s < JUDGE_WINDOW_S {
+        // The phrase's frames in the lookahead, up to its offset once it is known (a phrase
+        // that ended with too few voiced frames for a level of its own: not the pause's nor
+        // the next phrase's).
+        let visible = |ph: &Seen| {
+            let end_s = ph.offset_s.unwrap_or(f64::INFINITY);
+            let heard_to_s = pending
+                .iter()
+                .map(|p| p.frame.time_s)
+                .filter(|&t| t < end_s)
+                .last();
+            if heard_to_s.is_none_or(|t| t - ph.onset_s < JUDGE_WINDOW_S) {
                 return None;
+            }
+            let mut levels = VoicedLevels::default();
+            for p in pending
+                .iter()
+                .filter(|p| p.frame.time_s >= ph.onset_s && p.frame.time_s < end_s)
+            {
+                levels.add(&p.frame);
             }
             levels.level(MIN_VOICED_FRAMES).map(|l| l.median_db)
         };
-        ph.and_then(|ph| ph.own_db.or_else(|| visible(ph.onset_s)))
+        ph.and_then(|ph| ph.own_db.or_else(|| visible(ph)))
             .or(self.state.levels.last_db())
             .map_or(f32::NAN, |db| self.state.levels.speaker_level_db(db))
     }

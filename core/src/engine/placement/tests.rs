@@ -196,7 +196,7 @@ fn round_ms(s: f64) -> i64 {
 /// Voiced frames at `rms_db` every 1/120 s over `(from_s, to_s)`, as the lookahead holds them.
 fn pending_frames(from_s: f64, to_s: f64, rms_db: f32) -> Queue<Pending> {
     let n = ((to_s - from_s) * 120.0).round() as usize;
-    let mut q = Queue::with_capacity(n + 1);
+    let mut q = Queue::with_capacity(n + 200);
     for k in 0..n {
         q.push_back(Pending {
             frame: FeatureFrame {
@@ -232,4 +232,13 @@ fn a_phrase_heard_for_less_than_the_speech_window_keeps_the_last_speaker_level()
     let window = pending_frames(10.5, 10.5 + JUDGE_WINDOW_S + 0.05, -40.0);
     let speaker_db = placement.speaker_of(&window, Some(&next));
     assert!((speaker_db + 40.0).abs() < 0.5, "{speaker_db}");
+    // A phrase that ended at 10.6 s with too few voiced frames for a level of its own: the
+    // next phrase's frames in the lookahead are not its own.
+    next.offset_s = Some(10.6);
+    let mut two = pending_frames(10.5, 10.6, -40.0);
+    for p in pending_frames(10.8, 11.6, -40.0).iter() {
+        two.push_back(*p);
+    }
+    let speaker_db = placement.speaker_of(&two, Some(&next));
+    assert!((speaker_db + 25.0).abs() < 0.5, "{speaker_db}");
 }
