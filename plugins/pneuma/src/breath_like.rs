@@ -153,8 +153,18 @@ impl VoiceCache {
     pub fn learn(&self, path: &str, config: &EngineConfig) -> Learned {
         let key = Key::of(path, config);
         let lock = || self.kept.lock().unwrap_or_else(|p| p.into_inner());
-        if let Some((_, learned)) = lock().iter().flatten().find(|(k, _)| *k == key) {
-            return learned.clone();
+        {
+            let mut kept = lock();
+            let found = kept
+                .iter()
+                .position(|e| e.as_ref().is_some_and(|(k, _)| *k == key));
+            if let Some(i) = found {
+                // The voice used last goes first: the one kept longest unused goes next.
+                kept[..=i].rotate_right(1);
+                if let Some((_, learned)) = &kept[0] {
+                    return learned.clone();
+                }
+            }
         }
         let learned = learn(path, config);
         self.reads.fetch_add(1, Ordering::Relaxed);

@@ -295,18 +295,22 @@ fn the_editors_check_of_a_breath_like_file_is_the_read_the_engine_learns_from() 
 #[test]
 fn checking_another_file_keeps_the_voice_of_the_one_in_use() {
     // The engine learned take A; the editor checks take B; the next engine build for A (a
-    // re-activation before the path changes) does not read A again.
+    // re-activation before the path changes) does not read A again, nor after a check of a
+    // third take C (the voice used last is kept).
     let (dir, a) = breathing_take("pneuma-breath-two");
-    let b = dir.join("other.wav");
-    write_take(
-        &b,
-        &signals::phrases_with_breaths(f64::from(RATE_HZ), 8.0, 3),
-    );
+    let (b, c) = (dir.join("other.wav"), dir.join("third.wav"));
+    let rate = f64::from(RATE_HZ);
+    write_take(&b, &signals::phrases_with_breaths(rate, 8.0, 3));
+    write_take(&c, &signals::phrases_with_breaths(rate, 8.0, 4));
     let mut config = EngineConfig::default();
     config.placement.speech_only = false;
     let cache = crate::breath_like::VoiceCache::default();
-    let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
-    for (path, reads) in [(a, 1), (b, 2), (a, 2), (b, 2)] {
+    let (a, b, c) = (
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        c.to_str().unwrap(),
+    );
+    for (path, reads) in [(a, 1), (b, 2), (a, 2), (b, 2), (a, 2), (c, 3), (a, 3)] {
         assert!(cache.learn(path, &config).is_ok(), "{path}");
         assert_eq!(cache.reads(), reads, "after {path}");
     }
