@@ -375,20 +375,17 @@ impl Placement {
         // the next phrase's).
         let visible = |ph: &Seen| {
             let end_s = ph.offset_s.unwrap_or(f64::INFINITY);
-            let heard_to_s = pending
-                .iter()
-                .map(|p| p.frame.time_s)
-                .filter(|&t| t < end_s)
-                .last();
-            if heard_to_s.is_none_or(|t| t - ph.onset_s < JUDGE_WINDOW_S) {
-                return None;
-            }
             let mut levels = VoicedLevels::default();
+            let mut heard_to_s = None;
             for p in pending
                 .iter()
                 .filter(|p| p.frame.time_s >= ph.onset_s && p.frame.time_s < end_s)
             {
                 levels.add(&p.frame);
+                heard_to_s = Some(p.frame.time_s);
+            }
+            if heard_to_s.is_none_or(|t| t - ph.onset_s < JUDGE_WINDOW_S) {
+                return None;
             }
             levels.level(MIN_VOICED_FRAMES).map(|l| l.median_db)
         };
