@@ -26,6 +26,10 @@ pub struct Pause {
     /// word too short to confirm), seconds; `None` when the pause was quiet. Nothing should be
     /// placed over it.
     pub last_activity_end_s: Option<f64>,
+    /// Start of an unvoiced burst just before the onset that begins the phrase's speech (a
+    /// leading /s/ whose stop closure outlasts the run gap), seconds: the speech starts there,
+    /// and nothing should be placed over it. Not part of `last_activity_end_s`.
+    pub lead_in_s: Option<f64>,
     /// Digital silence touching the heard breath (`breath_s`), after it or else before it: an
     /// editor's cut or a closed noise gate took the rest of that breath (a recorded room never
     /// falls that low), seconds; `None` without a heard breath or without such a stretch.

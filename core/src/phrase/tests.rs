@@ -444,6 +444,53 @@ fn a_loud_unvoiced_burst_in_a_pause_is_reported_and_bounds_the_pause() {
     assert!((end - 2.38).abs() < 0.011, "{last:?}");
 }
 
+/// A phrase at 1–2 s, then, in the pause, an unvoiced burst at 2.3–2.35 s (`burst_voiced`: its
+/// middle frame voiced), `gap` frames of quiet, a soft onset (over the floor, not active) and
+/// the next phrase at 2.45 s.
+fn pause_with_a_leading_burst(burst_voiced: bool, gap: usize) -> Pause {
+    let ev = run(&[
+        (100, -70.0, false),
+        (100, -20.0, true),
+        (30, -70.0, false),
+        (2, -22.0, false),
+        (1, -22.0, burst_voiced),
+        (2, -22.0, false),
+        (gap, -70.0, false),
+        (10 - gap, -45.0, false),
+        (100, -20.0, true),
+        (50, -70.0, false),
+    ]);
+    *pauses_of(&ev).last().unwrap()
+}
+
+#[test]
+fn an_unvoiced_burst_a_stop_closure_before_the_onset_is_the_phrases_lead_in() {
+    // An /s/, its stop's closure (40 ms: longer than the run gap, so the burst dies as a run
+    // of its own), the vowel's soft onset: the speech starts at the /s/, and the pause holds
+    // no other activity. Before, the burst was the pause's last activity, ending 40 ms before
+    // the onset: nothing could be placed before the phrase.
+    let p = pause_with_a_leading_burst(false, 4);
+    assert!(
+        p.lead_in_s.is_some_and(|t| (t - 2.30).abs() < 0.011),
+        "{p:?}"
+    );
+    assert_eq!(p.last_activity_end_s, None, "{p:?}");
+    assert!((p.end_s - 2.39).abs() < 0.011, "the onset stays: {p:?}");
+    // A voiced burst (a word too short to confirm) and a burst further from the onset than a
+    // run gap stay the pause's activity.
+    for p in [
+        pause_with_a_leading_burst(true, 4),
+        pause_with_a_leading_burst(false, 10),
+    ] {
+        assert_eq!(p.lead_in_s, None, "{p:?}");
+        assert!(
+            p.last_activity_end_s
+                .is_some_and(|t| (t - 2.35).abs() < 0.011),
+            "{p:?}"
+        );
+    }
+}
+
 #[test]
 fn a_breath_before_the_first_phrase_is_seen() {
     let ev = run(&[

@@ -86,6 +86,9 @@ struct TrackerState {
     candidate: Candidate,
     /// Last active frame of a run in this pause that did not become a phrase.
     pause_last_active: Option<u64>,
+    /// That run's first frame, and the last active frame of the runs before it in this pause,
+    /// when it held no voiced frame (a consonant's burst).
+    pause_last_run: Option<(u64, Option<u64>)>,
     /// Breath detection inside the current pause.
     breaths: PauseBreaths,
     /// The current pause's silent stretches.
@@ -107,6 +110,7 @@ impl Default for TrackerState {
             phrase: PhraseState::default(),
             candidate: Candidate::default(),
             pause_last_active: None,
+            pause_last_run: None,
             breaths: PauseBreaths::default(),
             silent: SilentRuns::default(),
         }
@@ -416,6 +420,7 @@ impl PhraseTracker {
         s.candidate.start = None;
         s.candidate.voiced = 0;
         s.pause_last_active = None;
+        s.pause_last_run = None;
         // Breath detection restarts from the offset (frames since are in the ring).
         s.breaths.restart();
         s.silent.restart();
@@ -459,6 +464,8 @@ impl PhraseTracker {
                 if s.candidate.voiced > 0 {
                     s.breaths.close(start, &self.breath_rules);
                 }
+                s.pause_last_run =
+                    (s.candidate.voiced == 0).then_some((start, s.pause_last_active));
                 s.pause_last_active = Some(s.candidate.last_active);
                 s.candidate.start = None;
                 s.candidate.voiced = 0;
@@ -492,6 +499,24 @@ impl PhraseTracker {
         while onset > limit && self.facts(onset - 1).over_floor {
             onset -= 1;
         }
+        // A leading consonant heard as a run of its own (an /s/ whose stop closure, or a
+        // gate's zeros in it, outlasts the run gap) begins the phrase's speech: the last run of
+        // the pause, unvoiced, is its lead-in when the onset reaches back to within a run gap
+        // of its end and it began within the onset extension of the onset. The onset stays
+        // (the speech decision judges the phrase from it: moving it moved the judgement of a
+        // phrase under a bed); a breath ends before the lead-in, where the run, as the pause's
+        // last activity, left it no room.
+        let mut last_active = s.pause_last_active;
+        let mut lead_in = None;
+        if let (Some(end), Some((run_start, before))) = (s.pause_last_active, s.pause_last_run) {
+            let earliest = onset
+                .saturating_sub(self.counts.edge)
+                .max(i.saturating_sub(len - 1));
+            if onset <= end + 1 + self.counts.run_gap && run_start >= earliest {
+                lead_in = Some(run_start);
+                last_active = before;
+            }
+        }
         // A breath run still going counts only with the part before the onset.
         let heard = s.breaths.at_onset(onset, &self.breath_rules);
         let breath = heard.map(|h| h.span);
@@ -503,7 +528,8 @@ impl PhraseTracker {
             has_breath: breath.is_some(),
             breath_s: breath.map(seconds),
             breath_clean_s: heard.and_then(|h| h.clean).map(seconds),
-            last_activity_end_s: s.pause_last_active.map(|k| self.time_s(k + 1)),
+            last_activity_end_s: last_active.map(|k| self.time_s(k + 1)),
+            lead_in_s: lead_in.map(|k| self.time_s(k)),
             gated_s: breath
                 .and_then(|b| s.silent.beside(b, onset, self.counts.touch))
                 .map(seconds),
@@ -514,6 +540,7 @@ impl PhraseTracker {
         s.phrase.last_active = i;
         s.candidate.start = None;
         s.pause_last_active = None;
+        s.pause_last_run = None;
         on_event(PhraseEvent::Start {
             onset_s: self.time_s(onset),
             pause,

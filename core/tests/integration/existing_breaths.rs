@@ -538,3 +538,33 @@ fn a_breath_after_a_bed_stopped_under_speech_is_heard_and_not_doubled() {
         );
     }
 }
+
+#[test]
+fn a_phrase_whose_first_consonant_is_heard_apart_gets_its_breath_before_it() {
+    // A vowel to 1.6 s, digital silence, an unvoiced burst at 2.40–2.45 s as loud as the
+    // vowels (a word-initial /s/), 20 ms of zeros and 0.1 s of soft noise 37 dB under the
+    // vowels (its stop's closure and release, as espeak-ng writes "st" at twice its rate: too
+    // soft to be active, so the burst dies as a run of its own), the vowel from 2.57 s.
+    // Before, the burst was the pause's last activity, 20 ms before the onset, and the pause
+    // got no breath; now its breath ends before the burst, and none lies over it.
+    let vowel = || signals::harmonic_tone(RATE_HZ, 1.6, 0.3, &[1.0, 0.6, 0.4, 0.3, 0.2], |_| 140.0);
+    let at = |s: f64| (s * RATE_HZ) as usize;
+    let mut x = vowel();
+    x.resize(at(2.40), 0.0);
+    x.extend(signals::white_noise(at(0.05), 0.1, 11));
+    x.resize(at(2.47), 0.0);
+    x.extend(signals::white_noise(at(0.10), 0.003, 12));
+    x.extend(vowel());
+    x.extend(vec![0.0; at(0.8)]);
+    let (_, inserted) = run(&x);
+    let in_pause: Vec<_> = inserted
+        .iter()
+        .filter(|&&(a, b)| b > 1.6 && a < 2.57)
+        .collect();
+    assert_eq!(in_pause.len(), 1, "one breath in the pause: {inserted:?}");
+    let (a, b) = *in_pause[0];
+    assert!(
+        a >= 1.6 && b <= 2.40 && b - a >= 0.2,
+        "the breath ends before the burst at 2.40 s: {a:.3}..{b:.3}"
+    );
+}

@@ -113,8 +113,9 @@ pub(crate) struct EventContext<'a> {
 #[derive(Debug, Clone, Copy)]
 struct Seen {
     onset_s: f64,
-    /// Where its speech began by Silero ([`SpeechTrack::speech_onset_s`]), at or before
-    /// `onset_s`: breaths end before it.
+    /// Where its speech began by Silero ([`SpeechTrack::speech_onset_s`]) or by its lead-in
+    /// (`Pause::lead_in_s`: a leading consonant heard apart), at or before `onset_s`: breaths
+    /// end before it.
     speech_onset_s: f64,
     /// Its offset once its end was reported.
     offset_s: Option<f64>,
@@ -144,6 +145,7 @@ impl Default for Seen {
                 breath_s: None,
                 breath_clean_s: None,
                 last_activity_end_s: None,
+                lead_in_s: None,
                 gated_s: None,
             },
             gains: [1.0; MAX_CHANNELS],
@@ -432,7 +434,10 @@ impl Placement {
                 let level_db = self.local_speech_level_db(ctx.pending, Some(onset_s));
                 self.seen.push_back(Seen {
                     onset_s,
-                    speech_onset_s: ctx.speech.speech_onset_s(pause.start_s, onset_s),
+                    speech_onset_s: ctx
+                        .speech
+                        .speech_onset_s(pause.start_s, onset_s)
+                        .min(pause.lead_in_s.unwrap_or(onset_s)),
                     offset_s: None,
                     pause,
                     gains: ctx.gains,

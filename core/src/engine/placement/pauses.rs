@@ -74,6 +74,7 @@ pub(super) fn pause_across(quiet: &Pause, next: &Pause) -> Pause {
         breath_s: heard.breath_s,
         breath_clean_s: heard.breath_clean_s,
         last_activity_end_s: next.last_activity_end_s.or(quiet.last_activity_end_s),
+        lead_in_s: next.lead_in_s,
         gated_s: heard.gated_s,
     }
 }
