@@ -10,11 +10,13 @@
 //! places each breath and chooses its length from the pause and the coming group, plays it at
 //! the preset's level under the speech, runs the breath cycle (with its reserve) and the head,
 //! and analyses the speech for the controls. So `speak` breathes as a render of a recording
-//! does, and varies as it does.
+//! does, and varies as it does. Its breaths take the built-in voice coloured by the TTS's
+//! speech, as a render of a recording without breaths does: a TTS breathes nothing to learn.
 //!
 //! Writes `DIR/speech.wav` (16-bit mono at the TTS rate), `DIR/speech.controls.csv`,
 //! `DIR/speech.breaths.csv` and `DIR/speech.png`, on request `speech.bvh` and `speech.mid`;
-//! every file is written atomically.
+//! every file is written atomically. The plot, BVH and MIDI file an earlier run left and this
+//! one does not write are removed as a render's are ([`crate::render::leftovers`]).
 
 use std::io::{Cursor, Write};
 use std::path::{Path, PathBuf};
@@ -27,13 +29,16 @@ use pneuma_core::breathing::{
 };
 use pneuma_core::encode::sink::{FrameSink as _, Resample, TextSink};
 use pneuma_core::encode::{breaths_csv, controls_csv};
-use pneuma_core::engine::{offline, Engine, EngineConfig, EngineError};
+use pneuma_core::engine::voice_learning::VoiceLearner;
+use pneuma_core::engine::{offline, BreathVoiceMode, Engine, EngineConfig, EngineError};
 use pneuma_core::{BreathEvent, ControlFrame};
 use thiserror::Error;
 
 use crate::options::{FRAME_RATE, LOUDNESS, RATE};
 use crate::output::{commit_all, Output, Staged};
 use crate::plot::{draw_png, PlotError};
+use crate::render::leftovers::{self, Cleared, Leftover};
+use crate::render::marks::Optional;
 use pneuma_io::capped::TEXT_MAX_BYTES;
 use pneuma_io::{read_mono, read_text_capped, CappedReadError, ReadError};
 
@@ -55,6 +60,51 @@ pub enum Tts {
     Espeak,
     /// festival's `text2wave` (Debian package `festival`).
     Festival,
+}
+
+impl Tts {
+    /// The program run and the Debian package that provides it.
+    fn program(self) -> (&'static str, &'static str) {
+        match self {
+            Self::Espeak => ("espeak-ng", "espeak-ng"),
+            Self::Festival => ("text2wave", "festival"),
+        }
+    }
+
+    /// Its name in messages.
+    fn name(self) -> &'static str {
+        match self {
+            Self::Espeak => "espeak-ng",
+            Self::Festival => "festival",
+        }
+    }
+
+    /// How to list its voices, and an example of one.
+    fn voices_hint(self) -> &'static str {
+        match self {
+            Self::Espeak => {
+                "`espeak-ng --voices` lists the voices it has (give one of their names or \
+                 languages, e.g. --voice en-us)"
+            }
+            Self::Festival => {
+                "`echo '(print (voice.list))' | festival --pipe` lists the voices it has (give \
+                 one of them, e.g. --voice kal_diphone)"
+            }
+        }
+    }
+
+    /// Whether its error output `said` tells that voice `voice` does not exist: espeak-ng fails
+    /// with "The specified espeak-ng voice does not exist"; festival's `text2wave` exits 0 and
+    /// writes nothing, having said "unbound variable : voice_NAME".
+    fn says_no_voice(self, said: &str, voice: &str) -> bool {
+        match self {
+            Self::Espeak => said.contains("voice does not exist"),
+            Self::Festival => {
+                said.contains("unbound variable")
+                    && said.contains(&format!("voice_{}", voice.trim_start_matches("voice_")))
+            }
+        }
+    }
 }
 
 /// Command-line arguments of `pneuma speak`.
@@ -159,14 +209,19 @@ pub enum SpeakError {
         /// What went wrong.
         reason: String,
     },
-    /// espeak-ng does not know the voice asked for (said once, in our words: its own message
-    /// is left out).
+    /// The TTS program does not know the voice asked for (said once, in our words: its own
+    /// message is left out).
     #[error(
-        "espeak-ng has no voice `{0}`: `espeak-ng --voices` lists the voices it has (give \
-             one of their names or languages, e.g. --voice en-us), or leave --voice out for its \
-             default"
+        "{} has no voice `{voice}`: {}, or leave --voice out for its default",
+        .tts.name(),
+        .tts.voices_hint()
     )]
-    UnknownVoice(String),
+    UnknownVoice {
+        /// The TTS program.
+        tts: Tts,
+        /// The voice asked for.
+        voice: String,
+    },
     /// A WAV file (TTS output or breath sample) could not be read.
     #[error(transparent)]
     Audio(#[from] ReadError),
@@ -202,6 +257,9 @@ pub struct SpeakSummary {
     pub breaths: Vec<BreathEvent>,
     /// What was sent as OSC (`--osc`), for the summary.
     pub osc: Option<String>,
+    /// The optional files an earlier run left that this one did not write (removed, or kept
+    /// with `--no-overwrite`).
+    pub leftovers: Cleared,
 }
 
 /// Runs `pneuma speak`.
@@ -226,6 +284,13 @@ pub fn main(args: Args) -> ExitCode {
                 if let Some(osc) = &s.osc {
                     eprintln!("  {osc}");
                 }
+                for w in s.leftovers.warnings() {
+                    eprintln!("warning: {w}");
+                }
+            }
+            // A removal is never silent, not even under --quiet.
+            if let Some(removed) = s.leftovers.removed_line() {
+                eprintln!("{removed}");
             }
             if crate::render::interrupted() {
                 eprintln!("interrupted (Ctrl-C, SIGTERM or SIGHUP) while sending OSC: the files are written");
@@ -293,10 +358,10 @@ fn synthesize(
     dir: &Path,
 ) -> Result<(Vec<f32>, u32), SpeakError> {
     let wav = dir.join("chunk.wav");
-    let (program, package) = match tts {
-        Tts::Espeak => ("espeak-ng", "espeak-ng"),
-        Tts::Festival => ("text2wave", "festival"),
-    };
+    let (program, package) = tts.program();
+    // A file left by the chunk before must not pass for this one's (festival exits 0 without
+    // writing when it fails).
+    let _ = std::fs::remove_file(&wav);
     let mut cmd = Command::new(program);
     match tts {
         Tts::Espeak => {
@@ -341,24 +406,38 @@ fn synthesize(
             _ => failed(e.to_string()),
         })?;
     if let Some(mut stdin) = child.stdin.take() {
+        // A TTS that stopped reading (it failed at once) says why on its error output, below.
         stdin
             .write_all(text.as_bytes())
             .and_then(|()| stdin.write_all(b"\n"))
+            .or_else(|e| match e.kind() {
+                std::io::ErrorKind::BrokenPipe => Ok(()),
+                _ => Err(e),
+            })
             .map_err(|e| failed(e.to_string()))?;
     }
     let out = child
         .wait_with_output()
         .map_err(|e| failed(e.to_string()))?;
-    if !out.status.success() {
-        let said = String::from_utf8_lossy(&out.stderr);
-        // espeak-ng's only failure that names the voice ("The specified espeak-ng voice does
-        // not exist"): ours says it once, with what to do.
-        if let (Tts::Espeak, Some(v)) = (tts, voice) {
-            if said.contains("voice does not exist") {
-                return Err(SpeakError::UnknownVoice(v.to_owned()));
-            }
+    let said = String::from_utf8_lossy(&out.stderr);
+    let wrote = wav.is_file();
+    if !out.status.success() || !wrote {
+        // The failure that names the voice: ours says it once, with what to do.
+        if let Some(v) = voice.filter(|v| tts.says_no_voice(&said, v)) {
+            return Err(SpeakError::UnknownVoice {
+                tts,
+                voice: v.to_owned(),
+            });
         }
-        return Err(failed(format!("{}: {}", out.status, said.trim())));
+        let what = if out.status.success() {
+            "wrote no audio".to_owned()
+        } else {
+            out.status.to_string()
+        };
+        return Err(failed(match said.trim() {
+            "" => what,
+            said => format!("{what}: {said}"),
+        }));
     }
     Ok(read_mono(&wav)?)
 }
@@ -473,9 +552,21 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     }
     audio.resize(audio.len() + samples(TAIL_S), 0.0);
 
-    // The engine over the timeline, as `pneuma render` over a recording (whole-file lookahead).
-    let mut engine = Engine::new(engine_config(args, params)?, model)?;
+    // The engine over the timeline, as `pneuma render` over a recording (whole-file lookahead):
+    // the whole timeline heard first, its analysis replayed. A TTS breathes nothing, so nothing
+    // is learned from what the tracker takes for a breath in it (a fricative's tail): the
+    // built-in voice, coloured by the TTS's speech over the whole timeline, as a render of a
+    // recording without breaths.
+    let config = engine_config(args, params)?;
+    let mut heard = VoiceLearner::recording(&config, fs)?;
+    heard.feed(&audio)?;
+    let heard = heard.finish()?;
+    let mut engine = Engine::new(config, model)?;
+    engine.set_voice_mode(BreathVoiceMode::BuiltIn);
     engine.prepare(fs, BLOCK, 1)?;
+    if let Some(record) = heard.record {
+        engine.replay_analysis(record)?;
+    }
     engine.set_breath_sample(SampleSlot::Mouth, mouth_sample);
     engine.set_breath_sample(SampleSlot::Nose, nose_sample);
     let rendered = offline::render(&mut engine, std::slice::from_ref(&audio), &[BLOCK]);
@@ -546,6 +637,21 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         staged.push(plot);
     }
     commit_all(staged).map_err(|(path, source)| SpeakError::Output { path, source })?;
+    // The optional files this run did not write, as an earlier one may have left them: they
+    // would describe another take (a BVH of 3.9 s beside 1.8 s of speech).
+    let unwritten: Vec<Leftover> = [
+        ("speech.png", Optional::Plot, args.no_plot),
+        ("speech.bvh", Optional::Bvh, !args.bvh.wanted()),
+        ("speech.mid", Optional::Midi, !args.midi.wanted()),
+    ]
+    .into_iter()
+    .filter(|&(_, _, left_out)| left_out)
+    .map(|(name, file, _)| Leftover {
+        path: out(name),
+        file,
+    })
+    .collect();
+    let leftovers = leftovers::clear(&unwritten, args.no_overwrite);
     let osc = match osc {
         Some(plan) => {
             let mut sender = plan.open().map_err(SpeakError::Option)?;
@@ -568,6 +674,7 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         duration_s: secs(audio.len()),
         breaths,
         osc,
+        leftovers,
     })
 }
 

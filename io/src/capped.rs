@@ -53,7 +53,10 @@ pub enum CappedReadError {
         what: String,
     },
     /// The file is not UTF-8 text.
-    #[error("{path} is not UTF-8 text, as {what} is")]
+    #[error(
+        "{path} is not UTF-8 text, as {what} is: save it as UTF-8 (a Latin-1 or Windows-1252 \
+         file converts with `iconv -f WINDOWS-1252 -t UTF-8 FILE > FILE.utf8`)"
+    )]
     NotText {
         /// The file.
         path: PathBuf,

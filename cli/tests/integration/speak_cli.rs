@@ -328,3 +328,88 @@ fn speak_breathes_like_a_render_varied_breaths_and_a_reserve() {
         "lung before a breath: median {median} ({before:?})"
     );
 }
+
+/// A TTS that exits 0 without writing audio: festival's `text2wave` asked for a voice it does
+/// not have says "unbound variable" and writes nothing. Told in our words (which voice, how
+/// to list them), never as a file missing from the scratch folder.
+#[cfg(unix)]
+#[test]
+fn a_tts_that_writes_nothing_is_told_as_such_and_a_bad_festival_voice_by_name() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let bin = dir.path().join("bin");
+    std::fs::create_dir(&bin).unwrap();
+    let fake = bin.join("text2wave");
+    for (said, want) in [
+        (
+            "SIOD ERROR: unbound variable : voice_xx",
+            "festival has no voice `xx`: `echo '(print (voice.list))' | festival --pipe`",
+        ),
+        (
+            "",
+            "`text2wave` failed on chunk \"Hello there.\": wrote no audio",
+        ),
+    ] {
+        std::fs::write(
+            &fake,
+            format!("#!/bin/sh\nwhile read -r l; do :; done\necho '{said}' >&2\nexit 0\n"),
+        )
+        .unwrap();
+        std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+        let o = pneuma()
+            .args([
+                "speak",
+                "Hello there.",
+                "--tts",
+                "festival",
+                "--voice",
+                "xx",
+                "-o",
+            ])
+            .arg(dir.path().join("out"))
+            .env("PATH", &bin)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{err}");
+        assert!(err.contains(want), "{err}");
+        assert!(!err.contains(".pneuma-speak"), "a scratch path: {err}");
+        assert!(
+            !dir.path().join("out").exists(),
+            "an output folder was left"
+        );
+    }
+}
+
+/// A second take in the same folder leaves no file of the first one that it did not write
+/// itself: the BVH, MIDI file and plot of a longer take would describe other audio.
+#[test]
+fn a_second_take_removes_what_the_first_wrote_and_it_did_not() {
+    if !espeak_or_skip("a_second_take_removes_what_the_first_wrote_and_it_did_not") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let speak = |extra: &[&str]| {
+        let o = pneuma()
+            .args(["speak", "A first take, longer than the second.", "-o"])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    speak(&["--bvh", "--midi"]);
+    for f in ["speech.bvh", "speech.mid", "speech.png"] {
+        assert!(out.join(f).is_file(), "{f} written");
+    }
+    // A file of the user's beside them is theirs.
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let err = speak(&["--no-plot", "--quiet"]);
+    for f in ["speech.bvh", "speech.mid", "speech.png"] {
+        assert!(!out.join(f).exists(), "{f} left from the first take");
+        assert!(err.contains(f), "the removal of {f} is told: {err}");
+    }
+    assert!(out.join("speech.wav").is_file() && out.join("notes.txt").is_file());
+}

@@ -16,7 +16,8 @@
 //! Markers: the paper's "." (sentence) and "_" (particle). Other punctuation, unless
 //! [`Chunker::paper_markers_only`]: "?" and "!" are sentence markers like "."; "," ";" ":" and
 //! dashes are particle markers like "_". Sentence punctuation counts only when followed by white
-//! space or the end of the text (so "3.5" and "e.g.x" are not breaks). Underscores are removed
+//! space or the end of the text (so "3.5" and "e.g.x" are not breaks), and, beyond the paper's
+//! markers, a "." after an abbreviation (a title, an initial, "p.m.") is none. Underscores are removed
 //! from the text sent to the TTS; all other characters are kept.
 
 use super::{count_syllables, LowLevelParams};
@@ -84,7 +85,11 @@ impl Chunker {
             .next()
             .is_none_or(|n| n.is_whitespace() || matches!(n, '"' | '\'' | ')' | '”' | '’'));
         match c {
-            '.' if followed_by_space => Some(ChunkBreak::Sentence),
+            '.' if followed_by_space
+                && (self.paper_markers_only || !ends_abbreviation(&text[..byte])) =>
+            {
+                Some(ChunkBreak::Sentence)
+            }
             '_' => Some(ChunkBreak::Particle),
             '?' | '!' if !self.paper_markers_only && followed_by_space => {
                 Some(ChunkBreak::Sentence)
@@ -184,6 +189,28 @@ impl Chunker {
             (p, ChunkBreak::Word)
         }
     }
+}
+
+/// Titles whose "." ends no sentence: a name follows ("Capt. Thomas Marsh").
+const TITLES: [&str; 19] = [
+    "mr", "mrs", "ms", "dr", "prof", "capt", "col", "gen", "lt", "sgt", "rev", "hon", "gov", "sen",
+    "rep", "st", "mt", "jr", "sr",
+];
+
+/// Whether `before` (the text up to a ".") ends with an abbreviation, so that the "." ends no
+/// sentence: a title ([`TITLES`]), an initial ("J."), or a word with dots inside ("p.m.",
+/// "e.g.", "U.S."). Such a "." ends a sentence now and then ("at 9 p.m. We left"); the chunk
+/// then breaks at the next marker or word instead, never inside a name.
+fn ends_abbreviation(before: &str) -> bool {
+    let word = before
+        .rsplit(char::is_whitespace)
+        .next()
+        .unwrap_or("")
+        .trim_start_matches(|c: char| !c.is_alphanumeric());
+    let letters = word.chars().filter(|c| c.is_alphabetic()).count();
+    (letters == 1 && word.chars().count() == 1)
+        || (word.contains('.') && word.chars().all(|c| c.is_alphabetic() || c == '.'))
+        || TITLES.contains(&word.to_lowercase().as_str())
 }
 
 fn words(text: &str) -> Vec<Word> {

@@ -102,6 +102,36 @@ fn other_punctuation() {
 }
 
 #[test]
+fn a_title_an_initial_or_a_dotted_abbreviation_ends_no_sentence() {
+    let paper = Chunker {
+        paper_markers_only: true,
+        ..chunker(5, 20)
+    };
+    for (text, abbreviation) in [
+        (
+            "Her grandfather, Capt. Thomas Marsh, kept the light",
+            "Capt.",
+        ),
+        ("they met with J. Smith, late at night, alone", "J."),
+        ("we left at 9 p.m. near the cafe, alone again", "p.m."),
+    ] {
+        // The paper's markers break after the abbreviation's "." (the nearest "." to the
+        // target): a breath between a title and its name.
+        let got = texts(&paper, text);
+        assert!(got[0].0.ends_with(abbreviation), "{got:?}");
+        // With the other punctuation, no chunk ends there.
+        let got = texts(&chunker(5, 20), text);
+        assert!(
+            got.iter().all(|(c, _)| !c.ends_with(abbreviation)),
+            "{text}: {got:?}"
+        );
+    }
+    // A sentence still ends at a word's ".".
+    let got = texts(&chunker(3, 10), "the keeper slept. Thomas woke");
+    assert_eq!(got[0], ("the keeper slept.".into(), ChunkBreak::Sentence));
+}
+
+#[test]
 fn no_word_is_lost_or_repeated() {
     let text = "Breathing is vital for animals. What about virtual characters? Does the \
                 perceivable presence or absence of this behavior play a role in how they are \
