@@ -117,3 +117,29 @@ fn write_the_signal() {
     let bytes: Vec<u8> = signal().iter().flat_map(|v| v.to_le_bytes()).collect();
     std::fs::write(path, bytes).expect("write the signal");
 }
+
+/// A block of garbage in a float file (finite but absurd, ±1e20: a corrupt or unnormalised
+/// take) must not leave the network's state NaN, which would call nothing speech for the
+/// rest of the stream: the speech after it is heard as speech again.
+#[test]
+fn speech_after_a_block_of_absurd_samples_is_speech_again() {
+    let x = signal();
+    let chunks: Vec<&[f32; CHUNK]> = x
+        .chunks_exact(CHUNK)
+        .map(|c| c.try_into().expect("a chunk"))
+        .collect();
+    for garbage in [1e20f32, -1e20, 3.0e38] {
+        let mut net = Silero::new();
+        let mut alternating = [garbage; CHUNK];
+        alternating.iter_mut().step_by(2).for_each(|v| *v = -*v);
+        for bad in [[garbage; CHUNK], alternating] {
+            let p = net.step(&bad);
+            assert!(p.is_finite(), "{garbage}: {p}");
+        }
+        let after: Vec<f32> = chunks.iter().map(|c| net.step(c)).collect();
+        assert!(after.iter().all(|p| p.is_finite()), "{garbage}: {after:?}");
+        // The phrase (chunks 15–70 of the reference lie over 0.9) is speech again.
+        let speech = after[20..70].iter().filter(|&&p| p > 0.5).count();
+        assert!(speech >= 45, "{garbage}: {speech} of 50 chunks of speech");
+    }
+}
