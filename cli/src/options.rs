@@ -115,7 +115,7 @@ pub static F0_MAX: SettingFlag = SettingFlag {
     setting: &analysis::F0_MAX_HZ,
     unit: Unit::Hertz,
 };
-/// `--breath-level-db` (render).
+/// `--breath-level-db` (render, speak).
 pub static BREATH_LEVEL: SettingFlag = SettingFlag {
     flag: "--breath-level-db",
     setting: &placement::BREATH_LEVEL_DB,

@@ -34,7 +34,7 @@ use pneuma_core::engine::{offline, BreathVoiceMode, Engine, EngineConfig, Engine
 use pneuma_core::{BreathEvent, ControlFrame};
 use thiserror::Error;
 
-use crate::options::{FRAME_RATE, LOUDNESS, RATE};
+use crate::options::{SettingFlag, BREATH_LEVEL, FRAME_RATE, LOUDNESS, RATE};
 use crate::output::{commit_all, Output, Staged};
 use crate::plot::{draw_png, PlotError};
 use crate::render::leftovers::{self, Cleared, Leftover};
@@ -170,6 +170,14 @@ pub struct Args {
     /// Skip the plot.
     #[arg(long)]
     pub no_plot: bool,
+    /// Breath level relative to the speech level, dB, as in `render` (help, range, default:
+    /// the table's `breath_level_db`).
+    #[arg(long, conflicts_with = "no_breaths", help = BREATH_LEVEL.help(), default_value_t = BREATH_LEVEL.default_value(), allow_hyphen_values = true, value_parser = crate::options::number)]
+    pub breath_level_db: f64,
+    /// Insert no breath sound: a dry take of the same timeline (its pauses stay silent), with
+    /// the breathing and the head in the controls as with breaths.
+    #[arg(long)]
+    pub no_breaths: bool,
     /// Folder with breath samples `mouth.wav` and/or `nose.wav` (the same as giving them with
     /// --breath-mouth and --breath-nose, as in `render`).
     #[arg(long, value_name = "DIR", conflicts_with_all = ["breath_mouth", "breath_nose"])]
@@ -692,15 +700,18 @@ pub fn pause_before_s(low: &LowLevelParams, utterance_s: f64) -> f64 {
 /// decision is needed) with the whole file known in advance, as `pneuma render` of a file.
 fn engine_config(args: &Args, params: BreathingParams) -> Result<EngineConfig, SpeakError> {
     let mut c = EngineConfig::default();
-    let rate = FRAME_RATE
-        .check(args.frame_rate)
-        .map_err(SpeakError::Option)?;
-    c.set_value(FRAME_RATE.setting, rate)
-        .map_err(|e| SpeakError::Option(e.to_string()))?;
+    // The options in the user's terms against the table's ranges, as `render` checks them.
+    let mut set = |flag: &SettingFlag, value: f64| -> Result<(), SpeakError> {
+        let v = flag.check(value).map_err(SpeakError::Option)?;
+        c.set_value(flag.setting, v)
+            .map_err(|e| SpeakError::Option(e.to_string()))
+    };
+    set(&FRAME_RATE, args.frame_rate)?;
+    set(&BREATH_LEVEL, args.breath_level_db)?;
     c.breathing = params;
     c.seed = args.seed;
     c.placement.whole_file = true;
-    c.placement.insert_breaths = true;
+    c.placement.insert_breaths = !args.no_breaths;
     c.placement.speech_only = false;
     c.validate()?;
     Ok(c)

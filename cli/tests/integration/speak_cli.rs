@@ -413,3 +413,50 @@ fn a_second_take_removes_what_the_first_wrote_and_it_did_not() {
     }
     assert!(out.join("speech.wav").is_file() && out.join("notes.txt").is_file());
 }
+
+/// A voice-over artist sets the breaths' level as in `render`, or takes the same take dry.
+#[test]
+fn speak_takes_the_breath_level_and_a_dry_take() {
+    if !espeak_or_skip("speak_takes_the_breath_level_and_a_dry_take") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let speak = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let o = pneuma()
+            .args(["speak", TEXT, "--no-plot", "-o"])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let (_, breaths) = csv(&out.join("speech.breaths.csv"));
+        let mut peaks: Vec<f64> = breaths.iter().map(|b| b[3].parse().unwrap()).collect();
+        peaks.sort_by(f64::total_cmp);
+        let (_, controls) = csv(&out.join("speech.controls.csv"));
+        (peaks, controls)
+    };
+    let (default, controls) = speak("default", &[]);
+    let (quiet, _) = speak("quiet", &["--breath-level-db", "-40"]);
+    assert!(!default.is_empty() && default.len() == quiet.len());
+    let median = |p: &[f64]| p[p.len() / 2];
+    let lower = median(&default) - median(&quiet);
+    assert!(
+        (12.0..24.0).contains(&lower),
+        "--breath-level-db -40 against the default: {lower:.1} dB lower"
+    );
+    let (dry, dry_controls) = speak("dry", &["--no-breaths"]);
+    assert!(dry.is_empty(), "a dry take inserted {dry:?}");
+    // The body breathes as with breaths: the same controls.
+    assert_eq!(dry_controls, controls);
+    let o = pneuma()
+        .args(["speak", "Hi.", "--breath-level-db", "-90", "-o"])
+        .arg(dir.path().join("bad"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("--breath-level-db"),
+        "{err}"
+    );
+}
