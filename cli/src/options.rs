@@ -7,6 +7,7 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use pneuma_core::engine::EngineConfig;
 use pneuma_core::settings::{analysis, breathing, output, placement, Setting, SettingError, Unit};
 use pneuma_io::capped::HEAD_MODEL_MAX_BYTES;
 
@@ -59,6 +60,14 @@ impl SettingFlag {
             .check(v)
             .map(|()| v)
             .map_err(|e| render_for(&[self], &e))
+    }
+
+    /// [`SettingFlag::check`]s `value` and sets it in `config`; the errors name the options.
+    pub fn apply(&self, config: &mut EngineConfig, value: f64) -> Result<(), String> {
+        let v = self.check(value)?;
+        config
+            .set_value(self.setting, v)
+            .map_err(|e| render_for(&SETTING_FLAGS, &e))
     }
 }
 

@@ -34,7 +34,7 @@ use pneuma_core::engine::{offline, BreathVoiceMode, Engine, EngineConfig, Engine
 use pneuma_core::{BreathEvent, ControlFrame};
 use thiserror::Error;
 
-use crate::options::{SettingFlag, BREATH_LEVEL, FRAME_RATE, LOUDNESS, RATE};
+use crate::options::{BREATH_LEVEL, FRAME_RATE, LOUDNESS, RATE};
 use crate::output::{commit_all, Output, Staged};
 use crate::plot::{draw_png, PlotError};
 use crate::render::leftovers::{self, Cleared, Leftover};
@@ -52,6 +52,15 @@ pub const TAIL_S: f64 = 0.6;
 const BLOCK: usize = 4096;
 /// Level under which the ends of a TTS chunk count as silence, dBFS.
 pub const TRIM_DB: f32 = -50.0;
+
+/// The files `speak` writes in its folder: always the audio, the controls and the breaths;
+/// the plot unless `--no-plot`, the BVH and the MIDI file when asked.
+const AUDIO_FILE: &str = "speech.wav";
+const CONTROLS_FILE: &str = "speech.controls.csv";
+const BREATHS_FILE: &str = "speech.breaths.csv";
+const PLOT_FILE: &str = "speech.png";
+const BVH_FILE: &str = "speech.bvh";
+const MIDI_FILE: &str = "speech.mid";
 
 /// Which TTS program speaks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -71,12 +80,9 @@ impl Tts {
         }
     }
 
-    /// Its name in messages.
+    /// Its name in messages: its package's.
     fn name(self) -> &'static str {
-        match self {
-            Self::Espeak => "espeak-ng",
-            Self::Festival => "festival",
-        }
+        self.program().1
     }
 
     /// How to list its voices, and an example of one.
@@ -506,12 +512,12 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     let cc_map = args.midi.map().map_err(SpeakError::Option)?;
     let out = |name: &str| args.out_dir.join(name);
     let names = [
-        "speech.wav",
-        "speech.controls.csv",
-        "speech.breaths.csv",
-        "speech.png",
-        "speech.bvh",
-        "speech.mid",
+        AUDIO_FILE,
+        CONTROLS_FILE,
+        BREATHS_FILE,
+        PLOT_FILE,
+        BVH_FILE,
+        MIDI_FILE,
     ];
     if args.no_overwrite {
         let paths: Vec<PathBuf> = names.iter().map(|n| out(n)).collect();
@@ -595,17 +601,17 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     let wav_bytes = wav_16bit(&audio, rate_hz);
     // All files are staged first and moved into place together, or none of them.
     let mut staged = vec![
-        write_file(&out("speech.wav"), |w| w.write_all(&wav_bytes))?,
-        write_file(&out("speech.controls.csv"), |mut w| {
+        write_file(&out(AUDIO_FILE), |w| w.write_all(&wav_bytes))?,
+        write_file(&out(CONTROLS_FILE), |mut w| {
             controls_csv::write_all(&mut w, &frames)
         })?,
-        write_file(&out("speech.breaths.csv"), |mut w| {
+        write_file(&out(BREATHS_FILE), |mut w| {
             breaths_csv::write_all(&mut w, &breaths)
         })?,
     ];
     if args.bvh.wanted() {
         let (frame_rate, fps) = (args.frame_rate, bvh_fps.unwrap_or(args.frame_rate));
-        staged.push(write_file(&out("speech.bvh"), |w| {
+        staged.push(write_file(&out(BVH_FILE), |w| {
             // At the BVH's rate: the frame nearest each instant, as `render` writes it.
             let n =
                 Resample::<TextSink<&mut dyn Write>>::count(frames.len() as u64, frame_rate, fps);
@@ -617,7 +623,7 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         })?);
     }
     if args.midi.wanted() {
-        staged.push(write_file(&out("speech.mid"), |w| {
+        staged.push(write_file(&out(MIDI_FILE), |w| {
             let cursor = std::io::Cursor::new(Vec::new());
             let mut midi = pneuma_core::encode::midi_file::MidiFileSink::new(cursor, cc_map)
                 .map_err(std::io::Error::other)?;
@@ -629,7 +635,7 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         })?);
     }
     if !args.no_plot {
-        let plot_path = out("speech.png");
+        let plot_path = out(PLOT_FILE);
         let plot = Staged::new(&plot_path).map_err(|source| SpeakError::Output {
             path: plot_path.clone(),
             source,
@@ -648,9 +654,9 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     // The optional files this run did not write, as an earlier one may have left them: they
     // would describe another take (a BVH of 3.9 s beside 1.8 s of speech).
     let unwritten: Vec<Leftover> = [
-        ("speech.png", Optional::Plot, args.no_plot),
-        ("speech.bvh", Optional::Bvh, !args.bvh.wanted()),
-        ("speech.mid", Optional::Midi, !args.midi.wanted()),
+        (PLOT_FILE, Optional::Plot, args.no_plot),
+        (BVH_FILE, Optional::Bvh, !args.bvh.wanted()),
+        (MIDI_FILE, Optional::Midi, !args.midi.wanted()),
     ]
     .into_iter()
     .filter(|&(_, _, left_out)| left_out)
@@ -701,13 +707,12 @@ pub fn pause_before_s(low: &LowLevelParams, utterance_s: f64) -> f64 {
 fn engine_config(args: &Args, params: BreathingParams) -> Result<EngineConfig, SpeakError> {
     let mut c = EngineConfig::default();
     // The options in the user's terms against the table's ranges, as `render` checks them.
-    let mut set = |flag: &SettingFlag, value: f64| -> Result<(), SpeakError> {
-        let v = flag.check(value).map_err(SpeakError::Option)?;
-        c.set_value(flag.setting, v)
-            .map_err(|e| SpeakError::Option(e.to_string()))
-    };
-    set(&FRAME_RATE, args.frame_rate)?;
-    set(&BREATH_LEVEL, args.breath_level_db)?;
+    for (flag, value) in [
+        (&FRAME_RATE, args.frame_rate),
+        (&BREATH_LEVEL, args.breath_level_db),
+    ] {
+        flag.apply(&mut c, value).map_err(SpeakError::Option)?;
+    }
     c.breathing = params;
     c.seed = args.seed;
     c.placement.whole_file = true;

@@ -173,9 +173,7 @@ impl Args {
         self.bvh.fps().map_err(RenderError::Input)?;
         let mut c = EngineConfig::default();
         let mut set = |flag: &SettingFlag, value: f64| -> Result<(), RenderError> {
-            let v = flag.check(value).map_err(RenderError::Input)?;
-            c.set_value(flag.setting, v)
-                .map_err(|e| RenderError::Input(render_for(&SETTING_FLAGS, &e)))
+            flag.apply(&mut c, value).map_err(RenderError::Input)
         };
         set(&BREATH_LEVEL, self.breath_level_db)?;
         set(&MIN_PAUSE, self.min_pause_ms)?;

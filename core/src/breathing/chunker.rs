@@ -207,8 +207,9 @@ fn ends_abbreviation(before: &str) -> bool {
         .next()
         .unwrap_or("")
         .trim_start_matches(|c: char| !c.is_alphanumeric());
-    let letters = word.chars().filter(|c| c.is_alphabetic()).count();
-    (letters == 1 && word.chars().count() == 1)
+    let mut chars = word.chars();
+    let initial = chars.next().is_some_and(char::is_alphabetic) && chars.next().is_none();
+    initial
         || (word.contains('.') && word.chars().all(|c| c.is_alphabetic() || c == '.'))
         || TITLES.contains(&word.to_lowercase().as_str())
 }
