@@ -3,6 +3,7 @@
 //! subcommands. The binary in `main.rs` only parses arguments and reports errors.
 
 pub mod analyze;
+pub mod ascii_text;
 pub mod audio_out;
 pub mod bvh_out;
 pub mod channel;

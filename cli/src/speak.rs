@@ -274,6 +274,8 @@ pub struct SpeakSummary {
     /// The optional files an earlier run left that this one did not write (removed, or kept
     /// with `--no-overwrite`).
     pub leftovers: Cleared,
+    /// The characters the TTS could not be given (festival reads ASCII only): left out.
+    pub left_out: Vec<char>,
 }
 
 /// Runs `pneuma speak`.
@@ -302,7 +304,10 @@ pub fn main(args: Args) -> ExitCode {
                     eprintln!("warning: {w}");
                 }
             }
-            // A removal is never silent, not even under --quiet.
+            // Words lost and removals are never silent, not even under --quiet.
+            if !s.left_out.is_empty() {
+                eprintln!("warning: {}", left_out_line(args.tts, &s.left_out));
+            }
             if let Some(removed) = s.leftovers.removed_line() {
                 eprintln!("{removed}");
             }
@@ -317,6 +322,31 @@ pub fn main(args: Args) -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// What a TTS could not be given, and what to do.
+fn left_out_line(tts: Tts, left_out: &[char]) -> String {
+    // A character that does not print is named by its code point.
+    let shown: Vec<String> = left_out
+        .iter()
+        .take(8)
+        .map(|&c| {
+            if c.is_control() || c.is_whitespace() {
+                format!("U+{:04X}", u32::from(c))
+            } else {
+                c.to_string()
+            }
+        })
+        .collect();
+    let shown = shown.join(" ");
+    format!(
+        "{} reads ASCII only: {} without an ASCII spelling {} left out ({shown}{}); \
+         espeak-ng (--tts espeak, the default) is given the text as written",
+        tts.name(),
+        plural(left_out.len(), "character", "characters"),
+        if left_out.len() == 1 { "was" } else { "were" },
+        if left_out.len() > 8 { " …" } else { "" }
+    )
 }
 
 /// `1 breath`, `2 breaths`.
@@ -481,6 +511,21 @@ fn load_sample(path: &Path) -> Result<BreathSample, SpeakError> {
 /// Runs `speak` and returns what it produced.
 pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     let text = text_from_args(args)?;
+    // festival says the bytes of a UTF-8 "é" as a pause or a letter: it is given the text in
+    // ASCII, chunk by chunk (the chunker reads the text as written, its dashes among its breaks).
+    let left_out = match args.tts {
+        Tts::Espeak => Vec::new(),
+        Tts::Festival => {
+            let folded = crate::ascii_text::fold(&text);
+            if !folded.text.chars().any(|c| c.is_ascii_alphanumeric()) {
+                return Err(SpeakError::Option(left_out_line(
+                    args.tts,
+                    &folded.left_out,
+                )));
+            }
+            folded.left_out
+        }
+    };
     let params = params_from_args(args)?;
     let low = params.map();
     let in_folder = |name: &str| {
@@ -502,7 +547,10 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         crate::options::load_head_model(args.head_model.as_deref()).map_err(SpeakError::Option)?;
     let mouth_sample = mouth_path.as_deref().map(load_sample).transpose()?;
     let nose_sample = nose_path.as_deref().map(load_sample).transpose()?;
-    let chunks = chunk_text(&text, &low);
+    let mut chunks = chunk_text(&text, &low);
+    if args.tts == Tts::Festival {
+        chunks = crate::ascii_text::fold_chunks(chunks);
+    }
     if chunks.is_empty() {
         return Err(SpeakError::NoText);
     }
@@ -689,6 +737,7 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         breaths,
         osc,
         leftovers,
+        left_out,
     })
 }
 

@@ -329,17 +329,24 @@ fn speak_breathes_like_a_render_varied_breaths_and_a_reserve() {
     );
 }
 
+/// Writes `script` as an executable `text2wave` in `bin` (a stand-in for festival's).
+#[cfg(unix)]
+fn fake_text2wave(bin: &Path, script: &str) {
+    use std::os::unix::fs::PermissionsExt;
+    let fake = bin.join("text2wave");
+    std::fs::write(&fake, script).unwrap();
+    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+}
+
 /// A TTS that exits 0 without writing audio: festival's `text2wave` asked for a voice it does
 /// not have says "unbound variable" and writes nothing. Told in our words (which voice, how
 /// to list them), never as a file missing from the scratch folder.
 #[cfg(unix)]
 #[test]
 fn a_tts_that_writes_nothing_is_told_as_such_and_a_bad_festival_voice_by_name() {
-    use std::os::unix::fs::PermissionsExt;
     let dir = tempfile::tempdir().unwrap();
     let bin = dir.path().join("bin");
     std::fs::create_dir(&bin).unwrap();
-    let fake = bin.join("text2wave");
     for (said, want) in [
         (
             "SIOD ERROR: unbound variable : voice_xx",
@@ -350,12 +357,10 @@ fn a_tts_that_writes_nothing_is_told_as_such_and_a_bad_festival_voice_by_name() 
             "`text2wave` failed on chunk \"Hello there.\": wrote no audio",
         ),
     ] {
-        std::fs::write(
-            &fake,
-            format!("#!/bin/sh\nwhile read -r l; do :; done\necho '{said}' >&2\nexit 0\n"),
-        )
-        .unwrap();
-        std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+        fake_text2wave(
+            &bin,
+            &format!("#!/bin/sh\nwhile read -r l; do :; done\necho '{said}' >&2\nexit 0\n"),
+        );
         let o = pneuma()
             .args([
                 "speak",
@@ -458,5 +463,79 @@ fn speak_takes_the_breath_level_and_a_dry_take() {
     assert!(
         !o.status.success() && err.contains("--breath-level-db"),
         "{err}"
+    );
+}
+
+/// festival reads bytes, not UTF-8: a text with "café" and typographic quotes reaches it in
+/// ASCII ("cafe"), and what has no ASCII spelling is left out with a warning, even under
+/// --quiet (a chunk of nothing else is not spoken); a text with nothing festival can say is
+/// refused before anything is written.
+#[cfg(unix)]
+#[test]
+fn festival_is_given_ascii_and_told_what_it_could_not_say() {
+    let dir = tempfile::tempdir().unwrap();
+    let bin = dir.path().join("bin");
+    std::fs::create_dir(&bin).unwrap();
+    // A half-second vowel-like tone stands for each chunk festival would say.
+    let tone: Vec<f32> = (0..8000)
+        .map(|i| 0.3 * (2.0 * std::f32::consts::PI * 140.0 * i as f32 / 16000.0).sin())
+        .collect();
+    let wav = dir.path().join("tone.wav");
+    support::write_wav(&wav, (16000, 1, 16, false), &tone, 1.0);
+    let said = dir.path().join("said.txt");
+    fake_text2wave(
+        &bin,
+        &format!(
+            "#!/bin/sh\ncat >> '{}'\ncp '{}' \"$2\"\n",
+            said.display(),
+            wav.display()
+        ),
+    );
+    let speak = |text: &str, out: &str| {
+        pneuma()
+            .args(["speak", text, "--tts", "festival", "--quiet", "-o"])
+            .arg(dir.path().join(out))
+            .env("PATH", format!("{}:/usr/bin:/bin", bin.display()))
+            .output()
+            .unwrap()
+    };
+    let o = speak(
+        "The caf\u{e9} was na\u{ef}ve, \u{201c}Zo\u{eb}\u{201d} said. \u{65e5}\u{672c}. Dvo\u{159}\u{e1}k!",
+        "out",
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let given = std::fs::read(&said).unwrap();
+    let given = String::from_utf8(given).unwrap();
+    assert!(given.is_ascii(), "festival was given {given:?}");
+    // A chunk of nothing festival can say is not sent to it.
+    assert!(
+        given
+            .lines()
+            .all(|l| l.chars().any(|c| c.is_ascii_alphabetic())),
+        "{given:?}"
+    );
+    for w in ["The cafe was naive", "\"Zoe\" said", "Dvorak"] {
+        assert!(given.contains(w), "{w:?} not in {given:?}");
+    }
+    assert!(
+        err.contains(
+            "warning: festival reads ASCII only: 2 characters without an ASCII spelling were left \
+             out (\u{65e5} \u{672c})"
+        ),
+        "{err}"
+    );
+    assert!(dir.path().join("out/speech.wav").is_file());
+
+    let o = speak("\u{65e5}\u{672c}\u{8a9e}", "none");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(
+        err.contains("festival reads ASCII only: 3 characters") && err.contains("--tts espeak"),
+        "{err}"
+    );
+    assert!(
+        !dir.path().join("none").exists(),
+        "an output folder was made"
     );
 }
