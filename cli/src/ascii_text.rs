@@ -63,9 +63,10 @@ fn ascii_form(c: char) -> Option<&'static str> {
         '\u{201c}' | '\u{201d}' | '\u{201e}' | '\u{201f}' | '\u{2033}' | '\u{ab}' | '\u{bb}' => {
             "\""
         }
-        // A hyphen inside a word stays one; a dash between words stays a dash.
-        '\u{2010}' | '\u{2011}' => "-",
-        '\u{2012}'..='\u{2015}' | '\u{2212}' => " - ",
+        // A hyphen inside a word stays one, as does a minus sign ("-3"); a dash between words
+        // stays a dash.
+        '\u{2010}' | '\u{2011}' | '\u{2212}' => "-",
+        '\u{2012}'..='\u{2015}' => " - ",
         '\u{2026}' => "...",
         '\u{bf}' => "?",
         '\u{a1}' => "!",
@@ -188,11 +189,11 @@ mod tests {
     #[test]
     fn typographic_punctuation_becomes_ascii_and_the_rest_is_listed_once() {
         let f = fold(
-            "He said \u{201c}hello\u{201d} \u{2014} twice\u{2026} It\u{2019}s 日本 日, €5 at 20°.",
+            "He said \u{201c}hello\u{201d} \u{2014} twice\u{2026} It\u{2019}s 日本 日, €5 at \u{2212}20°.",
         );
         assert_eq!(
             f.text,
-            "He said \"hello\"  -  twice... It's     ,  euro 5 at 20 degrees ."
+            "He said \"hello\"  -  twice... It's     ,  euro 5 at -20 degrees ."
         );
         assert_eq!(f.left_out, vec!['日', '本']);
         assert!(f.text.is_ascii());
