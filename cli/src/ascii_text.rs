@@ -41,14 +41,22 @@ pub fn fold(text: &str) -> Folded {
     }
 }
 
-/// The chunks of a text (cut as written, its dashes among the breaks) with their texts folded;
-/// a chunk of nothing an ASCII reader can say (named by [`fold`]'s list) is dropped.
-pub fn fold_chunks(mut chunks: Vec<Chunk>) -> Vec<Chunk> {
+/// The chunks of a text (cut as written, its dashes among the breaks) with their texts folded,
+/// and the distinct characters left out of them all; a chunk of nothing an ASCII reader can say
+/// is dropped (its characters are in the list).
+pub fn fold_chunks(mut chunks: Vec<Chunk>) -> (Vec<Chunk>, Vec<char>) {
+    let mut left_out: Vec<char> = Vec::new();
     for c in &mut chunks {
-        c.text = fold(&c.text).text;
+        let folded = fold(&c.text);
+        c.text = folded.text;
+        for l in folded.left_out {
+            if !left_out.contains(&l) {
+                left_out.push(l);
+            }
+        }
     }
     chunks.retain(|c| c.text.chars().any(|c| c.is_ascii_alphanumeric()));
-    chunks
+    (chunks, left_out)
 }
 
 /// The ASCII form of a non-ASCII character, where it has one (empty for an invisible one).
@@ -113,7 +121,7 @@ fn ascii_form(c: char) -> Option<&'static str> {
         'ù'..='ü' => "u",
         'ý' | 'ÿ' => "y",
         'þ' => "th",
-        // Latin Extended-A, in its blocks of one base letter (upper and lower case alternate).
+        // Latin Extended-A, in its blocks of one base letter.
         'Œ' => "OE",
         'œ' => "oe",
         'Ĳ' => "IJ",
@@ -132,40 +140,31 @@ fn ascii_form(c: char) -> Option<&'static str> {
 
 /// The base letter of a Latin Extended-A letter (U+0100–U+017E), in its case.
 fn latin_extended_a(c: char) -> Option<&'static str> {
-    // Each range holds the forms of one base letter (Œ, Ĳ and ſ are folded before).
-    const BASES: [(char, char, char); 19] = [
-        ('\u{100}', '\u{105}', 'a'),
-        ('\u{106}', '\u{10d}', 'c'),
-        ('\u{10e}', '\u{111}', 'd'),
-        ('\u{112}', '\u{11b}', 'e'),
-        ('\u{11c}', '\u{123}', 'g'),
-        ('\u{124}', '\u{127}', 'h'),
-        ('\u{128}', '\u{131}', 'i'),
-        ('\u{134}', '\u{135}', 'j'),
-        ('\u{136}', '\u{138}', 'k'),
-        ('\u{139}', '\u{142}', 'l'),
-        ('\u{143}', '\u{14b}', 'n'),
-        ('\u{14c}', '\u{151}', 'o'),
-        ('\u{154}', '\u{159}', 'r'),
-        ('\u{15a}', '\u{161}', 's'),
-        ('\u{162}', '\u{167}', 't'),
-        ('\u{168}', '\u{173}', 'u'),
-        ('\u{174}', '\u{175}', 'w'),
-        ('\u{176}', '\u{178}', 'y'),
-        ('\u{179}', '\u{17e}', 'z'),
+    // Each range holds the forms of one base letter (Œ, Ĳ and ſ are folded before); the case
+    // comes from Unicode itself, not from the offset (ĸ and ŉ have no upper case).
+    const BASES: [(char, char, &str, &str); 19] = [
+        ('\u{100}', '\u{105}', "A", "a"),
+        ('\u{106}', '\u{10d}', "C", "c"),
+        ('\u{10e}', '\u{111}', "D", "d"),
+        ('\u{112}', '\u{11b}', "E", "e"),
+        ('\u{11c}', '\u{123}', "G", "g"),
+        ('\u{124}', '\u{127}', "H", "h"),
+        ('\u{128}', '\u{131}', "I", "i"),
+        ('\u{134}', '\u{135}', "J", "j"),
+        ('\u{136}', '\u{138}', "K", "k"),
+        ('\u{139}', '\u{142}', "L", "l"),
+        ('\u{143}', '\u{14b}', "N", "n"),
+        ('\u{14c}', '\u{151}', "O", "o"),
+        ('\u{154}', '\u{159}', "R", "r"),
+        ('\u{15a}', '\u{161}', "S", "s"),
+        ('\u{162}', '\u{167}', "T", "t"),
+        ('\u{168}', '\u{173}', "U", "u"),
+        ('\u{174}', '\u{175}', "W", "w"),
+        ('\u{176}', '\u{178}', "Y", "y"),
+        ('\u{179}', '\u{17e}', "Z", "z"),
     ];
-    const UPPER: [&str; 26] = [
-        "A", "B", "C", "D", "E", "F", "G", "H", "I", "J", "K", "L", "M", "N", "O", "P", "Q", "R",
-        "S", "T", "U", "V", "W", "X", "Y", "Z",
-    ];
-    const LOWER: [&str; 26] = [
-        "a", "b", "c", "d", "e", "f", "g", "h", "i", "j", "k", "l", "m", "n", "o", "p", "q", "r",
-        "s", "t", "u", "v", "w", "x", "y", "z",
-    ];
-    let &(_, _, base) = BASES.iter().find(|(lo, hi, _)| (*lo..=*hi).contains(&c))?;
-    let i = usize::from(base as u8 - b'a');
-    // The case from Unicode itself, not from the offset (ĸ and ŉ have no upper case).
-    Some(if c.is_uppercase() { UPPER[i] } else { LOWER[i] })
+    let &(_, _, upper, lower) = BASES.iter().find(|(lo, hi, ..)| (*lo..=*hi).contains(&c))?;
+    Some(if c.is_uppercase() { upper } else { lower })
 }
 
 #[cfg(test)]
@@ -208,13 +207,14 @@ mod tests {
             syllables: 3,
             break_kind: pneuma_core::breathing::ChunkBreak::Sentence,
         };
-        let folded = fold_chunks(vec![
+        let (folded, left_out) = fold_chunks(vec![
             chunk("Caf\u{e9} \u{2014}"),
             chunk("\u{65e5}\u{672c}."),
-            chunk("Zo\u{eb}."),
+            chunk("Zo\u{eb} \u{65e5}."),
         ]);
         let texts: Vec<&str> = folded.iter().map(|c| c.text.as_str()).collect();
-        assert_eq!(texts, ["Cafe  - ", "Zoe."]);
+        assert_eq!(texts, ["Cafe  - ", "Zoe  ."]);
+        assert_eq!(left_out, ['\u{65e5}', '\u{672c}']);
     }
 
     #[test]

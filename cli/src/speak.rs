@@ -511,21 +511,6 @@ fn load_sample(path: &Path) -> Result<BreathSample, SpeakError> {
 /// Runs `speak` and returns what it produced.
 pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     let text = text_from_args(args)?;
-    // festival says the bytes of a UTF-8 "é" as a pause or a letter: it is given the text in
-    // ASCII, chunk by chunk (the chunker reads the text as written, its dashes among its breaks).
-    let left_out = match args.tts {
-        Tts::Espeak => Vec::new(),
-        Tts::Festival => {
-            let folded = crate::ascii_text::fold(&text);
-            if !folded.text.chars().any(|c| c.is_ascii_alphanumeric()) {
-                return Err(SpeakError::Option(left_out_line(
-                    args.tts,
-                    &folded.left_out,
-                )));
-            }
-            folded.left_out
-        }
-    };
     let params = params_from_args(args)?;
     let low = params.map();
     let in_folder = |name: &str| {
@@ -548,8 +533,14 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     let mouth_sample = mouth_path.as_deref().map(load_sample).transpose()?;
     let nose_sample = nose_path.as_deref().map(load_sample).transpose()?;
     let mut chunks = chunk_text(&text, &low);
-    if args.tts == Tts::Festival {
-        chunks = crate::ascii_text::fold_chunks(chunks);
+    // festival says the bytes of a UTF-8 "é" as a pause or a letter: it is given each chunk in
+    // ASCII (the chunker reads the text as written, its dashes among its breaks).
+    let mut left_out = Vec::new();
+    if args.tts == Tts::Festival && !chunks.is_empty() {
+        (chunks, left_out) = crate::ascii_text::fold_chunks(chunks);
+        if chunks.is_empty() {
+            return Err(SpeakError::Option(left_out_line(args.tts, &left_out)));
+        }
     }
     if chunks.is_empty() {
         return Err(SpeakError::NoText);
