@@ -62,6 +62,15 @@ impl Container {
     }
 }
 
+/// The files beside `audio` with its stem in the other formats Pneuma writes (`talk.flac`
+/// beside `talk.wav`): an earlier output in another format, or the user's own file.
+pub fn other_formats_beside(audio: &Path) -> impl Iterator<Item = std::path::PathBuf> + '_ {
+    <Container as clap::ValueEnum>::value_variants()
+        .iter()
+        .map(move |c| audio.with_extension(c.extension()))
+        .filter(move |p| p != audio && p.is_file())
+}
+
 /// A labelled span of the output, written as a cue point with a label and length (WAV): the
 /// input's cue points and the breath markers alike.
 pub use pneuma_io::CuePoint as Cue;

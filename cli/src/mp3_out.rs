@@ -37,6 +37,52 @@ const RATES_HZ: [u32; 9] = [
 /// stereo; LAME's usage notes): `--vbr` picks the level nearest the bitrate asked.
 const VBR_AVERAGE_KBPS: [u32; 10] = [245, 225, 190, 175, 165, 130, 115, 100, 85, 65];
 
+/// The MP3 encoding options of `render` and `speak` (`--bitrate`, `--vbr`), one definition
+/// flattened into both.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::Args)]
+pub struct Mp3Args {
+    /// MP3 bitrate, kbps (with --format mp3; 8 to 320 in LAME's steps; default: the input's
+    /// for MP3 input, else 192, 160 at 16–24 kHz, 64 at 8–12 kHz). With --vbr, the average
+    /// aimed at.
+    #[arg(long, value_name = "KBPS", value_parser = parse_bitrate)]
+    pub bitrate: Option<u32>,
+    /// Variable-bitrate MP3 (with --format mp3; LAME's -V level nearest the bitrate). Default:
+    /// constant bitrate, or VBR for VBR MP3 input.
+    #[arg(long)]
+    pub vbr: bool,
+}
+
+impl Mp3Args {
+    /// `Err` when `--bitrate` or `--vbr` is given for an output that is not MP3 (`mp3`:
+    /// `--format mp3`): what can be told before the input's rate is known.
+    pub fn check_asked(self, mp3: bool) -> Result<(), String> {
+        if !mp3 && (self.bitrate.is_some() || self.vbr) {
+            return Err(
+                "--bitrate and --vbr set the MP3 encoding: add --format mp3, or drop them".into(),
+            );
+        }
+        Ok(())
+    }
+
+    /// The encoding of an output that is MP3 (`mp3`: `--format mp3`) from an input at
+    /// `input_hz` in `format` (at `path`), as [`Mp3Settings::resolve`] chooses it; `None` for
+    /// another output. `Err` says what to do: `--bitrate` or `--vbr` without `--format mp3`,
+    /// or a bitrate the MP3's rate does not hold.
+    pub fn settings(
+        self,
+        mp3: bool,
+        path: &Path,
+        format: InputFormat,
+        input_hz: u32,
+    ) -> Result<Option<Mp3Settings>, String> {
+        self.check_asked(mp3)?;
+        if !mp3 {
+            return Ok(None);
+        }
+        Mp3Settings::resolve(self.bitrate, self.vbr, path, format, input_hz).map(Some)
+    }
+}
+
 /// How the MP3 is encoded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Mp3Settings {

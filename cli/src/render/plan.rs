@@ -53,15 +53,9 @@ pub struct Args {
     /// for everything else (never a second lossy generation); MP3 only when asked.
     #[arg(long, value_enum)]
     pub format: Option<Container>,
-    /// MP3 bitrate, kbps (with --format mp3; 8 to 320 in LAME's steps; default: the input's
-    /// for MP3 input, else 192, 160 at 16–24 kHz, 64 at 8–12 kHz). With --vbr, the average
-    /// aimed at.
-    #[arg(long, value_name = "KBPS", value_parser = crate::mp3_out::parse_bitrate)]
-    pub bitrate: Option<u32>,
-    /// Variable-bitrate MP3 (with --format mp3; LAME's -V level nearest the bitrate). Default:
-    /// constant bitrate, or VBR for VBR MP3 input.
-    #[arg(long)]
-    pub vbr: bool,
+    /// MP3 encoding (`--bitrate`, `--vbr`).
+    #[command(flatten)]
+    pub mp3: crate::mp3_out::Mp3Args,
     /// Breath markers for editors, comma-separated: audacity (label track
     /// `<stem>.breaths.txt`), reaper (region list `<stem>.breaths.reaper.csv`), cue (cue points
     /// inside the output WAV; in a batch, a file whose output is not WAV gets the Audacity
@@ -511,16 +505,8 @@ fn mp3_settings(
     source: &AudioSource,
     one_channel: bool,
 ) -> Result<Option<crate::mp3_out::Mp3Settings>, RenderError> {
-    if container != Container::Mp3 {
-        if args.bitrate.is_some() || args.vbr {
-            return Err(RenderError::Input(
-                "--bitrate and --vbr set the MP3 encoding: add --format mp3, or drop them".into(),
-            ));
-        }
-        return Ok(None);
-    }
     let info = source.info();
-    if info.channels > 2 && !one_channel {
+    if container == Container::Mp3 && info.channels > 2 && !one_channel {
         return Err(RenderError::Input(format!(
             "MP3 holds one or two channels and {} has {}: add --channel left, or write \
              --format flac",
@@ -528,15 +514,14 @@ fn mp3_settings(
             info.channels
         )));
     }
-    crate::mp3_out::Mp3Settings::resolve(
-        args.bitrate,
-        args.vbr,
-        input,
-        source.format(),
-        info.sample_rate_hz,
-    )
-    .map(Some)
-    .map_err(RenderError::Input)
+    args.mp3
+        .settings(
+            container == Container::Mp3,
+            input,
+            source.format(),
+            info.sample_rate_hz,
+        )
+        .map_err(RenderError::Input)
 }
 
 /// The marker files to write and whether the audio gets cue points, with the summary's
@@ -752,10 +737,8 @@ impl OutputPlan {
 /// (not the input itself): an earlier render's of another input or format, or the user's file,
 /// left by design and named in a warning, since the files beside it now belong to `audio`.
 fn other_audio<'a>(input: &'a Path, audio: &'a Path) -> impl Iterator<Item = PathBuf> + 'a {
-    <Container as clap::ValueEnum>::value_variants()
-        .iter()
-        .map(move |c| audio.with_extension(c.extension()))
-        .filter(move |p| p != audio && p.is_file() && !crate::options::same_file(input, p))
+    crate::audio_out::other_formats_beside(audio)
+        .filter(move |p| !crate::options::same_file(input, p))
 }
 
 /// The name the outputs of `input` are named after: its file stem, `stdin` for `-`.

@@ -419,6 +419,91 @@ fn a_second_take_removes_what_the_first_wrote_and_it_did_not() {
     assert!(out.join("speech.wav").is_file() && out.join("notes.txt").is_file());
 }
 
+/// A podcaster takes the spoken text as FLAC, AIFF or MP3 for the edit, as `render` writes
+/// them: the same take as the WAV (sample for sample when lossless, the same length as MP3),
+/// and the MP3 options refused where they mean nothing, before anything is spoken.
+#[test]
+fn speak_writes_the_format_asked_and_refuses_mp3_options_without_mp3() {
+    if !espeak_or_skip("speak_writes_the_format_asked_and_refuses_mp3_options_without_mp3") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let speak = |extra: &[&str]| {
+        pneuma()
+            .args([
+                "speak",
+                "A short take. Then a second sentence.",
+                "--no-plot",
+                "-o",
+            ])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let ok = |extra: &[&str]| {
+        let o = speak(extra);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    ok(&[]);
+    let (wav, rate_hz) = pneuma_io::read_mono(&out.join("speech.wav")).unwrap();
+    for (format, kind) in [
+        ("flac", pneuma_io::InputFormat::Flac),
+        ("aiff", pneuma_io::InputFormat::Aiff),
+        ("mp3", pneuma_io::InputFormat::Mp3),
+    ] {
+        let said = ok(&["--format", format]);
+        let path = out.join(format!("speech.{format}"));
+        assert!(
+            said.contains("speech.wav stays beside this take's"),
+            "the earlier take's WAV is named: {said}"
+        );
+        assert_eq!(
+            pneuma_io::AudioSource::open(&path).unwrap().format(),
+            kind,
+            "{format}"
+        );
+        let (got, got_hz) = pneuma_io::read_mono(&path).unwrap();
+        assert_eq!(got_hz, rate_hz, "{format} at the TTS's rate");
+        assert_eq!(got.len(), wav.len(), "{format}: the take's length");
+        if format == "mp3" {
+            let dot = |a: &[f32], b: &[f32]| -> f64 {
+                a.iter()
+                    .zip(b)
+                    .map(|(x, y)| f64::from(*x) * f64::from(*y))
+                    .sum()
+            };
+            let r = dot(&got, &wav) / (dot(&got, &got) * dot(&wav, &wav)).sqrt();
+            assert!(r > 0.95, "the MP3 is the same take: r {r}");
+        } else {
+            assert_eq!(got, wav, "{format} holds the WAV's samples");
+        }
+    }
+    // The WAV of the first run is not this run's and not removed (it may be the user's), but
+    // it is named above.
+    assert!(out.join("speech.wav").is_file());
+    let mp3_before = std::fs::read(out.join("speech.mp3")).unwrap();
+    for (extra, says) in [
+        (&["--bitrate", "64"][..], "add --format mp3"),
+        (&["--vbr", "--format", "flac"][..], "add --format mp3"),
+        (&["--format", "mp3", "--bitrate", "320"][..], "kbps"),
+    ] {
+        let o = speak(extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            !o.status.success() && err.contains(says),
+            "{extra:?}: {err}"
+        );
+    }
+    let mp3_after = std::fs::read(out.join("speech.mp3")).unwrap();
+    assert!(
+        mp3_after == mp3_before,
+        "a refused run leaves the earlier MP3 as it was"
+    );
+}
+
 /// A voice-over artist sets the breaths' level as in `render`, or takes the same take dry.
 #[test]
 fn speak_takes_the_breath_level_and_a_dry_take() {

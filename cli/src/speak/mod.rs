@@ -13,12 +13,11 @@
 //! does, and varies as it does. Its breaths take the built-in voice coloured by the TTS's
 //! speech, as a render of a recording without breaths does: a TTS breathes nothing to learn.
 //!
-//! Writes `DIR/speech.wav` (16-bit mono at the TTS rate), `DIR/speech.controls.csv`,
-//! `DIR/speech.breaths.csv` and `DIR/speech.png`, on request `speech.bvh` and `speech.mid`;
-//! every file is written atomically. The plot, BVH and MIDI file an earlier run left and this
-//! one does not write are removed as a render's are ([`crate::render::leftovers`]).
+//! Writes `DIR/speech.wav` (16-bit mono at the TTS rate; `--format` FLAC, AIFF or MP3
+//! instead), `DIR/speech.controls.csv`, `DIR/speech.breaths.csv` and `DIR/speech.png`, on
+//! request `speech.bvh` and `speech.mid`, all together or none ([`files`]).
 
-use std::io::{Cursor, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
 
@@ -27,20 +26,20 @@ use pneuma_core::breathing::{
     chunk_text, BreathSample, BreathingError, BreathingParams, Chunk, LowLevelParams, Preset,
     SampleSlot,
 };
-use pneuma_core::encode::sink::{FrameSink as _, Resample, TextSink};
-use pneuma_core::encode::{breaths_csv, controls_csv};
+use pneuma_core::encode::sink::FrameSink as _;
 use pneuma_core::engine::voice_learning::VoiceLearner;
 use pneuma_core::engine::{offline, BreathVoiceMode, Engine, EngineConfig, EngineError};
 use pneuma_core::{BreathEvent, ControlFrame};
 use thiserror::Error;
 
+use crate::audio_out::Container;
 use crate::options::{BREATH_LEVEL, FRAME_RATE, LOUDNESS, RATE};
-use crate::output::{commit_all, Output, Staged};
-use crate::plot::{draw_png, PlotError};
-use crate::render::leftovers::{self, Cleared, Leftover};
-use crate::render::marks::Optional;
+use crate::plot::PlotError;
+use crate::render::leftovers::Cleared;
 use pneuma_io::capped::TEXT_MAX_BYTES;
-use pneuma_io::{read_mono, read_text_capped, CappedReadError, ReadError};
+use pneuma_io::{read_mono, read_text_capped, CappedReadError, InputFormat, ReadError};
+
+mod files;
 
 /// Silence before the first breath, seconds.
 pub const LEAD_IN_S: f64 = 0.25;
@@ -52,15 +51,6 @@ pub const TAIL_S: f64 = 0.6;
 const BLOCK: usize = 4096;
 /// Level under which the ends of a TTS chunk count as silence, dBFS.
 pub const TRIM_DB: f32 = -50.0;
-
-/// The files `speak` writes in its folder: always the audio, the controls and the breaths;
-/// the plot unless `--no-plot`, the BVH and the MIDI file when asked.
-const AUDIO_FILE: &str = "speech.wav";
-const CONTROLS_FILE: &str = "speech.controls.csv";
-const BREATHS_FILE: &str = "speech.breaths.csv";
-const PLOT_FILE: &str = "speech.png";
-const BVH_FILE: &str = "speech.bvh";
-const MIDI_FILE: &str = "speech.mid";
 
 /// Which TTS program speaks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -121,10 +111,16 @@ pub struct Args {
     /// Read the text from this file instead.
     #[arg(long, value_name = "FILE", conflicts_with = "text")]
     pub text_file: Option<PathBuf>,
-    /// Output folder (created if missing); receives speech.wav, speech.controls.csv,
+    /// Output folder (created if missing); receives speech.wav (or the --format's), speech.controls.csv,
     /// speech.breaths.csv and speech.png.
     #[arg(short = 'o', long = "output", alias = "out", value_name = "DIR")]
     pub out_dir: PathBuf,
+    /// Audio format of speech.*: 16-bit WAV, FLAC or AIFF at the TTS's rate, or MP3.
+    #[arg(long, value_enum, default_value_t = Container::Wav)]
+    pub format: Container,
+    /// MP3 encoding (`--bitrate`, `--vbr`), as in `render`.
+    #[command(flatten)]
+    pub mp3: crate::mp3_out::Mp3Args,
     /// Breathing preset.
     #[arg(long, default_value = "neutral", value_parser = clap::builder::PossibleValuesParser::new(Preset::NAMES))]
     pub preset: String,
@@ -276,6 +272,8 @@ pub struct SpeakSummary {
     pub leftovers: Cleared,
     /// The characters the TTS could not be given (festival reads ASCII only): left out.
     pub left_out: Vec<char>,
+    /// Audio files of other formats named `speech.*` beside this take's: left, and named.
+    pub other_audio: Vec<PathBuf>,
 }
 
 /// Runs `pneuma speak`.
@@ -302,6 +300,9 @@ pub fn main(args: Args) -> ExitCode {
                 }
                 for w in s.leftovers.warnings() {
                     eprintln!("warning: {w}");
+                }
+                for other in &s.other_audio {
+                    eprintln!("warning: {}", files::other_audio_line(other, args.format));
                 }
             }
             // Words lost and removals are never silent, not even under --quiet.
@@ -549,17 +550,11 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     let osc = args.osc.plan().map_err(SpeakError::Option)?;
     let bvh_fps = args.bvh.fps().map_err(SpeakError::Option)?;
     let cc_map = args.midi.map().map_err(SpeakError::Option)?;
-    let out = |name: &str| args.out_dir.join(name);
-    let names = [
-        AUDIO_FILE,
-        CONTROLS_FILE,
-        BREATHS_FILE,
-        PLOT_FILE,
-        BVH_FILE,
-        MIDI_FILE,
-    ];
+    args.mp3
+        .check_asked(args.format == Container::Mp3)
+        .map_err(SpeakError::Option)?;
     if args.no_overwrite {
-        let paths: Vec<PathBuf> = names.iter().map(|n| out(n)).collect();
+        let paths = files::all_paths(&args.out_dir, args.format);
         crate::options::refuse_existing(&paths).map_err(SpeakError::Option)?;
     }
     std::fs::create_dir_all(&args.out_dir).map_err(|source| SpeakError::Output {
@@ -587,6 +582,21 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         speech.push(trim_silence(&audio, r).to_vec());
     }
     let fs = rate_hz as f64;
+    // The MP3's bitrate range depends on the TTS's rate, known only now.
+    let formats = files::Formats {
+        container: args.format,
+        mp3: args
+            .mp3
+            .settings(
+                args.format == Container::Mp3,
+                Path::new("-"),
+                InputFormat::Wav,
+                rate_hz,
+            )
+            .map_err(SpeakError::Option)?,
+        bvh_fps,
+        cc_map,
+    };
 
     // Lay out the timeline: each chunk after a pause long enough for the breath its group
     // needs; the engine then breathes into those pauses as it does in a recording.
@@ -636,75 +646,13 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         *v = v.clamp(-1.0, 1.0);
     }
 
-    // Write everything.
-    let wav_bytes = wav_16bit(&audio, rate_hz);
-    // All files are staged first and moved into place together, or none of them.
-    let mut staged = vec![
-        write_file(&out(AUDIO_FILE), |w| w.write_all(&wav_bytes))?,
-        write_file(&out(CONTROLS_FILE), |mut w| {
-            controls_csv::write_all(&mut w, &frames)
-        })?,
-        write_file(&out(BREATHS_FILE), |mut w| {
-            breaths_csv::write_all(&mut w, &breaths)
-        })?,
-    ];
-    if args.bvh.wanted() {
-        let (frame_rate, fps) = (args.frame_rate, bvh_fps.unwrap_or(args.frame_rate));
-        staged.push(write_file(&out(BVH_FILE), |w| {
-            // At the BVH's rate: the frame nearest each instant, as `render` writes it.
-            let n =
-                Resample::<TextSink<&mut dyn Write>>::count(frames.len() as u64, frame_rate, fps);
-            let mut bvh = Resample::new(TextSink::bvh(w, n as usize, fps)?, frame_rate, fps, n);
-            for f in &frames {
-                bvh.frame(f, 0);
-            }
-            bvh.into_inner().into_inner().map(drop)
-        })?);
-    }
-    if args.midi.wanted() {
-        staged.push(write_file(&out(MIDI_FILE), |w| {
-            let cursor = std::io::Cursor::new(Vec::new());
-            let mut midi = pneuma_core::encode::midi_file::MidiFileSink::new(cursor, cc_map)
-                .map_err(std::io::Error::other)?;
-            for f in &frames {
-                midi.frame(f, 0);
-            }
-            let bytes = midi.finish().map_err(std::io::Error::other)?;
-            w.write_all(&bytes.into_inner())
-        })?);
-    }
-    if !args.no_plot {
-        let plot_path = out(PLOT_FILE);
-        let plot = Staged::new(&plot_path).map_err(|source| SpeakError::Output {
-            path: plot_path.clone(),
-            source,
-        })?;
-        draw_png(
-            plot.temp(),
-            &plot_path,
-            &audio,
-            secs(audio.len()),
-            &frames,
-            &breaths,
-        )?;
-        staged.push(plot);
-    }
-    commit_all(staged).map_err(|(path, source)| SpeakError::Output { path, source })?;
-    // The optional files this run did not write, as an earlier one may have left them: they
-    // would describe another take (a BVH of 3.9 s beside 1.8 s of speech).
-    let unwritten: Vec<Leftover> = [
-        (PLOT_FILE, Optional::Plot, args.no_plot),
-        (BVH_FILE, Optional::Bvh, !args.bvh.wanted()),
-        (MIDI_FILE, Optional::Midi, !args.midi.wanted()),
-    ]
-    .into_iter()
-    .filter(|&(_, _, left_out)| left_out)
-    .map(|(name, file, _)| Leftover {
-        path: out(name),
-        file,
-    })
-    .collect();
-    let leftovers = leftovers::clear(&unwritten, args.no_overwrite);
+    let take = files::Take {
+        audio: &audio,
+        rate_hz,
+        frames: &frames,
+        breaths: &breaths,
+    };
+    let leftovers = files::write(args, &take, &formats)?;
     let osc = match osc {
         Some(plan) => {
             let mut sender = plan.open().map_err(SpeakError::Option)?;
@@ -729,6 +677,7 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         osc,
         leftovers,
         left_out,
+        other_audio: files::other_audio(&args.out_dir, args.format),
     })
 }
 
@@ -780,42 +729,4 @@ impl Drop for Scratch {
     fn drop(&mut self) {
         let _ = std::fs::remove_dir_all(&self.0);
     }
-}
-
-fn wav_16bit(audio: &[f32], rate_hz: u32) -> Vec<u8> {
-    let spec = hound::WavSpec {
-        channels: 1,
-        sample_rate: rate_hz,
-        bits_per_sample: 16,
-        sample_format: hound::SampleFormat::Int,
-    };
-    let mut cursor = Cursor::new(Vec::with_capacity(44 + 2 * audio.len()));
-    {
-        // Writing to memory cannot fail except for sizes beyond 4 GiB, which 16-bit mono
-        // speech never reaches.
-        let mut w = hound::WavWriter::new(&mut cursor, spec).expect("in-memory WAV header");
-        for &v in audio {
-            let s = (v.clamp(-1.0, 1.0) * 32767.0).round() as i16;
-            w.write_sample(s).expect("in-memory WAV sample");
-        }
-        w.finalize().expect("in-memory WAV");
-    }
-    cursor.into_inner()
-}
-
-fn write_file(
-    path: &Path,
-    body: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
-) -> Result<Staged, SpeakError> {
-    let err = |source| SpeakError::Output {
-        path: path.to_owned(),
-        source,
-    };
-    let mut out = Output::create(path).map_err(err)?;
-    body(out.writer()).map_err(err)?;
-    out.finish().map_err(err)?.ok_or_else(|| {
-        err(std::io::Error::other(
-            "speak writes files, not standard output",
-        ))
-    })
 }
