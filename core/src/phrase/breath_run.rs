@@ -1,5 +1,6 @@
 //! Breaths already in a pause: runs of breath-like frames (unvoiced, over the floor by the
-//! breath margin, not active), judged by their length, their spectral shape over the room and,
+//! breath margin, not active), judged by their length, their spectral shape over the room, how
+//! noise-like they are (not a music bed's tones, [`BREATH_MIN_FLATNESS`]) and,
 //! when a run starts at the phrase's offset, by rising over its lowest point, in the voice band or
 //! in the breath's own bands (a reverberant tail only falls; in a room whose hum carries the voice
 //! band's level a breath rises little there, as it adds little to it).
@@ -27,6 +28,15 @@ pub(super) const BREATH_HOLD_SHARE: f32 = 0.5;
 /// starts is no longer the phrase's decay, seconds: a tail's ripple dips under the hold for a
 /// frame or two and comes back.
 pub(super) const TAIL_CLOSED_S: f32 = 0.025;
+/// Lowest mean spectral flatness of the mid band ([`crate::analysis::BandLevels::mid_flatness`])
+/// over a run that is a breath: an inhalation is noise, while a music bed under the voice that
+/// swells in a pause, a chord or a sung note is tonal. The 56 clear labelled inhalations of the
+/// Keele and styletalk clips read 0.28 to 0.57 as runs (median 0.38; white noise 0.56), a
+/// string bed's swells in a restored voice's pauses 0.06 to 0.12. A breath partly masked by a
+/// tonal bed reads between the two, and a breath the rule misses is one inserted over it: so
+/// the limit sits low, at 0.1 (0.2 lost 13 of the labelled real breaths `eval podcast` heard
+/// under beds and drones; see `docs/measurements.md`, 7 December 2026).
+pub(super) const BREATH_MIN_FLATNESS: f32 = 0.1;
 /// How long a strict run must have lasted to be a breath under way, seconds: a breath's noise
 /// is sustained, a click or a lip smack lasts a frame or two. Live mode starts no inserted
 /// breath over one (it would double a real breath the detector has not confirmed yet).
@@ -45,6 +55,8 @@ pub(super) struct BreathRules {
     /// Highest mean high-over-mid and low-over-mid band level of the run, dB.
     pub(super) max_high_over_mid_db: f32,
     pub(super) max_low_over_mid_db: f32,
+    /// Lowest mean mid-band flatness of a breath run ([`BREATH_MIN_FLATNESS`]).
+    pub(super) min_flatness: f32,
 }
 
 /// The run of breath-like frames going on.
@@ -62,9 +74,11 @@ struct BreathRun {
     min_bands_db: f32,
     /// The run's level rose [`BREATH_RISE_DB`] over its lowest point (in either band).
     rose: bool,
-    /// Sums over the run of its frames' high-over-mid and low-over-mid band levels, dB.
+    /// Sums over the run of its frames' high-over-mid and low-over-mid band levels, dB, and
+    /// of their mid-band flatness.
     high_sum: f32,
     low_sum: f32,
+    flat_sum: f32,
     /// The first active frame heard while the run went on (an unvoiced blip it spans).
     blip: Option<u64>,
 }
@@ -77,13 +91,14 @@ impl BreathRun {
     /// tail's ripple pass for a rise.
     fn counts(&self, rules: &BreathRules, held: bool) -> bool {
         let low = self.low_sum / self.frames.max(1) as f32;
-        self.not_fricative(rules) && low <= rules.max_low_over_mid_db && self.past_tail(held)
+        self.noise_not_fricative(rules) && low <= rules.max_low_over_mid_db && self.past_tail(held)
     }
 
     /// The run's mean high band over its mid band lies within the breath's limit (/s/, /ʃ/ and
-    /// /f/ lie far over it).
-    fn not_fricative(&self, rules: &BreathRules) -> bool {
-        self.high_sum / self.frames.max(1) as f32 <= rules.max_high_over_mid_db
+    /// /f/ lie far over it), and it is noise, not tones ([`BREATH_MIN_FLATNESS`]).
+    fn noise_not_fricative(&self, rules: &BreathRules) -> bool {
+        let n = self.frames.max(1) as f32;
+        self.high_sum / n <= rules.max_high_over_mid_db && self.flat_sum / n >= rules.min_flatness
     }
 
     /// The run does not only continue the phrase's decay (see [`BreathRun::counts`]).
@@ -167,11 +182,13 @@ impl RunTrack {
                 run.rose = false;
                 run.high_sum = 0.0;
                 run.low_sum = 0.0;
+                run.flat_sum = 0.0;
                 run.blip = None;
             }
             run.frames += 1;
             run.high_sum += f.high_over_mid_db;
             run.low_sum += f.low_over_mid_db;
+            run.flat_sum += f.mid_flatness;
             run.min_db = run.min_db.min(f.level_db);
             run.min_bands_db = run.min_bands_db.min(f.breath_bands_db);
             if f.level_db >= run.min_db + BREATH_RISE_DB
@@ -197,14 +214,16 @@ impl RunTrack {
         self.counted.is_some() || self.counting(rules)
     }
 
-    /// A run is going on, long enough to be under way, not only the phrase's decay, and not a
-    /// fricative (its mean high band over its mid band within the breath's limit: /s/, /ʃ/
-    /// and /f/ before a word lie far over it). The low band is not asked for: a run's shape is
+    /// A run is going on, long enough to be under way, not only the phrase's decay, noise and
+    /// not a fricative (its mean high band over its mid band within the breath's limit: /s/,
+    /// /ʃ/ and /f/ before a word lie far over it). The low band is not asked for: a run's shape is
     /// its mean from its first frame, and a breath's first frames (a nasal onset, the room's
     /// hum under it) often hold it over that limit for a tenth of a second or more.
     fn under_way(&self, rules: &BreathRules) -> bool {
         let run = &self.run;
-        run.frames >= rules.under_way_frames && run.not_fricative(rules) && run.past_tail(self.held)
+        run.frames >= rules.under_way_frames
+            && run.noise_not_fricative(rules)
+            && run.past_tail(self.held)
     }
 
     /// The run going on counts as a breath already (its length and shape).

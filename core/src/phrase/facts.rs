@@ -20,6 +20,8 @@ pub(super) struct FrameFacts {
     pub(super) high_over_mid_db: f32,
     /// The frame's low band over its mid band, dB.
     pub(super) low_over_mid_db: f32,
+    /// The spectral flatness of its mid band ([`crate::analysis::BandLevels::mid_flatness`]).
+    pub(super) mid_flatness: f32,
     /// Digital silence ([`super::silent_run::GATED_DB`]) or a cut's dither
     /// ([`super::silent_run::CUT_CEILING_DB`]): a cut or a closed gate, not a room.
     pub(super) gated: bool,

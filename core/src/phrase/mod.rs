@@ -21,7 +21,9 @@
 //!   [`FeatureFrame::bands`] over frames at the floor and over `silence_db`) taken out of each
 //!   frame's band powers, the run's mean high-over-mid level is at most
 //!   `breath_max_high_over_mid_db` (not a sibilant) and its low-over-mid at most
-//!   `breath_max_low_over_mid_db` (not a vowel's tail or rumble). A run that starts at the
+//!   `breath_max_low_over_mid_db` (not a vowel's tail or rumble), and it is noise: its mean
+//!   mid-band spectral flatness is at least [`breath_run::BREATH_MIN_FLATNESS`] (a music bed
+//!   swelling in a pause, a chord or a sung note is tonal). A run that starts at the
 //!   phrase's offset must also rise 3 dB over its lowest point, in the voice band or in the
 //!   breath's own bands (a reverberant tail only falls).
 //!   In a noisy room a breath dips under the margin now and then: failing such a run, a *held*

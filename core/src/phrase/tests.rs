@@ -21,12 +21,17 @@ fn frame(index: u64, rms_db: f32, voiced: bool) -> FeatureFrame {
 
 /// Band levels of broadband breath noise at `rms_db`: most energy in the mid band, the high
 /// band 2 dB inside the shipped breath shape's limit.
+/// The mid-band flatness of the noise the test frames stand for (white noise through the
+/// analysis window).
+const NOISE_FLATNESS: f32 = 0.56;
+
 fn breathy(rms_db: f32) -> BandLevels {
     let mid_db = rms_db - 1.5;
     BandLevels {
         low_db: rms_db - 12.0,
         mid_db,
         high_db: breath_high_db(mid_db),
+        mid_flatness: NOISE_FLATNESS,
     }
 }
 
@@ -253,10 +258,12 @@ fn a_breath_over_a_humming_room_is_heard_in_its_own_bands() {
         low_db: -50.2,
         mid_db: -70.0,
         high_db: -80.0,
+        mid_flatness: NOISE_FLATNESS,
     };
     let breath = BandLevels {
         mid_db: -50.0,
         high_db: breath_high_db(-50.0),
+        mid_flatness: NOISE_FLATNESS,
         ..room
     };
     let script = burst_between_phrases(-50.0, -47.0);
@@ -294,6 +301,7 @@ fn a_breath_right_after_a_tail_rises_in_its_own_bands_over_a_humming_room() {
         low_db: -50.2,
         mid_db: -70.0,
         high_db: -80.0,
+        mid_flatness: NOISE_FLATNESS,
     };
     let tail_mid_db = [-44.0, -50.0, -56.0, -60.0];
     let script = [
@@ -315,6 +323,7 @@ fn a_breath_right_after_a_tail_rises_in_its_own_bands_over_a_humming_room() {
                 BandLevels {
                     mid_db,
                     high_db: mid_db - 10.0,
+                    mid_flatness: NOISE_FLATNESS,
                     ..room
                 }
             }
@@ -322,6 +331,7 @@ fn a_breath_right_after_a_tail_rises_in_its_own_bands_over_a_humming_room() {
                 low_db: breath_low_db,
                 mid_db: breath_mid_db,
                 high_db: breath_high_db(breath_mid_db),
+                mid_flatness: NOISE_FLATNESS,
             },
             _ => room,
         })
@@ -350,6 +360,7 @@ fn a_gated_silence_does_not_teach_the_room_that_it_is_silent() {
         low_db: -80.0,
         mid_db: -72.0,
         high_db: -52.0,
+        mid_flatness: NOISE_FLATNESS,
     };
     let breath_mid_db = -50.0;
     let power_sum_db =
@@ -358,6 +369,7 @@ fn a_gated_silence_does_not_teach_the_room_that_it_is_silent() {
         low_db: power_sum_db(room.low_db, breath_mid_db - 12.0),
         mid_db: power_sum_db(room.mid_db, breath_mid_db),
         high_db: power_sum_db(room.high_db, breath_high_db(breath_mid_db)),
+        mid_flatness: NOISE_FLATNESS,
     };
     let script = [
         (100, -55.0, false),
@@ -395,6 +407,7 @@ fn a_burst_shaped_like_a_sibilant_or_a_vowel_tail_is_no_breath() {
         low_db: db - 25.0,
         mid_db: db - 10.0,
         high_db: db - 0.5,
+        mid_flatness: NOISE_FLATNESS,
     };
     assert_eq!(breaths_with_bands(&script, burst, sibilant)[1], None);
     // A vowel's tail or rumble: the low band 8 dB over the mid band.
@@ -402,6 +415,7 @@ fn a_burst_shaped_like_a_sibilant_or_a_vowel_tail_is_no_breath() {
         low_db: db - 0.5,
         mid_db: db - 8.5,
         high_db: db - 20.0,
+        mid_flatness: NOISE_FLATNESS,
     };
     assert_eq!(breaths_with_bands(&script, burst, low)[1], None);
 }

@@ -4,7 +4,8 @@
 //! ([`super::floor_bands`]) have rooms of their own.
 
 use super::breath_run::{
-    BreathRules, PauseBreaths, BREATH_HOLD_SHARE, BREATH_UNDER_WAY_S, TAIL_CLOSED_S,
+    BreathRules, PauseBreaths, BREATH_HOLD_SHARE, BREATH_MIN_FLATNESS, BREATH_UNDER_WAY_S,
+    TAIL_CLOSED_S,
 };
 use super::config::{PhraseConfig, PhraseError};
 use super::events::{Pause, PhraseEvent};
@@ -163,6 +164,7 @@ impl PhraseTracker {
                 tail_closed_frames: frames(TAIL_CLOSED_S) as u32,
                 max_high_over_mid_db: config.breath_max_high_over_mid_db,
                 max_low_over_mid_db: config.breath_max_low_over_mid_db,
+                min_flatness: BREATH_MIN_FLATNESS,
             },
             floor: NoiseFloor::with_blocks(frames(FLOOR_BLOCK_S) as usize, FLOOR_BLOCKS),
             breath_floor: NoiseFloor::with_blocks(frames(FLOOR_BLOCK_S) as usize, FLOOR_BLOCKS),
@@ -391,6 +393,7 @@ impl PhraseTracker {
             breath_held,
             high_over_mid_db,
             low_over_mid_db,
+            mid_flatness: frame.bands.mid_flatness,
             gated: gated || cut || under_room,
         }
     }

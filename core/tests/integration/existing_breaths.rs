@@ -93,6 +93,51 @@ fn a_quiet_pause_reports_no_breath_already_there() {
     );
 }
 
+/// [`phrases`] over a music bed: a chord (A major, four harmonics a note) about 30 dB under the
+/// vowels all along, which swells by 7 dB over the burst's span in the pause when `swell`
+/// (over the breath margin, under the level a phrase starts at).
+fn phrases_over_a_bed(breath: bool, swell: bool) -> Vec<f32> {
+    let mut x = phrases(breath);
+    let len_s = x.len() as f64 / RATE_HZ;
+    for f0 in [440.0, 554.37, 659.25] {
+        let note = signals::harmonic_tone(RATE_HZ, len_s, 0.004, &[1.0, 0.5, 0.3, 0.2], |_| f0);
+        for (i, (v, n)) in x.iter_mut().zip(note).enumerate() {
+            let t = i as f64 / RATE_HZ;
+            // 20 ms ramps into and out of the swell.
+            let up = ((t - BURST_S.0) / 0.02)
+                .min((BURST_S.1 - t) / 0.02)
+                .clamp(0.0, 1.0);
+            let gain = if swell { 1.0 + (2.24 - 1.0) * up } else { 1.0 };
+            *v += n * gain as f32;
+        }
+    }
+    x
+}
+
+#[test]
+fn a_music_bed_swelling_in_a_pause_is_no_breath_and_a_breath_over_it_is_one() {
+    // The chord's swell is as loud over the bed as a breath would be, and unvoiced, but tonal:
+    // the pause gets its inserted breath.
+    let (existing, inserted) = run(&phrases_over_a_bed(false, true));
+    assert!(
+        existing.is_empty(),
+        "the swell taken for a breath: {existing:?}"
+    );
+    assert!(
+        inserted.iter().any(|&(a, b)| a >= 1.6 && b <= 2.5),
+        "the pause under the bed gets an inserted breath: {inserted:?}"
+    );
+    // A breath's noise over the same bed (no swell) is heard, and nothing is inserted over it.
+    let (existing, inserted) = run(&phrases_over_a_bed(true, false));
+    assert_eq!(existing.len(), 1, "the breath over the bed: {existing:?}");
+    assert!(
+        !inserted
+            .iter()
+            .any(|&(a, b)| a < BURST_S.1 && b > BURST_S.0),
+        "a breath inserted over the real one: {inserted:?}"
+    );
+}
+
 #[test]
 fn live_mode_never_doubles_a_breath_already_there() {
     // Live mode starts its breath once the pause has lasted the minimum pause (0.25 s after
