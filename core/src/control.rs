@@ -97,6 +97,35 @@ impl ControlFrame {
             ..Self::default()
         }
     }
+
+    /// A frame on the way from this one to the rest pose, frame `index` at `time_s`, a share
+    /// `toward` (0..1) of the way there: the body (head angles and the breathing's continuous
+    /// values) moves that share of the way, while the voice is the rest's at once (silent, not
+    /// speaking: nothing is heard any more); the breathing's phase is the rest's. At 1 it is
+    /// [`ControlFrame::rest`].
+    pub fn toward_rest(&self, index: u64, time_s: f64, toward: f32) -> Self {
+        let keep = 1.0 - toward.clamp(0.0, 1.0);
+        let rest = Self::rest(index, time_s);
+        let mix = |from: f32, to: f32| to + (from - to) * keep;
+        let (b, r) = (&self.breathing, &rest.breathing);
+        Self {
+            breathing: BreathingState {
+                lung: mix(b.lung, r.lung),
+                thorax: mix(b.thorax, r.thorax),
+                abdomen: mix(b.abdomen, r.abdomen),
+                neck_pitch_deg: mix(b.neck_pitch_deg, r.neck_pitch_deg),
+                nostril_flare: mix(b.nostril_flare, r.nostril_flare),
+                mouth_open: mix(b.mouth_open, r.mouth_open),
+                ..*r
+            },
+            head: HeadAngles {
+                pitch_deg: mix(self.head.pitch_deg, rest.head.pitch_deg),
+                yaw_deg: mix(self.head.yaw_deg, rest.head.yaw_deg),
+                roll_deg: mix(self.head.roll_deg, rest.head.roll_deg),
+            },
+            ..rest
+        }
+    }
 }
 
 /// Which breath sound was inserted.

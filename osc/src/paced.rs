@@ -6,12 +6,15 @@
 //! [`PacedSender`] sleeps, encodes and sends.
 //!
 //! When the stream ends, however it ends (the file's end, an error, Ctrl-C: [`PacedSender::rest`],
-//! also on drop), one more bundle sends the rest pose ([`ControlFrame::rest`]: silent, head
-//! straight, breathing at rest) a frame period after the last, as the plugin does when it is
-//! bypassed: an avatar is not left frozen mid-turn with its mouth open. It waits for its time
-//! [`REST_MAX_WAIT_S`] at most (a very slow speed does not hold an error or Ctrl-C back); at
+//! also on drop), the body eases to the rest pose ([`ControlFrame::rest`]: silent, head
+//! straight, breathing at rest) over [`REST_EASE_S`], a frame every period after the last
+//! ([`ControlFrame::toward_rest`] on a raised cosine), the last of them the rest pose itself: an
+//! avatar is neither left frozen mid-turn with its mouth open nor snapped straight in one
+//! frame (7.7° in 1/120 s at the end of a clip that ended mid-turn). The voice is silent from
+//! the first of them. The ease waits for its frames' times [`REST_MAX_WAIT_S`] at most in all
+//! (a very slow speed does not hold an error or Ctrl-C back: its frames then leave sooner); at
 //! [`Speed::Max`] it waits [`REST_DRAIN_S`] first, so a receiver that fell behind has read the
-//! frames before it and does not drop the one bundle that matters most.
+//! frames before it and does not drop the bundles that matter most.
 //!
 //! Time tags: the first frame anchors the stream to the wall clock; a frame's tag is the
 //! instant it is due, `anchor + (time_s - first time_s) / speed`. At [`Speed::Max`] frames
@@ -31,6 +34,10 @@ use crate::target::{connect, now_unix_s, resolve, send, socket_for, OscError};
 pub const REST_MAX_WAIT_S: f64 = 0.5;
 /// At [`Speed::Max`], the wait before the rest pose, seconds.
 pub const REST_DRAIN_S: f64 = 0.25;
+/// How long the body takes to ease to the rest pose after the last frame, seconds of the
+/// stream (a quarter second: a head's return after speech, quicker than a settle, and short
+/// enough that Ctrl-C still ends at once).
+pub const REST_EASE_S: f64 = 0.25;
 
 /// How fast frames are sent.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -183,9 +190,8 @@ pub struct PacedSender<C: Clock = WallClock> {
     clock: C,
     buf: [u8; MAX_FRAME_PACKET_BYTES],
     stats: PacedStats,
-    /// The last frame's index and time, and the interval before it, seconds (0 before two
-    /// frames).
-    last: Option<(u64, f64)>,
+    /// The last frame sent, and the interval before it, seconds (0 before two frames).
+    last: Option<ControlFrame>,
     period_s: f64,
     /// The rest pose was tried after the last frame.
     rested: bool,
@@ -251,22 +257,34 @@ impl<C: Clock> PacedSender<C> {
         self.stats.last_error = Some(e);
     }
 
-    /// Sends the rest pose a frame period after the last frame (the default frame rate's
-    /// period after a single frame), once after the last frame (nothing before any frame).
-    /// Also done on drop.
+    /// Eases the body to the rest pose after the last frame (see the module docs), once after
+    /// the last frame (nothing before any frame); the frames are a period apart (the default
+    /// frame rate's period after a single frame). Also done on drop.
     pub fn rest(&mut self) {
-        if let (Some((index, time_s)), false) = (self.last, self.rested) {
-            self.rested = true;
-            let period_s = if self.period_s > 0.0 {
-                self.period_s
-            } else {
-                1.0 / f64::from(pneuma_core::settings::analysis::FRAME_RATE_HZ.default)
-            };
-            if self.pacer.speed == Speed::Max {
-                self.clock.sleep_s(REST_DRAIN_S);
-            }
-            let rest = ControlFrame::rest(index + 1, time_s + period_s);
-            self.stats.rested = self.send_when_due(&rest, REST_MAX_WAIT_S);
+        let (Some(last), false) = (self.last, self.rested) else {
+            return;
+        };
+        self.rested = true;
+        let period_s = if self.period_s > 0.0 {
+            self.period_s
+        } else {
+            1.0 / f64::from(pneuma_core::settings::analysis::FRAME_RATE_HZ.default)
+        };
+        if self.pacer.speed == Speed::Max {
+            self.clock.sleep_s(REST_DRAIN_S);
+        }
+        let steps = ((REST_EASE_S / period_s).round() as u64).max(1);
+        let mut wait_left_s = REST_MAX_WAIT_S;
+        for k in 1..=steps {
+            let toward = 0.5 - 0.5 * (std::f64::consts::PI * k as f64 / steps as f64).cos();
+            let frame = last.toward_rest(
+                last.index + k,
+                last.time_s + k as f64 * period_s,
+                toward as f32,
+            );
+            let before_s = self.clock.now_s();
+            self.stats.rested = self.send_when_due(&frame, wait_left_s);
+            wait_left_s = (wait_left_s - (self.clock.now_s() - before_s)).max(0.0);
         }
     }
 
@@ -310,12 +328,12 @@ impl<C: Clock> Drop for PacedSender<C> {
 
 impl<C: Clock> FrameSink for PacedSender<C> {
     fn frame(&mut self, frame: &ControlFrame, _at: u64) {
-        if let Some((_, last_s)) = self.last {
-            if frame.time_s > last_s {
-                self.period_s = frame.time_s - last_s;
+        if let Some(last) = self.last {
+            if frame.time_s > last.time_s {
+                self.period_s = frame.time_s - last.time_s;
             }
         }
-        self.last = Some((frame.index, frame.time_s));
+        self.last = Some(*frame);
         self.rested = false;
         self.stats.rested = false;
         self.send_when_due(frame, f64::INFINITY);
@@ -440,7 +458,7 @@ mod tests {
     }
 
     #[test]
-    fn a_stream_ends_in_the_rest_pose_a_period_after_its_last_frame_however_it_ends() {
+    fn a_stream_eases_to_the_rest_pose_after_its_last_frame_however_it_ends() {
         let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
         rx.set_read_timeout(Some(Duration::from_millis(300)))
             .unwrap();
@@ -453,7 +471,8 @@ mod tests {
             f
         };
         let period_s = 1.0 / 120.0;
-        let rest = ControlFrame::rest(3, 2.0 * period_s + period_s);
+        let steps = (REST_EASE_S / period_s).round() as usize;
+        let rest = ControlFrame::rest(2 + steps as u64, (2 + steps) as f64 * period_s);
         let messages = |frame: &ControlFrame| {
             let mut buf = [0u8; MAX_FRAME_PACKET_BYTES];
             let n = encode_frame(OscFormat::Pneuma, frame, TimeTag(0), &mut buf).unwrap();
@@ -465,33 +484,60 @@ mod tests {
                 .map_while(|_| rx.recv(&mut buf).ok().map(|k| decode(&buf[..k]).unwrap()))
                 .collect()
         };
-        // Dropped after three frames, as on an error or Ctrl-C: a fourth bundle, the rest pose.
+        // Dropped after three frames, as on an error or Ctrl-C: the ease, ending in the rest
+        // pose.
         {
             let mut tx = test_sender("127.0.0.1", port, Speed::Times(4.0));
             for i in 0..3 {
                 tx.frame(&turned(i), 0);
             }
         }
-        let got = received(5);
-        assert_eq!(got.len(), 4, "three frames and the rest pose");
+        let got = received(3 + steps + 2);
+        assert_eq!(got.len(), 3 + steps, "three frames and the ease to rest");
         let strip = |m: &[pneuma_testkit::osc::Message]| {
             m.iter()
                 .map(|m| (m.address.clone(), format!("{:?}", m.args)))
                 .collect::<Vec<_>>()
         };
-        assert_ne!(
-            strip(&got[2]),
-            strip(&messages(&rest)),
-            "the last frame is turned"
+        let arg = |m: &[pneuma_testkit::osc::Message], address: &str, k: usize| -> f32 {
+            let found = m.iter().find(|m| m.address == address).expect(address);
+            match found.args[k] {
+                pneuma_testkit::osc::OscType::Float(v) => v,
+                ref other => panic!("{address}: {other:?}"),
+            }
+        };
+        assert_eq!(strip(&got[2 + steps]), strip(&messages(&rest)));
+        // The head turns back a little each frame, never jumping, and the lung empties the
+        // same way; the voice is silent from the first frame of the ease.
+        let yaw: Vec<f32> = got[2..].iter().map(|m| arg(m, "/pneuma/head", 1)).collect();
+        let lung: Vec<f32> = got[2..]
+            .iter()
+            .map(|m| arg(m, "/pneuma/breath/lung", 0))
+            .collect();
+        assert_eq!((yaw[0], *yaw.last().unwrap()), (5.0, 0.0));
+        let largest_step = yaw.windows(2).map(|w| w[0] - w[1]).fold(0.0f32, f32::max);
+        assert!(
+            yaw.windows(2).all(|w| w[1] <= w[0]) && largest_step < 5.0 * 2.0 / steps as f32,
+            "yaw back to rest in even steps: {yaw:?}"
         );
-        assert_eq!(strip(&got[3]), strip(&messages(&rest)));
-        // Rested at the end, then dropped: the rest pose goes out once; before any frame, never.
+        assert!(lung.windows(2).all(|w| w[1] <= w[0]), "{lung:?}");
+        assert!(
+            got[3..]
+                .iter()
+                .all(|m| arg(m, "/pneuma/rms", 0) == rest.rms_db),
+            "the voice is silent through the ease"
+        );
+        // Rested at the end, then dropped: the ease goes out once; before any frame, never.
         let mut tx = test_sender("127.0.0.1", port, Speed::Max);
         tx.rest();
         tx.frame(&turned(0), 0);
         tx.rest();
         drop(tx);
-        assert_eq!(received(3).len(), 2, "one frame, one rest");
+        assert_eq!(
+            received(2 + steps).len(),
+            1 + steps,
+            "one frame, one ease to rest"
+        );
     }
 
     #[test]
@@ -506,7 +552,11 @@ mod tests {
         let before = slow.clock().waits_s.len();
         assert!(!slow.stats().rested);
         slow.rest();
-        assert_eq!(slow.clock().waits_s[before..], [REST_MAX_WAIT_S]);
+        let waited_s: f64 = slow.clock().waits_s[before..].iter().sum();
+        assert!(
+            (waited_s - REST_MAX_WAIT_S).abs() < 1e-9,
+            "the whole ease waits half a second: {waited_s}"
+        );
         assert!(slow.stats().rested, "{:?}", slow.stats());
         // As fast as possible: the frames leave at once, the rest pose after the drain.
         let mut max = open(Speed::Max);
