@@ -155,9 +155,30 @@ fn tag_text(tag: &Tag) -> Option<String> {
     }
 }
 
-/// Adds the title and artist among `tags` to `out` (the first found wins).
+/// Whether `tag` is a comment written where ffmpeg writes one: an ID3 `TXXX` frame described
+/// `comment`, or a Vorbis/FLAC `DESCRIPTION` (`ffmpeg -metadata comment=…`), where the standard
+/// places (ID3 `COMM`, Vorbis `COMMENT`) hold none.
+fn ffmpeg_comment(tag: &Tag) -> Option<String> {
+    let described_comment = tag.raw.key.eq_ignore_ascii_case("TXXX")
+        && tag.raw.sub_fields.as_deref().is_some_and(|fields| {
+            fields.iter().any(
+                |f| matches!(&f.value, RawValue::String(d) if d.eq_ignore_ascii_case("comment")),
+            )
+        });
+    let description = matches!(tag.std, Some(StandardTag::Description(_)));
+    (described_comment || description)
+        .then(|| tag_text(tag))
+        .flatten()
+}
+
+/// Adds the title, artist, album and comment among `tags` to `out` (the first found wins; a
+/// comment where ffmpeg writes one counts when no standard one is there).
 fn collect_tags(tags: &[Tag], out: &mut Tags) {
+    let mut fallback_comment = None;
     for tag in tags {
+        if fallback_comment.is_none() {
+            fallback_comment = ffmpeg_comment(tag);
+        }
         match &tag.std {
             Some(StandardTag::TrackTitle(s)) if out.title.is_none() => {
                 out.title = Some(s.to_string())
@@ -171,6 +192,9 @@ fn collect_tags(tags: &[Tag], out: &mut Tags) {
             }
             _ => {}
         }
+    }
+    if out.comment.is_none() {
+        out.comment = fallback_comment;
     }
 }
 

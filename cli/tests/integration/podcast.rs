@@ -344,6 +344,9 @@ fn lossy_input_becomes_flac_with_its_tags_and_lossless_keeps_its_format() {
             "title=Episode 12: Breathing",
             "-metadata",
             "artist=The Host",
+            // ffmpeg writes a comment as an ID3 TXXX frame described "comment", not COMM.
+            "-metadata",
+            "comment=Recorded live",
             "-c:a",
             "libmp3lame",
         ],
@@ -369,6 +372,31 @@ fn lossy_input_becomes_flac_with_its_tags_and_lossless_keeps_its_format() {
     );
     assert!(
         comments.contains(&"ARTIST=The Host".to_string()),
+        "{comments:?}"
+    );
+    assert!(
+        comments.contains(&"COMMENT=Recorded live".to_string()),
+        "ffmpeg's comment carried: {comments:?}"
+    );
+    // A FLAC tagged by ffmpeg holds its comment as DESCRIPTION: carried as the comment.
+    let flac_in = dir.path().join("tagged.flac");
+    ffmpeg_encode(
+        &example_voice_path(),
+        &flac_in,
+        &["-metadata", "comment=Second take"],
+    );
+    let flac_out = dir.path().join("flac_out");
+    assert_ok(&pneuma(&[
+        "render",
+        flac_in.to_str().expect("utf8"),
+        "-o",
+        flac_out.to_str().expect("utf8"),
+        "--no-plot",
+        "-q",
+    ]));
+    let comments = flac_comments(&flac_out.join("tagged.flac"));
+    assert!(
+        comments.contains(&"COMMENT=Second take".to_string()),
         "{comments:?}"
     );
     assert!(!out.join("episode.mp3").exists() && !out.join("episode.wav").exists());
