@@ -244,8 +244,13 @@ pub fn refuse_existing(outputs: &[PathBuf]) -> Result<(), String> {
 
 /// Whether `path` surely names a folder: it exists as one, or its name ends in `/`.
 pub fn names_folder(path: &Path) -> bool {
+    ends_in_separator(path) || path.is_dir()
+}
+
+/// Whether `path`'s name ends in `/` (a folder, whatever exists there).
+fn ends_in_separator(path: &Path) -> bool {
     let text = path.to_string_lossy();
-    text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) || path.is_dir()
+    text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR)
 }
 
 /// The extensions of the files the commands write besides audio: names ending so are files,
@@ -257,10 +262,15 @@ const FILE_EXTENSIONS: [&str; 7] = ["csv", "png", "bvh", "mid", "midi", "txt", "
 /// not an existing folder) where a folder is wanted, instead of silently making a folder of that
 /// name. A name ending in `/` is always a folder; so is any other dotted name (dates, versions).
 pub fn check_output_folder(option: &str, dir: &Path) -> Result<(), String> {
-    if names_folder(dir) {
+    // One look at what is there: a batch's other renders may make the folder meanwhile, and
+    // "not a folder yet" then "exists" read as two looks would call it a file.
+    if ends_in_separator(dir) {
         return Ok(());
     }
-    if dir.exists() {
+    if let Ok(meta) = std::fs::metadata(dir) {
+        if meta.is_dir() {
+            return Ok(());
+        }
         return Err(format!(
             "{option} {} is an existing file, but {option} names the output folder (the files \
              inside are named after the input); give a folder, e.g. {option} out",

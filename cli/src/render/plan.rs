@@ -645,7 +645,8 @@ fn breath_samples(args: &Args) -> Result<Vec<(SampleSlot, BreathSample)>, Render
 
 /// Reads the breath sample at `path`; `label` names it in errors.
 fn load_sample(path: &Path, label: &str) -> Result<BreathSample, RenderError> {
-    let (samples, rate) = pneuma_io::read_mono(path)?;
+    let (samples, rate) =
+        pneuma_io::read_mono(path).map_err(|e| RenderError::Input(format!("{label}: {e}")))?;
     BreathSample::from_mono(samples, rate as f64)
         .map_err(|e| RenderError::Input(format!("{label} {}: {e}", path.display())))
 }

@@ -499,11 +499,13 @@ pub fn trim_silence(audio: &[f32], rate_hz: u32) -> &[f32] {
     }
 }
 
-fn load_sample(path: &Path) -> Result<BreathSample, SpeakError> {
-    let (samples, rate) = read_mono(path)?;
+/// Reads the breath sample at `path`; `label` (the option that named it) names it in errors.
+fn load_sample(path: &Path, label: &str) -> Result<BreathSample, SpeakError> {
+    let (samples, rate) =
+        read_mono(path).map_err(|e| SpeakError::Option(format!("{label}: {e}")))?;
     BreathSample::from_mono(samples, rate as f64).map_err(|e| {
         SpeakError::Breathing(BreathingError::BadSample(format!(
-            "{}: {e}",
+            "{label} {}: {e}",
             path.display()
         )))
     })
@@ -531,8 +533,22 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
     let nose_path = args.breath_nose.clone().or_else(|| in_folder("nose"));
     let model =
         crate::options::load_head_model(args.head_model.as_deref()).map_err(SpeakError::Option)?;
-    let mouth_sample = mouth_path.as_deref().map(load_sample).transpose()?;
-    let nose_sample = nose_path.as_deref().map(load_sample).transpose()?;
+    // The option that named each sample, for its errors.
+    let label = |one: &'static str| {
+        if args.breath_samples.is_some() {
+            "--breath-samples"
+        } else {
+            one
+        }
+    };
+    let mouth_sample = mouth_path
+        .as_deref()
+        .map(|p| load_sample(p, label("--breath-mouth")))
+        .transpose()?;
+    let nose_sample = nose_path
+        .as_deref()
+        .map(|p| load_sample(p, label("--breath-nose")))
+        .transpose()?;
     let mut chunks = chunk_text(&text, &low);
     // festival says the bytes of a UTF-8 "é" as a pause or a letter: it is given each chunk in
     // ASCII (the chunker reads the text as written, its dashes among its breaks).

@@ -550,6 +550,34 @@ fn options_of_the_breath_sound_are_refused_with_no_breaths() {
     assert!(!out.exists(), "a refused render made its folder");
 }
 
+/// A breath sample that is missing or no audio is named by the option that gave it, in
+/// `render` and in `speak`.
+#[test]
+fn a_bad_breath_sample_names_its_option() {
+    let dir = tempfile::tempdir().expect("temp");
+    let voice = example_voice();
+    let out = dir.path().join("out");
+    let notes = dir.path().join("notes.wav");
+    std::fs::write(&notes, "not a breath at all").expect("write");
+    let missing = dir.path().join("missing.wav");
+    for (option, file) in [("--breath-mouth", &missing), ("--breath-nose", &notes)] {
+        let file = file.to_str().expect("utf-8");
+        let o = render(&voice, &out, &[option, file]);
+        let err = stderr(&o);
+        assert!(!o.status.success() && err.contains(option), "render: {err}");
+        let o = pneuma(&[
+            "speak",
+            "Hi",
+            "-o",
+            out.to_str().expect("utf-8"),
+            option,
+            file,
+        ]);
+        let err = stderr(&o);
+        assert!(!o.status.success() && err.contains(option), "speak: {err}");
+    }
+}
+
 #[test]
 fn a_failed_speak_leaves_no_folder_behind() {
     let dir = tempfile::tempdir().expect("temp");
