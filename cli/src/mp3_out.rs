@@ -41,13 +41,13 @@ const VBR_AVERAGE_KBPS: [u32; 10] = [245, 225, 190, 175, 165, 130, 115, 100, 85,
 /// flattened into both.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::Args)]
 pub struct Mp3Args {
-    /// MP3 bitrate, kbps (with --format mp3; 8 to 320 in LAME's steps; default: the input's
-    /// for MP3 input, else 192, 160 at 16–24 kHz, 64 at 8–12 kHz). With --vbr, the average
-    /// aimed at.
+    /// MP3 bitrate, kbps (with --format mp3; 8 to 320 in LAME's steps; default: an MP3
+    /// input's own when rendering one, else 192, 160 at 16–24 kHz, 64 at 8–12 kHz). With --vbr,
+    /// the average aimed at.
     #[arg(long, value_name = "KBPS", value_parser = parse_bitrate)]
     pub bitrate: Option<u32>,
     /// Variable-bitrate MP3 (with --format mp3; LAME's -V level nearest the bitrate). Default:
-    /// constant bitrate, or VBR for VBR MP3 input.
+    /// constant bitrate, or VBR when rendering a VBR MP3.
     #[arg(long)]
     pub vbr: bool,
 }

@@ -165,7 +165,9 @@ fn ffmpeg_comment(tag: &Tag) -> Option<String> {
                 |f| matches!(&f.value, RawValue::String(d) if d.eq_ignore_ascii_case("comment")),
             )
         });
-    let description = matches!(tag.std, Some(StandardTag::Description(_)));
+    // A Vorbis/FLAC DESCRIPTION only: an M4A's description (`desc`, `ldes`) is show notes.
+    let description = matches!(tag.std, Some(StandardTag::Description(_)))
+        && tag.raw.key.eq_ignore_ascii_case("DESCRIPTION");
     (described_comment || description)
         .then(|| tag_text(tag))
         .flatten()

@@ -11,10 +11,11 @@
 //! ([`ControlFrame::toward_rest`] on a raised cosine), the last of them the rest pose itself: an
 //! avatar is neither left frozen mid-turn with its mouth open nor snapped straight in one
 //! frame (7.7° in 1/120 s at the end of a clip that ended mid-turn). The voice is silent from
-//! the first of them. The ease waits for its frames' times [`REST_MAX_WAIT_S`] at most in all
-//! (a very slow speed does not hold an error or Ctrl-C back: its frames then leave sooner); at
-//! [`Speed::Max`] it waits [`REST_DRAIN_S`] first, so a receiver that fell behind has read the
-//! frames before it and does not drop the bundles that matter most.
+//! the first of them. The ease waits for its frames' times [`REST_MAX_WAIT_S`] at most in all,
+//! each frame its share (a very slow speed does not hold an error or Ctrl-C back: its ease is
+//! shortened evenly); at [`Speed::Max`] it waits [`REST_DRAIN_S`] first, so a receiver that fell
+//! behind has read the frames before it, and sends the ease's frames a stream period apart (in
+//! real time: a burst would reach a receiver as one jump).
 //!
 //! Time tags: the first frame anchors the stream to the wall clock; a frame's tag is the
 //! instant it is due, `anchor + (time_s - first time_s) / speed`. At [`Speed::Max`] frames
@@ -38,6 +39,15 @@ pub const REST_DRAIN_S: f64 = 0.25;
 /// stream (a quarter second: a head's return after speech, quicker than a settle, and short
 /// enough that Ctrl-C still ends at once).
 pub const REST_EASE_S: f64 = 0.25;
+/// The most frames an ease to rest takes (the ease at 240 frames per second, the highest frame
+/// rate).
+const REST_EASE_MAX_STEPS: u64 = 60;
+
+/// How many frames the ease to rest takes at a frame period of `period_s` seconds: one per
+/// period over [`REST_EASE_S`], at least 1 and at most [`REST_EASE_MAX_STEPS`].
+pub fn rest_ease_steps(period_s: f64) -> u64 {
+    ((REST_EASE_S / period_s).round() as u64).clamp(1, REST_EASE_MAX_STEPS)
+}
 
 /// How fast frames are sent.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -190,7 +200,7 @@ pub struct PacedSender<C: Clock = WallClock> {
     clock: C,
     buf: [u8; MAX_FRAME_PACKET_BYTES],
     stats: PacedStats,
-    /// The last frame sent, and the interval before it, seconds (0 before two frames).
+    /// The last frame sent (`period_s` holds the interval before it).
     last: Option<ControlFrame>,
     period_s: f64,
     /// The rest pose was tried after the last frame.
@@ -273,8 +283,11 @@ impl<C: Clock> PacedSender<C> {
         if self.pacer.speed == Speed::Max {
             self.clock.sleep_s(REST_DRAIN_S);
         }
-        let steps = ((REST_EASE_S / period_s).round() as u64).max(1);
-        let mut wait_left_s = REST_MAX_WAIT_S;
+        let steps = rest_ease_steps(period_s);
+        // Each frame of the ease waits its share of the half second at most, so a very slow
+        // speed shortens the whole ease evenly; at `max` the frames are due at once, and are
+        // paced a stream period apart (the ease in real time, a receiver sees it as one).
+        let share_s = REST_MAX_WAIT_S / steps as f64;
         for k in 1..=steps {
             let toward = 0.5 - 0.5 * (std::f64::consts::PI * k as f64 / steps as f64).cos();
             let frame = last.toward_rest(
@@ -282,9 +295,10 @@ impl<C: Clock> PacedSender<C> {
                 last.time_s + k as f64 * period_s,
                 toward as f32,
             );
-            let before_s = self.clock.now_s();
-            self.stats.rested = self.send_when_due(&frame, wait_left_s);
-            wait_left_s = (wait_left_s - (self.clock.now_s() - before_s)).max(0.0);
+            if self.pacer.speed == Speed::Max && k > 1 {
+                self.clock.sleep_s(period_s.min(share_s));
+            }
+            self.stats.rested = self.send_when_due(&frame, share_s);
         }
     }
 
@@ -471,7 +485,7 @@ mod tests {
             f
         };
         let period_s = 1.0 / 120.0;
-        let steps = (REST_EASE_S / period_s).round() as usize;
+        let steps = rest_ease_steps(period_s) as usize;
         let rest = ControlFrame::rest(2 + steps as u64, (2 + steps) as f64 * period_s);
         let messages = |frame: &ControlFrame| {
             let mut buf = [0u8; MAX_FRAME_PACKET_BYTES];
@@ -552,10 +566,11 @@ mod tests {
         let before = slow.clock().waits_s.len();
         assert!(!slow.stats().rested);
         slow.rest();
-        let waited_s: f64 = slow.clock().waits_s[before..].iter().sum();
+        let waits = &slow.clock().waits_s[before..];
+        let share_s = REST_MAX_WAIT_S / waits.len() as f64;
         assert!(
-            (waited_s - REST_MAX_WAIT_S).abs() < 1e-9,
-            "the whole ease waits half a second: {waited_s}"
+            waits.iter().all(|w| (w - share_s).abs() < 1e-9),
+            "every frame of the ease waits its share of half a second: {waits:?}"
         );
         assert!(slow.stats().rested, "{:?}", slow.stats());
         // As fast as possible: the frames leave at once, the rest pose after the drain.
@@ -563,7 +578,15 @@ mod tests {
         max.frame(&test_frame(0), 0);
         let before = max.clock().waits_s.len();
         max.rest();
-        assert_eq!(max.clock().waits_s[before], REST_DRAIN_S);
+        let waits = &max.clock().waits_s[before..];
+        assert_eq!(waits[0], REST_DRAIN_S);
+        // The ease's frames leave a stream period apart, not in one burst.
+        let period_s = 1.0 / f64::from(pneuma_core::settings::analysis::FRAME_RATE_HZ.default);
+        let paced = waits
+            .iter()
+            .filter(|&&w| (w - period_s).abs() < 1e-12)
+            .count();
+        assert_eq!(paced as u64, rest_ease_steps(period_s) - 1, "{waits:?}");
         assert!(max.stats().rested);
     }
 }

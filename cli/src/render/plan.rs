@@ -630,7 +630,7 @@ fn breath_samples(args: &Args) -> Result<Vec<(SampleSlot, BreathSample)>, Render
         let before = samples.len();
         for (slot, name) in [(SampleSlot::Mouth, "mouth"), (SampleSlot::Nose, "nose")] {
             if let Some(path) = pneuma_io::find_audio(dir, name) {
-                samples.push((slot, load_sample(&path, "breath sample")?));
+                samples.push((slot, load_sample(&path, "--breath-samples")?));
             }
         }
         if samples.len() == before {

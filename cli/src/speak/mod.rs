@@ -232,7 +232,7 @@ pub enum SpeakError {
         /// The voice asked for.
         voice: String,
     },
-    /// A WAV file (TTS output or breath sample) could not be read.
+    /// The TTS's output could not be read.
     #[error(transparent)]
     Audio(#[from] ReadError),
     /// The TTS changed its sample rate between chunks.
@@ -581,6 +581,7 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
 
     // Synthesise and measure every chunk.
     let mut rate_hz = 0u32;
+    let mut mp3 = None;
     let mut speech: Vec<Vec<f32>> = Vec::with_capacity(chunks.len());
     for c in &chunks {
         let (audio, r) = synthesize(
@@ -594,22 +595,26 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         if rate_hz != 0 && r != rate_hz {
             return Err(SpeakError::RateChanged(rate_hz, r));
         }
+        if rate_hz == 0 {
+            // The MP3's bitrate range depends on the TTS's rate: checked on the first chunk,
+            // before the rest is spoken.
+            mp3 = args
+                .mp3
+                .settings(
+                    args.format == Container::Mp3,
+                    Path::new("-"),
+                    InputFormat::Wav,
+                    r,
+                )
+                .map_err(SpeakError::Option)?;
+        }
         rate_hz = r;
         speech.push(trim_silence(&audio, r).to_vec());
     }
     let fs = rate_hz as f64;
-    // The MP3's bitrate range depends on the TTS's rate, known only now.
     let formats = files::Formats {
         container: args.format,
-        mp3: args
-            .mp3
-            .settings(
-                args.format == Container::Mp3,
-                Path::new("-"),
-                InputFormat::Wav,
-                rate_hz,
-            )
-            .map_err(SpeakError::Option)?,
+        mp3,
         bvh_fps,
         cc_map,
     };

@@ -421,7 +421,8 @@ fn a_second_take_removes_what_the_first_wrote_and_it_did_not() {
 
 /// A podcaster takes the spoken text as FLAC, AIFF or MP3 for the edit, as `render` writes
 /// them: the same take as the WAV (sample for sample when lossless, the same length as MP3),
-/// and the MP3 options refused where they mean nothing, before anything is spoken.
+/// and the MP3 options refused where they mean nothing (before anything is spoken) or where the
+/// TTS's rate cannot hold them (after its first chunk).
 #[test]
 fn speak_writes_the_format_asked_and_refuses_mp3_options_without_mp3() {
     if !espeak_or_skip("speak_writes_the_format_asked_and_refuses_mp3_options_without_mp3") {

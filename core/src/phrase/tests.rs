@@ -19,12 +19,12 @@ fn frame(index: u64, rms_db: f32, voiced: bool) -> FeatureFrame {
     }
 }
 
-/// Band levels of broadband breath noise at `rms_db`: most energy in the mid band, the high
-/// band 2 dB inside the shipped breath shape's limit.
 /// The mid-band flatness of the noise the test frames stand for (white noise through the
 /// analysis window).
 const NOISE_FLATNESS: f32 = 0.56;
 
+/// Band levels of broadband breath noise at `rms_db`: most energy in the mid band, the high
+/// band 2 dB inside the shipped breath shape's limit.
 fn breathy(rms_db: f32) -> BandLevels {
     let mid_db = rms_db - 1.5;
     BandLevels {

@@ -129,10 +129,10 @@ fn plugin_sends(voice: &[f32], rate: u32, port: u16, format: &str) {
     std::thread::sleep(Duration::from_millis(100));
 }
 
-/// The CLI's bundles before its ease to the rest pose (`REST_EASE_S` of frames at 120 Hz, the
+/// The CLI's bundles before its ease to the rest pose (`rest_ease_steps` frames at 120 Hz, the
 /// last of them the rest pose: levels at the floor).
 fn without_the_ease(mut cli: Vec<Vec<Message>>) -> Vec<Vec<Message>> {
-    let ease = (pneuma_osc::paced::REST_EASE_S * 120.0).round() as usize;
+    let ease = pneuma_osc::paced::rest_ease_steps(1.0 / 120.0) as usize;
     assert!(cli.len() > ease, "{} bundles", cli.len());
     let last = cli.last().expect("bundles");
     let rms = |b: &[Message]| {
