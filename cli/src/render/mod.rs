@@ -62,6 +62,13 @@ pub fn main(mut args: Args) -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    // A file-like -o is one mistake, told once, not once per input of a batch.
+    if !args.to_stdout() {
+        if let Err(e) = crate::options::check_output_folder("-o", &args.output) {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    }
     let created = crate::options::missing_folders(&args.output);
     let code = if inputs.len() > 1 || args.inputs.iter().any(|p| p.is_dir()) {
         args.in_batch = true;

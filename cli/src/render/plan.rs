@@ -198,7 +198,7 @@ impl Args {
     }
 
     /// `-o -`: only the audio, to standard output.
-    fn to_stdout(&self) -> bool {
+    pub(crate) fn to_stdout(&self) -> bool {
         self.output.as_os_str() == "-"
     }
 }

@@ -37,6 +37,20 @@ fn dated_and_versioned_folder_names_are_folders() {
     );
     assert!(stderr(&o).contains("ending in /"), "{}", stderr(&o));
     assert!(!dir.path().join("ep_out.flac").exists());
+    // A batch into it is the same one mistake: told once, before any input is rendered.
+    let second = dir.path().join("ep2.wav");
+    write_wav(&second, (16_000, 1, 16, false), &two_phrases(), 1.0);
+    let o = pneuma(&[
+        "render",
+        input.to_str().expect("utf-8"),
+        second.to_str().expect("utf-8"),
+        "-o",
+        dir.path().join("ep_out.flac").to_str().expect("utf-8"),
+    ]);
+    let err = stderr(&o);
+    assert!(!o.status.success(), "{err}");
+    assert_eq!(err.matches("looks like a file name").count(), 1, "{err}");
+    assert!(!err.contains("FAILED"), "no table of failed inputs: {err}");
 }
 
 #[test]
