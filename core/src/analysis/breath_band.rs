@@ -131,43 +131,36 @@ impl BandSpectrum {
     /// The band levels of `power` (|X|² in the real parts, bins 0..=fft_len/2).
     pub(crate) fn levels(&self, power: &[Complex<f32>]) -> BandLevels {
         let [low, mid, high] = self.bins.map(|(a, b)| {
-            let ms = power[a..b]
-                .iter()
-                .zip(&self.weights[a..b])
-                .fold(0.0f64, |s, (p, w)| s + p.re as f64 * w);
-            amplitude_to_db(ms.sqrt())
-        });
-        BandLevels {
-            low_db: low,
-            mid_db: mid,
-            high_db: high,
-            mid_flatness: self.flatness(power, self.bins[1]),
-        }
-    }
-
-    /// The spectral flatness of bins `a..b` of `power` (weighted as the levels are; a silent
-    /// band is flat). A bin counts with at least [`EMPTY_BIN_SHARE`] of the band's mean power:
-    /// a band left partly empty by a codec's low-pass or a denoiser would otherwise read as
-    /// tonal, its empty bins ruling the geometric mean.
-    fn flatness(&self, power: &[Complex<f32>], (a, b): (usize, usize)) -> f32 {
-        if b <= a {
-            return 1.0;
-        }
-        let bins = || {
             power[a..b]
                 .iter()
                 .zip(&self.weights[a..b])
-                .map(|(p, w)| p.re as f64 * w)
-        };
+                .fold(0.0f64, |s, (p, w)| s + p.re as f64 * w)
+        });
+        BandLevels {
+            low_db: amplitude_to_db(low.sqrt()),
+            mid_db: amplitude_to_db(mid.sqrt()),
+            high_db: amplitude_to_db(high.sqrt()),
+            mid_flatness: self.flatness(power, self.bins[1], mid),
+        }
+    }
+
+    /// The spectral flatness of bins `a..b` of `power`, whose weighted power sums to `sum` (the
+    /// band's level, already taken; a silent band is flat). A bin counts with at least [`EMPTY_BIN_SHARE`] of the band's mean power:
+    /// a band left partly empty by a codec's low-pass or a denoiser would otherwise read as
+    /// tonal, its empty bins ruling the geometric mean.
+    fn flatness(&self, power: &[Complex<f32>], (a, b): (usize, usize), sum: f64) -> f32 {
         let n = (b - a) as f64;
-        let mean = bins().sum::<f64>() / n;
-        if mean <= 0.0 {
+        let mean = sum / n;
+        if b <= a || mean <= 0.0 {
             return 1.0;
         }
         let floor = mean * EMPTY_BIN_SHARE;
-        let log_mean = bins().map(|q| q.max(floor).ln()).sum::<f64>() / n;
-        let floored_mean = bins().map(|q| q.max(floor)).sum::<f64>() / n;
-        (log_mean.exp() / floored_mean).clamp(0.0, 1.0) as f32
+        let (log_sum, floored_sum) = power[a..b]
+            .iter()
+            .zip(&self.weights[a..b])
+            .map(|(p, w)| (p.re as f64 * w).max(floor))
+            .fold((0.0f64, 0.0f64), |(l, s), q| (l + q.ln(), s + q));
+        ((log_sum / n).exp() / (floored_sum / n)).clamp(0.0, 1.0) as f32
     }
 }
 
