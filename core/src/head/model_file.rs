@@ -30,6 +30,7 @@ use thiserror::Error;
 
 use super::gmm::{Gaussian, Gmm, GmmError, MAX_DIM};
 use super::inputs::{InputKind, InputTracker, SPEAKER_MEAN_NAMES, SPEAKER_MEDIAN_NAMES};
+use crate::settings::analysis::FRAME_RATE_HZ;
 
 /// The `format` name of a head model file.
 pub const FORMAT_NAME: &str = "pneuma-head-model";
@@ -102,6 +103,9 @@ pub enum HeadModelError {
     /// A head-pose setting is out of its range.
     #[error(transparent)]
     Setting(#[from] crate::settings::SettingError),
+    /// The model's training frame rate is not one the analysis runs at.
+    #[error("provenance.frame_rate_hz, the frame rate the model was trained at and its head steps at: {0}; retrain the model with `pneuma train`")]
+    TrainingRate(crate::settings::SettingError),
     /// The unvoiced behaviour name is unknown.
     #[error("unvoiced behaviour `{0}` is unknown: use `hold`, `return` or `loudness_model`")]
     Behaviour(String),
@@ -558,6 +562,9 @@ impl HeadModel {
             "0..60 dB",
         )?;
         check("return_time_s", return_time_s, 0.05, 10.0, "0.05..10 s")?;
+        FRAME_RATE_HZ
+            .check(provenance.frame_rate_hz)
+            .map_err(HeadModelError::TrainingRate)?;
         let s = &synthesis;
         check("synthesis.pose_weight", s.pose_weight, 0.0, 100.0, "0..100")?;
         check(
@@ -769,5 +776,20 @@ mod tests {
             msg.contains("synthesis.smoothing_s") && msg.contains("0..0.25"),
             "{msg}"
         );
+    }
+
+    #[test]
+    fn a_model_trained_at_a_rate_the_analysis_never_runs_at_is_refused() {
+        let text = HeadModel::default_model_json();
+        let key = "\"frame_rate_hz\": 120.0";
+        assert_eq!(text.matches(key).count(), 1, "one training frame rate");
+        let err = HeadModel::from_json(&text.replace(key, "\"frame_rate_hz\": 25.0"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("provenance.frame_rate_hz") && err.contains("30") && err.contains("240"),
+            "{err}"
+        );
+        assert!(HeadModel::from_json(&text.replace(key, "\"frame_rate_hz\": 30.0")).is_ok());
     }
 }

@@ -49,6 +49,10 @@ const AT_REST_S: f64 = 2.0 * REST_AFTER_S;
 const LIVELINESS_TIME_S: f64 = 1.5;
 /// Standard deviation of the liveliness variation at liveliness 1, degrees.
 const LIVELINESS_SD_DEG: f64 = 2.0;
+/// Most model steps one stream frame brings: a 240 Hz model in a 30 frames/s stream takes 8
+/// (models are trained at a frame rate the stream can run at, checked on load); a stream
+/// slower than that lets the head fall behind rather than take unbounded time in a frame.
+pub const MAX_STEPS_PER_FRAME: u64 = 8;
 
 /// Settings of the head-pose synthesis. Defaults follow the paper's motion-capture criteria;
 /// each numeric field's setting (unit, range, default, why) is in [`crate::settings::head`].
@@ -142,6 +146,12 @@ pub struct HeadSynth {
     /// Seconds since the last voiced frame (counted up to just past [`REST_AFTER_S`]; a stream
     /// starts at rest, as after a silence).
     unvoiced_s: f64,
+    /// The head's own clock: stream frames seen and model steps taken since the stream start
+    /// (see [`HeadSynth::process`]).
+    frames_seen: u64,
+    steps_taken: u64,
+    /// The output of the last step, held until the next.
+    held: HeadAngles,
 }
 
 /// Model-space pose → output angles.
@@ -182,6 +192,9 @@ impl HeadSynth {
             governor,
             prev_out: DVec3::ZERO,
             unvoiced_s: AT_REST_S,
+            frames_seen: 0,
+            steps_taken: 0,
+            held: HeadAngles::default(),
         })
     }
 
@@ -196,6 +209,9 @@ impl HeadSynth {
         self.governor.reset();
         self.prev_out = DVec3::ZERO;
         self.unvoiced_s = AT_REST_S;
+        self.frames_seen = 0;
+        self.steps_taken = 0;
+        self.held = HeadAngles::default();
     }
 
     /// Changes the settings between frames (out-of-range values are clamped, see
@@ -233,15 +249,47 @@ impl HeadSynth {
         self.process(&unvoiced, frame_rate_hz)
     }
 
-    /// The head pose for one feature frame at `frame_rate_hz` frames per second. Never
-    /// allocates; non-finite features count as an unvoiced frame at the lowest level, and a
-    /// non-finite or non-positive frame rate counts as 120 Hz.
+    /// The head pose for one feature frame of a stream at `frame_rate_hz` frames per second.
+    /// Never allocates; non-finite features count as an unvoiced frame at the lowest level, and
+    /// a non-finite or non-positive frame rate counts as 120 Hz.
+    ///
+    /// The head steps at the rate its model was trained at ([`HeadSynth::step_rate_hz`]), not
+    /// at the stream's: the objective's velocity and acceleration terms, the argmax's
+    /// frame-to-frame trajectory, the smoother and the governor are all per step, so a head
+    /// stepped at another rate moves differently (one clip at 30 and 120 frames/s: roll
+    /// r = 0.01 between the two, docs/measurements.md). Frame `i` of the stream (at `i / r`
+    /// seconds) brings the steps due by then, each on this frame's features (at most
+    /// [`MAX_STEPS_PER_FRAME`]); the output holds the last step's pose until the next. At the
+    /// model's own rate this is one step per frame, exactly as before; at 30 frames/s with the
+    /// 120 Hz model, four steps per frame; at 240, a step every second frame.
     pub fn process(&mut self, frame: &FeatureFrame, frame_rate_hz: f64) -> HeadAngles {
-        let rate = if frame_rate_hz.is_finite() && frame_rate_hz > 0.0 {
+        let stream_hz = if frame_rate_hz.is_finite() && frame_rate_hz > 0.0 {
             frame_rate_hz.clamp(1.0, 10_000.0)
         } else {
             120.0
         };
+        let step_hz = self.step_rate_hz();
+        // Steps due by this frame's time: every step at k / step_hz ≤ i / stream_hz (for whole
+        // rates the product is exact and a whole quotient floors to itself).
+        let due = (self.frames_seen as f64 * step_hz / stream_hz).floor() as u64 + 1;
+        self.frames_seen += 1;
+        let steps = due
+            .saturating_sub(self.steps_taken)
+            .min(MAX_STEPS_PER_FRAME);
+        for _ in 0..steps {
+            self.held = self.step(frame, step_hz);
+        }
+        self.steps_taken = due;
+        self.held
+    }
+
+    /// The rate the head steps at, Hz: its model's training frame rate.
+    pub fn step_rate_hz(&self) -> f64 {
+        self.model.provenance.frame_rate_hz
+    }
+
+    /// One step of the head at `rate` steps per second on `frame`'s features.
+    fn step(&mut self, frame: &FeatureFrame, rate: f64) -> HeadAngles {
         let input = self.inputs.next(frame, rate);
         let (voiced, f0, level) = (input.voiced, input.f0_st, input.level_db);
         let cfg = &self.config;
@@ -430,6 +478,63 @@ mod tests {
             last = now;
         }
         assert!(last < 0.1, "{last}° from rest after 5 s");
+    }
+
+    /// A voice whose f0 and level wander, `n` frames of it at 120 Hz.
+    fn wandering_voice(n: u64) -> Vec<FeatureFrame> {
+        (0..n)
+            .map(|i| {
+                let t = i as f32 / 120.0;
+                let f0 = 3.0 * (t * 1.3).sin() + 1.5 * (t * 3.1).cos();
+                let mut f = voiced(i, f0, 3.0 * (t * 0.7).sin());
+                f.voiced = t % 3.0 < 2.4;
+                f
+            })
+            .collect()
+    }
+
+    fn run(frames: impl Iterator<Item = FeatureFrame>, rate_hz: f64) -> Vec<HeadAngles> {
+        let mut s =
+            HeadSynth::new(HeadModel::default_model().clone(), HeadConfig::default()).unwrap();
+        frames.map(|f| s.process(&f, rate_hz)).collect()
+    }
+
+    #[test]
+    fn the_head_steps_at_its_model_rate_in_a_faster_stream() {
+        assert_eq!(HeadModel::default_model().provenance.frame_rate_hz, 120.0);
+        let voice = wandering_voice(1200);
+        let at_120 = run(voice.iter().copied(), 120.0);
+        // The same voice at 240 frames/s: its even frames are the 120 Hz frames.
+        let at_240 = run(voice.iter().flat_map(|f| [*f, *f]), 240.0);
+        assert!(at_120[600] != at_120[0], "the voice moved the head");
+        for (i, a) in at_120.iter().enumerate() {
+            assert_eq!((at_240[2 * i], at_240[2 * i + 1]), (*a, *a), "frame {i}");
+        }
+    }
+
+    #[test]
+    fn the_head_steps_at_its_model_rate_in_a_slower_stream() {
+        // At 30 frames/s frame i (at 4i / 120 s) brings the four 120 Hz steps since the last
+        // frame, on its features: the pose of a 120 Hz stream that holds each frame for the
+        // four steps up to it, at its own step.
+        let voice: Vec<FeatureFrame> = wandering_voice(1200).into_iter().step_by(4).collect();
+        let at_30 = run(voice.iter().copied(), 30.0);
+        let held = run(
+            std::iter::once(voice[0]).chain(voice[1..].iter().flat_map(|f| [*f; 4])),
+            120.0,
+        );
+        assert!(at_30[150] != at_30[0], "the voice moved the head");
+        for (i, a) in at_30.iter().enumerate() {
+            assert_eq!(*a, held[4 * i], "frame {i}");
+        }
+        // A rate the steps do not divide (50 frames/s: 2 or 3 steps a frame) keeps time: by
+        // the frame at 10 s the head has taken its steps at 0, 1/120, …, 10 s, as at 120 Hz.
+        let mut s =
+            HeadSynth::new(HeadModel::default_model().clone(), HeadConfig::default()).unwrap();
+        for f in wandering_voice(501) {
+            s.process(&f, 50.0);
+        }
+        assert_eq!(s.steps_taken, 1201);
     }
 
     #[test]
