@@ -3,10 +3,13 @@
 
 python-osc parses the UDP datagrams (OSC 1.0 bundles); vmcp (the VMC protocol package) turns
 each message into its events, which refuses unknown bone names and argument shapes. Checked:
-- every datagram is one bundle, and every bundle is one frame: bones Chest, Neck, Head (Unity
-  HumanBodyBones names), blendshape values, then `/VMC/Ext/Blend/Apply` exactly once, last;
+- every datagram is one bundle, and every bundle is one frame: `/VMC/Ext/OK` (model loaded) and
+  `/VMC/Ext/T` (the frame's time) once each, bones Chest, Neck, Head (Unity HumanBodyBones
+  names), blendshape values, then `/VMC/Ext/Blend/Apply` exactly once, last;
 - blendshape names: `A` is a VRM preset (mouth open), the others are named custom clips;
-- time tags increase by one frame period (one bundle per frame, none repeated);
+- time tags increase by one send period, and the `/VMC/Ext/T` times by one frame period of the
+  stream (one bundle per frame, none repeated; the two differ when the sender paces faster than
+  real time);
 - with --expect-head PITCH,YAW,ROLL (degrees, Pneuma's right-handed convention: pitch + = chin
   up, yaw + = looking to the character's left, roll + = head tilted to its left): the Head
   quaternion (x, y, z, w) read in Unity's left-handed frame (Y up, the avatar facing +Z, X to
@@ -25,8 +28,10 @@ import time
 
 from pythonosc.osc_bundle import OscBundle
 from pythonosc.osc_message import OscMessage
-from vmcp.events import BlendShapeApplyEvent, BlendShapeEvent, BoneTransformEvent
-from vmcp.typing import Bone
+from vmcp.events import (
+    BlendShapeApplyEvent, BlendShapeEvent, BoneTransformEvent, RelativeTimeEvent, StateEvent,
+)
+from vmcp.typing import Bone, ModelState
 
 VRM0_PRESETS = {
     "Neutral", "A", "I", "U", "E", "O", "Blink", "Joy", "Angry", "Sorrow", "Fun",
@@ -67,7 +72,12 @@ def main():
     ap.add_argument("--port", type=int, required=True)
     ap.add_argument("--bundles", type=int, default=120, help="stop after this many bundles")
     ap.add_argument("--timeout-s", type=float, default=60.0)
-    ap.add_argument("--frame-rate-hz", type=float, default=120.0)
+    ap.add_argument("--frame-rate-hz", type=float, default=120.0,
+                    help="bundles per second of the time tags")
+    ap.add_argument("--stream-rate-hz", type=float, default=None,
+                    help="frames per second of the stream's /VMC/Ext/T times (default: "
+                         "--frame-rate-hz; they differ when the sender paces faster than real "
+                         "time)")
     ap.add_argument("--expect-head", default=None)
     ap.add_argument("--ready-file", default=None, help="written once the socket listens")
     args = ap.parse_args()
@@ -80,6 +90,7 @@ def main():
             f.write("ready\n")
     errors = []
     tags = []
+    times = []
     heads = []
     blend_names = set()
     deadline = time.time() + args.timeout_s
@@ -98,7 +109,7 @@ def main():
             errors.append("a bundle holds a nested bundle: one bundle per frame expected")
             continue
         msgs = [m for _, m in items]
-        bones, applies = [], 0
+        bones, applies, states, frame_times = [], 0, 0, 0
         for i, m in enumerate(msgs):
             a = tuple(m.params)
             try:
@@ -112,6 +123,15 @@ def main():
                     blend_names.add(ev.key)
                     if not 0.0 <= ev.value <= 1.0:
                         errors.append(f"blendshape {ev.key} = {ev.value} outside 0..1")
+                elif m.address == StateEvent.ADDRESS_PATTERN:
+                    ev = StateEvent.from_message_data("pneuma", m.address, a)
+                    states += 1
+                    if ev.model_state != ModelState.LOADED:
+                        errors.append(f"/VMC/Ext/OK says {ev.model_state}, not loaded")
+                elif m.address == RelativeTimeEvent.ADDRESS_PATTERN:
+                    ev = RelativeTimeEvent.from_message_data("pneuma", m.address, a)
+                    frame_times += 1
+                    times.append(ev.delta)
                 elif m.address == BlendShapeApplyEvent.ADDRESS_PATTERN:
                     BlendShapeApplyEvent.from_message_data("pneuma", m.address, a)
                     applies += 1
@@ -123,6 +143,9 @@ def main():
                 errors.append(f"vmcp refused {m.address} {a}: {e}")
         if applies != 1:
             errors.append(f"{applies} /VMC/Ext/Blend/Apply in one bundle (1 expected)")
+        if (states, frame_times) != (1, 1):
+            errors.append(f"{states} /VMC/Ext/OK and {frame_times} /VMC/Ext/T in one bundle "
+                          "(1 each expected)")
         names = [b.joint.value for b in bones]
         if names != BONES:
             errors.append(f"bones {names}, expected {BONES}")
@@ -153,6 +176,13 @@ def main():
         if abs(median - period) > 0.1 * period:
             errors.append(f"median time-tag step {median * 1000:.2f} ms, frame period "
                           f"{period * 1000:.2f} ms: not one bundle per frame")
+    time_steps = [b - a for a, b in zip(times, times[1:])]
+    frame_s = 1.0 / (args.stream_rate_hz or args.frame_rate_hz)
+    if time_steps:
+        median = sorted(time_steps)[len(time_steps) // 2]
+        if min(time_steps) <= 0 or abs(median - frame_s) > 0.1 * frame_s:
+            errors.append(f"/VMC/Ext/T steps {min(time_steps) * 1000:.2f} ms at least, median "
+                          f"{median * 1000:.2f} ms: not one frame period ({frame_s * 1000:.2f} ms)")
     summary = {
         "bundles": len(tags),
         "blendshapes": sorted(blend_names),

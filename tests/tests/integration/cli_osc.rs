@@ -271,8 +271,9 @@ fn the_clis_vmc_passes_a_third_party_receiver_at_four_times_real_time() {
     std::fs::create_dir_all(&dir).unwrap();
     let (input, _, _) = clip(&dir);
     let port = socket().local_addr().unwrap().port();
-    // 240 bundles: 2 s of audio; at 4x the receiver's time tags must step by 1/480 s.
-    let rate = ["--frame-rate-hz".to_owned(), "480".to_owned()];
+    // 240 bundles: 2 s of audio; at 4x the receiver's time tags must step by 1/480 s, and the
+    // frames' own times (`/VMC/Ext/T`) by the stream's 1/120 s.
+    let rate = ["--frame-rate-hz", "480", "--stream-rate-hz", "120"].map(str::to_owned);
     let receiver = vmc::Receiver::start(&python, port, 240, 60, &rate, &dir);
     render(&input, &dir, port, "vmc", "4");
     let (accepted, report) = receiver.finish();

@@ -189,6 +189,8 @@ fn pneuma_then_vmc_bundles_arrive_with_the_documented_addresses_types_and_values
         assert_eq!(
             addresses,
             [
+                "/VMC/Ext/OK",
+                "/VMC/Ext/T",
                 "/VMC/Ext/Bone/Pos",
                 "/VMC/Ext/Bone/Pos",
                 "/VMC/Ext/Bone/Pos",
@@ -198,20 +200,38 @@ fn pneuma_then_vmc_bundles_arrive_with_the_documented_addresses_types_and_values
                 "/VMC/Ext/Blend/Apply"
             ]
         );
-        for (m, bone) in b[..3].iter().zip(["Chest", "Neck", "Head"]) {
+        assert_eq!(b[0].args, [OscType::Int(1)], "the model is loaded");
+        for (m, bone) in b[2..5].iter().zip(["Chest", "Neck", "Head"]) {
             assert_eq!(m.args[0], OscType::String(bone.into()));
             assert_eq!(m.args.len(), 8);
             let q: Vec<f32> = m.args[4..].iter().map(float).collect();
             let norm: f32 = q.iter().map(|v| v * v).sum();
             assert!((norm - 1.0).abs() < 1e-4, "{bone} quaternion norm {norm}");
         }
-        for (m, name) in b[3..6].iter().zip(["A", "Breath", "NostrilFlare"]) {
+        for (m, name) in b[5..8].iter().zip(["A", "Breath", "NostrilFlare"]) {
             assert_eq!(m.args[0], OscType::String(name.into()));
             let v = float(&m.args[1]);
             assert!((0.0..=1.0).contains(&v), "{name} = {v}");
         }
-        assert!(b[6].args.is_empty());
+        assert!(b[8].args.is_empty());
     }
+    // The time messages step by whole frame periods (one, but for a datagram lost on the way).
+    let times: Vec<f32> = vmc.iter().map(|b| float(&b[1].args[0])).collect();
+    // The plugin's frame rate is the setting's default.
+    let rate_hz = pneuma_core::settings::analysis::FRAME_RATE_HZ.default;
+    let steps: Vec<f32> = times.windows(2).map(|w| (w[1] - w[0]) * rate_hz).collect();
+    for s in &steps {
+        assert!(
+            *s > 0.5 && (s - s.round()).abs() < 1e-2,
+            "/VMC/Ext/T step {s} periods"
+        );
+    }
+    let single = steps.iter().filter(|s| s.round() == 1.0).count();
+    assert!(
+        single * 10 >= steps.len() * 9,
+        "{single} of {} steps one period",
+        steps.len()
+    );
 }
 
 #[test]

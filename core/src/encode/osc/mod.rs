@@ -33,9 +33,15 @@
 //!
 //! | address | types | value |
 //! |---|---|---|
+//! | `/VMC/Ext/OK` | `i` | 1: the model is loaded (the protocol's availability message) |
+//! | `/VMC/Ext/T` | `f` | the frame's time, seconds from the stream start |
 //! | `/VMC/Ext/Bone/Pos` | `sfffffff` | bone `Chest`, then `Neck`, then `Head`: name, local position x, y, z (m), local rotation quaternion x, y, z, w |
 //! | `/VMC/Ext/Blend/Val` | `sf` | blendshape `A` (VRM preset, = mouth open), `Breath` (= lung volume), `NostrilFlare` (= nostril flare), each 0..1 |
 //! | `/VMC/Ext/Blend/Apply` | (none) | once per frame, after the values |
+//!
+//! No `/VMC/Ext/Root/Pos`: Pneuma does not know where the avatar stands, and a root at the
+//! origin would pull an avatar that another performer (a face or body tracker) places back to
+//! it; receivers keep the root where it is.
 //!
 //! Rotations: `Head` carries the head angles, `Neck` the breathing neck pitch, `Chest` a pitch of
 //! `thorax × `[`VmcRig::chest_pitch_deg`] (the chest lifts on inspiration). Positions are the rig's
@@ -112,6 +118,10 @@ pub mod address {
     pub const NECK_PITCH: &str = "/pneuma/breath/neck_pitch";
     /// `fff`: head pitch, yaw, roll, degrees.
     pub const HEAD: &str = "/pneuma/head";
+    /// VMC availability, `i` (1: loaded).
+    pub const VMC_OK: &str = "/VMC/Ext/OK";
+    /// VMC time, `f`: the frame's time in seconds from the stream start.
+    pub const VMC_TIME: &str = "/VMC/Ext/T";
     /// VMC bone pose, `sfffffff`.
     pub const VMC_BONE_POS: &str = "/VMC/Ext/Bone/Pos";
     /// VMC blendshape value, `sf`.
@@ -288,6 +298,14 @@ mod tests {
         let n = encode_frame(OscFormat::Vmc, &frame, TimeTag::IMMEDIATELY, &mut buf).unwrap();
         assert!(n <= MAX_FRAME_PACKET_BYTES);
         let msgs = decode(&buf[..n]).unwrap();
+        // The availability and the time come first, once each.
+        assert_eq!(msgs[0].address, "/VMC/Ext/OK");
+        assert_eq!(msgs[0].args, vec![OscType::Int(1)]);
+        assert_eq!(msgs[1].address, "/VMC/Ext/T");
+        assert_eq!(msgs[1].args, vec![OscType::Float(frame.time_s as f32)]);
+        for a in ["/VMC/Ext/OK", "/VMC/Ext/T"] {
+            assert_eq!(msgs.iter().filter(|m| m.address == a).count(), 1, "{a}");
+        }
         let bones: Vec<_> = msgs
             .iter()
             .filter(|m| m.address == "/VMC/Ext/Bone/Pos")

@@ -33,6 +33,10 @@ impl Default for VmcRig {
     }
 }
 
+/// The `/VMC/Ext/OK` state sent with every frame: 1, the model is loaded (the protocol's
+/// one-argument form, which every version reads).
+pub const VMC_MODEL_LOADED: i32 = 1;
+
 /// VMC blendshape names, in the order they are sent.
 pub const VMC_BLENDSHAPES: [&str; 3] = ["A", "Breath", "NostrilFlare"];
 
@@ -54,11 +58,18 @@ pub fn encode_vmc(
     time_tag: TimeTag,
     buf: &mut [u8],
 ) -> Result<usize, OscError> {
-    use OscArg::{Float as F, Str as S};
+    use OscArg::{Float as F, Int as I, Str as S};
     let b = &frame.breathing;
     let h = &frame.head;
     let clamp01 = |v: f32| if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
     let mut w = BundleWriter::new(buf, time_tag)?;
+    w.message(address::VMC_OK, &[I(VMC_MODEL_LOADED)])?;
+    let time_s = if frame.time_s.is_finite() {
+        frame.time_s as f32
+    } else {
+        0.0
+    };
+    w.message(address::VMC_TIME, &[F(time_s)])?;
     let bones = [
         (
             "Chest",
