@@ -8,7 +8,8 @@
 //! ([`crate::render::output_container`]). The bitrate ([`Mp3Settings::resolve`]) is
 //! `--bitrate`, else the input's own for MP3 input ([`input_bitrate`]: the average of a VBR
 //! file's Xing header, the first frame's for CBR), else 192 kbps; `--vbr` (or a VBR MP3 input)
-//! encodes VBR at the LAME `-V` level whose documented average is nearest that bitrate.
+//! encodes VBR in LAME's average-bitrate mode around that bitrate (speech with pauses averages
+//! under it).
 //!
 //! MP3 holds 8 to 48 kHz: input at a rate MP3 does not hold is resampled by LAME to the
 //! highest MP3 rate below it ([`output_rate_hz`]).
@@ -33,21 +34,19 @@ const RATES_HZ: [u32; 9] = [
     8_000, 11_025, 12_000, 16_000, 22_050, 24_000, 32_000, 44_100, 48_000,
 ];
 
-/// LAME's VBR levels `-V 0` … `-V 9` and their documented average bitrates (kbps, 44.1 kHz
-/// stereo; LAME's usage notes): `--vbr` picks the level nearest the bitrate asked.
-const VBR_AVERAGE_KBPS: [u32; 10] = [245, 225, 190, 175, 165, 130, 115, 100, 85, 65];
-
 /// The MP3 encoding options of `render` and `speak` (`--bitrate`, `--vbr`), one definition
 /// flattened into both.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::Args)]
 pub struct Mp3Args {
     /// MP3 bitrate, kbps (with --format mp3; 8 to 320 in LAME's steps; default: an MP3
     /// input's own when rendering one, else 192, 160 at 16–24 kHz, 64 at 8–12 kHz). With --vbr,
-    /// the average aimed at.
+    /// the average aimed at (pauses and a silent side channel take less: speech averages under
+    /// it, never over).
     #[arg(long, value_name = "KBPS", value_parser = parse_bitrate)]
     pub bitrate: Option<u32>,
-    /// Variable-bitrate MP3 (with --format mp3; LAME's -V level nearest the bitrate). Default:
-    /// constant bitrate, or VBR when rendering a VBR MP3.
+    /// Variable-bitrate MP3 (with --format mp3): LAME's average-bitrate mode, each frame's
+    /// bitrate following what it holds around --bitrate. Default: constant bitrate, or VBR when
+    /// rendering a VBR MP3.
     #[arg(long)]
     pub vbr: bool,
 }
@@ -236,6 +235,22 @@ fn nearest(kbps: u32, lo: u32, hi: u32) -> u32 {
         .unwrap_or(hi)
 }
 
+/// Sets the average of LAME's average-bitrate mode, which `mp3lame_encoder::Builder` has no
+/// setter for.
+#[allow(unsafe_code)]
+fn set_average_bitrate(b: &mut mp3lame_encoder::Builder, kbps: u32) -> std::io::Result<()> {
+    let kbps = i32::try_from(kbps).unwrap_or(i32::MAX);
+    // SAFETY: `as_ptr` is the builder's own live LAME context, owned by `b` for this call and
+    // not yet initialised (`build` runs `lame_init_params` later); the setter only stores the
+    // number in it.
+    let status = unsafe { mp3lame_sys::lame_set_VBR_mean_bitrate_kbps(b.as_ptr(), kbps) };
+    if status == 0 {
+        Ok(())
+    } else {
+        Err(lame_err(format!("average bitrate {kbps} kbps refused")))
+    }
+}
+
 fn lame_err(e: impl std::fmt::Display) -> std::io::Error {
     std::io::Error::other(format!("MP3 encoder (LAME): {e}"))
 }
@@ -260,25 +275,6 @@ fn bitrate_enum(kbps: u32) -> Bitrate {
         256 => Kbps256,
         _ => Kbps320,
     }
-}
-
-fn vbr_quality(kbps: u32) -> mp3lame_encoder::Quality {
-    use mp3lame_encoder::Quality::*;
-    let level = (0..VBR_AVERAGE_KBPS.len())
-        .min_by_key(|&v| VBR_AVERAGE_KBPS[v].abs_diff(kbps))
-        .unwrap_or(2);
-    [
-        Best,
-        SecondBest,
-        NearBest,
-        VeryNice,
-        Nice,
-        Good,
-        Decent,
-        Ok,
-        SecondWorst,
-        Worst,
-    ][level]
 }
 
 /// The ID3v2.3 tag for `tags` (empty when there are none); chapters end where the next one
@@ -376,10 +372,13 @@ impl Mp3Encoder {
         b.set_quality(mp3lame_encoder::Quality::NearBest)
             .map_err(lame_err)?;
         if settings.vbr {
-            b.set_vbr_mode(mp3lame_encoder::VbrMode::Mtrh)
+            // LAME's average-bitrate mode (`--abr N`): each frame's bitrate varies with what
+            // it holds, around the average asked. Its quality levels (`-V`) aim at no bitrate:
+            // on the example voice at 44.1 kHz the level whose documented music average is 128
+            // kbps averaged 60 (this mode: 85).
+            b.set_vbr_mode(mp3lame_encoder::VbrMode::Abr)
                 .map_err(lame_err)?;
-            b.set_vbr_quality(vbr_quality(settings.bitrate_kbps))
-                .map_err(lame_err)?;
+            set_average_bitrate(&mut b, settings.bitrate_kbps)?;
         } else {
             b.set_vbr_mode(mp3lame_encoder::VbrMode::Off)
                 .map_err(lame_err)?;
@@ -462,13 +461,5 @@ mod tests {
         assert_eq!((s.bitrate_kbps, s.vbr, s.rate_hz), (64, true, 48_000));
         let e = Mp3Settings::resolve(Some(320), false, wav, InputFormat::Wav, 8_000).unwrap_err();
         assert!(e.contains("8000 Hz holds 8 to 64 kbps"), "{e}");
-    }
-
-    #[test]
-    fn vbr_levels_follow_the_bitrate() {
-        assert_eq!(vbr_quality(320) as u8, 0);
-        assert_eq!(vbr_quality(192) as u8, 2);
-        assert_eq!(vbr_quality(128) as u8, 5);
-        assert_eq!(vbr_quality(8) as u8, 9);
     }
 }
