@@ -40,6 +40,7 @@ use pneuma_io::capped::TEXT_MAX_BYTES;
 use pneuma_io::{read_mono, read_text_capped, CappedReadError, InputFormat, ReadError};
 
 mod files;
+mod voices;
 
 /// Silence before the first breath, seconds.
 pub const LEAD_IN_S: f64 = 0.25;
@@ -563,6 +564,14 @@ pub fn run(args: &Args) -> Result<SpeakSummary, SpeakError> {
         return Err(SpeakError::NoText);
     }
     crate::options::check_output_folder("-o", &args.out_dir).map_err(SpeakError::Option)?;
+    if let (Tts::Espeak, Some(v)) = (args.tts, args.voice.as_deref()) {
+        if voices::espeak_knows(v) == Some(false) {
+            return Err(SpeakError::UnknownVoice {
+                tts: args.tts,
+                voice: v.to_owned(),
+            });
+        }
+    }
     let osc = args.osc.plan().map_err(SpeakError::Option)?;
     let bvh_fps = args.bvh.fps().map_err(SpeakError::Option)?;
     let cc_map = args.midi.map().map_err(SpeakError::Option)?;

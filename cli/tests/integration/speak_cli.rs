@@ -269,14 +269,39 @@ fn a_bad_voice_points_to_the_voice_list() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let o = pneuma()
-        .args(["speak", "Hello there.", "--voice", "xx-nonesuch", "-o"])
-        .arg(dir.path().join("out"))
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(!o.status.success(), "a bad voice succeeded");
-    assert!(err.contains("espeak-ng --voices"), "{err}");
+    // A voice espeak-ng refuses, and two it would take silently and speak in another voice
+    // (a typo of `en-us`, a variant it does not have): the same error, before any audio.
+    for voice in ["xx-nonesuch", "en-uss", "en-us+nonsense"] {
+        let out = dir.path().join(voice);
+        let o = pneuma()
+            .args(["speak", "Hello there.", "--voice", voice, "-o"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "--voice {voice} succeeded");
+        assert!(
+            err.contains(&format!("has no voice `{voice}`")) && err.contains("espeak-ng --voices"),
+            "{err}"
+        );
+        assert!(
+            !out.join("speech.wav").exists(),
+            "--voice {voice} wrote audio"
+        );
+    }
+    // The forms espeak-ng takes: a language in any case, with a variant, its voice file.
+    for voice in ["EN-US", "en-us+f3", "gmw/en-US"] {
+        let o = pneuma()
+            .args(["speak", "Hello.", "--no-plot", "--voice", voice, "-o"])
+            .arg(dir.path().join("ok"))
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "--voice {voice}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
 }
 
 /// `speak` runs the engine over its timeline (issue 31): breaths vary in length with the pause
