@@ -40,8 +40,8 @@ const RATES_HZ: [u32; 9] = [
 pub struct Mp3Args {
     /// MP3 bitrate, kbps (with --format mp3; 8 to 320 in LAME's steps; default: an MP3
     /// input's own when rendering one, else 192, 160 at 16–24 kHz, 64 at 8–12 kHz). With --vbr,
-    /// the average aimed at (pauses and a silent side channel take less: speech averages under
-    /// it, never over).
+    /// the average aimed at (pauses and a silent side channel take less: speech usually
+    /// averages under it).
     #[arg(long, value_name = "KBPS", value_parser = parse_bitrate)]
     pub bitrate: Option<u32>,
     /// Variable-bitrate MP3 (with --format mp3): LAME's average-bitrate mode, each frame's
@@ -243,7 +243,7 @@ fn set_average_bitrate(b: &mut mp3lame_encoder::Builder, kbps: u32) -> std::io::
     // SAFETY: `as_ptr` is the builder's own live LAME context, owned by `b` for this call and
     // not yet initialised (`build` runs `lame_init_params` later); the setter only stores the
     // number in it.
-    let status = unsafe { mp3lame_sys::lame_set_VBR_mean_bitrate_kbps(b.as_ptr(), kbps) };
+    let status = unsafe { mp3lame_encoder::ffi::lame_set_VBR_mean_bitrate_kbps(b.as_ptr(), kbps) };
     if status == 0 {
         Ok(())
     } else {

@@ -80,8 +80,9 @@ impl Tts {
     fn voices_hint(self) -> &'static str {
         match self {
             Self::Espeak => {
-                "`espeak-ng --voices` lists the voices it has (give one of their names or \
-                 languages, e.g. --voice en-us)"
+                "`espeak-ng --voices` lists the voices it has (give a language, e.g. --voice \
+                 en-us, a voice file, e.g. gmw/en-US, or a name with spaces for its \
+                 underscores, e.g. \"English (America)\"; a variant after +, e.g. en-us+f3)"
             }
             Self::Festival => {
                 "`echo '(print (voice.list))' | festival --pipe` lists the voices it has (give \

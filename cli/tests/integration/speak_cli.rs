@@ -269,9 +269,9 @@ fn a_bad_voice_points_to_the_voice_list() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    // A voice espeak-ng refuses, and two it would take silently and speak in another voice
-    // (a typo of `en-us`, a variant it does not have): the same error, before any audio.
-    for voice in ["xx-nonesuch", "en-uss", "en-us+nonsense"] {
+    // A voice espeak-ng refuses, and three it would take silently and speak in another voice
+    // (a typo of `en-us`, variants it does not have): the same error, before any audio.
+    for voice in ["xx-nonesuch", "en-uss", "en-us+nonsense", "en-us+F3"] {
         let out = dir.path().join(voice);
         let o = pneuma()
             .args(["speak", "Hello there.", "--voice", voice, "-o"])
@@ -289,8 +289,15 @@ fn a_bad_voice_points_to_the_voice_list() {
             "--voice {voice} wrote audio"
         );
     }
-    // The forms espeak-ng takes: a language in any case, with a variant, its voice file.
-    for voice in ["EN-US", "en-us+f3", "gmw/en-US"] {
+    // The forms espeak-ng takes: a language in any case or with a region, with a variant, a
+    // voice file, a voice name.
+    for voice in [
+        "EN-US",
+        "en-AU",
+        "en-us+f3",
+        "gmw/en-US",
+        "English (America)",
+    ] {
         let o = pneuma()
             .args(["speak", "Hello.", "--no-plot", "--voice", voice, "-o"])
             .arg(dir.path().join("ok"))

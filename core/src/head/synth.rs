@@ -50,8 +50,9 @@ const LIVELINESS_TIME_S: f64 = 1.5;
 /// Standard deviation of the liveliness variation at liveliness 1, degrees.
 const LIVELINESS_SD_DEG: f64 = 2.0;
 /// Most model steps one stream frame brings: a 240 Hz model in a 30 frames/s stream takes 8
-/// (models are trained at a frame rate the stream can run at, checked on load); a stream
-/// slower than that lets the head fall behind rather than take unbounded time in a frame.
+/// (models are trained at a frame rate the stream can run at, checked on load, so the engine
+/// never needs more); a slower stream, through this API only, has the steps beyond dropped
+/// rather than take unbounded time in a frame: its head then moves in slow motion.
 pub const MAX_STEPS_PER_FRAME: u64 = 8;
 
 /// Settings of the head-pose synthesis. Defaults follow the paper's motion-capture criteria;
@@ -150,8 +151,9 @@ pub struct HeadSynth {
     /// (see [`HeadSynth::process`]).
     frames_seen: u64,
     steps_taken: u64,
-    /// The output of the last step, held until the next.
+    /// The output of the last step and of the step before it.
     held: HeadAngles,
+    before: HeadAngles,
 }
 
 /// Model-space pose → output angles.
@@ -195,6 +197,7 @@ impl HeadSynth {
             frames_seen: 0,
             steps_taken: 0,
             held: HeadAngles::default(),
+            before: HeadAngles::default(),
         })
     }
 
@@ -212,6 +215,7 @@ impl HeadSynth {
         self.frames_seen = 0;
         self.steps_taken = 0;
         self.held = HeadAngles::default();
+        self.before = HeadAngles::default();
     }
 
     /// Changes the settings between frames (out-of-range values are clamped, see
@@ -240,13 +244,12 @@ impl HeadSynth {
     /// silence, whatever it hears (the output smoothing carries it on for a few tenths of a
     /// second first, as when speech stops). Never allocates.
     pub fn process_other_sound(&mut self, frame: &FeatureFrame, frame_rate_hz: f64) -> HeadAngles {
-        self.unvoiced_s = AT_REST_S;
         // Its level is heard as a pause's: a bed under the speech is heard so in the pauses.
         let unvoiced = FeatureFrame {
             voiced: false,
             ..*frame
         };
-        self.process(&unvoiced, frame_rate_hz)
+        self.advance(&unvoiced, frame_rate_hz, true)
     }
 
     /// The head pose for one feature frame of a stream at `frame_rate_hz` frames per second.
@@ -256,31 +259,60 @@ impl HeadSynth {
     /// The head steps at the rate its model was trained at ([`HeadSynth::step_rate_hz`]), not
     /// at the stream's: the objective's velocity and acceleration terms, the argmax's
     /// frame-to-frame trajectory, the smoother and the governor are all per step, so a head
-    /// stepped at another rate moves differently (one clip at 30 and 120 frames/s: roll
-    /// r = 0.01 between the two, docs/measurements.md). Frame `i` of the stream (at `i / r`
-    /// seconds) brings the steps due by then, each on this frame's features (at most
-    /// [`MAX_STEPS_PER_FRAME`]); the output holds the last step's pose until the next. At the
-    /// model's own rate this is one step per frame, exactly as before; at 30 frames/s with the
-    /// 120 Hz model, four steps per frame; at 240, a step every second frame.
+    /// stepped at another rate moves differently (docs/measurements.md, stop 70). Frame `i` of
+    /// the stream (at `i / frame_rate_hz` seconds) brings the steps due by then, each on this
+    /// frame's features (at most [`MAX_STEPS_PER_FRAME`]). At the model's own rate this is one
+    /// step per frame, exactly as before; at 30 frames/s with a 120 Hz model, four steps per
+    /// frame, the frame showing the last; at 240, a step every second frame, and the frames
+    /// between glide from the step before to the last one (the output lags by one step less
+    /// one frame, 4 ms), so no frame moves further than a step does.
     pub fn process(&mut self, frame: &FeatureFrame, frame_rate_hz: f64) -> HeadAngles {
+        self.advance(frame, frame_rate_hz, false)
+    }
+
+    /// [`HeadSynth::process`], each step taken as in a long silence when `other_sound`.
+    fn advance(
+        &mut self,
+        frame: &FeatureFrame,
+        frame_rate_hz: f64,
+        other_sound: bool,
+    ) -> HeadAngles {
         let stream_hz = if frame_rate_hz.is_finite() && frame_rate_hz > 0.0 {
             frame_rate_hz.clamp(1.0, 10_000.0)
         } else {
             120.0
         };
         let step_hz = self.step_rate_hz();
-        // Steps due by this frame's time: every step at k / step_hz ≤ i / stream_hz (for whole
-        // rates the product is exact and a whole quotient floors to itself).
-        let due = (self.frames_seen as f64 * step_hz / stream_hz).floor() as u64 + 1;
+        // This frame's time in steps, and the steps due by then: every step at
+        // k / step_hz ≤ i / stream_hz (for whole rates the product is exact and a whole
+        // quotient floors to itself).
+        let at_step = self.frames_seen as f64 * step_hz / stream_hz;
+        let due = at_step.floor() as u64 + 1;
         self.frames_seen += 1;
         let steps = due
             .saturating_sub(self.steps_taken)
             .min(MAX_STEPS_PER_FRAME);
         for _ in 0..steps {
+            if other_sound {
+                self.unvoiced_s = AT_REST_S;
+            }
+            self.before = self.held;
             self.held = self.step(frame, step_hz);
         }
         self.steps_taken = due;
-        self.held
+        // Between steps: the share of the way from the step before to the last one, reaching
+        // the last one a frame before the next step (1 whenever a frame brings a step of its
+        // own or more).
+        let share = (at_step.fract() + step_hz / stream_hz).min(1.0);
+        if share >= 1.0 {
+            return self.held;
+        }
+        let (a, b, w) = (self.before, self.held, share as f32);
+        HeadAngles {
+            roll_deg: a.roll_deg + (b.roll_deg - a.roll_deg) * w,
+            pitch_deg: a.pitch_deg + (b.pitch_deg - a.pitch_deg) * w,
+            yaw_deg: a.yaw_deg + (b.yaw_deg - a.yaw_deg) * w,
+        }
     }
 
     /// The rate the head steps at, Hz: its model's training frame rate.
@@ -507,9 +539,31 @@ mod tests {
         // The same voice at 240 frames/s: its even frames are the 120 Hz frames.
         let at_240 = run(voice.iter().flat_map(|f| [*f, *f]), 240.0);
         assert!(at_120[600] != at_120[0], "the voice moved the head");
+        let mut before = HeadAngles::default();
         for (i, a) in at_120.iter().enumerate() {
-            assert_eq!((at_240[2 * i], at_240[2 * i + 1]), (*a, *a), "frame {i}");
+            // Each step's pose a frame after its step, halfway from the step before on it.
+            assert_eq!(at_240[2 * i + 1], *a, "frame {i}");
+            let half = |x: f32, y: f32| x + (y - x) * 0.5;
+            let mid = HeadAngles {
+                roll_deg: half(before.roll_deg, a.roll_deg),
+                pitch_deg: half(before.pitch_deg, a.pitch_deg),
+                yaw_deg: half(before.yaw_deg, a.yaw_deg),
+            };
+            let g = at_240[2 * i];
+            let off = (g.roll_deg - mid.roll_deg)
+                .abs()
+                .max((g.pitch_deg - mid.pitch_deg).abs())
+                .max((g.yaw_deg - mid.yaw_deg).abs());
+            assert!(off < 1e-5, "frame {i}: {g:?}, halfway {mid:?}");
+            before = *a;
         }
+        // So no frame moves further than a step: the speed limit holds per frame.
+        let largest_step = |p: &[HeadAngles]| {
+            p.windows(2)
+                .map(|w| (w[1].pitch_deg - w[0].pitch_deg).hypot(w[1].yaw_deg - w[0].yaw_deg))
+                .fold(0.0f32, f32::max)
+        };
+        assert!(largest_step(&at_240) <= 0.5 * largest_step(&at_120) + 1e-6);
     }
 
     #[test]
