@@ -2,7 +2,8 @@
 //! and at what frame rate. Off unless one of the options is given: `--bvh-fps` alone turns it
 //! on, as any `--osc-*` option turns on OSC ([`crate::osc_out::OscArgs::wanted`]). The BVH
 //! itself is core's ([`pneuma_core::encode::bvh`]); a rate other than the control frames' is
-//! the nearest frame at each instant ([`pneuma_core::encode::sink::Resample`]), so `--bvh-fps`
+//! the pose at each instant, interpolated between the frames either side
+//! ([`pneuma_core::encode::sink::Resample`]), so `--bvh-fps`
 //! changes only the BVH, never the analysis, the breaths or the other outputs.
 
 /// Lowest `--bvh-fps`, frames per second.
@@ -14,7 +15,7 @@ pub const MAX_BVH_FPS: f32 = 1000.0;
 fn fps_help() -> String {
     format!(
         "Frames per second of the BVH ({MIN_BVH_FPS} to {MAX_BVH_FPS}; default: --frame-rate); \
-         turns --bvh on. Only the BVH is resampled (the frame nearest each 1/FPS s): the \
+         turns --bvh on. Only the BVH is resampled (the pose at each 1/FPS s, interpolated between frames): the \
          analysis, the breaths and the other outputs stay at --frame-rate. Blender's importer \
          plays one BVH frame per scene frame: give the scene's rate (24 by default) so the \
          motion keeps the audio's duration"

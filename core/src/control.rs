@@ -104,8 +104,15 @@ impl ControlFrame {
     /// speaking: nothing is heard any more); the breathing's phase is the rest's. At 1 it is
     /// [`ControlFrame::rest`].
     pub fn toward_rest(&self, index: u64, time_s: f64, toward: f32) -> Self {
+        self.body_toward(&Self::rest(index, time_s), toward)
+    }
+
+    /// `to` with its body (head angles and the breathing's continuous values) a share `toward`
+    /// (0..1) of the way from this frame's to its own: 0 gives this frame's body, 1 `to`
+    /// itself. Everything else (index, time, voice, phase) is `to`'s.
+    pub fn body_toward(&self, to: &ControlFrame, toward: f32) -> Self {
         let keep = 1.0 - toward.clamp(0.0, 1.0);
-        let rest = Self::rest(index, time_s);
+        let rest = *to;
         let mix = |from: f32, to: f32| to + (from - to) * keep;
         let (b, r) = (&self.breathing, &rest.breathing);
         Self {

@@ -6,9 +6,9 @@
 //! The motion lines stream into a temporary file beside the BVH as the render goes; at the
 //! end the BVH is written whole, the header with the count of lines written and then the
 //! lines, and goes with the render's other files ([`crate::output::commit_all`]). Another
-//! rate (`--bvh-fps`) is core's [`Resample`], the frame nearest each instant; the last control
-//! frame is held back until the next one comes, so that the count known at the end limits it
-//! as [`Resample::count`] counts (no instant past the last frame's time).
+//! rate (`--bvh-fps`) is core's [`Resample`], the pose at each instant interpolated between the
+//! frames either side; the last control frame is held back until the next one comes, so that
+//! the count known at the end limits it as [`Resample::count`] counts.
 
 use std::path::Path;
 
@@ -55,7 +55,7 @@ impl BvhFile {
             frames: 0,
         };
         Ok(Self {
-            lines: Resample::new(counted, frame_rate_hz, bvh_fps, u64::MAX),
+            lines: Resample::new(counted, bvh_fps, u64::MAX),
             held: None,
             frames: 0,
             frame_rate_hz,

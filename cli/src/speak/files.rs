@@ -117,13 +117,13 @@ pub fn write(args: &Args, take: &Take, formats: &Formats) -> Result<Cleared, Spe
     if args.bvh.wanted() {
         let (frame_rate, fps) = (args.frame_rate, formats.bvh_fps.unwrap_or(args.frame_rate));
         staged.push(write_file(&out(BVH_FILE), |w| {
-            // At the BVH's rate: the frame nearest each instant, as `render` writes it.
+            // At the BVH's rate: the pose at each instant, as `render` writes it.
             let n = Resample::<TextSink<&mut dyn Write>>::count(
                 take.frames.len() as u64,
                 frame_rate,
                 fps,
             );
-            let mut bvh = Resample::new(TextSink::bvh(w, n as usize, fps)?, frame_rate, fps, n);
+            let mut bvh = Resample::new(TextSink::bvh(w, n as usize, fps)?, fps, n);
             for f in take.frames {
                 bvh.frame(f, 0);
             }

@@ -193,29 +193,33 @@ impl<W: Write> FrameSink for TextSink<W> {
     }
 }
 
-/// Frames passed on at another rate: the frame nearest to each instant `k / rate_hz`
-/// (`k = 0, 1, …`) goes to the inner sink (a BVH at an animation's 24 or 30 fps from 120 Hz
-/// frames; at a higher rate than the frames', frames repeat). [`Resample::count`] gives the
-/// number passed on for a stream of known length, as a BVH header needs it.
+/// Frames passed on at another rate: at each instant `k / rate_hz` (`k = 0, 1, …`) the inner
+/// sink gets the frame there, its body (head angles, breathing values) interpolated between
+/// the frames either side and the rest of it the later frame's (a BVH at an animation's 24 or
+/// 30 fps from 120 Hz frames; at a higher rate than the frames', the instants between frames
+/// glide instead of repeating a frame). An instant goes out once the frame at or after it has
+/// come. [`Resample::count`] gives the number passed on for a stream of known length, as a BVH
+/// header needs it.
 pub struct Resample<S: FrameSink> {
     inner: S,
     rate_hz: f64,
-    half_frame_s: f64,
     /// The next instant's index.
     next: u64,
     /// Instants to pass on in all (`u64::MAX`: no limit).
     total: u64,
+    /// The frame before, for the instants between it and the next.
+    before: Option<ControlFrame>,
 }
 
 impl<S: FrameSink> Resample<S> {
-    /// Passes frames of `frame_rate_hz` to `inner` at `rate_hz`, at most `total` of them.
-    pub fn new(inner: S, frame_rate_hz: f64, rate_hz: f64, total: u64) -> Self {
+    /// Passes frames to `inner` at `rate_hz`, at most `total` instants of them.
+    pub fn new(inner: S, rate_hz: f64, total: u64) -> Self {
         Self {
             inner,
             rate_hz,
-            half_frame_s: 0.5 / frame_rate_hz,
             next: 0,
             total,
+            before: None,
         }
     }
 
@@ -228,9 +232,9 @@ impl<S: FrameSink> Resample<S> {
         (last_s * rate_hz + 1e-9).floor() as u64 + 1
     }
 
-    /// Passes on at most `total` instants in all from now on: for a stream whose length is
-    /// known only at its end, the [`Resample::count`] of its frames, set before its last frame
-    /// (which would otherwise also pass on the instants within half a frame after it).
+    /// Passes on at most `total` instants in all from now on (for a stream whose length is
+    /// known only at its end, the [`Resample::count`] of its frames: no instant after the last
+    /// frame goes out anyway).
     pub fn limit(&mut self, total: u64) {
         self.total = total;
     }
@@ -248,12 +252,24 @@ impl<S: FrameSink> Resample<S> {
 
 impl<S: FrameSink> FrameSink for Resample<S> {
     fn frame(&mut self, frame: &ControlFrame, at: u64) {
-        while self.next < self.total
-            && (self.next as f64 / self.rate_hz) < frame.time_s + self.half_frame_s
-        {
-            self.inner.frame(frame, at);
+        // Instants at this frame's time, give or take a rounding, are this frame.
+        const SAME_S: f64 = 1e-9;
+        while self.next < self.total {
+            let t = self.next as f64 / self.rate_hz;
+            if t > frame.time_s + SAME_S {
+                break;
+            }
+            let out = match &self.before {
+                Some(b) if t < frame.time_s - SAME_S && frame.time_s > b.time_s => {
+                    let share = (t - b.time_s) / (frame.time_s - b.time_s);
+                    b.body_toward(frame, share as f32)
+                }
+                _ => *frame,
+            };
+            self.inner.frame(&out, at);
             self.next += 1;
         }
+        self.before = Some(*frame);
     }
     fn breath(&mut self, breath: &BreathEvent) {
         self.inner.breath(breath);
@@ -343,36 +359,54 @@ mod tests {
     use pneuma_testkit::osc::{decode, OscType};
 
     #[test]
-    fn resampled_frames_are_the_nearest_to_each_instant() {
-        // 120 Hz frames over 1 s (121 frames, 0 to 1.0 s) to 24 fps: 25 instants, every fifth
-        // frame; to 50 fps: the nearest of 0, 0.02, 0.04 … (frames 0, 2, 5, 7, 10, …).
+    fn resampled_frames_are_the_frames_or_glide_between_them() {
+        // 120 Hz frames over 1 s (121 frames, 0 to 1.0 s) whose head yaw is the frame index in
+        // degrees, at 24 fps: 25 instants, every fifth frame itself; at 50 and 360 fps the
+        // instants between frames at the yaw between theirs (2.4° and 1/3° an instant), the
+        // rest of each the later frame's.
         let frames = |rate_hz: f64| {
             let mut r = Resample::new(
                 Collect::default(),
-                120.0,
                 rate_hz,
                 Resample::<Collect>::count(121, 120.0, rate_hz),
             );
             for i in 0..121u64 {
-                let f = ControlFrame {
+                let mut f = ControlFrame {
                     index: i,
                     time_s: i as f64 / 120.0,
                     ..Default::default()
                 };
+                f.head.yaw_deg = i as f32;
                 r.frame(&f, i);
             }
-            r.into_inner()
-                .frames
-                .iter()
-                .map(|(f, _)| f.index)
-                .collect::<Vec<_>>()
+            r.into_inner().frames
         };
         assert_eq!(Resample::<Collect>::count(121, 120.0, 24.0), 25);
-        assert_eq!(frames(24.0), (0..=120).step_by(5).collect::<Vec<u64>>());
-        assert_eq!(frames(50.0)[..6], [0, 2, 5, 7, 10, 12]);
-        assert_eq!(frames(50.0).len(), 51);
-        // Faster than the frames: each repeats.
-        assert_eq!(frames(360.0)[..8], [0, 0, 1, 1, 1, 2, 2, 2]);
+        let at_24: Vec<u64> = frames(24.0).iter().map(|(f, _)| f.index).collect();
+        assert_eq!(at_24, (0..=120).step_by(5).collect::<Vec<u64>>());
+        assert!(frames(24.0)
+            .iter()
+            .all(|(f, _)| f.head.yaw_deg == f.index as f32));
+        for (rate, per_instant) in [(50.0, 2.4f32), (360.0, 1.0 / 3.0)] {
+            let got = frames(rate);
+            assert_eq!(
+                got.len() as u64,
+                Resample::<Collect>::count(121, 120.0, rate)
+            );
+            for (k, (f, _)) in got.iter().enumerate() {
+                let want = k as f32 * per_instant;
+                assert!(
+                    (f.head.yaw_deg - want).abs() < 1e-3,
+                    "{rate} fps, instant {k}"
+                );
+                // The later frame's index: the frame at or after the instant.
+                assert_eq!(
+                    f.index,
+                    (want - 1e-3).ceil().max(0.0) as u64,
+                    "{rate} fps, {k}"
+                );
+            }
+        }
         assert_eq!(Resample::<Collect>::count(0, 120.0, 24.0), 0);
     }
 
@@ -380,10 +414,9 @@ mod tests {
     fn a_limit_set_before_the_last_frame_ends_where_the_count_does() {
         // 1000 fps from 120 Hz frames: without a limit the last frame (1.0 s) also goes to the
         // instants up to 1.0042 s; limited at its end to the count of 121 frames, it does not.
-        let mut open = Resample::new(Collect::default(), 120.0, 1000.0, u64::MAX);
+        let mut open = Resample::new(Collect::default(), 1000.0, u64::MAX);
         let mut counted = Resample::new(
             Collect::default(),
-            120.0,
             1000.0,
             Resample::<Collect>::count(121, 120.0, 1000.0),
         );
