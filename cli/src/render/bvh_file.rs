@@ -7,8 +7,7 @@
 //! end the BVH is written whole, the header with the count of lines written and then the
 //! lines, and goes with the render's other files ([`crate::output::commit_all`]). Another
 //! rate (`--bvh-fps`) is core's [`Resample`], the pose at each instant interpolated between the
-//! frames either side; the last control frame is held back until the next one comes, so that
-//! the count known at the end limits it as [`Resample::count`] counts.
+//! frames either side (no instant past the last frame's time, as [`Resample::count`] counts).
 
 use std::path::Path;
 
@@ -37,18 +36,13 @@ type Lines = Resample<Counted<TextSink<Output>>>;
 /// A BVH being written: a [`FrameSink`] of the render's control frames.
 pub struct BvhFile {
     lines: Lines,
-    /// The last control frame and its sample, not yet passed on.
-    held: Option<(ControlFrame, u64)>,
-    /// Control frames received.
-    frames: u64,
-    frame_rate_hz: f64,
     bvh_fps: f64,
 }
 
 impl BvhFile {
-    /// Starts the BVH that goes to `path`, of control frames at `frame_rate_hz` written at
-    /// `bvh_fps`: its lines go to a temporary file (removed when this is dropped).
-    pub fn create(path: &Path, frame_rate_hz: f64, bvh_fps: f64) -> std::io::Result<Self> {
+    /// Starts the BVH that goes to `path`, of control frames written at `bvh_fps`: its lines
+    /// go to a temporary file (removed when this is dropped).
+    pub fn create(path: &Path, bvh_fps: f64) -> std::io::Result<Self> {
         let text = TextSink::new(Output::create(path)?, "", bvh::push_control)?;
         let counted = Counted {
             inner: text,
@@ -56,9 +50,6 @@ impl BvhFile {
         };
         Ok(Self {
             lines: Resample::new(counted, bvh_fps, u64::MAX),
-            held: None,
-            frames: 0,
-            frame_rate_hz,
             bvh_fps,
         })
     }
@@ -70,12 +61,7 @@ impl BvhFile {
 
     /// Writes the BVH for `path` whole, its header counting the lines, under a temporary name
     /// ([`Staged`]) for the render to commit with its other files.
-    pub fn finish(mut self, path: &Path) -> std::io::Result<Staged> {
-        self.lines
-            .limit(Lines::count(self.frames, self.frame_rate_hz, self.bvh_fps));
-        if let Some((frame, at)) = self.held.take() {
-            self.lines.frame(&frame, at);
-        }
+    pub fn finish(self, path: &Path) -> std::io::Result<Staged> {
         let Counted {
             inner: text,
             frames: lines,
@@ -97,10 +83,7 @@ fn staged(file: Option<Staged>) -> std::io::Result<Staged> {
 
 impl FrameSink for BvhFile {
     fn frame(&mut self, frame: &ControlFrame, at: u64) {
-        if let Some((last, last_at)) = self.held.replace((*frame, at)) {
-            self.lines.frame(&last, last_at);
-        }
-        self.frames += 1;
+        self.lines.frame(frame, at);
     }
 }
 
@@ -130,7 +113,7 @@ mod tests {
             (0, 30.0),
         ] {
             let path = dir.path().join(format!("x{frames}_{fps}.bvh"));
-            let mut bvh = BvhFile::create(&path, 120.0, fps).expect("create");
+            let mut bvh = BvhFile::create(&path, fps).expect("create");
             for i in 0..frames {
                 let f = ControlFrame {
                     index: i,

@@ -220,7 +220,6 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         controls_sink(outputs.files.as_ref())?,
         bvh_sink(
             outputs.files.as_ref(),
-            frame_rate_hz,
             outputs.bvh_fps.unwrap_or(frame_rate_hz),
         )?,
         Kept::new(frames_total),
@@ -393,15 +392,11 @@ fn controls_sink(files: Option<&FolderFiles>) -> Result<Option<TextSink<Output>>
 }
 
 /// The BVH at `bvh_fps` with `--bvh`, its frame count the frames of the audio decoded.
-fn bvh_sink(
-    files: Option<&FolderFiles>,
-    frame_rate_hz: f64,
-    bvh_fps: f64,
-) -> Result<Option<BvhFile>, RenderError> {
+fn bvh_sink(files: Option<&FolderFiles>, bvh_fps: f64) -> Result<Option<BvhFile>, RenderError> {
     let Some(path) = files.and_then(|f| f.bvh.as_ref()) else {
         return Ok(None);
     };
-    let bvh = BvhFile::create(path, frame_rate_hz, bvh_fps).map_err(out_err(path))?;
+    let bvh = BvhFile::create(path, bvh_fps).map_err(out_err(path))?;
     Ok(Some(bvh))
 }
 

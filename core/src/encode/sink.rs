@@ -232,13 +232,6 @@ impl<S: FrameSink> Resample<S> {
         (last_s * rate_hz + 1e-9).floor() as u64 + 1
     }
 
-    /// Passes on at most `total` instants in all from now on (for a stream whose length is
-    /// known only at its end, the [`Resample::count`] of its frames: no instant after the last
-    /// frame goes out anyway).
-    pub fn limit(&mut self, total: u64) {
-        self.total = total;
-    }
-
     /// The inner sink.
     pub fn inner(&self) -> &S {
         &self.inner
@@ -411,9 +404,9 @@ mod tests {
     }
 
     #[test]
-    fn a_limit_set_before_the_last_frame_ends_where_the_count_does() {
-        // 1000 fps from 120 Hz frames: without a limit the last frame (1.0 s) also goes to the
-        // instants up to 1.0042 s; limited at its end to the count of 121 frames, it does not.
+    fn an_unlimited_resample_ends_where_the_count_does() {
+        // 1000 fps from 120 Hz frames: no instant after the last frame (1.0 s) goes out, so
+        // a stream whose length is known only at its end needs no limit to match the count.
         let mut open = Resample::new(Collect::default(), 1000.0, u64::MAX);
         let mut counted = Resample::new(
             Collect::default(),
@@ -426,9 +419,6 @@ mod tests {
                 time_s: i as f64 / 120.0,
                 ..Default::default()
             };
-            if i == 120 {
-                open.limit(Resample::<Collect>::count(121, 120.0, 1000.0));
-            }
             open.frame(&f, i);
             counted.frame(&f, i);
         }
