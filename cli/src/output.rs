@@ -12,11 +12,45 @@
 //!   temporary file lies in the system's temporary folder and its bytes are written through to
 //!   the path when committing (the path itself is never replaced; a full device is an error);
 //! - `-`: standard output, written at the end.
+//!
+//! Every temporary file that exists is on a list ([`remove_temporaries`]), so a run stopped at
+//! once (a second Ctrl-C) removes them before it exits; a commit in progress finishes first.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, MutexGuard};
+
+/// The temporary files of [`Staged`] outputs that exist now (created or about to be, not yet
+/// moved into place or removed). [`commit_all`] holds the lock while it moves files.
+static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// The list of temporary files, also after a thread panicked holding it.
+fn temporaries() -> MutexGuard<'static, Vec<PathBuf>> {
+    TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Takes `temp` off the list (it was moved into place or removed).
+fn forget(list: &mut Vec<PathBuf>, temp: &Path) {
+    if let Some(i) = list.iter().position(|t| t == temp) {
+        list.swap_remove(i);
+    }
+}
+
+/// Removes every temporary file that exists now, after a commit in progress (which holds the
+/// list) has finished: for a run about to exit at once, which skips the outputs' `Drop`.
+/// Returns how many files were removed.
+pub fn remove_temporaries() -> usize {
+    let mut list = temporaries();
+    let mut removed = 0;
+    for temp in list.drain(..) {
+        if std::fs::remove_file(&temp).is_ok() {
+            removed += 1;
+        }
+    }
+    removed
+}
 
 /// How a staged file reaches its target.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -44,6 +78,7 @@ impl Staged {
         if special {
             let target = path.to_owned();
             let temp = std::env::temp_dir().join(temp_name(&target));
+            temporaries().push(temp.clone());
             return Ok(Self {
                 temp,
                 target,
@@ -53,6 +88,7 @@ impl Staged {
         }
         let target = follow_links(path)?;
         let temp = temp_path(&target);
+        temporaries().push(temp.clone());
         Ok(Self {
             temp,
             target,
@@ -74,9 +110,11 @@ impl Staged {
 
 impl Drop for Staged {
     fn drop(&mut self) {
+        let mut list = temporaries();
         if !self.done {
             let _ = std::fs::remove_file(&self.temp);
         }
+        forget(&mut list, &self.temp);
     }
 }
 
@@ -106,6 +144,9 @@ fn follow_links(path: &Path) -> std::io::Result<PathBuf> {
 /// renamed targets get their old files back and every temporary file is removed. Returns the
 /// failing target with its error.
 pub fn commit_all(mut staged: Vec<Staged>) -> Result<(), (PathBuf, std::io::Error)> {
+    // A run stopped at once waits for the commit ([`remove_temporaries`]): it never sees a
+    // target set aside. (Declared first, the guard is dropped before `staged` is.)
+    let mut list = temporaries();
     // (index, set-aside old file if any) of the renames done so far.
     let mut renamed: Vec<(usize, Option<PathBuf>)> = Vec::new();
     let mut failure = None;
@@ -151,6 +192,7 @@ pub fn commit_all(mut staged: Vec<Staged>) -> Result<(), (PathBuf, std::io::Erro
         None => {
             for (i, old) in renamed {
                 staged[i].done = true;
+                forget(&mut list, &staged[i].temp);
                 if let Some(old) = old {
                     let _ = std::fs::remove_file(old);
                 }

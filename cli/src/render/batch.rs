@@ -1,7 +1,8 @@
 //! `pneuma render A.mp3 B.flac FOLDER … -o OUTDIR`: many files rendered in parallel (rayon,
 //! `--jobs N`, default the number of cores), one progress bar for the whole batch, a summary
 //! table at the end. A file that fails is reported in the table and the others are finished; the
-//! exit code is non-zero when any failed (130 when interrupted).
+//! exit code is non-zero when any failed (130 when interrupted: the files under way then read
+//! `interrupted`, those not reached `not started`, neither counted as failed).
 //!
 //! The inputs come expanded and checked from [`super::plan`] (folders give every file directly
 //! inside them; two inputs that would write the same output names, `a.wav` and `A.flac`, are
@@ -62,7 +63,7 @@ fn row(input: &Path, result: Result<&Outcome, &str>) -> [String; COLUMNS] {
         ],
         Err(e) => [
             name,
-            "FAILED".into(),
+            e.status().into(),
             "-".into(),
             "-".into(),
             "-".into(),
@@ -188,7 +189,7 @@ pub fn main(args: &Args, all: &[Input]) -> ExitCode {
             .enumerate()
             .map(|(i, input)| {
                 if INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
-                    return Err(RenderError::Interrupted);
+                    return Err(RenderError::NotStarted);
                 }
                 let r = run(args, input, |f| report(i, f));
                 report(i, 1.0);
@@ -199,9 +200,13 @@ pub fn main(args: &Args, all: &[Input]) -> ExitCode {
     if let Ok(b) = bar.lock() {
         b.finish();
     }
-    let failed = results.iter().filter(|r| r.is_err()).count();
+    let failed = results
+        .iter()
+        .filter(|r| r.as_ref().is_err_and(RenderError::is_failure))
+        .count();
+    let stopped = results.iter().filter(|r| r.is_err()).count() - failed;
     let skipped = all.len() - inputs.len();
-    if !args.quiet || failed > 0 {
+    if !args.quiet || failed + stopped > 0 {
         // Every input in the order given, the rendered ones with their results.
         let mut rendered = results.iter();
         let rows: Vec<[String; COLUMNS]> = all
@@ -215,16 +220,21 @@ pub fn main(args: &Args, all: &[Input]) -> ExitCode {
             })
             .collect();
         print_table(&rows);
+        let stopped = if stopped > 0 {
+            format!(", {stopped} interrupted or not started")
+        } else {
+            String::new()
+        };
         eprintln!(
-            "{} rendered, {failed} failed, {skipped} skipped, into {}",
-            inputs.len() - failed,
+            "{} rendered, {failed} failed{stopped}, {skipped} skipped, into {}",
+            results.iter().filter(|r| r.is_ok()).count(),
             args.output.display()
         );
     }
     print_leftovers(&inputs, &results, args.quiet);
     if results
         .iter()
-        .any(|r| matches!(r, Err(RenderError::Interrupted)))
+        .any(|r| r.as_ref().is_err_and(|e| !e.is_failure()))
     {
         ExitCode::from(EXIT_INTERRUPTED)
     } else if failed > 0 || inputs.is_empty() {

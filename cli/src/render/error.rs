@@ -1,10 +1,13 @@
 //! How a render fails: [`RenderError`], and Ctrl-C, which stops a render after its current
 //! block as an error that leaves nothing behind ([`INTERRUPTED`], [`EXIT_INTERRUPTED`]).
 //! SIGTERM (`kill`, `timeout`, a service manager) and SIGHUP (the terminal closed) take the
-//! same path: the handler cannot tell the three apart, so each exits with 130.
+//! same path: the handler cannot tell the three apart, so each exits with 130. A second signal
+//! stops at once, leaving no temporary file either.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
 
 use pneuma_core::engine::EngineError;
 use pneuma_io::ReadError;
@@ -39,6 +42,26 @@ pub enum RenderError {
          unchanged"
     )]
     Interrupted,
+    /// A batch's file not started because the batch was interrupted first.
+    #[error("not started: the batch was interrupted (Ctrl-C, SIGTERM or SIGHUP) before it")]
+    NotStarted,
+}
+
+impl RenderError {
+    /// The table's status word for a render that ended in this error: `interrupted`, `not
+    /// started`, or `FAILED` for a real failure.
+    pub fn status(&self) -> &'static str {
+        match self {
+            RenderError::Interrupted => "interrupted",
+            RenderError::NotStarted => "not started",
+            _ => "FAILED",
+        }
+    }
+
+    /// Whether this is a failure of the file (not an interruption of the run).
+    pub fn is_failure(&self) -> bool {
+        !matches!(self, RenderError::Interrupted | RenderError::NotStarted)
+    }
 }
 
 /// A [`RenderError::Output`] for `path`, for `map_err`.
@@ -62,13 +85,23 @@ pub fn interrupted() -> bool {
 /// SIGHUP, which the handler does not tell from SIGINT.
 pub const EXIT_INTERRUPTED: u8 = 130;
 
+/// Two signals this close together are one interruption delivered twice: `timeout` (and a shell
+/// killing a job) signals the process and then its process group.
+const SAME_INTERRUPTION: Duration = Duration::from_millis(500);
+
 /// Installs the Ctrl-C handler, which SIGTERM and SIGHUP reach too (ctrlc's `termination`
 /// feature): the first signal sets [`INTERRUPTED`] (the render stops after its current block
-/// and removes its temporary files), a second one exits at once.
+/// and removes its temporary files); a second one at least [`SAME_INTERRUPTION`] later stops
+/// at once, after removing every temporary file (and letting a commit in progress finish).
 pub fn install_interrupt_handler() {
+    static FIRST: OnceLock<Instant> = OnceLock::new();
     let _ = ctrlc::set_handler(|| {
-        if INTERRUPTED.swap(true, Ordering::Relaxed) {
-            std::process::exit(i32::from(EXIT_INTERRUPTED));
+        let first = *FIRST.get_or_init(Instant::now);
+        if !INTERRUPTED.swap(true, Ordering::Relaxed) || first.elapsed() < SAME_INTERRUPTION {
+            return;
         }
+        crate::output::remove_temporaries();
+        eprintln!("interrupted again: stopped at once; no partial file is left");
+        std::process::exit(i32::from(EXIT_INTERRUPTED));
     });
 }

@@ -52,7 +52,8 @@ pub struct RenderSummary {
     /// Breaths inserted.
     pub breaths: Vec<BreathEvent>,
     /// Real breaths heard in the input's pauses, left as they are (in lookahead mode none is
-    /// inserted over one; live mode may have started one before the breath was heard).
+    /// inserted over one; live mode may have started one before the breath was heard); none
+    /// when no speech was found.
     pub heard_breaths: usize,
     /// Control frames written.
     pub frames: u64,
@@ -337,7 +338,16 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         container: outputs.container,
         files,
         breaths,
-        heard_breaths: kept.heard,
+        // Breath-like sounds in the pauses of what is not speech (a song, an animal) are no
+        // speaker's breaths: a render that found no speech reports none.
+        heard_breaths: if found
+            .iter()
+            .any(|f| matches!(f, super::findings::Finding::NoSpeech { .. }))
+        {
+            0
+        } else {
+            kept.heard
+        },
         frames: kept.frames,
         length_s,
         clipped,

@@ -443,42 +443,44 @@ fn lossy_input_becomes_flac_with_its_tags_and_lossless_keeps_its_format() {
     );
 }
 
-#[test]
-fn ctrl_c_leaves_no_partial_file_and_the_old_outputs() {
-    // Five minutes at 48 kHz: long enough to be interrupted mid-render.
-    let dir = tempfile::tempdir().expect("temp");
-    let long = dir.path().join("long.wav");
-    let rate = 48_000u32;
-    let one: Vec<f32> = {
-        let (v, r) = pneuma_io::read_mono(&example_voice_path()).expect("voice");
-        assert_eq!(r, 16_000);
-        v.iter().flat_map(|&x| [x, x, x]).collect()
-    };
+/// Five minutes of the example voice at 48 kHz in `path`: long enough to be interrupted
+/// mid-render.
+fn write_five_minutes(path: &Path) {
+    write_long(path, 48_000, 1, false, 300.0);
+}
+
+/// `seconds` of the example voice at `rate` Hz in `channels` channels, float or 16-bit.
+fn write_long(path: &Path, rate: u32, channels: u16, float: bool, seconds: f64) {
+    let one = pneuma_testkit::voice::example_voice_at(rate);
     let mut mono = Vec::new();
-    while mono.len() < 300 * rate as usize {
+    while mono.len() < (seconds * f64::from(rate)) as usize {
         mono.extend_from_slice(&one);
     }
-    support::write_wav(&long, (rate, 1, 16, false), &mono, 1.0);
+    let bits = if float { 32 } else { 16 };
+    support::write_wav(path, (rate, channels, bits, float), &mono, 0.9);
+}
+
+#[test]
+fn an_interrupted_batch_says_which_files_it_stopped_and_which_it_never_started() {
+    let dir = tempfile::tempdir().expect("temp");
+    let first = dir.path().join("a.wav");
+    write_five_minutes(&first);
+    for name in ["b.wav", "c.wav"] {
+        std::fs::copy(&first, dir.path().join(name)).expect("copy");
+    }
     let out = dir.path().join("out");
-    std::fs::create_dir(&out).expect("dir");
-    std::fs::write(out.join("long.wav"), "old render").expect("write");
     let child = Command::new(env!("CARGO_BIN_EXE_pneuma"))
-        .args([
-            "render",
-            long.to_str().expect("utf8"),
-            "-o",
-            out.to_str().expect("utf8"),
-            "-q",
-        ])
+        .args(["render", "-j", "1", "--no-progress", "-o"])
+        .arg(&out)
+        .args(["a.wav", "b.wav", "c.wav"].map(|n| dir.path().join(n)))
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("start");
-    // Wait until the render is writing (its temporary files exist), then Ctrl-C.
     let start = std::time::Instant::now();
-    while std::fs::read_dir(&out).expect("out").count() < 2 {
+    while std::fs::read_dir(&out).map_or(0, |d| d.count()) < 1 {
         assert!(
             start.elapsed().as_secs() < 60,
-            "the render never started writing"
+            "the batch never started writing"
         );
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
@@ -490,16 +492,160 @@ fn ctrl_c_leaves_no_partial_file_and_the_old_outputs() {
     let o = child.wait_with_output().expect("wait");
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(130), "{err}");
-    assert!(err.contains("interrupted"), "{err}");
-    let names: Vec<String> = std::fs::read_dir(&out)
+    assert!(!err.contains("FAILED"), "no file failed: {err}");
+    let row = |name: &str| {
+        err.lines()
+            .find(|l| l.contains(name))
+            .unwrap_or_else(|| panic!("no row for {name}: {err}"))
+            .to_string()
+    };
+    assert!(row("a.wav").contains("interrupted"), "{err}");
+    for name in ["b.wav", "c.wav"] {
+        assert!(row(name).contains("not started"), "{err}");
+    }
+    assert!(
+        err.contains("0 rendered, 0 failed, 3 interrupted or not started"),
+        "{err}"
+    );
+    // Nothing half-written (the folder the batch made is gone, or empty).
+    let left: Vec<_> = std::fs::read_dir(&out).map_or(Vec::new(), |d| d.collect());
+    assert!(left.is_empty(), "{left:?}");
+}
+
+/// Renders five minutes at 48 kHz into a folder holding an old render, sends `signals` (back to
+/// back) once the render is writing, and returns the exit code, standard error and
+/// the folder's file names afterwards (after checking that the old file is unchanged).
+fn interrupt_a_render(signals: &[&str]) -> (Option<i32>, String, Vec<String>) {
+    let dir = tempfile::tempdir().expect("temp");
+    let long = dir.path().join("long.wav");
+    // Big blocks (96 kHz stereo float), so that stopping takes a few milliseconds.
+    write_long(&long, 96_000, 2, true, 120.0);
+    let out = dir.path().join("out");
+    std::fs::create_dir(&out).expect("dir");
+    std::fs::write(out.join("long.wav"), "old render").expect("write");
+    let child = Command::new(env!("CARGO_BIN_EXE_pneuma"))
+        .args([
+            "render",
+            long.to_str().expect("utf8"),
+            "-o",
+            out.to_str().expect("utf8"),
+            "-q",
+            "--bvh",
+            "--midi",
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start");
+    // Wait until the render is writing (its temporary files exist) and well under way, then
+    // signal.
+    let start = std::time::Instant::now();
+    while std::fs::read_dir(&out).expect("out").count() < 2 {
+        assert!(
+            start.elapsed().as_secs() < 60,
+            "the render never started writing"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    // Close together, as `timeout` sends them (to the process, then its group): 3 ms apart, so
+    // the first is delivered before the second is sent (two pending signals would merge), and
+    // the second comes while the render is still stopping (about 10 ms).
+    let script = signals
+        .iter()
+        .map(|signal| format!("kill -{signal} $1"))
+        .collect::<Vec<_>>()
+        .join("; sleep 0.003; ");
+    let kill = Command::new("sh")
+        .args(["-c", &script, "sh", &child.id().to_string()])
+        .status()
+        .expect("kill");
+    assert!(kill.success());
+    let o = child.wait_with_output().expect("wait");
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    let mut names: Vec<String> = std::fs::read_dir(&out)
         .expect("out")
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
         .collect();
+    names.sort();
+    if names == ["long.wav"] {
+        assert_eq!(
+            std::fs::read_to_string(out.join("long.wav")).expect("old"),
+            "old render"
+        );
+    }
+    (o.status.code(), err, names)
+}
+
+#[test]
+fn ctrl_c_leaves_no_partial_file_and_the_old_outputs() {
+    let (code, err, names) = interrupt_a_render(&["INT"]);
+    assert_eq!(code, Some(130), "{err}");
+    assert!(err.contains("interrupted"), "{err}");
     assert_eq!(names, ["long.wav"], "only the old file stays");
-    assert_eq!(
-        std::fs::read_to_string(out.join("long.wav")).expect("old"),
-        "old render"
-    );
+}
+
+#[test]
+fn a_signal_delivered_twice_at_once_is_one_interruption() {
+    // `timeout` signals the process and then its process group: two signals at once. Before,
+    // the second one exited on the spot, without a word and leaving the temporary files.
+    for signal in ["INT", "TERM"] {
+        let (code, err, names) = interrupt_a_render(&[signal, signal]);
+        assert_eq!(code, Some(130), "{signal}: {err}");
+        assert!(err.contains("nothing was written"), "{signal}: {err}");
+        assert_eq!(names, ["long.wav"], "{signal}: only the old file stays");
+    }
+}
+
+#[test]
+fn a_run_stopped_at_once_removes_its_temporary_files_and_only_those() {
+    // What a second Ctrl-C calls before it exits (`output::remove_temporaries`), run in a
+    // process of its own (this test binary again, this test alone), since it removes every
+    // temporary file of the process. Before, the exit left them all behind.
+    const CHILD: &str = "PNEUMA_TEST_TEMPORARIES_DIR";
+    if let Some(dir) = std::env::var_os(CHILD) {
+        use pneuma_cli::output::{remove_temporaries, Output};
+        let dir = Path::new(&dir);
+        let mut done = Output::create(&dir.join("done.csv")).expect("create");
+        done.writer().write_all(b"kept").expect("write");
+        done.commit().expect("commit");
+        let mut open = Output::create(&dir.join("open.wav")).expect("create");
+        open.writer().write_all(b"half").expect("write");
+        open.writer().flush().expect("flush");
+        let staged = Output::create(&dir.join("staged.bvh")).expect("create");
+        let staged = staged.finish().expect("finish");
+        let names = || -> Vec<String> {
+            let mut n: Vec<String> = std::fs::read_dir(dir)
+                .expect("dir")
+                .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+                .collect();
+            n.sort();
+            n
+        };
+        assert_eq!(names().len(), 3, "{:?}", names());
+        assert_eq!(remove_temporaries(), 2);
+        assert_eq!(names(), ["done.csv"]);
+        assert_eq!(std::fs::read(dir.join("done.csv")).expect("kept"), b"kept");
+        // The outputs dropped after it neither fail nor touch anything.
+        drop((open, staged));
+        assert_eq!(names(), ["done.csv"]);
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp");
+    let o = Command::new(std::env::current_exe().expect("test binary"))
+        .args([
+            "--exact",
+            "podcast::a_run_stopped_at_once_removes_its_temporary_files_and_only_those",
+            "--nocapture",
+            "--test-threads",
+            "1",
+        ])
+        .env(CHILD, dir.path())
+        .output()
+        .expect("run");
+    let said =
+        String::from_utf8_lossy(&o.stdout).into_owned() + &String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{said}");
+    assert!(said.contains("1 passed"), "the check ran: {said}");
 }
 
 #[test]
@@ -539,6 +685,27 @@ fn a_breath_sample_folder_may_hold_flac() {
         samples(&dir.path().join("a/voice.wav")) == samples(&dir.path().join("b/voice.wav")),
         "mouth.flac renders as mouth.wav"
     );
+}
+
+#[test]
+fn a_render_that_found_no_speech_counts_no_real_breaths() {
+    // Generated vowels with a breath-like noise in each pause: the speech decision takes the
+    // vowels for no speech, so the noises between them are no speaker's breaths (the summary
+    // said "4 real breaths heard", then "no speech found"). Heard as any sound, they are.
+    let dir = tempfile::tempdir().expect("temp");
+    let input = dir.path().join("vowels.wav");
+    let x = pneuma_testkit::signals::phrases_with_breaths(16_000.0, 12.0, 3);
+    support::write_wav(&input, (16_000, 1, 16, false), &x, 1.0);
+    let said = |out: &str, extra: &[&str]| {
+        let o = support::render_saying(&input, &dir.path().join(out), extra);
+        assert_ok(&o);
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    let any = said("any", &["--any-sound"]);
+    assert!(any.contains("real breaths heard in the pauses"), "{any}");
+    let judged = said("judged", &[]);
+    assert!(judged.contains("warning: no speech found"), "{judged}");
+    assert!(!judged.contains("real breaths heard"), "{judged}");
 }
 
 #[test]

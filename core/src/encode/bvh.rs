@@ -96,12 +96,19 @@ fn push_pose(out: &mut String, chest_pitch_deg: f32, neck_pitch_deg: f32, head: 
         out,
         "0.0000 {:.4} 0.0000 0.0000 0.0000 0.0000 0.0000 0.0000 {:.4} 0.0000 0.0000 {:.4} {:.4} {:.4} {:.4}",
         HIPS_HEIGHT_M,
-        -f(chest_pitch_deg),
-        -f(neck_pitch_deg),
-        -f(head.roll_deg),
-        f(head.yaw_deg),
-        -f(head.pitch_deg)
+        shown(-f(chest_pitch_deg)),
+        shown(-f(neck_pitch_deg)),
+        shown(-f(head.roll_deg)),
+        shown(f(head.yaw_deg)),
+        shown(-f(head.pitch_deg))
     );
+}
+
+/// `v` as the four decimals show it, with no negative zero: an angle that rounds to 0 is
+/// written `0.0000`, never `-0.0000`.
+fn shown(v: f32) -> f32 {
+    // Adding +0.0 turns −0.0 into +0.0 and leaves every other value as it is.
+    (v * 1e4).round() / 1e4 + 0.0
 }
 
 /// A whole BVH file of head angles at `frame_rate_hz` (neck static).
@@ -219,6 +226,28 @@ mod tests {
             assert_eq!(row[..3], [0.0, f64::from(HIPS_HEIGHT_M), 0.0]);
             assert!(row[3..head_start].iter().all(|v| *v == 0.0));
         }
+    }
+
+    #[test]
+    fn an_angle_that_rounds_to_zero_is_written_without_a_sign() {
+        let tiny = HeadAngles {
+            pitch_deg: 0.00002,
+            yaw_deg: -0.00003,
+            roll_deg: 0.00001,
+        };
+        let text = encode_head(&[tiny], 60.0);
+        let motion = text.lines().last().unwrap();
+        assert!(!motion.contains("-0.0000"), "{motion}");
+        assert!(motion.ends_with("0.0000 0.0000 0.0000"), "{motion}");
+        // Other values keep their sign and digits.
+        let tilted = HeadAngles {
+            pitch_deg: 1.23456,
+            yaw_deg: -2.5,
+            roll_deg: 0.00006,
+        };
+        let text = encode_head(&[tilted], 60.0);
+        let motion = text.lines().last().unwrap();
+        assert!(motion.ends_with("-0.0001 -2.5000 -1.2346"), "{motion}");
     }
 
     #[test]
