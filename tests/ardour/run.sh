@@ -72,7 +72,27 @@ recorded=$(ls "$PNEUMA_ARDOUR_SESSION"/interchange/*/audiofiles/*.wav)
 test "$(echo "$recorded" | wc -l)" = 1
 cp "$PNEUMA_ARDOUR_OUT/voice48k.wav" "$recorded"
 lua record.lua
-timeout 300 ardour7-export -b float -o "$PNEUMA_ARDOUR_OUT/export.wav" "$PNEUMA_ARDOUR_SESSION" pneuma \
-  > "$PNEUMA_ARDOUR_OUT/export.log" 2>&1 || { cat "$PNEUMA_ARDOUR_OUT/export.log" >&2; exit 1; }
+# ardour7-export (Ardour 7.3, Debian 12) now and then aborts in its own teardown, in glibc's heap
+# checks as it frees a PortExportChannel ("double free or corruption", "free(): invalid next
+# size", "munmap_chunk(): invalid pointer"): 4 of 40 runs of this session under gdb, and 3 of
+# 40 with Pneuma taken out of the session (8 December 2026, docs/measurements.md), so the
+# fault is Ardour's. An export that ends that way (SIGABRT, one of glibc's heap messages last)
+# is run again, at most twice more; any other failure fails the test.
+for attempt in 1 2 3; do
+  rm -f "$PNEUMA_ARDOUR_OUT/export.wav"
+  status=0
+  timeout 300 ardour7-export -b float -o "$PNEUMA_ARDOUR_OUT/export.wav" "$PNEUMA_ARDOUR_SESSION" pneuma \
+    > "$PNEUMA_ARDOUR_OUT/export.log" 2>&1 || status=$?
+  if [ "$status" = 0 ]; then
+    break
+  fi
+  if [ "$attempt" -lt 3 ] && [ "$status" = 134 ] && tail -n 3 "$PNEUMA_ARDOUR_OUT/export.log" \
+    | grep -qE '^(double free or corruption|free\(\): |munmap_chunk\(\): |malloc\(\): |corrupted )'; then
+    echo "ardour7-export aborted in its teardown (Ardour's own fault, see above): exporting again" >&2
+    continue
+  fi
+  cat "$PNEUMA_ARDOUR_OUT/export.log" >&2
+  exit 1
+done
 lua live.lua
 check the_ardour_session_matches_the_reference
