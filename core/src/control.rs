@@ -58,6 +58,25 @@ pub struct HeadAngles {
     pub roll_deg: f32,
 }
 
+impl HeadAngles {
+    /// The angles a share `toward` (0..1) of the way from these to `to`: exactly `to` at 1
+    /// (the one interpolation of head angles: a frame between two head steps, a frame easing to
+    /// the rest pose, a BVH instant between two frames).
+    pub fn toward(&self, to: &HeadAngles, toward: f32) -> HeadAngles {
+        let keep = 1.0 - toward.clamp(0.0, 1.0);
+        HeadAngles {
+            pitch_deg: lerp_toward(self.pitch_deg, to.pitch_deg, keep),
+            yaw_deg: lerp_toward(self.yaw_deg, to.yaw_deg, keep),
+            roll_deg: lerp_toward(self.roll_deg, to.roll_deg, keep),
+        }
+    }
+}
+
+/// `to` with a share `keep` (0..1) of the way back to `from`: `to` exactly when `keep` is 0.
+fn lerp_toward(from: f32, to: f32, keep: f32) -> f32 {
+    to + (from - to) * keep
+}
+
 /// Everything Pneuma computed for one frame of the frame clock.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ControlFrame {
@@ -113,7 +132,7 @@ impl ControlFrame {
     pub fn body_toward(&self, to: &ControlFrame, toward: f32) -> Self {
         let keep = 1.0 - toward.clamp(0.0, 1.0);
         let rest = *to;
-        let mix = |from: f32, to: f32| to + (from - to) * keep;
+        let mix = |from: f32, to: f32| lerp_toward(from, to, keep);
         let (b, r) = (&self.breathing, &rest.breathing);
         Self {
             breathing: BreathingState {
@@ -125,11 +144,7 @@ impl ControlFrame {
                 mouth_open: mix(b.mouth_open, r.mouth_open),
                 ..*r
             },
-            head: HeadAngles {
-                pitch_deg: mix(self.head.pitch_deg, rest.head.pitch_deg),
-                yaw_deg: mix(self.head.yaw_deg, rest.head.yaw_deg),
-                roll_deg: mix(self.head.roll_deg, rest.head.roll_deg),
-            },
+            head: self.head.toward(&rest.head, toward),
             ..rest
         }
     }

@@ -307,12 +307,7 @@ impl HeadSynth {
         if share >= 1.0 {
             return self.held;
         }
-        let (a, b, w) = (self.before, self.held, share as f32);
-        HeadAngles {
-            roll_deg: a.roll_deg + (b.roll_deg - a.roll_deg) * w,
-            pitch_deg: a.pitch_deg + (b.pitch_deg - a.pitch_deg) * w,
-            yaw_deg: a.yaw_deg + (b.yaw_deg - a.yaw_deg) * w,
-        }
+        self.before.toward(&self.held, share as f32)
     }
 
     /// The rate the head steps at, Hz: its model's training frame rate.
