@@ -396,6 +396,15 @@ impl AudioSource {
         }
     }
 
+    /// The G.711 companding of a WAV file's samples (`"µ-law"`, `"A-law"`), read as 16-bit
+    /// linear PCM; `None` for every other input.
+    pub fn companding(&self) -> Option<&'static str> {
+        match self {
+            Self::Wav(s) => s.companding(),
+            Self::Decoded(_) => None,
+        }
+    }
+
     /// The `fmt ` chunk's form of a WAV file (`None` for other formats and streams).
     pub fn fmt_form(&self) -> Option<FmtForm> {
         match self {

@@ -255,6 +255,16 @@ impl WavSource {
         self.info
     }
 
+    /// The G.711 companding of the samples (`"µ-law"` or `"A-law"`), expanded to 16-bit linear
+    /// PCM as they are read; `None` for linear PCM and float.
+    pub fn companding(&self) -> Option<&'static str> {
+        match self.encoding {
+            Encoding::MuLaw => Some("µ-law"),
+            Encoding::ALaw => Some("A-law"),
+            _ => None,
+        }
+    }
+
     /// Sample frames read so far.
     pub fn frames_read(&self) -> u64 {
         self.frames_read

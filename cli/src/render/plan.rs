@@ -452,6 +452,14 @@ impl Job {
         let (engine, breath_like_note) = prepared_engine(args, input, config, &info)?;
         let mut outputs = OutputPlan::new(args, input, container)?;
         outputs.mp3 = mp3;
+        // G.711 (telephone) samples are read as 16-bit linear PCM and written so: say so, as
+        // the format line says only "16-bit".
+        if let (Some(law), Container::Wav) = (source.companding(), container) {
+            outputs.notes.push(format!(
+                "the input's samples are G.711 {law}: the output holds them as 16-bit linear PCM \
+                 (the same values, twice the size); Pneuma writes no {law}"
+            ));
+        }
         Ok(Self {
             input_channels: (input_channels, pick),
             input_format: (source.format(), source.lossless()),

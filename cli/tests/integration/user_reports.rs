@@ -454,7 +454,27 @@ fn mu_law_and_a_law_wav_render_as_their_16_bit_twins() {
             "{}",
             stderr(&o)
         );
-        assert_ok(&render(&twin, &out, &["--no-plot", "--any-sound"]));
+        // ... and says the companding was not kept (the tryout of 8 December 2026 found the
+        // format line alone silent about it).
+        let law_name = if codec == "pcm_mulaw" {
+            "µ-law"
+        } else {
+            "A-law"
+        };
+        assert!(
+            stderr(&o).contains(&format!(
+                "G.711 {law_name}: the output holds them as 16-bit"
+            )),
+            "{}",
+            stderr(&o)
+        );
+        let twin_said = support::render_saying(&twin, &out, &["--any-sound"]);
+        assert_ok(&twin_said);
+        assert!(
+            !stderr(&twin_said).contains("G.711"),
+            "{}",
+            stderr(&twin_said)
+        );
         let rendered = support::samples(&out.join(format!("{codec}.wav")));
         assert_eq!(
             rendered,
