@@ -98,21 +98,19 @@ fn is_label(i: usize, text: &str) -> bool {
     })
 }
 
-/// A time in an Audacity label track: seconds with six decimals.
-fn seconds(s: f64) -> String {
-    format!("{s:.6}")
+/// A span in an Audacity label track: as the breaths CSV writes it (seconds with six
+/// decimals, rounded outward to the microsecond, so the label holds every changed sample).
+fn seconds(start_s: f64, end_s: f64) -> (String, String) {
+    let (start, end) = pneuma_core::encode::breaths_csv::span_text(start_s, end_s);
+    (start.to_string(), end.to_string())
 }
 
 /// An Audacity label track.
 pub fn audacity(breaths: &[BreathEvent]) -> String {
     let mut s = String::new();
     for (i, b) in breaths.iter().enumerate() {
-        s.push_str(&format!(
-            "{}\t{}\t{}\n",
-            seconds(b.start_s),
-            seconds(b.end_s),
-            label(i, b)
-        ));
+        let (start, end) = seconds(b.start_s, b.end_s);
+        s.push_str(&format!("{start}\t{end}\t{}\n", label(i, b)));
     }
     s
 }
@@ -123,8 +121,10 @@ fn is_audacity_line(i: usize, line: &str) -> bool {
     let [start, end, text] = fields[..] else {
         return false;
     };
-    let time = |t: &str| t.parse::<f64>().is_ok_and(|s| seconds(s) == t);
-    time(start) && time(end) && is_label(i, text)
+    let written = |t: &str| t.parse::<f64>().ok().map(|s| seconds(s, s));
+    written(start).is_some_and(|(s, _)| s == start)
+        && written(end).is_some_and(|(_, e)| e == end)
+        && is_label(i, text)
 }
 
 /// `M:SS.mmm`, REAPER's default time display.
@@ -218,6 +218,20 @@ mod tests {
             b(61.0004, BreathKind::Nose, -0.04),
             b(3725.5, BreathKind::Sample, -41.5),
         ]
+    }
+
+    #[test]
+    fn an_audacity_label_holds_every_sample_its_breath_changed() {
+        // Samples 165_600..165_681 at 48 kHz: the end, 3.4516875 s, was written 3.451687.
+        let b = BreathEvent {
+            start_s: 165_600.0 / 48_000.0,
+            end_s: 165_681.0 / 48_000.0,
+            kind: BreathKind::Mouth,
+            peak_db: -40.0,
+        };
+        let text = audacity(&[b]);
+        assert!(text.starts_with("3.450000\t3.451688\t"), "{text}");
+        assert!(MarkerKind::Audacity.wrote(&text), "{text}");
     }
 
     #[test]

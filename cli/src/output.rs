@@ -26,6 +26,18 @@ use std::sync::{Mutex, MutexGuard};
 /// moved into place or removed). [`commit_all`] holds the lock while it moves files.
 static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
+/// The output folders this run created (deepest first), removed when empty by a run stopped
+/// at once, as a failed run removes them ([`crate::options::remove_empty`]).
+static CREATED_FOLDERS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Notes the output folders this run created (deepest first), for
+/// [`exit_removing_temporaries`].
+pub fn created_folders(folders: &[PathBuf]) {
+    let mut list = CREATED_FOLDERS.lock().unwrap_or_else(|e| e.into_inner());
+    list.clear();
+    list.extend_from_slice(folders);
+}
+
 /// The list of temporary files, also after a thread panicked holding it.
 fn temporaries() -> MutexGuard<'static, Vec<PathBuf>> {
     TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner())
@@ -42,7 +54,11 @@ fn forget(list: &mut Vec<PathBuf>, temp: &Path) {
 /// list) has finished: for a run about to exit at once, which skips the outputs' `Drop`.
 /// Returns how many files were removed.
 pub fn remove_temporaries() -> usize {
-    let mut list = temporaries();
+    remove_listed(&mut temporaries())
+}
+
+/// Removes the temporary files on `list` and empties it; how many were removed.
+fn remove_listed(list: &mut Vec<PathBuf>) -> usize {
     let mut removed = 0;
     for temp in list.drain(..) {
         if std::fs::remove_file(&temp).is_ok() {
@@ -50,6 +66,48 @@ pub fn remove_temporaries() -> usize {
         }
     }
     removed
+}
+
+/// [`remove_listed`], then the output folders the run created, where they are left empty.
+fn remove_all(list: &mut Vec<PathBuf>) {
+    remove_listed(list);
+    if let Ok(folders) = CREATED_FOLDERS.try_lock() {
+        crate::options::remove_empty(&folders);
+    }
+}
+
+/// How long a run stopping at once waits for a commit in progress ([`exit_removing_temporaries`]).
+const COMMIT_WAIT: std::time::Duration = std::time::Duration::from_secs(1);
+
+/// Exits the process with `code` at once, first removing every temporary file (and the output
+/// folders the run created, left empty: [`created_folders`]). The list stays
+/// locked until the exit, so no output is created or committed after the removal (a commit
+/// in progress finishes first, for at most [`COMMIT_WAIT`]: one writing into a FIFO nobody
+/// reads may block for ever, and the exit then goes ahead without the removal). `say` is
+/// called just before the exit with whether the files were removed.
+pub fn exit_removing_temporaries(code: i32, say: impl FnOnce(bool)) -> ! {
+    let start = std::time::Instant::now();
+    loop {
+        match TEMPORARIES.try_lock() {
+            Ok(mut list) => {
+                remove_all(&mut list);
+                say(true);
+                std::process::exit(code);
+            }
+            Err(std::sync::TryLockError::Poisoned(e)) => {
+                remove_all(&mut e.into_inner());
+                say(true);
+                std::process::exit(code);
+            }
+            Err(std::sync::TryLockError::WouldBlock) if start.elapsed() < COMMIT_WAIT => {
+                std::thread::sleep(std::time::Duration::from_millis(5));
+            }
+            Err(std::sync::TryLockError::WouldBlock) => {
+                say(false);
+                std::process::exit(code);
+            }
+        }
+    }
 }
 
 /// How a staged file reaches its target.

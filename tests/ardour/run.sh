@@ -76,8 +76,20 @@ lua record.lua
 # checks as it frees a PortExportChannel ("double free or corruption", "free(): invalid next
 # size", "munmap_chunk(): invalid pointer"): 4 of 40 runs of this session under gdb, and 3 of
 # 40 with Pneuma taken out of the session (8 December 2026, docs/measurements.md), so the
-# fault is Ardour's. An export that ends that way (SIGABRT, one of glibc's heap messages last)
-# is run again, at most twice more; any other failure fails the test.
+# fault is Ardour's. An export that ends that way (SIGABRT, one of glibc's heap messages last,
+# and the export written and closed: its RIFF header counts every byte of the file) is run
+# again, at most twice more; any other failure fails the test, so a heap fault while the
+# audio runs (before the file is closed) is never retried away. glibc writes its message to
+# standard error, not the terminal (`LIBC_FATAL_STDERR_`), so a run from a terminal reads it too.
+export LIBC_FATAL_STDERR_=1
+# Whether WAV file $1 was written whole and closed: its RIFF size is the file's size less 8.
+closed_wav() {
+  local size riff
+  [ -s "$1" ] || return 1
+  size=$(stat -c %s "$1")
+  riff=$(od -An -t u4 -j 4 -N 4 "$1" | tr -d ' ')
+  [ "$riff" = "$((size - 8))" ]
+}
 for attempt in 1 2 3; do
   rm -f "$PNEUMA_ARDOUR_OUT/export.wav"
   status=0
@@ -86,7 +98,8 @@ for attempt in 1 2 3; do
   if [ "$status" = 0 ]; then
     break
   fi
-  if [ "$attempt" -lt 3 ] && [ "$status" = 134 ] && tail -n 3 "$PNEUMA_ARDOUR_OUT/export.log" \
+  if [ "$attempt" -lt 3 ] && [ "$status" = 134 ] && closed_wav "$PNEUMA_ARDOUR_OUT/export.wav" \
+    && tail -n 3 "$PNEUMA_ARDOUR_OUT/export.log" \
     | grep -qE '^(double free or corruption|free\(\): |munmap_chunk\(\): |malloc\(\): |corrupted )'; then
     echo "ardour7-export aborted in its teardown (Ardour's own fault, see above): exporting again" >&2
     continue

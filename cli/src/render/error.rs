@@ -92,7 +92,8 @@ const SAME_INTERRUPTION: Duration = Duration::from_millis(500);
 /// Installs the Ctrl-C handler, which SIGTERM and SIGHUP reach too (ctrlc's `termination`
 /// feature): the first signal sets [`INTERRUPTED`] (the render stops after its current block
 /// and removes its temporary files); a second one at least [`SAME_INTERRUPTION`] later stops
-/// at once, after removing every temporary file (and letting a commit in progress finish).
+/// at once, after removing every temporary file (and letting a commit in progress finish:
+/// [`crate::output::exit_removing_temporaries`]).
 pub fn install_interrupt_handler() {
     static FIRST: OnceLock<Instant> = OnceLock::new();
     let _ = ctrlc::set_handler(|| {
@@ -100,8 +101,15 @@ pub fn install_interrupt_handler() {
         if !INTERRUPTED.swap(true, Ordering::Relaxed) || first.elapsed() < SAME_INTERRUPTION {
             return;
         }
-        crate::output::remove_temporaries();
-        eprintln!("interrupted again: stopped at once; no partial file is left");
-        std::process::exit(i32::from(EXIT_INTERRUPTED));
+        crate::output::exit_removing_temporaries(i32::from(EXIT_INTERRUPTED), |removed| {
+            if removed {
+                eprintln!("interrupted again: stopped at once; no partial file is left");
+            } else {
+                eprintln!(
+                    "interrupted again: stopped at once while an output was being written \
+                     through (a FIFO or device that does not read); its temporary files may remain"
+                );
+            }
+        });
     });
 }

@@ -70,6 +70,7 @@ pub fn main(mut args: Args) -> ExitCode {
         }
     }
     let created = crate::options::missing_folders(&args.output);
+    crate::output::created_folders(&created);
     let code = if inputs.len() > 1 || args.inputs.iter().any(|p| p.is_dir()) {
         args.in_batch = true;
         batch::main(&args, &inputs)

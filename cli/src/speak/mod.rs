@@ -281,6 +281,7 @@ pub struct SpeakSummary {
 /// Runs `pneuma speak`.
 pub fn main(args: Args) -> ExitCode {
     let created = crate::options::missing_folders(&args.out_dir);
+    crate::output::created_folders(&created);
     let result = run(&args);
     if result.is_err() {
         crate::options::remove_empty(&created);

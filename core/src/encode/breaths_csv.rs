@@ -13,26 +13,32 @@ pub const HEADER: &str = "start_s,end_s,kind,peak_db";
 /// Microseconds per second: the rows' resolution.
 const US_PER_S: f64 = 1e6;
 
-/// How near a whole microsecond a time counts as on it, microseconds (far above the binary
-/// fraction's error, far below a sample at any rate).
+/// How near a whole microsecond a time counts as on it, microseconds: far above the binary
+/// fraction's error for spans of up to about 2.4 hours, far below a sample at any rate (past
+/// that the fraction's step is larger, and a span can come out a microsecond wider, never
+/// narrower).
 const ON_THE_MICROSECOND: f64 = 1e-6;
 
 /// Appends one row (with `\n`) for `event` to `out`.
 pub fn write_row(out: &mut String, event: &BreathEvent) {
-    // Whole microseconds, rounded outward (a time on the microsecond already, give or take the
-    // binary fraction's last bits, stays as it is); printed from integers, so no decimal
-    // rounding moves them back inward.
-    let start_us = (event.start_s * US_PER_S + ON_THE_MICROSECOND).floor() as i64;
-    let end_us = (event.end_s * US_PER_S - ON_THE_MICROSECOND).ceil() as i64;
+    let (start, end) = span_text(event.start_s, event.end_s);
     // Writing to a String cannot fail.
     let _ = writeln!(
         out,
-        "{},{},{},{:.2}",
-        Micros(start_us),
-        Micros(end_us),
+        "{start},{end},{},{:.2}",
         event.kind.as_str(),
         event.peak_db
     );
+}
+
+/// A breath's span `[start_s, end_s)` as the rows write it (and the Audacity labels): seconds
+/// with six decimals, rounded outward to whole microseconds (a time on the microsecond
+/// already, give or take the binary fraction's last bits, stays as it is), printed from the
+/// integers, so no decimal rounding moves them back inward.
+pub fn span_text(start_s: f64, end_s: f64) -> (impl std::fmt::Display, impl std::fmt::Display) {
+    let start_us = (start_s * US_PER_S + ON_THE_MICROSECOND).floor() as i64;
+    let end_us = (end_s * US_PER_S - ON_THE_MICROSECOND).ceil() as i64;
+    (Micros(start_us), Micros(end_us))
 }
 
 /// Whole microseconds shown as seconds with six decimals.
