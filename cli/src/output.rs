@@ -13,8 +13,9 @@
 //!   the path when committing (the path itself is never replaced; a full device is an error);
 //! - `-`: standard output, written at the end.
 //!
-//! Every temporary file that exists is on a list ([`remove_temporaries`]), so a run stopped at
-//! once (a second Ctrl-C) removes them before it exits; a commit in progress finishes first.
+//! Every temporary file that exists is on a list ([`exit_removing_temporaries`]), so a run
+//! stopped at once (a second Ctrl-C) removes them before it exits; a commit in progress
+//! finishes first.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -50,27 +51,12 @@ fn forget(list: &mut Vec<PathBuf>, temp: &Path) {
     }
 }
 
-/// Removes every temporary file that exists now, after a commit in progress (which holds the
-/// list) has finished: for a run about to exit at once, which skips the outputs' `Drop`.
-/// Returns how many files were removed.
-pub fn remove_temporaries() -> usize {
-    remove_listed(&mut temporaries())
-}
-
-/// Removes the temporary files on `list` and empties it; how many were removed.
-fn remove_listed(list: &mut Vec<PathBuf>) -> usize {
-    let mut removed = 0;
-    for temp in list.drain(..) {
-        if std::fs::remove_file(&temp).is_ok() {
-            removed += 1;
-        }
-    }
-    removed
-}
-
-/// [`remove_listed`], then the output folders the run created, where they are left empty.
+/// Removes the temporary files on `list` (emptying it), then the output folders the run
+/// created, where they are left empty.
 fn remove_all(list: &mut Vec<PathBuf>) {
-    remove_listed(list);
+    for temp in list.drain(..) {
+        let _ = std::fs::remove_file(&temp);
+    }
     if let Ok(folders) = CREATED_FOLDERS.try_lock() {
         crate::options::remove_empty(&folders);
     }
@@ -87,27 +73,22 @@ const COMMIT_WAIT: std::time::Duration = std::time::Duration::from_secs(1);
 /// called just before the exit with whether the files were removed.
 pub fn exit_removing_temporaries(code: i32, say: impl FnOnce(bool)) -> ! {
     let start = std::time::Instant::now();
-    loop {
+    // Held, not dropped, until the exit.
+    let mut list = loop {
         match TEMPORARIES.try_lock() {
-            Ok(mut list) => {
-                remove_all(&mut list);
-                say(true);
-                std::process::exit(code);
-            }
-            Err(std::sync::TryLockError::Poisoned(e)) => {
-                remove_all(&mut e.into_inner());
-                say(true);
-                std::process::exit(code);
-            }
+            Ok(list) => break Some(list),
+            Err(std::sync::TryLockError::Poisoned(e)) => break Some(e.into_inner()),
             Err(std::sync::TryLockError::WouldBlock) if start.elapsed() < COMMIT_WAIT => {
                 std::thread::sleep(std::time::Duration::from_millis(5));
             }
-            Err(std::sync::TryLockError::WouldBlock) => {
-                say(false);
-                std::process::exit(code);
-            }
+            Err(std::sync::TryLockError::WouldBlock) => break None,
         }
+    };
+    if let Some(list) = list.as_mut() {
+        remove_all(list);
     }
+    say(list.is_some());
+    std::process::exit(code)
 }
 
 /// How a staged file reaches its target.
@@ -202,7 +183,7 @@ fn follow_links(path: &Path) -> std::io::Result<PathBuf> {
 /// renamed targets get their old files back and every temporary file is removed. Returns the
 /// failing target with its error.
 pub fn commit_all(mut staged: Vec<Staged>) -> Result<(), (PathBuf, std::io::Error)> {
-    // A run stopped at once waits for the commit ([`remove_temporaries`]): it never sees a
+    // A run stopped at once waits for the commit ([`exit_removing_temporaries`]): it never sees a
     // target set aside. (Declared first, the guard is dropped before `staged` is.)
     let mut list = temporaries();
     // (index, set-aside old file if any) of the renames done so far.

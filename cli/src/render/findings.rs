@@ -202,6 +202,12 @@ impl Finding {
         }
     }
 
+    /// Whether the render found no speech in its input (none heard, or too short to tell): the
+    /// breath-like sounds in its pauses are no speaker's breaths.
+    pub fn found_no_speech(&self) -> bool {
+        matches!(self, Finding::NoSpeech { .. } | Finding::TooShort { .. })
+    }
+
     /// The batch table's word.
     pub fn short(&self) -> &'static str {
         match self {

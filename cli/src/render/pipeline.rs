@@ -340,13 +340,7 @@ pub fn render(job: Job, progress: impl FnMut(f64)) -> Result<RenderSummary, Rend
         breaths,
         // Breath-like sounds in the pauses of what is not speech (a song, an animal) are no
         // speaker's breaths: a render that found no speech reports none.
-        heard_breaths: if found.iter().any(|f| {
-            matches!(
-                f,
-                super::findings::Finding::NoSpeech { .. }
-                    | super::findings::Finding::TooShort { .. }
-            )
-        }) {
+        heard_breaths: if found.iter().any(super::findings::Finding::found_no_speech) {
             0
         } else {
             kept.heard
